@@ -1,0 +1,182 @@
+//! Equations of motion while rocking: nonlinear (eqs. 12 / 49) and linearised for
+//! slender blocks (eqs. 23–24 / 50), and the free-vibration barrier that decides
+//! overturning once no forcing remains.
+
+use super::block::Block;
+use super::excitation::Pulse;
+use super::integrator::{Rhs, State};
+
+/// Which equation of motion is integrated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Formulation {
+    /// Slender-block linearisation, eqs. 23–24 / 50.
+    Linear,
+    /// Full nonlinear equation, eq. 12 / 49.
+    Nonlinear,
+}
+
+impl Formulation {
+    /// The name used in job specs and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Formulation::Linear => "linear",
+            Formulation::Nonlinear => "nonlinear",
+        }
+    }
+
+    /// Ground acceleration (m/s²) that |ü_g| must exceed for rocking to start:
+    /// g·tan α (nonlinear, § "Condition for Initiation") or g·α (linear).
+    pub fn rocking_threshold(self, block: &Block) -> f64 {
+        match self {
+            Formulation::Linear => block.gravity * block.slenderness,
+            Formulation::Nonlinear => block.gravity * block.slenderness.tan(),
+        }
+    }
+
+    /// Angular acceleration θ̈ while pivoting on the corner of side `side` (±1, the
+    /// sign of θ), with the ground acceleration `ug_over_g` = ü_g/g.
+    ///
+    /// Nonlinear, eq. 12: θ̈ = −p² { sin(α s − θ) + (ü_g/g) cos(α s − θ) }.
+    /// Linear, eq. 50:    θ̈ = p² { θ − α s − ü_g/g }.
+    #[inline]
+    pub fn angular_acceleration(
+        self,
+        p2: f64,
+        alpha: f64,
+        side: f64,
+        theta: f64,
+        ug_over_g: f64,
+    ) -> f64 {
+        match self {
+            Formulation::Linear => p2 * (theta - alpha * side - ug_over_g),
+            Formulation::Nonlinear => {
+                let (s, c) = (alpha * side - theta).sin_cos();
+                -p2 * (s + ug_over_g * c)
+            }
+        }
+    }
+
+    /// Free-vibration energy above the barrier at |θ| = α, in units where the
+    /// block can pass the barrier exactly when this is positive.
+    ///
+    /// Nonlinear: E − 1 with E = θ̇²/(2p²) + cos(α − |θ|) (eq. 12 with ü_g = 0).
+    /// Linear: ½(θ̇²/p² − (|θ| − α)²), the sign of the growing exponential's
+    /// coefficient when moving towards the barrier (eq. 33).
+    pub fn barrier_excess(self, block: &Block, theta: f64, theta_dot: f64) -> f64 {
+        let p = block.frequency_parameter;
+        let d = block.slenderness - theta.abs();
+        let kinetic = 0.5 * (theta_dot / p).powi(2);
+        match self {
+            Formulation::Linear => kinetic - 0.5 * d * d,
+            Formulation::Nonlinear => kinetic - 2.0 * (0.5 * d).sin().powi(2),
+        }
+    }
+}
+
+/// The right-hand side of eq. 49 / 50 on one side, under a pulse or free.
+#[derive(Clone, Copy, Debug)]
+pub struct RockingRhs {
+    /// Equation used.
+    pub formulation: Formulation,
+    /// p².
+    pub p2: f64,
+    /// α.
+    pub alpha: f64,
+    /// Side ±1: the sign of θ during this piece of motion.
+    pub side: f64,
+    /// a_p/g, zero for free vibration.
+    pub amplitude_over_g: f64,
+    /// ω_p.
+    pub omega: f64,
+    /// φ.
+    pub phase: f64,
+}
+
+impl RockingRhs {
+    /// Right-hand side on `side`, forced by `pulse` when `forced`.
+    pub fn new(
+        formulation: Formulation,
+        block: &Block,
+        pulse: &Pulse,
+        side: f64,
+        forced: bool,
+    ) -> Self {
+        RockingRhs {
+            formulation,
+            p2: block.frequency_parameter.powi(2),
+            alpha: block.slenderness,
+            side,
+            amplitude_over_g: if forced {
+                pulse.amplitude / block.gravity
+            } else {
+                0.0
+            },
+            omega: pulse.circular_frequency,
+            phase: pulse.phase,
+        }
+    }
+
+    /// ü_g/g at time t on this piece.
+    #[inline]
+    pub fn ground(&self, t: f64) -> f64 {
+        if self.amplitude_over_g == 0.0 {
+            0.0
+        } else {
+            self.amplitude_over_g * (self.omega * t + self.phase).cos()
+        }
+    }
+}
+
+impl Rhs for RockingRhs {
+    #[inline]
+    fn eval(&self, t: f64, y: State) -> State {
+        [
+            y[1],
+            self.formulation.angular_acceleration(
+                self.p2,
+                self.alpha,
+                self.side,
+                y[0],
+                self.ground(t),
+            ),
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nonlinear_reduces_to_linear_for_small_angles() {
+        let (p2, alpha) = (4.0, 1e-3);
+        for &(side, theta, u) in &[(1.0, 2e-4, -5e-4), (-1.0, -7e-4, 2e-3)] {
+            let nl = Formulation::Nonlinear.angular_acceleration(p2, alpha, side, theta, u);
+            let li = Formulation::Linear.angular_acceleration(p2, alpha, side, theta, u);
+            assert!((nl - li).abs() < 1e-8 * p2, "{nl} vs {li}");
+        }
+    }
+
+    #[test]
+    fn rocking_starts_exactly_at_the_threshold() {
+        let block = Block::new(0.3, 2.0, None, None, None).expect("valid");
+        for f in [Formulation::Linear, Formulation::Nonlinear] {
+            let u = f.rocking_threshold(&block) / block.gravity;
+            // Positive ground acceleration pushes towards θ < 0 (side −1).
+            let acc = f.angular_acceleration(4.0, 0.3, -1.0, 0.0, u);
+            assert!(acc.abs() < 1e-14, "{f:?}: {acc}");
+            assert!(f.angular_acceleration(4.0, 0.3, -1.0, 0.0, u * 1.01) < 0.0);
+        }
+    }
+
+    #[test]
+    fn barrier_excess_vanishes_on_the_separatrix() {
+        let block = Block::new(0.25, 2.14, None, None, None).expect("valid");
+        // Linear: θ̇ = p(α − θ) reaches θ = α with zero velocity (eq. 33).
+        let e = Formulation::Linear.barrier_excess(&block, 0.1, 2.14 * 0.15);
+        assert!(e.abs() < 1e-15);
+        // Nonlinear: from θ = 0 the separatrix speed is p √(2(1 − cos α)).
+        let v = 2.14 * (2.0 * (1.0 - 0.25f64.cos())).sqrt();
+        assert!(Formulation::Nonlinear.barrier_excess(&block, 0.0, v).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,225 @@
+//! Cycloidal ground-acceleration pulses (Makris & Roussos; paper eqs. 22 and 53).
+//!
+//! Every pulse is written as `ü_g(t) = a_p cos(ω_p t + φ)` on `0 ≤ t ≤ T` and zero
+//! otherwise, with time measured from the start of the ground motion:
+//! - one-sine (Type A, eq. 22): φ = −π/2, T = 2π/ω_p;
+//! - one-cosine (Type B, eq. 53): φ = 0, T = 2π/ω_p;
+//! - Type Cn: φ = φ_n, the root of tan φ · ((2n+1)π − 2φ) = 2, and
+//!   T = ((2n+1)π − 2φ)/ω_p, so that ground velocity and displacement end at zero.
+
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// The pulse family.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PulseShape {
+    /// One full sine cycle of acceleration (Type A).
+    OneSine,
+    /// One full cosine cycle of acceleration (Type B).
+    OneCosine,
+    /// Type Cn with `n ≥ 1` displacement cycles.
+    Cn(u32),
+}
+
+/// Why a pulse cannot be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PulseError {
+    /// Amplitude must be finite and non-zero.
+    #[error("pulse amplitude must be finite and non-zero (got {0})")]
+    Amplitude(f64),
+    /// Circular frequency must be positive and finite.
+    #[error("pulse circular frequency must be positive and finite (got {0})")]
+    Frequency(f64),
+    /// Cn needs n ≥ 1.
+    #[error("Type-Cn pulses need n >= 1 (got {0})")]
+    Cycles(u32),
+}
+
+/// A ground-acceleration pulse.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pulse {
+    /// Family.
+    pub shape: PulseShape,
+    /// Acceleration amplitude a_p, m/s², either sign.
+    pub amplitude: f64,
+    /// Circular frequency ω_p, rad/s.
+    pub circular_frequency: f64,
+    /// Phase φ of `a_p cos(ω_p t + φ)`.
+    pub phase: f64,
+    /// Duration T, s.
+    pub duration: f64,
+}
+
+/// The phase of a Type-Cn pulse: the root in (0, π/2) of
+/// tan φ · ((2n+1)π − 2φ) = 2 (n = 1 gives φ ≈ 0.0697π).
+pub fn cn_phase(n: u32) -> f64 {
+    let span = f64::from(2 * n + 1) * PI;
+    let f = |phi: f64| phi.tan() * (span - 2.0 * phi) - 2.0;
+    let (mut lo, mut hi) = (0.0, FRAC_PI_2 - 1e-12);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+        if hi - lo <= 4.0 * f64::EPSILON * hi {
+            break;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The first stretch of time during which |ü_g| exceeds a threshold.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Exceedance {
+    /// When |ü_g| first exceeds the threshold (at or after the time asked from).
+    pub start: f64,
+    /// When |ü_g| falls back to the threshold (or the pulse ends).
+    pub end: f64,
+    /// The side the ground pushes the block to: −1 (θ < 0) for ü_g > 0, +1 otherwise.
+    pub side: f64,
+}
+
+impl Pulse {
+    /// Builds a pulse of the given family.
+    pub fn new(
+        shape: PulseShape,
+        amplitude: f64,
+        circular_frequency: f64,
+    ) -> Result<Self, PulseError> {
+        if !(amplitude.is_finite() && amplitude != 0.0) {
+            return Err(PulseError::Amplitude(amplitude));
+        }
+        if !(circular_frequency > 0.0 && circular_frequency.is_finite()) {
+            return Err(PulseError::Frequency(circular_frequency));
+        }
+        let (phase, span) = match shape {
+            PulseShape::OneSine => (-FRAC_PI_2, 2.0 * PI),
+            PulseShape::OneCosine => (0.0, 2.0 * PI),
+            PulseShape::Cn(n) => {
+                if n == 0 {
+                    return Err(PulseError::Cycles(n));
+                }
+                let phi = cn_phase(n);
+                (phi, f64::from(2 * n + 1) * PI - 2.0 * phi)
+            }
+        };
+        Ok(Pulse {
+            shape,
+            amplitude,
+            circular_frequency,
+            phase,
+            duration: span / circular_frequency,
+        })
+    }
+
+    /// The same pulse with another amplitude.
+    pub fn with_amplitude(&self, amplitude: f64) -> Self {
+        Pulse { amplitude, ..*self }
+    }
+
+    /// Ground acceleration ü_g(t), m/s².
+    #[inline]
+    pub fn acceleration(&self, t: f64) -> f64 {
+        if (0.0..=self.duration).contains(&t) {
+            self.amplitude * (self.circular_frequency * t + self.phase).cos()
+        } else {
+            0.0
+        }
+    }
+
+    /// Phase χ = ω_p t + φ at time t.
+    #[inline]
+    pub fn phase_at(&self, t: f64) -> f64 {
+        self.circular_frequency * t + self.phase
+    }
+
+    /// The first exceedance of |ü_g| > `threshold` at or after `from`, located in
+    /// closed form on the sinusoid. `None` if the pulse never exceeds it again.
+    pub fn next_exceedance(&self, from: f64, threshold: f64) -> Option<Exceedance> {
+        let amp = self.amplitude.abs();
+        if !(amp > threshold) || from >= self.duration {
+            return None;
+        }
+        let from = from.max(0.0);
+        let w = self.circular_frequency;
+        // |cos χ| > c  ⟺  χ lies within β = acos(c) of a multiple of π.
+        let beta = (threshold / amp).acos();
+        let chi0 = self.phase_at(from);
+        let m = (chi0 / PI).floor();
+        let offset = chi0 - m * PI;
+        let (chi_start, k) = if offset < beta {
+            (chi0, m)
+        } else if offset > PI - beta {
+            (chi0, m + 1.0)
+        } else {
+            ((m + 1.0) * PI - beta, m + 1.0)
+        };
+        let start = if chi_start == chi0 {
+            from
+        } else {
+            (chi_start - self.phase) / w
+        };
+        if start >= self.duration {
+            return None;
+        }
+        let end = (((k * PI + beta) - self.phase) / w).min(self.duration);
+        // Sign of ü_g in this window: cos(kπ) = (−1)^k.
+        let cos_sign = if (k.rem_euclid(2.0)) == 0.0 { 1.0 } else { -1.0 };
+        let accel_sign = cos_sign * self.amplitude.signum();
+        Some(Exceedance {
+            start,
+            end,
+            side: -accel_sign,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cn_phase_for_one_cycle_is_about_0_0697_pi() {
+        let phi = cn_phase(1);
+        assert!((phi / PI - 0.0697).abs() < 5e-4, "phi/pi = {}", phi / PI);
+        assert!((phi.tan() * (3.0 * PI - 2.0 * phi) - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn cn_pulse_ends_with_zero_ground_velocity_and_displacement() {
+        for n in 1..4 {
+            let p = Pulse::new(PulseShape::Cn(n), 1.0, 2.0).expect("valid");
+            let (w, phi, t) = (p.circular_frequency, p.phase, p.duration);
+            // v(T) = (a/ω)(sin(ωT+φ) − sin φ); x(T) = ∫v.
+            let v_end = ((w * t + phi).sin() - phi.sin()) / w;
+            let x_end = (-(w * t + phi).cos() + phi.cos()) / (w * w) - phi.sin() * t / w;
+            assert!(v_end.abs() < 1e-12, "n = {n}: v = {v_end}");
+            assert!(x_end.abs() < 1e-12, "n = {n}: x = {x_end}");
+        }
+    }
+
+    #[test]
+    fn one_sine_exceedance_starts_at_the_paper_phase() {
+        let p = Pulse::new(PulseShape::OneSine, 2.0, 3.0).expect("valid");
+        let e = p.next_exceedance(0.0, 1.0).expect("exceeds");
+        // sin(ω t) = 1/2 → ω t = π/6 (the paper's ψ).
+        assert!((e.start * 3.0 - PI / 6.0).abs() < 1e-14);
+        assert!((e.end * 3.0 - 5.0 * PI / 6.0).abs() < 1e-14);
+        assert_eq!(e.side, -1.0);
+        let e2 = p.next_exceedance(e.end + 1e-9, 1.0).expect("second lobe");
+        assert!((e2.start * 3.0 - 7.0 * PI / 6.0).abs() < 1e-14);
+        assert_eq!(e2.side, 1.0);
+        assert!(p.next_exceedance(e2.end + 1e-9, 1.0).is_none());
+        assert!(p.next_exceedance(0.0, 2.0).is_none());
+    }
+
+    #[test]
+    fn one_cosine_exceeds_from_the_start_and_negative_amplitude_mirrors() {
+        let p = Pulse::new(PulseShape::OneCosine, -2.0, 1.0).expect("valid");
+        let e = p.next_exceedance(0.0, 1.0).expect("exceeds");
+        assert_eq!(e.start, 0.0);
+        assert!((e.end - PI / 3.0).abs() < 1e-14);
+        assert_eq!(e.side, 1.0);
+    }
+}

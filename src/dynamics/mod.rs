@@ -1,0 +1,23 @@
+//! The physics of a rocking block: pure functions, no I/O, no async, no serde.
+//!
+//! Makris & Zhang (2001), *Rocking response of free-standing blocks under
+//! cycloidal pulses*; equation numbers in the doc comments refer to that paper.
+
+pub mod block;
+pub mod equations;
+pub mod events;
+pub mod exact;
+pub mod excitation;
+pub mod integrator;
+pub mod reactions;
+pub mod response;
+pub mod separatrix;
+pub mod simulate;
+pub mod tracking;
+
+pub use block::Block;
+pub use equations::Formulation;
+pub use excitation::{Pulse, PulseShape};
+pub use integrator::Method;
+pub use response::{OverturnMode, Response};
+pub use simulate::{Options, Problem, SimError, Solver, simulate};

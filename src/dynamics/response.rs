@@ -1,0 +1,139 @@
+//! What one simulation reports.
+
+/// One impact (eqs. 13–15): θ = 0 with θ̇ multiplied by η.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Impact {
+    /// Time of impact, s (from the start of the ground motion).
+    pub time: f64,
+    /// θ̇ just before, rad/s.
+    pub velocity_before: f64,
+    /// θ̇ just after (η × before), rad/s.
+    pub velocity_after: f64,
+}
+
+/// How the block overturned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OverturnMode {
+    /// Mode 1: after one or more impacts.
+    AfterImpacts(u64),
+    /// Mode 2: without any impact.
+    WithoutImpact,
+}
+
+impl OverturnMode {
+    /// The paper's mode number.
+    pub fn number(self) -> u8 {
+        match self {
+            OverturnMode::AfterImpacts(_) => 1,
+            OverturnMode::WithoutImpact => 2,
+        }
+    }
+}
+
+/// Friction needed for pure rocking along the history.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionDemand {
+    /// max |f_x/f_z| over the motion while f_z > 0 (the minimum μ for pure rocking).
+    pub peak: f64,
+    /// When the peak occurs, s.
+    pub peak_time: f64,
+    /// Demand at the first rocking start (eq. 7; eq. 51 for one-cosine).
+    pub initiation: Option<f64>,
+    /// First time |f_x/f_z| exceeds the given μ (the block would slide).
+    pub first_sliding: Option<f64>,
+    /// First time f_z ≤ 0 (the block would lift off).
+    pub first_lift_off: Option<f64>,
+}
+
+/// Sampled histories at uniform times.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Series {
+    /// Time, s.
+    pub t: Vec<f64>,
+    /// Rotation θ, rad.
+    pub theta: Vec<f64>,
+    /// Angular velocity θ̇, rad/s.
+    pub theta_dot: Vec<f64>,
+    /// Ground acceleration ü_g, m/s².
+    pub ground_acceleration: Vec<f64>,
+    /// f_x/f_z (present when reactions are asked for).
+    pub reaction_ratio: Option<Vec<f64>>,
+}
+
+/// Something the caller should know about the result.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Warning {
+    /// |f_x/f_z| first exceeds μ at this time: pure rocking is violated (sliding).
+    Sliding(f64),
+    /// f_z ≤ 0 first at this time: the block would lift off.
+    LiftOff(f64),
+    /// Free rocking after the pulse was followed only up to this many impacts.
+    FreeRockingTruncated(u64),
+    /// The impact list was truncated to this many entries (the count is complete).
+    ImpactListTruncated(usize),
+    /// Integrating the free motion disagreed with the exact separatrix decision
+    /// (the state is within the integration tolerance of the separatrix).
+    NearSeparatrix,
+}
+
+/// Cost and accuracy of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Numerics {
+    /// "exact", "dopri5" or "dop853".
+    pub method: &'static str,
+    /// Relative tolerance (RK only).
+    pub rtol: Option<f64>,
+    /// Absolute tolerance (RK only).
+    pub atol: Option<f64>,
+    /// Accepted steps (RK) or closed-form segments (exact).
+    pub steps_accepted: u64,
+    /// Rejected steps.
+    pub steps_rejected: u64,
+    /// Right-hand-side evaluations (closed-form evaluations for exact).
+    pub rhs_evaluations: u64,
+    /// Events located: rocking starts, impacts, pulse end, overturning.
+    pub events: u64,
+    /// Estimated error in θ, rad: the sum of local error estimates (RK) or the
+    /// rounding amplification of the closed form (exact).
+    pub error_estimate: f64,
+    /// Wall time of the computation, s.
+    pub wall_time: f64,
+}
+
+/// The response of one block to one pulse.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Response {
+    /// Whether the ground ever exceeded the rocking threshold.
+    pub rocked: bool,
+    /// First rocking start, s.
+    pub rocking_start: Option<f64>,
+    /// Number of times rocking started (restarts after coming to rest count).
+    pub rocking_starts: u32,
+    /// Whether the block overturned.
+    pub overturned: bool,
+    /// Overturning mode.
+    pub mode: Option<OverturnMode>,
+    /// Impacts that happened (or, when stopped at the decision, are certain to
+    /// happen) before the end of the simulation.
+    pub impact_count: u64,
+    /// The impacts, when asked for (possibly truncated, see warnings).
+    pub impacts: Vec<Impact>,
+    /// Time |θ| reaches π/2, when followed to the end.
+    pub overturn_time: Option<f64>,
+    /// Time the block came to rest for good, when it did.
+    pub rest_time: Option<f64>,
+    /// Time at which the outcome became certain (the pulse end at the latest).
+    pub decided_at: f64,
+    /// End of the simulated interval, s.
+    pub end_time: f64,
+    /// max |θ| / α over the simulated interval.
+    pub peak_theta_over_alpha: f64,
+    /// Friction demand, when asked for.
+    pub friction: Option<FrictionDemand>,
+    /// Sampled series, when asked for.
+    pub series: Option<Series>,
+    /// Notes on the result.
+    pub warnings: Vec<Warning>,
+    /// Cost and accuracy.
+    pub numerics: Numerics,
+}

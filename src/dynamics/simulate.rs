@@ -1,0 +1,558 @@
+//! The response of a block to a pulse: rocking starts, impacts, rest, the
+//! overturning decision and its mode.
+//!
+//! The motion is a chain of smooth legs, each on one side (sign of θ) and either
+//! forced (during the pulse) or free. A leg ends at the first of: an impact
+//! (θ = 0, eqs. 13–15: θ̇ ← η θ̇), overturning (|θ| = π/2), or the pulse end.
+//! Rocking starts whenever |ü_g| first exceeds the threshold (g tan α, or g α for
+//! the linear formulation), located in closed form. Chattering (impacts piling
+//! up in finite time) ends when the velocity after an impact falls below
+//! `REST_VELOCITY · p α`: the block is then at rest and may be lifted again.
+//! Once the pulse is over, overturning is decided exactly by
+//! [`separatrix::decide`](super::separatrix::decide).
+
+use std::time::Instant;
+
+use super::block::Block;
+use super::equations::{Formulation, RockingRhs};
+use super::events::{Poly, first_nonpositive};
+use super::exact::{LinearSegment, SegmentEnd, first_event};
+use super::excitation::Pulse;
+use super::integrator::{MAX_DEGREE, Method, State, StepError, Stepper, StepperStats};
+use super::reactions::reactions_per_mass;
+use super::response::{FrictionDemand, Impact, Numerics, OverturnMode, Response, Warning};
+use super::separatrix::{FreeOutcome, decide};
+use super::tracking::{TrackRequest, Tracker};
+
+/// Velocity after an impact, relative to p·α, below which the block is at rest.
+pub const REST_VELOCITY: f64 = 1e-12;
+
+/// Most impacts stored in a response's list (the count is always complete).
+pub const MAX_LISTED_IMPACTS: usize = 10_000;
+
+/// Hard limit on impacts during the pulse (a safeguard; never reached in practice
+/// because chattering ends in rest).
+const MAX_FORCED_IMPACTS: u64 = 5_000_000;
+
+/// A block, a pulse and an equation of motion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Problem {
+    /// The block.
+    pub block: Block,
+    /// The ground motion.
+    pub pulse: Pulse,
+    /// The equation of motion.
+    pub formulation: Formulation,
+}
+
+/// How the equations are solved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Solver {
+    /// Closed form (linear formulation only).
+    Exact,
+    /// Adaptive Runge–Kutta pair.
+    RungeKutta {
+        /// The pair.
+        method: Method,
+        /// Relative tolerance.
+        rtol: f64,
+        /// Absolute tolerance, rad and rad/s.
+        atol: f64,
+    },
+}
+
+impl Solver {
+    /// The name used in reports.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Solver::Exact => "exact",
+            Solver::RungeKutta { method, .. } => method.name(),
+        }
+    }
+}
+
+/// What to compute.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Solver.
+    pub solver: Solver,
+    /// Follow f_x/f_z (peak, initiation, sliding and lift-off warnings).
+    pub reactions: bool,
+    /// Follow max |θ|.
+    pub peak: bool,
+    /// Number of uniformly spaced series samples over the simulated interval.
+    pub series_points: Option<usize>,
+    /// Keep the list of impacts (otherwise only their count).
+    pub record_impacts: bool,
+    /// Stop as soon as the outcome is certain (at the pulse end at the latest).
+    pub stop_at_decision: bool,
+    /// After the pulse, follow free rocking for at most this many impacts.
+    pub max_free_impacts: u64,
+    /// Do not simulate past this time, s (free rocking only).
+    pub horizon: Option<f64>,
+}
+
+impl Options {
+    /// Everything about one history (no series).
+    pub fn history(solver: Solver) -> Self {
+        Options {
+            solver,
+            reactions: true,
+            peak: true,
+            series_points: None,
+            record_impacts: true,
+            stop_at_decision: false,
+            max_free_impacts: 1_000,
+            horizon: None,
+        }
+    }
+
+    /// Only the outcome (overturned, mode, impact count): what spectra need.
+    pub fn outcome(solver: Solver) -> Self {
+        Options {
+            solver,
+            reactions: false,
+            peak: false,
+            series_points: None,
+            record_impacts: false,
+            stop_at_decision: true,
+            max_free_impacts: 0,
+            horizon: None,
+        }
+    }
+}
+
+/// Why a simulation could not be carried out.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SimError {
+    /// The closed form exists for the linear formulation only.
+    #[error("the exact solver solves the linear formulation only")]
+    ExactNeedsLinear,
+    /// Tolerances must be positive and finite.
+    #[error("rtol and atol must be positive and finite, rtol >= 1e-14")]
+    Tolerance,
+    /// The integrator failed.
+    #[error("integration failed: {0}")]
+    Integration(#[from] StepError),
+    /// Chattering did not end.
+    #[error("impact limit reached during the pulse")]
+    ImpactLimit,
+}
+
+/// Simulates `problem` as `options` ask.
+pub fn simulate(problem: &Problem, options: &Options) -> Result<Response, SimError> {
+    let started = Instant::now();
+    check(problem, options)?;
+    let mut response = match options.series_points {
+        Some(n) if n > 0 => {
+            // The series spans the simulated interval, known after a first pass.
+            let first = run(problem, options, TrackRequest::default())?;
+            let end = first.end_time;
+            let times = (0..n)
+                .map(|k| if n == 1 { 0.0 } else { end * k as f64 / (n - 1) as f64 })
+                .collect();
+            let req = TrackRequest {
+                peak: options.peak,
+                reactions: options.reactions,
+                series_times: times,
+            };
+            run(problem, options, req)?
+        }
+        _ => run(
+            problem,
+            options,
+            TrackRequest {
+                peak: options.peak,
+                reactions: options.reactions,
+                series_times: Vec::new(),
+            },
+        )?,
+    };
+    response.numerics.wall_time = started.elapsed().as_secs_f64();
+    Ok(response)
+}
+
+fn check(problem: &Problem, options: &Options) -> Result<(), SimError> {
+    match options.solver {
+        Solver::Exact if problem.formulation != Formulation::Linear => {
+            Err(SimError::ExactNeedsLinear)
+        }
+        Solver::RungeKutta { rtol, atol, .. }
+            if !(rtol >= 1e-14 && rtol.is_finite() && atol > 0.0 && atol.is_finite()) =>
+        {
+            Err(SimError::Tolerance)
+        }
+        _ => Ok(()),
+    }
+}
+
+/// How a leg ended.
+#[derive(Clone, Copy, Debug)]
+enum LegEnd {
+    Impact { t: f64, velocity: f64 },
+    Overturn { t: f64 },
+    Reached { t: f64, y: State },
+}
+
+/// Solver state carried across legs.
+struct Engine {
+    solver: Solver,
+    stats: StepperStats,
+    h_hint: f64,
+    exact_error: f64,
+}
+
+impl Engine {
+    /// Runs one leg from `(t0, y0)` until the first event or `t_stop`; the impact
+    /// event is armed only after `lift_until` (lift-off from rest).
+    fn leg(
+        &mut self,
+        rhs: &RockingRhs,
+        t0: f64,
+        y0: State,
+        t_stop: f64,
+        lift_until: f64,
+        forced: bool,
+        tracker: &mut Tracker,
+    ) -> Result<LegEnd, SimError> {
+        match self.solver {
+            Solver::Exact => Ok(self.leg_exact(rhs, t0, y0, t_stop, lift_until, forced, tracker)),
+            Solver::RungeKutta { method, rtol, atol } => self.leg_rk(
+                rhs, method, rtol, atol, t0, y0, t_stop, lift_until, forced, tracker,
+            ),
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn leg_exact(
+        &mut self,
+        rhs: &RockingRhs,
+        t0: f64,
+        y0: State,
+        t_stop: f64,
+        lift_until: f64,
+        forced: bool,
+        tracker: &mut Tracker,
+    ) -> LegEnd {
+        let mut seg = LinearSegment::new(rhs, t0, y0);
+        loop {
+            let end = first_event(&seg, t_stop, lift_until);
+            self.stats.accepted += 1;
+            let t_end = match end {
+                SegmentEnd::Impact(t) | SegmentEnd::Overturn(t) | SegmentEnd::Reached(t) => t,
+            };
+            let tau = t_end - seg.t0;
+            self.exact_error += f64::EPSILON
+                * (rhs.p2.sqrt() * tau).cosh()
+                * (rhs.alpha + rhs.amplitude_over_g.abs() + seg.y0[0].abs() + seg.y0[1].abs() / rhs.p2.sqrt());
+            tracker.rocking(seg.t0, t_end, rhs.side, forced, |t| seg.at(t));
+            let y = seg.at(t_end);
+            match end {
+                SegmentEnd::Impact(t) => return LegEnd::Impact { t, velocity: y[1] },
+                SegmentEnd::Overturn(t) => return LegEnd::Overturn { t },
+                SegmentEnd::Reached(t) if t >= t_stop => return LegEnd::Reached { t, y },
+                SegmentEnd::Reached(t) => seg = LinearSegment::new(rhs, t, y),
+            }
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn leg_rk(
+        &mut self,
+        rhs: &RockingRhs,
+        method: Method,
+        rtol: f64,
+        atol: f64,
+        t0: f64,
+        y0: State,
+        t_stop: f64,
+        lift_until: f64,
+        forced: bool,
+        tracker: &mut Tracker,
+    ) -> Result<LegEnd, SimError> {
+        let mut stepper = Stepper::new(method, rtol, atol, rhs, t0, y0, f64::INFINITY, self.h_hint);
+        let s = rhs.side;
+        let result = loop {
+            let armed = stepper.t >= lift_until;
+            let target = if armed { t_stop } else { lift_until.min(t_stop) };
+            if stepper.t >= t_stop {
+                break LegEnd::Reached {
+                    t: t_stop,
+                    y: stepper.y,
+                };
+            }
+            let step = match stepper.step(rhs, target) {
+                Ok(step) => step,
+                Err(e) => {
+                    self.stats.absorb(&stepper.stats);
+                    return Err(e.into());
+                }
+            };
+            let mut g = Poly {
+                c: [0.0; MAX_DEGREE + 1],
+                len: step.len,
+            };
+            let mut top = g;
+            for k in 0..step.len {
+                g.c[k] = s * step.coeffs[0][k];
+                top.c[k] = -s * step.coeffs[0][k];
+            }
+            top.c[0] += std::f64::consts::FRAC_PI_2;
+            let impact = if armed { first_nonpositive(&g) } else { None };
+            let over = first_nonpositive(&top);
+            let event = match (impact, over) {
+                (Some(i), Some(o)) if o < i => Some((o, false)),
+                (Some(i), _) => Some((i, true)),
+                (None, Some(o)) => Some((o, false)),
+                (None, None) => None,
+            };
+            if let Some((sigma, is_impact)) = event {
+                let t = step.t0 + sigma * step.h;
+                tracker.rocking(step.t0, t, s, forced, |t| step.at(t));
+                break if is_impact {
+                    LegEnd::Impact {
+                        t,
+                        velocity: step.at_sigma(sigma)[1],
+                    }
+                } else {
+                    LegEnd::Overturn { t }
+                };
+            }
+            tracker.rocking(step.t0, step.t1(), s, forced, |t| step.at(t));
+        };
+        self.h_hint = stepper.next_step_size();
+        self.stats.absorb(&stepper.stats);
+        Ok(result)
+    }
+}
+
+fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Response, SimError> {
+    let Problem {
+        block,
+        pulse,
+        formulation,
+    } = *problem;
+    let mut tracker = Tracker::new(formulation, &block, &pulse, req);
+    let threshold = formulation.rocking_threshold(&block);
+    let v_rest = REST_VELOCITY * block.frequency_parameter * block.slenderness;
+    let mut engine = Engine {
+        solver: options.solver,
+        stats: StepperStats::default(),
+        h_hint: 0.0,
+        exact_error: 0.0,
+    };
+    let mut r = Response {
+        rocked: false,
+        rocking_start: None,
+        rocking_starts: 0,
+        overturned: false,
+        mode: None,
+        impact_count: 0,
+        impacts: Vec::new(),
+        overturn_time: None,
+        rest_time: None,
+        decided_at: pulse.duration,
+        end_time: pulse.duration,
+        peak_theta_over_alpha: 0.0,
+        friction: None,
+        series: None,
+        warnings: Vec::new(),
+        numerics: Numerics::default(),
+    };
+    let mut events: u64 = 0;
+    let mut initiation: Option<f64> = None;
+    let mut t = 0.0;
+    // None while at rest on the base; Some((state, side, forced, lift_until)) while rocking.
+    let mut rocking: Option<(State, f64, bool, f64)> = None;
+    let mut decision: Option<FreeOutcome> = None;
+    let mut free_impacts: u64 = 0;
+    let mut forced_impacts: u64 = 0;
+
+    loop {
+        let Some((y, side, forced, lift_until)) = rocking else {
+            // At rest: wait for the ground to exceed the threshold.
+            match pulse.next_exceedance(t, threshold) {
+                None => {
+                    tracker.resting(t, pulse.duration.max(t));
+                    if r.rocked {
+                        r.rest_time = Some(t);
+                    }
+                    r.decided_at = t.max(if r.rocked { t } else { pulse.duration });
+                    r.end_time = if r.rocked { t.max(r.decided_at) } else { pulse.duration };
+                    tracker.finish(r.end_time);
+                    break;
+                }
+                Some(ex) => {
+                    tracker.resting(t, ex.start);
+                    t = ex.start;
+                    events += 1;
+                    r.rocked = true;
+                    r.rocking_starts += 1;
+                    r.rocking_start.get_or_insert(t);
+                    if initiation.is_none() {
+                        // Eq. 7 (eq. 51 for one-cosine) is eq. 20 at the start state.
+                        let (fx, fz) = reactions_per_mass(
+                            formulation,
+                            &block,
+                            ex.side,
+                            0.0,
+                            0.0,
+                            pulse.acceleration(t),
+                        );
+                        initiation = Some((fx / fz).abs());
+                    }
+                    rocking = Some(([0.0, 0.0], ex.side, true, ex.end));
+                    continue;
+                }
+            }
+        };
+        let t_stop = if forced {
+            pulse.duration
+        } else {
+            options.horizon.unwrap_or(f64::INFINITY).max(t)
+        };
+        let rhs = RockingRhs::new(formulation, &block, &pulse, side, forced);
+        match engine.leg(&rhs, t, y, t_stop, lift_until, forced, &mut tracker)? {
+            LegEnd::Impact { t: ti, velocity } => {
+                events += 1;
+                r.impact_count += 1;
+                let after = block.restitution * velocity;
+                if options.record_impacts {
+                    if r.impacts.len() < MAX_LISTED_IMPACTS {
+                        r.impacts.push(Impact {
+                            time: ti,
+                            velocity_before: velocity,
+                            velocity_after: after,
+                        });
+                    } else if !r.warnings.iter().any(|w| matches!(w, Warning::ImpactListTruncated(_))) {
+                        r.warnings.push(Warning::ImpactListTruncated(MAX_LISTED_IMPACTS));
+                    }
+                }
+                t = ti;
+                if forced {
+                    forced_impacts += 1;
+                    if forced_impacts > MAX_FORCED_IMPACTS {
+                        return Err(SimError::ImpactLimit);
+                    }
+                } else {
+                    free_impacts += 1;
+                }
+                if after.abs() <= v_rest {
+                    rocking = None;
+                    if !forced {
+                        r.rest_time = Some(ti);
+                        r.end_time = ti;
+                        tracker.finish(ti);
+                        break;
+                    }
+                    continue;
+                }
+                if !forced && free_impacts >= options.max_free_impacts {
+                    r.warnings.push(Warning::FreeRockingTruncated(free_impacts));
+                    r.end_time = ti;
+                    break;
+                }
+                rocking = Some(([0.0, after], after.signum(), forced, ti));
+            }
+            LegEnd::Overturn { t: to } => {
+                events += 1;
+                r.overturned = true;
+                r.overturn_time = Some(to);
+                r.end_time = to;
+                if forced {
+                    r.decided_at = to;
+                }
+                break;
+            }
+            LegEnd::Reached { t: tr, y } => {
+                t = tr;
+                if forced {
+                    // Pulse end: from here on the outcome follows from the state.
+                    events += 1;
+                    let outcome = decide(formulation, &block, y[0], y[1], side);
+                    r.decided_at = tr;
+                    if options.stop_at_decision {
+                        r.end_time = tr;
+                        if let FreeOutcome::Overturns { impacts } = outcome {
+                            r.overturned = true;
+                            r.impact_count += u64::from(impacts);
+                        }
+                        break;
+                    }
+                    if matches!(outcome, FreeOutcome::Overturns { .. }) {
+                        tracker.stop_reactions();
+                    }
+                    decision = Some(outcome);
+                    rocking = Some((y, side, false, tr));
+                } else {
+                    r.end_time = tr;
+                    break;
+                }
+            }
+        }
+    }
+
+    // The exact decision prevails over the integrated free motion.
+    if let Some(outcome) = decision {
+        let integrated = r.overturned;
+        let decided = matches!(outcome, FreeOutcome::Overturns { .. });
+        if decided != integrated && r.end_time > r.decided_at {
+            let truncated = r.warnings.iter().any(|w| matches!(w, Warning::FreeRockingTruncated(_)))
+                || options.horizon.is_some();
+            if !(truncated && !integrated && decided) {
+                r.warnings.push(Warning::NearSeparatrix);
+            }
+            r.overturned = decided;
+            if !decided {
+                r.overturn_time = None;
+            }
+        }
+    }
+    if r.overturned {
+        r.mode = Some(if r.impact_count > 0 {
+            OverturnMode::AfterImpacts(r.impact_count)
+        } else {
+            OverturnMode::WithoutImpact
+        });
+        r.rest_time = None;
+    }
+    r.peak_theta_over_alpha = tracker.peak_theta / block.slenderness;
+    if options.reactions {
+        let (peak, peak_time) = tracker.peak_demand;
+        r.friction = Some(FrictionDemand {
+            peak,
+            peak_time,
+            initiation,
+            first_sliding: tracker.first_sliding,
+            first_lift_off: tracker.first_lift_off,
+        });
+        if let Some(ts) = tracker.first_sliding {
+            r.warnings.push(Warning::Sliding(ts));
+        }
+        if let Some(tl) = tracker.first_lift_off {
+            r.warnings.push(Warning::LiftOff(tl));
+        }
+    }
+    if !tracker.series.t.is_empty() {
+        r.series = Some(std::mem::take(&mut tracker.series));
+    }
+    let (rtol, atol) = match options.solver {
+        Solver::RungeKutta { rtol, atol, .. } => (Some(rtol), Some(atol)),
+        Solver::Exact => (None, None),
+    };
+    r.numerics = Numerics {
+        method: options.solver.name(),
+        rtol,
+        atol,
+        steps_accepted: engine.stats.accepted,
+        steps_rejected: engine.stats.rejected,
+        rhs_evaluations: engine.stats.rhs_evals,
+        events,
+        error_estimate: match options.solver {
+            Solver::Exact => engine.exact_error,
+            Solver::RungeKutta { .. } => engine.stats.local_error_sum,
+        },
+        wall_time: 0.0,
+    };
+    Ok(r)
+}

@@ -1,0 +1,2 @@
+//! topple (core)
+pub mod dynamics;
