@@ -96,7 +96,10 @@ impl Block {
         friction: Option<f64>,
         gravity: Option<f64>,
     ) -> Result<Self, BlockError> {
-        if !(half_width > 0.0 && half_width.is_finite() && half_height > 0.0 && half_height.is_finite())
+        if !(half_width > 0.0
+            && half_width.is_finite()
+            && half_height > 0.0
+            && half_height.is_finite())
         {
             return Err(BlockError::Geometry(half_width, half_height));
         }

@@ -122,6 +122,7 @@ const BINOM: [[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1] = {
 
 /// Bernstein coefficients on [0, 1] of a monomial polynomial of degree n = len − 1:
 /// `b_i = Σ_{k ≤ i} C(i,k)/C(n,k) c_k`.
+#[allow(clippy::needless_range_loop)]
 fn to_bernstein(p: &Poly) -> [f64; MAX_DEGREE + 1] {
     let n = p.len - 1;
     let mut b = [0.0; MAX_DEGREE + 1];
@@ -191,7 +192,8 @@ pub fn first_nonpositive(p: &Poly) -> Option<f64> {
         return None;
     }
     // Depth-first, left to right, over dyadic subintervals.
-    let mut stack: [([f64; MAX_DEGREE + 1], f64, f64); 64] = [([0.0; MAX_DEGREE + 1], 0.0, 0.0); 64];
+    let mut stack: [([f64; MAX_DEGREE + 1], f64, f64); 64] =
+        [([0.0; MAX_DEGREE + 1], 0.0, 0.0); 64];
     let mut top = 0;
     stack[top] = (bern, 0.0, 1.0);
     top += 1;

@@ -237,12 +237,20 @@ fn bracket<G: Fn(f64) -> f64, T: Fn(f64) -> f64>(
     let (ga, gb) = (g(a), g(b));
     let (ta, tb) = (top(a), top(b));
     let impact = if gb <= 0.0 {
-        Some(if ga <= 0.0 { a } else { brent(g, a, b, ga, gb, 0.0) })
+        Some(if ga <= 0.0 {
+            a
+        } else {
+            brent(g, a, b, ga, gb, 0.0)
+        })
     } else {
         None
     };
     let over = if tb <= 0.0 {
-        Some(if ta <= 0.0 { a } else { brent(top, a, b, ta, tb, 0.0) })
+        Some(if ta <= 0.0 {
+            a
+        } else {
+            brent(top, a, b, ta, tb, 0.0)
+        })
     } else {
         None
     };
@@ -280,7 +288,10 @@ mod tests {
             let acc_fd = (y_p[0] - 2.0 * y[0] + y_m[0]) / (h * h);
             let vel_fd = (y_p[0] - y_m[0]) / (2.0 * h);
             let acc = r.eval(0.13 + tau, y)[1];
-            assert!((acc_fd - acc).abs() < 1e-5 * (1.0 + acc.abs()), "{acc_fd} vs {acc}");
+            assert!(
+                (acc_fd - acc).abs() < 1e-5 * (1.0 + acc.abs()),
+                "{acc_fd} vs {acc}"
+            );
             assert!((vel_fd - y[1]).abs() < 1e-7, "{vel_fd} vs {}", y[1]);
         }
         let y0 = seg.at_tau(0.0);
@@ -304,9 +315,15 @@ mod tests {
     fn overturns_beyond_the_separatrix() {
         let r = rhs(1.0, false);
         let seg = LinearSegment::new(&r, 0.0, [0.0, 2.14 * 0.25 * 1.001]);
-        assert!(matches!(first_event(&seg, 100.0, 0.0), SegmentEnd::Overturn(_)));
+        assert!(matches!(
+            first_event(&seg, 100.0, 0.0),
+            SegmentEnd::Overturn(_)
+        ));
         let seg = LinearSegment::new(&r, 0.0, [0.0, 2.14 * 0.25 * 0.999]);
-        assert!(matches!(first_event(&seg, 100.0, 0.0), SegmentEnd::Impact(_)));
+        assert!(matches!(
+            first_event(&seg, 100.0, 0.0),
+            SegmentEnd::Impact(_)
+        ));
     }
 
     #[test]

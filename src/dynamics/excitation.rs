@@ -138,7 +138,7 @@ impl Pulse {
     /// closed form on the sinusoid. `None` if the pulse never exceeds it again.
     pub fn next_exceedance(&self, from: f64, threshold: f64) -> Option<Exceedance> {
         let amp = self.amplitude.abs();
-        if !(amp > threshold) || from >= self.duration {
+        if amp <= threshold || threshold.is_nan() || from >= self.duration {
             return None;
         }
         let from = from.max(0.0);
@@ -165,7 +165,11 @@ impl Pulse {
         }
         let end = (((k * PI + beta) - self.phase) / w).min(self.duration);
         // Sign of ü_g in this window: cos(kπ) = (−1)^k.
-        let cos_sign = if (k.rem_euclid(2.0)) == 0.0 { 1.0 } else { -1.0 };
+        let cos_sign = if (k.rem_euclid(2.0)) == 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
         let accel_sign = cos_sign * self.amplitude.signum();
         Some(Exceedance {
             start,

@@ -72,7 +72,11 @@ mod tests {
     #[test]
     fn nonlinear_reactions_are_eq_20() {
         let b = block();
-        for &(side, th, w, ug) in &[(-1.0, -0.1, -0.3, 5.0), (1.0, 0.2, 0.4, -3.0), (1.0, 0.05, -0.9, 2.0)] {
+        for &(side, th, w, ug) in &[
+            (-1.0, -0.1, -0.3, 5.0),
+            (1.0, 0.2, 0.4, -3.0),
+            (1.0, 0.05, -0.9, 2.0),
+        ] {
             let (fx, fz) = reactions_per_mass(Formulation::Nonlinear, &b, side, th, w, ug);
             let r20 = eq20_ratio(&b, side, th, w, ug);
             assert!((fx / fz - r20).abs() < 1e-13, "{} vs {r20}", fx / fz);

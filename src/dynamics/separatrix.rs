@@ -87,13 +87,27 @@ mod tests {
         let b = block();
         let p = 2.14;
         // Eq. 33: θ̇ + p(θ − α) > 0 overturns for θ > 0.
-        for &(theta, vel) in &[(0.1, 0.33), (0.1, 0.31), (0.3, -0.05), (0.3, -0.2), (0.05, -0.4)] {
+        for &(theta, vel) in &[
+            (0.1, 0.33),
+            (0.1, 0.31),
+            (0.3, -0.05),
+            (0.3, -0.2),
+            (0.05, -0.4),
+        ] {
             let growing = vel + p * (theta - 0.25);
             let decided = decide(Formulation::Linear, &b, theta, vel, 1.0);
             if growing > 0.0 {
-                assert_eq!(decided, FreeOutcome::Overturns { impacts: 0 }, "{theta} {vel}");
+                assert_eq!(
+                    decided,
+                    FreeOutcome::Overturns { impacts: 0 },
+                    "{theta} {vel}"
+                );
             } else {
-                assert_ne!(decided, FreeOutcome::Overturns { impacts: 0 }, "{theta} {vel}");
+                assert_ne!(
+                    decided,
+                    FreeOutcome::Overturns { impacts: 0 },
+                    "{theta} {vel}"
+                );
             }
         }
     }
@@ -110,7 +124,10 @@ mod tests {
             FreeOutcome::Overturns { impacts: 1 }
         );
         let v = -0.25 * p / 0.9 * 0.9999;
-        assert_eq!(decide(Formulation::Linear, &b, -0.0, v, 1.0), FreeOutcome::Survives);
+        assert_eq!(
+            decide(Formulation::Linear, &b, -0.0, v, 1.0),
+            FreeOutcome::Survives
+        );
     }
 
     #[test]

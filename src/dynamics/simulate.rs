@@ -82,6 +82,8 @@ pub struct Options {
     pub peak: bool,
     /// Number of uniformly spaced series samples over the simulated interval.
     pub series_points: Option<usize>,
+    /// Explicit sorted sample times for the series (overrides `series_points`).
+    pub series_at: Option<Vec<f64>>,
     /// Keep the list of impacts (otherwise only their count).
     pub record_impacts: bool,
     /// Stop as soon as the outcome is certain (at the pulse end at the latest).
@@ -100,6 +102,7 @@ impl Options {
             reactions: true,
             peak: true,
             series_points: None,
+            series_at: None,
             record_impacts: true,
             stop_at_decision: false,
             max_free_impacts: 1_000,
@@ -114,6 +117,7 @@ impl Options {
             reactions: false,
             peak: false,
             series_points: None,
+            series_at: None,
             record_impacts: false,
             stop_at_decision: true,
             max_free_impacts: 0,
@@ -143,13 +147,28 @@ pub enum SimError {
 pub fn simulate(problem: &Problem, options: &Options) -> Result<Response, SimError> {
     let started = Instant::now();
     check(problem, options)?;
-    let mut response = match options.series_points {
-        Some(n) if n > 0 => {
+    let mut response = match (&options.series_at, options.series_points) {
+        (Some(times), _) => run(
+            problem,
+            options,
+            TrackRequest {
+                peak: options.peak,
+                reactions: options.reactions,
+                series_times: times.clone(),
+            },
+        )?,
+        (None, Some(n)) if n > 0 => {
             // The series spans the simulated interval, known after a first pass.
             let first = run(problem, options, TrackRequest::default())?;
             let end = first.end_time;
             let times = (0..n)
-                .map(|k| if n == 1 { 0.0 } else { end * k as f64 / (n - 1) as f64 })
+                .map(|k| {
+                    if n == 1 {
+                        0.0
+                    } else {
+                        end * k as f64 / (n - 1) as f64
+                    }
+                })
                 .collect();
             let req = TrackRequest {
                 peak: options.peak,
@@ -205,6 +224,7 @@ struct Engine {
 impl Engine {
     /// Runs one leg from `(t0, y0)` until the first event or `t_stop`; the impact
     /// event is armed only after `lift_until` (lift-off from rest).
+    #[allow(clippy::too_many_arguments)]
     fn leg(
         &mut self,
         rhs: &RockingRhs,
@@ -244,7 +264,10 @@ impl Engine {
             let tau = t_end - seg.t0;
             self.exact_error += f64::EPSILON
                 * (rhs.p2.sqrt() * tau).cosh()
-                * (rhs.alpha + rhs.amplitude_over_g.abs() + seg.y0[0].abs() + seg.y0[1].abs() / rhs.p2.sqrt());
+                * (rhs.alpha
+                    + rhs.amplitude_over_g.abs()
+                    + seg.y0[0].abs()
+                    + seg.y0[1].abs() / rhs.p2.sqrt());
             tracker.rocking(seg.t0, t_end, rhs.side, forced, |t| seg.at(t));
             let y = seg.at(t_end);
             match end {
@@ -274,7 +297,11 @@ impl Engine {
         let s = rhs.side;
         let result = loop {
             let armed = stepper.t >= lift_until;
-            let target = if armed { t_stop } else { lift_until.min(t_stop) };
+            let target = if armed {
+                t_stop
+            } else {
+                lift_until.min(t_stop)
+            };
             if stepper.t >= t_stop {
                 break LegEnd::Reached {
                     t: t_stop,
@@ -378,7 +405,11 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
                         r.rest_time = Some(t);
                     }
                     r.decided_at = t.max(if r.rocked { t } else { pulse.duration });
-                    r.end_time = if r.rocked { t.max(r.decided_at) } else { pulse.duration };
+                    r.end_time = if r.rocked {
+                        t.max(r.decided_at)
+                    } else {
+                        pulse.duration
+                    };
                     tracker.finish(r.end_time);
                     break;
                 }
@@ -424,8 +455,13 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
                             velocity_before: velocity,
                             velocity_after: after,
                         });
-                    } else if !r.warnings.iter().any(|w| matches!(w, Warning::ImpactListTruncated(_))) {
-                        r.warnings.push(Warning::ImpactListTruncated(MAX_LISTED_IMPACTS));
+                    } else if !r
+                        .warnings
+                        .iter()
+                        .any(|w| matches!(w, Warning::ImpactListTruncated(_)))
+                    {
+                        r.warnings
+                            .push(Warning::ImpactListTruncated(MAX_LISTED_IMPACTS));
                     }
                 }
                 t = ti;
@@ -497,7 +533,10 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
         let integrated = r.overturned;
         let decided = matches!(outcome, FreeOutcome::Overturns { .. });
         if decided != integrated && r.end_time > r.decided_at {
-            let truncated = r.warnings.iter().any(|w| matches!(w, Warning::FreeRockingTruncated(_)))
+            let truncated = r
+                .warnings
+                .iter()
+                .any(|w| matches!(w, Warning::FreeRockingTruncated(_)))
                 || options.horizon.is_some();
             if !(truncated && !integrated && decided) {
                 r.warnings.push(Warning::NearSeparatrix);

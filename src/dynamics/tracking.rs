@@ -105,7 +105,11 @@ impl<'a> Tracker<'a> {
             y[1],
             self.ground(t, forced),
         );
-        let d = if fz > 0.0 { (fx / fz).abs() } else { f64::INFINITY };
+        let d = if fz > 0.0 {
+            (fx / fz).abs()
+        } else {
+            f64::INFINITY
+        };
         (d, fx / fz, fz)
     }
 
@@ -136,7 +140,11 @@ impl<'a> Tracker<'a> {
             return;
         }
         let span = tb - ta;
-        let w = if forced { self.pulse.circular_frequency } else { 0.0 };
+        let w = if forced {
+            self.pulse.circular_frequency
+        } else {
+            0.0
+        };
         let p = self.block.frequency_parameter;
         let n = (8.0 + span * (4.0 * w / std::f64::consts::PI + 2.0 * p)).min(400.0) as usize;
         let mut best_theta = (f64::NEG_INFINITY, 0usize);
@@ -158,7 +166,9 @@ impl<'a> Tracker<'a> {
             let (d, _, fz) = self.demand(side, t, y, forced);
             if fz <= 0.0 {
                 let tl = match prev {
-                    Some((tp, _, _)) => self.refine_crossing(tp, t, side, forced, &eval, |_, fz| -fz),
+                    Some((tp, _, _)) => {
+                        self.refine_crossing(tp, t, side, forced, &eval, |_, fz| -fz)
+                    }
                     None => t,
                 };
                 self.first_lift_off = Some(tl);
@@ -250,7 +260,10 @@ impl<'a> Tracker<'a> {
                 best = b;
             }
             let w = self.pulse.circular_frequency;
-            let (chi_a, chi_b) = (self.pulse.phase_at(ta), self.pulse.phase_at(tb.min(self.pulse.duration)));
+            let (chi_a, chi_b) = (
+                self.pulse.phase_at(ta),
+                self.pulse.phase_at(tb.min(self.pulse.duration)),
+            );
             let k = (chi_a / std::f64::consts::PI).ceil();
             let chi = k * std::f64::consts::PI;
             if chi <= chi_b {

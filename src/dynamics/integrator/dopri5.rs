@@ -75,7 +75,11 @@ pub fn trial<R: Rhs>(
     );
     let k6 = rhs.eval(
         t + h,
-        axpy(y, h, &[(A61, k1), (A62, k2), (A63, k3), (A64, k4), (A65, k5)]),
+        axpy(
+            y,
+            h,
+            &[(A61, k1), (A62, k2), (A63, k3), (A64, k4), (A65, k5)],
+        ),
     );
     let y1 = axpy(
         y,
@@ -87,8 +91,7 @@ pub fn trial<R: Rhs>(
     let mut err2 = 0.0;
     let mut err_theta = 0.0;
     for c in 0..2 {
-        let e = h
-            * (E1 * k1[c] + E3 * k3[c] + E4 * k4[c] + E5 * k5[c] + E6 * k6[c] + E7 * k7[c]);
+        let e = h * (E1 * k1[c] + E3 * k3[c] + E4 * k4[c] + E5 * k5[c] + E6 * k6[c] + E7 * k7[c]);
         if c == 0 {
             err_theta = e.abs();
         }

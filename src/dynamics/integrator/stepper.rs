@@ -70,6 +70,7 @@ const FAC_MIN: f64 = 0.2;
 
 impl Stepper {
     /// Starts at `(t, y)`. `h_hint` is a step that worked nearby (0 for none).
+    #[allow(clippy::too_many_arguments)]
     pub fn new<R: Rhs>(
         method: Method,
         rtol: f64,

@@ -1,0 +1,514 @@
+//! The job-spec JSON: serde types as users write them, and their validation
+//! into domain types with every default filled in.
+//!
+//! Errors name the offending field as a JSON pointer (RFC 6901), e.g.
+//! `/block/alpha`.
+
+use serde::{Deserialize, Serialize};
+
+use crate::dynamics::{Block, Formulation, Method, Pulse, PulseShape, Solver};
+
+/// A spec that cannot be run, with the field at fault.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{pointer}: {message}")]
+pub struct SpecError {
+    /// JSON pointer to the offending field ("" for the document itself).
+    pub pointer: String,
+    /// What is wrong with it.
+    pub message: String,
+}
+
+impl SpecError {
+    /// An error at `pointer`.
+    pub fn at(pointer: impl Into<String>, message: impl Into<String>) -> Self {
+        SpecError {
+            pointer: pointer.into(),
+            message: message.into(),
+        }
+    }
+}
+
+/// Deserialises `value` into `T`, reporting the failing field as a JSON pointer
+/// below `base`.
+pub fn from_value<T: for<'de> Deserialize<'de>>(
+    value: &serde_json::Value,
+    base: &str,
+) -> Result<T, SpecError> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
+        let mut pointer = base.to_string();
+        for seg in e.path().iter() {
+            use serde_path_to_error::Segment;
+            match seg {
+                Segment::Seq { index } => pointer.push_str(&format!("/{index}")),
+                Segment::Map { key } | Segment::Enum { variant: key } => {
+                    pointer.push('/');
+                    pointer.push_str(&key.replace('~', "~0").replace('/', "~1"));
+                }
+                Segment::Unknown => {}
+            }
+        }
+        let message = e.into_inner().to_string();
+        SpecError::at(pointer, message)
+    })
+}
+
+/// The block, by parameters or by geometry.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct BlockSpec {
+    /// Slenderness α, rad.
+    #[serde(alias = "slenderness")]
+    pub alpha: Option<f64>,
+    /// Frequency parameter p, rad/s.
+    #[serde(alias = "frequency_parameter")]
+    pub p: Option<f64>,
+    /// Half-width b, m.
+    #[serde(alias = "half_width")]
+    pub b: Option<f64>,
+    /// Half-height h, m.
+    #[serde(alias = "half_height")]
+    pub h: Option<f64>,
+    /// Coefficient of restitution η (default 1 − 1.5 sin²α, floored at 0).
+    #[serde(alias = "restitution")]
+    pub eta: Option<f64>,
+    /// Friction coefficient μ (optional; enables sliding warnings).
+    #[serde(alias = "friction")]
+    pub mu: Option<f64>,
+    /// Gravity, m/s² (default 9.81).
+    #[serde(alias = "gravity")]
+    pub g: Option<f64>,
+}
+
+/// The pulse: family, frequency and amplitude.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PulseSpec {
+    /// "one_sine" | "one_cosine" | "cn" (aliases: "sine", "type_a", "cosine", "type_b", "type_cn").
+    #[serde(rename = "type", alias = "shape")]
+    pub kind: Option<String>,
+    /// Displacement cycles of a Type-Cn pulse (default 1).
+    pub n: Option<u32>,
+    /// Circular frequency ω_p, rad/s.
+    pub omega_p: Option<f64>,
+    /// Frequency f = ω_p/(2π), Hz.
+    pub frequency_hz: Option<f64>,
+    /// ω_p/p.
+    pub omega_ratio: Option<f64>,
+    /// Amplitude, m/s².
+    pub a_p: Option<f64>,
+    /// Amplitude in g.
+    pub a_p_g: Option<f64>,
+    /// Amplitude in α g.
+    pub a_p_alpha_g: Option<f64>,
+}
+
+/// Solver choice.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// "exact" | "dopri5" | "dop853".
+    pub method: Option<String>,
+    /// Relative tolerance.
+    pub rtol: Option<f64>,
+    /// Absolute tolerance.
+    pub atol: Option<f64>,
+}
+
+/// Default relative tolerance of the Runge–Kutta solvers.
+pub const DEFAULT_RTOL: f64 = 1e-10;
+/// Default absolute tolerance of the Runge–Kutta solvers.
+pub const DEFAULT_ATOL: f64 = 1e-12;
+
+/// The solver, normalised.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct SolverNorm {
+    /// "exact" | "dopri5" | "dop853".
+    pub method: &'static str,
+    /// Relative tolerance (Runge–Kutta only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rtol: Option<f64>,
+    /// Absolute tolerance (Runge–Kutta only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub atol: Option<f64>,
+}
+
+impl SolverNorm {
+    /// The domain solver.
+    pub fn solver(&self) -> Solver {
+        match (self.method, self.rtol, self.atol) {
+            ("dopri5", Some(rtol), Some(atol)) => Solver::RungeKutta {
+                method: Method::Dopri5,
+                rtol,
+                atol,
+            },
+            ("dop853", Some(rtol), Some(atol)) => Solver::RungeKutta {
+                method: Method::Dop853,
+                rtol,
+                atol,
+            },
+            _ => Solver::Exact,
+        }
+    }
+}
+
+/// The block, normalised (SI units, defaults filled).
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct BlockNorm {
+    /// α, rad.
+    pub alpha: f64,
+    /// p, rad/s.
+    pub p: f64,
+    /// η.
+    pub eta: f64,
+    /// μ.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu: Option<f64>,
+    /// g, m/s².
+    pub g: f64,
+}
+
+impl BlockNorm {
+    /// The domain block.
+    pub fn block(&self) -> Block {
+        Block {
+            slenderness: self.alpha,
+            frequency_parameter: self.p,
+            restitution: self.eta,
+            friction: self.mu,
+            gravity: self.g,
+        }
+    }
+}
+
+/// Validates a block spec found at `base`.
+pub fn validate_block(spec: &BlockSpec, base: &str) -> Result<BlockNorm, SpecError> {
+    let by_params = spec.alpha.is_some() || spec.p.is_some();
+    let by_geometry = spec.b.is_some() || spec.h.is_some();
+    let finite = |v: Option<f64>, name: &str| -> Result<(), SpecError> {
+        match v {
+            Some(x) if !x.is_finite() => Err(SpecError::at(
+                format!("{base}/{name}"),
+                "must be a finite number",
+            )),
+            _ => Ok(()),
+        }
+    };
+    for (v, name) in [
+        (spec.alpha, "alpha"),
+        (spec.p, "p"),
+        (spec.b, "b"),
+        (spec.h, "h"),
+        (spec.eta, "eta"),
+        (spec.mu, "mu"),
+        (spec.g, "g"),
+    ] {
+        finite(v, name)?;
+    }
+    use crate::dynamics::block::BlockError as E;
+    let map = |e: E| -> SpecError {
+        let field = match e {
+            E::Slenderness(_) => "alpha",
+            E::FrequencyParameter(_) => "p",
+            E::Restitution(_) => "eta",
+            E::Friction(_) => "mu",
+            E::Gravity(_) => "g",
+            E::Geometry(b, _) => {
+                if b > 0.0 {
+                    "h"
+                } else {
+                    "b"
+                }
+            }
+        };
+        SpecError::at(format!("{base}/{field}"), e.to_string())
+    };
+    let block = match (by_params, by_geometry) {
+        (true, true) => {
+            return Err(SpecError::at(
+                base,
+                "give either alpha and p, or b and h (half-width and half-height), not both",
+            ));
+        }
+        (false, false) => {
+            return Err(SpecError::at(
+                base,
+                "missing block: give alpha (rad) and p (rad/s), or b and h (m)",
+            ));
+        }
+        (true, false) => {
+            let alpha = spec
+                .alpha
+                .ok_or_else(|| SpecError::at(format!("{base}/alpha"), "missing field (rad)"))?;
+            let p = spec
+                .p
+                .ok_or_else(|| SpecError::at(format!("{base}/p"), "missing field (rad/s)"))?;
+            Block::new(alpha, p, spec.eta, spec.mu, spec.g).map_err(map)?
+        }
+        (false, true) => {
+            let b = spec
+                .b
+                .ok_or_else(|| SpecError::at(format!("{base}/b"), "missing field (m)"))?;
+            let h = spec
+                .h
+                .ok_or_else(|| SpecError::at(format!("{base}/h"), "missing field (m)"))?;
+            Block::from_geometry(b, h, spec.eta, spec.mu, spec.g).map_err(map)?
+        }
+    };
+    Ok(BlockNorm {
+        alpha: block.slenderness,
+        p: block.frequency_parameter,
+        eta: block.restitution,
+        mu: block.friction,
+        g: block.gravity,
+    })
+}
+
+/// Parses the pulse family name.
+pub fn parse_shape(spec: &PulseSpec, base: &str) -> Result<PulseShape, SpecError> {
+    let kind = spec.kind.as_deref().ok_or_else(|| {
+        SpecError::at(
+            format!("{base}/type"),
+            "missing field: one_sine | one_cosine | cn",
+        )
+    })?;
+    let shape = match kind.to_ascii_lowercase().as_str() {
+        "one_sine" | "sine" | "type_a" | "a" => PulseShape::OneSine,
+        "one_cosine" | "cosine" | "type_b" | "b" => PulseShape::OneCosine,
+        "cn" | "type_cn" | "type_c" | "c" => PulseShape::Cn(spec.n.unwrap_or(1)),
+        other => {
+            return Err(SpecError::at(
+                format!("{base}/type"),
+                format!("unknown pulse type {other:?}: expected one_sine | one_cosine | cn"),
+            ));
+        }
+    };
+    if let PulseShape::Cn(n) = shape {
+        if !(1..=1000).contains(&n) {
+            return Err(SpecError::at(
+                format!("{base}/n"),
+                "n must satisfy 1 <= n <= 1000",
+            ));
+        }
+    } else if spec.n.is_some() {
+        return Err(SpecError::at(
+            format!("{base}/n"),
+            "n applies to cn pulses only",
+        ));
+    }
+    Ok(shape)
+}
+
+/// Name of a pulse family in normalised specs.
+pub fn shape_name(shape: PulseShape) -> &'static str {
+    match shape {
+        PulseShape::OneSine => "one_sine",
+        PulseShape::OneCosine => "one_cosine",
+        PulseShape::Cn(_) => "cn",
+    }
+}
+
+fn exactly_one(
+    base: &str,
+    options: &[(Option<f64>, &str)],
+    what: &str,
+) -> Result<(f64, usize), SpecError> {
+    let given: Vec<(usize, f64, &str)> = options
+        .iter()
+        .enumerate()
+        .filter_map(|(i, (v, n))| v.map(|v| (i, v, *n)))
+        .collect();
+    let names: Vec<&str> = options.iter().map(|(_, n)| *n).collect();
+    match given.as_slice() {
+        [] => Err(SpecError::at(
+            base,
+            format!("missing {what}: give exactly one of {}", names.join(", ")),
+        )),
+        [(i, v, name)] => {
+            if v.is_finite() {
+                Ok((*v, *i))
+            } else {
+                Err(SpecError::at(
+                    format!("{base}/{name}"),
+                    "must be a finite number",
+                ))
+            }
+        }
+        [_, (_, _, second), ..] => Err(SpecError::at(
+            format!("{base}/{second}"),
+            format!(
+                "give exactly one {what} ({}), not several",
+                names.join(", ")
+            ),
+        )),
+    }
+}
+
+/// The pulse of a time history, normalised.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct PulseNorm {
+    /// Family name.
+    #[serde(rename = "type")]
+    pub kind: &'static str,
+    /// Cycles (cn only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub n: Option<u32>,
+    /// ω_p, rad/s.
+    pub omega_p: f64,
+    /// a_p, m/s².
+    pub a_p: f64,
+}
+
+/// Range checked for ω_p/p.
+pub const OMEGA_RATIO_RANGE: (f64, f64) = (1e-3, 1e4);
+/// Largest |a_p|/(α g) accepted.
+pub const MAX_AMPLITUDE_ALPHA_G: f64 = 1e8;
+
+/// Validates a fully specified pulse (time histories).
+pub fn validate_pulse(
+    spec: &PulseSpec,
+    block: &BlockNorm,
+    base: &str,
+) -> Result<(PulseNorm, Pulse), SpecError> {
+    let shape = parse_shape(spec, base)?;
+    let (w, which) = exactly_one(
+        base,
+        &[
+            (spec.omega_p, "omega_p"),
+            (spec.frequency_hz, "frequency_hz"),
+            (spec.omega_ratio, "omega_ratio"),
+        ],
+        "frequency",
+    )?;
+    let (field, omega) = match which {
+        0 => ("omega_p", w),
+        1 => ("frequency_hz", 2.0 * std::f64::consts::PI * w),
+        _ => ("omega_ratio", w * block.p),
+    };
+    let ratio = omega / block.p;
+    if omega <= 0.0 || ratio < OMEGA_RATIO_RANGE.0 || ratio > OMEGA_RATIO_RANGE.1 {
+        return Err(SpecError::at(
+            format!("{base}/{field}"),
+            format!(
+                "must be positive with {} <= omega_p/p <= {} (got omega_p/p = {ratio})",
+                OMEGA_RATIO_RANGE.0, OMEGA_RATIO_RANGE.1
+            ),
+        ));
+    }
+    let (a, which) = exactly_one(
+        base,
+        &[
+            (spec.a_p, "a_p"),
+            (spec.a_p_g, "a_p_g"),
+            (spec.a_p_alpha_g, "a_p_alpha_g"),
+        ],
+        "amplitude",
+    )?;
+    let (field, a_p) = match which {
+        0 => ("a_p", a),
+        1 => ("a_p_g", a * block.g),
+        _ => ("a_p_alpha_g", a * block.alpha * block.g),
+    };
+    if a_p == 0.0 || (a_p / (block.alpha * block.g)).abs() > MAX_AMPLITUDE_ALPHA_G {
+        return Err(SpecError::at(
+            format!("{base}/{field}"),
+            format!("must be non-zero with |a_p|/(alpha g) <= {MAX_AMPLITUDE_ALPHA_G:e}"),
+        ));
+    }
+    let pulse = Pulse::new(shape, a_p, omega).map_err(|e| SpecError::at(base, e.to_string()))?;
+    Ok((
+        PulseNorm {
+            kind: shape_name(shape),
+            n: match shape {
+                PulseShape::Cn(n) => Some(n),
+                _ => None,
+            },
+            omega_p: omega,
+            a_p,
+        },
+        pulse,
+    ))
+}
+
+/// Parses the formulation (default nonlinear).
+pub fn parse_formulation(v: Option<&str>, pointer: &str) -> Result<Formulation, SpecError> {
+    match v.map(|s| s.to_ascii_lowercase()).as_deref() {
+        None | Some("nonlinear") => Ok(Formulation::Nonlinear),
+        Some("linear") => Ok(Formulation::Linear),
+        Some(other) => Err(SpecError::at(
+            pointer,
+            format!("unknown formulation {other:?}: expected linear | nonlinear"),
+        )),
+    }
+}
+
+/// Validates the solver (default: exact for linear, dop853 otherwise).
+pub fn validate_solver(
+    spec: Option<&SolverSpec>,
+    formulation: Formulation,
+    base: &str,
+) -> Result<SolverNorm, SpecError> {
+    let default = SolverSpec::default();
+    let spec = spec.unwrap_or(&default);
+    let method = match spec
+        .method
+        .as_deref()
+        .map(|s| s.to_ascii_lowercase())
+        .as_deref()
+    {
+        None => {
+            if formulation == Formulation::Linear {
+                "exact"
+            } else {
+                "dop853"
+            }
+        }
+        Some("exact") => "exact",
+        Some("dopri5") | Some("rk45") => "dopri5",
+        Some("dop853") => "dop853",
+        Some(other) => {
+            return Err(SpecError::at(
+                format!("{base}/method"),
+                format!("unknown method {other:?}: expected exact | dopri5 | dop853"),
+            ));
+        }
+    };
+    if method == "exact" {
+        if formulation != Formulation::Linear {
+            return Err(SpecError::at(
+                format!("{base}/method"),
+                "the exact solver solves the linear formulation only",
+            ));
+        }
+        if spec.rtol.is_some() || spec.atol.is_some() {
+            let f = if spec.rtol.is_some() { "rtol" } else { "atol" };
+            return Err(SpecError::at(
+                format!("{base}/{f}"),
+                "tolerances apply to dopri5 and dop853 only",
+            ));
+        }
+        return Ok(SolverNorm {
+            method,
+            rtol: None,
+            atol: None,
+        });
+    }
+    let rtol = spec.rtol.unwrap_or(DEFAULT_RTOL);
+    let atol = spec.atol.unwrap_or(DEFAULT_ATOL);
+    if !(rtol.is_finite() && (1e-14..=0.1).contains(&rtol)) {
+        return Err(SpecError::at(
+            format!("{base}/rtol"),
+            "must satisfy 1e-14 <= rtol <= 0.1",
+        ));
+    }
+    if !(atol.is_finite() && atol > 0.0 && atol <= 0.1) {
+        return Err(SpecError::at(
+            format!("{base}/atol"),
+            "must satisfy 0 < atol <= 0.1",
+        ));
+    }
+    Ok(SolverNorm {
+        method,
+        rtol: Some(rtol),
+        atol: Some(atol),
+    })
+}

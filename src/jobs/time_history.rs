@@ -1,0 +1,327 @@
+//! The `time_history` job: one block, one pulse, one response.
+
+use serde::{Deserialize, Serialize};
+
+use super::numerics::NumericsDoc;
+use super::spec::{
+    BlockNorm, BlockSpec, PulseNorm, PulseSpec, SolverNorm, SolverSpec, SpecError,
+    parse_formulation, validate_block, validate_pulse, validate_solver,
+};
+use crate::dynamics::response::Warning;
+use crate::dynamics::{Options, Problem, SimError, simulate};
+
+/// Largest series accepted.
+pub const MAX_SERIES_POINTS: usize = 1_000_000;
+
+/// What to compute and keep beyond the outcome.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct OutputsSpec {
+    /// Number of uniformly spaced samples of (t, θ, θ̇, ü_g, f_x/f_z); none by default.
+    pub series: Option<usize>,
+    /// Follow the base reactions (peak friction demand, warnings); default true.
+    pub reactions: Option<bool>,
+    /// List the impacts (default true; the count is always given).
+    pub impacts: Option<bool>,
+    /// Follow free rocking after the pulse for at most this many impacts (default 1000).
+    pub max_free_impacts: Option<u64>,
+    /// Stop the simulation at this time, s (free rocking only).
+    pub duration: Option<f64>,
+}
+
+/// The spec as users write it.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TimeHistorySpec {
+    /// "time_history".
+    pub kind: String,
+    /// The block.
+    pub block: Option<BlockSpec>,
+    /// The pulse.
+    pub pulse: Option<PulseSpec>,
+    /// "linear" | "nonlinear" (default).
+    pub formulation: Option<String>,
+    /// Solver (default: exact for linear, dop853 otherwise).
+    pub solver: Option<SolverSpec>,
+    /// Extra outputs.
+    pub outputs: Option<OutputsSpec>,
+}
+
+/// Outputs, normalised.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct OutputsNorm {
+    /// Series samples (0: none).
+    pub series: usize,
+    /// Follow reactions.
+    pub reactions: bool,
+    /// List impacts.
+    pub impacts: bool,
+    /// Free-rocking impact limit.
+    pub max_free_impacts: u64,
+    /// End time, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub duration: Option<f64>,
+}
+
+/// A validated time-history job; serialises to the canonical spec.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct TimeHistoryJob {
+    /// "time_history".
+    pub kind: &'static str,
+    /// Block.
+    pub block: BlockNorm,
+    /// Pulse.
+    pub pulse: PulseNorm,
+    /// "linear" | "nonlinear".
+    pub formulation: &'static str,
+    /// Solver.
+    pub solver: SolverNorm,
+    /// Outputs.
+    pub outputs: OutputsNorm,
+}
+
+impl TimeHistorySpec {
+    /// Validates into a runnable job.
+    pub fn validate(&self) -> Result<TimeHistoryJob, SpecError> {
+        let block_spec = self
+            .block
+            .as_ref()
+            .ok_or_else(|| SpecError::at("/block", "missing field"))?;
+        let block = validate_block(block_spec, "/block")?;
+        let pulse_spec = self
+            .pulse
+            .as_ref()
+            .ok_or_else(|| SpecError::at("/pulse", "missing field"))?;
+        let (pulse, _) = validate_pulse(pulse_spec, &block, "/pulse")?;
+        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let solver = validate_solver(self.solver.as_ref(), formulation, "/solver")?;
+        let out = self.outputs.clone().unwrap_or_default();
+        let series = out.series.unwrap_or(0);
+        if series > MAX_SERIES_POINTS {
+            return Err(SpecError::at(
+                "/outputs/series",
+                format!("at most {MAX_SERIES_POINTS} points"),
+            ));
+        }
+        if let Some(d) = out.duration
+            && !(d.is_finite() && d > 0.0)
+        {
+            return Err(SpecError::at(
+                "/outputs/duration",
+                "must be positive and finite (s)",
+            ));
+        }
+        Ok(TimeHistoryJob {
+            kind: "time_history",
+            block,
+            pulse,
+            formulation: formulation.name(),
+            solver,
+            outputs: OutputsNorm {
+                series,
+                reactions: out.reactions.unwrap_or(true),
+                impacts: out.impacts.unwrap_or(true),
+                max_free_impacts: out.max_free_impacts.unwrap_or(1_000),
+                duration: out.duration,
+            },
+        })
+    }
+}
+
+/// One impact in a result.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ImpactDoc {
+    /// Time, s.
+    pub t: f64,
+    /// θ̇ before, rad/s.
+    pub theta_dot_before: f64,
+    /// θ̇ after, rad/s.
+    pub theta_dot_after: f64,
+}
+
+/// A note on a result.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct WarningDoc {
+    /// "sliding" | "lift_off" | "free_rocking_truncated" | "impact_list_truncated" | "near_separatrix".
+    pub kind: String,
+    /// When it happens, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub t: Option<f64>,
+    /// Explanation.
+    pub message: String,
+}
+
+impl WarningDoc {
+    fn from(w: &Warning) -> Self {
+        let (kind, t, message) = match *w {
+            Warning::Sliding(t) => (
+                "sliding",
+                Some(t),
+                format!("|f_x/f_z| exceeds mu at t = {t:.6} s: pure rocking is violated (the block would slide)"),
+            ),
+            Warning::LiftOff(t) => (
+                "lift_off",
+                Some(t),
+                format!("f_z <= 0 at t = {t:.6} s: the block would lift off the base"),
+            ),
+            Warning::FreeRockingTruncated(n) => (
+                "free_rocking_truncated",
+                None,
+                format!("free rocking after the pulse followed for {n} impacts only (outputs.max_free_impacts)"),
+            ),
+            Warning::ImpactListTruncated(n) => (
+                "impact_list_truncated",
+                None,
+                format!("impact list truncated to {n} entries; impact_count is complete"),
+            ),
+            Warning::NearSeparatrix => (
+                "near_separatrix",
+                None,
+                "the state at the pulse end lies within integration tolerance of the separatrix; the outcome is the exact free-vibration decision".to_string(),
+            ),
+        };
+        WarningDoc {
+            kind: kind.to_string(),
+            t,
+            message,
+        }
+    }
+}
+
+/// Sampled series.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct SeriesDoc {
+    /// Time, s.
+    pub t: Vec<f64>,
+    /// θ, rad.
+    pub theta: Vec<f64>,
+    /// θ̇, rad/s.
+    pub theta_dot: Vec<f64>,
+    /// ü_g, m/s².
+    pub ground_acceleration: Vec<f64>,
+    /// f_x/f_z.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fx_over_fz: Option<Vec<f64>>,
+}
+
+/// The result document of a time-history job.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct TimeHistoryResult {
+    /// "time_history".
+    pub kind: &'static str,
+    /// Whether rocking started at all.
+    pub rocked: bool,
+    /// First rocking start, s.
+    pub rocking_start: Option<f64>,
+    /// Number of rocking starts (restarts after rest included).
+    pub rocking_starts: u32,
+    /// Whether the block overturned.
+    pub overturned: bool,
+    /// 1 (after ≥ 1 impact), 2 (no impact) or null.
+    pub mode: Option<u8>,
+    /// Number of impacts.
+    pub impact_count: u64,
+    /// The impacts (when `outputs.impacts`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub impacts: Option<Vec<ImpactDoc>>,
+    /// Time |θ| reached π/2, s.
+    pub overturn_time: Option<f64>,
+    /// Time the block came to rest for good, s.
+    pub rest_time: Option<f64>,
+    /// Time the outcome became certain, s.
+    pub decided_at: f64,
+    /// End of the simulated interval, s.
+    pub end_time: f64,
+    /// max |θ|/α.
+    pub peak_theta_over_alpha: f64,
+    /// max |f_x/f_z| while rocking (minimum μ for pure rocking), when reactions are followed.
+    pub peak_friction_demand: Option<f64>,
+    /// Time of that peak, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_friction_demand_time: Option<f64>,
+    /// f_x/f_z when rocking starts (eq. 7 / 51).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub initiation_friction_demand: Option<f64>,
+    /// Notes.
+    pub warnings: Vec<WarningDoc>,
+    /// Series (when asked for).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub series: Option<SeriesDoc>,
+    /// Cost and accuracy.
+    pub numerics: NumericsDoc,
+    /// The normalised spec that was run.
+    pub spec: TimeHistoryJob,
+}
+
+impl TimeHistoryJob {
+    /// Runs the job.
+    pub fn run(&self) -> Result<TimeHistoryResult, SimError> {
+        let block = self.block.block();
+        let shape = match (self.pulse.kind, self.pulse.n) {
+            ("one_sine", _) => crate::dynamics::PulseShape::OneSine,
+            ("one_cosine", _) => crate::dynamics::PulseShape::OneCosine,
+            (_, n) => crate::dynamics::PulseShape::Cn(n.unwrap_or(1)),
+        };
+        let pulse = crate::dynamics::Pulse::new(shape, self.pulse.a_p, self.pulse.omega_p)
+            .map_err(|_| SimError::Tolerance)?;
+        let formulation = if self.formulation == "linear" {
+            crate::dynamics::Formulation::Linear
+        } else {
+            crate::dynamics::Formulation::Nonlinear
+        };
+        let problem = Problem {
+            block,
+            pulse,
+            formulation,
+        };
+        let options = Options {
+            solver: self.solver.solver(),
+            reactions: self.outputs.reactions,
+            peak: true,
+            series_points: (self.outputs.series > 0).then_some(self.outputs.series),
+            series_at: None,
+            record_impacts: self.outputs.impacts,
+            stop_at_decision: false,
+            max_free_impacts: self.outputs.max_free_impacts,
+            horizon: self.outputs.duration,
+        };
+        let r = simulate(&problem, &options)?;
+        Ok(TimeHistoryResult {
+            kind: "time_history",
+            rocked: r.rocked,
+            rocking_start: r.rocking_start,
+            rocking_starts: r.rocking_starts,
+            overturned: r.overturned,
+            mode: r.mode.map(|m| m.number()),
+            impact_count: r.impact_count,
+            impacts: self.outputs.impacts.then(|| {
+                r.impacts
+                    .iter()
+                    .map(|i| ImpactDoc {
+                        t: i.time,
+                        theta_dot_before: i.velocity_before,
+                        theta_dot_after: i.velocity_after,
+                    })
+                    .collect()
+            }),
+            overturn_time: r.overturn_time,
+            rest_time: r.rest_time,
+            decided_at: r.decided_at,
+            end_time: r.end_time,
+            peak_theta_over_alpha: r.peak_theta_over_alpha,
+            peak_friction_demand: r.friction.map(|f| f.peak),
+            peak_friction_demand_time: r.friction.map(|f| f.peak_time),
+            initiation_friction_demand: r.friction.and_then(|f| f.initiation),
+            warnings: r.warnings.iter().map(WarningDoc::from).collect(),
+            series: r.series.map(|s| SeriesDoc {
+                t: s.t,
+                theta: s.theta,
+                theta_dot: s.theta_dot,
+                ground_acceleration: s.ground_acceleration,
+                fx_over_fz: s.reaction_ratio,
+            }),
+            numerics: NumericsDoc::from(&r.numerics),
+            spec: self.clone(),
+        })
+    }
+}

@@ -1,0 +1,143 @@
+//! SVG figures (plotters, SVG backend: no system fonts needed).
+
+use plotters::prelude::*;
+
+use crate::precision::PrecisionRow;
+
+type PlotResult = Result<(), Box<dyn std::error::Error>>;
+
+/// The work-precision diagram: error against time per run, one line per method.
+pub fn precision_diagram(rows: &[PrecisionRow], path: &str) -> PlotResult {
+    let root = SVGBackend::new(path, (720, 480)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let floor = 1e-16;
+    let pts: Vec<(&str, f64, f64)> = rows
+        .iter()
+        .filter(|r| r.method != "exact" && r.max_error.is_finite())
+        .map(|r| (r.method, r.time_per_run * 1e6, r.max_error.max(floor)))
+        .collect();
+    let (tmin, tmax) = pts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+        (a.min(p.1), b.max(p.1))
+    });
+    let exact_time = rows
+        .iter()
+        .find(|r| r.method == "exact")
+        .map(|r| r.time_per_run * 1e6);
+    let tmin = exact_time.map_or(tmin, |e| tmin.min(e)) * 0.7;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "topple work-precision (linear cases vs closed form)",
+            ("sans-serif", 18),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d((tmin..tmax * 1.4).log_scale(), (floor..1.0).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("time per simulation (µs)")
+        .y_desc("max |θ − θ_exact| (rad)")
+        .draw()?;
+    for (name, color) in [("dopri5", BLUE), ("dop853", RED)] {
+        let line: Vec<(f64, f64)> = pts
+            .iter()
+            .filter(|p| p.0 == name)
+            .map(|p| (p.1, p.2))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))?
+            .label(name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+        chart.draw_series(line.iter().map(|&p| Circle::new(p, 3, color.filled())))?;
+    }
+    if let Some(t) = exact_time {
+        chart
+            .draw_series(std::iter::once(Cross::new(
+                (t, floor * 2.0),
+                6,
+                BLACK.stroke_width(2),
+            )))?
+            .label("exact (closed form)")
+            .legend(|(x, y)| Cross::new((x + 10, y), 5, BLACK));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+/// Plots a result document: a time history (needs `outputs.series`).
+pub fn plot_result(result: &serde_json::Value, path: &str) -> PlotResult {
+    match result.get("kind").and_then(|k| k.as_str()) {
+        Some("time_history") => time_history(result, path),
+        other => Err(format!("no figure for result kind {other:?}").into()),
+    }
+}
+
+fn column(v: &serde_json::Value, name: &str) -> Vec<f64> {
+    v.get(name)
+        .and_then(|a| a.as_array())
+        .map(|a| a.iter().filter_map(|x| x.as_f64()).collect())
+        .unwrap_or_default()
+}
+
+fn time_history(result: &serde_json::Value, path: &str) -> PlotResult {
+    let series = result
+        .get("series")
+        .ok_or("the result has no series: add \"outputs\": {\"series\": 500} to the spec")?;
+    let alpha = result
+        .pointer("/spec/block/alpha")
+        .and_then(|a| a.as_f64())
+        .ok_or("result without spec")?;
+    let t = column(series, "t");
+    let theta: Vec<f64> = column(series, "theta").iter().map(|x| x / alpha).collect();
+    let ratio = column(series, "fx_over_fz");
+    let t_end = t.last().copied().unwrap_or(1.0).max(1e-9);
+    let root = SVGBackend::new(path, (800, 560)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (top, bottom) = root.split_vertically(if ratio.is_empty() { 560 } else { 320 });
+    let ymax = theta
+        .iter()
+        .fold(1.2f64, |m, v| m.max(v.abs() * 1.1))
+        .min(8.0);
+    let mut chart = ChartBuilder::on(&top)
+        .caption("rotation θ/α", ("sans-serif", 16))
+        .margin(10)
+        .x_label_area_size(30)
+        .y_label_area_size(50)
+        .build_cartesian_2d(0.0..t_end, -ymax..ymax)?;
+    chart
+        .configure_mesh()
+        .x_desc("t (s)")
+        .y_desc("θ/α")
+        .draw()?;
+    chart.draw_series(LineSeries::new(
+        t.iter().copied().zip(theta.iter().copied()),
+        BLUE.stroke_width(2),
+    ))?;
+    if !ratio.is_empty() {
+        let rmax = ratio
+            .iter()
+            .fold(0.3f64, |m, v| m.max(v.abs() * 1.1))
+            .min(10.0);
+        let mut c2 = ChartBuilder::on(&bottom)
+            .caption("f_x/f_z", ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(30)
+            .y_label_area_size(50)
+            .build_cartesian_2d(0.0..t_end, -rmax..rmax)?;
+        c2.configure_mesh()
+            .x_desc("t (s)")
+            .y_desc("f_x/f_z")
+            .draw()?;
+        c2.draw_series(LineSeries::new(
+            t.iter().copied().zip(ratio.iter().copied()),
+            RED.stroke_width(2),
+        ))?;
+    }
+    root.present()?;
+    Ok(())
+}
