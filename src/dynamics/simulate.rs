@@ -92,6 +92,8 @@ pub struct Options {
     pub max_free_impacts: u64,
     /// Do not simulate past this time, s (free rocking only).
     pub horizon: Option<f64>,
+    /// Start rocking at t = 0 from this `[θ, θ̇]` instead of from rest.
+    pub initial_state: Option<State>,
 }
 
 impl Options {
@@ -107,6 +109,7 @@ impl Options {
             stop_at_decision: false,
             max_free_impacts: 1_000,
             horizon: None,
+            initial_state: None,
         }
     }
 
@@ -122,6 +125,7 @@ impl Options {
             stop_at_decision: true,
             max_free_impacts: 0,
             horizon: None,
+            initial_state: None,
         }
     }
 }
@@ -391,6 +395,19 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
     let mut t = 0.0;
     // None while at rest on the base; Some((state, side, forced, lift_until)) while rocking.
     let mut rocking: Option<(State, f64, bool, f64)> = None;
+    if let Some(y0) = options.initial_state
+        && (y0[0] != 0.0 || y0[1] != 0.0)
+    {
+        let side = if y0[0] != 0.0 {
+            y0[0].signum()
+        } else {
+            y0[1].signum()
+        };
+        r.rocked = true;
+        r.rocking_starts = 1;
+        r.rocking_start = Some(0.0);
+        rocking = Some((y0, side, true, 0.0));
+    }
     let mut decision: Option<FreeOutcome> = None;
     let mut free_impacts: u64 = 0;
     let mut forced_impacts: u64 = 0;

@@ -284,6 +284,7 @@ impl TimeHistoryJob {
             stop_at_decision: false,
             max_free_impacts: self.outputs.max_free_impacts,
             horizon: self.outputs.duration,
+            initial_state: None,
         };
         let r = simulate(&problem, &options)?;
         Ok(TimeHistoryResult {

@@ -1,0 +1,241 @@
+//! Acceptance values read off Makris & Zhang (2001): Figs. 7–10 and eq. 51.
+
+use topple::dynamics::{
+    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Solver, simulate,
+};
+
+const G: f64 = 9.81;
+
+fn locomotive() -> Block {
+    Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid block")
+}
+
+fn outcome(problem: &Problem, solver: Solver) -> (bool, u64) {
+    let r = simulate(problem, &Options::outcome(solver)).expect("simulates");
+    (r.overturned, r.impact_count)
+}
+
+/// Amplitudes (in αg) where the outcome (overturned, mode) flips in [lo, hi]:
+/// a scan at `step` followed by bisection to 1e-6 αg.
+fn flips(
+    block: Block,
+    shape: PulseShape,
+    ratio: f64,
+    formulation: Formulation,
+    solver: Solver,
+    (lo, hi, step): (f64, f64, f64),
+) -> Vec<(f64, bool, Option<u8>, u64)> {
+    let unit = block.slenderness * G;
+    let at = |level: f64| {
+        let pulse = Pulse::new(shape, level * unit, ratio * block.frequency_parameter)
+            .expect("valid pulse");
+        let r = simulate(
+            &Problem {
+                block,
+                pulse,
+                formulation,
+            },
+            &Options::outcome(solver),
+        )
+        .expect("simulates");
+        (r.overturned, r.mode.map(|m| m.number()), r.impact_count)
+    };
+    let mut out = Vec::new();
+    let mut a = lo;
+    let mut prev = at(a);
+    while a < hi {
+        let b = a + step;
+        let cur = at(b);
+        if (cur.0, cur.1) != (prev.0, prev.1) {
+            let (mut l, mut h) = (a, b);
+            while h - l > 1e-6 {
+                let m = 0.5 * (l + h);
+                let o = at(m);
+                if (o.0, o.1) == (prev.0, prev.1) {
+                    l = m;
+                } else {
+                    h = m;
+                }
+            }
+            let o = at(h);
+            out.push((0.5 * (l + h), o.0, o.1, o.2));
+        }
+        prev = cur;
+        a = b;
+    }
+    out
+}
+
+fn assert_within(value: f64, expected: f64, rel: f64, what: &str) {
+    assert!(
+        ((value - expected) / expected).abs() <= rel,
+        "{what}: {value} not within {}% of {expected}",
+        rel * 100.0
+    );
+}
+
+#[test]
+fn figs_7_and_8_outcome_flips_at_3_01_then_6_32_then_7_17_alpha_g() {
+    let solvers = [
+        Solver::Exact,
+        Solver::RungeKutta {
+            method: Method::Dop853,
+            rtol: 1e-10,
+            atol: 1e-12,
+        },
+        Solver::RungeKutta {
+            method: Method::Dopri5,
+            rtol: 1e-10,
+            atol: 1e-12,
+        },
+    ];
+    for solver in solvers {
+        let f = flips(
+            locomotive(),
+            PulseShape::OneSine,
+            5.0,
+            Formulation::Linear,
+            solver,
+            (2.5, 8.0, 0.05),
+        );
+        assert_eq!(f.len(), 3, "{}: flips {f:?}", solver.name());
+        // survives → mode 1 with exactly one impact
+        assert_within(f[0].0, 3.01, 0.005, "first flip");
+        assert_eq!((f[0].1, f[0].2, f[0].3), (true, Some(1), 1));
+        // mode 1 → survives
+        assert_within(f[1].0, 6.32, 0.005, "second flip");
+        assert!(!f[1].1);
+        // survives → mode 2, no impact
+        assert_within(f[2].0, 7.17, 0.005, "third flip");
+        assert_eq!((f[2].1, f[2].2, f[2].3), (true, Some(2), 0));
+    }
+}
+
+#[test]
+fn locomotive_nonlinear_one_sine_at_15_7_rad_s_overturns_at_2_25_g_not_at_2_20_g() {
+    let block = locomotive();
+    for method in [Method::Dop853, Method::Dopri5] {
+        let solver = Solver::RungeKutta {
+            method,
+            rtol: 1e-10,
+            atol: 1e-12,
+        };
+        let run = |a_g: f64| {
+            let pulse = Pulse::new(PulseShape::OneSine, a_g * G, 15.7).expect("valid");
+            simulate(
+                &Problem {
+                    block,
+                    pulse,
+                    formulation: Formulation::Nonlinear,
+                },
+                &Options::history(solver),
+            )
+            .expect("simulates")
+        };
+        let strong = run(2.25);
+        assert!(strong.overturned);
+        assert_eq!(strong.mode.map(|m| m.number()), Some(1));
+        let weak = run(2.20);
+        assert!(!weak.overturned, "{:?}", weak.mode);
+    }
+}
+
+#[test]
+fn locomotive_nonlinear_minimum_is_about_2_22_g_and_linear_is_much_higher() {
+    let block = locomotive();
+    let ratio = 15.7 / 2.14;
+    let solver = Solver::RungeKutta {
+        method: Method::Dop853,
+        rtol: 1e-10,
+        atol: 1e-12,
+    };
+    // a_p/(αg) = 2.22/0.25 = 8.88 for the nonlinear formulation.
+    let f = flips(
+        block,
+        PulseShape::OneSine,
+        ratio,
+        Formulation::Nonlinear,
+        solver,
+        (8.0, 10.0, 0.02),
+    );
+    let first = f.first().expect("overturns");
+    assert!(first.1 && first.2 == Some(1), "{f:?}");
+    assert_within(first.0 * 0.25, 2.22, 0.01, "nonlinear minimum (g)");
+    // The linear formulation needs 3.24 g, in mode 2.
+    let f = flips(
+        block,
+        PulseShape::OneSine,
+        ratio,
+        Formulation::Linear,
+        Solver::Exact,
+        (8.0, 14.0, 0.02),
+    );
+    let first = f.first().expect("overturns");
+    assert!(first.1 && first.2 == Some(2), "{f:?}");
+    assert_within(first.0 * 0.25, 3.24, 0.01, "linear minimum (g)");
+}
+
+#[test]
+fn friction_demand_peaks_near_2_5_tan_alpha_for_the_locomotive_at_8_9_alpha_g() {
+    let block = locomotive();
+    let pulse = Pulse::new(PulseShape::OneSine, 8.9 * 0.25 * G, 15.7).expect("valid");
+    let r = simulate(
+        &Problem {
+            block,
+            pulse,
+            formulation: Formulation::Nonlinear,
+        },
+        &Options::history(Solver::RungeKutta {
+            method: Method::Dop853,
+            rtol: 1e-10,
+            atol: 1e-12,
+        }),
+    )
+    .expect("simulates");
+    let f = r.friction.expect("reactions followed");
+    let tan = 0.25f64.tan();
+    assert!((f.initiation.expect("rocked") - tan).abs() < 1e-12);
+    assert!(
+        ((f.peak / tan) - 2.5).abs() <= 0.25,
+        "peak {} tan α",
+        f.peak / tan
+    );
+}
+
+#[test]
+fn one_cosine_initiation_demand_at_6_alpha_g_is_about_twice_alpha() {
+    let block = Block::new(0.25, 2.14, None, None, None).expect("valid");
+    let pulse = Pulse::new(PulseShape::OneCosine, 6.0 * 0.25 * G, 5.0 * 2.14).expect("valid");
+    let r = simulate(
+        &Problem {
+            block,
+            pulse,
+            formulation: Formulation::Nonlinear,
+        },
+        &Options::history(Solver::RungeKutta {
+            method: Method::Dop853,
+            rtol: 1e-10,
+            atol: 1e-12,
+        }),
+    )
+    .expect("simulates");
+    let init = r.friction.and_then(|f| f.initiation).expect("rocked");
+    assert!((init / 0.25 - 2.0).abs() < 0.1, "{}", init / 0.25);
+    assert_eq!(r.rocking_start, Some(0.0));
+}
+
+#[test]
+fn outcome_helper_agrees_with_full_history() {
+    let block = locomotive();
+    let pulse = Pulse::new(PulseShape::OneSine, 4.0 * 0.25 * G, 5.0 * 2.14).expect("valid");
+    let problem = Problem {
+        block,
+        pulse,
+        formulation: Formulation::Linear,
+    };
+    let full = simulate(&problem, &Options::history(Solver::Exact)).expect("simulates");
+    assert_eq!(
+        outcome(&problem, Solver::Exact),
+        (full.overturned, full.impact_count)
+    );
+}
