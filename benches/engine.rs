@@ -1,1 +1,67 @@
-fn main() {}
+//! Engine benchmarks: one simulation of the reference case (locomotive block,
+//! one-sine pulse, ω_p/p = 5, a_p = 4 αg).
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+use topple::dynamics::{
+    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Solver, simulate,
+};
+
+fn problem(formulation: Formulation) -> Problem {
+    let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
+    let pulse = Pulse::new(PulseShape::OneSine, 4.0 * 0.25 * 9.81, 5.0 * 2.14).expect("valid");
+    Problem {
+        block,
+        pulse,
+        formulation,
+    }
+}
+
+fn rk(method: Method, rtol: f64) -> Solver {
+    Solver::RungeKutta {
+        method,
+        rtol,
+        atol: rtol / 100.0,
+    }
+}
+
+fn engine(c: &mut Criterion) {
+    let nonlinear = problem(Formulation::Nonlinear);
+    let linear = problem(Formulation::Linear);
+    let mut g = c.benchmark_group("history");
+    for (name, p, solver) in [
+        (
+            "nonlinear_dop853_rtol1e-8",
+            nonlinear,
+            rk(Method::Dop853, 1e-8),
+        ),
+        (
+            "nonlinear_dopri5_rtol1e-8",
+            nonlinear,
+            rk(Method::Dopri5, 1e-8),
+        ),
+        (
+            "nonlinear_dop853_rtol1e-10",
+            nonlinear,
+            rk(Method::Dop853, 1e-10),
+        ),
+        ("linear_exact", linear, Solver::Exact),
+        ("linear_dop853_rtol1e-8", linear, rk(Method::Dop853, 1e-8)),
+    ] {
+        // Through the pulse, outcome decided exactly at its end.
+        let outcome = Options::outcome(solver);
+        g.bench_function(format!("{name}/outcome"), |b| {
+            b.iter(|| simulate(black_box(&p), black_box(&outcome)))
+        });
+        // The full result of a time-history job: reactions, peaks, impacts,
+        // free motion until overturning.
+        let full = Options::history(solver);
+        g.bench_function(format!("{name}/full"), |b| {
+            b.iter(|| simulate(black_box(&p), black_box(&full)))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, engine);
+criterion_main!(benches);

@@ -200,3 +200,21 @@ fn rocking_starts_at_the_paper_phase_psi() {
         assert!((r.rocking_start.expect("rocks") - psi / 10.0).abs() < 1e-15);
     }
 }
+
+#[test]
+fn following_no_free_impacts_ends_at_the_pulse_with_the_exact_decision() {
+    let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
+    let pulse = Pulse::new(PulseShape::OneSine, 2.5 * 0.25 * G, 5.0 * 2.14).expect("valid");
+    let problem = Problem {
+        block,
+        pulse,
+        formulation: Formulation::Linear,
+    };
+    let mut opts = Options::history(Solver::Exact);
+    opts.max_free_impacts = 0;
+    let r = simulate(&problem, &opts).expect("simulates");
+    assert_eq!(r.end_time, pulse.duration);
+    let full = simulate(&problem, &Options::history(Solver::Exact)).expect("simulates");
+    assert_eq!(r.overturned, full.overturned);
+    assert!(full.impact_count > r.impact_count);
+}

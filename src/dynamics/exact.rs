@@ -64,6 +64,8 @@ pub struct LinearSegment {
     sin_chi0: f64,
     /// Bound on |U| used by the safe stepping.
     u_abs: f64,
+    /// U = a_p/g (signed), for the ground term of g̈.
+    u_amp: f64,
 }
 
 impl LinearSegment {
@@ -84,6 +86,7 @@ impl LinearSegment {
             cos_chi0,
             sin_chi0,
             u_abs: u.abs(),
+            u_amp: u,
         }
     }
 
@@ -116,6 +119,16 @@ impl LinearSegment {
     #[inline]
     pub fn at(&self, t: f64) -> State {
         self.at_tau(t - self.t0)
+    }
+
+    /// ü_g/g at `τ`.
+    #[inline]
+    fn ground(&self, tau: f64) -> f64 {
+        if self.u_amp == 0.0 {
+            return 0.0;
+        }
+        let (sy, cy) = (self.omega * tau).sin_cos();
+        self.u_amp * (self.cos_chi0 * cy - self.sin_chi0 * sy)
     }
 
     /// Curvature bounds of g = sθ valid while 0 ≤ g ≤ π/2: −k_low ≤ g̈ ≤ k_up.
@@ -161,6 +174,11 @@ pub fn first_event(seg: &LinearSegment, t_stop: f64, no_return_before: f64) -> S
     let g = |tau: f64| s * seg.at_tau(tau)[0];
     let top = |tau: f64| FRAC_PI_2 - s * seg.at_tau(tau)[0];
     let resolution = |tau: f64| 8.0 * f64::EPSILON * (seg.t0 + tau).abs().max(1.0 / seg.p);
+    let p2 = seg.p * seg.p;
+    let uw = seg.u_abs * seg.omega;
+    let k_abs = k_low.max(k_up);
+    // Steps shorter than this call for the third-order bound.
+    let short = 0.05 / seg.p.max(seg.omega);
 
     let mut tau = 0.0;
     // Lift-off from rest: g is convex and increasing until the ground stops
@@ -183,7 +201,20 @@ pub fn first_event(seg: &LinearSegment, t_stop: f64, no_return_before: f64) -> S
         let d_low = if gk <= 0.0 && tau > 0.0 {
             0.0
         } else {
-            (gdk + (gdk * gdk + 2.0 * k_low * gk.max(0.0)).sqrt()) / k_low
+            let quadratic = (gdk + (gdk * gdk + 2.0 * k_low * gk.max(0.0)).sqrt()) / k_low;
+            // A third-order bound is far tighter when g̈ is small (tiny motions
+            // near the rocking threshold): g ≥ gk + ġ δ + g̈ δ²/2 − L δ³/6 with
+            // L ≥ |g⃛| = p²|ġ − s u̇|, |ġ| ≤ |ġk| + k_abs δ on the step.
+            let acc = p2 * (gk - seg.alpha - s * seg.ground(tau));
+            let l0 = p2 * (gdk.abs() + uw);
+            let cubic = if l0 > 0.0 && quadratic < short {
+                let first = first_root_cubic(gk.max(0.0), gdk, 0.5 * acc, -l0 / 6.0);
+                let l1 = p2 * (gdk.abs() + k_abs * first + uw);
+                first_root_cubic(gk.max(0.0), gdk, 0.5 * acc, -l1 / 6.0)
+            } else {
+                0.0
+            };
+            quadratic.max(cubic)
         };
         let room = FRAC_PI_2 - gk;
         let d_up = if k_up > 0.0 {
@@ -223,6 +254,47 @@ pub fn first_event(seg: &LinearSegment, t_stop: f64, no_return_before: f64) -> S
     }
     // Pathologically slow approach to a tangency: re-anchor here and go on.
     reached(tau)
+}
+
+/// The first positive root of c0 + c1 σ + c2 σ² + c3 σ³ with c0 ≥ 0 and c3 < 0
+/// (so a root exists): the cubic is split into monotone pieces at the roots of
+/// its derivative, and the first piece that ends at or below zero is solved by
+/// Brent's method.
+fn first_root_cubic(c0: f64, c1: f64, c2: f64, c3: f64) -> f64 {
+    let h = |x: f64| c0 + x * (c1 + x * (c2 + x * c3));
+    if c0 <= 0.0 {
+        return 0.0;
+    }
+    // h'(σ) = c1 + 2 c2 σ + 3 c3 σ²: critical points.
+    let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, c1);
+    let disc = qb * qb - 4.0 * qa * qc;
+    let mut cuts = [f64::NAN; 2];
+    if disc >= 0.0 {
+        let sq = disc.sqrt();
+        let q = -0.5 * (qb + sq.copysign(qb));
+        let r1 = q / qa;
+        let r2 = if q != 0.0 { qc / q } else { r1 };
+        cuts = [r1.min(r2), r1.max(r2)];
+    }
+    let mut lo = 0.0;
+    for &c in cuts.iter().filter(|c| c.is_finite() && **c > 0.0) {
+        if h(c) <= 0.0 {
+            return brent(h, lo, c, h(lo), h(c), 0.0);
+        }
+        lo = c;
+    }
+    // Last piece: h decreases to −∞; find where it is ≤ 0.
+    let mut hi = if lo > 0.0 {
+        2.0 * lo
+    } else {
+        (c0 / -c3).cbrt()
+    };
+    let mut guard = 0;
+    while h(hi) > 0.0 && guard < 2000 {
+        hi *= 2.0;
+        guard += 1;
+    }
+    brent(h, lo, hi, h(lo), h(hi), 0.0)
 }
 
 /// Resolves the first event in `[a, b]`, where it is known that none occurs
@@ -324,6 +396,16 @@ mod tests {
             first_event(&seg, 100.0, 0.0),
             SegmentEnd::Impact(_)
         ));
+    }
+
+    #[test]
+    fn cubic_first_root_is_the_smallest_positive_one() {
+        // (1 − σ)(2 − σ)(3 − σ)·(−1)… scaled: roots 1, 2, 3 with c0 = 6 > 0.
+        let r = first_root_cubic(6.0, -11.0, 6.0, -1.0);
+        assert!((r - 1.0).abs() < 1e-14, "{r}");
+        // A single root far out.
+        let r = first_root_cubic(1e-26, 0.0, 0.0, -1.0);
+        assert!((r - 1e-26f64.cbrt()).abs() < 1e-20, "{r}");
     }
 
     #[test]

@@ -524,7 +524,7 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
                     events += 1;
                     let outcome = decide(formulation, &block, y[0], y[1], side);
                     r.decided_at = tr;
-                    if options.stop_at_decision {
+                    if options.stop_at_decision || options.max_free_impacts == 0 {
                         r.end_time = tr;
                         if let FreeOutcome::Overturns { impacts } = outcome {
                             r.overturned = true;

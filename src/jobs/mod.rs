@@ -28,7 +28,8 @@ pub enum JobError {
 impl Job {
     /// Parses and validates a job spec from JSON text.
     pub fn parse(text: &str) -> Result<Job, SpecError> {
-        let value: serde_json::Value = serde_json::from_str(text)
+        let text = spec::mark_non_finite(text);
+        let value: serde_json::Value = serde_json::from_str(&text)
             .map_err(|e| SpecError::at("", format!("not valid JSON: {e}")))?;
         Job::from_value(&value)
     }

@@ -28,6 +28,52 @@ impl SpecError {
     }
 }
 
+/// Stands in for the non-JSON tokens NaN / Infinity so that the error can name
+/// the field that holds them.
+const NON_FINITE_MARK: &str = "__non_finite_number__";
+
+/// Replaces bare `NaN`, `Infinity` and `-Infinity` tokens (outside strings) by a
+/// marker string, which validation then reports at its JSON pointer.
+pub fn mark_non_finite(text: &str) -> std::borrow::Cow<'_, str> {
+    if !(text.contains("NaN") || text.contains("Infinity")) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 32);
+    let mut in_string = false;
+    let mut escaped = false;
+    let mut rest = text;
+    while let Some(c) = rest.chars().next() {
+        if in_string {
+            out.push(c);
+            if escaped {
+                escaped = false;
+            } else if c == '\\' {
+                escaped = true;
+            } else if c == '"' {
+                in_string = false;
+            }
+            rest = &rest[c.len_utf8()..];
+            continue;
+        }
+        let token = ["-Infinity", "Infinity", "NaN"]
+            .into_iter()
+            .find(|t| rest.starts_with(t));
+        if let Some(t) = token {
+            out.push('"');
+            out.push_str(NON_FINITE_MARK);
+            out.push('"');
+            rest = &rest[t.len()..];
+            continue;
+        }
+        if c == '"' {
+            in_string = true;
+        }
+        out.push(c);
+        rest = &rest[c.len_utf8()..];
+    }
+    std::borrow::Cow::Owned(out)
+}
+
 /// Deserialises `value` into `T`, reporting the failing field as a JSON pointer
 /// below `base`.
 pub fn from_value<T: for<'de> Deserialize<'de>>(
@@ -47,7 +93,10 @@ pub fn from_value<T: for<'de> Deserialize<'de>>(
                 Segment::Unknown => {}
             }
         }
-        let message = e.into_inner().to_string();
+        let mut message = e.into_inner().to_string();
+        if message.contains(NON_FINITE_MARK) {
+            message = "must be a finite number (NaN and Infinity are not numbers)".to_string();
+        }
         SpecError::at(pointer, message)
     })
 }

@@ -1,0 +1,77 @@
+//! The engine does not allocate per step: an outcome run allocates nothing, and
+//! a full history allocates the same however many steps it takes.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use topple::dynamics::{
+    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Solver, simulate,
+};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn count<F: FnOnce()>(f: F) -> usize {
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    f();
+    ALLOCATIONS.load(Ordering::SeqCst) - before
+}
+
+#[test]
+fn simulations_do_not_allocate_per_step() {
+    let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
+    let pulse = Pulse::new(PulseShape::OneSine, 4.0 * 0.25 * 9.81, 5.0 * 2.14).expect("valid");
+    for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+        let problem = Problem {
+            block,
+            pulse,
+            formulation,
+        };
+        for method in [Method::Dopri5, Method::Dop853] {
+            let solver = |rtol: f64| Solver::RungeKutta {
+                method,
+                rtol,
+                atol: rtol / 100.0,
+            };
+            let outcome = count(|| {
+                simulate(&problem, &Options::outcome(solver(1e-10))).expect("simulates");
+            });
+            assert_eq!(outcome, 0, "{method:?} outcome run allocated");
+            let coarse = count(|| {
+                simulate(&problem, &Options::history(solver(1e-5))).expect("simulates");
+            });
+            let fine = count(|| {
+                simulate(&problem, &Options::history(solver(1e-12))).expect("simulates");
+            });
+            assert_eq!(
+                coarse, fine,
+                "{method:?}: allocations grow with the step count"
+            );
+        }
+    }
+    let problem = Problem {
+        block,
+        pulse,
+        formulation: Formulation::Linear,
+    };
+    assert_eq!(
+        count(|| {
+            simulate(&problem, &Options::outcome(Solver::Exact)).expect("simulates");
+        }),
+        0
+    );
+}

@@ -1,0 +1,468 @@
+//! The `topple` binary end to end: result documents on stdout, one-line errors
+//! naming the offending field on stderr.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use serde_json::Value;
+
+const VALID: &str = r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14,"eta":0.9,"mu":0.7},"pulse":{"type":"one_sine","omega_ratio":5.0,"a_p_alpha_g":4.0},"formulation":"linear","solver":{"method":"exact"},"outputs":{"series":50,"reactions":true}}"#;
+
+const VALID_NO_SERIES: &str = r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14,"eta":0.9,"mu":0.7},"pulse":{"type":"one_sine","omega_ratio":5.0,"a_p_alpha_g":4.0},"formulation":"linear","solver":{"method":"exact"}}"#;
+
+fn topple() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_topple"))
+}
+
+/// A fresh path in the system temp dir, unique per process and call.
+fn temp_path(name: &str) -> PathBuf {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    std::env::temp_dir().join(format!("topple-cli-test-{}-{n}-{name}", std::process::id()))
+}
+
+/// Writes `spec` to a unique temp file and runs `topple run <file> <extra>`.
+fn run_file(spec: &str, extra: &[&str]) -> Output {
+    let path = temp_path("spec.json");
+    std::fs::write(&path, spec).expect("write spec");
+    let out = topple()
+        .arg("run")
+        .arg(&path)
+        .args(extra)
+        .output()
+        .expect("run topple");
+    let _ = std::fs::remove_file(&path);
+    out
+}
+
+/// Runs `topple run -` with `spec` on standard input.
+fn run_stdin(spec: &str) -> Output {
+    let mut child = topple()
+        .args(["run", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn topple");
+    child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(spec.as_bytes())
+        .expect("write stdin");
+    child.wait_with_output().expect("wait topple")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn result_json(out: &Output) -> Value {
+    assert!(
+        out.status.success(),
+        "exit {:?}, stderr: {}",
+        out.status,
+        stderr(out)
+    );
+    serde_json::from_slice(&out.stdout).expect("stdout is one JSON document")
+}
+
+/// A failed run: non-zero exit (not a signal), no panic, nothing on stdout and
+/// exactly one non-empty line on stderr, which is returned.
+fn one_line_failure(out: &Output) -> String {
+    let err = stderr(out);
+    eprintln!("exit {:?}; stderr: {err:?}", out.status.code());
+    let code = out.status.code().expect("exited, not killed by a signal");
+    assert_ne!(code, 0, "must fail");
+    assert!(!err.contains("panicked"), "panicked: {err}");
+    assert!(
+        out.stdout.is_empty(),
+        "nothing on stdout on failure, got {}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "exactly one line on stderr: {err:?}");
+    assert!(!lines[0].trim().is_empty(), "the line is not empty");
+    lines[0].to_string()
+}
+
+/// The spec is refused by both ways in (file and stdin) with one line on
+/// stderr naming `pointer` (followed by ':' so "/pulse" does not match
+/// "/pulse/type").
+fn assert_rejected_at(spec: &str, pointer: &str) -> String {
+    let by_file = one_line_failure(&run_file(spec, &[]));
+    let by_stdin = one_line_failure(&run_stdin(spec));
+    assert_eq!(by_file, by_stdin, "same message from a file and stdin");
+    assert!(
+        by_file.contains(&format!("{pointer}:")),
+        "the error must name {pointer}: {by_file}"
+    );
+    by_file
+}
+
+fn spec_with(block: &str, pulse: &str, rest: &str) -> String {
+    format!(r#"{{"kind":"time_history","block":{block},"pulse":{pulse}{rest}}}"#)
+}
+
+const BLOCK: &str = r#"{"alpha":0.25,"p":2.14}"#;
+const PULSE: &str = r#"{"type":"one_sine","omega_ratio":5.0,"a_p_alpha_g":4.0}"#;
+
+// ---------------------------------------------------------------- valid runs
+
+#[test]
+fn valid_spec_file_prints_a_complete_result_document() {
+    let doc = result_json(&run_file(VALID, &[]));
+    assert!(doc["overturned"].is_boolean(), "{doc}");
+    assert!(doc["rocked"].is_boolean());
+    assert_eq!(doc["rocked"], true, "4 alpha g rocks the block");
+    assert!(doc["mode"].is_null() || doc["mode"].is_u64());
+    if doc["overturned"] == true {
+        assert!(matches!(doc["mode"].as_u64(), Some(1 | 2)));
+    }
+    let impacts = doc["impacts"].as_array().expect("impacts is an array");
+    assert_eq!(
+        impacts.len() as u64,
+        doc["impact_count"].as_u64().expect("impact_count")
+    );
+    for i in impacts {
+        for key in ["t", "theta_dot_before", "theta_dot_after"] {
+            assert!(i[key].as_f64().is_some_and(f64::is_finite), "{key} in {i}");
+        }
+    }
+    let peak = doc["peak_theta_over_alpha"].as_f64().expect("peak");
+    assert!(peak.is_finite() && peak >= 0.0);
+    let demand = doc["peak_friction_demand"]
+        .as_f64()
+        .expect("reactions asked for: peak_friction_demand is a number");
+    assert!(demand.is_finite() && demand >= 0.0);
+
+    let n = doc["numerics"].as_object().expect("numerics is an object");
+    for key in [
+        "method",
+        "rtol",
+        "atol",
+        "steps_accepted",
+        "steps_rejected",
+        "rhs_evaluations",
+        "events",
+        "error_estimate",
+        "wall_time_s",
+    ] {
+        assert!(n.contains_key(key), "numerics.{key} missing: {n:?}");
+    }
+    assert_eq!(n["method"], "exact");
+    assert!(
+        n["rtol"].is_null() && n["atol"].is_null(),
+        "no tolerances for exact"
+    );
+    for key in [
+        "steps_accepted",
+        "steps_rejected",
+        "rhs_evaluations",
+        "events",
+    ] {
+        assert!(n[key].is_u64(), "numerics.{key} is a count: {}", n[key]);
+    }
+    assert!(n["steps_accepted"].as_u64() > Some(0));
+    assert!(n["events"].as_u64() >= Some(1));
+    for key in ["error_estimate", "wall_time_s"] {
+        let v = n[key].as_f64().expect(key);
+        assert!(v.is_finite() && v >= 0.0, "numerics.{key} = {v}");
+    }
+}
+
+#[test]
+fn series_of_50_points_has_50_samples_in_every_column() {
+    let doc = result_json(&run_file(VALID, &[]));
+    let series = doc["series"].as_object().expect("series asked for");
+    for key in [
+        "t",
+        "theta",
+        "theta_dot",
+        "ground_acceleration",
+        "fx_over_fz",
+    ] {
+        let col = series[key].as_array().unwrap_or_else(|| panic!("{key}"));
+        assert_eq!(col.len(), 50, "series.{key}");
+        assert!(
+            col.iter().all(|v| v.as_f64().is_some_and(f64::is_finite)),
+            "series.{key} all finite"
+        );
+    }
+    let t: Vec<f64> = series["t"]
+        .as_array()
+        .expect("t")
+        .iter()
+        .map(|v| v.as_f64().expect("number"))
+        .collect();
+    assert_eq!(t[0], 0.0);
+    assert!(
+        t.windows(2).all(|w| w[1] > w[0]),
+        "uniform increasing times"
+    );
+    let end = doc["end_time"].as_f64().expect("end_time");
+    assert!(
+        (t[49] - end).abs() <= 1e-12 * end,
+        "series spans [0, end_time]"
+    );
+}
+
+#[test]
+fn without_outputs_series_the_result_has_no_series_key() {
+    let doc = result_json(&run_file(VALID_NO_SERIES, &[]));
+    assert!(doc.get("series").is_none(), "unexpected series: {doc}");
+}
+
+#[test]
+fn without_reactions_the_result_has_no_friction_demand_and_no_reaction_series() {
+    let spec = VALID.replace(r#""reactions":true"#, r#""reactions":false"#);
+    let doc = result_json(&run_file(&spec, &[]));
+    assert!(doc["peak_friction_demand"].is_null(), "{doc}");
+    assert!(doc["series"].get("fx_over_fz").is_none());
+    assert_eq!(doc["series"]["t"].as_array().map(Vec::len), Some(50));
+}
+
+#[test]
+fn runge_kutta_job_reports_its_tolerances_and_cost() {
+    let spec = spec_with(
+        BLOCK,
+        PULSE,
+        r#","formulation":"nonlinear","solver":{"method":"dop853","rtol":1e-8,"atol":1e-10}"#,
+    );
+    let doc = result_json(&run_file(&spec, &[]));
+    let n = &doc["numerics"];
+    assert_eq!(n["method"], "dop853");
+    assert_eq!(n["rtol"].as_f64(), Some(1e-8));
+    assert_eq!(n["atol"].as_f64(), Some(1e-10));
+    assert!(n["steps_accepted"].as_u64() > Some(0));
+    assert!(n["rhs_evaluations"].as_u64() > Some(0));
+}
+
+#[test]
+fn spec_read_from_stdin_gives_the_same_result_as_from_a_file() {
+    let from_stdin = result_json(&run_stdin(VALID));
+    let from_file = result_json(&run_file(VALID, &[]));
+    let strip = |mut v: Value| {
+        v["numerics"]
+            .as_object_mut()
+            .expect("numerics")
+            .remove("wall_time_s");
+        v
+    };
+    assert_eq!(strip(from_stdin), strip(from_file));
+}
+
+#[test]
+fn plot_option_writes_an_svg_file_when_a_series_is_asked_for() {
+    let svg = temp_path("out.svg");
+    let svg_arg = svg.to_str().expect("utf-8 temp path");
+    let doc = result_json(&run_file(VALID, &["--plot", svg_arg]));
+    assert!(doc["series"].is_object());
+    let text = std::fs::read_to_string(&svg).expect("the SVG file exists");
+    let _ = std::fs::remove_file(&svg);
+    let head = text.trim_start();
+    assert!(
+        head.starts_with("<svg") || head.starts_with("<?xml"),
+        "not an SVG: {}",
+        &head[..head.len().min(80)]
+    );
+    assert!(text.contains("</svg>"), "complete SVG document");
+}
+
+#[test]
+fn plot_option_without_a_series_fails_with_one_line_and_writes_no_file() {
+    let svg = temp_path("none.svg");
+    let svg_arg = svg.to_str().expect("utf-8 temp path");
+    let line = one_line_failure(&run_file(VALID_NO_SERIES, &["--plot", svg_arg]));
+    assert!(line.contains("series"), "says a series is needed: {line}");
+    assert!(!svg.exists(), "no SVG written");
+}
+
+// ------------------------------------------------------------- invalid specs
+
+#[test]
+fn nan_and_infinity_literals_are_refused_at_their_field() {
+    // JSON has no NaN or Infinity; users still type them. The error names the
+    // field that holds them.
+    for (block, pulse, pointer) in [
+        (
+            r#"{"alpha":NaN,"p":2.14}"#,
+            PULSE.to_string(),
+            "/block/alpha",
+        ),
+        (
+            r#"{"alpha":0.25,"p":2.14}"#,
+            r#"{"type":"one_sine","omega_ratio":-Infinity,"a_p_alpha_g":4.0}"#.to_string(),
+            "/pulse/omega_ratio",
+        ),
+    ] {
+        let spec = spec_with(block, &pulse, "");
+        let by_file = one_line_failure(&run_file(&spec, &[]));
+        let by_stdin = one_line_failure(&run_stdin(&spec));
+        assert_eq!(by_file, by_stdin);
+        assert!(
+            by_file.contains(&format!("{pointer}:")),
+            "names {pointer}: {by_file}"
+        );
+        assert!(by_file.contains("finite"), "says why: {by_file}");
+    }
+}
+
+#[test]
+fn nan_string_as_alpha_is_refused_at_block_alpha() {
+    assert_rejected_at(
+        &spec_with(r#"{"alpha":"NaN","p":2.14}"#, PULSE, ""),
+        "/block/alpha",
+    );
+}
+
+#[test]
+fn alpha_of_1_6_rad_beyond_half_pi_is_refused_at_block_alpha() {
+    assert_rejected_at(
+        &spec_with(r#"{"alpha":1.6,"p":2.14}"#, PULSE, ""),
+        "/block/alpha",
+    );
+}
+
+#[test]
+fn alpha_of_exactly_half_pi_is_refused_at_block_alpha() {
+    let block = format!(r#"{{"alpha":{},"p":2.14}}"#, std::f64::consts::FRAC_PI_2);
+    assert_rejected_at(&spec_with(&block, PULSE, ""), "/block/alpha");
+}
+
+#[test]
+fn restitution_above_one_is_refused_at_block_eta() {
+    assert_rejected_at(
+        &spec_with(r#"{"alpha":0.25,"p":2.14,"eta":1.01}"#, PULSE, ""),
+        "/block/eta",
+    );
+}
+
+#[test]
+fn two_amplitudes_are_refused_at_the_second_one() {
+    let line = assert_rejected_at(
+        &spec_with(
+            BLOCK,
+            r#"{"type":"one_sine","omega_ratio":5.0,"a_p":3.0,"a_p_g":0.5}"#,
+            "",
+        ),
+        "/pulse/a_p_g",
+    );
+    assert!(line.contains("a_p"), "{line}");
+}
+
+#[test]
+fn two_frequencies_are_refused_at_one_of_them() {
+    let spec = spec_with(
+        BLOCK,
+        r#"{"type":"one_sine","omega_p":10.0,"omega_ratio":5.0,"a_p_g":0.5}"#,
+        "",
+    );
+    let line = one_line_failure(&run_file(&spec, &[]));
+    assert!(
+        line.contains("/pulse/omega_p:") || line.contains("/pulse/omega_ratio:"),
+        "names one of the two frequencies: {line}"
+    );
+    assert_eq!(line, one_line_failure(&run_stdin(&spec)));
+}
+
+#[test]
+fn unknown_pulse_type_is_refused_at_pulse_type() {
+    let line = assert_rejected_at(
+        &spec_with(
+            BLOCK,
+            r#"{"type":"triangle","omega_ratio":5.0,"a_p_g":0.5}"#,
+            "",
+        ),
+        "/pulse/type",
+    );
+    assert!(line.contains("triangle"), "quotes the bad value: {line}");
+}
+
+#[test]
+fn missing_block_is_refused_at_block() {
+    assert_rejected_at(
+        &format!(r#"{{"kind":"time_history","pulse":{PULSE}}}"#),
+        "/block",
+    );
+}
+
+#[test]
+fn empty_block_is_refused_at_block() {
+    assert_rejected_at(&spec_with("{}", PULSE, ""), "/block");
+}
+
+#[test]
+fn missing_pulse_is_refused_at_pulse() {
+    assert_rejected_at(
+        &format!(r#"{{"kind":"time_history","block":{BLOCK}}}"#),
+        "/pulse",
+    );
+}
+
+#[test]
+fn missing_amplitude_is_refused_at_pulse_and_lists_the_choices() {
+    let line = assert_rejected_at(
+        &spec_with(BLOCK, r#"{"type":"one_sine","omega_ratio":5.0}"#, ""),
+        "/pulse",
+    );
+    assert!(
+        line.contains("a_p_g") && line.contains("a_p_alpha_g"),
+        "{line}"
+    );
+}
+
+#[test]
+fn unknown_block_field_is_refused_at_that_field() {
+    assert_rejected_at(
+        &spec_with(r#"{"alpha":0.25,"p":2.14,"colour":"red"}"#, PULSE, ""),
+        "/block/colour",
+    );
+}
+
+#[test]
+fn unknown_top_level_field_is_refused_at_that_field() {
+    assert_rejected_at(&spec_with(BLOCK, PULSE, r#","speed":1"#), "/speed");
+}
+
+#[test]
+fn exact_solver_with_nonlinear_formulation_is_refused_at_solver_method() {
+    assert_rejected_at(
+        &spec_with(
+            BLOCK,
+            PULSE,
+            r#","formulation":"nonlinear","solver":{"method":"exact"}"#,
+        ),
+        "/solver/method",
+    );
+}
+
+#[test]
+fn exact_solver_with_the_default_nonlinear_formulation_is_refused_at_solver_method() {
+    assert_rejected_at(
+        &spec_with(BLOCK, PULSE, r#","solver":{"method":"exact"}"#),
+        "/solver/method",
+    );
+}
+
+#[test]
+fn geometry_mixed_with_parameters_is_refused_at_block() {
+    let line = assert_rejected_at(
+        &spec_with(r#"{"alpha":0.25,"p":2.14,"b":0.5,"h":2.0}"#, PULSE, ""),
+        "/block",
+    );
+    assert!(line.contains("not both"), "{line}");
+}
+
+#[test]
+fn nonexistent_spec_file_fails_with_one_line_naming_the_path() {
+    let path = temp_path("does-not-exist.json");
+    let out = topple().arg("run").arg(&path).output().expect("run topple");
+    let line = one_line_failure(&out);
+    assert!(
+        line.contains(path.to_str().expect("utf-8")),
+        "names the path: {line}"
+    );
+}
