@@ -1,6 +1,6 @@
 //! `topple`: command-line wiring only.
 
-use std::io::Read;
+use std::io::{Read, Write};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -65,7 +65,8 @@ fn run(spec_path: &str, plot: Option<&str>) -> Result<(), (u8, String)> {
         topple::plot::plot_result(&result, path).map_err(|e| (1, format!("cannot plot: {e}")))?;
     }
     let out = serde_json::to_string_pretty(&result).map_err(|e| (1, e.to_string()))?;
-    println!("{out}");
+    // A closed pipe (`topple run spec | head`) is not an error worth a panic.
+    let _ = writeln!(std::io::stdout().lock(), "{out}");
     Ok(())
 }
 

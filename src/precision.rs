@@ -164,17 +164,23 @@ pub fn study() -> Result<Vec<PrecisionRow>, SimError> {
 
 /// Prints the table and writes the diagram (the `topple precision` command).
 pub fn report(svg_path: &str) -> Result<(), String> {
+    use std::io::Write;
     let rows = study().map_err(|e| e.to_string())?;
-    println!(
+    crate::plot::precision_diagram(&rows, svg_path).map_err(|e| e.to_string())?;
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(
+        out,
         "work-precision, linear formulation, {} cases (locomotive block, one-sine / one-cosine / C1 pulses)",
         CASES.len()
     );
-    println!(
+    let _ = writeln!(
+        out,
         "{:<8} {:>8} {:>14} {:>16} {:>14}",
         "method", "rtol", "max |dtheta|", "max |dt_impact|", "time/run (us)"
     );
     for r in &rows {
-        println!(
+        let _ = writeln!(
+            out,
             "{:<8} {:>8} {:>14.3e} {:>16.3e} {:>14.2}",
             r.method,
             r.rtol
@@ -185,7 +191,6 @@ pub fn report(svg_path: &str) -> Result<(), String> {
             r.time_per_run * 1e6
         );
     }
-    crate::plot::precision_diagram(&rows, svg_path).map_err(|e| e.to_string())?;
-    println!("diagram written to {svg_path}");
+    let _ = writeln!(out, "diagram written to {svg_path}");
     Ok(())
 }
