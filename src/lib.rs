@@ -15,3 +15,4 @@ pub mod dynamics;
 pub mod jobs;
 pub mod plot;
 pub mod precision;
+pub mod spectrum;

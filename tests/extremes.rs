@@ -407,7 +407,13 @@ fn long_free_rocking_records_hundreds_of_ordered_impacts_scaled_by_eta_and_rests
         let what = label(&pr, &solver);
         assert!(!r.overturned, "{what}: must survive");
         assert!(r.impact_count >= 100, "{what}: {} impacts", r.impact_count);
-        assert_eq!(r.impacts.len() as u64, r.impact_count, "{what}");
+        // Every impact is listed, but for the chattering tail summed in closed form.
+        assert_eq!(
+            r.impacts.len() as u64 + r.summed_impacts,
+            r.impact_count,
+            "{what}"
+        );
+        assert!(r.impacts.len() >= 100, "{what}: {} listed", r.impacts.len());
         for w in r.impacts.windows(2) {
             assert!(
                 w[1].time > w[0].time,

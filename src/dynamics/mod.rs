@@ -4,6 +4,7 @@
 //! cycloidal pulses*; equation numbers in the doc comments refer to that paper.
 
 pub mod block;
+pub mod chatter;
 pub mod equations;
 pub mod events;
 pub mod exact;

@@ -118,6 +118,9 @@ pub struct Response {
     pub impact_count: u64,
     /// The impacts, when asked for (possibly truncated, see warnings).
     pub impacts: Vec<Impact>,
+    /// Impacts of chattering tails summed in closed form: counted in
+    /// `impact_count`, not listed (see [`chatter`](super::chatter)).
+    pub summed_impacts: u64,
     /// Time |θ| reaches π/2, when followed to the end.
     pub overturn_time: Option<f64>,
     /// Time the block came to rest for good, when it did.

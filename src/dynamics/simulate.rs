@@ -14,11 +14,12 @@
 use std::time::Instant;
 
 use super::block::Block;
+use super::chatter::settle;
 use super::equations::{Formulation, RockingRhs};
 use super::events::{Poly, first_nonpositive};
 use super::exact::{LinearSegment, SegmentEnd, first_event};
 use super::excitation::Pulse;
-use super::integrator::{MAX_DEGREE, Method, State, StepError, Stepper, StepperStats};
+use super::integrator::{MAX_DEGREE, Method, State, StepError, Stepper, StepperStats, single_step};
 use super::reactions::reactions_per_mass;
 use super::response::{FrictionDemand, Impact, Numerics, OverturnMode, Response, Warning};
 use super::separatrix::{FreeOutcome, decide};
@@ -338,13 +339,35 @@ impl Engine {
                 (None, None) => None,
             };
             if let Some((sigma, is_impact)) = event {
-                let t = step.t0 + sigma * step.h;
+                // The dense output locates the event; Newton corrections on
+                // full Runge–Kutta steps from the step start then place it to
+                // the integration tolerance (the interpolant is less accurate
+                // than the step itself).
+                let level = if is_impact {
+                    0.0
+                } else {
+                    std::f64::consts::FRAC_PI_2
+                };
+                let mut t = step.t0 + sigma * step.h;
+                let mut y = step.at_sigma(sigma);
+                for _ in 0..3 {
+                    let (ye, nfev) = single_step(method, rhs, step.t0, step.y0, t - step.t0);
+                    self.stats.rhs_evals += u64::from(nfev);
+                    y = ye;
+                    if ye[1] == 0.0 {
+                        break;
+                    }
+                    let dt = -(s * ye[0] - level) / (s * ye[1]);
+                    let t_new = (t + dt).clamp(step.t0, step.t1());
+                    if (t_new - t).abs() <= 4.0 * f64::EPSILON * t.abs().max(step.h) {
+                        t = t_new;
+                        break;
+                    }
+                    t = t_new;
+                }
                 tracker.rocking(step.t0, t, s, forced, |t| step.at(t));
                 break if is_impact {
-                    LegEnd::Impact {
-                        t,
-                        velocity: step.at_sigma(sigma)[1],
-                    }
+                    LegEnd::Impact { t, velocity: y[1] }
                 } else {
                     LegEnd::Overturn { t }
                 };
@@ -380,6 +403,7 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
         mode: None,
         impact_count: 0,
         impacts: Vec::new(),
+        summed_impacts: 0,
         overturn_time: None,
         rest_time: None,
         decided_at: pulse.duration,
@@ -500,6 +524,23 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
                     }
                     continue;
                 }
+                if let Some(settled) =
+                    settle(formulation, &block, &pulse, forced, ti, after, v_rest)
+                {
+                    // A chattering tail, summed in closed form.
+                    r.impact_count += settled.impacts;
+                    r.summed_impacts += settled.impacts;
+                    events += settled.impacts;
+                    t = settled.rest_time;
+                    rocking = None;
+                    if !forced {
+                        r.rest_time = Some(t);
+                        r.end_time = t;
+                        tracker.finish(t);
+                        break;
+                    }
+                    continue;
+                }
                 if !forced && free_impacts >= options.max_free_impacts {
                     r.warnings.push(Warning::FreeRockingTruncated(free_impacts));
                     r.end_time = ti;
@@ -572,7 +613,13 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
         });
         r.rest_time = None;
     }
-    r.peak_theta_over_alpha = tracker.peak_theta / block.slenderness;
+    // An overturned block is followed up to |θ| = π/2 exactly.
+    let peak = if r.overturned && r.overturn_time.is_some() {
+        std::f64::consts::FRAC_PI_2
+    } else {
+        tracker.peak_theta.min(std::f64::consts::FRAC_PI_2)
+    };
+    r.peak_theta_over_alpha = peak / block.slenderness;
     if options.reactions {
         let (peak, peak_time) = tracker.peak_demand;
         r.friction = Some(FrictionDemand {

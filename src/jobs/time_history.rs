@@ -221,6 +221,9 @@ pub struct TimeHistoryResult {
     pub mode: Option<u8>,
     /// Number of impacts.
     pub impact_count: u64,
+    /// Impacts of chattering tails, summed in closed form: counted in
+    /// `impact_count`, not listed.
+    pub chatter_impacts_summed: u64,
     /// The impacts (when `outputs.impacts`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub impacts: Option<Vec<ImpactDoc>>,
@@ -295,6 +298,7 @@ impl TimeHistoryJob {
             overturned: r.overturned,
             mode: r.mode.map(|m| m.number()),
             impact_count: r.impact_count,
+            chatter_impacts_summed: r.summed_impacts,
             impacts: self.outputs.impacts.then(|| {
                 r.impacts
                     .iter()

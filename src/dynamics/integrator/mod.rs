@@ -13,7 +13,7 @@ mod dop853;
 mod dopri5;
 mod stepper;
 
-pub use stepper::{StepError, Stepper, StepperStats};
+pub use stepper::{StepError, Stepper, StepperStats, single_step};
 
 /// A two-component state `[θ, θ̇]`.
 pub type State = [f64; 2];

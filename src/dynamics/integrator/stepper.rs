@@ -222,6 +222,24 @@ impl Stepper {
     }
 }
 
+/// One step of `method` from `(t, y)` of length `h`, without error control
+/// (used to place an event found on the dense output). Returns the state and
+/// the right-hand-side evaluations spent.
+pub fn single_step<R: Rhs>(method: Method, rhs: &R, t: f64, y: State, h: f64) -> (State, u32) {
+    let f0 = rhs.eval(t, y);
+    let (trial, nfev) = match method {
+        Method::Dopri5 => {
+            let (tr, _) = dopri5::trial(rhs, t, y, f0, h, 1.0, 1.0);
+            (tr, tr.nfev)
+        }
+        Method::Dop853 => {
+            let (tr, _) = dop853::trial(rhs, t, y, f0, h, 1.0, 1.0);
+            (tr, tr.nfev)
+        }
+    };
+    (trial.y1, nfev + 1)
+}
+
 enum Dense {
     D5([State; 7]),
     D8(dop853::Stages),

@@ -1,0 +1,133 @@
+//! Friction-demand spectra (paper Fig. 9): the friction coefficient that pure
+//! rocking needs, as a function of the pulse amplitude.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::dynamics::{
+    Block, Formulation, Options, Problem, Pulse, PulseShape, SimError, Solver, simulate,
+};
+
+use super::control::Control;
+use super::scan::{ScanError, ScanStats};
+
+/// What to compute.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrictionRequest {
+    /// The block.
+    pub block: Block,
+    /// Pulse family.
+    pub shape: PulseShape,
+    /// Equation of motion.
+    pub formulation: Formulation,
+    /// Solver.
+    pub solver: Solver,
+    /// ω_p/p.
+    pub omega_ratio: f64,
+    /// Amplitudes a_p/(αg).
+    pub levels: Vec<f64>,
+}
+
+/// The demand at one amplitude.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionPoint {
+    /// a_p/(αg).
+    pub level: f64,
+    /// max |f_x/f_z| over the rocking history (f_z > 0, not counting the fall of
+    /// a block already bound to overturn).
+    pub peak_demand: f64,
+    /// f_x/f_z when rocking starts (eq. 7; eq. 51 for one-cosine), if it rocks.
+    pub initiation_demand: Option<f64>,
+    /// Whether the block overturned.
+    pub overturned: bool,
+    /// Mode.
+    pub mode: Option<u8>,
+    /// First time f_z ≤ 0, if any.
+    pub lift_off: Option<f64>,
+}
+
+/// A friction-demand spectrum.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrictionSpectrum {
+    /// One point per amplitude, in request order.
+    pub points: Vec<FrictionPoint>,
+    /// Cost.
+    pub stats: ScanStats,
+    /// Wall time, s.
+    pub wall_time: f64,
+}
+
+/// Computes the friction-demand spectrum, in parallel over amplitudes.
+pub fn friction_spectrum(
+    req: &FrictionRequest,
+    control: &Control,
+) -> Result<FrictionSpectrum, ScanError> {
+    let started = Instant::now();
+    control.add_total(req.levels.len() as u64);
+    let unit = req.block.slenderness * req.block.gravity;
+    let results: Vec<Result<(FrictionPoint, ScanStats), ScanError>> = req
+        .levels
+        .par_iter()
+        .map(|&level| {
+            control.check()?;
+            let pulse = Pulse::new(
+                req.shape,
+                level * unit,
+                req.omega_ratio * req.block.frequency_parameter,
+            )
+            .map_err(|_| ScanError::Simulation(SimError::Tolerance))?;
+            let mut opts = Options::history(req.solver);
+            opts.record_impacts = false;
+            let r = simulate(
+                &Problem {
+                    block: req.block,
+                    pulse,
+                    formulation: req.formulation,
+                },
+                &opts,
+            )?;
+            control.add_done(1);
+            let f = r
+                .friction
+                .unwrap_or(crate::dynamics::response::FrictionDemand {
+                    peak: 0.0,
+                    peak_time: 0.0,
+                    initiation: None,
+                    first_sliding: None,
+                    first_lift_off: None,
+                });
+            let stats = ScanStats {
+                simulations: 1,
+                steps: r.numerics.steps_accepted,
+                rejected: r.numerics.steps_rejected,
+                rhs_evaluations: r.numerics.rhs_evaluations,
+                events: r.numerics.events,
+                max_error_estimate: r.numerics.error_estimate,
+            };
+            Ok((
+                FrictionPoint {
+                    level,
+                    peak_demand: f.peak,
+                    initiation_demand: f.initiation,
+                    overturned: r.overturned,
+                    mode: r.mode.map(|m| m.number()),
+                    lift_off: f.first_lift_off,
+                },
+                stats,
+            ))
+        })
+        .collect();
+    let mut points = Vec::with_capacity(results.len());
+    let mut stats = ScanStats::default();
+    for r in results {
+        let (p, s) = r?;
+        points.push(p);
+        stats.absorb(&s);
+    }
+    Ok(FrictionSpectrum {
+        points,
+        stats,
+        wall_time: started.elapsed().as_secs_f64(),
+    })
+}

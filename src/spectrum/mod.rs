@@ -1,0 +1,11 @@
+//! Overturning and friction-demand spectra: many simulations in parallel
+//! (rayon), with a progress counter and a cancellation flag.
+
+pub mod closed_form;
+pub mod control;
+pub mod friction;
+pub mod overturning;
+pub mod scan;
+
+pub use control::{Canceled, Control};
+pub use overturning::{Spectrum, SpectrumRequest, overturning_spectrum};

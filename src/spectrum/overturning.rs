@@ -1,0 +1,322 @@
+//! Overturning spectra (paper Figs. 6, 10, 11): for each ω_p/p, the whole
+//! overturning set in a_p/(αg) from the rocking threshold up to a maximum.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::dynamics::{Block, Formulation, Problem, Pulse, PulseShape, Solver};
+
+use super::closed_form::{eq21_minimum, linear_one_sine_mode2_boundary};
+use super::control::Control;
+use super::scan::{Direction, Line, ModeChange, ScanError, ScanStats, Transition};
+
+/// What to compute.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpectrumRequest {
+    /// The block.
+    pub block: Block,
+    /// Pulse family.
+    pub shape: PulseShape,
+    /// Equation of motion.
+    pub formulation: Formulation,
+    /// Solver.
+    pub solver: Solver,
+    /// The frequencies ω_p/p.
+    pub omega_ratios: Vec<f64>,
+    /// Highest amplitude examined, a_p/(αg).
+    pub a_max: f64,
+    /// Bracket width of every transition, in αg.
+    pub tolerance: f64,
+    /// Scan step, in αg: every band or safe interval wider than this is found.
+    pub scan_step: f64,
+    /// The principal view drops bands and safe intervals narrower than this
+    /// fraction of their amplitude.
+    pub principal_relative_width: f64,
+}
+
+/// The derived quantities of one frequency.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Derived {
+    /// Lowest overturning amplitude, a_p/(αg).
+    pub min_overturn: Option<f64>,
+    /// Its mode.
+    pub min_overturn_mode: Option<u8>,
+    /// Safe intervals above the minimum, [lo, hi] in αg (hi = a_max if open).
+    pub safe_intervals: Vec<(f64, f64)>,
+    /// Every amplitude above this overturns (up to a_max).
+    pub overturns_above: Option<f64>,
+}
+
+/// One frequency of a spectrum.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrequencyLine {
+    /// ω_p/p.
+    pub omega_ratio: f64,
+    /// Rocking threshold in αg (1 linear, tan α/α nonlinear).
+    pub threshold: f64,
+    /// Every survive ↔ overturn transition, in order (fine structure).
+    pub transitions: Vec<Transition>,
+    /// Changes of overturning mode inside overturning regions.
+    pub mode_changes: Vec<ModeChange>,
+    /// Derived from the fine structure.
+    pub derived: Derived,
+    /// Transitions without bands or safe intervals narrower than the principal width.
+    pub principal_transitions: Vec<Transition>,
+    /// Derived from the principal view.
+    pub principal: Derived,
+    /// Eq. 21's approximation of the minimum, αg.
+    pub eq21: f64,
+    /// Closed-form linear one-sine mode-2 boundary (corrected eq. 47), αg.
+    pub mode2_closed_form: Option<f64>,
+}
+
+/// A whole spectrum.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spectrum {
+    /// One entry per frequency, in request order.
+    pub lines: Vec<FrequencyLine>,
+    /// Cost.
+    pub stats: ScanStats,
+    /// Wall time, s.
+    pub wall_time: f64,
+}
+
+/// Rocking threshold in units of αg.
+pub fn threshold_alpha_g(formulation: Formulation, block: &Block) -> f64 {
+    formulation.rocking_threshold(block) / (block.gravity * block.slenderness)
+}
+
+/// Grid points of one frequency: threshold, threshold + h, …, a_max.
+fn grid_len(threshold: f64, a_max: f64, h: f64) -> usize {
+    if a_max <= threshold {
+        return 1;
+    }
+    ((a_max - threshold) / h).ceil() as usize + 1
+}
+
+fn grid_point(threshold: f64, a_max: f64, h: f64, k: usize, len: usize) -> f64 {
+    if k + 1 >= len {
+        a_max.max(threshold)
+    } else {
+        threshold + h * k as f64
+    }
+}
+
+/// What one chunk of one frequency found.
+type ChunkResult = (usize, Vec<Transition>, Vec<ModeChange>, ScanStats);
+
+/// Largest number of scan chunks per frequency (bounds memory and task count).
+const MAX_CHUNKS: usize = 256;
+/// Scan points per chunk when the grid is small.
+const CHUNK_POINTS: usize = 48;
+
+/// Computes the spectrum, in parallel over frequencies and amplitude chunks.
+pub fn overturning_spectrum(
+    req: &SpectrumRequest,
+    control: &Control,
+) -> Result<Spectrum, ScanError> {
+    let started = Instant::now();
+    let threshold = threshold_alpha_g(req.formulation, &req.block);
+    let len = grid_len(threshold, req.a_max, req.scan_step);
+    let chunks = len.div_ceil(CHUNK_POINTS).clamp(1, MAX_CHUNKS);
+    let per_chunk = (len - 1).div_ceil(chunks).max(1);
+    control.add_total((req.omega_ratios.len() * len) as u64);
+    let tasks: Vec<(usize, usize)> = (0..req.omega_ratios.len())
+        .flat_map(|f| (0..chunks).map(move |c| (f, c)))
+        .collect();
+    let results: Vec<Result<ChunkResult, ScanError>> = tasks
+        .par_iter()
+        .map(|&(f, c)| {
+            let ratio = req.omega_ratios[f];
+            let pulse = Pulse::new(
+                req.shape,
+                req.block.slenderness * req.block.gravity,
+                ratio * req.block.frequency_parameter,
+            )
+            .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
+            let line = Line {
+                problem: Problem {
+                    block: req.block,
+                    pulse,
+                    formulation: req.formulation,
+                },
+                solver: req.solver,
+                control,
+            };
+            let k0 = c * per_chunk;
+            let k1 = ((c + 1) * per_chunk).min(len - 1);
+            let mut stats = ScanStats::default();
+            if k0 > k1 || (k0 == k1 && c > 0) {
+                return Ok((f, Vec::new(), Vec::new(), stats));
+            }
+            // Chunks share their boundary point so that no pair is skipped.
+            let levels = (k0..=k1).map(|k| grid_point(threshold, req.a_max, req.scan_step, k, len));
+            let (t, m) = line.scan(levels, req.tolerance, &mut stats)?;
+            Ok((f, t, m, stats))
+        })
+        .collect();
+    let mut per_freq: Vec<(Vec<Transition>, Vec<ModeChange>)> =
+        vec![(Vec::new(), Vec::new()); req.omega_ratios.len()];
+    let mut stats = ScanStats::default();
+    for r in results {
+        let (f, t, m, s) = r?;
+        per_freq[f].0.extend(t);
+        per_freq[f].1.extend(m);
+        stats.absorb(&s);
+    }
+    let lines = req
+        .omega_ratios
+        .iter()
+        .zip(per_freq)
+        .map(|(&ratio, (mut transitions, mut mode_changes))| {
+            transitions.sort_by(|a, b| a.at.total_cmp(&b.at));
+            mode_changes.sort_by(|a, b| a.at.total_cmp(&b.at));
+            let derived = derive(&transitions, req.a_max);
+            let principal_transitions =
+                principal(&transitions, req.a_max, req.principal_relative_width);
+            let principal = derive(&principal_transitions, req.a_max);
+            FrequencyLine {
+                omega_ratio: ratio,
+                threshold,
+                transitions,
+                mode_changes,
+                derived,
+                principal_transitions,
+                principal,
+                eq21: eq21_minimum(req.shape, ratio),
+                mode2_closed_form: if req.shape == PulseShape::OneSine
+                    && req.formulation == Formulation::Linear
+                {
+                    linear_one_sine_mode2_boundary(ratio)
+                } else {
+                    None
+                },
+            }
+        })
+        .collect();
+    Ok(Spectrum {
+        lines,
+        stats,
+        wall_time: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// Minimum, safe intervals and the all-overturn level from ordered transitions.
+pub fn derive(transitions: &[Transition], a_max: f64) -> Derived {
+    let first_up = transitions.iter().find(|t| t.direction == Direction::Up);
+    let mut safe = Vec::new();
+    let mut open: Option<f64> = None;
+    for t in transitions {
+        match t.direction {
+            Direction::Down => open = Some(t.at),
+            Direction::Up => {
+                if let Some(lo) = open.take() {
+                    safe.push((lo, t.at));
+                }
+            }
+        }
+    }
+    if let Some(lo) = open {
+        safe.push((lo, a_max));
+    }
+    let overturns_above = match transitions.last() {
+        Some(t) if t.direction == Direction::Up => Some(t.at),
+        _ => None,
+    };
+    Derived {
+        min_overturn: first_up.map(|t| t.at),
+        min_overturn_mode: first_up.map(|t| t.mode),
+        safe_intervals: safe,
+        overturns_above,
+    }
+}
+
+/// Drops overturning bands, then safe intervals, narrower than `rel` times their
+/// central amplitude; merged bands keep the mode of their lowest part.
+pub fn principal(transitions: &[Transition], a_max: f64, rel: f64) -> Vec<Transition> {
+    // Overturning bands as (up, down-or-None).
+    let mut bands: Vec<(Transition, Option<Transition>)> = Vec::new();
+    let mut pending: Option<Transition> = None;
+    for t in transitions {
+        match t.direction {
+            Direction::Up => pending = Some(*t),
+            Direction::Down => {
+                if let Some(up) = pending.take() {
+                    bands.push((up, Some(*t)));
+                }
+            }
+        }
+    }
+    if let Some(up) = pending {
+        bands.push((up, None));
+    }
+    let narrow = |lo: f64, hi: f64| hi - lo < rel * 0.5 * (lo + hi);
+    bands.retain(|(up, down)| {
+        let hi = down.map_or(a_max, |d| d.at);
+        !narrow(up.at, hi) || down.is_none() && hi >= a_max
+    });
+    let mut merged: Vec<(Transition, Option<Transition>)> = Vec::new();
+    for band in bands {
+        if let Some(last) = merged.last_mut()
+            && let Some(down) = last.1
+            && narrow(down.at, band.0.at)
+        {
+            last.1 = band.1;
+            continue;
+        }
+        merged.push(band);
+    }
+    merged
+        .into_iter()
+        .flat_map(|(up, down)| std::iter::once(up).chain(down))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn t(at: f64, direction: Direction, mode: u8) -> Transition {
+        Transition {
+            at,
+            direction,
+            mode,
+            impacts: u64::from(mode == 1),
+            bracket: (at - 1e-5, at + 1e-5),
+        }
+    }
+
+    #[test]
+    fn derived_quantities_of_a_mode_one_bay_and_a_safe_cape() {
+        let tr = [
+            t(3.0, Direction::Up, 1),
+            t(6.3, Direction::Down, 1),
+            t(7.2, Direction::Up, 2),
+        ];
+        let d = derive(&tr, 20.0);
+        assert_eq!(d.min_overturn, Some(3.0));
+        assert_eq!(d.min_overturn_mode, Some(1));
+        assert_eq!(d.safe_intervals, vec![(6.3, 7.2)]);
+        assert_eq!(d.overturns_above, Some(7.2));
+    }
+
+    #[test]
+    fn principal_view_drops_a_comb_of_narrow_bands() {
+        let tr = [
+            t(1.046, Direction::Up, 1),
+            t(1.0461, Direction::Down, 1),
+            t(1.05, Direction::Up, 1),
+            t(1.0501, Direction::Down, 1),
+            t(2.0, Direction::Up, 1),
+            t(5.0, Direction::Down, 1),
+            t(5.001, Direction::Up, 2),
+        ];
+        let p = principal(&tr, 20.0, 0.01);
+        let d = derive(&p, 20.0);
+        assert_eq!(d.min_overturn, Some(2.0));
+        // The 0.001-wide safe gap at 5.0 is merged away: all overturns above 2.
+        assert!(d.safe_intervals.is_empty(), "{:?}", d.safe_intervals);
+        assert_eq!(d.overturns_above, Some(2.0));
+    }
+}

@@ -1,0 +1,230 @@
+//! The overturning set along one line of constant ω_p/p: a scan in a_p/(αg)
+//! followed by adaptive bisection wherever neighbouring amplitudes differ in
+//! outcome, mode or impact count.
+//!
+//! ## Guarantee
+//! With scan step `h` and tolerance `tol`:
+//! - every interval of amplitudes (overturning band or safe interval) wider than
+//!   `h` contains a scan point and is found;
+//! - every band wider than `tol` that lies between amplitudes differing in impact
+//!   count is found too: the refinement keeps bisecting any interval whose ends
+//!   differ in (overturned, mode, impact count) until it is narrower than `tol`.
+//!   This is what finds the combs of narrow bands near the rocking threshold,
+//!   whose impact counts step by two.
+//!
+//! A band narrower than `h` with the same impact count on both sides, at both
+//! neighbouring scan points, can be missed.
+
+use crate::dynamics::{Options, Problem, SimError, Solver, simulate};
+
+use super::control::{Canceled, Control};
+
+/// The discrete outcome of one simulation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Signature {
+    /// Overturned.
+    pub overturned: bool,
+    /// 1 or 2 when overturned.
+    pub mode: Option<u8>,
+    /// Impacts (before overturning, or during the pulse when it survives).
+    pub impacts: u64,
+}
+
+/// Direction of a transition as the amplitude grows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// Overturning begins.
+    Up,
+    /// A safe interval begins.
+    Down,
+}
+
+/// A change between surviving and overturning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transition {
+    /// Midpoint of the bracket, a_p/(αg).
+    pub at: f64,
+    /// Up or down.
+    pub direction: Direction,
+    /// Mode on the overturning side.
+    pub mode: u8,
+    /// Impact count on the overturning side.
+    pub impacts: u64,
+    /// [survives-or-overturns side, other side] in increasing amplitude; width ≤ tol.
+    pub bracket: (f64, f64),
+}
+
+/// A change of overturning mode inside an overturning region.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModeChange {
+    /// Midpoint of the bracket, a_p/(αg).
+    pub at: f64,
+    /// Mode below.
+    pub from: u8,
+    /// Mode above.
+    pub to: u8,
+    /// Bracket.
+    pub bracket: (f64, f64),
+}
+
+/// Statistics of a scan.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ScanStats {
+    /// Simulations run.
+    pub simulations: u64,
+    /// Accepted steps (or closed-form segments).
+    pub steps: u64,
+    /// Rejected steps.
+    pub rejected: u64,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: u64,
+    /// Events located.
+    pub events: u64,
+    /// Largest error estimate of a single simulation, rad.
+    pub max_error_estimate: f64,
+}
+
+impl ScanStats {
+    /// Adds another scan's statistics.
+    pub fn absorb(&mut self, o: &ScanStats) {
+        self.simulations += o.simulations;
+        self.steps += o.steps;
+        self.rejected += o.rejected;
+        self.rhs_evaluations += o.rhs_evaluations;
+        self.events += o.events;
+        self.max_error_estimate = self.max_error_estimate.max(o.max_error_estimate);
+    }
+}
+
+/// Why a scan stopped.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ScanError {
+    /// Canceled by the owner.
+    #[error(transparent)]
+    Canceled(#[from] Canceled),
+    /// A simulation failed.
+    #[error(transparent)]
+    Simulation(#[from] SimError),
+}
+
+/// One line of constant ω_p/p: the problem with a unit amplitude of α g.
+pub struct Line<'a> {
+    /// Block, pulse (amplitude replaced per point) and formulation.
+    pub problem: Problem,
+    /// Solver.
+    pub solver: Solver,
+    /// Owner's control.
+    pub control: &'a Control,
+}
+
+impl Line<'_> {
+    /// The outcome at amplitude `level` (a_p/(αg)).
+    pub fn classify(&self, level: f64, stats: &mut ScanStats) -> Result<Signature, ScanError> {
+        self.control.check()?;
+        let block = self.problem.block;
+        let problem = Problem {
+            pulse: self
+                .problem
+                .pulse
+                .with_amplitude(level * block.slenderness * block.gravity),
+            ..self.problem
+        };
+        let r = simulate(&problem, &Options::outcome(self.solver))?;
+        stats.simulations += 1;
+        stats.steps += r.numerics.steps_accepted;
+        stats.rejected += r.numerics.steps_rejected;
+        stats.rhs_evaluations += r.numerics.rhs_evaluations;
+        stats.events += r.numerics.events;
+        stats.max_error_estimate = stats.max_error_estimate.max(r.numerics.error_estimate);
+        Ok(Signature {
+            overturned: r.overturned,
+            mode: r.mode.map(|m| m.number()),
+            impacts: r.impact_count,
+        })
+    }
+
+    /// Scans `levels[0..]` (increasing) and refines every neighbouring pair that
+    /// differs, down to `tol`. Returns transitions and mode changes in order.
+    pub fn scan<I: IntoIterator<Item = f64>>(
+        &self,
+        levels: I,
+        tol: f64,
+        stats: &mut ScanStats,
+    ) -> Result<(Vec<Transition>, Vec<ModeChange>), ScanError> {
+        let mut transitions = Vec::new();
+        let mut modes = Vec::new();
+        let mut levels = levels.into_iter();
+        let Some(first) = levels.next() else {
+            return Ok((transitions, modes));
+        };
+        let mut prev = (first, self.classify(first, stats)?);
+        self.control.add_done(1);
+        for level in levels {
+            let cur = (level, self.classify(level, stats)?);
+            self.control.add_done(1);
+            if cur.1 != prev.1 {
+                self.refine(prev, cur, tol, stats, &mut transitions, &mut modes)?;
+            }
+            prev = cur;
+        }
+        Ok((transitions, modes))
+    }
+
+    /// Bisects `[a, b]` (whose ends differ) until each change is bracketed within
+    /// `tol`, examining the left half first so that results come out in order.
+    fn refine(
+        &self,
+        a: (f64, Signature),
+        b: (f64, Signature),
+        tol: f64,
+        stats: &mut ScanStats,
+        transitions: &mut Vec<Transition>,
+        modes: &mut Vec<ModeChange>,
+    ) -> Result<(), ScanError> {
+        if b.0 - a.0 <= tol {
+            record(a, b, transitions, modes);
+            return Ok(());
+        }
+        let mid = 0.5 * (a.0 + b.0);
+        let m = (mid, self.classify(mid, stats)?);
+        if m.1 != a.1 {
+            self.refine(a, m, tol, stats, transitions, modes)?;
+        }
+        if m.1 != b.1 {
+            self.refine(m, b, tol, stats, transitions, modes)?;
+        }
+        Ok(())
+    }
+}
+
+fn record(
+    a: (f64, Signature),
+    b: (f64, Signature),
+    transitions: &mut Vec<Transition>,
+    modes: &mut Vec<ModeChange>,
+) {
+    let at = 0.5 * (a.0 + b.0);
+    match (a.1.overturned, b.1.overturned) {
+        (false, true) => transitions.push(Transition {
+            at,
+            direction: Direction::Up,
+            mode: b.1.mode.unwrap_or(0),
+            impacts: b.1.impacts,
+            bracket: (a.0, b.0),
+        }),
+        (true, false) => transitions.push(Transition {
+            at,
+            direction: Direction::Down,
+            mode: a.1.mode.unwrap_or(0),
+            impacts: a.1.impacts,
+            bracket: (a.0, b.0),
+        }),
+        (true, true) if a.1.mode != b.1.mode => modes.push(ModeChange {
+            at,
+            from: a.1.mode.unwrap_or(0),
+            to: b.1.mode.unwrap_or(0),
+            bracket: (a.0, b.0),
+        }),
+        _ => {}
+    }
+}
