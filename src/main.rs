@@ -58,8 +58,9 @@ fn run(spec_path: &str, plot: Option<&str>) -> Result<(), (u8, String)> {
         };
         (2, format!("invalid spec: {field}: {}", e.message))
     })?;
+    let control = topple::spectrum::Control::new();
     let result = job
-        .run()
+        .run(&control)
         .map_err(|e| (1, format!("computation failed: {e}")))?;
     if let Some(path) = plot {
         topple::plot::plot_result(&result, path).map_err(|e| (1, format!("cannot plot: {e}")))?;

@@ -118,6 +118,11 @@ pub struct Response {
     pub impact_count: u64,
     /// The impacts, when asked for (possibly truncated, see warnings).
     pub impacts: Vec<Impact>,
+    /// Impacts with |θ̇| before of at least [`ROCKING_IMPACT_VELOCITY`]·p α:
+    /// the rocking cycles, without the chattering that ends them.
+    ///
+    /// [`ROCKING_IMPACT_VELOCITY`]: super::simulate::ROCKING_IMPACT_VELOCITY
+    pub rocking_impacts: u64,
     /// Impacts of chattering tails summed in closed form: counted in
     /// `impact_count`, not listed (see [`chatter`](super::chatter)).
     pub summed_impacts: u64,

@@ -28,6 +28,9 @@ use super::tracking::{TrackRequest, Tracker};
 /// Velocity after an impact, relative to p·α, below which the block is at rest.
 pub const REST_VELOCITY: f64 = 1e-12;
 
+/// Impacts faster than this (relative to p α) count as rocking impacts.
+pub const ROCKING_IMPACT_VELOCITY: f64 = 1e-2;
+
 /// Most impacts stored in a response's list (the count is always complete).
 pub const MAX_LISTED_IMPACTS: usize = 10_000;
 
@@ -404,6 +407,7 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
         impact_count: 0,
         impacts: Vec::new(),
         summed_impacts: 0,
+        rocking_impacts: 0,
         overturn_time: None,
         rest_time: None,
         decided_at: pulse.duration,
@@ -488,6 +492,9 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
             LegEnd::Impact { t: ti, velocity } => {
                 events += 1;
                 r.impact_count += 1;
+                if velocity.abs() >= ROCKING_IMPACT_VELOCITY * v_rest / REST_VELOCITY {
+                    r.rocking_impacts += 1;
+                }
                 let after = block.restitution * velocity;
                 if options.record_impacts {
                     if r.impacts.len() < MAX_LISTED_IMPACTS {
@@ -570,6 +577,7 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
                         if let FreeOutcome::Overturns { impacts } = outcome {
                             r.overturned = true;
                             r.impact_count += u64::from(impacts);
+                            r.rocking_impacts += u64::from(impacts);
                         }
                         break;
                     }

@@ -1,29 +1,54 @@
 //! Jobs: the spec JSON users send (to `topple run` or the service), its
 //! validation into domain types, and the result documents.
 
+pub mod friction;
 pub mod numerics;
+pub mod range;
 pub mod spec;
+pub mod spectrum;
 pub mod time_history;
 
 pub use spec::SpecError;
 
 use serde::Serialize;
 
-/// A validated job of any kind.
+use crate::spectrum::Control;
+use crate::spectrum::scan::ScanError;
+
+/// A validated job of any kind; serialises to its canonical (normalised) spec.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum Job {
     /// One time history.
     TimeHistory(time_history::TimeHistoryJob),
+    /// An overturning spectrum.
+    Spectrum(spectrum::SpectrumJob),
+    /// A friction-demand spectrum.
+    FrictionSpectrum(friction::FrictionJob),
 }
 
-/// Why a valid job failed to compute.
+/// Why a valid job did not produce a result.
 #[derive(Debug, thiserror::Error)]
 pub enum JobError {
     /// The engine refused.
     #[error(transparent)]
     Simulation(#[from] crate::dynamics::SimError),
+    /// The job was canceled.
+    #[error("canceled")]
+    Canceled,
 }
+
+impl From<ScanError> for JobError {
+    fn from(e: ScanError) -> Self {
+        match e {
+            ScanError::Canceled(_) => JobError::Canceled,
+            ScanError::Simulation(s) => JobError::Simulation(s),
+        }
+    }
+}
+
+/// The job kinds, as named in specs.
+pub const KINDS: [&str; 3] = ["time_history", "spectrum", "friction_spectrum"];
 
 impl Job {
     /// Parses and validates a job spec from JSON text.
@@ -41,7 +66,7 @@ impl Job {
             .ok_or_else(|| SpecError::at("", "a job spec is a JSON object"))?;
         let kind = obj
             .get("kind")
-            .ok_or_else(|| SpecError::at("/kind", "missing field: time_history"))?
+            .ok_or_else(|| SpecError::at("/kind", format!("missing field: one of {}", KINDS.join(", "))))?
             .as_str()
             .ok_or_else(|| SpecError::at("/kind", "must be a string"))?;
         match kind {
@@ -49,9 +74,17 @@ impl Job {
                 let spec: time_history::TimeHistorySpec = spec::from_value(value, "")?;
                 Ok(Job::TimeHistory(spec.validate()?))
             }
+            "spectrum" => {
+                let spec: spectrum::SpectrumSpec = spec::from_value(value, "")?;
+                Ok(Job::Spectrum(spec.validate()?))
+            }
+            "friction_spectrum" => {
+                let spec: friction::FrictionSpec = spec::from_value(value, "")?;
+                Ok(Job::FrictionSpectrum(spec.validate()?))
+            }
             other => Err(SpecError::at(
                 "/kind",
-                format!("unknown kind {other:?}: expected time_history"),
+                format!("unknown kind {other:?}: expected one of {}", KINDS.join(", ")),
             )),
         }
     }
@@ -60,16 +93,27 @@ impl Job {
     pub fn kind(&self) -> &'static str {
         match self {
             Job::TimeHistory(_) => "time_history",
+            Job::Spectrum(_) => "spectrum",
+            Job::FrictionSpectrum(_) => "friction_spectrum",
         }
     }
 
-    /// Runs the job and returns its result document.
-    pub fn run(&self) -> Result<serde_json::Value, JobError> {
-        match self {
+    /// Runs the job under `control` (progress, cancellation) and returns its
+    /// result document.
+    pub fn run(&self, control: &Control) -> Result<serde_json::Value, JobError> {
+        let value = match self {
             Job::TimeHistory(job) => {
+                if control.canceled() {
+                    return Err(JobError::Canceled);
+                }
+                control.add_total(1);
                 let result = job.run()?;
-                Ok(serde_json::to_value(result).unwrap_or(serde_json::Value::Null))
+                control.add_done(1);
+                serde_json::to_value(result)
             }
-        }
+            Job::Spectrum(job) => serde_json::to_value(job.run(control)?),
+            Job::FrictionSpectrum(job) => serde_json::to_value(job.run(control)?),
+        };
+        Ok(value.unwrap_or(serde_json::Value::Null))
     }
 }

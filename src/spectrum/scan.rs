@@ -26,7 +26,9 @@ pub struct Signature {
     pub overturned: bool,
     /// 1 or 2 when overturned.
     pub mode: Option<u8>,
-    /// Impacts (before overturning, or during the pulse when it survives).
+    /// Impacts before overturning; for a block that survives, its rocking
+    /// impacts during the pulse (not the chattering that ends each episode, whose
+    /// count drifts with the amplitude without changing the motion's shape).
     pub impacts: u64,
 }
 
@@ -139,7 +141,11 @@ impl Line<'_> {
         Ok(Signature {
             overturned: r.overturned,
             mode: r.mode.map(|m| m.number()),
-            impacts: r.impact_count,
+            impacts: if r.overturned {
+                r.impact_count
+            } else {
+                r.rocking_impacts
+            },
         })
     }
 

@@ -1,0 +1,422 @@
+//! The `spectrum` job: overturning spectra (paper Figs. 6, 10, 11).
+
+use serde::{Deserialize, Serialize};
+
+use super::range::RangeSpec;
+use super::spec::{
+    BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
+    parse_formulation, parse_shape, shape_name, validate_block, validate_solver,
+};
+use crate::dynamics::{Formulation, PulseShape};
+use crate::spectrum::overturning::Derived;
+use crate::spectrum::scan::{Direction, ModeChange, ScanStats, Transition};
+use crate::spectrum::{Control, SpectrumRequest, overturning_spectrum};
+
+/// Default highest amplitude, αg.
+pub const DEFAULT_A_MAX: f64 = 20.0;
+/// Default bracket width, αg.
+pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+/// Default scan step, αg.
+pub const DEFAULT_SCAN_STEP: f64 = 0.02;
+/// Default relative width below which the principal view drops bands.
+pub const DEFAULT_PRINCIPAL_WIDTH: f64 = 0.01;
+/// Most frequencies in one spectrum.
+pub const MAX_FREQUENCIES: usize = 10_000;
+/// Most scan points per frequency.
+pub const MAX_SCAN_POINTS: f64 = 1e6;
+
+/// The spec as users write it.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SpectrumSpec {
+    /// "spectrum".
+    pub kind: String,
+    /// The block.
+    pub block: Option<BlockSpec>,
+    /// The pulse family (`type`, `n`); frequency and amplitude vary.
+    pub pulse: Option<PulseSpec>,
+    /// "linear" | "nonlinear" (default).
+    pub formulation: Option<String>,
+    /// ω_p/p values.
+    pub omega_ratio: Option<RangeSpec>,
+    /// Highest amplitude, αg (default 20).
+    pub a_max_alpha_g: Option<f64>,
+    /// Bracket width of each transition, αg (default 1e-4).
+    pub tolerance: Option<f64>,
+    /// Scan step, αg (default 0.02): every band wider than this is found.
+    pub scan_step_alpha_g: Option<f64>,
+    /// Principal view: drop bands narrower than this fraction of their amplitude (default 0.01).
+    pub principal_relative_width: Option<f64>,
+    /// Solver.
+    pub solver: Option<SolverSpec>,
+}
+
+/// The pulse family of a spectrum, normalised.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+pub struct PulseFamily {
+    /// Family name.
+    #[serde(rename = "type")]
+    pub kind: &'static str,
+    /// Cycles (cn only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub n: Option<u32>,
+}
+
+impl PulseFamily {
+    /// The domain shape.
+    pub fn shape(&self) -> PulseShape {
+        match self.kind {
+            "one_sine" => PulseShape::OneSine,
+            "one_cosine" => PulseShape::OneCosine,
+            _ => PulseShape::Cn(self.n.unwrap_or(1)),
+        }
+    }
+}
+
+/// Validates the pulse of a spectrum job: the family only.
+pub fn validate_family(spec: Option<&PulseSpec>, base: &str) -> Result<PulseFamily, SpecError> {
+    let spec = spec.ok_or_else(|| SpecError::at(base, "missing field"))?;
+    for (v, name) in [
+        (spec.omega_p, "omega_p"),
+        (spec.frequency_hz, "frequency_hz"),
+        (spec.omega_ratio, "omega_ratio"),
+        (spec.a_p, "a_p"),
+        (spec.a_p_g, "a_p_g"),
+        (spec.a_p_alpha_g, "a_p_alpha_g"),
+    ] {
+        if v.is_some() {
+            return Err(SpecError::at(
+                format!("{base}/{name}"),
+                "a spectrum varies frequency and amplitude: give them at the top level (omega_ratio, a_alpha_g / a_max_alpha_g)",
+            ));
+        }
+    }
+    let shape = parse_shape(spec, base)?;
+    Ok(PulseFamily {
+        kind: shape_name(shape),
+        n: match shape {
+            PulseShape::Cn(n) => Some(n),
+            _ => None,
+        },
+    })
+}
+
+/// A validated spectrum job; serialises to the canonical spec.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SpectrumJob {
+    /// "spectrum".
+    pub kind: &'static str,
+    /// Block.
+    pub block: BlockNorm,
+    /// Pulse family.
+    pub pulse: PulseFamily,
+    /// "linear" | "nonlinear".
+    pub formulation: &'static str,
+    /// ω_p/p values.
+    pub omega_ratio: Vec<f64>,
+    /// Highest amplitude, αg.
+    pub a_max_alpha_g: f64,
+    /// Bracket width, αg.
+    pub tolerance: f64,
+    /// Scan step, αg.
+    pub scan_step_alpha_g: f64,
+    /// Principal relative width.
+    pub principal_relative_width: f64,
+    /// Solver.
+    pub solver: SolverNorm,
+}
+
+fn positive_in(v: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> Result<f64, SpecError> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(SpecError::at(pointer, format!("must lie in [{lo:e}, {hi}] {unit} (got {v})")))
+    }
+}
+
+impl SpectrumSpec {
+    /// Validates into a runnable job.
+    pub fn validate(&self) -> Result<SpectrumJob, SpecError> {
+        let block_spec = self
+            .block
+            .as_ref()
+            .ok_or_else(|| SpecError::at("/block", "missing field"))?;
+        let block = validate_block(block_spec, "/block")?;
+        let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
+        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let solver = validate_solver(self.solver.as_ref(), formulation, "/solver")?;
+        let omega_ratio = self
+            .omega_ratio
+            .as_ref()
+            .ok_or_else(|| SpecError::at("/omega_ratio", "missing field: {\"from\", \"to\", \"steps\"} or a list"))?
+            .values("/omega_ratio", OMEGA_RATIO_RANGE.0, OMEGA_RATIO_RANGE.1, MAX_FREQUENCIES)?;
+        let a_max = positive_in(
+            self.a_max_alpha_g.unwrap_or(DEFAULT_A_MAX),
+            1.0,
+            1e4,
+            "/a_max_alpha_g",
+            "αg",
+        )?;
+        let tolerance = positive_in(
+            self.tolerance.unwrap_or(DEFAULT_TOLERANCE),
+            1e-9,
+            0.1,
+            "/tolerance",
+            "αg",
+        )?;
+        let step = positive_in(
+            self.scan_step_alpha_g.unwrap_or(DEFAULT_SCAN_STEP),
+            tolerance,
+            1.0,
+            "/scan_step_alpha_g",
+            "αg (and at least the tolerance)",
+        )?;
+        if a_max / step > MAX_SCAN_POINTS {
+            return Err(SpecError::at(
+                "/scan_step_alpha_g",
+                format!("a_max_alpha_g / scan_step_alpha_g must not exceed {MAX_SCAN_POINTS:e}"),
+            ));
+        }
+        let principal = positive_in(
+            self.principal_relative_width.unwrap_or(DEFAULT_PRINCIPAL_WIDTH),
+            0.0,
+            1.0,
+            "/principal_relative_width",
+            "",
+        )?;
+        Ok(SpectrumJob {
+            kind: "spectrum",
+            block,
+            pulse,
+            formulation: formulation.name(),
+            omega_ratio,
+            a_max_alpha_g: a_max,
+            tolerance,
+            scan_step_alpha_g: step,
+            principal_relative_width: principal,
+            solver,
+        })
+    }
+}
+
+/// One transition in a result.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct TransitionDoc {
+    /// Amplitude, αg (bracket midpoint).
+    pub a_alpha_g: f64,
+    /// "up": overturning begins as a_p grows; "down": a safe interval begins.
+    pub direction: String,
+    /// Mode on the overturning side.
+    pub mode: u8,
+    /// Impacts on the overturning side.
+    pub impacts: u64,
+    /// [lo, hi], width ≤ tolerance.
+    pub bracket: [f64; 2],
+}
+
+impl From<&Transition> for TransitionDoc {
+    fn from(t: &Transition) -> Self {
+        TransitionDoc {
+            a_alpha_g: t.at,
+            direction: match t.direction {
+                Direction::Up => "up",
+                Direction::Down => "down",
+            }
+            .to_string(),
+            mode: t.mode,
+            impacts: t.impacts,
+            bracket: [t.bracket.0, t.bracket.1],
+        }
+    }
+}
+
+/// A change of overturning mode.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ModeChangeDoc {
+    /// Amplitude, αg.
+    pub a_alpha_g: f64,
+    /// Mode below.
+    pub from_mode: u8,
+    /// Mode above.
+    pub to_mode: u8,
+    /// Bracket.
+    pub bracket: [f64; 2],
+}
+
+impl From<&ModeChange> for ModeChangeDoc {
+    fn from(m: &ModeChange) -> Self {
+        ModeChangeDoc {
+            a_alpha_g: m.at,
+            from_mode: m.from,
+            to_mode: m.to,
+            bracket: [m.bracket.0, m.bracket.1],
+        }
+    }
+}
+
+/// The principal view of one frequency.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct PrincipalDoc {
+    /// Transitions without narrow bands.
+    pub transitions: Vec<TransitionDoc>,
+    /// Lowest overturning amplitude, αg.
+    pub min_overturn_alpha_g: Option<f64>,
+    /// Its mode.
+    pub min_overturn_mode: Option<u8>,
+    /// Safe intervals above the minimum.
+    pub safe_intervals: Vec<[f64; 2]>,
+    /// All amplitudes above this overturn (up to a_max).
+    pub overturns_above_alpha_g: Option<f64>,
+}
+
+/// One frequency of the spectrum.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct FrequencyDoc {
+    /// ω_p/p.
+    pub omega_ratio: f64,
+    /// Rocking threshold, αg.
+    pub threshold_alpha_g: f64,
+    /// Every transition (fine structure).
+    pub transitions: Vec<TransitionDoc>,
+    /// Mode changes inside overturning regions.
+    pub mode_changes: Vec<ModeChangeDoc>,
+    /// Lowest overturning amplitude, αg.
+    pub min_overturn_alpha_g: Option<f64>,
+    /// Its mode.
+    pub min_overturn_mode: Option<u8>,
+    /// Safe intervals above the minimum, [lo, hi] αg.
+    pub safe_intervals: Vec<[f64; 2]>,
+    /// All amplitudes above this overturn (up to a_max), αg.
+    pub overturns_above_alpha_g: Option<f64>,
+    /// Without bands narrower than the principal relative width.
+    pub principal: PrincipalDoc,
+    /// Eq. 21: 1 + β ω_p/p.
+    pub eq21_alpha_g: f64,
+    /// Linear one-sine mode-2 boundary from the corrected eq. 47 (linear one-sine only).
+    pub closed_form_mode2_alpha_g: Option<f64>,
+}
+
+/// Cost and accuracy of a spectrum.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct SpectrumNumerics {
+    /// "exact" | "dopri5" | "dop853".
+    pub method: String,
+    /// Relative tolerance.
+    pub rtol: Option<f64>,
+    /// Absolute tolerance.
+    pub atol: Option<f64>,
+    /// Simulations run.
+    pub simulations: u64,
+    /// Accepted steps (segments for exact), all simulations.
+    pub steps_accepted: u64,
+    /// Rejected steps.
+    pub steps_rejected: u64,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: u64,
+    /// Events located.
+    pub events: u64,
+    /// Largest error estimate of a single simulation, rad.
+    pub error_estimate: f64,
+    /// Bracket width of transitions, αg.
+    pub tolerance: f64,
+    /// Scan step: every band or safe interval wider than this is found, αg.
+    pub scan_step_alpha_g: f64,
+    /// Wall time, s.
+    pub wall_time_s: f64,
+}
+
+impl SpectrumNumerics {
+    /// From scan statistics.
+    pub fn new(solver: &SolverNorm, s: &ScanStats, tolerance: f64, step: f64, wall: f64) -> Self {
+        SpectrumNumerics {
+            method: solver.method.to_string(),
+            rtol: solver.rtol,
+            atol: solver.atol,
+            simulations: s.simulations,
+            steps_accepted: s.steps,
+            steps_rejected: s.rejected,
+            rhs_evaluations: s.rhs_evaluations,
+            events: s.events,
+            error_estimate: s.max_error_estimate,
+            tolerance,
+            scan_step_alpha_g: step,
+            wall_time_s: wall,
+        }
+    }
+}
+
+/// The result document of a spectrum job.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SpectrumResult {
+    /// "spectrum".
+    pub kind: &'static str,
+    /// One entry per frequency.
+    pub spectrum: Vec<FrequencyDoc>,
+    /// Cost and accuracy.
+    pub numerics: SpectrumNumerics,
+    /// The normalised spec.
+    pub spec: SpectrumJob,
+}
+
+fn intervals(d: &Derived) -> Vec<[f64; 2]> {
+    d.safe_intervals.iter().map(|&(a, b)| [a, b]).collect()
+}
+
+impl SpectrumJob {
+    /// Runs the job under `control`.
+    pub fn run(&self, control: &Control) -> Result<SpectrumResult, crate::spectrum::scan::ScanError> {
+        let formulation = if self.formulation == "linear" {
+            Formulation::Linear
+        } else {
+            Formulation::Nonlinear
+        };
+        let block = self.block.block();
+        let req = SpectrumRequest {
+            block,
+            shape: self.pulse.shape(),
+            formulation,
+            solver: self.solver.solver(),
+            omega_ratios: self.omega_ratio.clone(),
+            a_max: self.a_max_alpha_g,
+            tolerance: self.tolerance,
+            scan_step: self.scan_step_alpha_g,
+            principal_relative_width: self.principal_relative_width,
+        };
+        let s = overturning_spectrum(&req, control)?;
+        let spectrum = s
+            .lines
+            .iter()
+            .map(|l| FrequencyDoc {
+                omega_ratio: l.omega_ratio,
+                threshold_alpha_g: l.threshold,
+                transitions: l.transitions.iter().map(TransitionDoc::from).collect(),
+                mode_changes: l.mode_changes.iter().map(ModeChangeDoc::from).collect(),
+                min_overturn_alpha_g: l.derived.min_overturn,
+                min_overturn_mode: l.derived.min_overturn_mode,
+                safe_intervals: intervals(&l.derived),
+                overturns_above_alpha_g: l.derived.overturns_above,
+                principal: PrincipalDoc {
+                    transitions: l.principal_transitions.iter().map(TransitionDoc::from).collect(),
+                    min_overturn_alpha_g: l.principal.min_overturn,
+                    min_overturn_mode: l.principal.min_overturn_mode,
+                    safe_intervals: intervals(&l.principal),
+                    overturns_above_alpha_g: l.principal.overturns_above,
+                },
+                eq21_alpha_g: l.eq21,
+                closed_form_mode2_alpha_g: l.mode2_closed_form,
+            })
+            .collect();
+        Ok(SpectrumResult {
+            kind: "spectrum",
+            spectrum,
+            numerics: SpectrumNumerics::new(
+                &self.solver,
+                &s.stats,
+                self.tolerance,
+                self.scan_step_alpha_g,
+                s.wall_time,
+            ),
+            spec: self.clone(),
+        })
+    }
+}
