@@ -83,7 +83,12 @@ impl FrictionSpec {
         let a_alpha_g = self
             .a_alpha_g
             .as_ref()
-            .ok_or_else(|| SpecError::at("/a_alpha_g", "missing field: {\"from\", \"to\", \"steps\"} or a list"))?
+            .ok_or_else(|| {
+                SpecError::at(
+                    "/a_alpha_g",
+                    "missing field: {\"from\", \"to\", \"steps\"} or a list",
+                )
+            })?
             .values("/a_alpha_g", 1e-6, 1e6, MAX_AMPLITUDES)?;
         Ok(FrictionJob {
             kind: "friction_spectrum",

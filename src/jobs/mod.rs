@@ -66,7 +66,12 @@ impl Job {
             .ok_or_else(|| SpecError::at("", "a job spec is a JSON object"))?;
         let kind = obj
             .get("kind")
-            .ok_or_else(|| SpecError::at("/kind", format!("missing field: one of {}", KINDS.join(", "))))?
+            .ok_or_else(|| {
+                SpecError::at(
+                    "/kind",
+                    format!("missing field: one of {}", KINDS.join(", ")),
+                )
+            })?
             .as_str()
             .ok_or_else(|| SpecError::at("/kind", "must be a string"))?;
         match kind {
@@ -84,7 +89,10 @@ impl Job {
             }
             other => Err(SpecError::at(
                 "/kind",
-                format!("unknown kind {other:?}: expected one of {}", KINDS.join(", ")),
+                format!(
+                    "unknown kind {other:?}: expected one of {}",
+                    KINDS.join(", ")
+                ),
             )),
         }
     }

@@ -25,7 +25,13 @@ pub enum RangeSpec {
 
 impl RangeSpec {
     /// Expands to values, each checked to lie in `[lo, hi]`, at most `max` of them.
-    pub fn values(&self, pointer: &str, lo: f64, hi: f64, max: usize) -> Result<Vec<f64>, SpecError> {
+    pub fn values(
+        &self,
+        pointer: &str,
+        lo: f64,
+        hi: f64,
+        max: usize,
+    ) -> Result<Vec<f64>, SpecError> {
         let values = match self {
             RangeSpec::Even { from, to, steps } => {
                 if *steps == 0 || *steps > max {
@@ -65,7 +71,10 @@ impl RangeSpec {
                     RangeSpec::List(_) => format!("{pointer}/{i}"),
                     _ => pointer.to_string(),
                 };
-                return Err(SpecError::at(at, format!("values must lie in [{lo}, {hi}] (got {v})")));
+                return Err(SpecError::at(
+                    at,
+                    format!("values must lie in [{lo}, {hi}] (got {v})"),
+                ));
             }
         }
         Ok(values)

@@ -130,7 +130,10 @@ fn positive_in(v: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> Result<f6
     if v.is_finite() && v >= lo && v <= hi {
         Ok(v)
     } else {
-        Err(SpecError::at(pointer, format!("must lie in [{lo:e}, {hi}] {unit} (got {v})")))
+        Err(SpecError::at(
+            pointer,
+            format!("must lie in [{lo:e}, {hi}] {unit} (got {v})"),
+        ))
     }
 }
 
@@ -148,8 +151,18 @@ impl SpectrumSpec {
         let omega_ratio = self
             .omega_ratio
             .as_ref()
-            .ok_or_else(|| SpecError::at("/omega_ratio", "missing field: {\"from\", \"to\", \"steps\"} or a list"))?
-            .values("/omega_ratio", OMEGA_RATIO_RANGE.0, OMEGA_RATIO_RANGE.1, MAX_FREQUENCIES)?;
+            .ok_or_else(|| {
+                SpecError::at(
+                    "/omega_ratio",
+                    "missing field: {\"from\", \"to\", \"steps\"} or a list",
+                )
+            })?
+            .values(
+                "/omega_ratio",
+                OMEGA_RATIO_RANGE.0,
+                OMEGA_RATIO_RANGE.1,
+                MAX_FREQUENCIES,
+            )?;
         let a_max = positive_in(
             self.a_max_alpha_g.unwrap_or(DEFAULT_A_MAX),
             1.0,
@@ -178,7 +191,8 @@ impl SpectrumSpec {
             ));
         }
         let principal = positive_in(
-            self.principal_relative_width.unwrap_or(DEFAULT_PRINCIPAL_WIDTH),
+            self.principal_relative_width
+                .unwrap_or(DEFAULT_PRINCIPAL_WIDTH),
             0.0,
             1.0,
             "/principal_relative_width",
@@ -364,7 +378,10 @@ fn intervals(d: &Derived) -> Vec<[f64; 2]> {
 
 impl SpectrumJob {
     /// Runs the job under `control`.
-    pub fn run(&self, control: &Control) -> Result<SpectrumResult, crate::spectrum::scan::ScanError> {
+    pub fn run(
+        &self,
+        control: &Control,
+    ) -> Result<SpectrumResult, crate::spectrum::scan::ScanError> {
         let formulation = if self.formulation == "linear" {
             Formulation::Linear
         } else {
@@ -396,7 +413,11 @@ impl SpectrumJob {
                 safe_intervals: intervals(&l.derived),
                 overturns_above_alpha_g: l.derived.overturns_above,
                 principal: PrincipalDoc {
-                    transitions: l.principal_transitions.iter().map(TransitionDoc::from).collect(),
+                    transitions: l
+                        .principal_transitions
+                        .iter()
+                        .map(TransitionDoc::from)
+                        .collect(),
                     min_overturn_alpha_g: l.principal.min_overturn,
                     min_overturn_mode: l.principal.min_overturn_mode,
                     safe_intervals: intervals(&l.principal),
