@@ -36,6 +36,7 @@ import json
 import math
 import os
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
@@ -502,7 +503,25 @@ def main() -> int:
     args = ap.parse_args()
 
     repo = Path(__file__).resolve().parent.parent
-    exe = find_topple(args.topple, repo, args.rebuild)
+    built = find_topple(args.topple, repo, args.rebuild)
+    # Measure one fixed binary even if target/ is rebuilt while this runs.
+    tmpdir = tempfile.mkdtemp(prefix="topple-bench-")
+    exe = Path(tmpdir) / "topple"
+    shutil.copy2(built, exe)
+    try:
+        return run_all(args, built, exe)
+    finally:
+        shutil.rmtree(tmpdir, ignore_errors=True)
+
+
+def loadavg() -> str:
+    try:
+        return "{:.2f} {:.2f} {:.2f}".format(*os.getloadavg())
+    except OSError:
+        return "n/a"
+
+
+def run_all(args, built: Path, exe: Path) -> int:
     cores = os.cpu_count() or 1
     wall_start = time.perf_counter()
     version = subprocess.run([str(exe), "--version"], capture_output=True,
@@ -518,7 +537,8 @@ def main() -> int:
 
     print("topple vs SciPy solve_ivp(DOP853) - rocking block, one-sine pulse, nonlinear eq. 49")
     print(f"machine: {cpu}, {cores} logical cores; Python {platform.python_version()}, "
-          f"numpy {np.__version__}, scipy {scipy.__version__}; {version} ({exe})")
+          f"numpy {np.__version__}, scipy {scipy.__version__}; {version} ({built})")
+    print(f"load average at start: {loadavg()} (other work on the machine skews timings)")
     print(f"block alpha={ALPHA} p={P} eta={ETA} g={G}; rtol={RTOL:g} atol={ATOL:g}; "
           f"spectrum: omega_p/p {OMEGA_FROM}..{OMEGA_TO} ({OMEGA_STEPS} values), "
           f"a_p/(alpha g) tan(a)/a..{A_MAX:g} step {SCAN_STEP}, bisection to {TOLERANCE:g}")
@@ -557,15 +577,14 @@ def main() -> int:
           f"a_p = {REF_A_ALPHA_G:g} alpha g)")
     print(f"   outcome (overturned, mode, impacts): SciPy {sig}, topple {tp_sig}"
           + ("" if sig == tp_sig else "   <-- MISMATCH"))
-    table(["measurement", "SciPy", "topple", "SciPy/topple"], [
-        [f"reference case (SciPy: mean of {args.runs}) vs topple per-sim mean "
-         f"over the omega_p/p={REF_OMEGA_RATIO:g} spectrum", fmt_t(sp_ref), fmt_t(tp_line_per),
-         f"{sp_ref / tp_line_per:,.0f}x"],
-        [f"per-sim mean over the omega_p/p={REF_OMEGA_RATIO:g} spectrum "
+    table(["per simulation", "SciPy", "topple", "SciPy/topple"], [
+        [f"(a) reference case: SciPy mean of {args.runs} runs vs topple's per-sim mean (b)",
+         fmt_t(sp_ref), fmt_t(tp_line_per), f"{sp_ref / tp_line_per:,.0f}x"],
+        [f"(b) mean over the omega_p/p={REF_OMEGA_RATIO:g} spectrum "
          f"(SciPy {sp_line_sims} sims, topple {tp_line_sims})", fmt_t(sp_line_per),
          fmt_t(tp_line_per), f"{sp_line_per / tp_line_per:,.0f}x"],
-        ["(info) topple reference case alone: time_history wall_time_s, "
-         "one cold call/process, median", "", fmt_t(th_t), f"{sp_ref / th_t:,.0f}x"],
+        ["(c) info: reference case, topple time_history, 1 cold call per process (median)",
+         fmt_t(sp_ref), fmt_t(th_t), f"{sp_ref / th_t:,.0f}x"],
     ])
     print(f"   topple per-sim = numerics.wall_time_s / numerics.simulations of "
           f"`topple run` with RAYON_NUM_THREADS=1 (median of {args.repeats}; no process start-up)")
@@ -603,13 +622,14 @@ def main() -> int:
                          tdoc["spectrum"][0]["transitions"]))
         print(f"   omega_p/p = {w:<5g}: SciPy {n} sims in {dt:.2f} s", flush=True)
 
-    sub_spec = spectrum_spec(sub)
     full_spec = spectrum_spec({"from": OMEGA_FROM, "to": OMEGA_TO, "steps": OMEGA_STEPS})
-    tp_sub1_doc, tp_sub1, tp_sub1_proc = run_topple(exe, sub_spec, 1, args.repeats)
-    _, tp_subN, tp_subN_proc = run_topple(exe, sub_spec, None, args.repeats)
+    if not args.full:
+        sub_spec = spectrum_spec(sub)
+        tp_sub1_doc, tp_sub1, tp_sub1_proc = run_topple(exe, sub_spec, 1, args.repeats)
+        _, tp_subN, tp_subN_proc = run_topple(exe, sub_spec, None, args.repeats)
+        tp_sub_sims = tp_sub1_doc["numerics"]["simulations"]
     tp_full1_doc, tp_full1, tp_full1_proc = run_topple(exe, full_spec, 1, args.repeats)
     tp_fullN_doc, tp_fullN, tp_fullN_proc = run_topple(exe, full_spec, None, args.repeats)
-    tp_sub_sims = tp_sub1_doc["numerics"]["simulations"]
     tp_full_sims = tp_full1_doc["numerics"]["simulations"]
 
     print()
@@ -619,35 +639,36 @@ def main() -> int:
            for (w, n, dt, tn, tt, _) in per_freq])
     print()
 
-    if args.full:
-        sp_full_t, sp_full_label = sp_sub_t, "SciPy, 40 frequencies (measured)"
-        sp_full_sims = f"{sp_sub_sims}"
-        extra_rows = []
-    else:
-        scale = len(omegas) / len(sub)
-        sp_full_t = sp_sub_t * tp_full1 / tp_sub1
-        sp_full_label = ("SciPy, 40 frequencies - EXTRAPOLATED (subset time x topple's "
-                         "1-thread full/subset cost ratio)")
-        sp_full_sims = f"~{round(sp_sub_sims * tp_full_sims / tp_sub_sims)}"
-        extra_rows = [[f"SciPy, 40 frequencies - EXTRAPOLATED (subset time x {scale:g}, "
-                       "naive)", "", fmt_t(sp_sub_t * scale),
-                       f"{sp_sub_t * scale / tp_fullN:,.0f}x",
-                       f"{sp_sub_t * scale / tp_full1:,.0f}x"]]
-    rows = [
-        [f"SciPy, subset of {len(sub)} (measured, 1 process)", sp_sub_sims, fmt_t(sp_sub_t),
-         f"{sp_sub_t / tp_subN:,.0f}x", f"{sp_sub_t / tp_sub1:,.0f}x"],
-        [f"topple, subset of {len(sub)}, {cores} threads", tp_sub_sims,
-         f"{fmt_t(tp_subN)} ({fmt_t(tp_subN_proc)})", "", ""],
-        [f"topple, subset of {len(sub)}, 1 thread", tp_sub_sims,
-         f"{fmt_t(tp_sub1)} ({fmt_t(tp_sub1_proc)})", "", ""],
-        [sp_full_label, sp_full_sims, fmt_t(sp_full_t), f"{sp_full_t / tp_fullN:,.0f}x",
-         f"{sp_full_t / tp_full1:,.0f}x"],
-    ] + extra_rows + [
+    topple_full_rows = [
         [f"topple, 40 frequencies, {cores} threads", tp_full_sims,
          f"{fmt_t(tp_fullN)} ({fmt_t(tp_fullN_proc)})", "", ""],
         ["topple, 40 frequencies, 1 thread", tp_full_sims,
          f"{fmt_t(tp_full1)} ({fmt_t(tp_full1_proc)})", "", ""],
     ]
+    if args.full:
+        sp_full_t = sp_sub_t
+        tp_sub1 = tp_subN = None
+        rows = [["SciPy, 40 frequencies (measured, 1 process)", sp_sub_sims, fmt_t(sp_full_t),
+                 f"{sp_full_t / tp_fullN:,.0f}x", f"{sp_full_t / tp_full1:,.0f}x"]]
+        rows += topple_full_rows
+    else:
+        scale = len(omegas) / len(sub)
+        sp_full_t = sp_sub_t * tp_full1 / tp_sub1
+        rows = [
+            [f"SciPy, subset of {len(sub)} (measured, 1 process)", sp_sub_sims,
+             fmt_t(sp_sub_t), f"{sp_sub_t / tp_subN:,.0f}x", f"{sp_sub_t / tp_sub1:,.0f}x"],
+            [f"topple, subset of {len(sub)}, {cores} threads", tp_sub_sims,
+             f"{fmt_t(tp_subN)} ({fmt_t(tp_subN_proc)})", "", ""],
+            [f"topple, subset of {len(sub)}, 1 thread", tp_sub_sims,
+             f"{fmt_t(tp_sub1)} ({fmt_t(tp_sub1_proc)})", "", ""],
+            ["SciPy, 40 frequencies - EXTRAPOLATED (subset time x topple's 1-thread "
+             "40/subset time ratio)", f"~{round(sp_sub_sims * tp_full_sims / tp_sub_sims)}",
+             fmt_t(sp_full_t), f"{sp_full_t / tp_fullN:,.0f}x",
+             f"{sp_full_t / tp_full1:,.0f}x"],
+            [f"SciPy, 40 frequencies - EXTRAPOLATED (subset time x {scale:g}, naive)", "",
+             fmt_t(sp_sub_t * scale), f"{sp_sub_t * scale / tp_fullN:,.0f}x",
+             f"{sp_sub_t * scale / tp_full1:,.0f}x"],
+        ] + topple_full_rows
     table(["run", "sims", "wall time", f"vs topple {cores} thr", "vs topple 1 thr"], rows)
     print("   topple wall time = numerics.wall_time_s (in-process), median of "
           f"{args.repeats}; in parentheses the whole `topple run` process incl. start-up "
@@ -660,7 +681,7 @@ def main() -> int:
         "scipy_40_s": sp_full_t, "scipy_40_extrapolated": not args.full,
         "topple_subset_1thread_s": tp_sub1, "topple_subset_nthreads_s": tp_subN,
         "topple_40_1thread_s": tp_full1, "topple_40_nthreads_s": tp_fullN,
-        "topple_subset_sims": tp_sub_sims, "topple_40_sims": tp_full_sims,
+        "topple_40_sims": tp_full_sims,
         "per_frequency": [{"omega_ratio": w, "scipy_sims": n, "scipy_s": dt,
                            "topple_sims": tn, "topple_1thread_s": tt}
                           for (w, n, dt, tn, tt, _) in per_freq]}
@@ -697,7 +718,7 @@ def main() -> int:
     elapsed = time.perf_counter() - wall_start
     results["elapsed_s"] = elapsed
     print()
-    print(f"total run time of this script: {elapsed:.0f} s")
+    print(f"total run time of this script: {elapsed:.0f} s; load average at end: {loadavg()}")
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=1))
     return 0

@@ -14,5 +14,6 @@
 pub mod dynamics;
 pub mod jobs;
 pub mod plot;
+pub mod store;
 pub mod precision;
 pub mod spectrum;

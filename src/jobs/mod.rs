@@ -2,6 +2,7 @@
 //! validation into domain types, and the result documents.
 
 pub mod friction;
+pub mod key;
 pub mod numerics;
 pub mod range;
 pub mod spec;

@@ -1,0 +1,248 @@
+//! Persistence of jobs and results: one trait, one implementation per backend.
+
+pub mod sqlite;
+
+use std::future::Future;
+use std::pin::Pin;
+
+use serde::Serialize;
+use uuid::Uuid;
+
+/// A boxed future, so that the trait can be used as `dyn JobStore`.
+pub type BoxFuture<'a, T> = Pin<Box<dyn Future<Output = T> + Send + 'a>>;
+
+/// Storage errors.
+#[derive(Debug, thiserror::Error)]
+pub enum StoreError {
+    /// The database failed.
+    #[error("database: {0}")]
+    Database(#[from] sqlx::Error),
+    /// Migrations failed.
+    #[error("migration: {0}")]
+    Migrate(#[from] sqlx::migrate::MigrateError),
+    /// A row could not be decoded.
+    #[error("corrupt row: {0}")]
+    Corrupt(String),
+}
+
+/// The life of a job.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, utoipa::ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// Waiting for a worker.
+    Queued,
+    /// Being computed.
+    Running,
+    /// Done; the result is stored.
+    Succeeded,
+    /// The computation failed.
+    Failed,
+    /// Canceled by a user.
+    Canceled,
+}
+
+impl Status {
+    /// The name stored and shown.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Status::Queued => "queued",
+            Status::Running => "running",
+            Status::Succeeded => "succeeded",
+            Status::Failed => "failed",
+            Status::Canceled => "canceled",
+        }
+    }
+
+    /// Parses a stored name.
+    pub fn parse(s: &str) -> Option<Status> {
+        Some(match s {
+            "queued" => Status::Queued,
+            "running" => Status::Running,
+            "succeeded" => Status::Succeeded,
+            "failed" => Status::Failed,
+            "canceled" => Status::Canceled,
+            _ => return None,
+        })
+    }
+
+    /// Whether the job will not change any more.
+    pub fn is_final(self) -> bool {
+        matches!(self, Status::Succeeded | Status::Failed | Status::Canceled)
+    }
+
+    /// All statuses.
+    pub const ALL: [Status; 5] = [
+        Status::Queued,
+        Status::Running,
+        Status::Succeeded,
+        Status::Failed,
+        Status::Canceled,
+    ];
+}
+
+/// A job as stored.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JobRecord {
+    /// Identifier.
+    pub id: Uuid,
+    /// Cache key.
+    pub key: String,
+    /// Kind.
+    pub kind: String,
+    /// Normalised spec (JSON text).
+    pub spec: String,
+    /// Status.
+    pub status: Status,
+    /// 0..1.
+    pub progress: f64,
+    /// Failure message.
+    pub error: Option<String>,
+    /// Numerics summary (JSON text), once done.
+    pub numerics: Option<String>,
+    /// RFC 3339 timestamps.
+    pub created_at: String,
+    /// When a worker started it.
+    pub started_at: Option<String>,
+    /// When it ended.
+    pub finished_at: Option<String>,
+}
+
+/// What a submission found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Submitted {
+    /// The job (new, or the existing one with the same key).
+    pub job: JobRecord,
+    /// Whether an existing job was returned instead of queuing new work.
+    pub cached: bool,
+}
+
+/// Filter of a listing.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ListQuery {
+    /// Only this status.
+    pub status: Option<Status>,
+    /// Only this kind.
+    pub kind: Option<String>,
+    /// At most this many.
+    pub limit: u32,
+    /// Only jobs older than this (created_at, id) position.
+    pub before: Option<(String, Uuid)>,
+}
+
+/// Storage of jobs and results.
+pub trait JobStore: Send + Sync {
+    /// Inserts a queued job unless one with the same key exists; a failed or
+    /// canceled job with that key is queued again.
+    fn submit<'a>(
+        &'a self,
+        id: Uuid,
+        key: &'a str,
+        kind: &'a str,
+        spec: &'a str,
+        now: &'a str,
+    ) -> BoxFuture<'a, Result<Submitted, StoreError>>;
+    /// One job.
+    fn get(&self, id: Uuid) -> BoxFuture<'_, Result<Option<JobRecord>, StoreError>>;
+    /// The result document of a succeeded job.
+    fn result(&self, id: Uuid) -> BoxFuture<'_, Result<Option<String>, StoreError>>;
+    /// Newest first.
+    fn list<'a>(&'a self, q: &'a ListQuery) -> BoxFuture<'a, Result<Vec<JobRecord>, StoreError>>;
+    /// Claims the oldest queued job (or one whose lease lapsed) for `owner`
+    /// until `lease_until`.
+    fn claim<'a>(
+        &'a self,
+        owner: &'a str,
+        now: &'a str,
+        lease_until: &'a str,
+    ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>>;
+    /// Renews the lease and records progress; returns the current status (a
+    /// job canceled meanwhile reads `Canceled`).
+    fn heartbeat<'a>(
+        &'a self,
+        id: Uuid,
+        owner: &'a str,
+        progress: f64,
+        lease_until: &'a str,
+    ) -> BoxFuture<'a, Result<Option<Status>, StoreError>>;
+    /// Stores the result and marks the job succeeded (only if `owner` holds it
+    /// and it was not canceled).
+    fn succeed<'a>(
+        &'a self,
+        id: Uuid,
+        owner: &'a str,
+        body: &'a str,
+        numerics: &'a str,
+        now: &'a str,
+    ) -> BoxFuture<'a, Result<bool, StoreError>>;
+    /// Marks the job failed.
+    fn fail<'a>(
+        &'a self,
+        id: Uuid,
+        owner: &'a str,
+        error: &'a str,
+        now: &'a str,
+    ) -> BoxFuture<'a, Result<bool, StoreError>>;
+    /// Returns a job to the queue (shutdown without finishing it).
+    fn requeue<'a>(&'a self, id: Uuid, owner: &'a str) -> BoxFuture<'a, Result<bool, StoreError>>;
+    /// Cancels a queued or running job; returns the job afterwards.
+    fn cancel<'a>(
+        &'a self,
+        id: Uuid,
+        now: &'a str,
+    ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>>;
+    /// Jobs running under leases that belong to nobody alive: at start-up of a
+    /// single-instance store every running job is requeued.
+    fn recover(&self) -> BoxFuture<'_, Result<u64, StoreError>>;
+    /// Number of jobs per status.
+    fn counts(&self) -> BoxFuture<'_, Result<Vec<(Status, i64)>, StoreError>>;
+    /// Whether the database answers.
+    fn ping(&self) -> BoxFuture<'_, Result<(), StoreError>>;
+}
+
+/// Now, as RFC 3339 UTC with microseconds (sorts as text).
+pub fn now_rfc3339() -> String {
+    rfc3339(std::time::SystemTime::now())
+}
+
+/// RFC 3339 UTC text of an instant.
+pub fn rfc3339(t: std::time::SystemTime) -> String {
+    let d = t
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default();
+    let secs = d.as_secs() as i64;
+    let micros = d.subsec_micros();
+    let days = secs.div_euclid(86_400);
+    let sod = secs.rem_euclid(86_400);
+    // Civil date from days since 1970-01-01 (Howard Hinnant's algorithm).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let y = yoe + era * 400;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = if month <= 2 { y + 1 } else { y };
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}.{micros:06}Z",
+        sod / 3600,
+        (sod % 3600) / 60,
+        sod % 60
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::{Duration, UNIX_EPOCH};
+
+    #[test]
+    fn rfc3339_formats_known_instants() {
+        assert_eq!(rfc3339(UNIX_EPOCH), "1970-01-01T00:00:00.000000Z");
+        let t = UNIX_EPOCH + Duration::from_micros(1_795_000_000_123_456);
+        assert_eq!(rfc3339(t), "2026-11-18T11:06:40.123456Z");
+        let leap = UNIX_EPOCH + Duration::from_secs(951_782_400); // 2000-02-29
+        assert_eq!(rfc3339(leap), "2000-02-29T00:00:00.000000Z");
+    }
+}
