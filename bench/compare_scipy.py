@@ -673,8 +673,9 @@ def run_all(args, built: Path, exe: Path) -> int:
     print("   topple wall time = numerics.wall_time_s (in-process), median of "
           f"{args.repeats}; in parentheses the whole `topple run` process incl. start-up "
           "and JSON output.")
-    print("   Ratios compare like with like: SciPy subset vs topple subset, SciPy 40 vs "
-          "topple 40.")
+    if not args.full:
+        print("   Ratios compare like with like: SciPy subset vs topple subset, SciPy 40 vs "
+              "topple 40.")
     print()
     results["per_spectrum"] = {
         "subset": sub, "scipy_subset_s": sp_sub_t, "scipy_subset_sims": sp_sub_sims,

@@ -11,9 +11,11 @@
 //! - [`precision`]: the work-precision study behind `topple precision`.
 //! - [`plot`]: SVG figures.
 
+pub mod api;
 pub mod dynamics;
 pub mod jobs;
 pub mod plot;
-pub mod store;
 pub mod precision;
+pub mod service;
 pub mod spectrum;
+pub mod store;

@@ -14,12 +14,46 @@ use topple::jobs::Job;
     about = "Rocking and overturning of free-standing rigid blocks under cycloidal pulses"
 )]
 struct Cli {
+    /// Without a command, `topple` serves (as `topple serve`).
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
+}
+
+#[derive(clap::Args, Clone, Debug)]
+struct ServeArgs {
+    /// Address to listen on.
+    #[arg(long, env = "TOPPLE_ADDR", default_value = "127.0.0.1:8080")]
+    addr: String,
+    /// Database: sqlite://path (default ./topple.db).
+    #[arg(
+        long = "database",
+        env = "DATABASE_URL",
+        default_value = "sqlite://topple.db"
+    )]
+    database: String,
+    /// Jobs computed at once (and compute threads); default: the number of cores.
+    #[arg(long, env = "TOPPLE_WORKERS")]
+    workers: Option<usize>,
+    /// Largest request body, bytes.
+    #[arg(long, env = "TOPPLE_MAX_BODY", default_value_t = 1 << 20)]
+    max_body: usize,
+    /// Longest ?wait= honoured, seconds.
+    #[arg(long, env = "TOPPLE_MAX_WAIT", default_value_t = 60.0)]
+    max_wait: f64,
+    /// Seconds shutdown waits for running jobs before requeuing them.
+    #[arg(long, env = "TOPPLE_SHUTDOWN_GRACE", default_value_t = 20.0)]
+    shutdown_grace: f64,
+    /// Log as JSON lines instead of text.
+    #[arg(long, env = "TOPPLE_LOG_JSON")]
+    log_json: bool,
 }
 
 #[derive(Subcommand)]
 enum Command {
+    /// Serve the HTTP API (the default command).
+    Serve(ServeArgs),
+    /// Print the OpenAPI description (YAML), as served at /openapi.yaml.
+    Openapi,
     /// Run a job spec (a file, or - for stdin) and print the result JSON.
     Run {
         /// Path of the job-spec JSON, or - for standard input.
@@ -71,11 +105,76 @@ fn run(spec_path: &str, plot: Option<&str>) -> Result<(), (u8, String)> {
     Ok(())
 }
 
+fn seconds(v: f64, name: &str) -> Result<std::time::Duration, (u8, String)> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(std::time::Duration::from_secs_f64(v))
+    } else {
+        Err((
+            2,
+            format!("--{name} must be a non-negative number of seconds"),
+        ))
+    }
+}
+
+fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
+    let filter = tracing_subscriber::EnvFilter::try_from_default_env()
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"));
+    let builder = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stdout()));
+    if args.log_json {
+        builder
+            .json()
+            .with_current_span(true)
+            .with_span_list(true)
+            .init();
+    } else {
+        builder.init();
+    }
+    let mut config = topple::service::ServeConfig {
+        addr: args.addr,
+        database_url: args.database,
+        max_body_bytes: args.max_body,
+        max_wait: seconds(args.max_wait, "max-wait")?,
+        shutdown_grace: seconds(args.shutdown_grace, "shutdown-grace")?,
+        ..Default::default()
+    };
+    if let Some(w) = args.workers {
+        if w == 0 {
+            return Err((2, "--workers must be at least 1".into()));
+        }
+        config.workers = w;
+    }
+    let runtime = tokio::runtime::Runtime::new().map_err(|e| (1, e.to_string()))?;
+    runtime.block_on(async move {
+        let app = topple::service::Application::build(config)
+            .await
+            .map_err(|e| (1, format!("cannot start: {e}")))?;
+        app.run_until(topple::service::shutdown_signal())
+            .await
+            .map_err(|e| (1, e.to_string()))
+    })
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let outcome = match cli.command {
+    let command = cli.command.unwrap_or_else(|| {
+        // `topple` alone serves with the defaults (and environment).
+        match Cli::try_parse_from(["topple", "serve"]) {
+            Ok(Cli {
+                command: Some(c), ..
+            }) => c,
+            _ => Command::Openapi,
+        }
+    });
+    let outcome = match command {
         Command::Run { spec, plot } => run(&spec, plot.as_deref()),
         Command::Precision { svg } => topple::precision::report(&svg).map_err(|e| (1, e)),
+        Command::Serve(args) => serve(args),
+        Command::Openapi => {
+            let _ = write!(std::io::stdout().lock(), "{}", topple::api::openapi_yaml());
+            Ok(())
+        }
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -17,7 +17,7 @@ use crate::spectrum::scan::ScanError;
 pub const MAX_AMPLITUDES: usize = 100_000;
 
 /// The spec as users write it.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FrictionSpec {
     /// "friction_spectrum".

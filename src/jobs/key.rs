@@ -73,9 +73,15 @@ mod tests {
 
     #[test]
     fn different_work_has_different_keys() {
-        let a = key(r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_p":10.7,"a_p_g":0.75}}"#);
-        let b = key(r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_p":10.7,"a_p_g":0.76}}"#);
-        let c = key(r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_p":10.7,"a_p_g":0.75},"outputs":{"series":10}}"#);
+        let a = key(
+            r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_p":10.7,"a_p_g":0.75}}"#,
+        );
+        let b = key(
+            r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_p":10.7,"a_p_g":0.76}}"#,
+        );
+        let c = key(
+            r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_p":10.7,"a_p_g":0.75},"outputs":{"series":10}}"#,
+        );
         assert_ne!(a, b);
         assert_ne!(a, c);
     }
@@ -88,7 +94,8 @@ mod tests {
             r#"{"kind":"friction_spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"omega_ratio":5,"a_alpha_g":[2,3]}"#,
         ] {
             let job = Job::parse(text).expect("valid");
-            let again = Job::from_value(&serde_json::to_value(&job).expect("serialises")).expect("valid");
+            let again =
+                Job::from_value(&serde_json::to_value(&job).expect("serialises")).expect("valid");
             assert_eq!(job, again);
         }
     }

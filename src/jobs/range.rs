@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use super::spec::SpecError;
 
 /// Values as users write them.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(untagged)]
 pub enum RangeSpec {
     /// `steps` evenly spaced values from `from` to `to` inclusive.

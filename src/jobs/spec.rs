@@ -102,7 +102,7 @@ pub fn from_value<T: for<'de> Deserialize<'de>>(
 }
 
 /// The block, by parameters or by geometry.
-#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BlockSpec {
     /// Slenderness α, rad.
@@ -129,7 +129,7 @@ pub struct BlockSpec {
 }
 
 /// The pulse: family, frequency and amplitude.
-#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PulseSpec {
     /// "one_sine" | "one_cosine" | "cn" (aliases: "sine", "type_a", "cosine", "type_b", "type_cn").
@@ -152,7 +152,7 @@ pub struct PulseSpec {
 }
 
 /// Solver choice.
-#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
     /// "exact" | "dopri5" | "dop853".

@@ -26,7 +26,7 @@ pub const MAX_FREQUENCIES: usize = 10_000;
 pub const MAX_SCAN_POINTS: f64 = 1e6;
 
 /// The spec as users write it.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpectrumSpec {
     /// "spectrum".

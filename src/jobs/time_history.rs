@@ -14,7 +14,7 @@ use crate::dynamics::{Options, Problem, SimError, simulate};
 pub const MAX_SERIES_POINTS: usize = 1_000_000;
 
 /// What to compute and keep beyond the outcome.
-#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputsSpec {
     /// Number of uniformly spaced samples of (t, θ, θ̇, ü_g, f_x/f_z); none by default.
@@ -30,7 +30,7 @@ pub struct OutputsSpec {
 }
 
 /// The spec as users write it.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TimeHistorySpec {
     /// "time_history".

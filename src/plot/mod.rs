@@ -151,7 +151,10 @@ fn num(v: &serde_json::Value, key: &str) -> Option<f64> {
 /// Overturning regions of one frequency as (lo, hi, mode) in αg.
 fn overturning_regions(line: &serde_json::Value, a_max: f64) -> Vec<(f64, f64, u8)> {
     let empty = Vec::new();
-    let transitions = line.get("transitions").and_then(|t| t.as_array()).unwrap_or(&empty);
+    let transitions = line
+        .get("transitions")
+        .and_then(|t| t.as_array())
+        .unwrap_or(&empty);
     let changes: Vec<(f64, u8)> = line
         .get("mode_changes")
         .and_then(|t| t.as_array())
@@ -162,8 +165,10 @@ fn overturning_regions(line: &serde_json::Value, a_max: f64) -> Vec<(f64, f64, u
     let mut regions = Vec::new();
     let mut open: Option<(f64, u8)> = None;
     for t in transitions {
-        let (Some(a), Some(dir)) = (num(t, "a_alpha_g"), t.get("direction").and_then(|d| d.as_str()))
-        else {
+        let (Some(a), Some(dir)) = (
+            num(t, "a_alpha_g"),
+            t.get("direction").and_then(|d| d.as_str()),
+        ) else {
             continue;
         };
         let mode = t.get("mode").and_then(|m| m.as_u64()).unwrap_or(1) as u8;
@@ -208,8 +213,14 @@ fn spectrum(result: &serde_json::Value, path: &str) -> PlotResult {
     }
     let (rmin, rmax) = ratios
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &r| (a.min(r), b.max(r)));
-    let pad = if rmax > rmin { 0.02 * (rmax - rmin) } else { 0.5 * rmin.max(0.1) };
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &r| {
+            (a.min(r), b.max(r))
+        });
+    let pad = if rmax > rmin {
+        0.02 * (rmax - rmin)
+    } else {
+        0.5 * rmin.max(0.1)
+    };
     let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
     root.fill(&WHITE)?;
     let formulation = result
@@ -242,8 +253,16 @@ fn spectrum(result: &serde_json::Value, path: &str) -> PlotResult {
         let Some(r) = num(line, "omega_ratio") else {
             continue;
         };
-        let left = if i > 0 { 0.5 * (r + ratios[i - 1]) } else { r - pad };
-        let right = if i + 1 < ratios.len() { 0.5 * (r + ratios[i + 1]) } else { r + pad };
+        let left = if i > 0 {
+            0.5 * (r + ratios[i - 1])
+        } else {
+            r - pad
+        };
+        let right = if i + 1 < ratios.len() {
+            0.5 * (r + ratios[i + 1])
+        } else {
+            r + pad
+        };
         let threshold = num(line, "threshold_alpha_g").unwrap_or(1.0);
         chart.draw_series(std::iter::once(Rectangle::new(
             [(left, 0.0), (right, threshold.min(a_max))],
@@ -265,11 +284,19 @@ fn spectrum(result: &serde_json::Value, path: &str) -> PlotResult {
             .collect()
     };
     chart
-        .draw_series(LineSeries::new(curve("min_overturn_alpha_g"), BLACK.stroke_width(2)))?
+        .draw_series(LineSeries::new(
+            curve("min_overturn_alpha_g"),
+            BLACK.stroke_width(2),
+        ))?
         .label("minimum overturning acceleration")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
     chart
-        .draw_series(DashedLineSeries::new(curve("eq21_alpha_g"), 6, 4, BLACK.into()))?
+        .draw_series(DashedLineSeries::new(
+            curve("eq21_alpha_g"),
+            6,
+            4,
+            BLACK.into(),
+        ))?
         .label("eq. 21: 1 + β ω_p/p")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
     let closed = curve("closed_form_mode2_alpha_g");
@@ -280,15 +307,24 @@ fn spectrum(result: &serde_json::Value, path: &str) -> PlotResult {
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], GREEN.stroke_width(2)));
     }
     chart
-        .draw_series(std::iter::once(Rectangle::new([(rmin, 0.0), (rmin, 0.0)], mode1.filled())))?
+        .draw_series(std::iter::once(Rectangle::new(
+            [(rmin, 0.0), (rmin, 0.0)],
+            mode1.filled(),
+        )))?
         .label("overturns, mode 1 (after impact)")
         .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], mode1.filled()));
     chart
-        .draw_series(std::iter::once(Rectangle::new([(rmin, 0.0), (rmin, 0.0)], mode2.filled())))?
+        .draw_series(std::iter::once(Rectangle::new(
+            [(rmin, 0.0), (rmin, 0.0)],
+            mode2.filled(),
+        )))?
         .label("overturns, mode 2 (no impact)")
         .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], mode2.filled()));
     chart
-        .draw_series(std::iter::once(Rectangle::new([(rmin, 0.0), (rmin, 0.0)], below.filled())))?
+        .draw_series(std::iter::once(Rectangle::new(
+            [(rmin, 0.0), (rmin, 0.0)],
+            below.filled(),
+        )))?
         .label("no rocking")
         .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], below.filled()));
     chart
@@ -316,10 +352,19 @@ fn friction_spectrum(result: &serde_json::Value, path: &str) -> PlotResult {
         .ok_or("result without spec")?;
     let init: Vec<(f64, f64)> = points
         .iter()
-        .filter_map(|p| Some((num(p, "a_alpha_g")?, num(p, "initiation_friction_demand")? / alpha.tan())))
+        .filter_map(|p| {
+            Some((
+                num(p, "a_alpha_g")?,
+                num(p, "initiation_friction_demand")? / alpha.tan(),
+            ))
+        })
         .collect();
     let xmax = peak.iter().fold(1.0f64, |m, p| m.max(p.0));
-    let ymax = peak.iter().chain(&init).fold(1.5f64, |m, p| m.max(p.1 * 1.1)).min(50.0);
+    let ymax = peak
+        .iter()
+        .chain(&init)
+        .fold(1.5f64, |m, p| m.max(p.1 * 1.1))
+        .min(50.0);
     let root = SVGBackend::new(path, (800, 500)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)

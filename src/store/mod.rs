@@ -125,8 +125,8 @@ pub struct ListQuery {
     pub kind: Option<String>,
     /// At most this many.
     pub limit: u32,
-    /// Only jobs older than this (created_at, id) position.
-    pub before: Option<(String, Uuid)>,
+    /// Only jobs created before this one (ids are UUIDv7, time-ordered).
+    pub before: Option<Uuid>,
 }
 
 /// Storage of jobs and results.
@@ -206,9 +206,7 @@ pub fn now_rfc3339() -> String {
 
 /// RFC 3339 UTC text of an instant.
 pub fn rfc3339(t: std::time::SystemTime) -> String {
-    let d = t
-        .duration_since(std::time::UNIX_EPOCH)
-        .unwrap_or_default();
+    let d = t.duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
     let secs = d.as_secs() as i64;
     let micros = d.subsec_micros();
     let days = secs.div_euclid(86_400);

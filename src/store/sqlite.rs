@@ -132,20 +132,15 @@ impl JobStore for SqliteStore {
 
     fn list<'a>(&'a self, q: &'a ListQuery) -> BoxFuture<'a, Result<Vec<JobRecord>, StoreError>> {
         Box::pin(async move {
-            let (before_at, before_id) = match &q.before {
-                Some((at, id)) => (Some(at.clone()), Some(id.to_string())),
-                None => (None, None),
-            };
+            // UUIDv7 ids sort by creation time: newest first is id descending.
             let rows = sqlx::query(
                 "SELECT id, key, kind, spec, status, progress, error, numerics, created_at, started_at, finished_at FROM jobs \
-                 WHERE (?1 IS NULL OR status = ?1) AND (?2 IS NULL OR kind = ?2) \
-                 AND (?3 IS NULL OR created_at < ?3 OR (created_at = ?3 AND id < ?4)) \
-                 ORDER BY created_at DESC, id DESC LIMIT ?5",
+                 WHERE (?1 IS NULL OR status = ?1) AND (?2 IS NULL OR kind = ?2) AND (?3 IS NULL OR id < ?3) \
+                 ORDER BY id DESC LIMIT ?4",
             )
             .bind(q.status.map(|s| s.as_str()))
             .bind(q.kind.as_deref())
-            .bind(before_at)
-            .bind(before_id)
+            .bind(q.before.map(|id| id.to_string()))
             .bind(i64::from(q.limit))
             .fetch_all(&self.pool)
             .await?;

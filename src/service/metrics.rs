@@ -1,0 +1,90 @@
+//! Prometheus metrics of one instance (a recorder of its own, so that several
+//! instances can live in one process, as in the tests).
+
+use metrics::{Counter, Gauge, Histogram, Key, Label, Metadata, Recorder};
+use metrics_exporter_prometheus::{PrometheusBuilder, PrometheusHandle, PrometheusRecorder};
+
+use crate::jobs::KINDS;
+use crate::store::Status;
+
+const META: Metadata<'static> = Metadata::new("topple", metrics::Level::INFO, Some("topple"));
+
+/// The instance's metrics.
+pub struct Metrics {
+    recorder: PrometheusRecorder,
+    handle: PrometheusHandle,
+    /// Submissions answered from an existing job.
+    pub cache_hits: Counter,
+    /// Jobs submitted (new work).
+    pub submitted: Counter,
+    jobs: Vec<(Status, Gauge)>,
+    queue_depth: Gauge,
+    compute: Vec<(&'static str, Histogram)>,
+}
+
+impl std::fmt::Debug for Metrics {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Metrics")
+    }
+}
+
+impl Default for Metrics {
+    fn default() -> Self {
+        Metrics::new()
+    }
+}
+
+impl Metrics {
+    /// A fresh set.
+    pub fn new() -> Self {
+        let recorder = PrometheusBuilder::new().build_recorder();
+        let handle = recorder.handle();
+        let counter = |name: &'static str| recorder.register_counter(&Key::from_name(name), &META);
+        let cache_hits = counter("topple_cache_hits_total");
+        let submitted = counter("topple_jobs_submitted_total");
+        let jobs = Status::ALL
+            .iter()
+            .map(|&s| {
+                let key = Key::from_parts("topple_jobs", vec![Label::new("status", s.as_str())]);
+                (s, recorder.register_gauge(&key, &META))
+            })
+            .collect();
+        let queue_depth = recorder.register_gauge(&Key::from_name("topple_queue_depth"), &META);
+        let compute = KINDS
+            .iter()
+            .map(|&k| {
+                let key = Key::from_parts("topple_compute_seconds", vec![Label::new("kind", k)]);
+                (k, recorder.register_histogram(&key, &META))
+            })
+            .collect();
+        Metrics {
+            recorder,
+            handle,
+            cache_hits,
+            submitted,
+            jobs,
+            queue_depth,
+            compute,
+        }
+    }
+
+    /// Records the compute time of a job of `kind`.
+    pub fn compute_seconds(&self, kind: &str, seconds: f64) {
+        if let Some((_, h)) = self.compute.iter().find(|(k, _)| *k == kind) {
+            h.record(seconds);
+        }
+    }
+
+    /// Prometheus text, with the job counts as they are now.
+    pub fn render(&self, counts: &[(Status, i64)]) -> String {
+        for (status, gauge) in &self.jobs {
+            let n = counts.iter().find(|(s, _)| s == status).map_or(0, |c| c.1);
+            gauge.set(n as f64);
+            if *status == Status::Queued {
+                self.queue_depth.set(n as f64);
+            }
+        }
+        let _ = &self.recorder;
+        self.handle.render()
+    }
+}

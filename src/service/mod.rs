@@ -1,0 +1,221 @@
+//! The HTTP computation service: an axum server over the job store, with
+//! workers that compute on a rayon pool.
+//!
+//! `Application::build` opens the store (applying migrations), requeues jobs
+//! that a dead process left running, and binds the listener;
+//! `Application::run_until` serves until the shutdown future resolves, then
+//! stops accepting, lets running jobs finish within the grace period and
+//! requeues the rest.
+
+pub mod config;
+pub mod metrics;
+pub mod results;
+pub mod worker;
+
+use std::collections::HashMap;
+use std::future::Future;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use tokio::net::TcpListener;
+use tokio::sync::{Notify, broadcast, watch};
+use tracing::info;
+use uuid::Uuid;
+
+pub use config::ServeConfig;
+
+use crate::spectrum::Control;
+use crate::store::sqlite::SqliteStore;
+use crate::store::{JobStore, StoreError};
+
+/// Shared state of one instance.
+#[derive(Clone)]
+pub struct AppState {
+    /// Jobs and results.
+    pub store: Arc<dyn JobStore>,
+    /// Settings.
+    pub config: Arc<ServeConfig>,
+    /// Wakes an idle worker when a job is queued.
+    pub wake: Arc<Notify>,
+    /// Announces every job that reached a final status.
+    pub finished: broadcast::Sender<Uuid>,
+    /// Controls of the jobs computing in this instance (for cancellation).
+    running: Arc<Mutex<HashMap<Uuid, Arc<Control>>>>,
+    /// Metrics.
+    pub metrics: Arc<metrics::Metrics>,
+    /// Recent results.
+    pub results: Arc<results::ResultCache>,
+    /// The compute pool.
+    pub pool: Arc<rayon::ThreadPool>,
+    /// How often idle workers look for work without being woken.
+    pub idle_poll: Duration,
+}
+
+impl AppState {
+    fn register(&self, id: Uuid, control: Arc<Control>) {
+        if let Ok(mut m) = self.running.lock() {
+            m.insert(id, control);
+        }
+    }
+
+    fn unregister(&self, id: Uuid) {
+        if let Ok(mut m) = self.running.lock() {
+            m.remove(&id);
+        }
+    }
+
+    /// Stops the job's computation if it runs in this instance.
+    pub fn cancel_local(&self, id: Uuid) -> bool {
+        let control = self.running.lock().ok().and_then(|m| m.get(&id).cloned());
+        match control {
+            Some(c) => {
+                c.cancel();
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Progress of a job computing in this instance.
+    pub fn local_progress(&self, id: Uuid) -> Option<f64> {
+        self.running
+            .lock()
+            .ok()
+            .and_then(|m| m.get(&id).map(|c| c.progress()))
+    }
+
+    fn announce(&self, id: Uuid) {
+        let _ = self.finished.send(id);
+    }
+}
+
+/// Why the service could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum ServeError {
+    /// The store failed.
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    /// Binding or serving failed.
+    #[error("io: {0}")]
+    Io(#[from] std::io::Error),
+    /// The compute pool could not be built.
+    #[error("thread pool: {0}")]
+    Pool(String),
+    /// The database URL is not understood.
+    #[error("unsupported database URL {0:?}: use sqlite://path")]
+    DatabaseUrl(String),
+}
+
+/// Opens the store named by `url`.
+pub async fn open_store(url: &str, connections: u32) -> Result<Arc<dyn JobStore>, ServeError> {
+    if url.starts_with("sqlite:") || !url.contains("://") {
+        Ok(Arc::new(SqliteStore::open(url, connections).await?))
+    } else {
+        Err(ServeError::DatabaseUrl(url.to_string()))
+    }
+}
+
+/// A built, bound, not yet running instance.
+pub struct Application {
+    listener: TcpListener,
+    state: AppState,
+}
+
+impl Application {
+    /// Opens the store, recovers interrupted jobs and binds the address.
+    pub async fn build(config: ServeConfig) -> Result<Self, ServeError> {
+        let store = open_store(&config.database_url, (config.workers as u32 + 4).max(8)).await?;
+        let recovered = store.recover().await?;
+        if recovered > 0 {
+            info!(recovered, "requeued jobs interrupted by a previous stop");
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(config.workers.max(1))
+            .thread_name(|i| format!("topple-compute-{i}"))
+            .build()
+            .map_err(|e| ServeError::Pool(e.to_string()))?;
+        let listener = TcpListener::bind(&config.addr).await?;
+        let (finished, _) = broadcast::channel(1024);
+        let state = AppState {
+            store,
+            config: Arc::new(config),
+            wake: Arc::new(Notify::new()),
+            finished,
+            running: Arc::new(Mutex::new(HashMap::new())),
+            metrics: Arc::new(metrics::Metrics::new()),
+            results: Arc::new(results::ResultCache::default()),
+            pool: Arc::new(pool),
+            idle_poll: Duration::from_millis(500),
+        };
+        Ok(Application { listener, state })
+    }
+
+    /// The bound port.
+    pub fn port(&self) -> u16 {
+        self.listener.local_addr().map(|a| a.port()).unwrap_or(0)
+    }
+
+    /// The shared state (for tests and embedding).
+    pub fn state(&self) -> &AppState {
+        &self.state
+    }
+
+    /// Serves until `shutdown` resolves, then drains gracefully.
+    pub async fn run_until<F>(self, shutdown: F) -> Result<(), ServeError>
+    where
+        F: Future<Output = ()> + Send + 'static,
+    {
+        let Application { listener, state } = self;
+        let (stop_tx, stop_rx) = watch::channel(false);
+        let mut workers = Vec::new();
+        for n in 0..state.config.workers.max(1) {
+            workers.push(tokio::spawn(worker::run(state.clone(), n, stop_rx.clone())));
+        }
+        let app = crate::api::router(state.clone());
+        info!(addr = %listener.local_addr()?, workers = state.config.workers, "serving");
+        let (signal_tx, signal_rx) = watch::channel(false);
+        let serve = axum::serve(listener, app).with_graceful_shutdown({
+            let mut rx = signal_rx.clone();
+            async move {
+                let _ = rx.wait_for(|v| *v).await;
+            }
+        });
+        let server = tokio::spawn(async move { serve.await });
+        shutdown.await;
+        info!("shutting down: no new requests, draining jobs");
+        let _ = signal_tx.send(true);
+        let _ = stop_tx.send(true);
+        state.wake.notify_waiters();
+        for w in workers {
+            let _ = w.await;
+        }
+        match server.await {
+            Ok(r) => r?,
+            Err(e) => return Err(ServeError::Io(std::io::Error::other(e.to_string()))),
+        }
+        info!("stopped");
+        Ok(())
+    }
+}
+
+/// Resolves on Ctrl-C or SIGTERM.
+pub async fn shutdown_signal() {
+    let ctrl_c = async {
+        let _ = tokio::signal::ctrl_c().await;
+    };
+    #[cfg(unix)]
+    let term = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut s) => {
+                s.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let term = std::future::pending::<()>();
+    tokio::select! {
+        _ = ctrl_c => {}
+        _ = term => {}
+    }
+}
