@@ -262,11 +262,11 @@ pub async fn create_job(
         record = wait_for(&state, id, limit).await?;
     }
     let mut v = view(&state, &record, Some(submitted.cached));
-    let status = if record.status == Status::Succeeded {
-        if wait.is_some() || submitted.cached {
-            let body = load_result(&state, id).await?;
-            v.result = serde_json::from_str(&body).ok();
-        }
+    // New work is accepted (202) unless the caller waited for it; existing work
+    // that is done answers 200 with its result.
+    let status = if record.status == Status::Succeeded && (wait.is_some() || submitted.cached) {
+        let body = load_result(&state, id).await?;
+        v.result = serde_json::from_str(&body).ok();
         StatusCode::OK
     } else {
         StatusCode::ACCEPTED

@@ -156,7 +156,7 @@ impl JobStore for SqliteStore {
     ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>> {
         Box::pin(async move {
             let row = sqlx::query(
-                "UPDATE jobs SET status = 'running', lease_owner = ?1, lease_until = ?3, started_at = COALESCE(started_at, ?2) \
+                "UPDATE jobs SET status = 'running', lease_owner = ?1, lease_until = ?3, started_at = COALESCE(started_at, MAX(?2, created_at)) \
                  WHERE id = (SELECT id FROM jobs WHERE status = 'queued' OR (status = 'running' AND lease_until < ?2) ORDER BY created_at LIMIT 1) \
                  RETURNING id, key, kind, spec, status, progress, error, numerics, created_at, started_at, finished_at",
             )

@@ -1,0 +1,392 @@
+//! The HTTP service, end to end: a real server on 127.0.0.1:0 with a fresh
+//! SQLite database per test.
+
+mod helpers;
+
+use std::time::{Duration, Instant};
+
+use helpers::*;
+use serde_json::{Value, json};
+
+#[tokio::test]
+async fn time_history_submit_poll_result_matches_topple_run() {
+    let app = spawn_app("th").await;
+    let spec = time_history(4.0);
+    let (status, job, headers) = app.post("/v1/jobs", &spec).await;
+    assert_eq!(status, 202, "{job}");
+    let id = job["id"].as_str().expect("id").to_string();
+    assert_eq!(headers["location"], format!("/v1/jobs/{id}").as_str());
+    assert_eq!(job["cached"], false);
+    let done = app.finish(&id, Duration::from_secs(10)).await;
+    assert_eq!(done["status"], "succeeded", "{done}");
+    assert_eq!(done["progress"], 1.0);
+    assert!(done["numerics"]["events"].as_u64().unwrap_or(0) >= 1);
+    let (status, result) = app.get(&format!("/v1/jobs/{id}/result")).await;
+    assert_eq!(status, 200);
+    assert_eq!(without_times(result), without_times(topple_run(&spec)));
+    // CSV of the series.
+    let (status, ct, csv) = app
+        .get_text(&format!("/v1/jobs/{id}/result?format=csv"))
+        .await;
+    assert_eq!(status, 200);
+    assert!(ct.starts_with("text/csv"));
+    assert!(csv.starts_with("t,theta,theta_dot,ground_acceleration,fx_over_fz\n"));
+    assert_eq!(csv.lines().count(), 21);
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn post_with_wait_returns_the_finished_result_inline() {
+    let app = spawn_app("wait").await;
+    let (status, job, _) = app.post("/v1/jobs?wait=10", &time_history(3.5)).await;
+    assert_eq!(status, 200, "{job}");
+    assert_eq!(job["status"], "succeeded");
+    assert_eq!(job["result"]["kind"], "time_history");
+    assert!(job["result"]["overturned"].is_boolean());
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn spectrum_and_friction_jobs_run_to_results_and_csv() {
+    let app = spawn_app("spectra").await;
+    let (s1, j1, _) = app.post("/v1/jobs", &spectrum(3)).await;
+    let (s2, j2, _) = app.post("/v1/jobs", &friction()).await;
+    assert_eq!((s1, s2), (202, 202));
+    for (job, kind, header) in [
+        (&j1, "spectrum", "omega_ratio,a_alpha_g,direction"),
+        (&j2, "friction_spectrum", "a_alpha_g,peak_friction_demand"),
+    ] {
+        let id = job["id"].as_str().expect("id");
+        let done = app.finish(id, Duration::from_secs(30)).await;
+        assert_eq!(done["status"], "succeeded", "{done}");
+        let (status, result) = app.get(&format!("/v1/jobs/{id}/result")).await;
+        assert_eq!(status, 200);
+        assert_eq!(result["kind"], kind);
+        let (status, _, csv) = app
+            .get_text(&format!("/v1/jobs/{id}/result?format=csv"))
+            .await;
+        assert_eq!(status, 200);
+        assert!(csv.starts_with(header), "{csv}");
+    }
+    let (_, result) = app
+        .get(&format!(
+            "/v1/jobs/{}/result",
+            j1["id"].as_str().unwrap_or("")
+        ))
+        .await;
+    assert_eq!(result["spectrum"].as_array().map(|a| a.len()), Some(3));
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn the_same_work_in_other_words_is_a_cache_hit() {
+    let app = spawn_app("cache").await;
+    let (_, first, _) = app.post("/v1/jobs?wait=10", &time_history(4.0)).await;
+    assert_eq!(first["status"], "succeeded");
+    // Other field order, amplitude in m/s², frequency in rad/s, defaults spelled out.
+    let same = json!({
+        "outputs": {"series": 20, "reactions": true},
+        "formulation": "linear",
+        "solver": {"method": "exact"},
+        "pulse": {"a_p": 4.0 * 0.25 * 9.81, "omega_p": 5.0 * 2.14, "type": "one_sine"},
+        "block": {"eta": 0.9, "p": 2.14, "alpha": 0.25},
+        "kind": "time_history"
+    });
+    let (status, second, _) = app.post("/v1/jobs", &same).await;
+    assert_eq!(status, 200, "{second}");
+    assert_eq!(second["cached"], true);
+    assert_eq!(second["id"], first["id"]);
+    assert_eq!(second["key"], first["key"]);
+    assert_eq!(second["result"], first["result"]);
+    let (_, _, metrics) = app.get_text("/metrics").await;
+    assert!(metrics.contains("topple_cache_hits_total 1"), "{metrics}");
+    // Other work is not.
+    let (status, third, _) = app.post("/v1/jobs", &time_history(4.5)).await;
+    assert_eq!(status, 202);
+    assert_ne!(third["key"], first["key"]);
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn cancel_stops_a_running_spectrum_within_100_ms() {
+    let app = spawn_app("cancel").await;
+    let (_, job, _) = app.post("/v1/jobs", &spectrum(200)).await;
+    let id = job["id"].as_str().expect("id").to_string();
+    let uuid = uuid::Uuid::parse_str(&id).expect("uuid");
+    // Wait until it computes.
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while app.state.local_progress(uuid).is_none() {
+        assert!(Instant::now() < deadline, "never started");
+        tokio::time::sleep(Duration::from_millis(5)).await;
+    }
+    tokio::time::sleep(Duration::from_millis(50)).await;
+    let asked = Instant::now();
+    let r = app
+        .client
+        .delete(app.url(&format!("/v1/jobs/{id}")))
+        .send()
+        .await
+        .expect("request");
+    assert_eq!(r.status().as_u16(), 200);
+    let body: Value = r.json().await.expect("json");
+    assert_eq!(body["status"], "canceled");
+    while app.state.local_progress(uuid).is_some() {
+        tokio::time::sleep(Duration::from_millis(1)).await;
+    }
+    let stopped = asked.elapsed();
+    // 100 ms is the promise; the margin absorbs a loaded test machine.
+    assert!(
+        stopped < Duration::from_millis(500),
+        "stopped after {stopped:?}"
+    );
+    let done = app.finish(&id, Duration::from_secs(1)).await;
+    assert_eq!(done["status"], "canceled");
+    let (status, problem) = app.get(&format!("/v1/jobs/{id}/result")).await;
+    assert_eq!(status, 409, "{problem}");
+    // Submitting it again computes it again.
+    let (status, again, _) = app.post("/v1/jobs", &spectrum(200)).await;
+    assert_eq!(status, 202);
+    assert_eq!(again["cached"], false);
+    assert_eq!(again["id"], job["id"]);
+    let r = app
+        .client
+        .delete(app.url(&format!("/v1/jobs/{id}")))
+        .send()
+        .await
+        .expect("request");
+    assert_eq!(r.status().as_u16(), 200);
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn listing_is_newest_first_with_cursor_pagination_and_filters() {
+    let app = spawn_app("list").await;
+    let mut ids = Vec::new();
+    for k in 0..5 {
+        let (_, job, _) = app
+            .post("/v1/jobs?wait=10", &time_history(2.0 + 0.5 * k as f64))
+            .await;
+        ids.push(job["id"].as_str().expect("id").to_string());
+    }
+    let (_, spectrum_job, _) = app.post("/v1/jobs?wait=10", &friction()).await;
+    let mut seen = Vec::new();
+    let mut cursor = String::new();
+    loop {
+        let (status, page) = app
+            .get(&format!(
+                "/v1/jobs?kind=time_history&limit=2&cursor={cursor}"
+            ))
+            .await;
+        assert_eq!(status, 200, "{page}");
+        for j in page["jobs"].as_array().expect("jobs") {
+            seen.push(j["id"].as_str().expect("id").to_string());
+        }
+        match page["next_cursor"].as_str() {
+            Some(c) => cursor = c.to_string(),
+            None => break,
+        }
+    }
+    ids.reverse();
+    assert_eq!(seen, ids);
+    let (_, page) = app
+        .get("/v1/jobs?status=succeeded&kind=friction_spectrum")
+        .await;
+    assert_eq!(page["jobs"][0]["id"], spectrum_job["id"]);
+    let (_, page) = app.get("/v1/jobs?status=queued").await;
+    assert_eq!(page["jobs"].as_array().map(|a| a.len()), Some(0));
+    app.stop().await;
+}
+
+async fn assert_problem(r: reqwest::Response, status: u16, pointer: Option<&str>) -> Value {
+    assert_eq!(r.status().as_u16(), status);
+    let ct = r
+        .headers()
+        .get("content-type")
+        .and_then(|v| v.to_str().ok())
+        .unwrap_or("")
+        .to_string();
+    assert_eq!(ct, "application/problem+json");
+    let body: Value = r.json().await.expect("problem json");
+    assert_eq!(body["status"], status);
+    assert!(
+        body["title"].is_string() && body["detail"].is_string(),
+        "{body}"
+    );
+    if let Some(p) = pointer {
+        assert_eq!(body["pointer"], p, "{body}");
+    }
+    body
+}
+
+#[tokio::test]
+async fn bad_input_gets_problem_json_naming_the_field_never_a_500() {
+    let app = spawn_app("bad").await;
+    let post = |body: String| {
+        app.client
+            .post(app.url("/v1/jobs"))
+            .header("content-type", "application/json")
+            .body(body)
+            .send()
+    };
+    assert_problem(post("{not json".into()).await.expect("r"), 400, Some("")).await;
+    let mut spec = time_history(4.0);
+    spec["block"]["alpha"] = json!(1.7);
+    assert_problem(
+        post(spec.to_string()).await.expect("r"),
+        422,
+        Some("/block/alpha"),
+    )
+    .await;
+    let mut spec = time_history(4.0);
+    spec["pulse"]["a_p_g"] = json!(1.0);
+    // Two amplitudes: the second one given is named.
+    assert_problem(
+        post(spec.to_string()).await.expect("r"),
+        422,
+        Some("/pulse/a_p_alpha_g"),
+    )
+    .await;
+    let mut spec = time_history(4.0);
+    spec["kind"] = json!("nonsense");
+    assert_problem(post(spec.to_string()).await.expect("r"), 422, Some("/kind")).await;
+    let mut spec = time_history(4.0);
+    spec["block"]["colour"] = json!("red");
+    assert_problem(
+        post(spec.to_string()).await.expect("r"),
+        422,
+        Some("/block/colour"),
+    )
+    .await;
+    let nan = time_history(4.0).to_string().replace("0.9", "NaN");
+    assert_problem(post(nan).await.expect("r"), 422, Some("/block/eta")).await;
+    let huge = format!(
+        "{{\"kind\":\"time_history\",\"pad\":\"{}\"}}",
+        "x".repeat(2 << 20)
+    );
+    let r = post(huge).await.expect("r");
+    assert_problem(r, 413, None).await;
+    let get = |path: &str| app.client.get(app.url(path)).send();
+    assert_problem(
+        get("/v1/jobs/not-a-uuid").await.expect("r"),
+        400,
+        Some("#/id"),
+    )
+    .await;
+    let missing = uuid::Uuid::now_v7();
+    assert_problem(
+        get(&format!("/v1/jobs/{missing}")).await.expect("r"),
+        404,
+        None,
+    )
+    .await;
+    assert_problem(
+        get(&format!("/v1/jobs/{missing}/result")).await.expect("r"),
+        404,
+        None,
+    )
+    .await;
+    assert_problem(
+        get("/v1/jobs?limit=0").await.expect("r"),
+        400,
+        Some("#/limit"),
+    )
+    .await;
+    assert_problem(
+        get("/v1/jobs?status=done").await.expect("r"),
+        400,
+        Some("#/status"),
+    )
+    .await;
+    assert_problem(get("/v1/jobs?limit=x").await.expect("r"), 400, None).await;
+    assert_problem(get("/nowhere").await.expect("r"), 404, None).await;
+    let r = app.client.put(app.url("/v1/jobs")).send().await.expect("r");
+    assert_problem(r, 405, None).await;
+    let r = app
+        .client
+        .post(app.url("/v1/jobs?wait=-1"))
+        .json(&time_history(4.0))
+        .send()
+        .await
+        .expect("r");
+    assert_problem(r, 400, Some("#/wait")).await;
+    // A result that is not ready is a conflict; a CSV of a history without series a 400.
+    let (_, job, _) = app.post("/v1/jobs", &spectrum(100)).await;
+    let id = job["id"].as_str().expect("id");
+    let r = get(&format!("/v1/jobs/{id}/result")).await.expect("r");
+    assert_problem(r, 409, None).await;
+    let _ = app
+        .client
+        .delete(app.url(&format!("/v1/jobs/{id}")))
+        .send()
+        .await;
+    let mut plain = time_history(4.0);
+    plain["outputs"] = json!({});
+    let (_, job, _) = app.post("/v1/jobs?wait=10", &plain).await;
+    let id = job["id"].as_str().expect("id");
+    let r = get(&format!("/v1/jobs/{id}/result?format=csv"))
+        .await
+        .expect("r");
+    assert_problem(r, 400, Some("#/format")).await;
+    let r = get(&format!("/v1/jobs/{id}/result?format=xml"))
+        .await
+        .expect("r");
+    assert_problem(r, 400, Some("#/format")).await;
+    // Deleting a finished job is a conflict.
+    let r = app
+        .client
+        .delete(app.url(&format!("/v1/jobs/{id}")))
+        .send()
+        .await
+        .expect("r");
+    assert_problem(r, 409, None).await;
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn health_readiness_and_metrics() {
+    let app = spawn_app("ops").await;
+    let (status, body) = app.get("/healthz").await;
+    assert_eq!((status, body["status"].as_str()), (200, Some("ok")));
+    let (status, body) = app.get("/readyz").await;
+    assert_eq!((status, body["status"].as_str()), (200, Some("ready")));
+    let _ = app.post("/v1/jobs?wait=10", &time_history(4.0)).await;
+    let (status, ct, text) = app.get_text("/metrics").await;
+    assert_eq!(status, 200);
+    assert!(ct.starts_with("text/plain"));
+    for needle in [
+        "topple_jobs{status=\"succeeded\"} 1",
+        "topple_queue_depth 0",
+        "topple_cache_hits_total 0",
+        "topple_compute_seconds_count{kind=\"time_history\"} 1",
+    ] {
+        assert!(text.contains(needle), "missing {needle} in\n{text}");
+    }
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn the_served_and_committed_openapi_match_the_routes() {
+    let app = spawn_app("openapi").await;
+    let (status, ct, served) = app.get_text("/openapi.yaml").await;
+    assert_eq!(status, 200);
+    assert!(ct.starts_with("application/yaml"));
+    let committed = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/openapi.yaml"))
+        .expect("openapi.yaml is committed");
+    assert_eq!(
+        served, committed,
+        "openapi.yaml is stale: regenerate with `cargo run -- openapi > openapi.yaml`"
+    );
+    for path in [
+        "/v1/jobs:",
+        "/v1/jobs/{id}:",
+        "/v1/jobs/{id}/result:",
+        "/healthz:",
+        "/readyz:",
+        "/metrics:",
+        "/openapi.yaml:",
+    ] {
+        assert!(served.contains(path), "{path} undocumented");
+    }
+    assert!(served.starts_with("openapi: 3.1"));
+    app.stop().await;
+}
