@@ -126,6 +126,7 @@ impl TestApp {
         if let Some(h) = self.server.take() {
             let _ = tokio::time::timeout(Duration::from_secs(30), h).await;
         }
+        let _ = std::fs::remove_dir_all(&self.dir);
     }
 }
 
