@@ -21,7 +21,7 @@ struct Server {
 
 fn start(db: &str, extra: &[&str]) -> Server {
     let port = free_port();
-    let child = Command::new(env!("CARGO_BIN_EXE_topple"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_topple"))
         .args([
             "serve",
             "--addr",
@@ -44,6 +44,8 @@ fn start(db: &str, extra: &[&str]) -> Server {
         }
         std::thread::sleep(Duration::from_millis(50));
     }
+    let _ = child.kill();
+    let _ = child.wait();
     panic!("server at {base} never became ready");
 }
 
