@@ -15,6 +15,7 @@
 #   WRK_SECONDS=10 WRK_CONNECTIONS=64 WRK_THREADS=2
 #   LATENCY_N=2000 CONCURRENT_N=2000 CONCURRENCY=4 (CONCURRENT_N=0 skips it)
 #   WORKERS=2 SHUTDOWN_LIMIT=5
+#   TOPPLE_BIN=path: benchmark this binary instead of building target/release/topple
 # Every request goes to 127.0.0.1; every loop is bounded in count and time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,16 +44,21 @@ if ! command -v wrk >/dev/null 2>&1; then
   fi
 fi
 
-echo "== building: cargo build --release"
-cargo build --release --quiet
+if [ -n "${TOPPLE_BIN:-}" ]; then
+  echo "== binary: $TOPPLE_BIN (TOPPLE_BIN; not building)"
+else
+  echo "== building: cargo build --release"
+  cargo build --release --quiet
+fi
 
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/topple-load.XXXXXX")
 # The binary is copied so that a concurrent rebuild of target/ changes nothing here.
-cp target/release/topple "$WORK/topple"
+cp "${TOPPLE_BIN:-target/release/topple}" "$WORK/topple"
 PORT=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 CLIENT=(python3 bench/post_wait_latency.py --port "$PORT")
 SERVER_PID=
 
+# shellcheck disable=SC2329  # invoked by the EXIT trap
 cleanup() {
   if [ -n "$SERVER_PID" ] && kill -0 "$SERVER_PID" 2>/dev/null; then
     kill -KILL "$SERVER_PID" 2>/dev/null || true

@@ -1,6 +1,6 @@
 //! A real `topple serve` process: killed with SIGKILL mid-job, restarted on the
 //! same database, it loses nothing; stopped with SIGTERM, it finishes its work
-//! and exits cleanly.
+//! in flight and exits cleanly.
 
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -188,9 +188,13 @@ fn sigterm_lets_the_running_job_finish_and_exits_cleanly() {
         std::thread::sleep(Duration::from_millis(20));
     };
     assert!(exit.success(), "{exit:?}");
-    // The job finished before the process left.
+    // The task in flight finished before the process left; the job's other
+    // tasks stayed queued and finish after the restart.
     let again = start(&db, &["--workers", "1"]);
-    assert_eq!(status(&again.base, &id)["status"], "succeeded");
+    let job = wait_status(&again.base, &id, "succeeded", Duration::from_secs(60));
+    assert_eq!(job["status"], "succeeded", "{job}");
+    let result = reqwest::get_json(&format!("{}/v1/jobs/{id}/result", again.base));
+    assert_eq!(result["spectrum"].as_array().map(|a| a.len()), Some(30));
     let mut again = again;
     let _ = again.child.kill();
     let _ = again.child.wait();

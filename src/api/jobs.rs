@@ -82,12 +82,8 @@ pub struct JobView {
     pub result: Option<serde_json::Value>,
 }
 
-fn view(state: &AppState, r: &JobRecord, cached: Option<bool>) -> JobView {
-    let progress = if r.status == Status::Running {
-        state.local_progress(r.id).unwrap_or(r.progress)
-    } else {
-        r.progress
-    };
+fn view(r: &JobRecord, cached: Option<bool>) -> JobView {
+    let progress = r.progress;
     JobView {
         id: r.id.to_string(),
         kind: r.kind.clone(),
@@ -242,9 +238,21 @@ pub async fn create_job(
     })?;
     let key = cache_key(&job);
     let spec = serde_json::to_string(&job).map_err(|e| Problem::internal(e.to_string()))?;
+    let tasks: Vec<String> = job
+        .split()
+        .iter()
+        .map(|t| serde_json::to_string(t).unwrap_or_default())
+        .collect();
     let submitted = state
         .store
-        .submit(Uuid::now_v7(), &key, job.kind(), &spec, &now_rfc3339())
+        .submit(
+            Uuid::now_v7(),
+            &key,
+            job.kind(),
+            &spec,
+            &now_rfc3339(),
+            &tasks,
+        )
         .await?;
     let id = submitted.job.id;
     tracing::Span::current().record("job_id", tracing::field::display(id));
@@ -252,7 +260,9 @@ pub async fn create_job(
         state.metrics.cache_hits.increment(1);
     } else {
         state.metrics.submitted.increment(1);
+        state.wake.notify_waiters();
         state.wake.notify_one();
+        state.store.announce_queued().await;
     }
     info!(job_id = %id, cached = submitted.cached, kind = job.kind(), "submitted");
     let mut record = submitted.job;
@@ -261,7 +271,7 @@ pub async fn create_job(
     {
         record = wait_for(&state, id, limit).await?;
     }
-    let mut v = view(&state, &record, Some(submitted.cached));
+    let mut v = view(&record, Some(submitted.cached));
     // New work is accepted (202) unless the caller waited for it; existing work
     // that is done answers 200 with its result.
     let status = if record.status == Status::Succeeded && (wait.is_some() || submitted.cached) {
@@ -297,7 +307,7 @@ pub async fn get_job(
     let id = parse_id(path)?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
     let job = load(&state, id).await?;
-    Ok(axum::Json(view(&state, &job, None)))
+    Ok(axum::Json(view(&job, None)))
 }
 
 /// Query of a result fetch.
@@ -410,7 +420,7 @@ pub async fn cancel_job(
             state.cancel_local(id);
             let _ = state.finished.send(id);
             info!(job_id = %id, "canceled");
-            Ok(axum::Json(view(&state, &job, None)))
+            Ok(axum::Json(view(&job, None)))
         }
         s => Err(Problem::conflict(
             "already-finished",
@@ -506,7 +516,7 @@ pub async fn list_jobs(
         None
     };
     Ok(axum::Json(JobPage {
-        jobs: jobs.iter().map(|j| view(&state, j, None)).collect(),
+        jobs: jobs.iter().map(|j| view(j, None)).collect(),
         next_cursor,
     }))
 }

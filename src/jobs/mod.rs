@@ -7,6 +7,7 @@ pub mod numerics;
 pub mod range;
 pub mod spec;
 pub mod spectrum;
+pub mod split;
 pub mod time_history;
 
 pub use spec::SpecError;

@@ -25,8 +25,12 @@ use uuid::Uuid;
 pub use config::ServeConfig;
 
 use crate::spectrum::Control;
+use crate::store::postgres::PgStore;
 use crate::store::sqlite::SqliteStore;
 use crate::store::{JobStore, StoreError};
+
+/// Tasks computing in this instance, by (job, task index).
+type Running = HashMap<(Uuid, i64), Arc<Control>>;
 
 /// Shared state of one instance.
 #[derive(Clone)]
@@ -39,8 +43,8 @@ pub struct AppState {
     pub wake: Arc<Notify>,
     /// Announces every job that reached a final status.
     pub finished: broadcast::Sender<Uuid>,
-    /// Controls of the jobs computing in this instance (for cancellation).
-    running: Arc<Mutex<HashMap<Uuid, Arc<Control>>>>,
+    /// Controls of the tasks computing in this instance (for cancellation).
+    running: Arc<Mutex<Running>>,
     /// Metrics.
     pub metrics: Arc<metrics::Metrics>,
     /// Recent results.
@@ -52,36 +56,42 @@ pub struct AppState {
 }
 
 impl AppState {
-    fn register(&self, id: Uuid, control: Arc<Control>) {
+    fn register(&self, id: Uuid, idx: i64, control: Arc<Control>) {
         if let Ok(mut m) = self.running.lock() {
-            m.insert(id, control);
+            m.insert((id, idx), control);
         }
     }
 
-    fn unregister(&self, id: Uuid) {
+    fn unregister(&self, id: Uuid, idx: i64) {
         if let Ok(mut m) = self.running.lock() {
-            m.remove(&id);
+            m.remove(&(id, idx));
         }
     }
 
-    /// Stops the job's computation if it runs in this instance.
-    pub fn cancel_local(&self, id: Uuid) -> bool {
-        let control = self.running.lock().ok().and_then(|m| m.get(&id).cloned());
-        match control {
-            Some(c) => {
-                c.cancel();
-                true
-            }
-            None => false,
+    /// Stops the job's tasks computing in this instance; returns how many.
+    pub fn cancel_local(&self, id: Uuid) -> usize {
+        let controls: Vec<Arc<Control>> = self
+            .running
+            .lock()
+            .map(|m| {
+                m.iter()
+                    .filter(|(k, _)| k.0 == id)
+                    .map(|(_, c)| c.clone())
+                    .collect()
+            })
+            .unwrap_or_default();
+        for c in &controls {
+            c.cancel();
         }
+        controls.len()
     }
 
-    /// Progress of a job computing in this instance.
-    pub fn local_progress(&self, id: Uuid) -> Option<f64> {
+    /// Whether a task of the job computes in this instance.
+    pub fn computing(&self, id: Uuid) -> bool {
         self.running
             .lock()
-            .ok()
-            .and_then(|m| m.get(&id).map(|c| c.progress()))
+            .map(|m| m.keys().any(|k| k.0 == id))
+            .unwrap_or(false)
     }
 
     fn announce(&self, id: Uuid) {
@@ -102,13 +112,16 @@ pub enum ServeError {
     #[error("thread pool: {0}")]
     Pool(String),
     /// The database URL is not understood.
-    #[error("unsupported database URL {0:?}: use sqlite://path")]
+    #[error("unsupported database URL {0:?}: use sqlite://path or postgres://…")]
     DatabaseUrl(String),
 }
 
-/// Opens the store named by `url`.
+/// Opens the store named by `url`: `sqlite://path` (or a plain path) or
+/// `postgres://…`.
 pub async fn open_store(url: &str, connections: u32) -> Result<Arc<dyn JobStore>, ServeError> {
-    if url.starts_with("sqlite:") || !url.contains("://") {
+    if url.starts_with("postgres://") || url.starts_with("postgresql://") {
+        Ok(Arc::new(PgStore::open(url, connections).await?))
+    } else if url.starts_with("sqlite:") || !url.contains("://") {
         Ok(Arc::new(SqliteStore::open(url, connections).await?))
     } else {
         Err(ServeError::DatabaseUrl(url.to_string()))

@@ -1,20 +1,19 @@
-//! Workers: claim a queued job, compute it on the rayon pool (never on the
-//! async runtime), keep its lease alive, store the outcome.
+//! Workers: claim a task, compute it on the rayon pool (never on the async
+//! runtime), keep its lease alive, store its result, and assemble the job's
+//! result once all its tasks are done.
 
 use std::sync::Arc;
-use std::time::{Duration, Instant, SystemTime};
+use std::time::{Duration, Instant};
 
+use serde_json::Value;
 use tokio::sync::{oneshot, watch};
 use tracing::{Instrument, info, info_span, warn};
+use uuid::Uuid;
 
 use super::AppState;
 use crate::jobs::{Job, JobError};
 use crate::spectrum::Control;
-use crate::store::{JobRecord, Status, now_rfc3339, rfc3339};
-
-fn lease_until(state: &AppState) -> String {
-    rfc3339(SystemTime::now() + state.config.lease)
-}
+use crate::store::{Status, TaskClaim, now_rfc3339};
 
 /// Runs worker `n` until shutdown.
 pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>) {
@@ -25,26 +24,28 @@ pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>)
         }
         let claimed = state
             .store
-            .claim(&owner, &now_rfc3339(), &lease_until(&state))
+            .claim(&owner, &now_rfc3339(), state.config.lease)
             .await;
         match claimed {
-            Ok(Some(job)) => {
-                let span = info_span!("job", job_id = %job.id, kind = %job.kind);
-                execute(&state, &owner, job, &mut shutdown)
+            Ok(Some(task)) => {
+                let span =
+                    info_span!("job", job_id = %task.job_id, task = task.idx, kind = %task.kind);
+                execute(&state, &owner, task, &mut shutdown)
                     .instrument(span)
                     .await;
             }
             Ok(None) => {
-                // Idle: wait for a submission, a shutdown, or poll again (jobs
-                // whose lease lapsed elsewhere, or queued by another instance).
+                // Idle: wait for a submission here or elsewhere, a shutdown, or
+                // poll again (a lease that lapses is noticed this way).
                 tokio::select! {
                     _ = state.wake.notified() => {}
+                    _ = state.store.queued_elsewhere() => {}
                     _ = shutdown.changed() => {}
                     _ = tokio::time::sleep(state.idle_poll) => {}
                 }
             }
             Err(e) => {
-                warn!(error = %e, "claiming a job failed");
+                warn!(error = %e, "claiming a task failed");
                 tokio::select! {
                     _ = shutdown.changed() => {}
                     _ = tokio::time::sleep(Duration::from_millis(500)) => {}
@@ -56,35 +57,38 @@ pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>)
 
 /// How the computation ended, as seen by the worker.
 enum Outcome {
-    Done(Result<serde_json::Value, JobError>),
+    Done(Result<Value, JobError>),
     Lost,
+}
+
+fn parse(spec: &str) -> Result<Job, String> {
+    serde_json::from_str::<Value>(spec)
+        .map_err(|e| e.to_string())
+        .and_then(|v| Job::from_value(&v).map_err(|e| e.to_string()))
 }
 
 async fn execute(
     state: &AppState,
     owner: &str,
-    record: JobRecord,
+    task: TaskClaim,
     shutdown: &mut watch::Receiver<bool>,
 ) {
-    let id = record.id;
-    info!("started");
-    let job = match serde_json::from_str::<serde_json::Value>(&record.spec)
-        .map_err(|e| e.to_string())
-        .and_then(|v| Job::from_value(&v).map_err(|e| e.to_string()))
-    {
+    let (id, idx) = (task.job_id, task.idx);
+    info!(attempt = task.attempts, "task started");
+    let job = match parse(&task.payload) {
         Ok(job) => job,
         Err(e) => {
             warn!(error = %e, "stored spec no longer validates");
             let _ = state
                 .store
-                .fail(id, owner, &format!("invalid spec: {e}"), &now_rfc3339())
+                .fail(id, &format!("invalid spec: {e}"), &now_rfc3339())
                 .await;
             state.announce(id);
             return;
         }
     };
     let control = Arc::new(Control::new());
-    state.register(id, control.clone());
+    state.register(id, idx, control.clone());
     let (tx, mut rx) = oneshot::channel();
     let started = Instant::now();
     {
@@ -107,9 +111,10 @@ async fn execute(
                 };
             }
             _ = tokio::time::sleep(state.config.heartbeat) => {
-                match state.store.heartbeat(id, owner, control.progress(), &lease_until(state)).await {
-                    Ok(Some(Status::Canceled)) => control.cancel(),
-                    Ok(_) => {}
+                match state.store.heartbeat(id, idx, owner, control.progress(), state.config.lease).await {
+                    Ok(Some(Status::Queued | Status::Running)) => {}
+                    // Canceled, failed elsewhere, or the lease was taken over.
+                    Ok(_) => control.cancel(),
                     Err(e) => warn!(error = %e, "heartbeat failed"),
                 }
                 if let Some(since) = stopping_since
@@ -125,46 +130,104 @@ async fn execute(
             }
         }
     };
-    state.unregister(id);
+    state.unregister(id, idx);
     let seconds = started.elapsed().as_secs_f64();
-    let now = now_rfc3339();
     match outcome {
         Outcome::Done(Ok(result)) => {
-            state.metrics.compute_seconds(&record.kind, seconds);
-            let numerics = result
-                .get("numerics")
-                .map(|n| n.to_string())
-                .unwrap_or_else(|| "null".into());
-            let body = result.to_string();
-            match state.store.succeed(id, owner, &body, &numerics, &now).await {
+            state.metrics.compute_seconds(&task.kind, seconds);
+            match state
+                .store
+                .complete(id, idx, owner, &result.to_string())
+                .await
+            {
                 Ok(true) => {
-                    state.results.put(id, Arc::from(body.as_str()));
-                    info!(seconds, "succeeded");
+                    info!(seconds, "task done");
+                    finish_job(state, id).await;
                 }
-                Ok(false) => info!("finished after it was canceled or taken over"),
-                Err(e) => warn!(error = %e, "storing the result failed"),
+                Ok(false) => {
+                    info!("task finished after its job was canceled or its lease taken over")
+                }
+                Err(e) => warn!(error = %e, "storing the task result failed"),
             }
         }
         Outcome::Done(Err(JobError::Canceled)) => {
             if stopping_since.is_some() {
-                // Shutdown outlasted the grace period: the job runs again later.
-                let _ = state.store.requeue(id, owner).await;
-                info!("requeued at shutdown");
+                // Shutdown outlasted the grace period: the task runs again later.
+                let _ = state.store.requeue(id, idx, owner).await;
+                state.store.announce_queued().await;
+                info!("task requeued at shutdown");
             } else {
-                info!("canceled");
+                info!("task canceled");
             }
         }
         Outcome::Done(Err(e)) => {
             warn!(error = %e, "failed");
-            let _ = state.store.fail(id, owner, &e.to_string(), &now).await;
+            let _ = state.store.fail(id, &e.to_string(), &now_rfc3339()).await;
+            state.announce(id);
         }
         Outcome::Lost => {
             warn!("the computation panicked");
             let _ = state
                 .store
-                .fail(id, owner, "internal error in the computation", &now)
+                .fail(id, "internal error in the computation", &now_rfc3339())
                 .await;
+            state.announce(id);
         }
+    }
+}
+
+/// Assembles and stores the job's result once every task is done (whichever
+/// worker completes the last task does it; storing it twice is harmless).
+async fn finish_job(state: &AppState, id: Uuid) {
+    let parts = match state.store.parts(id).await {
+        Ok(Some(parts)) => parts,
+        Ok(None) => return,
+        Err(e) => {
+            warn!(error = %e, "reading task results failed");
+            return;
+        }
+    };
+    let Ok(Some(record)) = state.store.get(id).await else {
+        return;
+    };
+    let job = match parse(&record.spec) {
+        Ok(job) => job,
+        Err(e) => {
+            let _ = state
+                .store
+                .fail(id, &format!("invalid spec: {e}"), &now_rfc3339())
+                .await;
+            return;
+        }
+    };
+    let values: Vec<Value> = parts
+        .iter()
+        .filter_map(|p| serde_json::from_str(p).ok())
+        .collect();
+    // Assembly of a large spectrum is not trivial: keep it off the runtime.
+    let (tx, rx) = oneshot::channel();
+    state.pool.spawn(move || {
+        let result = job.assemble(values);
+        let numerics = result
+            .get("numerics")
+            .map(|n| n.to_string())
+            .unwrap_or_else(|| "null".into());
+        let _ = tx.send((result.to_string(), numerics));
+    });
+    let Ok((body, numerics)) = rx.await else {
+        return;
+    };
+    match state
+        .store
+        .succeed(id, &body, &numerics, &now_rfc3339())
+        .await
+    {
+        Ok(true) => {
+            state.results.put(id, Arc::from(body.as_str()));
+            info!("succeeded");
+        }
+        Ok(false) => {}
+        Err(e) => warn!(error = %e, "storing the result failed"),
     }
     state.announce(id);
 }

@@ -1,9 +1,11 @@
 //! Persistence of jobs and results: one trait, one implementation per backend.
 
+pub mod postgres;
 pub mod sqlite;
 
 use std::future::Future;
 use std::pin::Pin;
+use std::time::Duration;
 
 use serde::Serialize;
 use uuid::Uuid;
@@ -93,7 +95,7 @@ pub struct JobRecord {
     pub spec: String,
     /// Status.
     pub status: Status,
-    /// 0..1.
+    /// 0..1: the mean progress of its tasks (a finished task counts 1).
     pub progress: f64,
     /// Failure message.
     pub error: Option<String>,
@@ -105,6 +107,21 @@ pub struct JobRecord {
     pub started_at: Option<String>,
     /// When it ended.
     pub finished_at: Option<String>,
+}
+
+/// A task claimed by a worker.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TaskClaim {
+    /// The job.
+    pub job_id: Uuid,
+    /// The task's index within the job.
+    pub idx: i64,
+    /// The job's kind.
+    pub kind: String,
+    /// The task's own spec (JSON text).
+    pub payload: String,
+    /// How many times this task has been claimed (> 1 after a takeover).
+    pub attempts: i64,
 }
 
 /// What a submission found.
@@ -129,10 +146,12 @@ pub struct ListQuery {
     pub before: Option<Uuid>,
 }
 
-/// Storage of jobs and results.
+/// Storage of jobs, their tasks and results. Every write that a worker makes
+/// is conditional on holding the task's lease, so a task that ran twice after a
+/// takeover is written once.
 pub trait JobStore: Send + Sync {
-    /// Inserts a queued job unless one with the same key exists; a failed or
-    /// canceled job with that key is queued again.
+    /// Inserts a queued job with its tasks unless one with the same key exists;
+    /// a failed or canceled job with that key is queued again (with fresh tasks).
     fn submit<'a>(
         &'a self,
         id: Uuid,
@@ -140,6 +159,7 @@ pub trait JobStore: Send + Sync {
         kind: &'a str,
         spec: &'a str,
         now: &'a str,
+        tasks: &'a [String],
     ) -> BoxFuture<'a, Result<Submitted, StoreError>>;
     /// One job.
     fn get(&self, id: Uuid) -> BoxFuture<'_, Result<Option<JobRecord>, StoreError>>;
@@ -147,56 +167,79 @@ pub trait JobStore: Send + Sync {
     fn result(&self, id: Uuid) -> BoxFuture<'_, Result<Option<String>, StoreError>>;
     /// Newest first.
     fn list<'a>(&'a self, q: &'a ListQuery) -> BoxFuture<'a, Result<Vec<JobRecord>, StoreError>>;
-    /// Claims the oldest queued job (or one whose lease lapsed) for `owner`
-    /// until `lease_until`.
+    /// Claims the oldest queued task, or a running one whose lease lapsed, for
+    /// `owner` for `lease`; marks its job running.
     fn claim<'a>(
         &'a self,
         owner: &'a str,
         now: &'a str,
-        lease_until: &'a str,
-    ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>>;
-    /// Renews the lease and records progress; returns the current status (a
-    /// job canceled meanwhile reads `Canceled`).
+        lease: Duration,
+    ) -> BoxFuture<'a, Result<Option<TaskClaim>, StoreError>>;
+    /// Renews the task's lease and records its progress; returns the job's
+    /// status (a job canceled meanwhile reads `Canceled`), or `None` when the
+    /// lease was lost.
     fn heartbeat<'a>(
         &'a self,
-        id: Uuid,
+        job: Uuid,
+        idx: i64,
         owner: &'a str,
         progress: f64,
-        lease_until: &'a str,
+        lease: Duration,
     ) -> BoxFuture<'a, Result<Option<Status>, StoreError>>;
-    /// Stores the result and marks the job succeeded (only if `owner` holds it
-    /// and it was not canceled).
+    /// Stores a task's result if `owner` still holds it.
+    fn complete<'a>(
+        &'a self,
+        job: Uuid,
+        idx: i64,
+        owner: &'a str,
+        result: &'a str,
+    ) -> BoxFuture<'a, Result<bool, StoreError>>;
+    /// The task results in order, once every task of the job is done.
+    fn parts(&self, job: Uuid) -> BoxFuture<'_, Result<Option<Vec<String>>, StoreError>>;
+    /// Stores the assembled result and marks the job succeeded (once).
     fn succeed<'a>(
         &'a self,
-        id: Uuid,
-        owner: &'a str,
+        job: Uuid,
         body: &'a str,
         numerics: &'a str,
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>>;
-    /// Marks the job failed.
+    /// Marks the job failed and cancels its other tasks.
     fn fail<'a>(
         &'a self,
-        id: Uuid,
-        owner: &'a str,
+        job: Uuid,
         error: &'a str,
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>>;
-    /// Returns a job to the queue (shutdown without finishing it).
-    fn requeue<'a>(&'a self, id: Uuid, owner: &'a str) -> BoxFuture<'a, Result<bool, StoreError>>;
-    /// Cancels a queued or running job; returns the job afterwards.
+    /// Returns a task to the queue (shutdown without finishing it).
+    fn requeue<'a>(
+        &'a self,
+        job: Uuid,
+        idx: i64,
+        owner: &'a str,
+    ) -> BoxFuture<'a, Result<bool, StoreError>>;
+    /// Cancels a queued or running job and its tasks; returns the job afterwards.
     fn cancel<'a>(
         &'a self,
         id: Uuid,
         now: &'a str,
     ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>>;
-    /// Jobs running under leases that belong to nobody alive: at start-up of a
-    /// single-instance store every running job is requeued.
+    /// At start-up: what a single-instance store left running is requeued (a
+    /// shared store leaves it to the leases). Returns the tasks requeued.
     fn recover(&self) -> BoxFuture<'_, Result<u64, StoreError>>;
     /// Number of jobs per status.
     fn counts(&self) -> BoxFuture<'_, Result<Vec<(Status, i64)>, StoreError>>;
     /// Whether the database answers.
     fn ping(&self) -> BoxFuture<'_, Result<(), StoreError>>;
+    /// Waits until another instance may have queued work (PostgreSQL
+    /// LISTEN/NOTIFY); a store of one instance never resolves.
+    fn queued_elsewhere(&self) -> BoxFuture<'_, ()> {
+        Box::pin(std::future::pending())
+    }
+    /// Tells other instances that work was queued.
+    fn announce_queued(&self) -> BoxFuture<'_, ()> {
+        Box::pin(async {})
+    }
 }
 
 /// Now, as RFC 3339 UTC with microseconds (sorts as text).

@@ -1,13 +1,24 @@
-//! SQLite storage (the embedded default): WAL journal, one file.
+//! SQLite storage (the embedded default): WAL journal, one file, one instance.
 
 use std::str::FromStr;
-use std::time::Duration;
+use std::time::{Duration, SystemTime};
 
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
 use sqlx::{Row, SqlitePool};
 use uuid::Uuid;
 
-use super::{BoxFuture, JobRecord, JobStore, ListQuery, Status, StoreError, Submitted};
+use super::{
+    BoxFuture, JobRecord, JobStore, ListQuery, Status, StoreError, Submitted, TaskClaim, rfc3339,
+};
+
+/// The job columns, with the progress taken from the tasks.
+macro_rules! job_select {
+    () => {
+        "SELECT j.id, j.key, j.kind, j.spec, j.status, \
+         (SELECT COALESCE(AVG(CASE WHEN t.status = 'done' THEN 1.0 ELSE t.progress END), 0.0) FROM tasks t WHERE t.job_id = j.id) AS progress, \
+         j.error, j.numerics, j.created_at, j.started_at, j.finished_at FROM jobs j "
+    };
+}
 
 /// Jobs in a SQLite database.
 #[derive(Clone, Debug)]
@@ -15,16 +26,26 @@ pub struct SqliteStore {
     pool: SqlitePool,
 }
 
+pub(super) fn parse_id(id: &str) -> Result<Uuid, StoreError> {
+    Uuid::parse_str(id).map_err(|e| StoreError::Corrupt(e.to_string()))
+}
+
 fn record(row: &sqlx::sqlite::SqliteRow) -> Result<JobRecord, StoreError> {
     let id: String = row.try_get("id")?;
     let status: String = row.try_get("status")?;
+    let status = Status::parse(&status).ok_or_else(|| StoreError::Corrupt(status.clone()))?;
+    let progress: f64 = row.try_get("progress")?;
     Ok(JobRecord {
-        id: Uuid::parse_str(&id).map_err(|e| StoreError::Corrupt(e.to_string()))?,
+        id: parse_id(&id)?,
         key: row.try_get("key")?,
         kind: row.try_get("kind")?,
         spec: row.try_get("spec")?,
-        status: Status::parse(&status).ok_or_else(|| StoreError::Corrupt(status.clone()))?,
-        progress: row.try_get("progress")?,
+        status,
+        progress: if status == Status::Succeeded {
+            1.0
+        } else {
+            progress
+        },
         error: row.try_get("error")?,
         numerics: row.try_get("numerics")?,
         created_at: row.try_get("created_at")?,
@@ -57,13 +78,31 @@ impl SqliteStore {
     }
 
     async fn fetch(&self, id: Uuid) -> Result<Option<JobRecord>, StoreError> {
-        let row = sqlx::query(
-            "SELECT id, key, kind, spec, status, progress, error, numerics, created_at, started_at, finished_at FROM jobs WHERE id = ?1",
-        )
-        .bind(id.to_string())
-        .fetch_optional(&self.pool)
-        .await?;
+        let row = sqlx::query(concat!(job_select!(), "WHERE j.id = ?1"))
+            .bind(id.to_string())
+            .fetch_optional(&self.pool)
+            .await?;
         row.as_ref().map(record).transpose()
+    }
+
+    async fn insert_tasks(
+        tx: &mut sqlx::Transaction<'_, sqlx::Sqlite>,
+        id: Uuid,
+        now: &str,
+        tasks: &[String],
+    ) -> Result<(), StoreError> {
+        for (idx, payload) in tasks.iter().enumerate() {
+            sqlx::query(
+                "INSERT INTO tasks (job_id, idx, payload, status, created_at) VALUES (?1, ?2, ?3, 'queued', ?4)",
+            )
+            .bind(id.to_string())
+            .bind(idx as i64)
+            .bind(payload)
+            .bind(now)
+            .execute(&mut **tx)
+            .await?;
+        }
+        Ok(())
     }
 }
 
@@ -75,44 +114,55 @@ impl JobStore for SqliteStore {
         kind: &'a str,
         spec: &'a str,
         now: &'a str,
+        tasks: &'a [String],
     ) -> BoxFuture<'a, Result<Submitted, StoreError>> {
         Box::pin(async move {
+            let mut tx = self.pool.begin().await?;
             let inserted = sqlx::query(
-                "INSERT INTO jobs (id, key, kind, spec, status, progress, created_at) VALUES (?1, ?2, ?3, ?4, 'queued', 0, ?5) ON CONFLICT (key) DO NOTHING",
+                "INSERT INTO jobs (id, key, kind, spec, status, created_at) VALUES (?1, ?2, ?3, ?4, 'queued', ?5) ON CONFLICT (key) DO NOTHING",
             )
             .bind(id.to_string())
             .bind(key)
             .bind(kind)
             .bind(spec)
             .bind(now)
-            .execute(&self.pool)
+            .execute(&mut *tx)
             .await?
             .rows_affected();
-            if inserted == 1 {
-                let job = self
-                    .fetch(id)
-                    .await?
-                    .ok_or_else(|| StoreError::Corrupt("inserted job vanished".into()))?;
-                return Ok(Submitted { job, cached: false });
-            }
-            // The same work exists: queue it again only if it failed or was canceled.
-            let requeued = sqlx::query(
-                "UPDATE jobs SET status = 'queued', progress = 0, error = NULL, numerics = NULL, started_at = NULL, finished_at = NULL, lease_owner = NULL, lease_until = NULL WHERE key = ?1 AND status IN ('failed', 'canceled')",
-            )
-            .bind(key)
-            .execute(&self.pool)
-            .await?
-            .rows_affected();
-            let row = sqlx::query(
-                "SELECT id, key, kind, spec, status, progress, error, numerics, created_at, started_at, finished_at FROM jobs WHERE key = ?1",
-            )
-            .bind(key)
-            .fetch_one(&self.pool)
-            .await?;
-            Ok(Submitted {
-                job: record(&row)?,
-                cached: requeued == 0,
-            })
+            let (job_id, cached) = if inserted == 1 {
+                Self::insert_tasks(&mut tx, id, now, tasks).await?;
+                (id, false)
+            } else {
+                let row = sqlx::query("SELECT id, status FROM jobs WHERE key = ?1")
+                    .bind(key)
+                    .fetch_one(&mut *tx)
+                    .await?;
+                let existing = parse_id(&row.try_get::<String, _>("id")?)?;
+                let status: String = row.try_get("status")?;
+                if status == "failed" || status == "canceled" {
+                    // The same work failed or was canceled before: queue it again.
+                    sqlx::query(
+                        "UPDATE jobs SET status = 'queued', error = NULL, numerics = NULL, started_at = NULL, finished_at = NULL WHERE id = ?1",
+                    )
+                    .bind(existing.to_string())
+                    .execute(&mut *tx)
+                    .await?;
+                    sqlx::query("DELETE FROM tasks WHERE job_id = ?1")
+                        .bind(existing.to_string())
+                        .execute(&mut *tx)
+                        .await?;
+                    Self::insert_tasks(&mut tx, existing, now, tasks).await?;
+                    (existing, false)
+                } else {
+                    (existing, true)
+                }
+            };
+            tx.commit().await?;
+            let job = self
+                .fetch(job_id)
+                .await?
+                .ok_or_else(|| StoreError::Corrupt("submitted job vanished".into()))?;
+            Ok(Submitted { job, cached })
         })
     }
 
@@ -133,11 +183,11 @@ impl JobStore for SqliteStore {
     fn list<'a>(&'a self, q: &'a ListQuery) -> BoxFuture<'a, Result<Vec<JobRecord>, StoreError>> {
         Box::pin(async move {
             // UUIDv7 ids sort by creation time: newest first is id descending.
-            let rows = sqlx::query(
-                "SELECT id, key, kind, spec, status, progress, error, numerics, created_at, started_at, finished_at FROM jobs \
-                 WHERE (?1 IS NULL OR status = ?1) AND (?2 IS NULL OR kind = ?2) AND (?3 IS NULL OR id < ?3) \
-                 ORDER BY id DESC LIMIT ?4",
-            )
+            let rows = sqlx::query(concat!(
+                job_select!(),
+                "WHERE (?1 IS NULL OR j.status = ?1) AND (?2 IS NULL OR j.kind = ?2) AND (?3 IS NULL OR j.id < ?3) \
+                 ORDER BY j.id DESC LIMIT ?4"
+            ))
             .bind(q.status.map(|s| s.as_str()))
             .bind(q.kind.as_deref())
             .bind(q.before.map(|id| id.to_string()))
@@ -152,42 +202,77 @@ impl JobStore for SqliteStore {
         &'a self,
         owner: &'a str,
         now: &'a str,
-        lease_until: &'a str,
-    ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>> {
+        lease: Duration,
+    ) -> BoxFuture<'a, Result<Option<TaskClaim>, StoreError>> {
         Box::pin(async move {
+            let until = rfc3339(SystemTime::now() + lease);
+            let mut tx = self.pool.begin().await?;
             let row = sqlx::query(
-                "UPDATE jobs SET status = 'running', lease_owner = ?1, lease_until = ?3, started_at = COALESCE(started_at, MAX(?2, created_at)) \
-                 WHERE id = (SELECT id FROM jobs WHERE status = 'queued' OR (status = 'running' AND lease_until < ?2) ORDER BY created_at LIMIT 1) \
-                 RETURNING id, key, kind, spec, status, progress, error, numerics, created_at, started_at, finished_at",
+                "UPDATE tasks SET status = 'running', lease_owner = ?1, lease_until = ?3, attempts = attempts + 1 \
+                 WHERE rowid = (SELECT t.rowid FROM tasks t JOIN jobs j ON j.id = t.job_id \
+                   WHERE (t.status = 'queued' OR (t.status = 'running' AND t.lease_until < ?2)) \
+                   AND j.status IN ('queued', 'running') ORDER BY t.created_at, t.idx LIMIT 1) \
+                 RETURNING job_id, idx, payload, attempts",
             )
             .bind(owner)
             .bind(now)
-            .bind(lease_until)
-            .fetch_optional(&self.pool)
+            .bind(&until)
+            .fetch_optional(&mut *tx)
             .await?;
-            row.as_ref().map(record).transpose()
+            let Some(row) = row else {
+                tx.commit().await?;
+                return Ok(None);
+            };
+            let job_id: String = row.try_get("job_id")?;
+            sqlx::query(
+                "UPDATE jobs SET status = 'running', started_at = COALESCE(started_at, MAX(?2, created_at)) WHERE id = ?1 AND status = 'queued'",
+            )
+            .bind(&job_id)
+            .bind(now)
+            .execute(&mut *tx)
+            .await?;
+            let kind: String = sqlx::query("SELECT kind FROM jobs WHERE id = ?1")
+                .bind(&job_id)
+                .fetch_one(&mut *tx)
+                .await?
+                .try_get("kind")?;
+            tx.commit().await?;
+            Ok(Some(TaskClaim {
+                job_id: parse_id(&job_id)?,
+                idx: row.try_get("idx")?,
+                kind,
+                payload: row.try_get("payload")?,
+                attempts: row.try_get("attempts")?,
+            }))
         })
     }
 
     fn heartbeat<'a>(
         &'a self,
-        id: Uuid,
+        job: Uuid,
+        idx: i64,
         owner: &'a str,
         progress: f64,
-        lease_until: &'a str,
+        lease: Duration,
     ) -> BoxFuture<'a, Result<Option<Status>, StoreError>> {
         Box::pin(async move {
-            sqlx::query(
-                "UPDATE jobs SET progress = ?3, lease_until = ?4 WHERE id = ?1 AND lease_owner = ?2 AND status = 'running'",
+            let until = rfc3339(SystemTime::now() + lease);
+            let held = sqlx::query(
+                "UPDATE tasks SET progress = ?4, lease_until = ?5 WHERE job_id = ?1 AND idx = ?2 AND lease_owner = ?3 AND status = 'running'",
             )
-            .bind(id.to_string())
+            .bind(job.to_string())
+            .bind(idx)
             .bind(owner)
             .bind(progress)
-            .bind(lease_until)
+            .bind(&until)
             .execute(&self.pool)
-            .await?;
+            .await?
+            .rows_affected();
+            if held == 0 {
+                return Ok(None);
+            }
             let row = sqlx::query("SELECT status FROM jobs WHERE id = ?1")
-                .bind(id.to_string())
+                .bind(job.to_string())
                 .fetch_optional(&self.pool)
                 .await?;
             Ok(match row {
@@ -197,10 +282,52 @@ impl JobStore for SqliteStore {
         })
     }
 
+    fn complete<'a>(
+        &'a self,
+        job: Uuid,
+        idx: i64,
+        owner: &'a str,
+        result: &'a str,
+    ) -> BoxFuture<'a, Result<bool, StoreError>> {
+        Box::pin(async move {
+            let n = sqlx::query(
+                "UPDATE tasks SET status = 'done', progress = 1, result = ?4, lease_owner = NULL, lease_until = NULL \
+                 WHERE job_id = ?1 AND idx = ?2 AND lease_owner = ?3 AND status = 'running'",
+            )
+            .bind(job.to_string())
+            .bind(idx)
+            .bind(owner)
+            .bind(result)
+            .execute(&self.pool)
+            .await?
+            .rows_affected();
+            Ok(n == 1)
+        })
+    }
+
+    fn parts(&self, job: Uuid) -> BoxFuture<'_, Result<Option<Vec<String>>, StoreError>> {
+        Box::pin(async move {
+            let rows =
+                sqlx::query("SELECT status, result FROM tasks WHERE job_id = ?1 ORDER BY idx")
+                    .bind(job.to_string())
+                    .fetch_all(&self.pool)
+                    .await?;
+            let mut parts = Vec::with_capacity(rows.len());
+            for r in &rows {
+                let status: String = r.try_get("status")?;
+                let result: Option<String> = r.try_get("result")?;
+                match (status.as_str(), result) {
+                    ("done", Some(body)) => parts.push(body),
+                    _ => return Ok(None),
+                }
+            }
+            Ok((!parts.is_empty()).then_some(parts))
+        })
+    }
+
     fn succeed<'a>(
         &'a self,
-        id: Uuid,
-        owner: &'a str,
+        job: Uuid,
         body: &'a str,
         numerics: &'a str,
         now: &'a str,
@@ -208,11 +335,9 @@ impl JobStore for SqliteStore {
         Box::pin(async move {
             let mut tx = self.pool.begin().await?;
             let updated = sqlx::query(
-                "UPDATE jobs SET status = 'succeeded', progress = 1, numerics = ?3, finished_at = ?4, lease_owner = NULL, lease_until = NULL \
-                 WHERE id = ?1 AND lease_owner = ?2 AND status = 'running'",
+                "UPDATE jobs SET status = 'succeeded', numerics = ?2, finished_at = ?3 WHERE id = ?1 AND status IN ('queued', 'running')",
             )
-            .bind(id.to_string())
-            .bind(owner)
+            .bind(job.to_string())
             .bind(numerics)
             .bind(now)
             .execute(&mut *tx)
@@ -220,7 +345,7 @@ impl JobStore for SqliteStore {
             .rows_affected();
             if updated == 1 {
                 sqlx::query("INSERT INTO results (job_id, body) VALUES (?1, ?2) ON CONFLICT (job_id) DO NOTHING")
-                    .bind(id.to_string())
+                    .bind(job.to_string())
                     .bind(body)
                     .execute(&mut *tx)
                     .await?;
@@ -232,34 +357,45 @@ impl JobStore for SqliteStore {
 
     fn fail<'a>(
         &'a self,
-        id: Uuid,
-        owner: &'a str,
+        job: Uuid,
         error: &'a str,
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
+            let mut tx = self.pool.begin().await?;
             let n = sqlx::query(
-                "UPDATE jobs SET status = 'failed', error = ?3, finished_at = ?4, lease_owner = NULL, lease_until = NULL \
-                 WHERE id = ?1 AND lease_owner = ?2 AND status = 'running'",
+                "UPDATE jobs SET status = 'failed', error = ?2, finished_at = ?3 WHERE id = ?1 AND status IN ('queued', 'running')",
             )
-            .bind(id.to_string())
-            .bind(owner)
+            .bind(job.to_string())
             .bind(error)
             .bind(now)
-            .execute(&self.pool)
+            .execute(&mut *tx)
             .await?
             .rows_affected();
+            sqlx::query(
+                "UPDATE tasks SET status = 'canceled', lease_owner = NULL, lease_until = NULL WHERE job_id = ?1 AND status IN ('queued', 'running')",
+            )
+            .bind(job.to_string())
+            .execute(&mut *tx)
+            .await?;
+            tx.commit().await?;
             Ok(n == 1)
         })
     }
 
-    fn requeue<'a>(&'a self, id: Uuid, owner: &'a str) -> BoxFuture<'a, Result<bool, StoreError>> {
+    fn requeue<'a>(
+        &'a self,
+        job: Uuid,
+        idx: i64,
+        owner: &'a str,
+    ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
             let n = sqlx::query(
-                "UPDATE jobs SET status = 'queued', progress = 0, lease_owner = NULL, lease_until = NULL \
-                 WHERE id = ?1 AND lease_owner = ?2 AND status = 'running'",
+                "UPDATE tasks SET status = 'queued', progress = 0, lease_owner = NULL, lease_until = NULL \
+                 WHERE job_id = ?1 AND idx = ?2 AND lease_owner = ?3 AND status = 'running'",
             )
-            .bind(id.to_string())
+            .bind(job.to_string())
+            .bind(idx)
             .bind(owner)
             .execute(&self.pool)
             .await?
@@ -274,14 +410,21 @@ impl JobStore for SqliteStore {
         now: &'a str,
     ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>> {
         Box::pin(async move {
+            let mut tx = self.pool.begin().await?;
             sqlx::query(
-                "UPDATE jobs SET status = 'canceled', finished_at = ?2, lease_owner = NULL, lease_until = NULL \
-                 WHERE id = ?1 AND status IN ('queued', 'running')",
+                "UPDATE jobs SET status = 'canceled', finished_at = ?2 WHERE id = ?1 AND status IN ('queued', 'running')",
             )
             .bind(id.to_string())
             .bind(now)
-            .execute(&self.pool)
+            .execute(&mut *tx)
             .await?;
+            sqlx::query(
+                "UPDATE tasks SET status = 'canceled', lease_owner = NULL, lease_until = NULL WHERE job_id = ?1 AND status IN ('queued', 'running')",
+            )
+            .bind(id.to_string())
+            .execute(&mut *tx)
+            .await?;
+            tx.commit().await?;
             self.fetch(id).await
         })
     }
@@ -291,7 +434,7 @@ impl JobStore for SqliteStore {
             // One process owns a SQLite database: whatever it was running when it
             // died runs again.
             let n = sqlx::query(
-                "UPDATE jobs SET status = 'queued', progress = 0, lease_owner = NULL, lease_until = NULL WHERE status = 'running'",
+                "UPDATE tasks SET status = 'queued', progress = 0, lease_owner = NULL, lease_until = NULL WHERE status = 'running'",
             )
             .execute(&self.pool)
             .await?

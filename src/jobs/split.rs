@@ -1,0 +1,127 @@
+//! Splitting a job into tasks that any instance may compute, and assembling
+//! their results into the job's result document.
+
+use serde_json::Value;
+
+use super::Job;
+
+/// Most tasks a spectrum is split into.
+pub const MAX_TASKS: usize = 32;
+
+impl Job {
+    /// The tasks of this job, as job specs of their own: a spectrum becomes
+    /// one task per chunk of frequencies (at most [`MAX_TASKS`]); any other job
+    /// is one task.
+    pub fn split(&self) -> Vec<Job> {
+        match self {
+            Job::Spectrum(job) if job.omega_ratio.len() > 1 => {
+                let n = job.omega_ratio.len();
+                let per = n.div_ceil(MAX_TASKS).max(1);
+                job.omega_ratio
+                    .chunks(per)
+                    .map(|chunk| {
+                        let mut part = job.clone();
+                        part.omega_ratio = chunk.to_vec();
+                        Job::Spectrum(part)
+                    })
+                    .collect()
+            }
+            other => vec![other.clone()],
+        }
+    }
+
+    /// The job's result from its tasks' results (in task order). For a
+    /// spectrum the frequencies are concatenated and the numerics summed
+    /// (`wall_time_s` is then the tasks' total compute time).
+    pub fn assemble(&self, mut parts: Vec<Value>) -> Value {
+        if parts.len() == 1 {
+            return parts.pop().unwrap_or(Value::Null);
+        }
+        let Job::Spectrum(job) = self else {
+            return parts.pop().unwrap_or(Value::Null);
+        };
+        let mut lines = Vec::new();
+        let mut numerics = serde_json::Map::new();
+        let sum_keys = [
+            "simulations",
+            "steps_accepted",
+            "steps_rejected",
+            "rhs_evaluations",
+            "events",
+        ];
+        let mut sums = [0u64; 5];
+        let (mut error, mut wall) = (0.0f64, 0.0f64);
+        for part in &parts {
+            if let Some(s) = part.get("spectrum").and_then(|s| s.as_array()) {
+                lines.extend(s.iter().cloned());
+            }
+            if let Some(n) = part.get("numerics") {
+                if numerics.is_empty()
+                    && let Some(o) = n.as_object()
+                {
+                    numerics = o.clone();
+                }
+                for (k, key) in sum_keys.iter().enumerate() {
+                    sums[k] += n.get(*key).and_then(|v| v.as_u64()).unwrap_or(0);
+                }
+                error = error.max(
+                    n.get("error_estimate")
+                        .and_then(|v| v.as_f64())
+                        .unwrap_or(0.0),
+                );
+                wall += n.get("wall_time_s").and_then(|v| v.as_f64()).unwrap_or(0.0);
+            }
+        }
+        for (k, key) in sum_keys.iter().enumerate() {
+            numerics.insert((*key).into(), sums[k].into());
+        }
+        numerics.insert("error_estimate".into(), error.into());
+        numerics.insert("wall_time_s".into(), wall.into());
+        numerics.insert("tasks".into(), parts.len().into());
+        serde_json::json!({
+            "kind": "spectrum",
+            "spectrum": lines,
+            "numerics": numerics,
+            "spec": job,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spectrum::Control;
+
+    #[test]
+    fn a_split_spectrum_assembles_to_the_whole() {
+        let job = Job::parse(
+            r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":{"from":1,"to":8,"steps":70}}"#,
+        )
+        .expect("valid");
+        let tasks = job.split();
+        assert_eq!(tasks.len(), 24);
+        let control = Control::new();
+        let parts: Vec<Value> = tasks
+            .iter()
+            .map(|t| t.run(&control).expect("runs"))
+            .collect();
+        let assembled = job.assemble(parts);
+        let whole = job.run(&control).expect("runs");
+        assert_eq!(assembled["spectrum"], whole["spectrum"]);
+        assert_eq!(assembled["spec"], whole["spec"]);
+        assert_eq!(
+            assembled["numerics"]["simulations"],
+            whole["numerics"]["simulations"]
+        );
+        assert_eq!(assembled["numerics"]["tasks"], 24);
+    }
+
+    #[test]
+    fn other_jobs_are_one_task() {
+        let job = Job::parse(
+            r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_ratio":5,"a_p_alpha_g":4}}"#,
+        )
+        .expect("valid");
+        assert_eq!(job.split(), vec![job.clone()]);
+    }
+}
