@@ -43,6 +43,13 @@ struct ServeArgs {
     /// Seconds shutdown waits for running jobs before requeuing them.
     #[arg(long, env = "TOPPLE_SHUTDOWN_GRACE", default_value_t = 20.0)]
     shutdown_grace: f64,
+    /// Seconds a claimed task stays leased without a heartbeat (then another
+    /// instance may take it over).
+    #[arg(long, env = "TOPPLE_LEASE", default_value_t = 10.0)]
+    lease: f64,
+    /// Name of this instance (lease owner); default host-pid.
+    #[arg(long, env = "TOPPLE_INSTANCE")]
+    instance: Option<String>,
     /// Log as JSON lines instead of text.
     #[arg(long, env = "TOPPLE_LOG_JSON")]
     log_json: bool,
@@ -137,8 +144,12 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
         max_body_bytes: args.max_body,
         max_wait: seconds(args.max_wait, "max-wait")?,
         shutdown_grace: seconds(args.shutdown_grace, "shutdown-grace")?,
+        lease: seconds(args.lease, "lease")?.max(std::time::Duration::from_millis(300)),
         ..Default::default()
     };
+    if let Some(name) = args.instance {
+        config.instance = name;
+    }
     if let Some(w) = args.workers {
         if w == 0 {
             return Err((2, "--workers must be at least 1".into()));

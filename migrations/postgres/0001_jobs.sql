@@ -25,6 +25,7 @@ CREATE TABLE tasks (
     lease_owner  TEXT,
     lease_until  TIMESTAMPTZ,                -- database clock: instances may disagree
     attempts     INTEGER NOT NULL DEFAULT 0,
+    done_by      TEXT,                       -- the worker whose result was kept
     created_at   TEXT NOT NULL,
     PRIMARY KEY (job_id, idx)
 );

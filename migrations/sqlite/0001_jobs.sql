@@ -27,6 +27,7 @@ CREATE TABLE tasks (
     lease_owner  TEXT,
     lease_until  TEXT,                       -- RFC 3339; the lease lapses after it
     attempts     INTEGER NOT NULL DEFAULT 0,
+    done_by      TEXT,                       -- the worker whose result was kept
     created_at   TEXT NOT NULL,
     PRIMARY KEY (job_id, idx)
 );

@@ -301,7 +301,7 @@ impl JobStore for PgStore {
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
             let n = sqlx::query(
-                "UPDATE tasks SET status = 'done', progress = 1, result = $4, lease_owner = NULL, lease_until = NULL \
+                "UPDATE tasks SET status = 'done', progress = 1, result = $4, done_by = lease_owner, lease_owner = NULL, lease_until = NULL \
                  WHERE job_id = $1 AND idx = $2 AND lease_owner = $3 AND status = 'running'",
             )
             .bind(job.to_string())
