@@ -153,17 +153,23 @@ async fn load_result(state: &AppState, id: Uuid) -> Result<std::sync::Arc<str>, 
 async fn wait_for(state: &AppState, id: Uuid, limit: Duration) -> Result<JobRecord, Problem> {
     let deadline = Instant::now() + limit;
     let mut events = state.finished.subscribe();
+    let mut stopping = state.stopping.clone();
     loop {
         let job = load(state, id).await?;
-        if job.status.is_final() || Instant::now() >= deadline {
+        if job.status.is_final() || Instant::now() >= deadline || *stopping.borrow() {
             return Ok(job);
         }
         let left = deadline.saturating_duration_since(Instant::now());
-        // Woken by any job finishing (or lagging behind): look again.
+        // Woken by any job finishing (or lagging behind), or by shutdown: look again.
         loop {
-            match tokio::time::timeout(left.min(Duration::from_millis(250)), events.recv()).await {
-                Ok(Ok(done)) if done != id => continue,
-                _ => break,
+            tokio::select! {
+                r = tokio::time::timeout(left.min(Duration::from_millis(250)), events.recv()) => {
+                    match r {
+                        Ok(Ok(done)) if done != id => continue,
+                        _ => break,
+                    }
+                }
+                _ = stopping.changed() => break,
             }
         }
     }

@@ -53,6 +53,9 @@ pub struct AppState {
     pub pool: Arc<rayon::ThreadPool>,
     /// How often idle workers look for work without being woken.
     pub idle_poll: Duration,
+    /// Becomes true when the instance is shutting down.
+    pub stopping: watch::Receiver<bool>,
+    stop: Arc<watch::Sender<bool>>,
 }
 
 impl AppState {
@@ -149,6 +152,7 @@ impl Application {
             .map_err(|e| ServeError::Pool(e.to_string()))?;
         let listener = TcpListener::bind(&config.addr).await?;
         let (finished, _) = broadcast::channel(1024);
+        let (stop, stopping) = watch::channel(false);
         let state = AppState {
             store,
             config: Arc::new(config),
@@ -159,6 +163,8 @@ impl Application {
             results: Arc::new(results::ResultCache::default()),
             pool: Arc::new(pool),
             idle_poll: Duration::from_millis(500),
+            stopping,
+            stop: Arc::new(stop),
         };
         Ok(Application { listener, state })
     }
@@ -179,10 +185,13 @@ impl Application {
         F: Future<Output = ()> + Send + 'static,
     {
         let Application { listener, state } = self;
-        let (stop_tx, stop_rx) = watch::channel(false);
         let mut workers = Vec::new();
         for n in 0..state.config.workers.max(1) {
-            workers.push(tokio::spawn(worker::run(state.clone(), n, stop_rx.clone())));
+            workers.push(tokio::spawn(worker::run(
+                state.clone(),
+                n,
+                state.stopping.clone(),
+            )));
         }
         let app = crate::api::router(state.clone());
         info!(addr = %listener.local_addr()?, workers = state.config.workers, "serving");
@@ -197,7 +206,8 @@ impl Application {
         shutdown.await;
         info!("shutting down: no new requests, draining jobs");
         let _ = signal_tx.send(true);
-        let _ = stop_tx.send(true);
+        // Workers stop claiming; requests waiting on jobs answer at once.
+        let _ = state.stop.send(true);
         state.wake.notify_waiters();
         for w in workers {
             let _ = w.await;

@@ -354,6 +354,11 @@ impl JobStore for PgStore {
             .await?
             .rows_affected();
             if updated == 1 {
+                // The assembled result is kept once; the parts are no longer needed.
+                sqlx::query("UPDATE tasks SET result = NULL WHERE job_id = $1")
+                    .bind(job.to_string())
+                    .execute(&mut *tx)
+                    .await?;
                 sqlx::query("INSERT INTO results (job_id, body) VALUES ($1, $2) ON CONFLICT (job_id) DO NOTHING")
                     .bind(job.to_string())
                     .bind(body)

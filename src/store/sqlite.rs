@@ -21,9 +21,15 @@ macro_rules! job_select {
 }
 
 /// Jobs in a SQLite database.
+///
+/// SQLite has one writer at a time: writes queue on an in-process lock rather
+/// than in SQLite's busy handler (whose growing sleeps show up as latency
+/// spikes), and the WAL is checkpointed by a background task rather than by
+/// whichever request crosses the checkpoint size.
 #[derive(Clone, Debug)]
 pub struct SqliteStore {
     pool: SqlitePool,
+    writer: std::sync::Arc<tokio::sync::Mutex<()>>,
 }
 
 pub(super) fn parse_id(id: &str) -> Result<Uuid, StoreError> {
@@ -68,13 +74,30 @@ impl SqliteStore {
             .journal_mode(SqliteJournalMode::Wal)
             .synchronous(SqliteSynchronous::Normal)
             .busy_timeout(Duration::from_secs(10))
-            .foreign_keys(true);
+            .foreign_keys(true)
+            .pragma("wal_autocheckpoint", "0");
         let pool = SqlitePoolOptions::new()
             .max_connections(connections.max(2))
             .connect_with(options)
             .await?;
         sqlx::migrate!("./migrations/sqlite").run(&pool).await?;
-        Ok(SqliteStore { pool })
+        let checkpoints = pool.clone();
+        tokio::spawn(async move {
+            let mut tick = tokio::time::interval(Duration::from_millis(500));
+            loop {
+                tick.tick().await;
+                if checkpoints.is_closed() {
+                    break;
+                }
+                let _ = sqlx::query("PRAGMA wal_checkpoint(PASSIVE)")
+                    .execute(&checkpoints)
+                    .await;
+            }
+        });
+        Ok(SqliteStore {
+            pool,
+            writer: std::sync::Arc::new(tokio::sync::Mutex::new(())),
+        })
     }
 
     async fn fetch(&self, id: Uuid) -> Result<Option<JobRecord>, StoreError> {
@@ -117,6 +140,7 @@ impl JobStore for SqliteStore {
         tasks: &'a [String],
     ) -> BoxFuture<'a, Result<Submitted, StoreError>> {
         Box::pin(async move {
+            let _write = self.writer.lock().await;
             let mut tx = self.pool.begin().await?;
             let inserted = sqlx::query(
                 "INSERT INTO jobs (id, key, kind, spec, status, created_at) VALUES (?1, ?2, ?3, ?4, 'queued', ?5) ON CONFLICT (key) DO NOTHING",
@@ -205,6 +229,7 @@ impl JobStore for SqliteStore {
         lease: Duration,
     ) -> BoxFuture<'a, Result<Option<TaskClaim>, StoreError>> {
         Box::pin(async move {
+            let _write = self.writer.lock().await;
             let until = rfc3339(SystemTime::now() + lease);
             let mut tx = self.pool.begin().await?;
             let row = sqlx::query(
@@ -256,6 +281,7 @@ impl JobStore for SqliteStore {
         lease: Duration,
     ) -> BoxFuture<'a, Result<Option<Status>, StoreError>> {
         Box::pin(async move {
+            let _write = self.writer.lock().await;
             let until = rfc3339(SystemTime::now() + lease);
             let held = sqlx::query(
                 "UPDATE tasks SET progress = ?4, lease_until = ?5 WHERE job_id = ?1 AND idx = ?2 AND lease_owner = ?3 AND status = 'running'",
@@ -290,6 +316,7 @@ impl JobStore for SqliteStore {
         result: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
+            let _write = self.writer.lock().await;
             let n = sqlx::query(
                 "UPDATE tasks SET status = 'done', progress = 1, result = ?4, done_by = lease_owner, lease_owner = NULL, lease_until = NULL \
                  WHERE job_id = ?1 AND idx = ?2 AND lease_owner = ?3 AND status = 'running'",
@@ -333,6 +360,7 @@ impl JobStore for SqliteStore {
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
+            let _write = self.writer.lock().await;
             let mut tx = self.pool.begin().await?;
             let updated = sqlx::query(
                 "UPDATE jobs SET status = 'succeeded', numerics = ?2, finished_at = ?3 WHERE id = ?1 AND status IN ('queued', 'running')",
@@ -344,6 +372,11 @@ impl JobStore for SqliteStore {
             .await?
             .rows_affected();
             if updated == 1 {
+                // The assembled result is kept once; the parts are no longer needed.
+                sqlx::query("UPDATE tasks SET result = NULL WHERE job_id = ?1")
+                    .bind(job.to_string())
+                    .execute(&mut *tx)
+                    .await?;
                 sqlx::query("INSERT INTO results (job_id, body) VALUES (?1, ?2) ON CONFLICT (job_id) DO NOTHING")
                     .bind(job.to_string())
                     .bind(body)
@@ -362,6 +395,7 @@ impl JobStore for SqliteStore {
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
+            let _write = self.writer.lock().await;
             let mut tx = self.pool.begin().await?;
             let n = sqlx::query(
                 "UPDATE jobs SET status = 'failed', error = ?2, finished_at = ?3 WHERE id = ?1 AND status IN ('queued', 'running')",
@@ -390,6 +424,7 @@ impl JobStore for SqliteStore {
         owner: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
+            let _write = self.writer.lock().await;
             let n = sqlx::query(
                 "UPDATE tasks SET status = 'queued', progress = 0, lease_owner = NULL, lease_until = NULL \
                  WHERE job_id = ?1 AND idx = ?2 AND lease_owner = ?3 AND status = 'running'",
@@ -410,6 +445,7 @@ impl JobStore for SqliteStore {
         now: &'a str,
     ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>> {
         Box::pin(async move {
+            let _write = self.writer.lock().await;
             let mut tx = self.pool.begin().await?;
             sqlx::query(
                 "UPDATE jobs SET status = 'canceled', finished_at = ?2 WHERE id = ?1 AND status IN ('queued', 'running')",
@@ -431,6 +467,7 @@ impl JobStore for SqliteStore {
 
     fn recover(&self) -> BoxFuture<'_, Result<u64, StoreError>> {
         Box::pin(async move {
+            let _write = self.writer.lock().await;
             // One process owns a SQLite database: whatever it was running when it
             // died runs again.
             let n = sqlx::query(
