@@ -1,15 +1,25 @@
 //! topple: rocking and overturning of free-standing rigid blocks under
-//! earthquake pulses.
+//! earthquake pulses (Makris & Zhang 2001), as a library, a command-line tool
+//! and an HTTP computation service.
 //!
 //! # Layout
 //! - [`dynamics`]: the physics, pure and synchronous — block, excitation,
 //!   equations of motion (linear and nonlinear), the closed-form linear solution,
-//!   adaptive Runge–Kutta pairs with dense output, event location, impacts and
-//!   rest, the exact overturning decision, base reactions.
-//! - [`jobs`]: the job-spec JSON, its validation into domain types, and the
-//!   result documents.
-//! - [`precision`]: the work-precision study behind `topple precision`.
-//! - [`plot`]: SVG figures.
+//!   adaptive Runge–Kutta pairs with dense output, event location, impacts,
+//!   chattering and rest, the exact overturning decision, base reactions.
+//! - [`spectrum`]: overturning and friction-demand spectra over many
+//!   simulations (rayon), with progress and cancellation.
+//! - [`jobs`]: the job-spec JSON, its validation into domain types, canonical
+//!   cache keys, splitting into tasks, and the result documents.
+//! - [`store`]: one storage trait for jobs, tasks and results; SQLite and
+//!   PostgreSQL implementations.
+//! - [`service`]: the server: workers that claim tasks and compute them on the
+//!   rayon pool, startup, graceful shutdown, metrics.
+//! - [`api`]: axum routes, problem+json errors, the OpenAPI description.
+//! - [`plot`]: SVG figures; [`precision`]: the work-precision study.
+//!
+//! Data flows one way: HTTP → spec → domain types → engine → result → store →
+//! HTTP. The engine never knows it is in a service; the API does no physics.
 
 pub mod api;
 pub mod dynamics;
