@@ -256,7 +256,45 @@ async fn listing_pages_newest_first(store: &dyn JobStore) {
     store.ping().await.expect("pings");
 }
 
+async fn a_single_task_job_completes_in_one_write(store: &dyn JobStore) {
+    let (id, _) = submit(store, "k6", 1).await;
+    let t = store
+        .claim("w", &now_rfc3339(), Duration::from_secs(30))
+        .await
+        .expect("claims")
+        .expect("task");
+    assert_eq!((t.job_id, t.tasks), (id, 1));
+    assert!(
+        !store
+            .complete_only(id, 0, "intruder", "{}", "{}", &now_rfc3339())
+            .await
+            .expect("writes")
+    );
+    assert!(
+        store
+            .complete_only(id, 0, "w", "{\"r\":3}", "{\"n\":1}", &now_rfc3339())
+            .await
+            .expect("writes")
+    );
+    assert!(
+        !store
+            .complete_only(id, 0, "w", "{\"r\":4}", "{}", &now_rfc3339())
+            .await
+            .expect("writes")
+    );
+    let job = store.get(id).await.expect("reads").expect("exists");
+    assert_eq!(
+        (job.status, job.numerics.as_deref()),
+        (Status::Succeeded, Some("{\"n\":1}"))
+    );
+    assert_eq!(
+        store.result(id).await.expect("reads").as_deref(),
+        Some("{\"r\":3}")
+    );
+}
+
 async fn suite(store: Arc<dyn JobStore>) {
+    a_single_task_job_completes_in_one_write(store.as_ref()).await;
     the_same_key_is_one_job(store.as_ref()).await;
     tasks_are_claimed_once_completed_and_assembled(store.as_ref()).await;
     a_lapsed_lease_is_taken_over_and_the_old_owner_writes_nothing(store.as_ref()).await;

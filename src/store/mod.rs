@@ -122,6 +122,8 @@ pub struct TaskClaim {
     pub payload: String,
     /// How many times this task has been claimed (> 1 after a takeover).
     pub attempts: i64,
+    /// How many tasks the job has.
+    pub tasks: i64,
 }
 
 /// What a submission found.
@@ -193,6 +195,17 @@ pub trait JobStore: Send + Sync {
         idx: i64,
         owner: &'a str,
         result: &'a str,
+    ) -> BoxFuture<'a, Result<bool, StoreError>>;
+    /// For a job of one task: stores its result as the job's result and marks
+    /// the job succeeded, in one transaction, if `owner` still holds the task.
+    fn complete_only<'a>(
+        &'a self,
+        job: Uuid,
+        idx: i64,
+        owner: &'a str,
+        body: &'a str,
+        numerics: &'a str,
+        now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>>;
     /// The task results in order, once every task of the job is done.
     fn parts(&self, job: Uuid) -> BoxFuture<'_, Result<Option<Vec<String>>, StoreError>>;

@@ -256,11 +256,14 @@ impl JobStore for SqliteStore {
             .bind(now)
             .execute(&mut *tx)
             .await?;
-            let kind: String = sqlx::query("SELECT kind FROM jobs WHERE id = ?1")
-                .bind(&job_id)
-                .fetch_one(&mut *tx)
-                .await?
-                .try_get("kind")?;
+            let job_row = sqlx::query(
+                "SELECT kind, (SELECT COUNT(*) FROM tasks WHERE job_id = ?1) AS n FROM jobs WHERE id = ?1",
+            )
+            .bind(&job_id)
+            .fetch_one(&mut *tx)
+            .await?;
+            let kind: String = job_row.try_get("kind")?;
+            let tasks: i64 = job_row.try_get("n")?;
             tx.commit().await?;
             Ok(Some(TaskClaim {
                 job_id: parse_id(&job_id)?,
@@ -268,6 +271,7 @@ impl JobStore for SqliteStore {
                 kind,
                 payload: row.try_get("payload")?,
                 attempts: row.try_get("attempts")?,
+                tasks,
             }))
         })
     }
@@ -329,6 +333,52 @@ impl JobStore for SqliteStore {
             .await?
             .rows_affected();
             Ok(n == 1)
+        })
+    }
+
+    fn complete_only<'a>(
+        &'a self,
+        job: Uuid,
+        idx: i64,
+        owner: &'a str,
+        body: &'a str,
+        numerics: &'a str,
+        now: &'a str,
+    ) -> BoxFuture<'a, Result<bool, StoreError>> {
+        Box::pin(async move {
+            let _write = self.writer.lock().await;
+            let mut tx = self.pool.begin().await?;
+            let held = sqlx::query(
+                "UPDATE tasks SET status = 'done', progress = 1, done_by = lease_owner, lease_owner = NULL, lease_until = NULL \
+                 WHERE job_id = ?1 AND idx = ?2 AND lease_owner = ?3 AND status = 'running'",
+            )
+            .bind(job.to_string())
+            .bind(idx)
+            .bind(owner)
+            .execute(&mut *tx)
+            .await?
+            .rows_affected();
+            let mut updated = 0;
+            if held == 1 {
+                updated = sqlx::query(
+                    "UPDATE jobs SET status = 'succeeded', numerics = ?2, finished_at = ?3 WHERE id = ?1 AND status IN ('queued', 'running')",
+                )
+                .bind(job.to_string())
+                .bind(numerics)
+                .bind(now)
+                .execute(&mut *tx)
+                .await?
+                .rows_affected();
+                if updated == 1 {
+                    sqlx::query("INSERT INTO results (job_id, body) VALUES (?1, ?2) ON CONFLICT (job_id) DO NOTHING")
+                        .bind(job.to_string())
+                        .bind(body)
+                        .execute(&mut *tx)
+                        .await?;
+                }
+            }
+            tx.commit().await?;
+            Ok(updated == 1)
         })
     }
 
