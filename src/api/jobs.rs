@@ -76,10 +76,11 @@ pub struct JobView {
     pub spec: serde_json::Value,
     /// Links.
     pub links: Links,
-    /// The result, inline, when `?wait=` saw the job finish.
+    /// The result, inline, when `?wait=` saw the job finish (or a submission
+    /// found it done).
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schema(value_type = Option<Object>)]
-    pub result: Option<serde_json::Value>,
+    pub result: Option<Box<serde_json::value::RawValue>>,
 }
 
 fn view(r: &JobRecord, cached: Option<bool>) -> JobView {
@@ -281,8 +282,9 @@ pub async fn create_job(
     // New work is accepted (202) unless the caller waited for it; existing work
     // that is done answers 200 with its result.
     let status = if record.status == Status::Succeeded && (wait.is_some() || submitted.cached) {
+        // The stored document is inlined as it is, never parsed again.
         let body = load_result(&state, id).await?;
-        v.result = serde_json::from_str(&body).ok();
+        v.result = serde_json::value::RawValue::from_string(body.to_string()).ok();
         StatusCode::OK
     } else {
         StatusCode::ACCEPTED
@@ -384,10 +386,20 @@ pub async fn get_result(
         }
     };
     if csv {
-        let value: serde_json::Value =
-            serde_json::from_str(&body).map_err(|e| Problem::internal(e.to_string()))?;
-        let table =
-            to_csv(&value).map_err(|e| Problem::bad_request("no-csv", e).param("format"))?;
+        // Parsing and rendering a large result is work for the pool, not the runtime.
+        let (tx, rx) = tokio::sync::oneshot::channel();
+        let doc = body.clone();
+        state.pool.spawn(move || {
+            let table = serde_json::from_str::<serde_json::Value>(&doc)
+                .map_err(|e| e.to_string())
+                .map(|v| to_csv(&v));
+            let _ = tx.send(table);
+        });
+        let table = rx
+            .await
+            .map_err(|_| Problem::internal("CSV rendering stopped"))?
+            .map_err(Problem::internal)?
+            .map_err(|e| Problem::bad_request("no-csv", e).param("format"))?;
         return Ok(([(header::CONTENT_TYPE, "text/csv; charset=utf-8")], table).into_response());
     }
     Ok((

@@ -55,9 +55,15 @@ pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>)
     }
 }
 
+/// A result document as text, with its numerics summary.
+struct Serialised {
+    body: String,
+    numerics: String,
+}
+
 /// How the computation ended, as seen by the worker.
 enum Outcome {
-    Done(Result<Value, JobError>),
+    Done(Result<Serialised, JobError>),
     Lost,
 }
 
@@ -95,7 +101,16 @@ async fn execute(
         let control = control.clone();
         state.pool.spawn(move || {
             // A panic is reported as a failed job, never taken down with the pool.
-            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job.run(&control)));
+            // The result is serialised here too: large documents stay off the runtime.
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                job.run(&control).map(|result| Serialised {
+                    numerics: result
+                        .get("numerics")
+                        .map(|n| n.to_string())
+                        .unwrap_or_else(|| "null".into()),
+                    body: result.to_string(),
+                })
+            }));
             if let Ok(r) = r {
                 let _ = tx.send(r);
             }
@@ -133,14 +148,9 @@ async fn execute(
     state.unregister(id, idx);
     let seconds = started.elapsed().as_secs_f64();
     match outcome {
-        Outcome::Done(Ok(result)) if task.tasks == 1 => {
+        Outcome::Done(Ok(Serialised { body, numerics })) if task.tasks == 1 => {
             // The task is the whole job: its result is the job's, in one write.
             state.metrics.compute_seconds(&task.kind, seconds);
-            let body = result.to_string();
-            let numerics = result
-                .get("numerics")
-                .map(|n| n.to_string())
-                .unwrap_or_else(|| "null".into());
             match state
                 .store
                 .complete_only(id, idx, owner, &body, &numerics, &now_rfc3339())
@@ -155,13 +165,9 @@ async fn execute(
             }
             state.announce(id);
         }
-        Outcome::Done(Ok(result)) => {
+        Outcome::Done(Ok(Serialised { body, .. })) => {
             state.metrics.compute_seconds(&task.kind, seconds);
-            match state
-                .store
-                .complete(id, idx, owner, &result.to_string())
-                .await
-            {
+            match state.store.complete(id, idx, owner, &body).await {
                 Ok(true) => {
                     info!(seconds, "task done");
                     finish_job(state, id).await;
@@ -222,13 +228,13 @@ async fn finish_job(state: &AppState, id: Uuid) {
             return;
         }
     };
-    let values: Vec<Value> = parts
-        .iter()
-        .filter_map(|p| serde_json::from_str(p).ok())
-        .collect();
     // Assembly of a large spectrum is not trivial: keep it off the runtime.
     let (tx, rx) = oneshot::channel();
     state.pool.spawn(move || {
+        let values: Vec<Value> = parts
+            .iter()
+            .filter_map(|p| serde_json::from_str(p).ok())
+            .collect();
         let result = job.assemble(values);
         let numerics = result
             .get("numerics")
