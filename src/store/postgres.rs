@@ -113,6 +113,41 @@ impl PgStore {
     }
 }
 
+/// Marks a running or queued job succeeded with its result, in `tx`; returns
+/// whether it was (a job already finished or canceled is left alone).
+async fn store_result(
+    tx: &mut sqlx::Transaction<'_, sqlx::Postgres>,
+    job: Uuid,
+    body: &str,
+    numerics: &str,
+    now: &str,
+) -> Result<bool, StoreError> {
+    let updated = sqlx::query(
+        "UPDATE jobs SET status = 'succeeded', numerics = $2, finished_at = $3 WHERE id = $1 AND status IN ('queued', 'running')",
+    )
+    .bind(job.to_string())
+    .bind(numerics)
+    .bind(now)
+    .execute(&mut **tx)
+    .await?
+    .rows_affected();
+    if updated == 1 {
+        // The result is kept once, in `results`; task parts are no longer needed.
+        sqlx::query("UPDATE tasks SET result = NULL WHERE job_id = $1")
+            .bind(job.to_string())
+            .execute(&mut **tx)
+            .await?;
+        sqlx::query(
+            "INSERT INTO results (job_id, body) VALUES ($1, $2) ON CONFLICT (job_id) DO NOTHING",
+        )
+        .bind(job.to_string())
+        .bind(body)
+        .execute(&mut **tx)
+        .await?;
+    }
+    Ok(updated == 1)
+}
+
 impl JobStore for PgStore {
     fn submit<'a>(
         &'a self,
@@ -340,27 +375,9 @@ impl JobStore for PgStore {
             .execute(&mut *tx)
             .await?
             .rows_affected();
-            let mut updated = 0;
-            if held == 1 {
-                updated = sqlx::query(
-                    "UPDATE jobs SET status = 'succeeded', numerics = $2, finished_at = $3 WHERE id = $1 AND status IN ('queued', 'running')",
-                )
-                .bind(job.to_string())
-                .bind(numerics)
-                .bind(now)
-                .execute(&mut *tx)
-                .await?
-                .rows_affected();
-                if updated == 1 {
-                    sqlx::query("INSERT INTO results (job_id, body) VALUES ($1, $2) ON CONFLICT (job_id) DO NOTHING")
-                        .bind(job.to_string())
-                        .bind(body)
-                        .execute(&mut *tx)
-                        .await?;
-                }
-            }
+            let stored = held == 1 && store_result(&mut tx, job, body, numerics, now).await?;
             tx.commit().await?;
-            Ok(updated == 1)
+            Ok(stored)
         })
     }
 
@@ -393,29 +410,9 @@ impl JobStore for PgStore {
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
             let mut tx = self.pool.begin().await?;
-            let updated = sqlx::query(
-                "UPDATE jobs SET status = 'succeeded', numerics = $2, finished_at = $3 WHERE id = $1 AND status IN ('queued', 'running')",
-            )
-            .bind(job.to_string())
-            .bind(numerics)
-            .bind(now)
-            .execute(&mut *tx)
-            .await?
-            .rows_affected();
-            if updated == 1 {
-                // The assembled result is kept once; the parts are no longer needed.
-                sqlx::query("UPDATE tasks SET result = NULL WHERE job_id = $1")
-                    .bind(job.to_string())
-                    .execute(&mut *tx)
-                    .await?;
-                sqlx::query("INSERT INTO results (job_id, body) VALUES ($1, $2) ON CONFLICT (job_id) DO NOTHING")
-                    .bind(job.to_string())
-                    .bind(body)
-                    .execute(&mut *tx)
-                    .await?;
-            }
+            let stored = store_result(&mut tx, job, body, numerics, now).await?;
             tx.commit().await?;
-            Ok(updated == 1)
+            Ok(stored)
         })
     }
 
