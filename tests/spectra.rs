@@ -219,76 +219,43 @@ fn relative_difference(a: f64, b: f64) -> f64 {
     (a - b).abs() / a.min(b)
 }
 
+/// Relative difference between the linear and nonlinear minima at each of `ratios`.
+fn formulation_gaps(block: Block, ratios: &[f64]) -> Vec<(f64, f64)> {
+    let lin = spectrum(block, PulseShape::OneSine, Formulation::Linear, ratios);
+    let nl = spectrum(block, PulseShape::OneSine, Formulation::Nonlinear, ratios);
+    lin.iter()
+        .zip(&nl)
+        .map(|(l, n)| (l.omega_ratio, relative_difference(minimum(l), minimum(n))))
+        .collect()
+}
+
+/// The formulations agree within `agree` up to `low_end`, and somewhere in
+/// `[lo, hi]` differ by more than 15 % (paper Fig. 10).
+fn assert_agree_then_part(block: Block, low_end: f64, agree: f64, (lo, hi): (f64, f64)) {
+    let low: Vec<f64> = (1..)
+        .map(|k| 0.25 * k as f64)
+        .take_while(|r| *r <= low_end)
+        .collect();
+    for (ratio, d) in formulation_gaps(block, &low) {
+        assert!(d <= agree, "ω_p/p = {ratio}: formulations differ by {d}");
+    }
+    let steps = ((hi - lo) / 0.1).round() as usize;
+    let bay: Vec<f64> = (0..=steps).map(|k| lo + 0.1 * k as f64).collect();
+    let largest = formulation_gaps(block, &bay)
+        .into_iter()
+        .map(|g| g.1)
+        .fold(0.0, f64::max);
+    assert!(largest > 0.15, "largest difference in {lo}–{hi}: {largest}");
+}
+
 #[test]
 fn locomotive_formulations_agree_to_6_and_part_in_the_bay() {
-    let low: Vec<f64> = (1..=24).map(|k| 0.25 * k as f64).collect();
-    let lin = spectrum(locomotive(), PulseShape::OneSine, Formulation::Linear, &low);
-    let nl = spectrum(
-        locomotive(),
-        PulseShape::OneSine,
-        Formulation::Nonlinear,
-        &low,
-    );
-    for (l, n) in lin.iter().zip(&nl) {
-        let d = relative_difference(minimum(l), minimum(n));
-        assert!(
-            d <= 0.05,
-            "ω_p/p = {}: {} vs {} ({d})",
-            l.omega_ratio,
-            minimum(l),
-            minimum(n)
-        );
-    }
-    let bay: Vec<f64> = (0..=10).map(|k| 6.5 + 0.1 * k as f64).collect();
-    let lin = spectrum(locomotive(), PulseShape::OneSine, Formulation::Linear, &bay);
-    let nl = spectrum(
-        locomotive(),
-        PulseShape::OneSine,
-        Formulation::Nonlinear,
-        &bay,
-    );
-    let largest = lin
-        .iter()
-        .zip(&nl)
-        .map(|(l, n)| relative_difference(minimum(l), minimum(n)))
-        .fold(0.0, f64::max);
-    assert!(largest > 0.15, "largest difference in 6.5–7.5: {largest}");
+    assert_agree_then_part(locomotive(), 6.0, 0.05, (6.5, 7.5));
 }
 
 #[test]
 fn equipment_formulations_part_in_4_7_to_5_8_and_agree_to_4_5() {
-    let low: Vec<f64> = (1..=18).map(|k| 0.25 * k as f64).collect();
-    let lin = spectrum(equipment(), PulseShape::OneSine, Formulation::Linear, &low);
-    let nl = spectrum(
-        equipment(),
-        PulseShape::OneSine,
-        Formulation::Nonlinear,
-        &low,
-    );
-    for (l, n) in lin.iter().zip(&nl) {
-        let d = relative_difference(minimum(l), minimum(n));
-        assert!(
-            d <= 0.06,
-            "ω_p/p = {}: {} vs {} ({d})",
-            l.omega_ratio,
-            minimum(l),
-            minimum(n)
-        );
-    }
-    let mid: Vec<f64> = (0..=11).map(|k| 4.7 + 0.1 * k as f64).collect();
-    let lin = spectrum(equipment(), PulseShape::OneSine, Formulation::Linear, &mid);
-    let nl = spectrum(
-        equipment(),
-        PulseShape::OneSine,
-        Formulation::Nonlinear,
-        &mid,
-    );
-    let largest = lin
-        .iter()
-        .zip(&nl)
-        .map(|(l, n)| relative_difference(minimum(l), minimum(n)))
-        .fold(0.0, f64::max);
-    assert!(largest > 0.15, "largest difference in 4.7–5.8: {largest}");
+    assert_agree_then_part(equipment(), 4.5, 0.06, (4.7, 5.8));
 }
 
 #[test]

@@ -306,27 +306,17 @@ fn spectrum(result: &serde_json::Value, path: &str) -> PlotResult {
             .label("mode-2 boundary, corrected eq. 47")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], GREEN.stroke_width(2)));
     }
-    chart
-        .draw_series(std::iter::once(Rectangle::new(
-            [(rmin, 0.0), (rmin, 0.0)],
-            mode1.filled(),
-        )))?
-        .label("overturns, mode 1 (after impact)")
-        .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], mode1.filled()));
-    chart
-        .draw_series(std::iter::once(Rectangle::new(
-            [(rmin, 0.0), (rmin, 0.0)],
-            mode2.filled(),
-        )))?
-        .label("overturns, mode 2 (no impact)")
-        .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], mode2.filled()));
-    chart
-        .draw_series(std::iter::once(Rectangle::new(
-            [(rmin, 0.0), (rmin, 0.0)],
-            below.filled(),
-        )))?
-        .label("no rocking")
-        .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], below.filled()));
+    // Legend swatches for the shaded regions (an empty series carries each label).
+    for (label, color) in [
+        ("overturns, mode 1 (after impact)", mode1),
+        ("overturns, mode 2 (no impact)", mode2),
+        ("no rocking", below),
+    ] {
+        chart
+            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())?
+            .label(label)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], color.filled()));
+    }
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperLeft)
