@@ -50,6 +50,30 @@ struct ServeArgs {
     /// Name of this instance (lease owner); default host-pid.
     #[arg(long, env = "TOPPLE_INSTANCE")]
     instance: Option<String>,
+    /// Most samples in a time history's series.
+    #[arg(long, env = "TOPPLE_MAX_SERIES_POINTS", default_value_t = 200_000)]
+    max_series_points: usize,
+    /// Most grid points of a spectrum (frequencies × amplitude scan points).
+    #[arg(long, env = "TOPPLE_MAX_GRID_POINTS", default_value_t = 4_000_000)]
+    max_grid_points: usize,
+    /// Most simulations one job may need (estimated before it is accepted).
+    #[arg(long, env = "TOPPLE_MAX_WORK", default_value_t = 2e7)]
+    max_work: f64,
+    /// Most jobs waiting in the queue; beyond, submissions answer 429.
+    #[arg(long, env = "TOPPLE_MAX_QUEUED", default_value_t = 10_000)]
+    max_queued: u64,
+    /// Seconds one task may compute before its job fails.
+    #[arg(long, env = "TOPPLE_JOB_TIMEOUT", default_value_t = 600.0)]
+    job_timeout: f64,
+    /// Bearer token required by POST and DELETE (none: open).
+    #[arg(long, env = "TOPPLE_API_TOKEN", hide_env_values = true)]
+    api_token: Option<String>,
+    /// Require the token for reads of jobs and metrics too.
+    #[arg(long, env = "TOPPLE_AUTH_READS")]
+    auth_reads: bool,
+    /// Origins allowed by CORS, comma-separated (`*`: any); none by default.
+    #[arg(long, env = "TOPPLE_CORS_ORIGINS", value_delimiter = ',')]
+    cors_origins: Vec<String>,
     /// Log as JSON lines instead of text.
     #[arg(long, env = "TOPPLE_LOG_JSON")]
     log_json: bool,
@@ -113,13 +137,12 @@ fn run(spec_path: &str, plot: Option<&str>) -> Result<(), (u8, String)> {
 }
 
 fn seconds(v: f64, name: &str) -> Result<std::time::Duration, (u8, String)> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(std::time::Duration::from_secs_f64(v))
-    } else {
-        Err((
+    match std::time::Duration::try_from_secs_f64(v) {
+        Ok(d) => Ok(d),
+        Err(_) => Err((
             2,
             format!("--{name} must be a non-negative number of seconds"),
-        ))
+        )),
     }
 }
 
@@ -145,6 +168,25 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
         max_wait: seconds(args.max_wait, "max-wait")?,
         shutdown_grace: seconds(args.shutdown_grace, "shutdown-grace")?,
         lease: seconds(args.lease, "lease")?.max(std::time::Duration::from_millis(300)),
+        limits: topple::jobs::limits::Limits {
+            series_points: args.max_series_points,
+            grid_points: args.max_grid_points,
+            work: if args.max_work > 0.0 {
+                args.max_work
+            } else {
+                return Err((2, "--max-work must be positive".into()));
+            },
+        },
+        max_queued: args.max_queued,
+        job_timeout: seconds(args.job_timeout, "job-timeout")?,
+        api_token: args.api_token.filter(|t| !t.is_empty()),
+        auth_reads: args.auth_reads,
+        cors_origins: args
+            .cors_origins
+            .into_iter()
+            .map(|o| o.trim().to_string())
+            .filter(|o| !o.is_empty())
+            .collect(),
         ..Default::default()
     };
     if let Some(name) = args.instance {

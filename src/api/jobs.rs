@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 use axum::body::Bytes;
 use axum::extract::rejection::{BytesRejection, PathRejection, QueryRejection};
 use axum::extract::{Path, Query, State};
-use axum::http::{HeaderValue, StatusCode, header};
+use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
 use tracing::info;
@@ -24,6 +24,7 @@ use crate::store::{JobRecord, ListQuery, Status, now_rfc3339};
 
 /// A job spec: exactly what `topple run` accepts.
 #[derive(ToSchema)]
+#[serde(untagged)]
 #[allow(dead_code)]
 pub enum JobSpec {
     /// `"kind": "time_history"`.
@@ -111,8 +112,10 @@ fn view(r: &JobRecord, cached: Option<bool>) -> JobView {
 
 /// Query of a submission.
 #[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub struct CreateQuery {
     /// Wait up to this many seconds for the job to finish and return its result inline.
+    #[param(minimum = 0)]
     pub wait: Option<f64>,
 }
 
@@ -150,6 +153,61 @@ async fn load_result(state: &AppState, id: Uuid) -> Result<std::sync::Arc<str>, 
     Ok(body)
 }
 
+/// A body that says it is something other than JSON is refused (415); one
+/// that says nothing is read as JSON.
+fn check_json_content_type(headers: &HeaderMap) -> Result<(), Problem> {
+    let Some(value) = headers.get(header::CONTENT_TYPE) else {
+        return Ok(());
+    };
+    let essence = value
+        .to_str()
+        .unwrap_or("")
+        .split(';')
+        .next()
+        .unwrap_or("")
+        .trim()
+        .to_ascii_lowercase();
+    if essence == "application/json"
+        || (essence.starts_with("application/") && essence.ends_with("+json"))
+    {
+        return Ok(());
+    }
+    Err(Problem::new(
+        StatusCode::UNSUPPORTED_MEDIA_TYPE,
+        "unsupported-media-type",
+        "Unsupported media type",
+        format!(
+            "a job spec is JSON: send it as application/json, not {essence:?} (curl: -H 'content-type: application/json')"
+        ),
+    )
+    .header_name("content-type"))
+}
+
+/// Seconds a client told the queue is full waits before trying again.
+const RETRY_AFTER_S: u64 = 2;
+
+/// Refuses new work while the queue is full (429 with Retry-After); work
+/// already known under `key` (queued, running or done) is always answered.
+async fn admit(state: &AppState, key: &str) -> Result<(), Problem> {
+    let max = state.config.max_queued;
+    if max == u64::MAX || (state.store.queued().await? as u64) < max {
+        return Ok(());
+    }
+    if let Some(job) = state.store.by_key(key).await?
+        && !matches!(job.status, Status::Failed | Status::Canceled)
+    {
+        return Ok(());
+    }
+    state.metrics.rejected_full.increment(1);
+    Err(Problem::new(
+        StatusCode::TOO_MANY_REQUESTS,
+        "queue-full",
+        "Queue full",
+        format!("{max} jobs are waiting (max_queued); try again in {RETRY_AFTER_S} s"),
+    )
+    .retry_after(RETRY_AFTER_S))
+}
+
 /// Waits until job `id` reaches a final status or `limit` passes.
 async fn wait_for(state: &AppState, id: Uuid, limit: Duration) -> Result<JobRecord, Problem> {
     let deadline = Instant::now() + limit;
@@ -160,11 +218,13 @@ async fn wait_for(state: &AppState, id: Uuid, limit: Duration) -> Result<JobReco
         if job.status.is_final() || Instant::now() >= deadline || *stopping.borrow() {
             return Ok(job);
         }
-        let left = deadline.saturating_duration_since(Instant::now());
-        // Woken by any job finishing (or lagging behind), or by shutdown: look again.
+        // Woken by this job finishing (or the channel lagging behind), by
+        // shutdown, by the deadline, or every 250 ms: look again.
+        let tick = Instant::now() + Duration::from_millis(250);
         loop {
+            let until = deadline.min(tick);
             tokio::select! {
-                r = tokio::time::timeout(left.min(Duration::from_millis(250)), events.recv()) => {
+                r = tokio::time::timeout_at(until.into(), events.recv()) => {
                     match r {
                         Ok(Ok(done)) if done != id => continue,
                         _ => break,
@@ -188,21 +248,28 @@ async fn wait_for(state: &AppState, id: Uuid, limit: Duration) -> Result<JobReco
     path = "/v1/jobs",
     tag = "jobs",
     params(CreateQuery),
+    security((), ("bearer" = [])),
     request_body(content = JobSpec, description = "A job spec", content_type = "application/json"),
     responses(
         (status = 200, description = "Done (cached, or finished within `wait`)", body = JobView),
         (status = 202, description = "Queued or running", body = JobView,
             headers(("Location" = String, description = "The job's URL"))),
         (status = 400, description = "Not JSON, or a bad query", body = Problem, content_type = "application/problem+json"),
+        (status = 401, description = "A token is configured and the request lacks it", body = Problem, content_type = "application/problem+json"),
         (status = 413, description = "Body too large", body = Problem, content_type = "application/problem+json"),
-        (status = 422, description = "Invalid spec; `pointer` names the field", body = Problem, content_type = "application/problem+json"),
+        (status = 415, description = "Not sent as application/json", body = Problem, content_type = "application/problem+json"),
+        (status = 422, description = "Invalid spec, or over a service limit; `pointer` names the field", body = Problem, content_type = "application/problem+json"),
+        (status = 429, description = "Queue full; retry after the Retry-After seconds", body = Problem, content_type = "application/problem+json",
+            headers(("Retry-After" = String, description = "Seconds to wait"))),
     )
 )]
 pub async fn create_job(
     State(state): State<AppState>,
+    headers: HeaderMap,
     query: Result<Query<CreateQuery>, QueryRejection>,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, Problem> {
+    check_json_content_type(&headers)?;
     let Query(query) = query
         .map_err(|e| Problem::bad_request("invalid-parameter", e.body_text()).param("wait"))?;
     let body = body.map_err(|e| {
@@ -211,9 +278,11 @@ pub async fn create_job(
     })?;
     let wait = match query.wait {
         None => None,
-        Some(w) if w.is_finite() && w >= 0.0 => {
-            Some(Duration::from_secs_f64(w).min(state.config.max_wait))
-        }
+        Some(w) if w.is_finite() && w >= 0.0 => Some(
+            Duration::try_from_secs_f64(w)
+                .unwrap_or(Duration::MAX)
+                .min(state.config.max_wait),
+        ),
         Some(_) => {
             return Err(Problem::bad_request(
                 "invalid-parameter",
@@ -243,7 +312,10 @@ pub async fn create_job(
         )
         .at(pointer)
     })?;
+    job.check_limits(&state.config.limits)
+        .map_err(|e| Problem::over_limit(&e))?;
     let key = cache_key(&job);
+    admit(&state, &key).await?;
     let spec = serde_json::to_string(&job).map_err(|e| Problem::internal(e.to_string()))?;
     let tasks: Vec<String> = job
         .split()
@@ -301,7 +373,7 @@ pub async fn create_job(
     get,
     path = "/v1/jobs/{id}",
     tag = "jobs",
-    params(("id" = String, Path, description = "Job id")),
+    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid")),
     responses(
         (status = 200, description = "The job", body = JobView),
         (status = 400, description = "Not a job id", body = Problem, content_type = "application/problem+json"),
@@ -320,9 +392,11 @@ pub async fn get_job(
 
 /// Query of a result fetch.
 #[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub struct ResultQuery {
     /// `json` (default) or `csv` (series of time histories, transitions of
     /// spectra, points of friction spectra).
+    #[param(pattern = "^(json|csv)$")]
     pub format: Option<String>,
 }
 
@@ -331,9 +405,12 @@ pub struct ResultQuery {
     get,
     path = "/v1/jobs/{id}/result",
     tag = "jobs",
-    params(("id" = String, Path, description = "Job id"), ResultQuery),
+    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"), ResultQuery),
     responses(
-        (status = 200, description = "The result document (JSON, or CSV with ?format=csv)", body = Object),
+        (status = 200, description = "The result document (JSON, or CSV with ?format=csv)", content(
+            (Object = "application/json"),
+            (String = "text/csv")
+        )),
         (status = 400, description = "Bad id or format, or no CSV form", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
         (status = 409, description = "Not finished (or failed, or canceled)", body = Problem, content_type = "application/problem+json"),
@@ -386,20 +463,19 @@ pub async fn get_result(
         }
     };
     if csv {
-        // Parsing and rendering a large result is work for the pool, not the runtime.
-        let (tx, rx) = tokio::sync::oneshot::channel();
+        // Parsing and rendering a large result is not work for the runtime.
+        // It goes to the blocking pool rather than the compute pool, where it
+        // would queue behind running spectra.
         let doc = body.clone();
-        state.pool.spawn(move || {
-            let table = serde_json::from_str::<serde_json::Value>(&doc)
+        let table = tokio::task::spawn_blocking(move || {
+            serde_json::from_str::<serde_json::Value>(&doc)
                 .map_err(|e| e.to_string())
-                .map(|v| to_csv(&v));
-            let _ = tx.send(table);
-        });
-        let table = rx
-            .await
-            .map_err(|_| Problem::internal("CSV rendering stopped"))?
-            .map_err(Problem::internal)?
-            .map_err(|e| Problem::bad_request("no-csv", e).param("format"))?;
+                .map(|v| to_csv(&v))
+        })
+        .await
+        .map_err(|_| Problem::internal("CSV rendering stopped"))?
+        .map_err(Problem::internal)?
+        .map_err(|e| Problem::bad_request("no-csv", e).param("format"))?;
         return Ok(([(header::CONTENT_TYPE, "text/csv; charset=utf-8")], table).into_response());
     }
     Ok((
@@ -414,12 +490,14 @@ pub async fn get_result(
     delete,
     path = "/v1/jobs/{id}",
     tag = "jobs",
-    params(("id" = String, Path, description = "Job id")),
+    security((), ("bearer" = [])),
+    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid")),
     responses(
         (status = 200, description = "Canceled (or already canceled)", body = JobView),
         (status = 400, description = "Not a job id", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
         (status = 409, description = "Already finished", body = Problem, content_type = "application/problem+json"),
+        (status = 401, description = "A token is configured and the request lacks it", body = Problem, content_type = "application/problem+json"),
     )
 )]
 pub async fn cancel_job(
@@ -449,14 +527,21 @@ pub async fn cancel_job(
 
 /// Query of a listing.
 #[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub struct ListParams {
     /// Only jobs with this status.
+    #[param(value_type = Option<Status>)]
     pub status: Option<String>,
     /// Only jobs of this kind.
+    #[param(pattern = "^(time_history|spectrum|friction_spectrum)$")]
     pub kind: Option<String>,
     /// At most this many (1..=500, default 50).
+    #[param(minimum = 1, maximum = 500)]
     pub limit: Option<u32>,
-    /// The `next_cursor` of the previous page.
+    /// The `next_cursor` of the previous page (empty: the first page).
+    #[param(
+        pattern = "^$|^[0-9a-fA-F]{8}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{12}$"
+    )]
     pub cursor: Option<String>,
 }
 

@@ -4,6 +4,7 @@
 // Handlers return `Result<_, Problem>`: the error is the response body itself.
 #![allow(clippy::result_large_err)]
 
+pub mod auth;
 pub mod csv;
 pub mod health;
 pub mod jobs;
@@ -13,9 +14,11 @@ use std::time::Duration;
 
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
-use axum::http::{Request, StatusCode, header};
+use axum::http::{HeaderValue, Method, Request, StatusCode, header};
 use axum::response::IntoResponse;
 use axum::routing::get;
+use tower_http::catch_panic::CatchPanicLayer;
+use tower_http::cors::{AllowOrigin, CorsLayer};
 use tower_http::timeout::TimeoutLayer;
 use tower_http::trace::TraceLayer;
 use utoipa::OpenApi;
@@ -33,12 +36,34 @@ use problem::Problem;
         description = "Rocking and overturning of free-standing rigid blocks under cycloidal pulses (Makris & Zhang 2001). Submit a job spec, poll its status, fetch its result.",
         license(name = "MIT")
     ),
+    modifiers(&BearerScheme),
     tags(
         (name = "jobs", description = "Time histories, overturning spectra, friction-demand spectra"),
         (name = "operations", description = "Health, readiness, metrics")
     )
 )]
 pub struct ApiDoc;
+
+/// The optional bearer token (`TOPPLE_API_TOKEN`) as a security scheme.
+struct BearerScheme;
+
+impl utoipa::Modify for BearerScheme {
+    fn modify(&self, api: &mut utoipa::openapi::OpenApi) {
+        use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityScheme};
+        let components = api.components.get_or_insert_with(Default::default);
+        components.add_security_scheme(
+            "bearer",
+            SecurityScheme::Http(
+                HttpBuilder::new()
+                    .scheme(HttpAuthScheme::Bearer)
+                    .description(Some(
+                        "Needed by POST and DELETE when the service has a token (TOPPLE_API_TOKEN); by reads too with TOPPLE_AUTH_READS",
+                    ))
+                    .build(),
+            ),
+        );
+    }
+}
 
 /// Routes and their OpenAPI description, from one source.
 pub fn routes() -> (Router<AppState>, utoipa::openapi::OpenApi) {
@@ -95,31 +120,110 @@ async fn method_not_allowed() -> Problem {
 pub fn router(state: AppState) -> Router {
     let (api, _) = routes();
     let yaml = openapi_yaml();
-    let max_body = state.config.max_body_bytes;
-    let timeout = state.config.max_wait + Duration::from_secs(15);
-    api.route(
+    let api = api.route(
         "/openapi.yaml",
         get(move || {
             let yaml = yaml.clone();
             async move { ([(header::CONTENT_TYPE, "application/yaml")], yaml).into_response() }
         }),
+    );
+    with_layers(api, state)
+}
+
+/// Wraps routes in what every request passes through: tracing, panic
+/// catching, CORS, the request timeout, bare errors turned into problem+json,
+/// authentication and the body limit; unknown routes and methods answer
+/// problem+json too.
+pub fn with_layers(routes: Router<AppState>, state: AppState) -> Router {
+    let max_body = state.config.max_body_bytes;
+    let timeout = state.config.max_wait + Duration::from_secs(15);
+    let cors = cors(&state.config.cors_origins);
+    let app = routes
+        .fallback(not_found)
+        .method_not_allowed_fallback(method_not_allowed)
+        .layer(DefaultBodyLimit::max(max_body))
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            auth::require_token,
+        ))
+        .layer(TimeoutLayer::with_status_code(
+            StatusCode::SERVICE_UNAVAILABLE,
+            timeout,
+        ))
+        .layer(axum::middleware::map_response(bare_errors_as_problems));
+    let app = match cors {
+        Some(cors) => app.layer(cors),
+        None => app,
+    };
+    app.layer(CatchPanicLayer::custom(panic_as_problem))
+        .layer(
+            TraceLayer::new_for_http().make_span_with(|req: &Request<_>| {
+                tracing::info_span!(
+                    "request",
+                    method = %req.method(),
+                    path = %req.uri().path(),
+                    job_id = tracing::field::Empty,
+                )
+            }),
+        )
+        .with_state(state)
+}
+
+/// CORS for the configured origins (`*`: any); `None` without origins.
+fn cors(origins: &[String]) -> Option<CorsLayer> {
+    if origins.is_empty() {
+        return None;
+    }
+    let allow = if origins.iter().any(|o| o == "*") {
+        AllowOrigin::any()
+    } else {
+        AllowOrigin::list(
+            origins
+                .iter()
+                .filter_map(|o| HeaderValue::from_str(o.trim()).ok()),
+        )
+    };
+    Some(
+        CorsLayer::new()
+            .allow_origin(allow)
+            .allow_methods([Method::GET, Method::POST, Method::DELETE])
+            .allow_headers([header::CONTENT_TYPE, header::AUTHORIZATION])
+            .expose_headers([header::LOCATION, header::RETRY_AFTER])
+            .max_age(Duration::from_secs(3600)),
     )
-    .fallback(not_found)
-    .method_not_allowed_fallback(method_not_allowed)
-    .layer(DefaultBodyLimit::max(max_body))
-    .layer(TimeoutLayer::with_status_code(
-        StatusCode::SERVICE_UNAVAILABLE,
-        timeout,
-    ))
-    .layer(
-        TraceLayer::new_for_http().make_span_with(|req: &Request<_>| {
-            tracing::info_span!(
-                "request",
-                method = %req.method(),
-                path = %req.uri().path(),
-                job_id = tracing::field::Empty,
-            )
-        }),
-    )
-    .with_state(state)
+}
+
+/// A panic in a handler: 500 problem+json, with nothing of the panic in it.
+fn panic_as_problem(_: Box<dyn std::any::Any + Send + 'static>) -> axum::response::Response {
+    tracing::error!("a request handler panicked");
+    Problem::internal("internal error").into_response()
+}
+
+/// Errors that layers answer with an empty body (the request timeout, say)
+/// get a problem+json body.
+async fn bare_errors_as_problems(response: axum::response::Response) -> axum::response::Response {
+    let status = response.status();
+    if !(status.is_client_error() || status.is_server_error())
+        || response.headers().contains_key(header::CONTENT_TYPE)
+    {
+        return response;
+    }
+    let (title, detail) = match status {
+        StatusCode::SERVICE_UNAVAILABLE => (
+            "Service unavailable",
+            "the request took too long; poll the job instead of waiting on it",
+        ),
+        _ => (
+            status.canonical_reason().unwrap_or("Error"),
+            "the request could not be served",
+        ),
+    };
+    let kind = title.to_lowercase().replace(' ', "-");
+    let mut problem = Problem::new(status, &kind, title, detail).into_response();
+    for (name, value) in response.headers() {
+        if name != header::CONTENT_LENGTH {
+            problem.headers_mut().insert(name.clone(), value.clone());
+        }
+    }
+    problem
 }

@@ -22,6 +22,21 @@ pub struct Problem {
     /// The offending query or path parameter.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub parameter: Option<String>,
+    /// Seconds before trying again (also sent as `Retry-After`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub retry_after: Option<u64>,
+    /// The offending request header.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub header: Option<String>,
+    /// The service limit a job exceeds (as its setting is named).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub limit: Option<String>,
+    /// That limit's value.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub maximum: Option<f64>,
+    /// The job's value of the limited quantity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub value: Option<f64>,
 }
 
 impl Problem {
@@ -34,6 +49,11 @@ impl Problem {
             detail: detail.into(),
             pointer: None,
             parameter: None,
+            retry_after: None,
+            header: None,
+            limit: None,
+            maximum: None,
+            value: None,
         }
     }
 
@@ -48,6 +68,33 @@ impl Problem {
         self.parameter = Some(name.into());
         self.pointer = Some(format!("#/{name}"));
         self
+    }
+
+    /// With a `Retry-After` of `seconds`.
+    pub fn retry_after(mut self, seconds: u64) -> Self {
+        self.retry_after = Some(seconds);
+        self
+    }
+
+    /// Naming a request header.
+    pub fn header_name(mut self, name: &str) -> Self {
+        self.header = Some(name.into());
+        self
+    }
+
+    /// 422 for a job over a service limit.
+    pub fn over_limit(e: &crate::jobs::limits::LimitError) -> Self {
+        let mut p = Problem::new(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "limit-exceeded",
+            "Job exceeds a service limit",
+            format!("{}: {}", e.pointer, e.message),
+        )
+        .at(e.pointer.clone());
+        p.limit = Some(e.limit.into());
+        p.maximum = Some(e.maximum);
+        p.value = Some(e.value);
+        p
     }
 
     /// 400, malformed request.
@@ -92,6 +139,10 @@ impl IntoResponse for Problem {
             header::CONTENT_TYPE,
             HeaderValue::from_static("application/problem+json"),
         );
+        if let Some(s) = self.retry_after {
+            r.headers_mut()
+                .insert(header::RETRY_AFTER, HeaderValue::from(s));
+        }
         r
     }
 }

@@ -148,8 +148,14 @@ impl Pulse {
         let chi0 = self.phase_at(from);
         let m = (chi0 / PI).floor();
         let offset = chi0 - m * PI;
-        let (chi_start, k) = if offset < beta {
+        // Inside window m, unless rounding put `from` at or past its end (as
+        // it may when the block comes back to rest exactly there): then the
+        // next window is the one to wait for.
+        let inside = offset < beta && ((m * PI + beta) - self.phase) / w > from;
+        let (chi_start, k) = if inside {
             (chi0, m)
+        } else if offset < beta {
+            ((m + 1.0) * PI - beta, m + 1.0)
         } else if offset > PI - beta {
             (chi0, m + 1.0)
         } else {
@@ -225,5 +231,25 @@ mod tests {
         assert_eq!(e.start, 0.0);
         assert!((e.end - PI / 3.0).abs() < 1e-14);
         assert_eq!(e.side, 1.0);
+    }
+
+    #[test]
+    fn from_the_end_of_a_window_the_next_window_is_found_never_an_empty_one() {
+        // A threshold the pulse barely exceeds: windows are a few ulps of phase
+        // wide, and their computed ends may round to either side.
+        for n in 1..4 {
+            let p = Pulse::new(PulseShape::Cn(n), 1.0, 22.1).expect("valid");
+            for threshold in [0.5, 0.999_999, 1.0 - 1e-12] {
+                let mut from = 0.0;
+                let mut windows = 0;
+                while let Some(e) = p.next_exceedance(from, threshold) {
+                    assert!(e.end > e.start, "n = {n}, c = {threshold}: {e:?}");
+                    assert!(e.start >= from);
+                    from = e.end;
+                    windows += 1;
+                    assert!(windows <= 2 * n as usize + 4, "n = {n}: windows repeat");
+                }
+            }
+        }
     }
 }

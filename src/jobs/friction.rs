@@ -21,8 +21,10 @@ pub const MAX_AMPLITUDES: usize = 100_000;
 #[serde(deny_unknown_fields)]
 pub struct FrictionSpec {
     /// "friction_spectrum".
+    #[schema(pattern = "^friction_spectrum$")]
     pub kind: String,
     /// The block.
+    #[schema(required = true, value_type = BlockSpec)]
     pub block: Option<BlockSpec>,
     /// The pulse family.
     pub pulse: Option<PulseSpec>,

@@ -3,6 +3,7 @@
 
 pub mod friction;
 pub mod key;
+pub mod limits;
 pub mod numerics;
 pub mod range;
 pub mod spec;
@@ -35,6 +36,9 @@ pub enum JobError {
     /// The engine refused.
     #[error(transparent)]
     Simulation(#[from] crate::dynamics::SimError),
+    /// The engine refused at one point of a spectrum.
+    #[error("{0}")]
+    Point(String),
     /// The job was canceled.
     #[error("canceled")]
     Canceled,
@@ -45,6 +49,7 @@ impl From<ScanError> for JobError {
         match e {
             ScanError::Canceled(_) => JobError::Canceled,
             ScanError::Simulation(s) => JobError::Simulation(s),
+            e @ ScanError::At { .. } => JobError::Point(e.to_string()),
         }
     }
 }

@@ -30,8 +30,10 @@ pub const MAX_SCAN_POINTS: f64 = 1e6;
 #[serde(deny_unknown_fields)]
 pub struct SpectrumSpec {
     /// "spectrum".
+    #[schema(pattern = "^spectrum$")]
     pub kind: String,
     /// The block.
+    #[schema(required = true, value_type = BlockSpec)]
     pub block: Option<BlockSpec>,
     /// The pulse family (`type`, `n`); frequency and amplitude vary.
     pub pulse: Option<PulseSpec>,

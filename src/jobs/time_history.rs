@@ -34,8 +34,10 @@ pub struct OutputsSpec {
 #[serde(deny_unknown_fields)]
 pub struct TimeHistorySpec {
     /// "time_history".
+    #[schema(pattern = "^time_history$")]
     pub kind: String,
     /// The block.
+    #[schema(required = true, value_type = BlockSpec)]
     pub block: Option<BlockSpec>,
     /// The pulse.
     pub pulse: Option<PulseSpec>,

@@ -2,6 +2,8 @@
 
 use std::time::Duration;
 
+use crate::jobs::limits::Limits;
+
 /// Settings of `topple serve`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ServeConfig {
@@ -23,6 +25,19 @@ pub struct ServeConfig {
     pub heartbeat: Duration,
     /// Name of this instance (lease owner).
     pub instance: String,
+    /// Largest job accepted.
+    pub limits: Limits,
+    /// Most jobs waiting in the queue; a submission beyond answers 429.
+    pub max_queued: u64,
+    /// Longest computation of one task (a whole job, or one chunk of a
+    /// spectrum); past it the job fails.
+    pub job_timeout: Duration,
+    /// Bearer token required by mutating routes (none: open).
+    pub api_token: Option<String>,
+    /// Whether reads need the token too.
+    pub auth_reads: bool,
+    /// Origins allowed by CORS (`*` for any); none: same origin only.
+    pub cors_origins: Vec<String>,
 }
 
 impl Default for ServeConfig {
@@ -38,6 +53,12 @@ impl Default for ServeConfig {
             lease: Duration::from_secs(10),
             heartbeat: Duration::from_millis(100),
             instance: format!("{}-{}", hostname(), std::process::id()),
+            limits: Limits::default(),
+            max_queued: 10_000,
+            job_timeout: Duration::from_secs(600),
+            api_token: None,
+            auth_reads: false,
+            cors_origins: Vec::new(),
         }
     }
 }

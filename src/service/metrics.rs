@@ -17,6 +17,10 @@ pub struct Metrics {
     pub cache_hits: Counter,
     /// Jobs submitted (new work).
     pub submitted: Counter,
+    /// Submissions refused because the queue was full.
+    pub rejected_full: Counter,
+    /// Jobs failed for running past the compute-time limit.
+    pub timed_out: Counter,
     jobs: Vec<(Status, Gauge)>,
     queue_depth: Gauge,
     compute: Vec<(&'static str, Histogram)>,
@@ -42,6 +46,8 @@ impl Metrics {
         let counter = |name: &'static str| recorder.register_counter(&Key::from_name(name), &META);
         let cache_hits = counter("topple_cache_hits_total");
         let submitted = counter("topple_jobs_submitted_total");
+        let rejected_full = counter("topple_jobs_rejected_queue_full_total");
+        let timed_out = counter("topple_jobs_timed_out_total");
         let jobs = Status::ALL
             .iter()
             .map(|&s| {
@@ -62,6 +68,8 @@ impl Metrics {
             handle,
             cache_hits,
             submitted,
+            rejected_full,
+            timed_out,
             jobs,
             queue_depth,
             compute,

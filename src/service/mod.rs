@@ -29,6 +29,13 @@ use crate::store::postgres::PgStore;
 use crate::store::sqlite::SqliteStore;
 use crate::store::{JobStore, StoreError};
 
+/// What computes a job: [`Job::run`] unless an embedding supplies its own.
+pub type Engine = Arc<
+    dyn Fn(&crate::jobs::Job, &Control) -> Result<serde_json::Value, crate::jobs::JobError>
+        + Send
+        + Sync,
+>;
+
 /// Tasks computing in this instance, by (job, task index).
 type Running = HashMap<(Uuid, i64), Arc<Control>>;
 
@@ -51,6 +58,8 @@ pub struct AppState {
     pub results: Arc<results::ResultCache>,
     /// The compute pool.
     pub pool: Arc<rayon::ThreadPool>,
+    /// What computes jobs.
+    pub engine: Engine,
     /// How often idle workers look for work without being woken.
     pub idle_poll: Duration,
     /// Becomes true when the instance is shutting down.
@@ -140,6 +149,14 @@ pub struct Application {
 impl Application {
     /// Opens the store, recovers interrupted jobs and binds the address.
     pub async fn build(config: ServeConfig) -> Result<Self, ServeError> {
+        Self::build_with_engine(config, Arc::new(|job, control| job.run(control))).await
+    }
+
+    /// As [`Application::build`], computing jobs with `engine`.
+    pub async fn build_with_engine(
+        config: ServeConfig,
+        engine: Engine,
+    ) -> Result<Self, ServeError> {
         let store = open_store(&config.database_url, (config.workers as u32 + 4).max(8)).await?;
         let recovered = store.recover().await?;
         if recovered > 0 {
@@ -162,6 +179,7 @@ impl Application {
             metrics: Arc::new(metrics::Metrics::new()),
             results: Arc::new(results::ResultCache::default()),
             pool: Arc::new(pool),
+            engine,
             idle_poll: Duration::from_millis(500),
             stopping,
             stop: Arc::new(stop),

@@ -35,6 +35,9 @@ pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>)
                     .await;
             }
             Ok(None) => {
+                if n == 0 {
+                    finish_stranded(&state).await;
+                }
                 // Idle: wait for a submission here or elsewhere, a shutdown, or
                 // poll again (a lease that lapses is noticed this way).
                 tokio::select! {
@@ -99,11 +102,12 @@ async fn execute(
     let started = Instant::now();
     {
         let control = control.clone();
+        let engine = state.engine.clone();
         state.pool.spawn(move || {
             // A panic is reported as a failed job, never taken down with the pool.
             // The result is serialised here too: large documents stay off the runtime.
             let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                job.run(&control).map(|result| Serialised {
+                engine(&job, &control).map(|result| Serialised {
                     numerics: result
                         .get("numerics")
                         .map(|n| n.to_string())
@@ -117,6 +121,7 @@ async fn execute(
         });
     }
     let mut stopping_since: Option<Instant> = None;
+    let mut timed_out = false;
     let outcome = loop {
         tokio::select! {
             done = &mut rx => {
@@ -135,6 +140,10 @@ async fn execute(
                 if let Some(since) = stopping_since
                     && since.elapsed() >= state.config.shutdown_grace
                 {
+                    control.cancel();
+                }
+                if !timed_out && started.elapsed() >= state.config.job_timeout {
+                    timed_out = true;
                     control.cancel();
                 }
             }
@@ -178,6 +187,16 @@ async fn execute(
                 Err(e) => warn!(error = %e, "storing the task result failed"),
             }
         }
+        Outcome::Done(Err(JobError::Canceled)) if timed_out => {
+            let limit = state.config.job_timeout.as_secs_f64();
+            warn!(seconds, "past the compute-time limit");
+            state.metrics.timed_out.increment(1);
+            let reason = format!(
+                "the computation ran past this service's limit of {limit} s (job_timeout); split the job or ask the operator to raise the limit"
+            );
+            let _ = state.store.fail(id, &reason, &now_rfc3339()).await;
+            state.announce(id);
+        }
         Outcome::Done(Err(JobError::Canceled)) => {
             if stopping_since.is_some() {
                 // Shutdown outlasted the grace period: the task runs again later.
@@ -201,6 +220,20 @@ async fn execute(
                 .await;
             state.announce(id);
         }
+    }
+}
+
+/// Assembles the jobs whose tasks are all done but whose result is not: a
+/// process that stopped between the two leaves them so.
+async fn finish_stranded(state: &AppState) {
+    match state.store.stranded().await {
+        Ok(ids) => {
+            for id in ids {
+                info!(job_id = %id, "assembling a job whose tasks were all done");
+                finish_job(state, id).await;
+            }
+        }
+        Err(e) => warn!(error = %e, "looking for stranded jobs failed"),
     }
 }
 

@@ -107,6 +107,14 @@ pub enum ScanError {
     /// A simulation failed.
     #[error(transparent)]
     Simulation(#[from] SimError),
+    /// The simulation at one amplitude failed.
+    #[error("at a_p = {level} αg: {source}")]
+    At {
+        /// Amplitude, a_p/(αg).
+        level: f64,
+        /// What failed.
+        source: SimError,
+    },
 }
 
 /// One line of constant ω_p/p: the problem with a unit amplitude of α g.
@@ -131,7 +139,8 @@ impl Line<'_> {
                 .with_amplitude(level * block.slenderness * block.gravity),
             ..self.problem
         };
-        let r = simulate(&problem, &Options::outcome(self.solver))?;
+        let r = simulate(&problem, &Options::outcome(self.solver))
+            .map_err(|source| ScanError::At { level, source })?;
         stats.simulations += 1;
         stats.steps += r.numerics.steps_accepted;
         stats.rejected += r.numerics.steps_rejected;

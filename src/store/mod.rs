@@ -240,6 +240,13 @@ pub trait JobStore: Send + Sync {
     /// At start-up: what a single-instance store left running is requeued (a
     /// shared store leaves it to the leases). Returns the tasks requeued.
     fn recover(&self) -> BoxFuture<'_, Result<u64, StoreError>>;
+    /// Jobs not yet final whose tasks are all done: a process stopped between
+    /// storing the last task and assembling the job's result.
+    fn stranded(&self) -> BoxFuture<'_, Result<Vec<Uuid>, StoreError>>;
+    /// Jobs waiting in the queue.
+    fn queued(&self) -> BoxFuture<'_, Result<i64, StoreError>>;
+    /// The job with this cache key, if any.
+    fn by_key<'a>(&'a self, key: &'a str) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>>;
     /// Number of jobs per status.
     fn counts(&self) -> BoxFuture<'_, Result<Vec<(Status, i64)>, StoreError>>;
     /// Whether the database answers.

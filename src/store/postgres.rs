@@ -498,6 +498,39 @@ impl JobStore for PgStore {
         })
     }
 
+    fn stranded(&self) -> BoxFuture<'_, Result<Vec<Uuid>, StoreError>> {
+        Box::pin(async move {
+            let ids: Vec<String> = sqlx::query_scalar(
+                "SELECT j.id FROM jobs j WHERE j.status IN ('queued', 'running') \
+                 AND EXISTS (SELECT 1 FROM tasks t WHERE t.job_id = j.id) \
+                 AND NOT EXISTS (SELECT 1 FROM tasks t WHERE t.job_id = j.id AND t.status <> 'done') \
+                 LIMIT 100",
+            )
+            .fetch_all(&self.pool)
+            .await?;
+            ids.iter().map(|id| parse_id(id)).collect()
+        })
+    }
+
+    fn queued(&self) -> BoxFuture<'_, Result<i64, StoreError>> {
+        Box::pin(async move {
+            let n: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM jobs WHERE status = 'queued'")
+                .fetch_one(&self.pool)
+                .await?;
+            Ok(n)
+        })
+    }
+
+    fn by_key<'a>(&'a self, key: &'a str) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>> {
+        Box::pin(async move {
+            let row = sqlx::query(concat!(job_select!(), "WHERE j.key = $1"))
+                .bind(key)
+                .fetch_optional(&self.pool)
+                .await?;
+            row.as_ref().map(record).transpose()
+        })
+    }
+
     fn counts(&self) -> BoxFuture<'_, Result<Vec<(Status, i64)>, StoreError>> {
         Box::pin(async move {
             let rows = sqlx::query("SELECT status, COUNT(*) AS n FROM jobs GROUP BY status")

@@ -60,6 +60,37 @@ fn record(row: &sqlx::sqlite::SqliteRow) -> Result<JobRecord, StoreError> {
     })
 }
 
+/// WAL frames past which a checkpoint waits for its turn among writers and
+/// for readers to move on, so that the log restarts (16 MiB at 4 KiB pages).
+const WAL_RESTART_FRAMES: i64 = 4096;
+
+/// Checkpoints the WAL every half second: PASSIVE (never waits) as a rule, and
+/// TRUNCATE, holding the writer lock, once the log has grown past
+/// [`WAL_RESTART_FRAMES`], which a steady stream of readers would otherwise
+/// let grow without bound.
+async fn checkpoint_loop(pool: SqlitePool, writer: std::sync::Arc<tokio::sync::Mutex<()>>) {
+    let mut tick = tokio::time::interval(Duration::from_millis(500));
+    loop {
+        tick.tick().await;
+        if pool.is_closed() {
+            break;
+        }
+        let frames = sqlx::query("PRAGMA wal_checkpoint(PASSIVE)")
+            .fetch_optional(&pool)
+            .await
+            .ok()
+            .flatten()
+            .and_then(|row| row.try_get::<i64, _>(1).ok())
+            .unwrap_or(0);
+        if frames > WAL_RESTART_FRAMES {
+            let _write = writer.lock().await;
+            let _ = sqlx::query("PRAGMA wal_checkpoint(TRUNCATE)")
+                .execute(&pool)
+                .await;
+        }
+    }
+}
+
 impl SqliteStore {
     /// Opens (creating if missing) the database at `url` (`sqlite://path` or a
     /// plain path) and applies the migrations.
@@ -75,29 +106,16 @@ impl SqliteStore {
             .synchronous(SqliteSynchronous::Normal)
             .busy_timeout(Duration::from_secs(10))
             .foreign_keys(true)
-            .pragma("wal_autocheckpoint", "0");
+            .pragma("wal_autocheckpoint", "0")
+            .pragma("journal_size_limit", "67108864");
         let pool = SqlitePoolOptions::new()
             .max_connections(connections.max(2))
             .connect_with(options)
             .await?;
         sqlx::migrate!("./migrations/sqlite").run(&pool).await?;
-        let checkpoints = pool.clone();
-        tokio::spawn(async move {
-            let mut tick = tokio::time::interval(Duration::from_millis(500));
-            loop {
-                tick.tick().await;
-                if checkpoints.is_closed() {
-                    break;
-                }
-                let _ = sqlx::query("PRAGMA wal_checkpoint(PASSIVE)")
-                    .execute(&checkpoints)
-                    .await;
-            }
-        });
-        Ok(SqliteStore {
-            pool,
-            writer: std::sync::Arc::new(tokio::sync::Mutex::new(())),
-        })
+        let writer = std::sync::Arc::new(tokio::sync::Mutex::new(()));
+        tokio::spawn(checkpoint_loop(pool.clone(), writer.clone()));
+        Ok(SqliteStore { pool, writer })
     }
 
     async fn fetch(&self, id: Uuid) -> Result<Option<JobRecord>, StoreError> {
@@ -524,6 +542,39 @@ impl JobStore for SqliteStore {
             .await?
             .rows_affected();
             Ok(n)
+        })
+    }
+
+    fn stranded(&self) -> BoxFuture<'_, Result<Vec<Uuid>, StoreError>> {
+        Box::pin(async move {
+            let ids: Vec<String> = sqlx::query_scalar(
+                "SELECT j.id FROM jobs j WHERE j.status IN ('queued', 'running') \
+                 AND EXISTS (SELECT 1 FROM tasks t WHERE t.job_id = j.id) \
+                 AND NOT EXISTS (SELECT 1 FROM tasks t WHERE t.job_id = j.id AND t.status <> 'done') \
+                 LIMIT 100",
+            )
+            .fetch_all(&self.pool)
+            .await?;
+            ids.iter().map(|id| parse_id(id)).collect()
+        })
+    }
+
+    fn queued(&self) -> BoxFuture<'_, Result<i64, StoreError>> {
+        Box::pin(async move {
+            let n: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM jobs WHERE status = 'queued'")
+                .fetch_one(&self.pool)
+                .await?;
+            Ok(n)
+        })
+    }
+
+    fn by_key<'a>(&'a self, key: &'a str) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>> {
+        Box::pin(async move {
+            let row = sqlx::query(concat!(job_select!(), "WHERE j.key = ?1"))
+                .bind(key)
+                .fetch_optional(&self.pool)
+                .await?;
+            row.as_ref().map(record).transpose()
         })
     }
 

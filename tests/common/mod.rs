@@ -1,6 +1,8 @@
 //! A PostgreSQL database of its own for a test run, or a loud skip.
 #![allow(dead_code)]
 
+pub mod server;
+
 use sqlx::Connection;
 
 /// The server to test against (trust auth on this machine kind).
