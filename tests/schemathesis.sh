@@ -20,8 +20,8 @@
 #   SCHEMATHESIS_REQUEST_TIMEOUT  seconds one request may take (default 10)
 #   SCHEMATHESIS_TIME_LIMIT       seconds the whole schemathesis run may take
 #                                 (default 900; exit status 124 past it)
-#   SCHEMATHESIS_CONFIG           a schemathesis.toml to apply (default: none;
-#                                 none is picked up from the directories around)
+#   SCHEMATHESIS_CONFIG           a schemathesis.toml to apply (default:
+#                                 tests/schemathesis.toml; `none` for none)
 #   SCHEMATHESIS_REPORT_DIR       where junit.xml, events.ndjson (every request and
 #                                 response) and server.log go (default
 #                                 target/schemathesis-report)
@@ -165,8 +165,8 @@ EOF
 fi
 
 # --- schemathesis ----------------------------------------------------------
-config=${SCHEMATHESIS_CONFIG:-}
-if [[ -z $config ]]; then
+config=${SCHEMATHESIS_CONFIG:-tests/schemathesis.toml}
+if [[ $config == none ]]; then
   # An empty configuration, so that no schemathesis.toml around is picked up.
   config=$work/schemathesis.toml
   : >"$config"

@@ -20,7 +20,7 @@ use crate::jobs::spectrum::SpectrumSpec;
 use crate::jobs::time_history::TimeHistorySpec;
 use crate::jobs::{Job, KINDS};
 use crate::service::AppState;
-use crate::store::{JobRecord, ListQuery, Status, now_rfc3339};
+use crate::store::{JobRecord, ListQuery, Status, new_job_id, now_rfc3339};
 
 /// A job spec: exactly what `topple run` accepts.
 #[derive(ToSchema)]
@@ -136,7 +136,7 @@ async fn load(state: &AppState, id: Uuid) -> Result<JobRecord, Problem> {
         .store
         .get(id)
         .await?
-        .ok_or_else(|| Problem::not_found(format!("no job {id}")))
+        .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))
 }
 
 async fn load_result(state: &AppState, id: Uuid) -> Result<std::sync::Arc<str>, Problem> {
@@ -274,7 +274,24 @@ pub async fn create_job(
         .map_err(|e| Problem::bad_request("invalid-parameter", e.body_text()).param("wait"))?;
     let body = body.map_err(|e| {
         let status = e.status();
-        Problem::new(status, "invalid-body", "Unreadable body", e.body_text())
+        if status == StatusCode::PAYLOAD_TOO_LARGE {
+            let max = state.config.max_body_bytes;
+            let mut p = Problem::new(
+                status,
+                "body-too-large",
+                "Body too large",
+                format!(
+                    "the body is larger than this service's limit of {max} bytes (max_body_bytes)"
+                ),
+            )
+            .at("")
+            .header_name("content-length");
+            p.limit = Some("max_body_bytes".into());
+            p.maximum = Some(max as f64);
+            p
+        } else {
+            Problem::new(status, "invalid-body", "Unreadable body", e.body_text()).at("")
+        }
     })?;
     let wait = match query.wait {
         None => None,
@@ -325,7 +342,7 @@ pub async fn create_job(
     let submitted = state
         .store
         .submit(
-            Uuid::now_v7(),
+            new_job_id(),
             &key,
             job.kind(),
             &spec,
@@ -510,7 +527,7 @@ pub async fn cancel_job(
         .store
         .cancel(id, &now_rfc3339())
         .await?
-        .ok_or_else(|| Problem::not_found(format!("no job {id}")))?;
+        .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))?;
     match job.status {
         Status::Canceled => {
             state.cancel_local(id);

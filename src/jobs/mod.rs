@@ -60,9 +60,7 @@ pub const KINDS: [&str; 3] = ["time_history", "spectrum", "friction_spectrum"];
 impl Job {
     /// Parses and validates a job spec from JSON text.
     pub fn parse(text: &str) -> Result<Job, SpecError> {
-        let text = spec::mark_non_finite(text);
-        let value: serde_json::Value = serde_json::from_str(&text)
-            .map_err(|e| SpecError::at("", format!("not valid JSON: {e}")))?;
+        let value = spec::parse_json(text)?;
         Job::from_value(&value)
     }
 
@@ -71,6 +69,14 @@ impl Job {
         let obj = value
             .as_object()
             .ok_or_else(|| SpecError::at("", "a job spec is a JSON object"))?;
+        // Serde would also read these from arrays, by position.
+        for field in ["block", "pulse", "solver", "outputs"] {
+            if let Some(v) = obj.get(field)
+                && !(v.is_object() || v.is_null())
+            {
+                return Err(SpecError::at(format!("/{field}"), "must be a JSON object"));
+            }
+        }
         let kind = obj
             .get("kind")
             .ok_or_else(|| {

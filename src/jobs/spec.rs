@@ -74,6 +74,55 @@ pub fn mark_non_finite(text: &str) -> std::borrow::Cow<'_, str> {
     std::borrow::Cow::Owned(out)
 }
 
+/// Parses JSON text into a value. NaN, ±Infinity and numbers beyond the range
+/// of f64 (1e400) become a marker that validation reports at the field's
+/// pointer; anything else that is not JSON is an error of the document.
+pub fn parse_json(text: &str) -> Result<serde_json::Value, SpecError> {
+    let mut text = mark_non_finite(text).into_owned();
+    // Each pass replaces one out-of-range number; a document with very many
+    // is refused as a whole.
+    for _ in 0..64 {
+        match serde_json::from_str(&text) {
+            Ok(value) => return Ok(value),
+            Err(e) if e.to_string().starts_with("number out of range") => {
+                let Some(span) = number_at(&text, e.line(), e.column()) else {
+                    return Err(SpecError::at("", format!("not valid JSON: {e}")));
+                };
+                text.replace_range(span, &format!("\"{NON_FINITE_MARK}\""));
+            }
+            Err(e) => return Err(SpecError::at("", format!("not valid JSON: {e}"))),
+        }
+    }
+    Err(SpecError::at(
+        "",
+        "not valid JSON: too many numbers out of range",
+    ))
+}
+
+/// The byte range of the number token that ends at or just before (1-based)
+/// `line`, `column`, where serde_json reports an out-of-range number.
+fn number_at(text: &str, line: usize, column: usize) -> Option<std::ops::Range<usize>> {
+    let line_start = if line <= 1 {
+        0
+    } else {
+        text.match_indices('\n').nth(line - 2)?.0 + 1
+    };
+    let bytes = text.as_bytes();
+    let is_num = |b: u8| b.is_ascii_digit() || matches!(b, b'-' | b'+' | b'.' | b'e' | b'E');
+    let mut end = (line_start + column).min(bytes.len());
+    while end > line_start && !is_num(bytes[end - 1]) {
+        end -= 1;
+    }
+    while end < bytes.len() && is_num(bytes[end]) {
+        end += 1;
+    }
+    let mut start = end;
+    while start > 0 && is_num(bytes[start - 1]) {
+        start -= 1;
+    }
+    (start < end).then_some(start..end)
+}
+
 /// Deserialises `value` into `T`, reporting the failing field as a JSON pointer
 /// below `base`.
 pub fn from_value<T: for<'de> Deserialize<'de>>(
@@ -95,7 +144,8 @@ pub fn from_value<T: for<'de> Deserialize<'de>>(
         }
         let mut message = e.into_inner().to_string();
         if message.contains(NON_FINITE_MARK) {
-            message = "must be a finite number (NaN and Infinity are not numbers)".to_string();
+            message = "must be a finite number (NaN, Infinity and numbers beyond ±1.8e308 are not accepted)"
+                .to_string();
         }
         SpecError::at(pointer, message)
     })

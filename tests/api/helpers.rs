@@ -26,6 +26,15 @@ pub fn temp_dir(name: &str) -> PathBuf {
 }
 
 pub async fn spawn_app_with(name: &str, configure: impl FnOnce(&mut ServeConfig)) -> TestApp {
+    spawn_app_with_engine(name, configure, None).await
+}
+
+/// A server computing jobs with `engine` (default: the real one).
+pub async fn spawn_app_with_engine(
+    name: &str,
+    configure: impl FnOnce(&mut ServeConfig),
+    engine: Option<topple::service::Engine>,
+) -> TestApp {
     let dir = temp_dir(name);
     let mut config = ServeConfig {
         addr: "127.0.0.1:0".into(),
@@ -34,7 +43,11 @@ pub async fn spawn_app_with(name: &str, configure: impl FnOnce(&mut ServeConfig)
         ..Default::default()
     };
     configure(&mut config);
-    let app = Application::build(config).await.expect("app builds");
+    let app = match engine {
+        Some(engine) => Application::build_with_engine(config, engine).await,
+        None => Application::build(config).await,
+    }
+    .expect("app builds");
     let base = format!("http://127.0.0.1:{}", app.port());
     let state = app.state().clone();
     let (stop, stopped) = tokio::sync::oneshot::channel::<()>();

@@ -1,6 +1,8 @@
 //! The HTTP service, end to end: a real server on 127.0.0.1:0 with a fresh
 //! SQLite database per test.
 
+mod bad_input;
+mod guard;
 mod helpers;
 
 use std::time::{Duration, Instant};
