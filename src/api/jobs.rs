@@ -154,7 +154,8 @@ async fn load_result(state: &AppState, id: Uuid) -> Result<std::sync::Arc<str>, 
 }
 
 /// A body that says it is something other than JSON is refused (415); one
-/// that says nothing is read as JSON.
+/// that says nothing is read as JSON, and so is curl's default for `-d`
+/// (`application/x-www-form-urlencoded`), which `curl -d @spec.json` sends.
 fn check_json_content_type(headers: &HeaderMap) -> Result<(), Problem> {
     let Some(value) = headers.get(header::CONTENT_TYPE) else {
         return Ok(());
@@ -168,6 +169,7 @@ fn check_json_content_type(headers: &HeaderMap) -> Result<(), Problem> {
         .trim()
         .to_ascii_lowercase();
     if essence == "application/json"
+        || essence == "application/x-www-form-urlencoded"
         || (essence.starts_with("application/") && essence.ends_with("+json"))
     {
         return Ok(());

@@ -488,6 +488,35 @@ async fn text_plain_is_415_naming_content_type() {
 }
 
 #[tokio::test]
+async fn curls_default_form_type_and_no_type_are_read_as_json() {
+    // `curl -d @spec.json` sends application/x-www-form-urlencoded.
+    let app = spawn_app("bi-form").await;
+    for ct in [Some("application/x-www-form-urlencoded"), None] {
+        let mut r = app
+            .client
+            .post(app.url("/v1/jobs"))
+            .body(time_history(4.0).to_string());
+        if let Some(ct) = ct {
+            r = r.header("content-type", ct);
+        }
+        let r = r.send().await.expect("request");
+        assert!(r.status().is_success(), "{ct:?}: {}", r.status());
+    }
+    for ct in ["multipart/form-data; boundary=x", "application/xml"] {
+        let r = app
+            .client
+            .post(app.url("/v1/jobs"))
+            .header("content-type", ct)
+            .body(time_history(4.0).to_string())
+            .send()
+            .await
+            .expect("request");
+        assert_eq!(r.status().as_u16(), 415, "{ct}");
+    }
+    app.stop().await;
+}
+
+#[tokio::test]
 async fn empty_body_is_400_naming_the_document() {
     let app = spawn_app("bi-empty").await;
     refuse_spec(&app, String::new(), 400, "", &["not valid JSON"]).await;
