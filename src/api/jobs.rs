@@ -14,6 +14,7 @@ use uuid::Uuid;
 
 use super::csv::to_csv;
 use super::problem::Problem;
+use crate::jobs::forensic::ForensicSpec;
 use crate::jobs::friction::FrictionSpec;
 use crate::jobs::key::cache_key;
 use crate::jobs::spectrum::SpectrumSpec;
@@ -33,6 +34,8 @@ pub enum JobSpec {
     Spectrum(SpectrumSpec),
     /// `"kind": "friction_spectrum"`.
     FrictionSpectrum(FrictionSpec),
+    /// `"kind": "forensic"`.
+    Forensic(ForensicSpec),
 }
 
 /// Links of a job.

@@ -97,6 +97,14 @@ impl Job {
                 grid_points: j.a_alpha_g.len(),
                 work: j.a_alpha_g.len() as f64,
             },
+            Job::Forensic(j) => {
+                let (grid, work) = j.size();
+                Size {
+                    series_points: 0,
+                    grid_points: grid.min(usize::MAX as f64) as usize,
+                    work,
+                }
+            }
         }
     }
 
@@ -117,6 +125,7 @@ impl Job {
         }
         let grid_field = match self {
             Job::FrictionSpectrum(_) => "/a_alpha_g",
+            Job::Forensic(_) => "/frequency_hz",
             _ => "/omega_ratio",
         };
         if size.grid_points > limits.grid_points {

@@ -1,6 +1,7 @@
 //! Jobs: the spec JSON users send (to `topple run` or the service), its
 //! validation into domain types, and the result documents.
 
+pub mod forensic;
 pub mod friction;
 pub mod key;
 pub mod limits;
@@ -28,6 +29,8 @@ pub enum Job {
     Spectrum(spectrum::SpectrumJob),
     /// A friction-demand spectrum.
     FrictionSpectrum(friction::FrictionJob),
+    /// The pulses consistent with blocks seen overturned or standing.
+    Forensic(forensic::ForensicJob),
 }
 
 /// Why a valid job did not produce a result.
@@ -55,7 +58,7 @@ impl From<ScanError> for JobError {
 }
 
 /// The job kinds, as named in specs.
-pub const KINDS: [&str; 3] = ["time_history", "spectrum", "friction_spectrum"];
+pub const KINDS: [&str; 4] = ["time_history", "spectrum", "friction_spectrum", "forensic"];
 
 impl Job {
     /// Parses and validates a job spec from JSON text.
@@ -100,6 +103,22 @@ impl Job {
                 let spec: friction::FrictionSpec = spec::from_value(value, "")?;
                 Ok(Job::FrictionSpectrum(spec.validate()?))
             }
+            "forensic" => {
+                if let Some(list) = obj.get("observations").and_then(|v| v.as_array()) {
+                    for (i, o) in list.iter().enumerate() {
+                        if let Some(b) = o.get("block")
+                            && !(b.is_object() || b.is_null())
+                        {
+                            return Err(SpecError::at(
+                                format!("/observations/{i}/block"),
+                                "must be a JSON object",
+                            ));
+                        }
+                    }
+                }
+                let spec: forensic::ForensicSpec = spec::from_value(value, "")?;
+                Ok(Job::Forensic(spec.validate()?))
+            }
             other => Err(SpecError::at(
                 "/kind",
                 format!(
@@ -116,6 +135,7 @@ impl Job {
             Job::TimeHistory(_) => "time_history",
             Job::Spectrum(_) => "spectrum",
             Job::FrictionSpectrum(_) => "friction_spectrum",
+            Job::Forensic(_) => "forensic",
         }
     }
 
@@ -134,6 +154,7 @@ impl Job {
             }
             Job::Spectrum(job) => serde_json::to_value(job.run(control)?),
             Job::FrictionSpectrum(job) => serde_json::to_value(job.run(control)?),
+            Job::Forensic(job) => serde_json::to_value(job.run(control)?),
         };
         Ok(value.unwrap_or(serde_json::Value::Null))
     }

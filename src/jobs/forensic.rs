@@ -1,0 +1,582 @@
+//! The `forensic` job: which pulses are consistent with what was seen.
+//!
+//! The paper closes on its warning: a block that toppled, or survived, does not
+//! give the peak ground acceleration directly — overturning sets have safe
+//! regions inside them, and the nonlinear answer differs from the linear one.
+//! Here every observation (a block that overturned or stood) is turned into
+//! its set of consistent amplitudes at each pulse frequency, from the
+//! overturning spectrum of that block (scan plus bisection of every
+//! transition, so the sets are intervals located to `tolerance_g`, not grid
+//! samples); the sets of all observations are intersected.
+
+use serde::{Deserialize, Serialize};
+
+use super::range::RangeSpec;
+use super::spec::{
+    BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
+    parse_formulation, validate_block, validate_solver,
+};
+use super::spectrum::{PulseFamily, validate_family};
+use crate::dynamics::Formulation;
+use crate::spectrum::Control;
+use crate::spectrum::overturning::{
+    FrequencyLine, SpectrumRequest, overturning_spectrum, threshold_alpha_g,
+};
+use crate::spectrum::scan::{Direction, ScanError, ScanStats};
+
+/// Most observations in one query.
+pub const MAX_OBSERVATIONS: usize = 32;
+/// Most pulse frequencies in one query.
+pub const MAX_FREQUENCIES: usize = 2_000;
+/// Default scan step, g.
+pub const DEFAULT_SCAN_STEP_G: f64 = 0.01;
+/// Default bracket width of every interval end, g.
+pub const DEFAULT_TOLERANCE_G: f64 = 1e-4;
+
+/// An object that was seen standing or overturned after the shaking.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ObservationSpec {
+    /// What it is ("locomotive").
+    pub name: Option<String>,
+    /// The block (α and p, or b and h).
+    pub block: Option<BlockSpec>,
+    /// Half-width b, m (shorthand for `block.b`).
+    pub b: Option<f64>,
+    /// Half-height h, m (shorthand for `block.h`).
+    pub h: Option<f64>,
+    /// Whether it overturned.
+    pub overturned: Option<bool>,
+}
+
+/// An amplitude range in g.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AmplitudeRange {
+    /// Lowest amplitude, g.
+    pub from: f64,
+    /// Highest amplitude, g.
+    pub to: f64,
+}
+
+/// The spec as users write it.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ForensicSpec {
+    /// "forensic".
+    #[schema(pattern = "^forensic$")]
+    pub kind: String,
+    /// The pulse family (`type`, `n`); frequency and amplitude vary.
+    pub pulse: Option<PulseSpec>,
+    /// What was seen.
+    #[schema(required = true, value_type = Vec<ObservationSpec>)]
+    pub observations: Option<Vec<ObservationSpec>>,
+    /// Pulse frequencies f_p = ω_p/2π, Hz.
+    pub frequency_hz: Option<RangeSpec>,
+    /// Amplitudes examined, g.
+    pub a_p_g: Option<AmplitudeRange>,
+    /// "linear" | "nonlinear" (default).
+    pub formulation: Option<String>,
+    /// Scan step, g (default 0.01): every interval wider than this is found.
+    pub scan_step_g: Option<f64>,
+    /// Bracket width of every interval end, g (default 1e-4).
+    pub tolerance_g: Option<f64>,
+    /// Solver.
+    pub solver: Option<SolverSpec>,
+}
+
+/// An observation, validated.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Observation {
+    /// Its name.
+    pub name: String,
+    /// Whether it overturned.
+    pub overturned: bool,
+    /// Its block.
+    pub block: BlockNorm,
+}
+
+/// A validated forensic query; serialises to the canonical spec.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ForensicJob {
+    /// "forensic".
+    pub kind: &'static str,
+    /// Pulse family.
+    pub pulse: PulseFamily,
+    /// Observations.
+    pub observations: Vec<Observation>,
+    /// Frequencies, Hz.
+    pub frequency_hz: Vec<f64>,
+    /// Amplitudes examined, g.
+    pub a_p_g: AmplitudeRange,
+    /// "linear" | "nonlinear".
+    pub formulation: &'static str,
+    /// Scan step, g.
+    pub scan_step_g: f64,
+    /// Bracket width, g.
+    pub tolerance_g: f64,
+    /// Solver.
+    pub solver: SolverNorm,
+}
+
+fn in_range(v: f64, lo: f64, hi: f64, pointer: &str, what: &str) -> Result<f64, SpecError> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(SpecError::at(
+            pointer,
+            format!("{what} must lie in [{lo:e}, {hi}] (got {v})"),
+        ))
+    }
+}
+
+impl ObservationSpec {
+    fn validate(&self, at: &str, index: usize) -> Result<Observation, SpecError> {
+        let overturned = self.overturned.ok_or_else(|| {
+            SpecError::at(
+                format!("{at}/overturned"),
+                "missing field: true if it overturned, false if it stood",
+            )
+        })?;
+        let block = match (&self.block, self.b, self.h) {
+            (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
+                return Err(SpecError::at(
+                    format!("{at}/block"),
+                    "give the block, or b and h beside it, not both",
+                ));
+            }
+            (Some(spec), None, None) => validate_block(spec, &format!("{at}/block"))?,
+            (None, b, h) if b.is_some() || h.is_some() => {
+                let spec = BlockSpec {
+                    b,
+                    h,
+                    ..BlockSpec::default()
+                };
+                validate_block(&spec, at)?
+            }
+            (None, _, _) => {
+                return Err(SpecError::at(
+                    format!("{at}/block"),
+                    "missing field: the block ({\"alpha\", \"p\"} or {\"b\", \"h\"})",
+                ));
+            }
+        };
+        Ok(Observation {
+            name: self
+                .name
+                .clone()
+                .filter(|n| !n.trim().is_empty())
+                .unwrap_or_else(|| format!("observation {}", index + 1)),
+            overturned,
+            block,
+        })
+    }
+}
+
+impl ForensicSpec {
+    /// Validates into a runnable job.
+    pub fn validate(&self) -> Result<ForensicJob, SpecError> {
+        let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
+        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let solver = validate_solver(self.solver.as_ref(), formulation, "/solver")?;
+        let specs = self.observations.as_ref().ok_or_else(|| {
+            SpecError::at(
+                "/observations",
+                "missing field: a list of {\"name\", \"block\", \"overturned\"}",
+            )
+        })?;
+        if specs.is_empty() || specs.len() > MAX_OBSERVATIONS {
+            return Err(SpecError::at(
+                "/observations",
+                format!("give between 1 and {MAX_OBSERVATIONS} observations"),
+            ));
+        }
+        let observations = specs
+            .iter()
+            .enumerate()
+            .map(|(i, o)| o.validate(&format!("/observations/{i}"), i))
+            .collect::<Result<Vec<_>, _>>()?;
+        let frequency_hz = self
+            .frequency_hz
+            .as_ref()
+            .ok_or_else(|| {
+                SpecError::at(
+                    "/frequency_hz",
+                    "missing field: {\"from\", \"to\", \"steps\"} or a list, Hz",
+                )
+            })?
+            .values("/frequency_hz", 1e-3, 1e3, MAX_FREQUENCIES)?;
+        for (i, o) in observations.iter().enumerate() {
+            for &f in &frequency_hz {
+                let ratio = 2.0 * std::f64::consts::PI * f / o.block.p;
+                if !(OMEGA_RATIO_RANGE.0..=OMEGA_RATIO_RANGE.1).contains(&ratio) {
+                    return Err(SpecError::at(
+                        "/frequency_hz",
+                        format!(
+                            "{f} Hz is ω_p/p = {ratio:.3e} for observation {i} ({}), outside [{}, {}]",
+                            o.name, OMEGA_RATIO_RANGE.0, OMEGA_RATIO_RANGE.1
+                        ),
+                    ));
+                }
+            }
+        }
+        let range = self
+            .a_p_g
+            .ok_or_else(|| SpecError::at("/a_p_g", "missing field: {\"from\", \"to\"} in g"))?;
+        let from = in_range(
+            range.from,
+            0.0,
+            100.0,
+            "/a_p_g/from",
+            "the lowest amplitude",
+        )?;
+        let to = in_range(range.to, 1e-3, 100.0, "/a_p_g/to", "the highest amplitude")?;
+        if to <= from {
+            return Err(SpecError::at("/a_p_g", "to must exceed from"));
+        }
+        let tolerance_g = in_range(
+            self.tolerance_g.unwrap_or(DEFAULT_TOLERANCE_G),
+            1e-9,
+            0.1,
+            "/tolerance_g",
+            "the tolerance (g)",
+        )?;
+        let scan_step_g = in_range(
+            self.scan_step_g.unwrap_or(DEFAULT_SCAN_STEP_G),
+            tolerance_g,
+            1.0,
+            "/scan_step_g",
+            "the scan step (g, at least the tolerance)",
+        )?;
+        for o in &observations {
+            let points = to / o.block.alpha / (scan_step_g / o.block.alpha);
+            if points > super::spectrum::MAX_SCAN_POINTS {
+                return Err(SpecError::at(
+                    "/scan_step_g",
+                    "a_p_g.to / scan_step_g must not exceed 1e6",
+                ));
+            }
+            if to / o.block.alpha > 1e4 {
+                return Err(SpecError::at(
+                    "/a_p_g/to",
+                    format!(
+                        "must not exceed 1e4 α g for {} ({} g)",
+                        o.name,
+                        1e4 * o.block.alpha
+                    ),
+                ));
+            }
+        }
+        Ok(ForensicJob {
+            kind: "forensic",
+            pulse,
+            observations,
+            frequency_hz,
+            a_p_g: AmplitudeRange { from, to },
+            formulation: formulation.name(),
+            scan_step_g,
+            tolerance_g,
+            solver,
+        })
+    }
+}
+
+/// Intervals [lo, hi] of amplitude, g, sorted and disjoint.
+pub type Intervals = Vec<[f64; 2]>;
+
+/// Where `line` (of a block of slenderness `alpha`) overturns, in g, within
+/// `[from, to]`.
+pub fn overturning_set(line: &FrequencyLine, alpha: f64, from: f64, to: f64) -> Intervals {
+    let mut out = Vec::new();
+    let mut open: Option<f64> = None;
+    for t in &line.transitions {
+        let at = t.at * alpha;
+        match t.direction {
+            Direction::Up => open = Some(at),
+            Direction::Down => {
+                if let Some(lo) = open.take() {
+                    out.push([lo, at]);
+                }
+            }
+        }
+    }
+    if let Some(lo) = open {
+        out.push([lo, to]);
+    }
+    clip(&out, from, to)
+}
+
+fn clip(set: &[[f64; 2]], from: f64, to: f64) -> Intervals {
+    set.iter()
+        .map(|&[a, b]| [a.max(from), b.min(to)])
+        .filter(|[a, b]| b > a)
+        .collect()
+}
+
+/// `[from, to]` without `set`.
+pub fn complement(set: &[[f64; 2]], from: f64, to: f64) -> Intervals {
+    let mut out = Vec::new();
+    let mut lo = from;
+    for &[a, b] in set {
+        if a > lo {
+            out.push([lo, a]);
+        }
+        lo = lo.max(b);
+    }
+    if to > lo {
+        out.push([lo, to]);
+    }
+    out
+}
+
+/// The amplitudes in both sets.
+pub fn intersect(x: &[[f64; 2]], y: &[[f64; 2]]) -> Intervals {
+    let (mut i, mut j, mut out) = (0, 0, Vec::new());
+    while i < x.len() && j < y.len() {
+        let lo = x[i][0].max(y[j][0]);
+        let hi = x[i][1].min(y[j][1]);
+        if hi > lo {
+            out.push([lo, hi]);
+        }
+        if x[i][1] < y[j][1] {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+    out
+}
+
+/// One observation's consistent amplitudes at one frequency.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ObservationSet {
+    /// The observation.
+    pub name: String,
+    /// Amplitudes consistent with it, g.
+    pub consistent_g: Intervals,
+}
+
+/// One pulse frequency of the answer.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ForensicFrequency {
+    /// f_p, Hz.
+    pub frequency_hz: f64,
+    /// ω_p, rad/s.
+    pub omega_p: f64,
+    /// Amplitudes consistent with every observation, g.
+    pub consistent_g: Intervals,
+    /// Each observation's consistent amplitudes, g.
+    pub per_observation: Vec<ObservationSet>,
+}
+
+/// The range of pulses consistent with everything seen.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Bounds {
+    /// Lowest consistent amplitude at any frequency, g.
+    pub min_g: Option<f64>,
+    /// Highest consistent amplitude at any frequency, g.
+    pub max_g: Option<f64>,
+    /// Lowest and highest frequency with a consistent amplitude, Hz.
+    pub frequency_hz: Option<[f64; 2]>,
+}
+
+/// Cost and accuracy.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ForensicNumerics {
+    /// "exact" | "dopri5" | "dop853".
+    pub method: String,
+    /// Relative tolerance.
+    pub rtol: Option<f64>,
+    /// Absolute tolerance.
+    pub atol: Option<f64>,
+    /// Simulations run.
+    pub simulations: u64,
+    /// Accepted steps.
+    pub steps_accepted: u64,
+    /// Rejected steps.
+    pub steps_rejected: u64,
+    /// Events located.
+    pub events: u64,
+    /// Largest error estimate of one simulation, rad.
+    pub error_estimate: f64,
+    /// Every interval end is bracketed within this, g.
+    pub tolerance_g: f64,
+    /// Scan step, g.
+    pub scan_step_g: f64,
+    /// Wall time, s.
+    pub wall_time_s: f64,
+}
+
+/// The result document.
+#[derive(Clone, Debug, Serialize)]
+pub struct ForensicResult {
+    /// "forensic".
+    pub kind: &'static str,
+    /// "linear" | "nonlinear".
+    pub formulation: &'static str,
+    /// Pulse family.
+    pub pulse: PulseFamily,
+    /// Amplitudes examined, g.
+    pub a_p_g: AmplitudeRange,
+    /// The observations.
+    pub observations: Vec<Observation>,
+    /// One entry per frequency.
+    pub frequencies: Vec<ForensicFrequency>,
+    /// Overall bounds.
+    pub bounds: Bounds,
+    /// Numerics.
+    pub numerics: ForensicNumerics,
+    /// The normalised spec.
+    pub spec: ForensicJob,
+}
+
+impl ForensicJob {
+    /// Runs the query: one overturning spectrum per observation (rayon inside).
+    pub fn run(&self, control: &Control) -> Result<ForensicResult, ScanError> {
+        let started = std::time::Instant::now();
+        let formulation = if self.formulation == "linear" {
+            Formulation::Linear
+        } else {
+            Formulation::Nonlinear
+        };
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let (from, to) = (self.a_p_g.from, self.a_p_g.to);
+        let mut stats = ScanStats::default();
+        let mut sets: Vec<Vec<Intervals>> = Vec::with_capacity(self.observations.len());
+        for o in &self.observations {
+            let block = o.block.block();
+            let alpha = block.slenderness;
+            let req = SpectrumRequest {
+                block,
+                shape: self.pulse.shape(),
+                formulation,
+                solver: self.solver.solver(),
+                omega_ratios: self
+                    .frequency_hz
+                    .iter()
+                    .map(|f| two_pi * f / block.frequency_parameter)
+                    .collect(),
+                a_max: to / alpha,
+                tolerance: self.tolerance_g / alpha,
+                scan_step: self.scan_step_g / alpha,
+                principal_relative_width: 0.0,
+            };
+            let spectrum = if to / alpha <= threshold_alpha_g(formulation, &block) {
+                // Never rocks in the range: nothing overturns.
+                None
+            } else {
+                Some(overturning_spectrum(&req, control)?)
+            };
+            if let Some(s) = &spectrum {
+                stats.absorb(&s.stats);
+            }
+            let per_frequency = (0..self.frequency_hz.len())
+                .map(|k| {
+                    let over = spectrum
+                        .as_ref()
+                        .map(|s| overturning_set(&s.lines[k], alpha, from, to))
+                        .unwrap_or_default();
+                    if o.overturned {
+                        over
+                    } else {
+                        complement(&over, from, to)
+                    }
+                })
+                .collect();
+            sets.push(per_frequency);
+        }
+        let frequencies: Vec<ForensicFrequency> = self
+            .frequency_hz
+            .iter()
+            .enumerate()
+            .map(|(k, &f)| {
+                let mut all: Intervals = vec![[from, to]];
+                let per_observation = self
+                    .observations
+                    .iter()
+                    .zip(&sets)
+                    .map(|(o, s)| {
+                        all = intersect(&all, &s[k]);
+                        ObservationSet {
+                            name: o.name.clone(),
+                            consistent_g: s[k].clone(),
+                        }
+                    })
+                    .collect();
+                ForensicFrequency {
+                    frequency_hz: f,
+                    omega_p: two_pi * f,
+                    consistent_g: all,
+                    per_observation,
+                }
+            })
+            .collect();
+        let mut bounds = Bounds {
+            min_g: None,
+            max_g: None,
+            frequency_hz: None,
+        };
+        for f in &frequencies {
+            if let (Some(first), Some(last)) = (f.consistent_g.first(), f.consistent_g.last()) {
+                bounds.min_g = Some(bounds.min_g.map_or(first[0], |m| m.min(first[0])));
+                bounds.max_g = Some(bounds.max_g.map_or(last[1], |m| m.max(last[1])));
+                bounds.frequency_hz = Some(match bounds.frequency_hz {
+                    None => [f.frequency_hz, f.frequency_hz],
+                    Some([lo, hi]) => [lo.min(f.frequency_hz), hi.max(f.frequency_hz)],
+                });
+            }
+        }
+        Ok(ForensicResult {
+            kind: "forensic",
+            formulation: self.formulation,
+            pulse: self.pulse,
+            a_p_g: self.a_p_g,
+            observations: self.observations.clone(),
+            frequencies,
+            bounds,
+            numerics: ForensicNumerics {
+                method: self.solver.method.to_string(),
+                rtol: self.solver.rtol,
+                atol: self.solver.atol,
+                simulations: stats.simulations,
+                steps_accepted: stats.steps,
+                steps_rejected: stats.rejected,
+                events: stats.events,
+                error_estimate: stats.max_error_estimate,
+                tolerance_g: self.tolerance_g,
+                scan_step_g: self.scan_step_g,
+                wall_time_s: started.elapsed().as_secs_f64(),
+            },
+            spec: self.clone(),
+        })
+    }
+
+    /// Scan points over all observations and frequencies, and the estimated
+    /// simulations (scan plus bisection of a few transitions per line).
+    pub fn size(&self) -> (f64, f64) {
+        let n = self.frequency_hz.len() as f64;
+        let scan = self.a_p_g.to / self.scan_step_g;
+        let bisection = (self.scan_step_g / self.tolerance_g).log2().ceil().max(1.0);
+        let lines = n * self.observations.len() as f64;
+        (lines * scan, lines * (scan + 6.0 * bisection))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interval_algebra() {
+        let a = vec![[0.0, 1.0], [2.0, 3.0]];
+        assert_eq!(
+            complement(&a, -1.0, 4.0),
+            vec![[-1.0, 0.0], [1.0, 2.0], [3.0, 4.0]]
+        );
+        assert_eq!(complement(&[], 0.0, 1.0), vec![[0.0, 1.0]]);
+        assert_eq!(complement(&[[0.0, 1.0]], 0.0, 1.0), Vec::<[f64; 2]>::new());
+        let b = vec![[0.5, 2.5]];
+        assert_eq!(intersect(&a, &b), vec![[0.5, 1.0], [2.0, 2.5]]);
+        assert_eq!(clip(&a, 0.5, 2.5), vec![[0.5, 1.0], [2.0, 2.5]]);
+    }
+}
