@@ -844,6 +844,7 @@ fn strict_result(job: &Job) -> Option<Result<String, serde_json::Error>> {
         Job::TimeHistory(j) => j.run().ok().map(|r| serde_jcs::to_string(&r)),
         Job::Spectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
         Job::FrictionSpectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
+        Job::Forensic(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
     }
 }
 
