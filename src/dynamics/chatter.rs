@@ -19,7 +19,7 @@
 
 use super::block::Block;
 use super::equations::Formulation;
-use super::excitation::Pulse;
+use super::forcing::Forcing;
 
 /// Velocity (relative to p α) below which chattering may be summed.
 pub const CHATTER_VELOCITY: f64 = 1e-4;
@@ -46,12 +46,12 @@ fn pull_back(formulation: Formulation, block: &Block, u: f64) -> (f64, f64) {
 
 /// The settling of a block that has just left θ = 0 at time `t` with velocity
 /// `v` (after the impact), if chattering can be summed there. `v_rest` is the
-/// rest threshold; `forced` whether the pulse still acts.
+/// rest threshold; `forced` whether the ground motion still acts.
 #[allow(clippy::too_many_arguments)]
-pub fn settle(
+pub fn settle<G: Forcing>(
     formulation: Formulation,
     block: &Block,
-    pulse: &Pulse,
+    pulse: &G,
     forced: bool,
     t: f64,
     v: f64,
@@ -85,12 +85,10 @@ pub fn settle(
     if forced {
         // The ground must keep pulling back until the block has settled.
         let threshold = formulation.rocking_threshold(block);
-        if let Some(ex) = pulse.next_exceedance(t, threshold)
-            && ex.start <= t + 2.0 * duration
-        {
+        if pulse.exceeds_before(t, t + 2.0 * duration, threshold) {
             return None;
         }
-        if rest_time >= pulse.duration {
+        if rest_time >= pulse.duration() {
             return None;
         }
     }
@@ -101,7 +99,7 @@ pub fn settle(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::excitation::PulseShape;
+    use crate::dynamics::excitation::{Pulse, PulseShape};
 
     #[test]
     fn free_chattering_settles_after_the_geometric_sum_of_flights() {

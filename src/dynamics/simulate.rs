@@ -10,6 +10,11 @@
 //! `REST_VELOCITY · p α`: the block is then at rest and may be lifted again.
 //! Once the pulse is over, overturning is decided exactly by
 //! [`separatrix::decide`](super::separatrix::decide).
+//!
+//! The ground motion is any [`Forcing`]: a pulse, or a sampled record whose
+//! end is the end of forcing and whose sample times (kinks of the linearly
+//! interpolated acceleration) end Runge–Kutta steps without restarting the
+//! step-size control.
 
 use std::time::Instant;
 
@@ -19,6 +24,7 @@ use super::equations::{Formulation, RockingRhs};
 use super::events::{Poly, first_nonpositive};
 use super::exact::{LinearSegment, SegmentEnd, first_event};
 use super::excitation::Pulse;
+use super::forcing::Forcing;
 use super::integrator::{MAX_DEGREE, Method, State, StepError, Stepper, StepperStats, single_step};
 use super::reactions::reactions_per_mass;
 use super::response::{FrictionDemand, Impact, Numerics, OverturnMode, Response, Warning};
@@ -38,13 +44,14 @@ pub const MAX_LISTED_IMPACTS: usize = 10_000;
 /// because chattering ends in rest).
 const MAX_FORCED_IMPACTS: u64 = 5_000_000;
 
-/// A block, a pulse and an equation of motion.
+/// A block, a ground motion (a [`Pulse`] unless said otherwise) and an
+/// equation of motion.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Problem {
+pub struct Problem<G = Pulse> {
     /// The block.
     pub block: Block,
-    /// The ground motion.
-    pub pulse: Pulse,
+    /// The ground motion: a pulse, or a sampled record.
+    pub pulse: G,
     /// The equation of motion.
     pub formulation: Formulation,
 }
@@ -140,6 +147,9 @@ pub enum SimError {
     /// The closed form exists for the linear formulation only.
     #[error("the exact solver solves the linear formulation only")]
     ExactNeedsLinear,
+    /// The closed form exists for sinusoidal pulses only.
+    #[error("the exact solver solves pulses only; use dopri5 or dop853 for a record")]
+    ExactNeedsPulse,
     /// Tolerances must be positive and finite.
     #[error("rtol and atol must be positive and finite, rtol >= 1e-14")]
     Tolerance,
@@ -152,7 +162,7 @@ pub enum SimError {
 }
 
 /// Simulates `problem` as `options` ask.
-pub fn simulate(problem: &Problem, options: &Options) -> Result<Response, SimError> {
+pub fn simulate<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<Response, SimError> {
     let started = Instant::now();
     check(problem, options)?;
     let mut response = match (&options.series_at, options.series_points) {
@@ -199,7 +209,15 @@ pub fn simulate(problem: &Problem, options: &Options) -> Result<Response, SimErr
     Ok(response)
 }
 
-fn check(problem: &Problem, options: &Options) -> Result<(), SimError> {
+fn check<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<(), SimError> {
+    if matches!(options.solver, Solver::Exact) {
+        let probe = problem
+            .pulse
+            .rhs(problem.formulation, &problem.block, 1.0, false);
+        if G::sinusoid(&probe).is_none() {
+            return Err(SimError::ExactNeedsPulse);
+        }
+    }
     match options.solver {
         Solver::Exact if problem.formulation != Formulation::Linear => {
             Err(SimError::ExactNeedsLinear)
@@ -233,26 +251,31 @@ impl Engine {
     /// Runs one leg from `(t0, y0)` until the first event or `t_stop`; the impact
     /// event is armed only after `lift_until` (lift-off from rest).
     #[allow(clippy::too_many_arguments)]
-    fn leg(
+    fn leg<G: Forcing>(
         &mut self,
-        rhs: &RockingRhs,
+        forcing: &G,
+        rhs: &G::Rhs<'_>,
+        side: f64,
         t0: f64,
         y0: State,
         t_stop: f64,
         lift_until: f64,
         forced: bool,
-        tracker: &mut Tracker,
+        tracker: &mut Tracker<G>,
     ) -> Result<LegEnd, SimError> {
         match self.solver {
-            Solver::Exact => Ok(self.leg_exact(rhs, t0, y0, t_stop, lift_until, forced, tracker)),
+            Solver::Exact => {
+                let rhs = G::sinusoid(rhs).ok_or(SimError::ExactNeedsPulse)?;
+                Ok(self.leg_exact(rhs, t0, y0, t_stop, lift_until, forced, tracker))
+            }
             Solver::RungeKutta { method, rtol, atol } => self.leg_rk(
-                rhs, method, rtol, atol, t0, y0, t_stop, lift_until, forced, tracker,
+                forcing, rhs, side, method, rtol, atol, t0, y0, t_stop, lift_until, forced, tracker,
             ),
         }
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn leg_exact(
+    fn leg_exact<G: Forcing>(
         &mut self,
         rhs: &RockingRhs,
         t0: f64,
@@ -260,7 +283,7 @@ impl Engine {
         t_stop: f64,
         lift_until: f64,
         forced: bool,
-        tracker: &mut Tracker,
+        tracker: &mut Tracker<G>,
     ) -> LegEnd {
         let mut seg = LinearSegment::new(rhs, t0, y0);
         loop {
@@ -288,9 +311,11 @@ impl Engine {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn leg_rk(
+    fn leg_rk<G: Forcing>(
         &mut self,
-        rhs: &RockingRhs,
+        forcing: &G,
+        rhs: &G::Rhs<'_>,
+        side: f64,
         method: Method,
         rtol: f64,
         atol: f64,
@@ -299,17 +324,22 @@ impl Engine {
         t_stop: f64,
         lift_until: f64,
         forced: bool,
-        tracker: &mut Tracker,
+        tracker: &mut Tracker<G>,
     ) -> Result<LegEnd, SimError> {
         let mut stepper = Stepper::new(method, rtol, atol, rhs, t0, y0, f64::INFINITY, self.h_hint);
-        let s = rhs.side;
+        let s = side;
         let result = loop {
             let armed = stepper.t >= lift_until;
-            let target = if armed {
+            let mut target = if armed {
                 t_stop
             } else {
                 lift_until.min(t_stop)
             };
+            if forced {
+                // No step crosses a kink of the forcing; the stepper (and its
+                // step size) carries on past it.
+                target = target.min(forcing.breakpoint_after(stepper.t));
+            }
             if stepper.t >= t_stop {
                 break LegEnd::Reached {
                     t: t_stop,
@@ -383,13 +413,16 @@ impl Engine {
     }
 }
 
-fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Response, SimError> {
-    let Problem {
-        block,
-        pulse,
-        formulation,
-    } = *problem;
-    let mut tracker = Tracker::new(formulation, &block, &pulse, req);
+fn run<G: Forcing>(
+    problem: &Problem<G>,
+    options: &Options,
+    req: TrackRequest,
+) -> Result<Response, SimError> {
+    let block = problem.block;
+    let formulation = problem.formulation;
+    let pulse = &problem.pulse;
+    let duration = pulse.duration();
+    let mut tracker = Tracker::new(formulation, &block, pulse, req);
     let threshold = formulation.rocking_threshold(&block);
     let v_rest = REST_VELOCITY * block.frequency_parameter * block.slenderness;
     let mut engine = Engine {
@@ -410,8 +443,8 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
         rocking_impacts: 0,
         overturn_time: None,
         rest_time: None,
-        decided_at: pulse.duration,
-        end_time: pulse.duration,
+        decided_at: duration,
+        end_time: duration,
         peak_theta_over_alpha: 0.0,
         friction: None,
         series: None,
@@ -445,15 +478,15 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
             // At rest: wait for the ground to exceed the threshold.
             match pulse.next_exceedance(t, threshold) {
                 None => {
-                    tracker.resting(t, pulse.duration.max(t));
+                    tracker.resting(t, duration.max(t));
                     if r.rocked {
                         r.rest_time = Some(t);
                     }
-                    r.decided_at = t.max(if r.rocked { t } else { pulse.duration });
+                    r.decided_at = t.max(if r.rocked { t } else { duration });
                     r.end_time = if r.rocked {
                         t.max(r.decided_at)
                     } else {
-                        pulse.duration
+                        duration
                     };
                     tracker.finish(r.end_time);
                     break;
@@ -483,12 +516,22 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
             }
         };
         let t_stop = if forced {
-            pulse.duration
+            duration
         } else {
             options.horizon.unwrap_or(f64::INFINITY).max(t)
         };
-        let rhs = RockingRhs::new(formulation, &block, &pulse, side, forced);
-        match engine.leg(&rhs, t, y, t_stop, lift_until, forced, &mut tracker)? {
+        let rhs = pulse.rhs(formulation, &block, side, forced);
+        match engine.leg(
+            pulse,
+            &rhs,
+            side,
+            t,
+            y,
+            t_stop,
+            lift_until,
+            forced,
+            &mut tracker,
+        )? {
             LegEnd::Impact { t: ti, velocity } => {
                 events += 1;
                 r.impact_count += 1;
@@ -531,8 +574,7 @@ fn run(problem: &Problem, options: &Options, req: TrackRequest) -> Result<Respon
                     }
                     continue;
                 }
-                if let Some(settled) =
-                    settle(formulation, &block, &pulse, forced, ti, after, v_rest)
+                if let Some(settled) = settle(formulation, &block, pulse, forced, ti, after, v_rest)
                 {
                     // A chattering tail, summed in closed form.
                     r.impact_count += settled.impacts;

@@ -7,7 +7,7 @@
 
 use super::block::Block;
 use super::equations::Formulation;
-use super::excitation::Pulse;
+use super::forcing::Forcing;
 use super::integrator::State;
 use super::reactions::reactions_per_mass;
 use super::response::Series;
@@ -25,10 +25,10 @@ pub struct TrackRequest {
 
 /// Accumulates the tracked quantities.
 #[derive(Debug)]
-pub struct Tracker<'a> {
+pub struct Tracker<'a, G: Forcing> {
     formulation: Formulation,
     block: &'a Block,
-    pulse: &'a Pulse,
+    pulse: &'a G,
     req: TrackRequest,
     next_sample: usize,
     /// Series collected so far.
@@ -45,12 +45,12 @@ pub struct Tracker<'a> {
     reactions_on: bool,
 }
 
-impl<'a> Tracker<'a> {
+impl<'a, G: Forcing> Tracker<'a, G> {
     /// A tracker for `req`.
     pub fn new(
         formulation: Formulation,
         block: &'a Block,
-        pulse: &'a Pulse,
+        pulse: &'a G,
         req: TrackRequest,
     ) -> Self {
         let n = req.series_times.len();
@@ -141,7 +141,7 @@ impl<'a> Tracker<'a> {
         }
         let span = tb - ta;
         let w = if forced {
-            self.pulse.circular_frequency
+            self.pulse.resolving_frequency()
         } else {
             0.0
         };
@@ -251,25 +251,9 @@ impl<'a> Tracker<'a> {
             self.next_sample += 1;
         }
         if self.req.reactions && self.reactions_on {
-            // At rest f_x = m ü_g and f_z = m g: the demand is |ü_g|/g, largest
-            // at an end of the interval or at a crest of the cosine inside it.
+            // At rest f_x = m ü_g and f_z = m g: the demand is |ü_g|/g.
             let g = self.block.gravity;
-            let mut best = (self.pulse.acceleration(ta).abs(), ta);
-            let b = (self.pulse.acceleration(tb).abs(), tb);
-            if b.0 > best.0 {
-                best = b;
-            }
-            let w = self.pulse.circular_frequency;
-            let (chi_a, chi_b) = (
-                self.pulse.phase_at(ta),
-                self.pulse.phase_at(tb.min(self.pulse.duration)),
-            );
-            let k = (chi_a / std::f64::consts::PI).ceil();
-            let chi = k * std::f64::consts::PI;
-            if chi <= chi_b {
-                let t = (chi - self.pulse.phase) / w;
-                best = (self.pulse.amplitude.abs(), t);
-            }
+            let best = self.pulse.peak_between(ta, tb);
             let d = best.0 / g;
             if d > self.peak_demand.0 {
                 self.peak_demand = (d, best.1);

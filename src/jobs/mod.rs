@@ -73,7 +73,7 @@ impl Job {
             .as_object()
             .ok_or_else(|| SpecError::at("", "a job spec is a JSON object"))?;
         // Serde would also read these from arrays, by position.
-        for field in ["block", "pulse", "solver", "outputs"] {
+        for field in ["block", "pulse", "solver", "outputs", "ground_motion"] {
             if let Some(v) = obj.get(field)
                 && !(v.is_object() || v.is_null())
             {

@@ -6,7 +6,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::dynamics::{Block, Formulation, Method, Pulse, PulseShape, Solver};
+use std::sync::Arc;
+
+use crate::dynamics::{Block, Formulation, Method, Pulse, PulseShape, Record, Solver};
 
 /// A spec that cannot be run, with the field at fault.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -546,6 +548,18 @@ pub fn validate_solver(
     formulation: Formulation,
     base: &str,
 ) -> Result<SolverNorm, SpecError> {
+    validate_solver_for(spec, formulation, true, base)
+}
+
+/// Validates the solver for a ground motion that has (`closed_form`, a pulse)
+/// or lacks (a record) the closed-form linear solution. Default: exact for
+/// the linear formulation of a pulse, dop853 otherwise.
+pub fn validate_solver_for(
+    spec: Option<&SolverSpec>,
+    formulation: Formulation,
+    closed_form: bool,
+    base: &str,
+) -> Result<SolverNorm, SpecError> {
     let default = SolverSpec::default();
     let spec = spec.unwrap_or(&default);
     let method = match spec
@@ -555,7 +569,7 @@ pub fn validate_solver(
         .as_deref()
     {
         None => {
-            if formulation == Formulation::Linear {
+            if formulation == Formulation::Linear && closed_form {
                 "exact"
             } else {
                 "dop853"
@@ -572,6 +586,12 @@ pub fn validate_solver(
         }
     };
     if method == "exact" {
+        if !closed_form {
+            return Err(SpecError::at(
+                format!("{base}/method"),
+                "the exact solver solves pulses only: use dopri5 or dop853 (the default) for a ground-motion record",
+            ));
+        }
         if formulation != Formulation::Linear {
             return Err(SpecError::at(
                 format!("{base}/method"),
@@ -610,4 +630,116 @@ pub fn validate_solver(
         rtol: Some(rtol),
         atol: Some(atol),
     })
+}
+
+/// A sampled ground-acceleration record.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GroundMotionSpec {
+    /// Sampling interval, s (1e-5 <= dt <= 1).
+    pub dt: Option<f64>,
+    /// Accelerations at t_k = k·dt, k = 0..N−1 (2 <= N <= 200000), linear in between.
+    pub acc: Option<Vec<f64>>,
+    /// Unit of `acc`: "g" | "m/s2".
+    pub unit: Option<String>,
+}
+
+/// Most samples in a record.
+pub const MAX_RECORD_SAMPLES: usize = 200_000;
+/// Range of a record's sampling interval, s.
+pub const RECORD_DT_RANGE: (f64, f64) = (1e-5, 1.0);
+
+/// A record, normalised: samples in m/s².
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct GroundMotionNorm {
+    /// Sampling interval, s.
+    pub dt: f64,
+    /// Accelerations, m/s².
+    #[serde(serialize_with = "serialize_samples")]
+    pub acc: Arc<[f64]>,
+    /// Always "m/s2".
+    pub unit: &'static str,
+}
+
+fn serialize_samples<S: serde::Serializer>(v: &Arc<[f64]>, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(v.iter())
+}
+
+impl GroundMotionNorm {
+    /// The domain record.
+    pub fn record(&self) -> Result<Record, crate::dynamics::RecordError> {
+        Record::new(self.acc.clone(), self.dt)
+    }
+}
+
+/// Validates a ground-motion record found at `base`.
+pub fn validate_ground_motion(
+    spec: &GroundMotionSpec,
+    block: &BlockNorm,
+    base: &str,
+) -> Result<(GroundMotionNorm, Record), SpecError> {
+    let dt = spec
+        .dt
+        .ok_or_else(|| SpecError::at(format!("{base}/dt"), "missing field (s)"))?;
+    if !(dt.is_finite() && (RECORD_DT_RANGE.0..=RECORD_DT_RANGE.1).contains(&dt)) {
+        return Err(SpecError::at(
+            format!("{base}/dt"),
+            format!(
+                "must satisfy {:e} <= dt <= {} (s)",
+                RECORD_DT_RANGE.0, RECORD_DT_RANGE.1
+            ),
+        ));
+    }
+    let unit = spec
+        .unit
+        .as_deref()
+        .ok_or_else(|| SpecError::at(format!("{base}/unit"), "missing field: g | m/s2"))?;
+    let scale = match unit.to_ascii_lowercase().as_str() {
+        "g" => block.g,
+        "m/s2" | "m/s^2" | "m/s²" => 1.0,
+        other => {
+            return Err(SpecError::at(
+                format!("{base}/unit"),
+                format!("unknown unit {other:?}: expected g | m/s2"),
+            ));
+        }
+    };
+    let acc = spec
+        .acc
+        .as_ref()
+        .ok_or_else(|| SpecError::at(format!("{base}/acc"), "missing field"))?;
+    if acc.len() < 2 || acc.len() > MAX_RECORD_SAMPLES {
+        return Err(SpecError::at(
+            format!("{base}/acc"),
+            format!(
+                "must hold 2 to {MAX_RECORD_SAMPLES} samples (got {})",
+                acc.len()
+            ),
+        ));
+    }
+    let bound = MAX_AMPLITUDE_ALPHA_G * block.alpha * block.g;
+    let mut samples = Vec::with_capacity(acc.len());
+    for (k, &a) in acc.iter().enumerate() {
+        let a = a * scale;
+        if !(a.is_finite() && a.abs() <= bound) {
+            return Err(SpecError::at(
+                format!("{base}/acc/{k}"),
+                format!(
+                    "must be a finite number with |acc|/(alpha g) <= {MAX_AMPLITUDE_ALPHA_G:e}"
+                ),
+            ));
+        }
+        samples.push(a);
+    }
+    let samples: Arc<[f64]> = samples.into();
+    let record =
+        Record::new(samples.clone(), dt).map_err(|e| SpecError::at(base, e.to_string()))?;
+    Ok((
+        GroundMotionNorm {
+            dt,
+            acc: samples,
+            unit: "m/s2",
+        },
+        record,
+    ))
 }

@@ -1,13 +1,15 @@
-//! The `time_history` job: one block, one pulse, one response.
+//! The `time_history` job: one block, one ground motion (a pulse or a sampled
+//! record), one response.
 
 use serde::{Deserialize, Serialize};
 
 use super::numerics::NumericsDoc;
 use super::spec::{
-    BlockNorm, BlockSpec, PulseNorm, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    parse_formulation, validate_block, validate_pulse, validate_solver,
+    BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, SolverNorm,
+    SolverSpec, SpecError, parse_formulation, validate_block, validate_ground_motion,
+    validate_pulse, validate_solver_for,
 };
-use crate::dynamics::response::Warning;
+use crate::dynamics::response::{Response, Warning};
 use crate::dynamics::{Options, Problem, SimError, simulate};
 
 /// Largest series accepted.
@@ -39,11 +41,13 @@ pub struct TimeHistorySpec {
     /// The block.
     #[schema(required = true, value_type = BlockSpec)]
     pub block: Option<BlockSpec>,
-    /// The pulse.
+    /// The pulse (give this or `ground_motion`).
     pub pulse: Option<PulseSpec>,
+    /// A sampled ground-acceleration record (give this or `pulse`).
+    pub ground_motion: Option<GroundMotionSpec>,
     /// "linear" | "nonlinear" (default).
     pub formulation: Option<String>,
-    /// Solver (default: exact for linear, dop853 otherwise).
+    /// Solver (default: exact for a pulse with the linear formulation, dop853 otherwise).
     pub solver: Option<SolverSpec>,
     /// Extra outputs.
     pub outputs: Option<OutputsSpec>,
@@ -72,8 +76,12 @@ pub struct TimeHistoryJob {
     pub kind: &'static str,
     /// Block.
     pub block: BlockNorm,
-    /// Pulse.
-    pub pulse: PulseNorm,
+    /// Pulse (when the ground motion is a pulse).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pulse: Option<PulseNorm>,
+    /// Record (when the ground motion is a record).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ground_motion: Option<GroundMotionNorm>,
     /// "linear" | "nonlinear".
     pub formulation: &'static str,
     /// Solver.
@@ -90,13 +98,32 @@ impl TimeHistorySpec {
             .as_ref()
             .ok_or_else(|| SpecError::at("/block", "missing field"))?;
         let block = validate_block(block_spec, "/block")?;
-        let pulse_spec = self
-            .pulse
-            .as_ref()
-            .ok_or_else(|| SpecError::at("/pulse", "missing field"))?;
-        let (pulse, _) = validate_pulse(pulse_spec, &block, "/pulse")?;
+        let (pulse, ground_motion) = match (&self.pulse, &self.ground_motion) {
+            (Some(p), None) => (Some(validate_pulse(p, &block, "/pulse")?.0), None),
+            (None, Some(g)) => (
+                None,
+                Some(validate_ground_motion(g, &block, "/ground_motion")?.0),
+            ),
+            (None, None) => {
+                return Err(SpecError::at(
+                    "/pulse",
+                    "missing field: give pulse or ground_motion",
+                ));
+            }
+            (Some(_), Some(_)) => {
+                return Err(SpecError::at(
+                    "/ground_motion",
+                    "give either pulse or ground_motion, not both",
+                ));
+            }
+        };
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver = validate_solver(self.solver.as_ref(), formulation, "/solver")?;
+        let solver = validate_solver_for(
+            self.solver.as_ref(),
+            formulation,
+            pulse.is_some(),
+            "/solver",
+        )?;
         let out = self.outputs.clone().unwrap_or_default();
         let series = out.series.unwrap_or(0);
         if series > MAX_SERIES_POINTS {
@@ -117,6 +144,7 @@ impl TimeHistorySpec {
             kind: "time_history",
             block,
             pulse,
+            ground_motion,
             formulation: formulation.name(),
             solver,
             outputs: OutputsNorm {
@@ -262,22 +290,10 @@ impl TimeHistoryJob {
     /// Runs the job.
     pub fn run(&self) -> Result<TimeHistoryResult, SimError> {
         let block = self.block.block();
-        let shape = match (self.pulse.kind, self.pulse.n) {
-            ("one_sine", _) => crate::dynamics::PulseShape::OneSine,
-            ("one_cosine", _) => crate::dynamics::PulseShape::OneCosine,
-            (_, n) => crate::dynamics::PulseShape::Cn(n.unwrap_or(1)),
-        };
-        let pulse = crate::dynamics::Pulse::new(shape, self.pulse.a_p, self.pulse.omega_p)
-            .map_err(|_| SimError::Tolerance)?;
         let formulation = if self.formulation == "linear" {
             crate::dynamics::Formulation::Linear
         } else {
             crate::dynamics::Formulation::Nonlinear
-        };
-        let problem = Problem {
-            block,
-            pulse,
-            formulation,
         };
         let options = Options {
             solver: self.solver.solver(),
@@ -291,8 +307,39 @@ impl TimeHistoryJob {
             horizon: self.outputs.duration,
             initial_state: None,
         };
-        let r = simulate(&problem, &options)?;
-        Ok(TimeHistoryResult {
+        let r = match (&self.pulse, &self.ground_motion) {
+            (Some(p), _) => {
+                let shape = match (p.kind, p.n) {
+                    ("one_sine", _) => crate::dynamics::PulseShape::OneSine,
+                    ("one_cosine", _) => crate::dynamics::PulseShape::OneCosine,
+                    (_, n) => crate::dynamics::PulseShape::Cn(n.unwrap_or(1)),
+                };
+                let pulse = crate::dynamics::Pulse::new(shape, p.a_p, p.omega_p)
+                    .map_err(|_| SimError::Tolerance)?;
+                let problem = Problem {
+                    block,
+                    pulse,
+                    formulation,
+                };
+                simulate(&problem, &options)?
+            }
+            (None, Some(g)) => {
+                let record = g.record().map_err(|_| SimError::Tolerance)?;
+                let problem = Problem {
+                    block,
+                    pulse: record,
+                    formulation,
+                };
+                simulate(&problem, &options)?
+            }
+            (None, None) => return Err(SimError::Tolerance),
+        };
+        Ok(self.document(r))
+    }
+
+    /// The result document of response `r`.
+    fn document(&self, r: Response) -> TimeHistoryResult {
+        TimeHistoryResult {
             kind: "time_history",
             rocked: r.rocked,
             rocking_start: r.rocking_start,
@@ -329,6 +376,6 @@ impl TimeHistoryJob {
             }),
             numerics: NumericsDoc::from(&r.numerics),
             spec: self.clone(),
-        })
+        }
     }
 }

@@ -1,0 +1,466 @@
+//! The ground motion that forces the block: a cycloidal pulse (paper eqs. 22
+//! and 53) or a sampled acceleration record.
+//!
+//! The driver ([`simulate`](super::simulate::simulate)) is generic over
+//! [`Forcing`], so that each kind of ground motion gets its own monomorphised
+//! right-hand side: the pulse keeps its closed-form cosine, the record
+//! interpolates linearly between samples.
+//!
+//! A record `ü_g(t_k) = a_k`, `t_k = k·dt` (k = 0..N−1), is linear on every
+//! `[t_k, t_{k+1}]` and zero outside `[0, (N−1)·dt]`. Its derivative jumps at the
+//! sample times, so the Runge–Kutta steps stop there ([`Forcing::breakpoint_after`]),
+//! and the threshold crossings |ü_g| = g tan α (or g α) are solved on each
+//! linear piece in closed form.
+
+use std::sync::Arc;
+
+use super::block::Block;
+use super::equations::{Formulation, RockingRhs};
+use super::excitation::{Exceedance, Pulse};
+use super::integrator::{Rhs, State};
+
+/// A ground motion acting on `0 ≤ t ≤ duration()`.
+pub trait Forcing: Clone + std::fmt::Debug {
+    /// The right-hand side of eq. 49 / 50 under this ground motion.
+    type Rhs<'a>: Rhs
+    where
+        Self: 'a;
+
+    /// Right-hand side on `side`, forced by this motion when `forced`.
+    fn rhs<'a>(
+        &'a self,
+        formulation: Formulation,
+        block: &Block,
+        side: f64,
+        forced: bool,
+    ) -> Self::Rhs<'a>;
+
+    /// The sinusoidal right-hand side, when the closed-form linear solution
+    /// (eqs. 23–33) applies to it.
+    fn sinusoid<'r>(rhs: &'r Self::Rhs<'_>) -> Option<&'r RockingRhs>;
+
+    /// Ground acceleration ü_g(t), m/s² (zero outside the motion).
+    fn acceleration(&self, t: f64) -> f64;
+
+    /// End of the forcing, s.
+    fn duration(&self) -> f64;
+
+    /// The first stretch at or after `from` where |ü_g| > `threshold`.
+    fn next_exceedance(&self, from: f64, threshold: f64) -> Option<Exceedance>;
+
+    /// Whether |ü_g| exceeds `threshold` somewhere in `[from, until]`.
+    fn exceeds_before(&self, from: f64, until: f64, threshold: f64) -> bool {
+        self.next_exceedance(from, threshold)
+            .is_some_and(|e| e.start <= until)
+    }
+
+    /// The first time after `t` at which ü_g is not smooth (∞ if none): the
+    /// Runge–Kutta steps end there.
+    #[inline]
+    fn breakpoint_after(&self, _t: f64) -> f64 {
+        f64::INFINITY
+    }
+
+    /// A circular frequency resolving the forcing's variation, rad/s (used to
+    /// sample tracked quantities densely enough).
+    fn resolving_frequency(&self) -> f64;
+
+    /// max |ü_g| over `[ta, tb]` and where it is reached.
+    fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64);
+}
+
+impl Forcing for Pulse {
+    type Rhs<'a> = RockingRhs;
+
+    #[inline]
+    fn rhs(&self, formulation: Formulation, block: &Block, side: f64, forced: bool) -> RockingRhs {
+        RockingRhs::new(formulation, block, self, side, forced)
+    }
+
+    #[inline]
+    fn sinusoid(rhs: &RockingRhs) -> Option<&RockingRhs> {
+        Some(rhs)
+    }
+
+    #[inline]
+    fn acceleration(&self, t: f64) -> f64 {
+        Pulse::acceleration(self, t)
+    }
+
+    #[inline]
+    fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    #[inline]
+    fn next_exceedance(&self, from: f64, threshold: f64) -> Option<Exceedance> {
+        Pulse::next_exceedance(self, from, threshold)
+    }
+
+    #[inline]
+    fn resolving_frequency(&self) -> f64 {
+        self.circular_frequency
+    }
+
+    fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64) {
+        // The largest of the ends and the first crest of the cosine inside.
+        let mut best = (Pulse::acceleration(self, ta).abs(), ta);
+        let b = (Pulse::acceleration(self, tb).abs(), tb);
+        if b.0 > best.0 {
+            best = b;
+        }
+        let (chi_a, chi_b) = (self.phase_at(ta), self.phase_at(tb.min(self.duration)));
+        let k = (chi_a / std::f64::consts::PI).ceil();
+        let chi = k * std::f64::consts::PI;
+        if chi <= chi_b {
+            let t = (chi - self.phase) / self.circular_frequency;
+            best = (self.amplitude.abs(), t);
+        }
+        best
+    }
+}
+
+/// Why a record cannot be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RecordError {
+    /// At least two samples are needed.
+    #[error("a record needs at least 2 samples (got {0})")]
+    TooShort(usize),
+    /// The sampling interval must be positive and finite.
+    #[error("the sampling interval must be positive and finite (got {0})")]
+    Interval(f64),
+    /// Every sample must be finite.
+    #[error("sample {0} is not finite")]
+    Sample(usize),
+}
+
+/// A sampled ground-acceleration record, linear between samples.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    /// Samples a_k = ü_g(k·dt), m/s².
+    samples: Arc<[f64]>,
+    /// Sampling interval, s.
+    dt: f64,
+    /// (N − 1)·dt, s.
+    end: f64,
+}
+
+impl Record {
+    /// A record of `samples` (m/s²) taken every `dt` seconds.
+    pub fn new(samples: Arc<[f64]>, dt: f64) -> Result<Self, RecordError> {
+        if samples.len() < 2 {
+            return Err(RecordError::TooShort(samples.len()));
+        }
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(RecordError::Interval(dt));
+        }
+        if let Some(k) = samples.iter().position(|a| !a.is_finite()) {
+            return Err(RecordError::Sample(k));
+        }
+        let end = (samples.len() - 1) as f64 * dt;
+        Ok(Record { samples, dt, end })
+    }
+
+    /// The samples, m/s².
+    pub fn samples(&self) -> &[f64] {
+        &self.samples
+    }
+
+    /// The sampling interval, s.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// Time of sample k.
+    #[inline]
+    fn time(&self, k: usize) -> f64 {
+        k as f64 * self.dt
+    }
+
+    /// The piece `[t_k, t_{k+1}]` holding t (clamped to the record).
+    #[inline]
+    fn piece(&self, t: f64) -> usize {
+        let k = (t / self.dt).floor();
+        if k <= 0.0 {
+            0
+        } else {
+            (k as usize).min(self.samples.len() - 2)
+        }
+    }
+
+    /// ü_g(t) on `[0, end]` by linear interpolation (t is clamped there).
+    #[inline]
+    fn interpolate(&self, t: f64) -> f64 {
+        interpolate(&self.samples, self.dt, self.end, t)
+    }
+
+    /// The time in piece k where the line through (t_k, a_k), (t_{k+1}, a_{k+1})
+    /// takes the value `level`.
+    #[inline]
+    fn crossing(&self, k: usize, level: f64) -> f64 {
+        let (a0, a1) = (self.samples[k], self.samples[k + 1]);
+        let s = ((level - a0) / (a1 - a0)).clamp(0.0, 1.0);
+        self.time(k) + s * self.dt
+    }
+
+    /// The first time at or after `from` (and not after `until`) where
+    /// |ü_g| > `threshold`, with the sign of ü_g there and the piece holding it.
+    fn first_start(&self, from: f64, until: f64, threshold: f64) -> Option<(f64, f64, usize)> {
+        let k0 = self.piece(from);
+        let a_from = self.interpolate(from);
+        if a_from.abs() > threshold {
+            return Some((from, a_from.signum(), k0));
+        }
+        // On each piece the line leaves [−c, c] at most once, towards its end value.
+        for k in k0..self.samples.len() - 1 {
+            if self.time(k) > until {
+                return None;
+            }
+            let a1 = self.samples[k + 1];
+            if a1.abs() > threshold {
+                let sign = a1.signum();
+                let start = self.crossing(k, sign * threshold).max(from);
+                return (start <= until).then_some((start, sign, k));
+            }
+        }
+        None
+    }
+}
+
+/// Linear interpolation of `samples` taken every `dt`, on `[0, end]`.
+#[inline]
+fn interpolate(samples: &[f64], dt: f64, end: f64, t: f64) -> f64 {
+    let t = t.clamp(0.0, end);
+    let x = t / dt;
+    let k = (x.floor() as usize).min(samples.len() - 2);
+    let s = x - k as f64;
+    let a0 = samples[k];
+    a0 + (samples[k + 1] - a0) * s
+}
+
+/// The right-hand side of eq. 49 / 50 under a record.
+#[derive(Clone, Copy, Debug)]
+pub struct RecordRhs<'a> {
+    formulation: Formulation,
+    p2: f64,
+    alpha: f64,
+    side: f64,
+    /// 1/g when forced, zero for free vibration.
+    inv_g: f64,
+    samples: &'a [f64],
+    dt: f64,
+    end: f64,
+}
+
+impl RecordRhs<'_> {
+    /// ü_g/g at time t.
+    #[inline]
+    pub fn ground(&self, t: f64) -> f64 {
+        if self.inv_g == 0.0 {
+            0.0
+        } else {
+            self.inv_g * interpolate(self.samples, self.dt, self.end, t)
+        }
+    }
+}
+
+impl Rhs for RecordRhs<'_> {
+    #[inline]
+    fn eval(&self, t: f64, y: State) -> State {
+        [
+            y[1],
+            self.formulation.angular_acceleration(
+                self.p2,
+                self.alpha,
+                self.side,
+                y[0],
+                self.ground(t),
+            ),
+        ]
+    }
+}
+
+impl Forcing for Record {
+    type Rhs<'a> = RecordRhs<'a>;
+
+    fn rhs<'a>(
+        &'a self,
+        formulation: Formulation,
+        block: &Block,
+        side: f64,
+        forced: bool,
+    ) -> RecordRhs<'a> {
+        RecordRhs {
+            formulation,
+            p2: block.frequency_parameter.powi(2),
+            alpha: block.slenderness,
+            side,
+            inv_g: if forced { 1.0 / block.gravity } else { 0.0 },
+            samples: &self.samples,
+            dt: self.dt,
+            end: self.end,
+        }
+    }
+
+    fn sinusoid<'r>(_rhs: &'r RecordRhs<'_>) -> Option<&'r RockingRhs> {
+        None
+    }
+
+    #[inline]
+    fn acceleration(&self, t: f64) -> f64 {
+        if (0.0..=self.end).contains(&t) {
+            self.interpolate(t)
+        } else {
+            0.0
+        }
+    }
+
+    fn duration(&self) -> f64 {
+        self.end
+    }
+
+    fn next_exceedance(&self, from: f64, threshold: f64) -> Option<Exceedance> {
+        if threshold.is_nan() || threshold < 0.0 {
+            return None;
+        }
+        let mut from = from.max(0.0);
+        loop {
+            if from >= self.end {
+                return None;
+            }
+            let (start, sign, k0) = self.first_start(from, self.end, threshold)?;
+            if start >= self.end {
+                return None;
+            }
+            // The window closes on the first piece whose end is back within
+            // the threshold (the line is monotone on each piece).
+            let level = sign * threshold;
+            let mut end = self.end;
+            let mut last = self.samples.len() - 2;
+            for k in k0..self.samples.len() - 1 {
+                if sign * self.samples[k + 1] <= threshold {
+                    end = self.crossing(k, level);
+                    last = k;
+                    break;
+                }
+            }
+            if end > start {
+                return Some(Exceedance {
+                    start,
+                    end,
+                    side: -sign,
+                });
+            }
+            // A window narrower than the time resolution: look past it.
+            from = self.time(last + 1);
+        }
+    }
+
+    fn exceeds_before(&self, from: f64, until: f64, threshold: f64) -> bool {
+        from < self.end && self.first_start(from.max(0.0), until, threshold).is_some()
+    }
+
+    #[inline]
+    fn breakpoint_after(&self, t: f64) -> f64 {
+        let k = (t / self.dt).floor() + 1.0;
+        let mut b = k * self.dt;
+        if b <= t + 1e-9 * self.dt {
+            b = (k + 1.0) * self.dt;
+        }
+        b
+    }
+
+    fn resolving_frequency(&self) -> f64 {
+        std::f64::consts::PI / self.dt
+    }
+
+    fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64) {
+        let mut best = (self.acceleration(ta).abs(), ta);
+        let b = (self.acceleration(tb).abs(), tb);
+        if b.0 > best.0 {
+            best = b;
+        }
+        let (lo, hi) = (ta.max(0.0), tb.min(self.end));
+        if lo < hi {
+            let first = (lo / self.dt).ceil() as usize;
+            let last = ((hi / self.dt).floor() as usize).min(self.samples.len() - 1);
+            for k in first..=last {
+                let a = self.samples[k].abs();
+                if a > best.0 {
+                    best = (a, self.time(k));
+                }
+            }
+        }
+        best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(samples: &[f64], dt: f64) -> Record {
+        Record::new(samples.into(), dt).expect("valid")
+    }
+
+    #[test]
+    fn interpolates_linearly_and_vanishes_outside() {
+        let r = record(&[0.0, 2.0, -2.0], 0.5);
+        assert_eq!(r.duration(), 1.0);
+        assert!((r.acceleration(0.25) - 1.0).abs() < 1e-15);
+        assert!((r.acceleration(0.75) - 0.0).abs() < 1e-15);
+        assert_eq!(r.acceleration(1.0), -2.0);
+        assert_eq!(r.acceleration(1.0 + 1e-9), 0.0);
+        assert_eq!(r.acceleration(-1e-9), 0.0);
+    }
+
+    #[test]
+    fn exceedance_is_solved_on_the_linear_piece() {
+        let r = record(&[0.0, 2.0, 2.0, -3.0, 0.0], 0.1);
+        let e = r.next_exceedance(0.0, 1.0).expect("exceeds");
+        assert!((e.start - 0.05).abs() < 1e-15, "{e:?}");
+        // 2 → −3 on [0.2, 0.3] falls to 1 at 0.2 + 0.1/5.
+        assert!((e.end - 0.22).abs() < 1e-15, "{e:?}");
+        assert_eq!(e.side, -1.0);
+        let e2 = r.next_exceedance(e.end, 1.0).expect("second window");
+        // 2 → −3 on [0.2, 0.3] reaches −1 at 0.2 + 0.1·3/5.
+        assert!((e2.start - 0.26).abs() < 1e-15, "{e2:?}");
+        assert_eq!(e2.side, 1.0);
+        // −3 → 0 on [0.3, 0.4] rises to −1 at 0.3 + 0.1·2/3.
+        assert!((e2.end - (0.3 + 0.2 / 3.0)).abs() < 1e-15, "{e2:?}");
+        assert!(r.next_exceedance(e2.end, 1.0).is_none());
+        assert!(r.next_exceedance(0.0, 3.0).is_none());
+        assert!(r.exceeds_before(0.0, 0.06, 1.0));
+        assert!(!r.exceeds_before(0.0, 0.04, 1.0));
+    }
+
+    #[test]
+    fn breakpoints_are_the_next_sample_times() {
+        let r = record(&[0.0; 11], 0.1);
+        assert_eq!(r.breakpoint_after(0.0), 0.1);
+        assert_eq!(r.breakpoint_after(0.05), 0.1);
+        let b = r.breakpoint_after(0.1);
+        assert!((b - 0.2).abs() < 1e-15);
+        assert!(r.breakpoint_after(3.0 * 0.1) > 0.3 + 1e-12);
+    }
+
+    #[test]
+    fn peak_between_sees_the_samples_inside() {
+        let r = record(&[0.0, 1.0, -4.0, 1.0], 1.0);
+        assert_eq!(r.peak_between(0.5, 2.5), (4.0, 2.0));
+        assert_eq!(r.peak_between(0.0, 0.5), (0.5, 0.5));
+    }
+
+    #[test]
+    fn bad_records_are_refused() {
+        assert_eq!(
+            Record::new(vec![1.0].into(), 0.1),
+            Err(RecordError::TooShort(1))
+        );
+        assert_eq!(
+            Record::new(vec![1.0, f64::NAN].into(), 0.1),
+            Err(RecordError::Sample(1))
+        );
+        assert!(Record::new(vec![1.0, 2.0].into(), 0.0).is_err());
+    }
+}

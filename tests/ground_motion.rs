@@ -1,0 +1,491 @@
+//! Sampled ground-motion records: a one-sine pulse given as samples reproduces
+//! the analytic pulse (differences shrink as dt²), rocking starts between
+//! samples where the linear interpolant crosses the threshold, specs with a
+//! `ground_motion` are validated field by field, and a short near-fault-like
+//! record runs to a finite answer.
+
+use std::sync::Arc;
+
+use serde_json::json;
+use topple::dynamics::{
+    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Record, Response, Solver,
+    simulate,
+};
+use topple::jobs::Job;
+use topple::jobs::key::{cache_key, canonical_spec};
+
+const G: f64 = 9.81;
+
+fn block() -> Block {
+    Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid block")
+}
+
+fn solver() -> Solver {
+    Solver::RungeKutta {
+        method: Method::Dop853,
+        rtol: 1e-12,
+        atol: 1e-14,
+    }
+}
+
+/// The one-sine pulse a_p sin(ω_p t) sampled at t_k = k T/n, k = 0..n.
+fn sampled(pulse: &Pulse, n: usize) -> Record {
+    let dt = pulse.duration / n as f64;
+    let acc: Vec<f64> = (0..=n)
+        .map(|k| pulse.amplitude * (pulse.circular_frequency * k as f64 * dt).sin())
+        .collect();
+    Record::new(acc.into(), dt).expect("valid record")
+}
+
+fn options(series_at: Vec<f64>) -> Options {
+    let mut o = Options::history(solver());
+    o.max_free_impacts = 10;
+    o.series_at = Some(series_at);
+    o
+}
+
+/// Largest difference between two histories: rocking start, impact times,
+/// overturning time (s) and θ/α at the common series times.
+fn difference(a: &Response, b: &Response) -> f64 {
+    assert_eq!(a.overturned, b.overturned);
+    assert_eq!(a.mode, b.mode);
+    assert_eq!(a.impact_count, b.impact_count);
+    assert_eq!(a.impacts.len(), b.impacts.len());
+    let mut d = (a.rocking_start.expect("rocks") - b.rocking_start.expect("rocks")).abs();
+    for (x, y) in a.impacts.iter().zip(&b.impacts) {
+        d = d.max((x.time - y.time).abs());
+    }
+    if let (Some(x), Some(y)) = (a.overturn_time, b.overturn_time) {
+        d = d.max((x - y).abs());
+    }
+    let (sa, sb) = (
+        a.series.as_ref().expect("series"),
+        b.series.as_ref().expect("series"),
+    );
+    assert_eq!(sa.t.len(), sb.t.len());
+    let alpha = block().slenderness;
+    for (x, y) in sa.theta.iter().zip(&sb.theta) {
+        d = d.max((x - y).abs() / alpha);
+    }
+    d
+}
+
+/// The differences between the analytic pulse and its samples at dt = T/n for
+/// each n.
+fn convergence(formulation: Formulation, ratio: f64, level: f64, ns: &[usize]) -> Vec<f64> {
+    let b = block();
+    let pulse = Pulse::new(
+        PulseShape::OneSine,
+        level * b.slenderness * G,
+        ratio * b.frequency_parameter,
+    )
+    .expect("valid pulse");
+    let analytic = Problem {
+        block: b,
+        pulse,
+        formulation,
+    };
+    let first = simulate(&analytic, &options(Vec::new())).expect("simulates");
+    let end = 0.95 * first.overturn_time.unwrap_or(first.end_time);
+    let times: Vec<f64> = (0..400).map(|k| end * k as f64 / 399.0).collect();
+    let reference = simulate(&analytic, &options(times.clone())).expect("simulates");
+    assert!(reference.impact_count > 0, "the case has impacts");
+    ns.iter()
+        .map(|&n| {
+            let record = Problem {
+                block: b,
+                pulse: sampled(&pulse, n),
+                formulation,
+            };
+            let r = simulate(&record, &options(times.clone())).expect("simulates");
+            assert!(r.numerics.error_estimate.is_finite());
+            assert!(
+                r.numerics.steps_accepted >= n as u64 / 2,
+                "steps stop at samples"
+            );
+            difference(&reference, &r)
+        })
+        .collect()
+}
+
+fn assert_second_order(label: &str, d: &[f64]) {
+    let shown: Vec<String> = d.iter().map(|x| format!("{x:.3e}")).collect();
+    eprintln!(
+        "{label}: differences at dt = T/1000, T/2000, T/4000: {}",
+        shown.join(", ")
+    );
+    for w in d.windows(2) {
+        let ratio = w[0] / w[1];
+        assert!(
+            (3.0..=5.5).contains(&ratio),
+            "{label}: halving dt divides the difference by {ratio} (expected ~4): {d:?}"
+        );
+    }
+    assert!(d[d.len() - 1] < 1e-5, "{label}: {d:?}");
+}
+
+const NS: [usize; 3] = [1000, 2000, 4000];
+
+#[test]
+fn a_sampled_one_sine_rocks_like_the_pulse_nonlinear() {
+    // ω_p/p = 5, a_p = 2 αg: rocks, one impact during the pulse, stays up.
+    assert_second_order(
+        "nonlinear, standing",
+        &convergence(Formulation::Nonlinear, 5.0, 2.0, &NS),
+    );
+}
+
+#[test]
+fn a_sampled_one_sine_overturns_like_the_pulse_nonlinear() {
+    // ω_p/p = 3, a_p = 2 αg: one impact during the pulse, then overturns.
+    assert_second_order(
+        "nonlinear, overturning",
+        &convergence(Formulation::Nonlinear, 3.0, 2.0, &NS),
+    );
+}
+
+#[test]
+fn a_sampled_one_sine_rocks_like_the_pulse_linear() {
+    assert_second_order(
+        "linear, standing",
+        &convergence(Formulation::Linear, 5.0, 2.0, &NS),
+    );
+}
+
+#[test]
+fn a_sampled_one_sine_overturns_like_the_pulse_linear() {
+    assert_second_order(
+        "linear, overturning",
+        &convergence(Formulation::Linear, 3.0, 2.0, &NS),
+    );
+}
+
+#[test]
+fn rocking_starts_where_the_interpolant_crosses_the_threshold() {
+    let b = block();
+    for formulation in [Formulation::Nonlinear, Formulation::Linear] {
+        let c = formulation.rocking_threshold(&b);
+        let dt = 0.01;
+        // Crosses −c on [0.02, 0.03] at 0.02 + dt·0.8/1.5 (ü_g < 0: θ > 0).
+        let acc = vec![
+            0.0,
+            -0.1 * c,
+            -0.2 * c,
+            -1.7 * c,
+            -1.7 * c,
+            -0.5 * c,
+            0.0,
+            0.0,
+        ];
+        let record = Record::new(acc.into(), dt).expect("valid");
+        let r = simulate(
+            &Problem {
+                block: b,
+                pulse: record,
+                formulation,
+            },
+            &Options::history(solver()),
+        )
+        .expect("simulates");
+        let expected = 0.02 + dt * 0.8 / 1.5;
+        let start = r.rocking_start.expect("rocks");
+        assert!(
+            (start - expected).abs() < 1e-15,
+            "{formulation:?}: {start} vs {expected}"
+        );
+        assert!(!r.overturned);
+        assert!(r.peak_theta_over_alpha > 0.0);
+    }
+}
+
+#[test]
+fn below_the_threshold_a_record_leaves_the_block_at_rest() {
+    let b = block();
+    let c = Formulation::Nonlinear.rocking_threshold(&b);
+    let record = Record::new(vec![0.0, c, -c, 0.5 * c].into(), 0.02).expect("valid");
+    let r = simulate(
+        &Problem {
+            block: b,
+            pulse: record,
+            formulation: Formulation::Nonlinear,
+        },
+        &Options::history(solver()),
+    )
+    .expect("simulates");
+    assert!(!r.rocked);
+    assert!((r.end_time - 0.06).abs() < 1e-15);
+    // At rest the demand is |ü_g|/g, largest at a sample.
+    let f = r.friction.expect("reactions");
+    assert!((f.peak - c / G).abs() < 1e-15);
+}
+
+#[test]
+fn the_exact_solver_refuses_a_record() {
+    let record = Record::new(vec![0.0, 1.0, 0.0].into(), 0.1).expect("valid");
+    let e = simulate(
+        &Problem {
+            block: block(),
+            pulse: record,
+            formulation: Formulation::Linear,
+        },
+        &Options::history(Solver::Exact),
+    );
+    assert_eq!(e.err(), Some(topple::dynamics::SimError::ExactNeedsPulse));
+}
+
+/// Two pulses, the second longer and reversed, overlapping: a near-fault-like
+/// record, in g.
+fn near_fault(dt: f64) -> Vec<f64> {
+    let n = (2.5 / dt).round() as usize;
+    (0..=n)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let one = |t0: f64, tp: f64, a: f64| {
+                let s = t - t0;
+                if (0.0..=tp).contains(&s) {
+                    a * (2.0 * std::f64::consts::PI * s / tp).sin()
+                } else {
+                    0.0
+                }
+            };
+            one(0.1, 0.6, 0.45) + one(0.5, 1.4, -0.3)
+        })
+        .collect()
+}
+
+fn history(ground_motion: serde_json::Value, extra: serde_json::Value) -> serde_json::Value {
+    let mut spec = json!({
+        "kind": "time_history",
+        "block": {"alpha": 0.25, "p": 2.14},
+        "ground_motion": ground_motion,
+    });
+    if let (Some(o), Some(e)) = (spec.as_object_mut(), extra.as_object()) {
+        for (k, v) in e {
+            o.insert(k.clone(), v.clone());
+        }
+    }
+    spec
+}
+
+fn run(spec: &serde_json::Value) -> serde_json::Value {
+    let job = Job::from_value(spec).expect("valid spec");
+    let Job::TimeHistory(h) = job else {
+        panic!("a time history")
+    };
+    serde_json::to_value(h.run().expect("runs")).expect("serialises")
+}
+
+#[test]
+fn a_near_fault_like_record_ends_in_a_finite_answer() {
+    for formulation in ["nonlinear", "linear"] {
+        let spec = history(
+            json!({"dt": 0.005, "acc": near_fault(0.005), "unit": "g"}),
+            json!({"formulation": formulation, "outputs": {"series": 200}}),
+        );
+        let r = run(&spec);
+        assert_eq!(r["kind"], "time_history");
+        assert_eq!(r["rocked"], true, "{formulation}");
+        assert!(r["overturned"].is_boolean());
+        assert!(r["impact_count"].as_u64().is_some());
+        for key in ["end_time", "decided_at", "peak_theta_over_alpha"] {
+            assert!(r[key].as_f64().is_some_and(f64::is_finite), "{key}: {r}");
+        }
+        assert_eq!(r["numerics"]["method"], "dop853", "{formulation}");
+        assert!(
+            r["numerics"]["error_estimate"]
+                .as_f64()
+                .is_some_and(f64::is_finite)
+        );
+        assert!(r["numerics"]["wall_time_s"].as_f64().is_some());
+        let series = &r["series"];
+        assert_eq!(series["t"].as_array().map(Vec::len), Some(200));
+        // The series' ground acceleration is the record's, in m/s².
+        let t5 = series["t"][5].as_f64().expect("t");
+        let a5 = series["ground_acceleration"][5].as_f64().expect("a");
+        let record = Record::new(
+            near_fault(0.005)
+                .iter()
+                .map(|a| a * G)
+                .collect::<Vec<_>>()
+                .into(),
+            0.005,
+        )
+        .expect("valid");
+        use topple::dynamics::Forcing;
+        assert!((a5 - record.acceleration(t5)).abs() < 1e-12);
+        // The spec echoed is the normalised one: samples in m/s², no pulse.
+        assert_eq!(r["spec"]["ground_motion"]["unit"], "m/s2");
+        assert!(r["spec"].get("pulse").is_none());
+        assert!(
+            (r["spec"]["ground_motion"]["acc"][40].as_f64().expect("a")
+                - near_fault(0.005)[40] * G)
+                .abs()
+                < 1e-12
+        );
+    }
+}
+
+#[test]
+fn a_record_job_reproduces_the_pulse_job() {
+    let (alpha, p, ratio, level) = (0.25, 2.14, 3.0, 2.0);
+    let (w, a) = (ratio * p, level * alpha * G);
+    let t = 2.0 * std::f64::consts::PI / w;
+    let n = 2000;
+    let dt = t / n as f64;
+    let acc: Vec<f64> = (0..=n).map(|k| a * (w * k as f64 * dt).sin()).collect();
+    let record = run(&history(
+        json!({"dt": dt, "acc": acc, "unit": "m/s2"}),
+        json!({}),
+    ));
+    let pulse = run(&json!({
+        "kind": "time_history",
+        "block": {"alpha": alpha, "p": p},
+        "pulse": {"type": "one_sine", "omega_p": w, "a_p": a},
+    }));
+    for key in ["overturned", "mode", "impact_count", "rocking_starts"] {
+        assert_eq!(record[key], pulse[key], "{key}");
+    }
+    for key in ["rocking_start", "overturn_time"] {
+        let (x, y) = (
+            record[key].as_f64().expect("number"),
+            pulse[key].as_f64().expect("number"),
+        );
+        assert!((x - y).abs() < 1e-5, "{key}: {x} vs {y}");
+    }
+}
+
+fn pointer_of(spec: &serde_json::Value) -> String {
+    match Job::from_value(spec) {
+        Ok(_) => panic!("accepted: {spec}"),
+        Err(e) => e.pointer,
+    }
+}
+
+#[test]
+fn invalid_records_are_refused_at_the_field() {
+    let ok = || json!({"dt": 0.01, "acc": vec![0.1; 40], "unit": "g"});
+    let with = |field: &str, v: serde_json::Value| {
+        let mut g = ok();
+        g[field] = v;
+        history(g, json!({}))
+    };
+    let mut acc = vec![0.1; 40];
+    acc[17] = 1e12;
+    assert_eq!(
+        pointer_of(&with("acc", json!(acc))),
+        "/ground_motion/acc/17"
+    );
+    assert_eq!(pointer_of(&with("dt", json!(0.0))), "/ground_motion/dt");
+    assert_eq!(pointer_of(&with("dt", json!(2.0))), "/ground_motion/dt");
+    assert_eq!(pointer_of(&with("dt", json!(1e-6))), "/ground_motion/dt");
+    assert_eq!(
+        pointer_of(&with("unit", json!("ft/s2"))),
+        "/ground_motion/unit"
+    );
+    assert_eq!(pointer_of(&with("acc", json!([0.1]))), "/ground_motion/acc");
+    assert_eq!(
+        pointer_of(&with("acc", json!(vec![0.0; 200_001]))),
+        "/ground_motion/acc"
+    );
+    assert_eq!(
+        pointer_of(&with("acc", json!([0.1, "x", 0.2]))),
+        "/ground_motion/acc/1"
+    );
+    let mut g = ok();
+    g.as_object_mut().expect("object").remove("unit");
+    assert_eq!(pointer_of(&history(g, json!({}))), "/ground_motion/unit");
+    let mut g = ok();
+    g.as_object_mut().expect("object").remove("dt");
+    assert_eq!(pointer_of(&history(g, json!({}))), "/ground_motion/dt");
+    let mut g = ok();
+    g["extra"] = json!(1);
+    assert!(pointer_of(&history(g, json!({}))).starts_with("/ground_motion"));
+    // Exactly one of pulse / ground_motion.
+    let both = history(
+        ok(),
+        json!({"pulse": {"type": "one_sine", "omega_p": 10.0, "a_p_g": 0.5}}),
+    );
+    assert_eq!(pointer_of(&both), "/ground_motion");
+    let neither = json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14}});
+    assert_eq!(pointer_of(&neither), "/pulse");
+    // The closed form is for pulses only.
+    let exact = history(
+        ok(),
+        json!({"formulation": "linear", "solver": {"method": "exact"}}),
+    );
+    assert_eq!(pointer_of(&exact), "/solver/method");
+    // Spectra keep pulses only.
+    let spectrum = json!({
+        "kind": "spectrum",
+        "block": {"alpha": 0.25, "p": 2.14},
+        "pulse": {"type": "one_sine"},
+        "omega_ratio": {"from": 1, "to": 3, "steps": 3},
+        "ground_motion": ok(),
+    });
+    assert!(Job::from_value(&spectrum).is_err());
+}
+
+#[test]
+fn non_finite_samples_are_named_by_their_index() {
+    let mut text = String::from(
+        r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"ground_motion":{"dt":0.01,"unit":"g","acc":["#,
+    );
+    for k in 0..30 {
+        if k > 0 {
+            text.push(',');
+        }
+        text.push_str(if k == 17 { "NaN" } else { "0.1" });
+    }
+    text.push_str("]}}");
+    let e = Job::parse(&text).expect_err("refused");
+    assert_eq!(e.pointer, "/ground_motion/acc/17", "{e}");
+    let e = Job::parse(&text.replace("NaN", "1e400")).expect_err("refused");
+    assert_eq!(e.pointer, "/ground_motion/acc/17", "{e}");
+}
+
+#[test]
+fn the_linear_formulation_of_a_record_defaults_to_dop853() {
+    let spec = history(
+        json!({"dt": 0.01, "acc": near_fault(0.01), "unit": "g"}),
+        json!({"formulation": "linear"}),
+    );
+    let Job::TimeHistory(h) = Job::from_value(&spec).expect("valid") else {
+        panic!("a time history")
+    };
+    assert_eq!(h.solver.method, "dop853");
+}
+
+#[test]
+fn the_canonical_spec_carries_the_record() {
+    let acc = near_fault(0.01);
+    let in_g = Job::from_value(&history(
+        json!({"dt": 0.01, "acc": acc, "unit": "g"}),
+        json!({}),
+    ))
+    .expect("valid");
+    let in_si: Vec<f64> = acc.iter().map(|a| a * G).collect();
+    let same = Job::from_value(&history(
+        json!({"dt": 0.01, "acc": in_si, "unit": "m/s2"}),
+        json!({}),
+    ))
+    .expect("valid");
+    assert_eq!(cache_key(&in_g), cache_key(&same));
+    let canonical = canonical_spec(&in_g);
+    assert!(canonical.contains("\"ground_motion\""), "{canonical}");
+    assert!(!canonical.contains("\"pulse\""));
+    let mut changed = acc.clone();
+    changed[100] += 1e-3;
+    let other = Job::from_value(&history(
+        json!({"dt": 0.01, "acc": changed, "unit": "g"}),
+        json!({}),
+    ))
+    .expect("valid");
+    assert_ne!(cache_key(&in_g), cache_key(&other));
+    // The normalised spec validates to itself.
+    let again = Job::from_value(&serde_json::to_value(&in_g).expect("serialises")).expect("valid");
+    assert_eq!(in_g, again);
+    let _: Arc<[f64]> = match &again {
+        Job::TimeHistory(h) => h.ground_motion.as_ref().expect("record").acc.clone(),
+        _ => panic!("a time history"),
+    };
+}
