@@ -85,13 +85,17 @@ enum Command {
     Serve(ServeArgs),
     /// Print the OpenAPI description (YAML), as served at /openapi.yaml.
     Openapi,
-    /// Run a job spec (a file, or - for stdin) and print the result JSON.
+    /// Run a job spec (a file, or - for stdin) and print the result (JSON or CSV).
     Run {
         /// Path of the job-spec JSON, or - for standard input.
         spec: String,
         /// Write a figure of the result to this SVG file.
         #[arg(long)]
         plot: Option<String>,
+        /// Print the result as `json` (the default) or `csv` (a header row
+        /// names quantities and units).
+        #[arg(long, default_value = "json", value_parser = ["json", "csv"])]
+        format: String,
     },
     /// Print the work-precision table of the solvers and write its SVG diagram.
     Precision {
@@ -113,7 +117,7 @@ fn read_spec(path: &str) -> Result<String, String> {
     }
 }
 
-fn run(spec_path: &str, plot: Option<&str>) -> Result<(), (u8, String)> {
+fn run(spec_path: &str, plot: Option<&str>, format: &str) -> Result<(), (u8, String)> {
     let text = read_spec(spec_path).map_err(|e| (2, e))?;
     let job = Job::parse(&text).map_err(|e| {
         let field = if e.pointer.is_empty() {
@@ -130,7 +134,12 @@ fn run(spec_path: &str, plot: Option<&str>) -> Result<(), (u8, String)> {
     if let Some(path) = plot {
         topple::plot::plot_result(&result, path).map_err(|e| (1, format!("cannot plot: {e}")))?;
     }
-    let out = serde_json::to_string_pretty(&result).map_err(|e| (1, e.to_string()))?;
+    let out = if format == "csv" {
+        let table = topple::api::csv::to_csv(&result).map_err(|e| (1, e))?;
+        table.trim_end().to_string()
+    } else {
+        serde_json::to_string_pretty(&result).map_err(|e| (1, e.to_string()))?
+    };
     // A closed pipe (`topple run spec | head`) is not an error worth a panic.
     let _ = writeln!(std::io::stdout().lock(), "{out}");
     Ok(())
@@ -221,7 +230,7 @@ fn main() -> ExitCode {
         }
     });
     let outcome = match command {
-        Command::Run { spec, plot } => run(&spec, plot.as_deref()),
+        Command::Run { spec, plot, format } => run(&spec, plot.as_deref(), &format),
         Command::Precision { svg } => topple::precision::report(&svg).map_err(|e| (1, e)),
         Command::Serve(args) => serve(args),
         Command::Openapi => {

@@ -272,12 +272,15 @@ fn plot_option_writes_an_svg_file_when_a_series_is_asked_for() {
 }
 
 #[test]
-fn plot_option_without_a_series_fails_with_one_line_and_writes_no_file() {
+fn plot_option_without_a_series_draws_what_there_is_and_says_how_to_get_more() {
     let svg = temp_path("none.svg");
     let svg_arg = svg.to_str().expect("utf-8 temp path");
-    let line = one_line_failure(&run_file(VALID_NO_SERIES, &["--plot", svg_arg]));
-    assert!(line.contains("series"), "says a series is needed: {line}");
-    assert!(!svg.exists(), "no SVG written");
+    let result = result_json(&run_file(VALID_NO_SERIES, &["--plot", svg_arg]));
+    assert!(result.get("series").is_none());
+    let text = std::fs::read_to_string(&svg).expect("SVG written");
+    assert!(text.contains("</svg>"), "complete SVG document");
+    // The figure names the option that adds the full series.
+    assert!(text.contains("outputs"), "hint at outputs.series");
 }
 
 // ------------------------------------------------------------- invalid specs
@@ -465,4 +468,22 @@ fn nonexistent_spec_file_fails_with_one_line_naming_the_path() {
         line.contains(path.to_str().expect("utf-8")),
         "names the path: {line}"
     );
+}
+
+#[test]
+fn format_csv_prints_a_table_with_units_in_its_header() {
+    let out = run_file(VALID_NO_SERIES, &["--format", "csv"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).expect("utf-8");
+    let header = text.lines().next().expect("header");
+    // Without a series: the impacts table, or a one-row summary.
+    assert!(
+        header.starts_with("impact,t_s,") || header.starts_with("rocked,overturned,"),
+        "{header}"
+    );
+    let columns = header.split(',').count();
+    assert!(text.lines().count() >= 2);
+    assert!(text.lines().all(|l| l.split(',').count() == columns));
+    let bad = run_file(VALID_NO_SERIES, &["--format", "xml"]);
+    assert!(!bad.status.success());
 }

@@ -416,8 +416,9 @@ pub async fn get_job(
 #[derive(Debug, Deserialize, IntoParams)]
 #[into_params(parameter_in = Query)]
 pub struct ResultQuery {
-    /// `json` (default) or `csv` (series of time histories, transitions of
-    /// spectra, points of friction spectra).
+    /// `json` (default) or `csv` (a header row names quantities and units:
+    /// series, impacts or a summary of time histories, transitions of spectra,
+    /// points of friction spectra, intervals of forensic queries).
     #[param(pattern = "^(json|csv)$")]
     pub format: Option<String>,
 }

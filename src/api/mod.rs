@@ -8,6 +8,8 @@ pub mod auth;
 pub mod csv;
 pub mod health;
 pub mod jobs;
+pub mod page;
+pub mod plot;
 pub mod problem;
 
 use std::time::Duration;
@@ -71,6 +73,7 @@ pub fn routes() -> (Router<AppState>, utoipa::openapi::OpenApi) {
         .routes(routes!(jobs::create_job, jobs::list_jobs))
         .routes(routes!(jobs::get_job, jobs::cancel_job))
         .routes(routes!(jobs::get_result))
+        .routes(routes!(plot::get_plot))
         .routes(routes!(health::healthz))
         .routes(routes!(health::readyz))
         .routes(routes!(health::metrics))
@@ -120,7 +123,7 @@ async fn method_not_allowed() -> Problem {
 pub fn router(state: AppState) -> Router {
     let (api, _) = routes();
     let yaml = openapi_yaml();
-    let api = api.route(
+    let api = api.route("/", get(page::index)).route(
         "/openapi.yaml",
         get(move || {
             let yaml = yaml.clone();

@@ -1,0 +1,264 @@
+//! Friction demand (paper Fig. 9): the least friction coefficient pure
+//! rocking needs, over tan α, against the pulse amplitude; amplitudes that
+//! overturn the block marked by mode.
+
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use serde_json::Value;
+
+use super::style::{
+    AXIS, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, REFERENCE, Swatch, TICKS,
+    clip_y, draw_legend, fmt_num, marker, text, tick,
+};
+use super::{at, block_note, num, pulse_name, render, text_at};
+
+const WIDTH: u32 = 1120;
+const HEIGHT: u32 = 620;
+const PEAK: RGBColor = RGBColor(40, 40, 40);
+const INITIATION: RGBColor = RGBColor(0, 114, 178);
+
+/// One amplitude of the spectrum.
+struct Point {
+    a: f64,
+    peak: f64,
+    initiation: Option<f64>,
+    overturned: bool,
+    mode: Option<u8>,
+    lift_off: bool,
+}
+
+/// The figure of a `friction_spectrum` result.
+pub fn svg(result: &Value) -> Result<String, String> {
+    let spec = result.get("spec").unwrap_or(&Value::Null);
+    let alpha = at(spec, "/block/alpha").ok_or("the result's spec has no block.alpha")?;
+    let tan = alpha.tan();
+    let points: Vec<Point> = result
+        .get("points")
+        .and_then(Value::as_array)
+        .ok_or("the result has no points")?
+        .iter()
+        .filter_map(|p| {
+            let a = num(p, "a_alpha_g")?;
+            let peak = num(p, "peak_over_tan_alpha")
+                .or_else(|| num(p, "peak_friction_demand").map(|d| d / tan))?;
+            Some(Point {
+                a,
+                peak,
+                initiation: num(p, "initiation_friction_demand").map(|d| d / tan),
+                overturned: p.get("overturned").and_then(Value::as_bool) == Some(true),
+                mode: p.get("mode").and_then(Value::as_u64).map(|m| m as u8),
+                lift_off: num(p, "lift_off_time").is_some(),
+            })
+        })
+        .collect();
+    if points.is_empty() {
+        return Err("the friction spectrum has no points".into());
+    }
+    let mu = at(spec, "/block/mu").map(|m| m / tan);
+    let xmin = points.iter().map(|p| p.a).fold(f64::INFINITY, f64::min);
+    let xmax = points.iter().map(|p| p.a).fold(f64::NEG_INFINITY, f64::max);
+    let (x0, x1) = if xmax > xmin {
+        (
+            0.0f64.max(xmin - 0.03 * (xmax - xmin)),
+            xmax + 0.03 * (xmax - xmin),
+        )
+    } else {
+        (xmin * 0.9, xmax * 1.1 + 0.1)
+    };
+    // Lift-off makes the demand unbounded: the range follows the others.
+    let bounded: Vec<f64> = points
+        .iter()
+        .filter(|p| !p.lift_off && p.peak.is_finite())
+        .map(|p| p.peak)
+        .collect();
+    let top = bounded
+        .iter()
+        .copied()
+        .chain(points.iter().filter_map(|p| p.initiation))
+        .chain(mu)
+        .fold(1.2f64, f64::max)
+        .min(100.0)
+        * 1.12;
+    let peak_line: Vec<(f64, f64)> = points.iter().map(|p| (p.a, p.peak)).collect();
+    let initiation: Vec<(f64, f64)> = points
+        .iter()
+        .filter_map(|p| Some((p.a, p.initiation?)))
+        .collect();
+
+    let mut legend = Legend::default();
+    legend.entry(
+        Swatch::Line(PEAK, 2),
+        "peak |f_x/f_z| / tan α over the rocking history (eq. 20)",
+    );
+    let survived = points.iter().any(|p| !p.overturned);
+    let mode1 = points.iter().any(|p| p.overturned && p.mode != Some(2));
+    let mode2 = points.iter().any(|p| p.overturned && p.mode == Some(2));
+    if survived {
+        legend.entry(Swatch::Mark(Marker::Ring, PEAK), "block survives");
+    }
+    if mode1 {
+        legend.entry(
+            Swatch::Mark(Marker::Triangle, MODE1),
+            "block overturns, mode 1 (after impact)",
+        );
+    }
+    if mode2 {
+        legend.entry(
+            Swatch::Mark(Marker::Square, MODE2),
+            "block overturns, mode 2 (no impact)",
+        );
+    }
+    if points.iter().any(|p| p.lift_off) {
+        legend.entry(
+            Swatch::Mark(Marker::Cross, INK),
+            "the block lifts off (f_z ≤ 0)",
+        );
+    }
+    if !initiation.is_empty() {
+        legend.entry(
+            Swatch::Dashed(INITIATION, 2),
+            "when rocking starts (eq. 7; eq. 51 for one-cosine)",
+        );
+    }
+    legend.entry(Swatch::Dashed(MUTED, 1), "μ = tan α");
+    if let Some(m) = mu {
+        legend.entry(
+            Swatch::Dashed(REFERENCE, 2),
+            format!("μ of the block = {} (slides above)", fmt_num(m * tan, 3)),
+        );
+    }
+    legend.note(block_note(spec.get("block")));
+    let ratio = num(result, "omega_ratio").or_else(|| at(spec, "/omega_ratio"));
+    legend.note(format!(
+        "{} pulse, ω_p/p = {}, {} formulation",
+        pulse_name(spec.get("pulse")),
+        ratio.map_or("?".into(), |r| fmt_num(r, 4)),
+        text_at(spec, "/formulation")
+    ));
+    legend.note(format!(
+        "right axis: μ_min = tan α × left axis (tan α = {})",
+        fmt_num(tan, 3)
+    ));
+    if let Some(first) = points.iter().find(|p| p.overturned) {
+        legend.note(format!(
+            "first overturning amplitude: {} αg",
+            fmt_num(first.a, 4)
+        ));
+    }
+
+    let title = format!(
+        "Friction needed for pure rocking: {} pulse, ω_p/p = {}",
+        pulse_name(spec.get("pulse")),
+        ratio.map_or("?".into(), |r| fmt_num(r, 4)),
+    );
+    render((WIDTH, HEIGHT), &title, |area| -> Drawn {
+        let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
+        let chart = ChartBuilder::on(&chart_area)
+            .margin(10)
+            .margin_right(14)
+            .x_label_area_size(50)
+            .y_label_area_size(64)
+            .top_x_label_area_size(46)
+            .right_y_label_area_size(62)
+            .build_cartesian_2d(x0..x1, 0.0..top)?;
+        let mut chart = chart.set_secondary_coord(x0 * alpha..x1 * alpha, 0.0..top * tan);
+        chart
+            .configure_mesh()
+            .x_desc("a_p / (α g)")
+            .y_desc("μ_min / tan α")
+            .label_style(text(TICKS, INK))
+            .axis_desc_style(text(AXIS, INK))
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
+            .light_line_style(RGBColor(245, 245, 245))
+            .bold_line_style(RGBColor(220, 220, 220))
+            .draw()?;
+        chart
+            .configure_secondary_axes()
+            .x_desc("a_p / g")
+            .y_desc("μ_min")
+            .label_style(text(TICKS, INK))
+            .axis_desc_style(text(AXIS, INK))
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
+            .draw()?;
+        let level = |y: f64, style: ShapeStyle, dash: u32| {
+            DashedPathElement::new(vec![(x0, y), (x1, y)], dash, dash, style)
+        };
+        chart.draw_series(std::iter::once(level(1.0, MUTED.stroke_width(1), 4)))?;
+        if let Some(m) = mu.filter(|m| *m < top) {
+            chart.draw_series(std::iter::once(level(m, REFERENCE.stroke_width(2), 7)))?;
+        }
+        for part in clip_y(&initiation, 0.0, top) {
+            chart.draw_series(DashedLineSeries::new(
+                part,
+                8,
+                5,
+                INITIATION.stroke_width(2),
+            ))?;
+        }
+        for part in clip_y(&peak_line, 0.0, top) {
+            chart.draw_series(LineSeries::new(part, PEAK.stroke_width(2)))?;
+        }
+        chart.draw_series(points.iter().filter(|p| p.peak <= top).map(|p| {
+            let (kind, colour) = match (p.overturned, p.mode) {
+                (false, _) => (Marker::Ring, PEAK),
+                (true, Some(2)) => (Marker::Square, MODE2),
+                (true, _) => (Marker::Triangle, MODE1),
+            };
+            marker((p.a, p.peak), kind, 8, colour)
+        }))?;
+        chart.draw_series(
+            points
+                .iter()
+                .filter(|p| p.lift_off && p.peak <= top)
+                .map(|p| marker((p.a, p.peak), Marker::Cross, 12, INK)),
+        )?;
+        draw_legend(&side, &legend)
+    })
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use serde_json::{Value, json};
+
+    pub(crate) fn sample() -> Value {
+        let points: Vec<Value> = (0..20)
+            .map(|k| {
+                let a = 1.1 + 0.5 * f64::from(k);
+                let over = a > 8.0;
+                json!({"a_alpha_g": a, "peak_friction_demand": 0.25 + 0.04 * a,
+                       "peak_over_tan_alpha": (0.25 + 0.04 * a) / 0.25f64.tan(),
+                       "initiation_friction_demand": 0.255, "overturned": over,
+                       "mode": if over { Some(if a > 9.5 { 2 } else { 1 }) } else { None },
+                       "lift_off_time": null})
+            })
+            .collect();
+        json!({"kind": "friction_spectrum", "omega_ratio": 7.336, "points": points,
+               "spec": {"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9, "g": 9.81},
+                        "pulse": {"type": "one_sine"}, "formulation": "nonlinear", "omega_ratio": 7.336}})
+    }
+
+    #[test]
+    fn demand_curve_axes_and_overturned_points() {
+        let svg = super::svg(&sample()).expect("svg");
+        for needle in [
+            "Friction needed for pure rocking: one-sine pulse, ω_p/p = 7.336",
+            "a_p / (α g)",
+            "μ_min / tan α",
+            "block survives",
+            "block overturns, mode 1",
+            "block overturns, mode 2",
+            "when rocking starts",
+        ] {
+            assert!(svg.contains(needle), "missing {needle:?}");
+        }
+    }
+
+    #[test]
+    fn no_points_no_figure() {
+        let mut doc = sample();
+        doc["points"] = json!([]);
+        assert!(super::svg(&doc).is_err());
+    }
+}

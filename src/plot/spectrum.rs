@@ -1,0 +1,431 @@
+//! Overturning spectra (paper Figs. 6, 10, 11): in the (ω_p/p, a_p/(αg))
+//! plane, the amplitudes that overturn the block shaded by mode, the safe
+//! ones white, the minimum overturning acceleration and the closed forms
+//! (eq. 21; the corrected eq. 47 for linear one-sine) as reference curves.
+
+use plotters::prelude::*;
+use serde_json::Value;
+
+use super::bands::{Band, Column, simplify, tile, tiling};
+use super::style::{
+    AXIS, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING, REFERENCE,
+    Swatch, TICKS, clip_y, draw_legend, fmt_num, marker, text, tick, tint,
+};
+use super::{at, block_note, num, pulse_name, render, text_at};
+
+const WIDTH: u32 = 1180;
+const HEIGHT: u32 = 680;
+
+/// Region classes.
+pub const CLASS_NO_ROCKING: usize = 0;
+/// Overturning after impact.
+pub const CLASS_MODE1: usize = 1;
+/// Overturning without impact.
+pub const CLASS_MODE2: usize = 2;
+/// Rocks and survives (left white).
+pub const CLASS_SAFE: usize = 3;
+
+/// Fill of a region class.
+pub fn fill(class: usize) -> RGBColor {
+    match class {
+        CLASS_MODE1 => tint(MODE1, 0.68),
+        CLASS_MODE2 => tint(MODE2, 0.55),
+        _ => NO_ROCKING,
+    }
+}
+
+/// Overturning intervals (lo, hi, mode) of a list of transitions: each "up"
+/// opens one (of the mode above it), the next "down" closes it; an open one
+/// ends at `a_max`.
+pub fn intervals(transitions: &[Value], a_max: f64) -> Vec<(f64, f64, u8)> {
+    let mut out = Vec::new();
+    let mut open: Option<(f64, u8)> = None;
+    for t in transitions {
+        let (Some(a), Some(dir)) = (
+            num(t, "a_alpha_g"),
+            t.get("direction").and_then(Value::as_str),
+        ) else {
+            continue;
+        };
+        let mode = t.get("mode").and_then(Value::as_u64).unwrap_or(1) as u8;
+        if dir == "up" {
+            open = Some((a, mode));
+        } else if let Some((lo, m)) = open.take() {
+            out.push((lo, a, m));
+        }
+    }
+    if let Some((lo, m)) = open {
+        out.push((lo, a_max.max(lo), m));
+    }
+    out
+}
+
+/// `regions` cut where the mode changes (`changes`: amplitude, new mode).
+fn split_at_changes(regions: &[(f64, f64, u8)], changes: &[(f64, u8)]) -> Vec<(f64, f64, u8)> {
+    let mut out = Vec::new();
+    for &(lo, hi, mut mode) in regions {
+        let mut start = lo;
+        for &(at, to) in changes.iter().filter(|(at, _)| *at > lo && *at < hi) {
+            out.push((start, at, mode));
+            start = at;
+            mode = to;
+        }
+        out.push((start, hi, mode));
+    }
+    out
+}
+
+/// The overturning regions of one frequency with their modes. The extents are
+/// those of the principal view when the line has one (bands narrower than its
+/// relative width dropped); the modes come from the full view, a dropped safe
+/// gap taking the mode below it.
+pub fn regions(line: &Value, a_max: f64) -> Vec<(f64, f64, u8)> {
+    let list = |v: Option<&Value>| v.and_then(Value::as_array).cloned().unwrap_or_default();
+    let changes: Vec<(f64, u8)> = list(line.get("mode_changes"))
+        .iter()
+        .filter_map(|m| Some((num(m, "a_alpha_g")?, m.get("to_mode")?.as_u64()? as u8)))
+        .collect();
+    let fine = split_at_changes(&intervals(&list(line.get("transitions")), a_max), &changes);
+    let Some(principal) = line.pointer("/principal/transitions") else {
+        return fine;
+    };
+    let mut out = Vec::new();
+    for (lo, hi, mode) in intervals(&list(Some(principal)), a_max) {
+        let mut inside: Vec<(f64, f64, u8)> = fine
+            .iter()
+            .filter(|f| f.1 > lo && f.0 < hi)
+            .map(|&(a, b, m)| (a.max(lo), b.min(hi), m))
+            .collect();
+        if inside.is_empty() {
+            out.push((lo, hi, mode));
+            continue;
+        }
+        inside[0].0 = lo;
+        for k in 1..inside.len() {
+            inside[k - 1].1 = inside[k].0;
+        }
+        if let Some(last) = inside.last_mut() {
+            last.1 = hi;
+        }
+        for piece in inside {
+            match out.last_mut() {
+                Some(prev) if prev.2 == piece.2 && prev.1 >= piece.0 => prev.1 = piece.1,
+                _ => out.push(piece),
+            }
+        }
+    }
+    out
+}
+
+/// The figure of a `spectrum` result.
+pub fn svg(result: &Value) -> Result<String, String> {
+    let lines: Vec<&Value> = result
+        .get("spectrum")
+        .and_then(Value::as_array)
+        .ok_or("the result has no spectrum")?
+        .iter()
+        .filter(|l| num(l, "omega_ratio").is_some())
+        .collect();
+    if lines.is_empty() {
+        return Err("the spectrum has no frequencies".into());
+    }
+    let spec = result.get("spec").unwrap_or(&Value::Null);
+    let a_max = at(spec, "/a_max_alpha_g")
+        .or_else(|| {
+            lines
+                .iter()
+                .flat_map(|l| regions(l, 0.0))
+                .map(|r| r.1)
+                .reduce(f64::max)
+        })
+        .unwrap_or(20.0)
+        .max(1.5);
+    let alpha = at(spec, "/block/alpha");
+    let p = at(spec, "/block/p");
+    let ratios: Vec<f64> = lines.iter().filter_map(|l| num(l, "omega_ratio")).collect();
+    let rmin = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+    let rmax = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let half = if rmax > rmin {
+        0.5 * (rmax - rmin) / (ratios.len() as f64 - 1.0).max(1.0)
+    } else {
+        0.25 * rmin.max(0.1)
+    };
+    let (x0, x1) = if rmax > rmin {
+        (rmin, rmax)
+    } else {
+        (rmin - 2.0 * half, rmax + 2.0 * half)
+    };
+    let columns: Vec<Column> = lines
+        .iter()
+        .map(|l| {
+            let x = num(l, "omega_ratio").unwrap_or(f64::NAN);
+            let mut bands = Vec::new();
+            if let Some(th) = num(l, "threshold_alpha_g") {
+                bands.push(Band {
+                    lo: 0.0,
+                    hi: th,
+                    class: CLASS_NO_ROCKING,
+                });
+            }
+            for (lo, hi, mode) in regions(l, a_max) {
+                bands.push(Band {
+                    lo,
+                    hi,
+                    class: if mode == 2 { CLASS_MODE2 } else { CLASS_MODE1 },
+                });
+            }
+            let mut bands = tile(0.0, a_max, &bands, CLASS_SAFE);
+            simplify(&mut bands, a_max / 1000.0, |_| false);
+            Column { x, bands }
+        })
+        .collect();
+    let shaded: Vec<_> = tiling(&columns, half)
+        .pieces
+        .into_iter()
+        .filter(|p| p.class != CLASS_SAFE)
+        .collect();
+    let used = |class: usize| shaded.iter().any(|p| p.class == class);
+    // The minimum overturning acceleration, broken where its mode changes
+    // (the paper's finite jump).
+    let mut minimum: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut last_mode = None;
+    for l in &lines {
+        let (Some(r), Some(a)) = (num(l, "omega_ratio"), num(l, "min_overturn_alpha_g")) else {
+            last_mode = None;
+            continue;
+        };
+        let mode = l.get("min_overturn_mode").and_then(Value::as_u64);
+        if last_mode.is_none() || last_mode != Some(mode) {
+            minimum.push(Vec::new());
+        }
+        last_mode = Some(mode);
+        if let Some(part) = minimum.last_mut() {
+            part.push((r, a));
+        }
+    }
+    // A curve known at one frequency only is drawn across that frequency's bar.
+    let curve = |key: &str| -> Vec<(f64, f64)> {
+        let points: Vec<(f64, f64)> = lines
+            .iter()
+            .filter_map(|l| Some((num(l, "omega_ratio")?, num(l, key)?)))
+            .collect();
+        match points.as_slice() {
+            [(x, y)] => vec![(x - half, *y), (x + half, *y)],
+            _ => points,
+        }
+    };
+    // Eq. 21 is linear in ω_p/p: one straight line from end to end.
+    let eq21: Vec<(f64, f64)> = {
+        let all = curve("eq21_alpha_g");
+        match (all.first(), all.last()) {
+            (Some(&a), Some(&b)) if all.len() > 1 => vec![a, b],
+            _ => all,
+        }
+    };
+    let mode2_closed = curve("closed_form_mode2_alpha_g");
+    let beta = match text_at(spec, "/pulse/type") {
+        "one_cosine" => "1/4",
+        _ => "1/6",
+    };
+
+    let mut legend = Legend::default();
+    if used(CLASS_MODE1) {
+        legend.entry(
+            Swatch::Fill(fill(CLASS_MODE1)),
+            "overturns, mode 1 (after one or more impacts)",
+        );
+    }
+    if used(CLASS_MODE2) {
+        legend.entry(
+            Swatch::Fill(fill(CLASS_MODE2)),
+            "overturns, mode 2 (without impact)",
+        );
+    }
+    legend.entry(
+        Swatch::Boxed(WHITE, MUTED),
+        "safe: rocks, does not overturn",
+    );
+    if used(CLASS_NO_ROCKING) {
+        legend.entry(
+            Swatch::Fill(fill(CLASS_NO_ROCKING)),
+            "no rocking (below the threshold)",
+        );
+    }
+    if !minimum.is_empty() {
+        legend.entry(
+            Swatch::LineMark(INK, Marker::Dot),
+            "minimum overturning acceleration (computed)",
+        );
+    }
+    if !eq21.is_empty() {
+        legend.entry(
+            Swatch::Line(REFERENCE, 2),
+            format!("eq. 21: a_p0/(αg) ≈ 1 + β ω_p/p, β = {beta} (closed form, ω_p/p ≤ 3)"),
+        );
+    }
+    if !mode2_closed.is_empty() {
+        legend.entry(
+            Swatch::Dashed(RGBColor(0, 130, 60), 2),
+            "mode-2 boundary, corrected eq. 47 (linear closed form)",
+        );
+    }
+    legend.note(block_note(spec.get("block")));
+    legend.note(format!(
+        "{} pulse, {} formulation, {} frequenc{}",
+        pulse_name(spec.get("pulse")),
+        text_at(spec, "/formulation"),
+        lines.len(),
+        if lines.len() == 1 { "y" } else { "ies" }
+    ));
+    if lines.iter().any(|l| l.get("principal").is_some()) {
+        let width = at(spec, "/principal_relative_width").unwrap_or(0.01);
+        legend.note(format!(
+            "shading: principal view (bands narrower than {} % of their amplitude omitted; the result lists every transition)",
+            fmt_num(width * 100.0, 3)
+        ));
+    }
+    if alpha.is_some() && p.is_some() {
+        legend.note("top axis: f_p = (ω_p/p)·p/2π; right axis: a_p/g = α·a_p/(αg)");
+    }
+
+    let title = format!(
+        "Overturning spectrum: {} pulse, {} formulation",
+        pulse_name(spec.get("pulse")),
+        text_at(spec, "/formulation")
+    );
+    render((WIDTH, HEIGHT), &title, |area| -> Drawn {
+        let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
+        let mut builder = ChartBuilder::on(&chart_area);
+        builder
+            .margin(10)
+            .margin_right(14)
+            .x_label_area_size(50)
+            .y_label_area_size(64);
+        if alpha.is_some() && p.is_some() {
+            builder
+                .top_x_label_area_size(46)
+                .right_y_label_area_size(62);
+        }
+        let chart = builder.build_cartesian_2d(x0..x1, 0.0..a_max)?;
+        let mut chart = match (alpha, p) {
+            (Some(alpha), Some(p)) => {
+                let hz = |r: f64| r * p / std::f64::consts::TAU;
+                chart.set_secondary_coord(hz(x0)..hz(x1), 0.0..a_max * alpha)
+            }
+            _ => chart.set_secondary_coord(x0..x1, 0.0..a_max),
+        };
+        for piece in &shaded {
+            chart.draw_series(std::iter::once(Polygon::new(
+                piece.polygon.clone(),
+                fill(piece.class).filled(),
+            )))?;
+        }
+        chart
+            .configure_mesh()
+            .x_desc("ω_p / p")
+            .y_desc("a_p / (α g)")
+            .label_style(text(TICKS, INK))
+            .axis_desc_style(text(AXIS, INK))
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
+            .light_line_style(TRANSPARENT)
+            .bold_line_style(RGBColor(200, 200, 200).mix(0.6))
+            .draw()?;
+        if alpha.is_some() && p.is_some() {
+            chart
+                .configure_secondary_axes()
+                .x_desc("pulse frequency f_p (Hz)")
+                .y_desc("a_p / g")
+                .label_style(text(TICKS, INK))
+                .axis_desc_style(text(AXIS, INK))
+                .x_label_formatter(&|v| tick(*v))
+                .y_label_formatter(&|v| tick(*v))
+                .draw()?;
+        }
+        for part in clip_y(&eq21, 0.0, a_max) {
+            chart.draw_series(LineSeries::new(part, REFERENCE.stroke_width(2)))?;
+        }
+        for part in clip_y(&mode2_closed, 0.0, a_max) {
+            chart.draw_series(DashedLineSeries::new(
+                part,
+                3,
+                3,
+                RGBColor(0, 130, 60).stroke_width(2),
+            ))?;
+        }
+        for part in &minimum {
+            for piece in clip_y(part, 0.0, a_max) {
+                chart.draw_series(LineSeries::new(piece, INK.stroke_width(2)))?;
+            }
+            chart.draw_series(
+                part.iter()
+                    .filter(|q| q.1 <= a_max)
+                    .map(|&q| marker(q, Marker::Dot, 5, INK)),
+            )?;
+        }
+        draw_legend(&side, &legend)
+    })
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use serde_json::{Value, json};
+
+    fn line(r: f64, up1: f64, down: f64, up2: f64) -> Value {
+        let t = |a: f64, d: &str, m: u8| json!({"a_alpha_g": a, "direction": d, "mode": m, "impacts": if m == 1 {1} else {0}, "bracket": [a - 1e-4, a + 1e-4]});
+        let transitions = vec![t(up1, "up", 1), t(down, "down", 1), t(up2, "up", 2)];
+        json!({"omega_ratio": r, "threshold_alpha_g": 1.02, "transitions": transitions.clone(),
+               "mode_changes": [], "min_overturn_alpha_g": up1, "min_overturn_mode": 1,
+               "principal": {"transitions": transitions},
+               "eq21_alpha_g": 1.0 + r / 6.0, "closed_form_mode2_alpha_g": null})
+    }
+
+    pub(crate) fn sample() -> Value {
+        json!({"kind": "spectrum",
+               "spectrum": [line(2.0, 1.25, 2.37, 2.41), line(2.25, 1.29, 2.66, 2.71), line(2.5, 1.33, 2.96, 3.03)],
+               "spec": {"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9, "g": 9.81},
+                        "pulse": {"type": "one_sine"}, "formulation": "nonlinear", "a_max_alpha_g": 8.0,
+                        "principal_relative_width": 0.01}})
+    }
+
+    #[test]
+    fn regions_by_mode_and_references() {
+        let svg = super::svg(&sample()).expect("svg");
+        for needle in [
+            "Overturning spectrum: one-sine pulse, nonlinear formulation",
+            "ω_p / p",
+            "a_p / (α g)",
+            "pulse frequency f_p (Hz)",
+            "overturns, mode 1",
+            "overturns, mode 2",
+            "eq. 21",
+            "minimum overturning",
+        ] {
+            assert!(svg.contains(needle), "missing {needle:?}");
+        }
+        // Three bands per frequency joined across two gaps: no rocking, mode 1,
+        // mode 2 — one polygon each per gap.
+        let fills = [super::fill(1), super::fill(2)]
+            .map(|c| format!("fill=\"#{:02X}{:02X}{:02X}\"", c.0, c.1, c.2));
+        for f in fills {
+            assert_eq!(svg.matches(&f).count(), 2 + 1, "{f}");
+        }
+    }
+
+    #[test]
+    fn principal_extents_take_modes_from_the_full_view() {
+        let t = |a: f64, d: &str, m: u8| json!({"a_alpha_g": a, "direction": d, "mode": m});
+        let l = json!({
+            "transitions": [t(1.1, "up", 1), t(1.28, "down", 1), t(1.281, "up", 2)],
+            "mode_changes": [],
+            "principal": {"transitions": [t(1.1, "up", 1)]}
+        });
+        let r = super::regions(&l, 20.0);
+        assert_eq!(r, vec![(1.1, 1.281, 1), (1.281, 20.0, 2)]);
+    }
+
+    #[test]
+    fn an_empty_spectrum_is_refused() {
+        assert!(super::svg(&json!({"kind": "spectrum", "spectrum": []})).is_err());
+    }
+}

@@ -1,0 +1,403 @@
+//! The shared look of every figure: fonts, colours, markers, the legend
+//! panel beside the chart, and clipping of curves to a chart's range.
+
+use plotters::coord::Shift;
+use plotters::element::ComposedElement;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+/// A drawing area of an SVG figure.
+pub type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+/// What drawing returns.
+pub type Drawn = Result<(), Box<dyn std::error::Error>>;
+
+/// Font family (SVG viewers substitute their sans-serif).
+pub const FONT: &str = "sans-serif";
+/// Figure title size, px.
+pub const TITLE: u32 = 22;
+/// Axis description size, px.
+pub const AXIS: u32 = 16;
+/// Tick label size, px.
+pub const TICKS: u32 = 13;
+/// Legend entry size, px.
+pub const LEGEND: u32 = 14;
+/// Notes under the legend, px.
+pub const NOTE: u32 = 13;
+/// Width of the legend panel at the right of every figure, px.
+pub const LEGEND_WIDTH: u32 = 300;
+
+/// Text and axes.
+pub const INK: RGBColor = RGBColor(33, 33, 33);
+/// Secondary text.
+pub const MUTED: RGBColor = RGBColor(110, 110, 110);
+/// Overturning after at least one impact (mode 1).
+pub const MODE1: RGBColor = RGBColor(200, 50, 45);
+/// Overturning without impact (mode 2).
+pub const MODE2: RGBColor = RGBColor(0, 114, 178);
+/// Amplitudes too small to start rocking.
+pub const NO_ROCKING: RGBColor = RGBColor(222, 222, 222);
+/// The pulses consistent with every observation.
+pub const CONSISTENT: RGBColor = RGBColor(0, 150, 105);
+/// The duration of the pulse.
+pub const PULSE: RGBColor = RGBColor(255, 233, 168);
+/// Reference curves from closed forms.
+pub const REFERENCE: RGBColor = RGBColor(120, 40, 140);
+/// Coming to rest.
+pub const REST: RGBColor = RGBColor(0, 140, 80);
+/// One colour per observation of a forensic map (then repeated).
+pub const OBSERVATIONS: [RGBColor; 6] = [
+    RGBColor(230, 159, 0),
+    RGBColor(204, 121, 167),
+    RGBColor(86, 180, 233),
+    RGBColor(160, 60, 40),
+    RGBColor(90, 90, 200),
+    RGBColor(150, 150, 0),
+];
+
+/// `c` mixed with white: `strength` 1 is `c`, 0 is white (opaque, so
+/// neighbouring fills show no seams).
+pub fn tint(c: RGBColor, strength: f64) -> RGBColor {
+    let s = strength.clamp(0.0, 1.0);
+    let mix = |v: u8| (f64::from(v) * s + 255.0 * (1.0 - s)).round() as u8;
+    RGBColor(mix(c.0), mix(c.1), mix(c.2))
+}
+
+/// The colour of overturning mode `mode`.
+pub fn mode_colour(mode: u8) -> RGBColor {
+    if mode == 2 { MODE2 } else { MODE1 }
+}
+
+/// A text style of `size` px in `colour`.
+pub fn text(size: u32, colour: RGBColor) -> TextStyle<'static> {
+    (FONT, size).into_font().color(&colour)
+}
+
+/// Marker shapes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Marker {
+    /// Open circle.
+    Ring,
+    /// Filled circle.
+    Dot,
+    /// Filled triangle, point up.
+    Triangle,
+    /// Filled square.
+    Square,
+    /// Diagonal cross.
+    Cross,
+    /// Short vertical tick.
+    Tick,
+}
+
+/// A marker drawn in pixels around a point of any coordinate system.
+pub type MarkerElement<C, DB> =
+    ComposedElement<C, DB, Polygon<(i32, i32)>, PathElement<(i32, i32)>>;
+
+/// `kind` at `at`, `size` px across, in `colour`.
+pub fn marker<C, DB: DrawingBackend>(
+    at: C,
+    kind: Marker,
+    size: i32,
+    colour: RGBColor,
+) -> MarkerElement<C, DB> {
+    let r = (size / 2).max(2);
+    let ring: Vec<(i32, i32)> = (0..=16)
+        .map(|k| {
+            let a = f64::from(k) * std::f64::consts::TAU / 16.0;
+            (
+                (f64::from(r) * a.cos()).round() as i32,
+                (f64::from(r) * a.sin()).round() as i32,
+            )
+        })
+        .collect();
+    let stroke = colour.stroke_width(2);
+    let (fill, outline, fill_style) = match kind {
+        Marker::Ring => (ring.clone(), ring, WHITE.filled()),
+        Marker::Dot => (ring.clone(), ring, colour.filled()),
+        Marker::Triangle => {
+            let t = vec![(0, -r - 1), (r + 1, r), (-r - 1, r), (0, -r - 1)];
+            (t.clone(), t, colour.filled())
+        }
+        Marker::Square => {
+            let s = vec![(-r, -r), (r, -r), (r, r), (-r, r), (-r, -r)];
+            (s.clone(), s, colour.filled())
+        }
+        Marker::Cross => (
+            Vec::new(),
+            vec![(-r, -r), (r, r), (0, 0), (r, -r), (-r, r)],
+            TRANSPARENT.filled(),
+        ),
+        Marker::Tick => (
+            Vec::new(),
+            vec![(0, -r - 3), (0, r + 3)],
+            TRANSPARENT.filled(),
+        ),
+    };
+    EmptyElement::at(at) + Polygon::new(fill, fill_style) + PathElement::new(outline, stroke)
+}
+
+/// What a legend entry shows beside its label.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Swatch {
+    /// A filled box.
+    Fill(RGBColor),
+    /// A filled box with a border.
+    Boxed(RGBColor, RGBColor),
+    /// A solid line of a width.
+    Line(RGBColor, u32),
+    /// A dashed line of a width.
+    Dashed(RGBColor, u32),
+    /// A marker.
+    Mark(Marker, RGBColor),
+    /// A line through a marker.
+    LineMark(RGBColor, Marker),
+    /// No swatch: the label is a heading.
+    Heading,
+}
+
+/// A legend: entries, then free notes.
+#[derive(Clone, Debug, Default)]
+pub struct Legend {
+    /// (swatch, label).
+    pub entries: Vec<(Swatch, String)>,
+    /// Lines of notes under the entries (parameters, outcome).
+    pub notes: Vec<String>,
+}
+
+impl Legend {
+    /// Adds an entry.
+    pub fn entry(&mut self, swatch: Swatch, label: impl Into<String>) {
+        self.entries.push((swatch, label.into()));
+    }
+
+    /// Adds a note.
+    pub fn note(&mut self, note: impl Into<String>) {
+        self.notes.push(note.into());
+    }
+}
+
+/// `s` broken into lines of at most `width` characters at spaces.
+pub fn wrap(s: &str, width: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for word in s.split(' ') {
+        let len = line.chars().count();
+        if len > 0 && len + 1 + word.chars().count() > width {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    if !line.is_empty() || lines.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+fn dashed(area: &Area, from: (i32, i32), to: (i32, i32), style: ShapeStyle) -> Drawn {
+    area.draw(&DashedPathElement::new(vec![from, to], 6, 4, style))?;
+    Ok(())
+}
+
+/// Draws `legend` in `area` (the panel at the right of a figure).
+pub fn draw_legend(area: &Area, legend: &Legend) -> Drawn {
+    let (w, _) = area.dim_in_pixel();
+    let chars = ((f64::from(w) - 56.0) / 7.4).max(16.0) as usize;
+    let row = 20;
+    let mut y = 12;
+    for (swatch, label) in &legend.entries {
+        let mid = y + 9;
+        let (x0, x1) = (8, 40);
+        match *swatch {
+            Swatch::Fill(c) => {
+                area.draw(&Rectangle::new([(x0, mid - 7), (x1, mid + 7)], c.filled()))?;
+            }
+            Swatch::Boxed(fill, border) => {
+                area.draw(&Rectangle::new(
+                    [(x0, mid - 7), (x1, mid + 7)],
+                    fill.filled(),
+                ))?;
+                area.draw(&Rectangle::new(
+                    [(x0, mid - 7), (x1, mid + 7)],
+                    border.stroke_width(2),
+                ))?;
+            }
+            Swatch::Line(c, width) => {
+                area.draw(&PathElement::new(
+                    vec![(x0, mid), (x1, mid)],
+                    c.stroke_width(width),
+                ))?;
+            }
+            Swatch::Dashed(c, width) => dashed(area, (x0, mid), (x1, mid), c.stroke_width(width))?,
+            Swatch::Mark(kind, c) => {
+                area.draw(&marker::<_, SVGBackend>((24, mid), kind, 9, c))?;
+            }
+            Swatch::LineMark(c, kind) => {
+                area.draw(&PathElement::new(
+                    vec![(x0, mid), (x1, mid)],
+                    c.stroke_width(2),
+                ))?;
+                area.draw(&marker::<_, SVGBackend>((24, mid), kind, 8, c))?;
+            }
+            Swatch::Heading => {}
+        }
+        let x = if *swatch == Swatch::Heading { x0 } else { 48 };
+        let lines = wrap(label, chars);
+        for (k, line) in lines.iter().enumerate() {
+            area.draw(&Text::new(
+                line.clone(),
+                (x, y + 2 + k as i32 * 17),
+                text(LEGEND, INK),
+            ))?;
+        }
+        y += 17 * (lines.len() as i32 - 1);
+        y += row + 4;
+    }
+    if !legend.notes.is_empty() {
+        y += 6;
+        area.draw(&PathElement::new(
+            vec![(8, y), (w as i32 - 12, y)],
+            MUTED.stroke_width(1),
+        ))?;
+        y += 10;
+        let chars = ((f64::from(w) - 16.0) / 6.6).max(16.0) as usize;
+        for note in &legend.notes {
+            for line in wrap(note, chars) {
+                area.draw(&Text::new(line, (8, y), text(NOTE, MUTED)))?;
+                y += 17;
+            }
+            y += 3;
+        }
+    }
+    Ok(())
+}
+
+/// Text anchored at its top right corner.
+pub fn right_top(size: u32, colour: RGBColor) -> TextStyle<'static> {
+    text(size, colour).pos(Pos::new(HPos::Right, VPos::Top))
+}
+
+/// Text anchored at its top left corner.
+pub fn left_top(size: u32, colour: RGBColor) -> TextStyle<'static> {
+    text(size, colour).pos(Pos::new(HPos::Left, VPos::Top))
+}
+
+/// The parts of a polyline inside `lo ≤ y ≤ hi`, cut where it crosses the
+/// limits (non-finite points break it).
+pub fn clip_y(points: &[(f64, f64)], lo: f64, hi: f64) -> Vec<Vec<(f64, f64)>> {
+    let inside = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && p.1 >= lo && p.1 <= hi;
+    let cross = |a: (f64, f64), b: (f64, f64), level: f64| {
+        let s = (level - a.1) / (b.1 - a.1);
+        (a.0 + s * (b.0 - a.0), level)
+    };
+    let mut parts = Vec::new();
+    let mut part: Vec<(f64, f64)> = Vec::new();
+    for (k, &p) in points.iter().enumerate() {
+        let prev = k.checked_sub(1).map(|j| points[j]);
+        let finite = p.0.is_finite() && p.1.is_finite();
+        let prev_finite = prev.is_some_and(|q| q.0.is_finite() && q.1.is_finite());
+        if inside(&p) {
+            if part.is_empty()
+                && let Some(q) = prev.filter(|_| prev_finite)
+            {
+                if q.1 > hi {
+                    part.push(cross(q, p, hi));
+                } else if q.1 < lo {
+                    part.push(cross(q, p, lo));
+                }
+            }
+            part.push(p);
+        } else {
+            if let Some(&q) = part.last()
+                && finite
+            {
+                part.push(cross(q, p, if p.1 > hi { hi } else { lo }));
+            } else if finite
+                && let Some(q) = prev.filter(|_| prev_finite)
+                && ((q.1 > hi && p.1 < lo) || (q.1 < lo && p.1 > hi))
+            {
+                // Straight through the whole range between two samples.
+                let (a, b) = (cross(q, p, hi), cross(q, p, lo));
+                parts.push(vec![a, b]);
+            }
+            if !part.is_empty() {
+                parts.push(std::mem::take(&mut part));
+            }
+        }
+    }
+    if !part.is_empty() {
+        parts.push(part);
+    }
+    parts
+}
+
+/// A tick step giving about `n` labels over `span`, from 1, 2 and 5 × 10^k.
+pub fn nice_step(span: f64, n: f64) -> f64 {
+    let raw = (span / n.max(1.0)).abs().max(f64::MIN_POSITIVE);
+    let mag = 10f64.powf(raw.log10().floor());
+    let f = raw / mag;
+    let nice = if f <= 1.0 {
+        1.0
+    } else if f <= 2.0 {
+        2.0
+    } else if f <= 5.0 {
+        5.0
+    } else {
+        10.0
+    };
+    nice * mag
+}
+
+/// A tick label: `v` to at most 4 significant digits, never "-0".
+pub fn tick(v: f64) -> String {
+    if v.abs() < 1e-12 {
+        "0".into()
+    } else {
+        fmt_num(v, 4)
+    }
+}
+
+/// A number for a label: at most `digits` significant digits, no trailing zeros.
+pub fn fmt_num(v: f64, digits: usize) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let mag = v.abs().log10().floor() as i32;
+    let decimals = (digits as i32 - 1 - mag).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clipping_cuts_at_the_limits() {
+        let pts = [(0.0, 0.0), (1.0, 2.0), (2.0, 0.0)];
+        let parts = clip_y(&pts, -1.0, 1.0);
+        assert_eq!(parts.len(), 2);
+        assert_eq!(parts[0], vec![(0.0, 0.0), (0.5, 1.0)]);
+        assert_eq!(parts[1], vec![(1.5, 1.0), (2.0, 0.0)]);
+        let through = clip_y(&[(0.0, 5.0), (1.0, -5.0)], -1.0, 1.0);
+        assert_eq!(through, vec![vec![(0.4, 1.0), (0.6, -1.0)]]);
+        assert!(clip_y(&[(0.0, f64::NAN), (1.0, 9.0)], 0.0, 1.0).is_empty());
+    }
+
+    #[test]
+    fn wrapping_and_numbers() {
+        assert_eq!(wrap("a bb ccc", 4), vec!["a bb", "ccc"]);
+        assert_eq!(fmt_num(0.25, 3), "0.25");
+        assert_eq!(fmt_num(2.140001, 3), "2.14");
+        assert_eq!(fmt_num(15.94125, 4), "15.94");
+        assert_eq!(nice_step(10.0, 5.0), 2.0);
+        assert_eq!(tint(RGBColor(0, 0, 0), 0.0), RGBColor(255, 255, 255));
+    }
+}

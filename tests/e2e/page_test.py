@@ -1,0 +1,516 @@
+#!/usr/bin/env python3
+"""End-to-end test of the web page at `/` in headless Chromium.
+
+Starts `topple serve` (SQLite in a temporary directory) and Chromium with the
+DevTools protocol, then drives the page as a user would, with real mouse
+clicks and typed text:
+
+1. the page is served as HTML with a Content-Security-Policy;
+2. an invalid slenderness is refused and the error names the field
+   (`/block/alpha`), marks its input invalid and focuses it;
+3. the default time history (the locomotive block) is submitted; the status
+   reaches "succeeded", the plot image loads (naturalWidth > 0), the CSV link
+   points at the job's `result?format=csv` and serves CSV;
+4. a long overturning spectrum is submitted and canceled with the Cancel
+   button; the service reports it canceled;
+5. against a second server that wants a token for reads too
+   (`--api-token`, `--auth-reads`): the 401 is explained, and once the token
+   is filled in the job runs and its plot loads (fetched with the token);
+6. nothing was blocked by the policy and no script error occurred.
+
+Screenshots go to target/e2e/ (page.png: the finished time history;
+page-error.png, page-cancel.png; failure.png when a step fails).
+
+Environment: TOPPLE_BIN (default target/debug/topple), CHROMIUM (default
+/usr/bin/chromium), E2E_OUT (default target/e2e), E2E_TIMEOUT (seconds the
+time history may take, default 60).
+
+Exit status 0 when every check passes, 1 otherwise.
+"""
+
+import base64
+import json
+import os
+import re
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.error
+import urllib.request
+
+import websocket
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+BIN = os.environ.get("TOPPLE_BIN", os.path.join(ROOT, "target", "debug", "topple"))
+CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
+OUT = os.path.abspath(os.environ.get("E2E_OUT", os.path.join(ROOT, "target", "e2e")))
+PLOT_TIMEOUT = float(os.environ.get("E2E_TIMEOUT", "60"))
+UUID = re.compile(r"^[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}$")
+
+
+class Failure(Exception):
+    """A check that did not hold."""
+
+
+def log(message):
+    print(f"e2e: {message}", file=sys.stderr, flush=True)
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def http_get(url, timeout=5):
+    """(status, headers, body) of GET url; error statuses too."""
+    try:
+        with urllib.request.urlopen(url, timeout=timeout) as r:
+            return r.status, r.headers, r.read()
+    except urllib.error.HTTPError as e:
+        return e.code, e.headers, e.read()
+
+
+def wait_until(what, predicate, timeout, interval=0.1):
+    """predicate()'s first truthy value within timeout seconds."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = predicate()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise Failure(f"timed out after {timeout:g} s waiting for {what}")
+        time.sleep(interval)
+
+
+# --- processes ----------------------------------------------------------------
+
+
+class Server:
+    """`topple serve` on a free port with a fresh SQLite database."""
+
+    def __init__(self, work, name, *args):
+        self.work = work
+        self.name = name
+        self.args = list(args)
+        self.proc = None
+        self.base = None
+        self.log_path = os.path.join(work, f"{name}.log")
+
+    def start(self):
+        # Settings come from the arguments only, not from the environment.
+        env = {k: v for k, v in os.environ.items()
+               if not k.startswith("TOPPLE_") and k != "DATABASE_URL"}
+        for attempt in range(3):
+            port = free_port()
+            with open(self.log_path, "wb") as out:
+                self.proc = subprocess.Popen(
+                    [BIN, "serve", "--addr", f"127.0.0.1:{port}",
+                     "--database", f"sqlite://{self.work}/{self.name}.db",
+                     "--shutdown-grace", "1", *self.args],
+                    stdout=out, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, env=env)
+            base = f"http://127.0.0.1:{port}"
+            deadline = time.monotonic() + 60
+            while time.monotonic() < deadline and self.proc.poll() is None:
+                try:
+                    if http_get(base + "/readyz", timeout=1)[0] == 200:
+                        self.base = base
+                        return
+                except OSError:
+                    pass
+                time.sleep(0.1)
+            self.stop()
+            # Another process may have taken the port between choosing and binding.
+            if "address already in use" not in self.log().lower():
+                break
+            log(f"port {port} was taken; attempt {attempt + 2}")
+        raise Failure(f"the server ({self.name}) did not become ready:\n" + self.log()[-4000:])
+
+    def log(self):
+        try:
+            with open(self.log_path, encoding="utf-8", errors="replace") as f:
+                return f.read()
+        except OSError:
+            return ""
+
+    def stop(self):
+        if self.proc is None:
+            return
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGTERM)
+            try:
+                self.proc.wait(5)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+        self.proc = None
+
+
+class Chromium:
+    """Headless Chromium with the DevTools protocol on a port of its choosing."""
+
+    def __init__(self, work):
+        self.profile = os.path.join(work, "chromium-profile")
+        self.proc = None
+
+    def _launch(self, err):
+        return subprocess.Popen(
+            [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
+             "--disable-dev-shm-usage", "--no-first-run", "--no-default-browser-check",
+             "--disable-extensions", "--disable-background-networking",
+             "--disable-component-update", "--disable-sync", "--mute-audio",
+             "--hide-scrollbars", "--window-size=1280,900", "--remote-debugging-port=0",
+             f"--user-data-dir={self.profile}", "about:blank"],
+            stdout=subprocess.DEVNULL, stderr=err, stdin=subprocess.DEVNULL,
+            start_new_session=True)
+
+    def start(self):
+        os.makedirs(self.profile, exist_ok=True)
+        with open(os.path.join(self.profile, "..", "chromium.log"), "wb") as err:
+            self.proc = self._launch(err)
+        port_file = os.path.join(self.profile, "DevToolsActivePort")
+
+        def port():
+            if self.proc.poll() is not None:
+                raise Failure(f"chromium exited with status {self.proc.returncode}")
+            try:
+                with open(port_file) as f:
+                    first = f.readline().strip()
+                return int(first) if first else None
+            except (OSError, ValueError):
+                return None
+
+        debug_port = wait_until("chromium's DevTools port", port, 30)
+        targets = wait_until(
+            "a page target",
+            lambda: [t for t in json.loads(http_get(f"http://127.0.0.1:{debug_port}/json/list")[2])
+                     if t.get("type") == "page"],
+            15)
+        return targets[0]["webSocketDebuggerUrl"]
+
+    def stop(self):
+        if self.proc is None:
+            return
+        # Chromium runs helper processes in its own session: end that group.
+        try:
+            os.killpg(self.proc.pid, signal.SIGTERM)
+        except ProcessLookupError:
+            pass
+        try:
+            self.proc.wait(5)
+        except subprocess.TimeoutExpired:
+            try:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            self.proc.wait()
+        self.proc = None
+
+
+# --- the DevTools protocol ------------------------------------------------------
+
+
+class Page:
+    """One page target: commands, and the events that say something went wrong."""
+
+    def __init__(self, ws_url):
+        self.ws = websocket.create_connection(ws_url, timeout=30, suppress_origin=True)
+        self.next_id = 0
+        self.problems = []  # script errors and blocked resources
+
+    def close(self):
+        try:
+            self.ws.close()
+        except Exception:
+            pass
+
+    def _event(self, message):
+        method = message.get("method")
+        params = message.get("params", {})
+        if method == "Runtime.exceptionThrown":
+            d = params.get("exceptionDetails", {})
+            text = d.get("exception", {}).get("description") or d.get("text")
+            self.problems.append(f"uncaught exception: {text}")
+        elif method == "Runtime.consoleAPICalled" and params.get("type") in ("error", "assert"):
+            args = " ".join(str(a.get("value", a.get("description", ""))) for a in params.get("args", []))
+            self.problems.append(f"console.{params['type']}: {args}")
+        elif method == "Log.entryAdded":
+            entry = params.get("entry", {})
+            # Failed requests the test provokes (the 422) are "network" entries;
+            # policy violations are "security", script errors "javascript".
+            if entry.get("level") == "error" and entry.get("source") != "network":
+                self.problems.append(f"{entry.get('source')}: {entry.get('text')}")
+
+    def send(self, method, **params):
+        self.next_id += 1
+        mid = self.next_id
+        self.ws.send(json.dumps({"id": mid, "method": method, "params": params}))
+        while True:
+            message = json.loads(self.ws.recv())
+            if message.get("id") == mid:
+                if "error" in message:
+                    raise Failure(f"{method}: {message['error']}")
+                return message.get("result", {})
+            self._event(message)
+
+    def pump(self):
+        """Reads events that arrived meanwhile."""
+        self.send("Runtime.evaluate", expression="0")
+
+    def js(self, expression):
+        """The value of a JavaScript expression (awaited when a promise)."""
+        r = self.send("Runtime.evaluate", expression=expression, returnByValue=True, awaitPromise=True)
+        if "exceptionDetails" in r:
+            raise Failure(f"evaluating {expression!r}: {r['exceptionDetails']}")
+        return r.get("result", {}).get("value")
+
+    def wait_js(self, what, expression, timeout):
+        return wait_until(what, lambda: self.js(expression), timeout)
+
+    def navigate(self, url):
+        self.send("Page.navigate", url=url)
+        self.wait_js("the page to load", "document.readyState === 'complete'", 20)
+
+    def click(self, selector):
+        """A real mouse click at the middle of the element."""
+        rect = self.js(
+            f"(() => {{ const el = document.querySelector({json.dumps(selector)});"
+            " if (!el) return null; el.scrollIntoView({block: 'center'});"
+            " const r = el.getBoundingClientRect();"
+            " return {x: r.left + r.width / 2, y: r.top + r.height / 2, w: r.width, h: r.height}; })()")
+        if not rect or rect["w"] <= 0 or rect["h"] <= 0:
+            raise Failure(f"{selector} is not on the page (or not visible)")
+        hit = self.js(
+            f"(() => {{ const el = document.querySelector({json.dumps(selector)});"
+            f" const at = document.elementFromPoint({rect['x']}, {rect['y']});"
+            " return at === el || el.contains(at) || (el.control && el.control === at); })()")
+        if not hit:
+            raise Failure(f"{selector} is covered by another element")
+        for kind in ("mousePressed", "mouseReleased"):
+            self.send("Input.dispatchMouseEvent", type=kind, x=rect["x"], y=rect["y"],
+                      button="left", clickCount=1)
+
+    def type_into(self, selector, text):
+        """Replaces the field's value by typing text."""
+        self.click(selector)
+        self.js(f"(() => {{ const el = document.querySelector({json.dumps(selector)});"
+                " el.focus(); el.value = ''; })()")
+        self.send("Input.insertText", text=text)
+
+    def screenshot(self, path):
+        size = self.send("Page.getLayoutMetrics")["cssContentSize"]
+        shot = self.send("Page.captureScreenshot", format="png", captureBeyondViewport=True,
+                         clip={"x": 0, "y": 0, "width": size["width"],
+                               "height": min(size["height"], 4000), "scale": 1})
+        with open(path, "wb") as f:
+            f.write(base64.b64decode(shot["data"]))
+        log(f"screenshot {os.path.relpath(path, ROOT)}")
+
+
+# --- the checks -------------------------------------------------------------------
+
+
+def check_served(base):
+    status, headers, body = http_get(base + "/")
+    if status != 200:
+        raise Failure(f"GET / answered {status}")
+    ctype = headers.get("content-type", "")
+    if ctype.replace(" ", "").lower() != "text/html;charset=utf-8":
+        raise Failure(f"GET / content-type is {ctype!r}")
+    csp = headers.get("content-security-policy", "")
+    for directive in ("default-src 'self'", "connect-src 'self'", "script-src"):
+        if directive not in csp:
+            raise Failure(f"the Content-Security-Policy lacks {directive!r}: {csp!r}")
+    if b"<script" not in body or b"src=\"http" in body or b"href=\"http" in body:
+        raise Failure("the page is not self-contained")
+
+
+def check_invalid_field(page):
+    page.type_into("#f-alpha", "2")
+    page.click("#submit")
+    page.wait_js("the error to be shown", "!document.getElementById('problem').hidden", 10)
+    text = page.js("document.getElementById('problem').innerText")
+    if "/block/alpha" not in text or "Slenderness" not in text:
+        raise Failure(f"the error does not name the field: {text!r}")
+    if page.js("document.getElementById('f-alpha').getAttribute('aria-invalid')") != "true":
+        raise Failure("the offending input is not marked invalid")
+    if page.js("document.activeElement && document.activeElement.id") != "f-alpha":
+        raise Failure("the offending input does not have the focus")
+    page.screenshot(os.path.join(OUT, "page-error.png"))
+    page.type_into("#f-alpha", "0.25")
+
+
+def check_time_history(page, base):
+    page.click("input[name=kind][value=time_history]")
+    page.click("#submit")
+    page.wait_js("the job to be shown", "!document.getElementById('job').hidden", 10)
+    job_id = page.js("document.getElementById('job-id').textContent")
+    if not UUID.match(job_id or ""):
+        raise Failure(f"no job id shown: {job_id!r}")
+    log(f"time history {job_id}")
+    status = page.wait_js(
+        "the job to finish",
+        "(() => { const s = document.getElementById('status').textContent;"
+        " return ['succeeded', 'failed', 'canceled'].includes(s) && s; })()",
+        PLOT_TIMEOUT)
+    if status != "succeeded":
+        raise Failure(f"the time history {status}: {page.js('document.body.innerText')}")
+    started = time.monotonic()
+    loaded = page.wait_js(
+        "the plot to load",
+        "(() => { const img = document.getElementById('plot');"
+        " if (img && img.complete && img.naturalWidth > 0) return 'loaded';"
+        " const problem = document.getElementById('problem');"
+        " return !problem.hidden && problem.innerText; })()",
+        max(5.0, PLOT_TIMEOUT - (time.monotonic() - started)))
+    if loaded != "loaded":
+        raise Failure(f"the plot did not load: {loaded!r}")
+    src = page.js("document.getElementById('plot').getAttribute('src')")
+    if src != f"/v1/jobs/{job_id}/plot.svg":
+        raise Failure(f"the plot comes from {src!r}")
+    status, headers, _ = http_get(base + src)
+    if status != 200 or not headers.get("content-type", "").startswith("image/svg+xml"):
+        raise Failure(f"GET {src}: {status} {headers.get('content-type')}")
+    href = page.js("document.getElementById('csv-link').getAttribute('href')")
+    if href != f"/v1/jobs/{job_id}/result?format=csv":
+        raise Failure(f"the CSV link is {href!r}")
+    status, headers, body = http_get(base + href)
+    if status != 200 or not headers.get("content-type", "").startswith("text/csv"):
+        raise Failure(f"GET {href}: {status} {headers.get('content-type')}")
+    rows = body.decode().strip().splitlines()
+    if len(rows) < 600:
+        raise Failure(f"the CSV has {len(rows)} lines; 600 samples were asked for")
+    href = page.js("document.getElementById('json-link').getAttribute('href')")
+    if href != f"/v1/jobs/{job_id}/result":
+        raise Failure(f"the JSON link is {href!r}")
+    page.wait_js("the summary", "document.querySelectorAll('#summary dd').length > 0", 10)
+    problem = page.js("document.getElementById('problem').hidden ? '' : document.getElementById('problem').innerText")
+    if problem:
+        raise Failure(f"an error is shown beside the result: {problem!r}")
+    page.screenshot(os.path.join(OUT, "page.png"))
+
+
+def check_cancel(page, base):
+    page.click("input[name=kind][value=spectrum]")
+    page.type_into("#f-sp-steps", "2000")
+    page.click("#submit")
+    page.wait_js(
+        "a new job to be queued or running",
+        "(() => { const s = document.getElementById('status').textContent;"
+        " return (s === 'queued' || s === 'running') && !document.getElementById('cancel').hidden; })()",
+        10)
+    job_id = page.js("document.getElementById('job-id').textContent")
+    log(f"spectrum {job_id}: cancel")
+    page.click("#cancel")
+    page.wait_js("the job to show as canceled",
+                 "document.getElementById('status').textContent === 'canceled'", 10)
+    status, _, body = http_get(f"{base}/v1/jobs/{job_id}")
+    if status != 200 or json.loads(body)["status"] != "canceled":
+        raise Failure(f"the service says {status} {body[:200]!r} after Cancel")
+    page.screenshot(os.path.join(OUT, "page-cancel.png"))
+
+
+def check_token(page, base):
+    """Against a service that wants its token for reads too."""
+    page.navigate(base + "/")
+    page.wait_js("the form", "!!document.getElementById('submit')", 10)
+    page.click("#submit")
+    page.wait_js("the error to be shown", "!document.getElementById('problem').hidden", 10)
+    text = page.js("document.getElementById('problem').innerText")
+    if "401" not in text or "API token" not in text:
+        raise Failure(f"the missing token is not explained: {text!r}")
+    if not page.js("document.getElementById('token-box').open"):
+        raise Failure("the token field is not opened")
+    page.type_into("#f-token", TOKEN)
+    page.click("#submit")
+    loaded = page.wait_js(
+        "the plot to load with the token",
+        "(() => { const img = document.getElementById('plot');"
+        " if (img && img.complete && img.naturalWidth > 0) return img.getAttribute('src');"
+        " const problem = document.getElementById('problem');"
+        " return !problem.hidden && 'error: ' + problem.innerText; })()",
+        PLOT_TIMEOUT)
+    if not loaded.startswith("data:image/svg+xml"):
+        raise Failure(f"with the token, the plot did not load: {loaded[:200]!r}")
+    page.wait_js("the summary", "document.querySelectorAll('#summary dd').length > 0", 10)
+
+
+TOKEN = "e2e-token"
+
+
+def main():
+    # A TERM (a CI timeout, say) still stops the server and the browser.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    os.makedirs(OUT, exist_ok=True)
+    for name in ("page.png", "page-error.png", "page-cancel.png", "failure.png"):
+        try:
+            os.remove(os.path.join(OUT, name))
+        except FileNotFoundError:
+            pass
+    if not os.access(BIN, os.X_OK):
+        log(f"not an executable: {BIN} (set TOPPLE_BIN)")
+        return 1
+    if not os.access(CHROMIUM, os.X_OK):
+        log(f"not an executable: {CHROMIUM} (set CHROMIUM)")
+        return 1
+    started = time.monotonic()
+    work = tempfile.mkdtemp(prefix="topple-e2e.")
+    server, chromium, page = Server(work, "open"), Chromium(work), None
+    guarded = Server(work, "guarded", "--api-token", TOKEN, "--auth-reads")
+    ok = False
+    try:
+        server.start()
+        log(f"server {BIN} at {server.base}")
+        check_served(server.base)
+        page = Page(chromium.start())
+        for domain in ("Page", "Runtime", "Log"):
+            page.send(f"{domain}.enable")
+        page.send("Emulation.setDeviceMetricsOverride", width=1280, height=900,
+                  deviceScaleFactor=1, mobile=False)
+        page.navigate(server.base + "/")
+        page.wait_js("the form", "!!document.getElementById('submit')", 10)
+        check_invalid_field(page)
+        check_time_history(page, server.base)
+        check_cancel(page, server.base)
+        guarded.start()
+        log(f"server with a token at {guarded.base}")
+        check_token(page, guarded.base)
+        page.pump()
+        if page.problems:
+            raise Failure("the browser reported:\n  " + "\n  ".join(page.problems))
+        ok = True
+    except (Failure, OSError, websocket.WebSocketException) as e:
+        log(f"FAILED: {e}")
+        if page is not None:
+            try:
+                page.screenshot(os.path.join(OUT, "failure.png"))
+                if page.problems:
+                    log("the browser reported:\n  " + "\n  ".join(page.problems))
+            except Exception as shot_error:
+                log(f"no failure screenshot: {shot_error}")
+        for s in (server, guarded):
+            tail = s.log()[-3000:]
+            if tail:
+                log(f"server log ({s.name}, tail):\n" + tail)
+    finally:
+        if page is not None:
+            page.close()
+        chromium.stop()
+        server.stop()
+        guarded.stop()
+        shutil.rmtree(work, ignore_errors=True)
+    elapsed = time.monotonic() - started
+    if ok:
+        log(f"all checks passed in {elapsed:.1f} s")
+        print("1 passed, 0 failed")
+        return 0
+    print("0 passed, 1 failed")
+    return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
