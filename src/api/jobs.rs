@@ -122,7 +122,8 @@ pub struct CreateQuery {
     pub wait: Option<f64>,
 }
 
-fn parse_id(path: Result<Path<String>, PathRejection>) -> Result<Uuid, Problem> {
+/// The job id of a path, or a 400 naming `id`.
+pub(crate) fn parse_id(path: Result<Path<String>, PathRejection>) -> Result<Uuid, Problem> {
     let Path(raw) =
         path.map_err(|e| Problem::bad_request("invalid-parameter", e.body_text()).param("id"))?;
     Uuid::parse_str(&raw).map_err(|_| {
@@ -211,6 +212,33 @@ async fn admit(state: &AppState, key: &str) -> Result<(), Problem> {
         format!("{max} jobs are waiting (max_queued); try again in {RETRY_AFTER_S} s"),
     )
     .retry_after(RETRY_AFTER_S))
+}
+
+/// The stored result document of job `id`: 404 without the job, 409 until it
+/// has succeeded.
+pub(crate) async fn finished_result(
+    state: &AppState,
+    id: Uuid,
+) -> Result<std::sync::Arc<str>, Problem> {
+    if let Some(body) = state.results.get(id) {
+        return Ok(body);
+    }
+    let job = load(state, id).await?;
+    match job.status {
+        Status::Succeeded => load_result(state, id).await,
+        Status::Failed => Err(Problem::conflict(
+            "job-failed",
+            format!("job {id} failed: {}", job.error.unwrap_or_default()),
+        )),
+        Status::Canceled => Err(Problem::conflict(
+            "job-canceled",
+            format!("job {id} was canceled"),
+        )),
+        s => Err(Problem::conflict(
+            "not-finished",
+            format!("job {id} is {}; poll /v1/jobs/{id}", s.as_str()),
+        )),
+    }
 }
 
 /// Waits until job `id` reaches a final status or `limit` passes.
@@ -458,33 +486,7 @@ pub async fn get_result(
             .param("format"));
         }
     };
-    let body = match state.results.get(id) {
-        Some(b) => b,
-        None => {
-            let job = load(&state, id).await?;
-            match job.status {
-                Status::Succeeded => load_result(&state, id).await?,
-                Status::Failed => {
-                    return Err(Problem::conflict(
-                        "job-failed",
-                        format!("job {id} failed: {}", job.error.unwrap_or_default()),
-                    ));
-                }
-                Status::Canceled => {
-                    return Err(Problem::conflict(
-                        "job-canceled",
-                        format!("job {id} was canceled"),
-                    ));
-                }
-                s => {
-                    return Err(Problem::conflict(
-                        "not-finished",
-                        format!("job {id} is {}; poll /v1/jobs/{id}", s.as_str()),
-                    ));
-                }
-            }
-        }
-    };
+    let body = finished_result(&state, id).await?;
     if csv {
         // Parsing and rendering a large result is not work for the runtime.
         // It goes to the blocking pool rather than the compute pool, where it

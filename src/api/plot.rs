@@ -4,65 +4,10 @@ use axum::extract::rejection::PathRejection;
 use axum::extract::{Path, State};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
-use uuid::Uuid;
 
+use super::jobs::{finished_result, parse_id};
 use super::problem::Problem;
 use crate::service::AppState;
-use crate::store::Status;
-
-fn parse_id(path: Result<Path<String>, PathRejection>) -> Result<Uuid, Problem> {
-    let Path(raw) =
-        path.map_err(|e| Problem::bad_request("invalid-parameter", e.body_text()).param("id"))?;
-    Uuid::parse_str(&raw).map_err(|_| {
-        Problem::bad_request(
-            "invalid-parameter",
-            format!("{raw:?} is not a job id (a UUID)"),
-        )
-        .param("id")
-    })
-}
-
-/// The stored result document of job `id`: 404 without the job, 409 until it
-/// has succeeded.
-async fn result_of(state: &AppState, id: Uuid) -> Result<std::sync::Arc<str>, Problem> {
-    if let Some(body) = state.results.get(id) {
-        return Ok(body);
-    }
-    let job = state
-        .store
-        .get(id)
-        .await?
-        .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))?;
-    match job.status {
-        Status::Succeeded => {}
-        Status::Failed => {
-            return Err(Problem::conflict(
-                "job-failed",
-                format!("job {id} failed: {}", job.error.unwrap_or_default()),
-            ));
-        }
-        Status::Canceled => {
-            return Err(Problem::conflict(
-                "job-canceled",
-                format!("job {id} was canceled"),
-            ));
-        }
-        s => {
-            return Err(Problem::conflict(
-                "not-finished",
-                format!("job {id} is {}; poll /v1/jobs/{id}", s.as_str()),
-            ));
-        }
-    }
-    let body: std::sync::Arc<str> = state
-        .store
-        .result(id)
-        .await?
-        .ok_or_else(|| Problem::internal(format!("result of job {id} is missing")))?
-        .into();
-    state.results.put(id, body.clone());
-    Ok(body)
-}
 
 /// A job's result as a figure (SVG).
 ///
@@ -89,7 +34,7 @@ pub async fn get_plot(
 ) -> Result<Response, Problem> {
     let id = parse_id(path)?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
-    let body = result_of(&state, id).await?;
+    let body = finished_result(&state, id).await?;
     // Parsing and drawing are CPU work: the blocking pool, not the runtime.
     let figure = tokio::task::spawn_blocking(move || {
         serde_json::from_str::<serde_json::Value>(&body)
