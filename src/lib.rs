@@ -3,20 +3,24 @@
 //! and an HTTP computation service.
 //!
 //! # Layout
-//! - [`dynamics`]: the physics, pure and synchronous — block, excitation,
+//! - [`dynamics`]: the physics, pure and synchronous — block, excitation
+//!   (pulses and recorded ground motions behind one forcing trait),
 //!   equations of motion (linear and nonlinear), the closed-form linear solution,
 //!   adaptive Runge–Kutta pairs with dense output, event location, impacts,
 //!   chattering and rest, the exact overturning decision, base reactions.
 //! - [`spectrum`]: overturning and friction-demand spectra over many
 //!   simulations (rayon), with progress and cancellation.
-//! - [`jobs`]: the job-spec JSON, its validation into domain types, canonical
-//!   cache keys, splitting into tasks, and the result documents.
+//! - [`jobs`]: the job-spec JSON, its validation into domain types, service
+//!   limits, canonical cache keys, splitting into tasks, and the result
+//!   documents (time histories, spectra, friction spectra, forensic queries).
 //! - [`store`]: one storage trait for jobs, tasks and results; SQLite and
 //!   PostgreSQL implementations.
 //! - [`service`]: the server: workers that claim tasks and compute them on the
 //!   rayon pool, startup, graceful shutdown, metrics.
-//! - [`api`]: axum routes, problem+json errors, the OpenAPI description.
-//! - [`plot`]: SVG figures; [`precision`]: the work-precision study.
+//! - [`api`]: axum routes, problem+json errors, authentication, CSV, the
+//!   OpenAPI description, the page at `/`.
+//! - [`plot`]: SVG figures of every result kind; [`precision`]: the
+//!   work-precision study.
 //!
 //! Data flows one way: HTTP → spec → domain types → engine → result → store →
 //! HTTP. The engine never knows it is in a service; the API does no physics.
