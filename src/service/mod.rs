@@ -29,7 +29,7 @@ use crate::store::postgres::PgStore;
 use crate::store::sqlite::SqliteStore;
 use crate::store::{JobStore, StoreError};
 
-/// What computes a job: [`Job::run`] unless an embedding supplies its own.
+/// What computes a job: [`crate::jobs::Job::run`] unless an embedding supplies its own.
 pub type Engine = Arc<
     dyn Fn(&crate::jobs::Job, &Control) -> Result<serde_json::Value, crate::jobs::JobError>
         + Send

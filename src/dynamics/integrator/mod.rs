@@ -1,7 +1,7 @@
 //! Adaptive explicit Runge–Kutta pairs with error control and dense output,
 //! specialised to the two-component rocking state `[θ, θ̇]`.
 //!
-//! The simulation driver ([`crate::dynamics::simulate`]) advances one accepted
+//! The simulation driver ([`crate::dynamics::simulate()`]) advances one accepted
 //! step at a time and inspects each step's [`DenseStep`] for events, so no event
 //! is ever judged only from the values at step ends.
 //!
