@@ -16,7 +16,7 @@ use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
     parse_formulation, validate_block, validate_solver,
 };
-use super::spectrum::{PulseFamily, validate_family};
+use super::spectrum::{PulseFamily, ScanCost, validate_family};
 use crate::dynamics::Formulation;
 use crate::spectrum::Control;
 use crate::spectrum::overturning::{
@@ -383,22 +383,9 @@ pub struct Bounds {
 /// Cost and accuracy.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct ForensicNumerics {
-    /// "exact" | "dopri5" | "dop853".
-    pub method: String,
-    /// Relative tolerance.
-    pub rtol: Option<f64>,
-    /// Absolute tolerance.
-    pub atol: Option<f64>,
-    /// Simulations run.
-    pub simulations: u64,
-    /// Accepted steps.
-    pub steps_accepted: u64,
-    /// Rejected steps.
-    pub steps_rejected: u64,
-    /// Events located.
-    pub events: u64,
-    /// Largest error estimate of one simulation, rad.
-    pub error_estimate: f64,
+    /// Solver, cost and worst error estimate (all observations).
+    #[serde(flatten)]
+    pub cost: ScanCost,
     /// Every interval end is bracketed within this, g.
     pub tolerance_g: f64,
     /// Scan step, g.
@@ -535,14 +522,7 @@ impl ForensicJob {
             frequencies,
             bounds,
             numerics: ForensicNumerics {
-                method: self.solver.method.to_string(),
-                rtol: self.solver.rtol,
-                atol: self.solver.atol,
-                simulations: stats.simulations,
-                steps_accepted: stats.steps,
-                steps_rejected: stats.rejected,
-                events: stats.events,
-                error_estimate: stats.max_error_estimate,
+                cost: ScanCost::new(&self.solver, &stats),
                 tolerance_g: self.tolerance_g,
                 scan_step_g: self.scan_step_g,
                 wall_time_s: started.elapsed().as_secs_f64(),

@@ -312,9 +312,9 @@ pub struct FrequencyDoc {
     pub closed_form_mode2_alpha_g: Option<f64>,
 }
 
-/// Cost and accuracy of a spectrum.
+/// What a run of many simulations cost, and the accuracy of the worst one.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct SpectrumNumerics {
+pub struct ScanCost {
     /// "exact" | "dopri5" | "dop853".
     pub method: String,
     /// Relative tolerance.
@@ -333,6 +333,31 @@ pub struct SpectrumNumerics {
     pub events: u64,
     /// Largest error estimate of a single simulation, rad.
     pub error_estimate: f64,
+}
+
+impl ScanCost {
+    /// From scan statistics.
+    pub fn new(solver: &SolverNorm, s: &ScanStats) -> Self {
+        ScanCost {
+            method: solver.method.to_string(),
+            rtol: solver.rtol,
+            atol: solver.atol,
+            simulations: s.simulations,
+            steps_accepted: s.steps,
+            steps_rejected: s.rejected,
+            rhs_evaluations: s.rhs_evaluations,
+            events: s.events,
+            error_estimate: s.max_error_estimate,
+        }
+    }
+}
+
+/// Cost and accuracy of a spectrum.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct SpectrumNumerics {
+    /// Solver, cost and worst error estimate.
+    #[serde(flatten)]
+    pub cost: ScanCost,
     /// Bracket width of transitions, αg.
     pub tolerance: f64,
     /// Scan step: every band or safe interval wider than this is found, αg.
@@ -345,15 +370,7 @@ impl SpectrumNumerics {
     /// From scan statistics.
     pub fn new(solver: &SolverNorm, s: &ScanStats, tolerance: f64, step: f64, wall: f64) -> Self {
         SpectrumNumerics {
-            method: solver.method.to_string(),
-            rtol: solver.rtol,
-            atol: solver.atol,
-            simulations: s.simulations,
-            steps_accepted: s.steps,
-            steps_rejected: s.rejected,
-            rhs_evaluations: s.rhs_evaluations,
-            events: s.events,
-            error_estimate: s.max_error_estimate,
+            cost: ScanCost::new(solver, s),
             tolerance,
             scan_step_alpha_g: step,
             wall_time_s: wall,

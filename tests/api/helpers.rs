@@ -118,6 +118,15 @@ impl TestApp {
         (status, ct, r.text().await.expect("text"))
     }
 
+    /// DELETE `path`.
+    pub async fn delete(&self, path: &str) -> reqwest::Response {
+        self.client
+            .delete(self.url(path))
+            .send()
+            .await
+            .expect("request")
+    }
+
     /// Polls the job until it is final (or the time is up).
     pub async fn finish(&self, id: &str, limit: Duration) -> Value {
         let deadline = Instant::now() + limit;

@@ -125,12 +125,7 @@ async fn cancel_stops_a_running_spectrum_within_100_ms() {
     }
     tokio::time::sleep(Duration::from_millis(50)).await;
     let asked = Instant::now();
-    let r = app
-        .client
-        .delete(app.url(&format!("/v1/jobs/{id}")))
-        .send()
-        .await
-        .expect("request");
+    let r = app.delete(&format!("/v1/jobs/{id}")).await;
     assert_eq!(r.status().as_u16(), 200);
     let body: Value = r.json().await.expect("json");
     assert_eq!(body["status"], "canceled");
@@ -152,12 +147,7 @@ async fn cancel_stops_a_running_spectrum_within_100_ms() {
     assert_eq!(status, 202);
     assert_eq!(again["cached"], false);
     assert_eq!(again["id"], job["id"]);
-    let r = app
-        .client
-        .delete(app.url(&format!("/v1/jobs/{id}")))
-        .send()
-        .await
-        .expect("request");
+    let r = app.delete(&format!("/v1/jobs/{id}")).await;
     assert_eq!(r.status().as_u16(), 200);
     app.stop().await;
 }
@@ -342,12 +332,7 @@ async fn bad_input_gets_problem_json_naming_the_field_never_a_500() {
         .expect("r");
     assert_problem(r, 400, Some("#/format")).await;
     // Deleting a finished job is a conflict.
-    let r = app
-        .client
-        .delete(app.url(&format!("/v1/jobs/{id}")))
-        .send()
-        .await
-        .expect("r");
+    let r = app.delete(&format!("/v1/jobs/{id}")).await;
     assert_problem(r, 409, None).await;
     app.stop().await;
 }
