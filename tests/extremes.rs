@@ -143,14 +143,24 @@ fn run_sane(problem: &Problem, solver: Solver) -> Response {
     }
     assert!(r.impacts.len() as u64 <= r.impact_count, "{what}");
     if let Some(f) = r.friction {
-        assert!(f.peak.is_finite() && f.peak >= 0.0, "{what}: peak demand");
-        assert!(f.peak_time.is_finite(), "{what}: peak demand time");
+        match (f.peak, f.peak_time) {
+            (Some(peak), Some(time)) => {
+                assert!(peak.is_finite() && peak >= 0.0, "{what}: peak demand");
+                assert!(time.is_finite(), "{what}: peak demand time");
+                assert!(f.first_lift_off.is_none(), "{what}: bounded after lift-off");
+            }
+            (None, None) => assert!(
+                f.first_lift_off.is_some(),
+                "{what}: unbounded without lift-off"
+            ),
+            other => panic!("{what}: peak and its time disagree: {other:?}"),
+        }
         if let Some(i) = f.initiation {
             assert!(i.is_finite(), "{what}: initiation demand");
         }
     }
     for w in &r.warnings {
-        if let Warning::Sliding(t) | Warning::LiftOff(t) = *w {
+        if let Warning::Sliding(t) | Warning::LiftOff(t) | Warning::DemandExcludesFall(t) = *w {
             assert!(t.is_finite(), "{what}: warning time {t}");
         }
     }

@@ -803,6 +803,10 @@ const NULLABLE: &[&str] = &[
     "overturns_above_alpha_g",
     "closed_form_mode2_alpha_g",
     "lift_off_time",
+    "peak_over_tan_alpha",
+    "friction_demand_followed_until",
+    // Series entries: f_x/f_z has no value from lift-off on.
+    "fx_over_fz",
     "rtol",
     "atol",
 ];
@@ -822,8 +826,10 @@ fn non_finite(v: &Value, pointer: &str, key: Option<&str>, out: &mut Vec<String>
             }
         }
         Value::Array(a) => {
+            // Entries of a nullable series are nullable too.
+            let inner = key.filter(|k| *k == "fx_over_fz");
             for (i, x) in a.iter().enumerate() {
-                non_finite(x, &format!("{pointer}/{i}"), None, out);
+                non_finite(x, &format!("{pointer}/{i}"), inner, out);
             }
         }
         Value::Object(o) => {

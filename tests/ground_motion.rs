@@ -216,7 +216,7 @@ fn below_the_threshold_a_record_leaves_the_block_at_rest() {
     assert!((r.end_time - 0.06).abs() < 1e-15);
     // At rest the demand is |ü_g|/g, largest at a sample.
     let f = r.friction.expect("reactions");
-    assert!((f.peak - c / G).abs() < 1e-15);
+    assert!((f.peak.expect("bounded") - c / G).abs() < 1e-15);
 }
 
 #[test]
@@ -488,4 +488,55 @@ fn the_canonical_spec_carries_the_record() {
         Job::TimeHistory(h) => h.ground_motion.as_ref().expect("record").acc.clone(),
         _ => panic!("a time history"),
     };
+}
+
+#[test]
+fn a_record_starting_above_the_threshold_needs_the_friction_of_the_matching_pulse() {
+    // A one-cosine pulse sampled at T/4000 starts at a_p = 6 αg, above g tan α:
+    // rocking starts at t = 0 and the demand there is eq. 51, as for the pulse
+    // itself, not the at-rest a_p/g.
+    let b = block();
+    let pulse = Pulse::new(PulseShape::OneCosine, 6.0 * 0.25 * G, 4.0 * 2.14).expect("valid");
+    let n = 4000;
+    let dt = pulse.duration / n as f64;
+    let acc: Vec<f64> = (0..=n)
+        .map(|k| pulse.amplitude * (pulse.circular_frequency * k as f64 * dt).cos())
+        .collect();
+    let record = Record::new(acc.into(), dt).expect("valid record");
+    let demand = |r: &Response| {
+        let f = r.friction.expect("reactions followed");
+        (
+            f.peak.expect("bounded"),
+            f.peak_time.expect("time"),
+            f.initiation.expect("rocks"),
+        )
+    };
+    let analytic = simulate(
+        &Problem {
+            block: b,
+            pulse,
+            formulation: Formulation::Nonlinear,
+        },
+        &Options::history(solver()),
+    )
+    .expect("simulates");
+    let sampled = simulate(
+        &Problem {
+            block: b,
+            pulse: record,
+            formulation: Formulation::Nonlinear,
+        },
+        &Options::history(solver()),
+    )
+    .expect("simulates");
+    let (pa, ta, ia) = demand(&analytic);
+    let (ps, ts, is) = demand(&sampled);
+    assert_eq!(sampled.rocking_start, Some(0.0));
+    assert!(ta < 1e-6 && ts < 1e-6, "peak times {ta}, {ts}");
+    assert!(
+        (pa - ps).abs() < 1e-10 && (ia - is).abs() < 1e-12,
+        "{pa} vs {ps}"
+    );
+    assert!((ps - 0.5096).abs() < 5e-4, "{ps}");
+    assert!(ps < 0.6 * 6.0 * 0.25, "at-rest a_p/g = 1.5 counted: {ps}");
 }

@@ -113,6 +113,8 @@ fn time_history(result: &Value, out: &mut String) {
         ("peak_theta_over_alpha", "peak_theta_over_alpha"),
         ("peak_friction_demand", "peak_friction_demand"),
         ("initiation_friction_demand", "initiation_friction_demand"),
+        ("lift_off", "lift_off"),
+        ("lift_off_time", "lift_off_time_s"),
     ];
     row(out, &cols.map(|c| c.1.to_string()));
     row(out, &cols.map(|c| f(result.get(c.0))));
@@ -178,7 +180,12 @@ fn friction(result: &Value, out: &mut String) {
         ("initiation_friction_demand", "initiation_friction_demand"),
         ("overturned", "overturned"),
         ("mode", "mode"),
+        ("lift_off", "lift_off"),
         ("lift_off_time", "lift_off_time_s"),
+        (
+            "friction_demand_followed_until",
+            "friction_demand_followed_until_s",
+        ),
     ];
     row(out, &cols.map(|c| c.1.to_string()));
     for p in array(result, "points") {
@@ -337,13 +344,18 @@ mod tests {
     fn friction_rows_per_amplitude() {
         let doc = json!({"kind": "friction_spectrum", "points": [
             {"a_alpha_g": 1.1, "peak_friction_demand": 0.26, "peak_over_tan_alpha": 1.02,
-             "initiation_friction_demand": 0.255, "overturned": false, "mode": null, "lift_off_time": null}]});
+             "initiation_friction_demand": 0.255, "overturned": false, "mode": null,
+             "lift_off": false, "lift_off_time": null},
+            {"a_alpha_g": 6.0, "peak_friction_demand": null, "peak_over_tan_alpha": null,
+             "initiation_friction_demand": 0.51, "overturned": true, "mode": 2,
+             "lift_off": true, "lift_off_time": 0.41}]});
         let csv = to_csv(&doc).expect("csv");
         assert_eq!(
             lines(&csv),
             vec![
-                "a_alpha_g,peak_friction_demand,peak_over_tan_alpha,initiation_friction_demand,overturned,mode,lift_off_time_s",
-                "1.1,0.26,1.02,0.255,false,,"
+                "a_alpha_g,peak_friction_demand,peak_over_tan_alpha,initiation_friction_demand,overturned,mode,lift_off,lift_off_time_s,friction_demand_followed_until_s",
+                "1.1,0.26,1.02,0.255,false,,false,,",
+                "6.0,,,0.51,true,2,true,0.41,"
             ]
         );
     }

@@ -31,18 +31,28 @@ impl OverturnMode {
 }
 
 /// Friction needed for pure rocking along the history.
+///
+/// The demand is |f_x/f_z| of the rocking block (eq. 20; eqs. 16–19 for the
+/// linear formulation) and |ü_g|/g while the block rests on the base. The
+/// instant rocking starts belongs to the rocking motion: its demand is eq. 7
+/// (eq. 51 for one-cosine), never the at-rest |ü_g|/g.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrictionDemand {
-    /// max |f_x/f_z| over the motion while f_z > 0 (the minimum μ for pure rocking).
-    pub peak: f64,
-    /// When the peak occurs, s.
-    pub peak_time: f64,
+    /// max |f_x/f_z| over the motion (the minimum μ for pure rocking); `None`
+    /// when f_z reached 0 (lift-off): no μ sustains pure rocking, the demand is
+    /// unbounded.
+    pub peak: Option<f64>,
+    /// When the peak occurs, s (`None` with `peak`).
+    pub peak_time: Option<f64>,
     /// Demand at the first rocking start (eq. 7; eq. 51 for one-cosine).
     pub initiation: Option<f64>,
     /// First time |f_x/f_z| exceeds the given μ (the block would slide).
     pub first_sliding: Option<f64>,
-    /// First time f_z ≤ 0 (the block would lift off).
+    /// First time f_z ≤ 0 (the block would lift off): the demand is unbounded.
     pub first_lift_off: Option<f64>,
+    /// The demand was followed up to this time only: the pulse was over and
+    /// the block bound to overturn, so its fall is not counted.
+    pub followed_until: Option<f64>,
 }
 
 /// Sampled histories at uniform times.
@@ -56,8 +66,9 @@ pub struct Series {
     pub theta_dot: Vec<f64>,
     /// Ground acceleration ü_g, m/s².
     pub ground_acceleration: Vec<f64>,
-    /// f_x/f_z (present when reactions are asked for).
-    pub reaction_ratio: Option<Vec<f64>>,
+    /// f_x/f_z (present when reactions are asked for); `None` at samples
+    /// where pure rocking is impossible (from the first lift-off on).
+    pub reaction_ratio: Option<Vec<Option<f64>>>,
 }
 
 /// Something the caller should know about the result.
@@ -67,6 +78,9 @@ pub enum Warning {
     Sliding(f64),
     /// f_z ≤ 0 first at this time: the block would lift off.
     LiftOff(f64),
+    /// The friction demand was followed up to this time (the pulse end): the
+    /// block was then bound to overturn, and its fall is not counted.
+    DemandExcludesFall(f64),
     /// Free rocking after the pulse was followed only up to this many impacts.
     FreeRockingTruncated(u64),
     /// The impact list was truncated to this many entries (the count is complete).

@@ -478,7 +478,7 @@ fn run<G: Forcing>(
             // At rest: wait for the ground to exceed the threshold.
             match pulse.next_exceedance(t, threshold) {
                 None => {
-                    tracker.resting(t, duration.max(t));
+                    tracker.resting(t, duration.max(t), false);
                     if r.rocked {
                         r.rest_time = Some(t);
                     }
@@ -492,7 +492,7 @@ fn run<G: Forcing>(
                     break;
                 }
                 Some(ex) => {
-                    tracker.resting(t, ex.start);
+                    tracker.resting(t, ex.start, true);
                     t = ex.start;
                     events += 1;
                     r.rocked = true;
@@ -624,7 +624,7 @@ fn run<G: Forcing>(
                         break;
                     }
                     if matches!(outcome, FreeOutcome::Overturns { .. }) {
-                        tracker.stop_reactions();
+                        tracker.stop_reactions(tr);
                     }
                     decision = Some(outcome);
                     rocking = Some((y, side, false, tr));
@@ -672,12 +672,16 @@ fn run<G: Forcing>(
     r.peak_theta_over_alpha = peak / block.slenderness;
     if options.reactions {
         let (peak, peak_time) = tracker.peak_demand;
+        // Past lift-off (f_z → 0⁺) no friction coefficient sustains pure
+        // rocking: the demand is unbounded, not the large number reached.
+        let bounded = tracker.first_lift_off.is_none();
         r.friction = Some(FrictionDemand {
-            peak,
-            peak_time,
+            peak: bounded.then_some(peak),
+            peak_time: bounded.then_some(peak_time),
             initiation,
             first_sliding: tracker.first_sliding,
             first_lift_off: tracker.first_lift_off,
+            followed_until: tracker.reactions_stopped_at,
         });
         if let Some(ts) = tracker.first_sliding {
             r.warnings.push(Warning::Sliding(ts));
@@ -685,9 +689,14 @@ fn run<G: Forcing>(
         if let Some(tl) = tracker.first_lift_off {
             r.warnings.push(Warning::LiftOff(tl));
         }
+        if let Some(tf) = tracker.reactions_stopped_at
+            && r.overturned
+        {
+            r.warnings.push(Warning::DemandExcludesFall(tf));
+        }
     }
     if !tracker.series.t.is_empty() {
-        r.series = Some(std::mem::take(&mut tracker.series));
+        r.series = Some(tracker.take_series());
     }
     let (rtol, atol) = match options.solver {
         Solver::RungeKutta { rtol, atol, .. } => (Some(rtol), Some(atol)),

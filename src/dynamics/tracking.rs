@@ -41,6 +41,8 @@ pub struct Tracker<'a, G: Forcing> {
     pub first_sliding: Option<f64>,
     /// First time f_z ≤ 0.
     pub first_lift_off: Option<f64>,
+    /// When the demand stopped being followed (the block was bound to overturn).
+    pub reactions_stopped_at: Option<f64>,
     /// Whether the demand is still followed (off once the block is doomed).
     reactions_on: bool,
 }
@@ -72,13 +74,17 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             peak_demand: (0.0, 0.0),
             first_sliding: None,
             first_lift_off: None,
+            reactions_stopped_at: None,
             reactions_on: true,
         }
     }
 
-    /// Stops following the friction demand (the block is already bound to
-    /// overturn: its fall is not rocking).
-    pub fn stop_reactions(&mut self) {
+    /// Stops following the friction demand at `t` (the block is already bound
+    /// to overturn: its fall is not rocking).
+    pub fn stop_reactions(&mut self, t: f64) {
+        if self.reactions_on && self.req.reactions {
+            self.reactions_stopped_at = Some(t);
+        }
         self.reactions_on = false;
     }
 
@@ -236,13 +242,16 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         hi
     }
 
-    /// The block at rest on the base over `[ta, tb]` (moving with the ground).
-    pub fn resting(&mut self, ta: f64, tb: f64) {
+    /// The block at rest on the base over `[ta, tb]` (moving with the ground),
+    /// or over `[ta, tb)` when `rocking_follows`: rocking starts at `tb`, and
+    /// that instant belongs to the rocking motion (its demand is eq. 7, taken
+    /// by [`Tracker::rocking`]), not to the rest.
+    pub fn resting(&mut self, ta: f64, tb: f64, rocking_follows: bool) {
         if !self.active() || tb < ta {
             return;
         }
         while let Some(&ts) = self.req.series_times.get(self.next_sample) {
-            if ts > tb {
+            if ts > tb || (rocking_follows && ts >= tb) {
                 break;
             }
             if ts >= ta {
@@ -250,8 +259,14 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             }
             self.next_sample += 1;
         }
-        if self.req.reactions && self.reactions_on {
-            // At rest f_x = m ü_g and f_z = m g: the demand is |ü_g|/g.
+        // A pulse that starts at or above the threshold starts rocking at once:
+        // the block never rests, and |ü_g|/g there is no demand at all.
+        let never_at_rest = rocking_follows && tb <= ta;
+        if self.req.reactions && self.reactions_on && !never_at_rest {
+            // At rest f_x = m ü_g and f_z = m g: the demand is |ü_g|/g. Over
+            // [ta, tb) its supremum is the maximum over [ta, tb], the forcing
+            // being continuous where a rest ends in rocking (at tb it reaches
+            // the threshold, where eq. 7 gives the same value).
             let g = self.block.gravity;
             let best = self.pulse.peak_between(ta, tb);
             let d = best.0 / g;
@@ -278,12 +293,26 @@ impl<'a, G: Forcing> Tracker<'a, G> {
                 Some(s) => {
                     let (fx, fz) =
                         reactions_per_mass(self.formulation, self.block, s, y[0], y[1], ground);
-                    fx / fz
+                    (fz > 0.0).then_some(fx / fz)
                 }
-                None => ground / self.block.gravity,
+                None => Some(ground / self.block.gravity),
             };
             r.push(ratio);
         }
+    }
+
+    /// The collected series; f_x/f_z is left out from the first lift-off on
+    /// (pure rocking, and so the ratio, has no meaning after it).
+    pub fn take_series(&mut self) -> Series {
+        let mut series = std::mem::take(&mut self.series);
+        if let (Some(tl), Some(ratio)) = (self.first_lift_off, series.reaction_ratio.as_mut()) {
+            for (r, &t) in ratio.iter_mut().zip(&series.t) {
+                if t >= tl {
+                    *r = None;
+                }
+            }
+        }
+        series
     }
 
     /// Fills series samples at or after `t` with a constant state (after the

@@ -109,18 +109,27 @@ impl FrictionSpec {
 pub struct FrictionPointDoc {
     /// a_p/(αg).
     pub a_alpha_g: f64,
-    /// max |f_x/f_z| over the rocking history: the minimum μ for pure rocking.
-    pub peak_friction_demand: f64,
-    /// The same over tan α (the axis of Fig. 9).
-    pub peak_over_tan_alpha: f64,
+    /// max |f_x/f_z| over the rocking history: the minimum μ for pure rocking;
+    /// null when the block lifts off (`lift_off`): the demand is unbounded.
+    pub peak_friction_demand: Option<f64>,
+    /// The same over tan α (the axis of Fig. 9); null with it.
+    pub peak_over_tan_alpha: Option<f64>,
     /// f_x/f_z when rocking starts (eq. 7; eq. 51 for one-cosine).
     pub initiation_friction_demand: Option<f64>,
     /// Whether the block overturned.
     pub overturned: bool,
     /// Overturning mode.
     pub mode: Option<u8>,
+    /// Whether f_z reached 0: the block would lift off, no μ sustains pure
+    /// rocking.
+    #[serde(default)]
+    pub lift_off: bool,
     /// First time f_z ≤ 0, s.
     pub lift_off_time: Option<f64>,
+    /// The demand was followed up to this time (the pulse end) only: the block
+    /// was then bound to overturn, and its fall is not counted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction_demand_followed_until: Option<f64>,
 }
 
 /// The result document of a friction-spectrum job.
@@ -165,15 +174,85 @@ impl FrictionJob {
                 .map(|p| FrictionPointDoc {
                     a_alpha_g: p.level,
                     peak_friction_demand: p.peak_demand,
-                    peak_over_tan_alpha: p.peak_demand / tan,
+                    peak_over_tan_alpha: p.peak_demand.map(|d| d / tan),
                     initiation_friction_demand: p.initiation_demand,
                     overturned: p.overturned,
                     mode: p.mode,
+                    lift_off: p.lift_off.is_some(),
                     lift_off_time: p.lift_off,
+                    friction_demand_followed_until: p.followed_until,
                 })
                 .collect(),
             numerics: SpectrumNumerics::new(&self.solver, &s.stats, 0.0, 0.0, s.wall_time),
             spec: self.clone(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use serde_json::{Value, json};
+
+    use crate::jobs::Job;
+    use crate::spectrum::Control;
+
+    fn run(spec: Value) -> Value {
+        let job = Job::from_value(&spec).expect("valid spec");
+        job.run(&Control::new()).expect("runs")
+    }
+
+    /// Eq. 51 (λ = 1), written out as printed.
+    fn eq51(alpha: f64, level: f64) -> f64 {
+        let (g, t, s, c) = (9.81, alpha.tan(), alpha.sin(), alpha.cos());
+        let a_p = level * alpha * g;
+        let x = a_p / (g * t) - 1.0;
+        t * (a_p / (g * s) - 0.75 * c * x) / (t / s + 0.75 * t * s * x)
+    }
+
+    #[test]
+    fn one_cosine_spectrum_is_eq_51_and_reaches_two_alpha_at_six_alpha_g() {
+        // Fig. 9 (bottom): α = 0.25, ω_p/p = 4; 0.5096 ≈ 2α at 6 αg.
+        let doc = run(json!({"kind": "friction_spectrum",
+            "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+            "pulse": {"type": "one_cosine"}, "omega_ratio": 4.0,
+            "a_alpha_g": [2.0, 4.0, 6.0]}));
+        for p in doc["points"].as_array().expect("points") {
+            let level = p["a_alpha_g"].as_f64().expect("level");
+            let peak = p["peak_friction_demand"].as_f64().expect("bounded");
+            assert!((peak / eq51(0.25, level) - 1.0).abs() < 5e-3, "{p}");
+            assert!(peak < 0.7 * level * 0.25, "at-rest a_p/g counted: {p}");
+            assert_eq!(p["lift_off"], json!(false));
+        }
+        let six = &doc["points"][2];
+        let peak = six["peak_friction_demand"].as_f64().expect("bounded");
+        assert!((peak - 0.5096).abs() <= 0.005 * 0.5096, "{six}");
+        let over_tan = six["peak_over_tan_alpha"].as_f64().expect("bounded");
+        assert!((over_tan - peak / 0.25f64.tan()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_lift_off_point_is_null_flagged_and_marked_in_csv_and_svg() {
+        let doc = run(json!({"kind": "friction_spectrum",
+            "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+            "pulse": {"type": "one_cosine"}, "omega_ratio": 1.0,
+            "a_alpha_g": [2.0, 6.0]}));
+        let lifted = &doc["points"][1];
+        assert_eq!(lifted["peak_friction_demand"], Value::Null, "{lifted}");
+        assert_eq!(lifted["peak_over_tan_alpha"], Value::Null);
+        assert_eq!(lifted["lift_off"], json!(true));
+        let tl = lifted["lift_off_time"].as_f64().expect("time");
+        assert!((tl - 0.410_511_6).abs() < 1e-6, "{tl}");
+        let csv = crate::api::csv::to_csv(&doc).expect("csv");
+        let header: Vec<&str> = csv.lines().next().expect("header").split(',').collect();
+        let row: Vec<&str> = csv.lines().nth(2).expect("row").split(',').collect();
+        let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
+        assert_eq!(row[col("peak_friction_demand")], "");
+        assert_eq!(row[col("lift_off")], "true");
+        let svg = crate::plot::svg(&doc).expect("svg");
+        assert!(svg.contains("lift-off (f_z → 0)"), "legend");
+        assert!(
+            !svg.contains("e9"),
+            "a lift-off point drawn at its huge value"
+        );
     }
 }

@@ -172,7 +172,8 @@ pub struct ImpactDoc {
 /// A note on a result.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct WarningDoc {
-    /// "sliding" | "lift_off" | "free_rocking_truncated" | "impact_list_truncated" | "near_separatrix".
+    /// "sliding" | "lift_off" | "demand_excludes_fall" | "free_rocking_truncated" |
+    /// "impact_list_truncated" | "near_separatrix".
     pub kind: String,
     /// When it happens, s.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -192,7 +193,12 @@ impl WarningDoc {
             Warning::LiftOff(t) => (
                 "lift_off",
                 Some(t),
-                format!("f_z <= 0 at t = {t:.6} s: the block would lift off the base"),
+                format!("f_z <= 0 at t = {t:.6} s: the block would lift off the base; no friction coefficient sustains pure rocking (peak_friction_demand is null: unbounded)"),
+            ),
+            Warning::DemandExcludesFall(t) => (
+                "demand_excludes_fall",
+                Some(t),
+                format!("the friction demand is followed up to t = {t:.6} s, the pulse end: the block was then bound to overturn, and its fall is not counted"),
             ),
             Warning::FreeRockingTruncated(n) => (
                 "free_rocking_truncated",
@@ -229,9 +235,10 @@ pub struct SeriesDoc {
     pub theta_dot: Vec<f64>,
     /// ü_g, m/s².
     pub ground_acceleration: Vec<f64>,
-    /// f_x/f_z.
+    /// f_x/f_z; null where pure rocking is impossible (f_z ≤ 0, from the
+    /// first lift-off on).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub fx_over_fz: Option<Vec<f64>>,
+    pub fx_over_fz: Option<Vec<Option<f64>>>,
 }
 
 /// The result document of a time-history job.
@@ -267,11 +274,24 @@ pub struct TimeHistoryResult {
     pub end_time: f64,
     /// max |θ|/α.
     pub peak_theta_over_alpha: f64,
-    /// max |f_x/f_z| while rocking (minimum μ for pure rocking), when reactions are followed.
+    /// max |f_x/f_z| while rocking (minimum μ for pure rocking), when reactions
+    /// are followed; null when the block lifts off (`lift_off`): no μ sustains
+    /// pure rocking there, the demand is unbounded.
     pub peak_friction_demand: Option<f64>,
     /// Time of that peak, s.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub peak_friction_demand_time: Option<f64>,
+    /// Whether f_z reached 0 (the block would lift off; the friction demand is
+    /// unbounded). Present when reactions are followed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lift_off: Option<bool>,
+    /// First time f_z ≤ 0, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lift_off_time: Option<f64>,
+    /// The demand was followed up to this time (the pulse end) only: the block
+    /// was then bound to overturn, and its fall is not counted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction_demand_followed_until: Option<f64>,
     /// f_x/f_z when rocking starts (eq. 7 / 51).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub initiation_friction_demand: Option<f64>,
@@ -363,8 +383,14 @@ impl TimeHistoryJob {
             decided_at: r.decided_at,
             end_time: r.end_time,
             peak_theta_over_alpha: r.peak_theta_over_alpha,
-            peak_friction_demand: r.friction.map(|f| f.peak),
-            peak_friction_demand_time: r.friction.map(|f| f.peak_time),
+            peak_friction_demand: r.friction.and_then(|f| f.peak),
+            peak_friction_demand_time: r.friction.and_then(|f| f.peak_time),
+            lift_off: r.friction.map(|f| f.first_lift_off.is_some()),
+            lift_off_time: r.friction.and_then(|f| f.first_lift_off),
+            friction_demand_followed_until: r
+                .friction
+                .and_then(|f| f.followed_until)
+                .filter(|_| r.overturned),
             initiation_friction_demand: r.friction.and_then(|f| f.initiation),
             warnings: r.warnings.iter().map(WarningDoc::from).collect(),
             series: r.series.map(|s| SeriesDoc {

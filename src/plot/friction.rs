@@ -20,7 +20,8 @@ const INITIATION: RGBColor = RGBColor(0, 114, 178);
 /// One amplitude of the spectrum.
 struct Point {
     a: f64,
-    peak: f64,
+    /// None: unbounded (lift-off).
+    peak: Option<f64>,
     initiation: Option<f64>,
     overturned: bool,
     mode: Option<u8>,
@@ -39,15 +40,21 @@ pub fn svg(result: &Value) -> Result<String, String> {
         .iter()
         .filter_map(|p| {
             let a = num(p, "a_alpha_g")?;
+            let lift_off = p.get("lift_off").and_then(Value::as_bool) == Some(true)
+                || num(p, "lift_off_time").is_some();
             let peak = num(p, "peak_over_tan_alpha")
-                .or_else(|| num(p, "peak_friction_demand").map(|d| d / tan))?;
+                .or_else(|| num(p, "peak_friction_demand").map(|d| d / tan))
+                .filter(|d| d.is_finite() && !lift_off);
+            if peak.is_none() && !lift_off {
+                return None;
+            }
             Some(Point {
                 a,
                 peak,
                 initiation: num(p, "initiation_friction_demand").map(|d| d / tan),
                 overturned: p.get("overturned").and_then(Value::as_bool) == Some(true),
                 mode: p.get("mode").and_then(Value::as_u64).map(|m| m as u8),
-                lift_off: num(p, "lift_off_time").is_some(),
+                lift_off,
             })
         })
         .collect();
@@ -65,21 +72,36 @@ pub fn svg(result: &Value) -> Result<String, String> {
     } else {
         (xmin * 0.9, xmax * 1.1 + 0.1)
     };
-    // Lift-off makes the demand unbounded: the range follows the others.
-    let bounded: Vec<f64> = points
+    // Lift-off makes the demand unbounded: the range follows the others, and
+    // lift-off amplitudes are marked on the top edge.
+    // Near lift-off f_z is small and the demand very large though bounded: the
+    // range stops at a few times the demand when rocking starts, and points
+    // above it sit on the top edge (their values are in the JSON and CSV).
+    let start_demand = points
         .iter()
-        .filter(|p| !p.lift_off && p.peak.is_finite())
-        .map(|p| p.peak)
-        .collect();
-    let top = bounded
+        .filter_map(|p| p.initiation)
+        .chain(mu)
+        .fold(1.0f64, f64::max);
+    let cap = (4.0 * start_demand).max(6.0);
+    let highest = points
         .iter()
-        .copied()
+        .filter_map(|p| p.peak)
         .chain(points.iter().filter_map(|p| p.initiation))
         .chain(mu)
-        .fold(1.2f64, f64::max)
-        .min(100.0)
-        * 1.12;
-    let peak_line: Vec<(f64, f64)> = points.iter().map(|p| (p.a, p.peak)).collect();
+        .fold(1.2f64, f64::max);
+    let top = highest.min(cap) * 1.12;
+    let off_scale: Vec<f64> = points
+        .iter()
+        .filter_map(|p| p.peak)
+        .filter(|d| *d > top)
+        .collect();
+    // The demand curve, broken wherever the demand is unbounded.
+    let peak_runs: Vec<Vec<(f64, f64)>> = points
+        .chunk_by(|a, b| a.peak.is_some() == b.peak.is_some())
+        .filter(|run| run[0].peak.is_some())
+        .map(|run| run.iter().filter_map(|p| Some((p.a, p.peak?))).collect())
+        .collect();
+    let lift_off_edge = top * 0.94;
     let initiation: Vec<(f64, f64)> = points
         .iter()
         .filter_map(|p| Some((p.a, p.initiation?)))
@@ -111,8 +133,16 @@ pub fn svg(result: &Value) -> Result<String, String> {
     if points.iter().any(|p| p.lift_off) {
         legend.entry(
             Swatch::Mark(Marker::Cross, INK),
-            "the block lifts off (f_z ≤ 0)",
+            "lift-off (f_z → 0): demand unbounded, no μ suffices",
         );
+    }
+    if !off_scale.is_empty() {
+        legend.note(format!(
+            "{} amplitude{} above the scale (up to {} tan α), drawn on the top edge",
+            off_scale.len(),
+            if off_scale.len() == 1 { "" } else { "s" },
+            fmt_num(off_scale.iter().copied().fold(0.0, f64::max), 3)
+        ));
     }
     if !initiation.is_empty() {
         legend.entry(
@@ -197,22 +227,29 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 INITIATION.stroke_width(2),
             ))?;
         }
-        for part in clip_y(&peak_line, 0.0, top) {
-            chart.draw_series(LineSeries::new(part, PEAK.stroke_width(2)))?;
+        for run in &peak_runs {
+            for part in clip_y(run, 0.0, top) {
+                chart.draw_series(LineSeries::new(part, PEAK.stroke_width(2)))?;
+            }
         }
-        chart.draw_series(points.iter().filter(|p| p.peak <= top).map(|p| {
-            let (kind, colour) = match (p.overturned, p.mode) {
-                (false, _) => (Marker::Ring, PEAK),
-                (true, Some(2)) => (Marker::Square, MODE2),
-                (true, _) => (Marker::Triangle, MODE1),
-            };
-            marker((p.a, p.peak), kind, 8, colour)
-        }))?;
         chart.draw_series(
             points
                 .iter()
-                .filter(|p| p.lift_off && p.peak <= top)
-                .map(|p| marker((p.a, p.peak), Marker::Cross, 12, INK)),
+                .filter_map(|p| Some((p, p.peak?.min(top * 0.995))))
+                .map(|(p, peak)| {
+                    let (kind, colour) = match (p.overturned, p.mode) {
+                        (false, _) => (Marker::Ring, PEAK),
+                        (true, Some(2)) => (Marker::Square, MODE2),
+                        (true, _) => (Marker::Triangle, MODE1),
+                    };
+                    marker((p.a, peak), kind, 8, colour)
+                }),
+        )?;
+        chart.draw_series(
+            points
+                .iter()
+                .filter(|p| p.lift_off)
+                .map(|p| marker((p.a, lift_off_edge), Marker::Cross, 12, INK)),
         )?;
         draw_legend(&side, &legend)
     })

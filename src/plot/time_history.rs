@@ -230,8 +230,15 @@ pub fn svg(result: &Value) -> Result<String, String> {
         if !ratio.is_empty() {
             // Near lift-off and overturning f_z → 0 and the ratio grows without
             // bound: the range follows the peak demand while rocking.
+            // After lift-off the demand is unbounded (the series stops there):
+            // the range then follows the demand when rocking starts.
             let largest = half_range(ratio.iter().map(|q| q.1), 0.0) / 1.12;
             let scale = num(result, "peak_friction_demand")
+                .or_else(|| {
+                    num(result, "lift_off_time")
+                        .and(num(result, "initiation_friction_demand"))
+                        .map(|d| 2.0 * d)
+                })
                 .unwrap_or(largest)
                 .max(threshold.max(mu.unwrap_or(0.0)));
             let m = (largest * 1.12).min(scale * 1.3).max(alpha.tan() * 1.3);
@@ -366,6 +373,13 @@ pub fn svg(result: &Value) -> Result<String, String> {
             label: "at rest".into(),
         });
     }
+    if let Some(tl) = num(result, "lift_off_time") {
+        marks.push(Mark {
+            t: tl,
+            colour: INK,
+            label: "lift-off (f_z = 0)".into(),
+        });
+    }
 
     legend.note(block_note(spec.get("block")));
     let a_p = at(spec, "/pulse/a_p");
@@ -420,6 +434,11 @@ pub fn svg(result: &Value) -> Result<String, String> {
     }
     if let Some(peak) = num(result, "peak_friction_demand") {
         legend.note(format!("peak f_x/f_z while rocking = {}", fmt_num(peak, 3)));
+    } else if let Some(tl) = num(result, "lift_off_time") {
+        legend.note(format!(
+            "f_z → 0 at t = {} s (lift-off): friction demand unbounded",
+            fmt_num(tl, 4)
+        ));
     }
     if let Some(largest) = clipped_ratio {
         legend.note(format!(

@@ -34,9 +34,10 @@ pub struct FrictionRequest {
 pub struct FrictionPoint {
     /// a_p/(αg).
     pub level: f64,
-    /// max |f_x/f_z| over the rocking history (f_z > 0, not counting the fall of
-    /// a block already bound to overturn).
-    pub peak_demand: f64,
+    /// max |f_x/f_z| over the rocking history (not counting the fall of a block
+    /// already bound to overturn); `None` when the block lifts off (f_z → 0⁺):
+    /// the demand is unbounded.
+    pub peak_demand: Option<f64>,
     /// f_x/f_z when rocking starts (eq. 7; eq. 51 for one-cosine), if it rocks.
     pub initiation_demand: Option<f64>,
     /// Whether the block overturned.
@@ -45,6 +46,9 @@ pub struct FrictionPoint {
     pub mode: Option<u8>,
     /// First time f_z ≤ 0, if any.
     pub lift_off: Option<f64>,
+    /// The demand was followed up to this time only (the block was then bound
+    /// to overturn: its fall is not counted).
+    pub followed_until: Option<f64>,
 }
 
 /// A friction-demand spectrum.
@@ -88,14 +92,17 @@ pub fn friction_spectrum(
                 &opts,
             )?;
             control.add_done(1);
+            // A block that never rocks needs at most its at-rest demand, which
+            // the tracker always reports; the fallback is never taken.
             let f = r
                 .friction
                 .unwrap_or(crate::dynamics::response::FrictionDemand {
-                    peak: 0.0,
-                    peak_time: 0.0,
+                    peak: Some(0.0),
+                    peak_time: Some(0.0),
                     initiation: None,
                     first_sliding: None,
                     first_lift_off: None,
+                    followed_until: None,
                 });
             let stats = ScanStats {
                 simulations: 1,
@@ -113,6 +120,7 @@ pub fn friction_spectrum(
                     overturned: r.overturned,
                     mode: r.mode.map(|m| m.number()),
                     lift_off: f.first_lift_off,
+                    followed_until: f.followed_until.filter(|_| r.overturned),
                 },
                 stats,
             ))
