@@ -21,6 +21,7 @@ use crate::jobs::spectrum::SpectrumSpec;
 use crate::jobs::time_history::TimeHistorySpec;
 use crate::jobs::{Job, KINDS};
 use crate::service::AppState;
+use crate::service::results::Cached;
 use crate::store::{JobRecord, ListQuery, Status, new_job_id, now_rfc3339};
 
 /// A job spec: exactly what `topple run` accepts.
@@ -41,11 +42,45 @@ pub enum JobSpec {
 /// Links of a job.
 #[derive(Clone, Debug, Serialize, ToSchema)]
 pub struct Links {
-    /// This job.
+    /// This job (GET: status; `?wait=N` long-polls).
     #[serde(rename = "self")]
     pub this: String,
-    /// Its result.
+    /// Its result document (JSON).
     pub result: String,
+    /// Its result as CSV.
+    pub csv: String,
+    /// Its result as a figure (SVG).
+    pub plot: String,
+    /// Its status as Server-Sent Events.
+    pub events: String,
+    /// DELETE cancels it.
+    pub cancel: String,
+}
+
+impl Links {
+    fn of(id: Uuid) -> Self {
+        let this = format!("/v1/jobs/{id}");
+        Links {
+            result: format!("{this}/result"),
+            csv: format!("{this}/result?format=csv"),
+            plot: format!("{this}/plot.svg"),
+            events: format!("{this}/events"),
+            cancel: this.clone(),
+            this,
+        }
+    }
+}
+
+/// What a job will take: its simulations and the time they are expected to
+/// take on this instance, from the rate it has measured.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct Estimate {
+    /// Simulations the job needs (estimated for spectra: grid plus bisections).
+    pub simulations: f64,
+    /// Expected compute time on this instance, s.
+    pub seconds: f64,
+    /// The measured rate behind it: wall seconds per simulation.
+    pub seconds_per_simulation: f64,
 }
 
 /// A job as the API shows it.
@@ -75,11 +110,15 @@ pub struct JobView {
     /// The numerics summary of the result, once done.
     #[schema(value_type = Option<Object>)]
     pub numerics: Option<serde_json::Value>,
-    /// The normalised spec.
-    #[schema(value_type = Object)]
-    pub spec: serde_json::Value,
+    /// The normalised spec (in listings only with `?include=spec`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<Object>)]
+    pub spec: Option<serde_json::Value>,
     /// Links.
     pub links: Links,
+    /// On submission: the simulations the job needs and the time expected.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub estimate: Option<Estimate>,
     /// The result, inline, when `?wait=` saw the job finish (or a submission
     /// found it done).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -87,7 +126,14 @@ pub struct JobView {
     pub result: Option<Box<serde_json::value::RawValue>>,
 }
 
-fn view(r: &JobRecord, cached: Option<bool>) -> JobView {
+pub(crate) fn view(r: &JobRecord, cached: Option<bool>) -> JobView {
+    let mut v = summary(r, cached);
+    v.spec = Some(serde_json::from_str(&r.spec).unwrap_or(serde_json::Value::Null));
+    v
+}
+
+/// A job without its spec (listings).
+pub(crate) fn summary(r: &JobRecord, cached: Option<bool>) -> JobView {
     let progress = r.progress;
     JobView {
         id: r.id.to_string(),
@@ -104,18 +150,93 @@ fn view(r: &JobRecord, cached: Option<bool>) -> JobView {
             .numerics
             .as_deref()
             .and_then(|n| serde_json::from_str(n).ok()),
-        spec: serde_json::from_str(&r.spec).unwrap_or(serde_json::Value::Null),
-        links: Links {
-            this: format!("/v1/jobs/{}", r.id),
-            result: format!("/v1/jobs/{}/result", r.id),
-        },
+        spec: None,
+        links: Links::of(r.id),
+        estimate: None,
         result: None,
     }
+}
+
+/// The weak entity tag of a job's status: it changes with status, progress
+/// and outcome.
+pub(crate) fn status_etag(r: &JobRecord) -> String {
+    let mut h = blake3::Hasher::new();
+    h.update(r.id.as_bytes());
+    h.update(r.status.as_str().as_bytes());
+    h.update(&((r.progress * 1e4).round() as i64).to_le_bytes());
+    h.update(r.finished_at.as_deref().unwrap_or("").as_bytes());
+    h.update(r.error.as_deref().unwrap_or("").as_bytes());
+    format!("W/\"{}\"", &h.finalize().to_hex()[..24])
+}
+
+/// A query string read into `T`; an unknown or malformed parameter is a 400
+/// naming it.
+pub(crate) fn query<T>(q: Result<Query<T>, QueryRejection>, known: &[&str]) -> Result<T, Problem> {
+    q.map(|Query(t)| t).map_err(|e| {
+        let text = e.body_text();
+        let name = text
+            .split('`')
+            .nth(1)
+            .filter(|n| !n.is_empty())
+            .map(str::to_owned);
+        let unknown = text.contains("unknown field");
+        let detail = match (&name, unknown) {
+            (Some(n), true) => format!(
+                "unknown query parameter {n:?}: this endpoint takes {}",
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                }
+            ),
+            _ => text.clone(),
+        };
+        let p = Problem::bad_request("invalid-parameter", detail);
+        match name.or_else(|| (known.len() == 1).then(|| known[0].to_string())) {
+            Some(n) => p.param(&n),
+            None => p,
+        }
+    })
+}
+
+/// A `wait` parameter as a duration, capped by the service's `max_wait`.
+fn wait_duration(state: &AppState, wait: Option<f64>) -> Result<Option<Duration>, Problem> {
+    match wait {
+        None => Ok(None),
+        Some(w) if w.is_finite() && w >= 0.0 => Ok(Some(
+            Duration::try_from_secs_f64(w)
+                .unwrap_or(Duration::MAX)
+                .min(state.config.max_wait),
+        )),
+        Some(_) => Err(Problem::bad_request(
+            "invalid-parameter",
+            "wait must be a non-negative number of seconds",
+        )
+        .param("wait")),
+    }
+}
+
+/// Seconds a poller of job `r` should wait: from its estimated remaining work
+/// at this instance's measured rate.
+fn poll_after(state: &AppState, r: &JobRecord) -> u64 {
+    // A time history is one simulation (and its spec may hold a long record,
+    // not worth parsing here); the other kinds' specs are small.
+    let work = if r.kind == "time_history" {
+        1.0
+    } else {
+        serde_json::from_str::<serde_json::Value>(&r.spec)
+            .ok()
+            .and_then(|v| Job::from_value(&v).ok())
+            .map_or(1.0, |job| job.size().work)
+    };
+    let remaining = work * (1.0 - r.progress.clamp(0.0, 1.0));
+    super::http::poll_interval(state.throughput.seconds(remaining))
 }
 
 /// Query of a submission.
 #[derive(Debug, Deserialize, IntoParams)]
 #[into_params(parameter_in = Query)]
+#[serde(deny_unknown_fields)]
 pub struct CreateQuery {
     /// Wait up to this many seconds for the job to finish and return its result inline.
     #[param(minimum = 0)]
@@ -135,7 +256,7 @@ pub(crate) fn parse_id(path: Result<Path<String>, PathRejection>) -> Result<Uuid
     })
 }
 
-async fn load(state: &AppState, id: Uuid) -> Result<JobRecord, Problem> {
+pub(crate) async fn load(state: &AppState, id: Uuid) -> Result<JobRecord, Problem> {
     state
         .store
         .get(id)
@@ -143,9 +264,9 @@ async fn load(state: &AppState, id: Uuid) -> Result<JobRecord, Problem> {
         .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))
 }
 
-async fn load_result(state: &AppState, id: Uuid) -> Result<std::sync::Arc<str>, Problem> {
-    if let Some(body) = state.results.get(id) {
-        return Ok(body);
+async fn load_result(state: &AppState, id: Uuid, key: &str) -> Result<Cached, Problem> {
+    if let Some(found) = state.results.get(id) {
+        return Ok(found);
     }
     let body: std::sync::Arc<str> = state
         .store
@@ -153,8 +274,11 @@ async fn load_result(state: &AppState, id: Uuid) -> Result<std::sync::Arc<str>, 
         .await?
         .ok_or_else(|| Problem::internal(format!("result of job {id} is missing")))?
         .into();
-    state.results.put(id, body.clone());
-    Ok(body)
+    state.results.put(id, key, body.clone());
+    Ok(Cached {
+        key: key.into(),
+        body,
+    })
 }
 
 /// A body that says it is something other than JSON is refused (415); one
@@ -216,16 +340,13 @@ async fn admit(state: &AppState, key: &str) -> Result<(), Problem> {
 
 /// The stored result document of job `id`: 404 without the job, 409 until it
 /// has succeeded.
-pub(crate) async fn finished_result(
-    state: &AppState,
-    id: Uuid,
-) -> Result<std::sync::Arc<str>, Problem> {
-    if let Some(body) = state.results.get(id) {
-        return Ok(body);
+pub(crate) async fn finished_result(state: &AppState, id: Uuid) -> Result<Cached, Problem> {
+    if let Some(found) = state.results.get(id) {
+        return Ok(found);
     }
     let job = load(state, id).await?;
     match job.status {
-        Status::Succeeded => load_result(state, id).await,
+        Status::Succeeded => load_result(state, id, &job.key).await,
         Status::Failed => Err(Problem::conflict(
             "job-failed",
             format!("job {id} failed: {}", job.error.unwrap_or_default()),
@@ -236,8 +357,12 @@ pub(crate) async fn finished_result(
         )),
         s => Err(Problem::conflict(
             "not-finished",
-            format!("job {id} is {}; poll /v1/jobs/{id}", s.as_str()),
-        )),
+            format!(
+                "job {id} is {}; poll /v1/jobs/{id} (?wait=N waits for it) or follow /v1/jobs/{id}/events",
+                s.as_str()
+            ),
+        )
+        .retry_after(poll_after(state, &job))),
     }
 }
 
@@ -280,6 +405,7 @@ async fn wait_for(state: &AppState, id: Uuid, limit: Duration) -> Result<JobReco
     post,
     path = "/v1/jobs",
     tag = "jobs",
+    operation_id = "create_job",
     params(CreateQuery),
     security((), ("bearer" = [])),
     request_body(content = JobSpec, description = "A job spec", content_type = "application/json"),
@@ -303,8 +429,7 @@ pub async fn create_job(
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, Problem> {
     check_json_content_type(&headers)?;
-    let Query(query) = query
-        .map_err(|e| Problem::bad_request("invalid-parameter", e.body_text()).param("wait"))?;
+    let query = self::query(query, &["wait"])?;
     let body = body.map_err(|e| {
         let status = e.status();
         if status == StatusCode::PAYLOAD_TOO_LARGE {
@@ -326,21 +451,7 @@ pub async fn create_job(
             Problem::new(status, "invalid-body", "Unreadable body", e.body_text()).at("")
         }
     })?;
-    let wait = match query.wait {
-        None => None,
-        Some(w) if w.is_finite() && w >= 0.0 => Some(
-            Duration::try_from_secs_f64(w)
-                .unwrap_or(Duration::MAX)
-                .min(state.config.max_wait),
-        ),
-        Some(_) => {
-            return Err(Problem::bad_request(
-                "invalid-parameter",
-                "wait must be a non-negative number of seconds",
-            )
-            .param("wait"));
-        }
-    };
+    let wait = wait_duration(&state, query.wait)?;
     let text = std::str::from_utf8(&body)
         .map_err(|_| Problem::bad_request("invalid-body", "the body is not UTF-8"))?;
     let job = Job::parse(text).map_err(|e| {
@@ -362,7 +473,8 @@ pub async fn create_job(
         )
         .at(pointer)
     })?;
-    job.check_limits(&state.config.limits)
+    let size = job
+        .check_limits(&state.config.limits)
         .map_err(|e| Problem::over_limit(&e))?;
     let key = cache_key(&job);
     admit(&state, &key).await?;
@@ -401,12 +513,20 @@ pub async fn create_job(
         record = wait_for(&state, id, limit).await?;
     }
     let mut v = view(&record, Some(submitted.cached));
+    v.estimate = Some(Estimate {
+        simulations: size.work,
+        seconds: state.throughput.seconds(size.work),
+        seconds_per_simulation: state.throughput.seconds_per_simulation(),
+    });
     // New work is accepted (202) unless the caller waited for it; existing work
-    // that is done answers 200 with its result.
-    let status = if record.status == Status::Succeeded && (wait.is_some() || submitted.cached) {
-        // The stored document is inlined as it is, never parsed again.
-        let body = load_result(&state, id).await?;
-        v.result = serde_json::value::RawValue::from_string(body.to_string()).ok();
+    // that is done, and work waited for that ended (succeeded, failed or
+    // canceled), answers 200.
+    let status = if record.status.is_final() && (wait.is_some() || submitted.cached) {
+        if record.status == Status::Succeeded {
+            // The stored document is inlined as it is, never parsed again.
+            let found = load_result(&state, id, &record.key).await?;
+            v.result = serde_json::value::RawValue::from_string(found.body.to_string()).ok();
+        }
         StatusCode::OK
     } else {
         StatusCode::ACCEPTED
@@ -415,99 +535,284 @@ pub async fn create_job(
     if let Ok(loc) = HeaderValue::from_str(&format!("/v1/jobs/{id}")) {
         response.headers_mut().insert(header::LOCATION, loc);
     }
+    if status == StatusCode::ACCEPTED {
+        response.headers_mut().insert(
+            header::RETRY_AFTER,
+            HeaderValue::from(poll_after(&state, &record)),
+        );
+    }
     Ok(response)
 }
 
+/// Query of a status read.
+#[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+#[serde(deny_unknown_fields)]
+pub struct JobQuery {
+    /// Long-poll: wait up to this many seconds (capped as for POST) for the job
+    /// to finish, or, with `If-None-Match`, for its status to change.
+    #[param(minimum = 0)]
+    pub wait: Option<f64>,
+}
+
 /// A job's status.
+///
+/// Carries a weak `ETag` that changes with status and progress: a poller that
+/// sends it back as `If-None-Match` gets a bodiless 304 while nothing changed.
+/// With `?wait=N` the call returns as soon as the job is finished (or, with
+/// `If-None-Match`, as soon as its status differs), or after N seconds.
 #[utoipa::path(
     get,
     path = "/v1/jobs/{id}",
     tag = "jobs",
-    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid")),
+    operation_id = "get_job",
+    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"), JobQuery,
+        ("If-None-Match" = Option<String>, Header, description = "The ETag of a status already seen")),
     responses(
-        (status = 200, description = "The job", body = JobView),
-        (status = 400, description = "Not a job id", body = Problem, content_type = "application/problem+json"),
+        (status = 200, description = "The job", body = JobView,
+            headers(("ETag" = String, description = "Changes with status and progress"),
+                    ("Retry-After" = Option<String>, description = "While unfinished: seconds until a poll is worthwhile"))),
+        (status = 304, description = "Unchanged since the ETag sent in If-None-Match"),
+        (status = 400, description = "Not a job id, or a bad or unknown query parameter", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
     )
 )]
 pub async fn get_job(
     State(state): State<AppState>,
     path: Result<Path<String>, PathRejection>,
-) -> Result<axum::Json<JobView>, Problem> {
+    q: Result<Query<JobQuery>, QueryRejection>,
+    headers: HeaderMap,
+) -> Result<Response, Problem> {
     let id = parse_id(path)?;
+    let q = query(q, &["wait"])?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
-    let job = load(&state, id).await?;
-    Ok(axum::Json(view(&job, None)))
+    let wait = wait_duration(&state, q.wait)?;
+    let mut job = load(&state, id).await?;
+    if let Some(limit) = wait {
+        let seen = super::http::if_none_match(&headers, &status_etag(&job));
+        if seen || !job.status.is_final() {
+            job = wait_for_change(&state, id, limit, seen).await?;
+        }
+    }
+    let etag = status_etag(&job);
+    if super::http::if_none_match(&headers, &etag) {
+        let mut r = super::http::not_modified(&etag, super::http::REVALIDATE);
+        if !job.status.is_final() {
+            r.headers_mut().insert(
+                header::RETRY_AFTER,
+                HeaderValue::from(poll_after(&state, &job)),
+            );
+        }
+        return Ok(r);
+    }
+    let mut r = axum::Json(view(&job, None)).into_response();
+    super::http::set_validators(r.headers_mut(), &etag, super::http::REVALIDATE);
+    if !job.status.is_final() {
+        r.headers_mut().insert(
+            header::RETRY_AFTER,
+            HeaderValue::from(poll_after(&state, &job)),
+        );
+    }
+    Ok(r)
+}
+
+/// Waits up to `limit` for job `id` to finish, or, when `on_any_change`, for
+/// its status ETag to change.
+async fn wait_for_change(
+    state: &AppState,
+    id: Uuid,
+    limit: Duration,
+    on_any_change: bool,
+) -> Result<JobRecord, Problem> {
+    if !on_any_change {
+        return wait_for(state, id, limit).await;
+    }
+    let deadline = Instant::now() + limit;
+    let first = status_etag(&load(state, id).await?);
+    let mut stopping = state.stopping.clone();
+    loop {
+        let job = load(state, id).await?;
+        if status_etag(&job) != first || Instant::now() >= deadline || *stopping.borrow() {
+            return Ok(job);
+        }
+        let tick = (Instant::now() + Duration::from_millis(100)).min(deadline);
+        tokio::select! {
+            _ = tokio::time::sleep_until(tick.into()) => {}
+            _ = stopping.changed() => {}
+        }
+    }
 }
 
 /// Query of a result fetch.
 #[derive(Debug, Deserialize, IntoParams)]
 #[into_params(parameter_in = Query)]
+#[serde(deny_unknown_fields)]
 pub struct ResultQuery {
-    /// `json` (default) or `csv` (a header row names quantities and units:
+    /// `json` (default), `csv` (a header row names quantities and units:
     /// series, impacts or a summary of time histories, transitions of spectra,
-    /// points of friction spectra, intervals of forensic queries).
-    #[param(pattern = "^(json|csv)$")]
+    /// points of friction spectra, intervals of forensic queries) or `svg`
+    /// (the figure). Without it, the `Accept` header chooses: `text/csv`,
+    /// `image/svg+xml`, else JSON.
+    #[param(pattern = "^(json|csv|svg)$")]
     pub format: Option<String>,
 }
 
+/// The representation a result request asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Format {
+    Json,
+    Csv,
+    Svg,
+}
+
+impl Format {
+    fn name(self) -> &'static str {
+        match self {
+            Format::Json => "json",
+            Format::Csv => "csv",
+            Format::Svg => "svg",
+        }
+    }
+
+    /// `?format=` first; else the first of JSON, CSV and SVG that `Accept`
+    /// names (any other `Accept` gets JSON).
+    fn negotiate(format: Option<&str>, headers: &HeaderMap) -> Result<Format, Problem> {
+        match format {
+            Some("json") => return Ok(Format::Json),
+            Some("csv") => return Ok(Format::Csv),
+            Some("svg") => return Ok(Format::Svg),
+            Some(other) => {
+                return Err(Problem::bad_request(
+                    "invalid-parameter",
+                    format!("format {other:?}: expected json, csv or svg"),
+                )
+                .param("format"));
+            }
+            None => {}
+        }
+        let accept = headers
+            .get(header::ACCEPT)
+            .and_then(|v| v.to_str().ok())
+            .unwrap_or("");
+        for range in accept.split(',') {
+            let media = range.split(';').next().unwrap_or("").trim();
+            let q = range
+                .split(';')
+                .filter_map(|p| p.trim().strip_prefix("q="))
+                .filter_map(|q| q.parse::<f64>().ok())
+                .next()
+                .unwrap_or(1.0);
+            if q <= 0.0 {
+                continue;
+            }
+            match media.to_ascii_lowercase().as_str() {
+                "application/json" | "application/*" | "*/*" => return Ok(Format::Json),
+                "text/csv" => return Ok(Format::Csv),
+                "image/svg+xml" => return Ok(Format::Svg),
+                _ => {}
+            }
+        }
+        Ok(Format::Json)
+    }
+}
+
+/// The result in `format`, with its entity tag and cache headers; a matching
+/// `If-None-Match` gets a 304 without rendering anything.
+pub(crate) async fn result_response(
+    state: &AppState,
+    id: Uuid,
+    format: Format,
+    headers: &HeaderMap,
+) -> Result<Response, Problem> {
+    let found = finished_result(state, id).await?;
+    let etag = super::http::result_etag(&found.key, format.name());
+    let cache = super::http::immutable(state.config.api_token.is_some() && state.config.auth_reads);
+    if super::http::if_none_match(headers, &etag) {
+        return Ok(super::http::not_modified(&etag, cache));
+    }
+    let body = found.body;
+    let mut response = match format {
+        Format::Json => (
+            [(header::CONTENT_TYPE, "application/json")],
+            body.to_string(),
+        )
+            .into_response(),
+        Format::Csv => {
+            // Parsing and rendering a large result is not work for the runtime.
+            // It goes to the blocking pool rather than the compute pool, where
+            // it would queue behind running spectra.
+            let table = tokio::task::spawn_blocking(move || {
+                serde_json::from_str::<serde_json::Value>(&body)
+                    .map_err(|e| e.to_string())
+                    .map(|v| to_csv(&v).map(|t| (t, kind_of(&v))))
+            })
+            .await
+            .map_err(|_| Problem::internal("CSV rendering stopped"))?
+            .map_err(Problem::internal)?
+            .map_err(|e| Problem::bad_request("no-csv", e).param("format"))?;
+            let disposition = format!("attachment; filename=\"{}-{id}.csv\"", table.1);
+            let mut r =
+                ([(header::CONTENT_TYPE, "text/csv; charset=utf-8")], table.0).into_response();
+            if let Ok(v) = HeaderValue::from_str(&disposition) {
+                r.headers_mut().insert(header::CONTENT_DISPOSITION, v);
+            }
+            r
+        }
+        Format::Svg => {
+            let figure = super::plot::render(body).await?;
+            ([(header::CONTENT_TYPE, "image/svg+xml")], figure).into_response()
+        }
+    };
+    super::http::set_validators(response.headers_mut(), &etag, cache);
+    Ok(response)
+}
+
+/// The kind of a result document, for file names.
+fn kind_of(v: &serde_json::Value) -> String {
+    v.get("kind")
+        .and_then(serde_json::Value::as_str)
+        .filter(|k| KINDS.contains(k))
+        .unwrap_or("result")
+        .to_string()
+}
+
 /// A job's result: the same document `topple run` prints.
+///
+/// Results never change: each representation has a strong `ETag` (from the
+/// job's cache key, which includes the engine version) and
+/// `Cache-Control: immutable`; `If-None-Match` answers 304.
 #[utoipa::path(
     get,
     path = "/v1/jobs/{id}/result",
     tag = "jobs",
-    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"), ResultQuery),
+    operation_id = "get_result",
+    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"), ResultQuery,
+        ("If-None-Match" = Option<String>, Header, description = "The ETag of the representation already held")),
     responses(
-        (status = 200, description = "The result document (JSON, or CSV with ?format=csv)", content(
+        (status = 200, description = "The result document (JSON), or CSV or SVG by ?format= or Accept", content(
             (Object = "application/json"),
-            (String = "text/csv")
-        )),
-        (status = 400, description = "Bad id or format, or no CSV form", body = Problem, content_type = "application/problem+json"),
+            (String = "text/csv"),
+            (String = "image/svg+xml")
+        ), headers(("ETag" = String, description = "Strong: the job key and the format"),
+                   ("Cache-Control" = String, description = "immutable"),
+                   ("Content-Disposition" = Option<String>, description = "CSV: a file name"))),
+        (status = 304, description = "Unchanged (it never changes)"),
+        (status = 400, description = "Bad id or format, an unknown parameter, or no CSV form", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
-        (status = 409, description = "Not finished (or failed, or canceled)", body = Problem, content_type = "application/problem+json"),
+        (status = 409, description = "Not finished (Retry-After says when to look again), failed, or canceled", body = Problem, content_type = "application/problem+json",
+            headers(("Retry-After" = Option<String>, description = "Seconds until a poll is worthwhile"))),
     )
 )]
 pub async fn get_result(
     State(state): State<AppState>,
     path: Result<Path<String>, PathRejection>,
-    query: Result<Query<ResultQuery>, QueryRejection>,
+    q: Result<Query<ResultQuery>, QueryRejection>,
+    headers: HeaderMap,
 ) -> Result<Response, Problem> {
     let id = parse_id(path)?;
-    let Query(query) = query
-        .map_err(|e| Problem::bad_request("invalid-parameter", e.body_text()).param("format"))?;
-    let csv = match query.format.as_deref() {
-        None | Some("json") => false,
-        Some("csv") => true,
-        Some(other) => {
-            return Err(Problem::bad_request(
-                "invalid-parameter",
-                format!("format {other:?}: expected json or csv"),
-            )
-            .param("format"));
-        }
-    };
-    let body = finished_result(&state, id).await?;
-    if csv {
-        // Parsing and rendering a large result is not work for the runtime.
-        // It goes to the blocking pool rather than the compute pool, where it
-        // would queue behind running spectra.
-        let doc = body.clone();
-        let table = tokio::task::spawn_blocking(move || {
-            serde_json::from_str::<serde_json::Value>(&doc)
-                .map_err(|e| e.to_string())
-                .map(|v| to_csv(&v))
-        })
-        .await
-        .map_err(|_| Problem::internal("CSV rendering stopped"))?
-        .map_err(Problem::internal)?
-        .map_err(|e| Problem::bad_request("no-csv", e).param("format"))?;
-        return Ok(([(header::CONTENT_TYPE, "text/csv; charset=utf-8")], table).into_response());
-    }
-    Ok((
-        [(header::CONTENT_TYPE, "application/json")],
-        body.to_string(),
-    )
-        .into_response())
+    let q = query(q, &["format"])?;
+    let format = Format::negotiate(q.format.as_deref(), &headers)?;
+    result_response(&state, id, format, &headers).await
 }
 
 /// Cancel a job: running work stops within milliseconds.
@@ -515,6 +820,7 @@ pub async fn get_result(
     delete,
     path = "/v1/jobs/{id}",
     tag = "jobs",
+    operation_id = "cancel_job",
     security((), ("bearer" = [])),
     params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid")),
     responses(
@@ -528,8 +834,10 @@ pub async fn get_result(
 pub async fn cancel_job(
     State(state): State<AppState>,
     path: Result<Path<String>, PathRejection>,
+    q: Result<Query<super::plot::NoQuery>, QueryRejection>,
 ) -> Result<axum::Json<JobView>, Problem> {
     let id = parse_id(path)?;
+    query(q, &[])?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
     let job = state
         .store
@@ -553,6 +861,7 @@ pub async fn cancel_job(
 /// Query of a listing.
 #[derive(Debug, Deserialize, IntoParams)]
 #[into_params(parameter_in = Query)]
+#[serde(deny_unknown_fields)]
 pub struct ListParams {
     /// Only jobs with this status.
     #[param(value_type = Option<Status>)]
@@ -568,6 +877,10 @@ pub struct ListParams {
         pattern = "^$|^[0-9a-fA-F]{8}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{4}-[0-9a-fA-F]{12}$"
     )]
     pub cursor: Option<String>,
+    /// `spec`: each job with its normalised spec (listings are light
+    /// summaries without it by default).
+    #[param(pattern = "^spec$")]
+    pub include: Option<String>,
 }
 
 /// A page of jobs.
@@ -580,21 +893,37 @@ pub struct JobPage {
 }
 
 /// List jobs, newest first, with cursor pagination.
+///
+/// Each job is a light summary (no spec, no result) unless `?include=spec`.
+/// The next page is both `next_cursor` and a `Link: <…>; rel="next"` header.
 #[utoipa::path(
     get,
     path = "/v1/jobs",
     tag = "jobs",
+    operation_id = "list_jobs",
     params(ListParams),
     responses(
-        (status = 200, description = "A page of jobs", body = JobPage),
+        (status = 200, description = "A page of jobs", body = JobPage,
+            headers(("Link" = Option<String>, description = "The next page: <url>; rel=\"next\""))),
         (status = 400, description = "Bad parameter", body = Problem, content_type = "application/problem+json"),
     )
 )]
 pub async fn list_jobs(
     State(state): State<AppState>,
-    query: Result<Query<ListParams>, QueryRejection>,
-) -> Result<axum::Json<JobPage>, Problem> {
-    let Query(q) = query.map_err(|e| Problem::bad_request("invalid-parameter", e.body_text()))?;
+    q: Result<Query<ListParams>, QueryRejection>,
+) -> Result<Response, Problem> {
+    let q = query(q, &["status", "kind", "limit", "cursor", "include"])?;
+    let with_spec = match q.include.as_deref() {
+        None => false,
+        Some("spec") => true,
+        Some(other) => {
+            return Err(Problem::bad_request(
+                "invalid-parameter",
+                format!("include {other:?}: expected spec"),
+            )
+            .param("include"));
+        }
+    };
     let status = match q.status.as_deref() {
         None => None,
         Some(s) => Some(Status::parse(s).ok_or_else(|| {
@@ -643,8 +972,35 @@ pub async fn list_jobs(
     } else {
         None
     };
-    Ok(axum::Json(JobPage {
-        jobs: jobs.iter().map(|j| view(j, None)).collect(),
+    let link = next_cursor.as_ref().map(|c| {
+        let mut url = format!("/v1/jobs?limit={limit}&cursor={c}");
+        if let Some(s) = status {
+            url.push_str(&format!("&status={}", s.as_str()));
+        }
+        if let Some(k) = &q.kind {
+            url.push_str(&format!("&kind={k}"));
+        }
+        if with_spec {
+            url.push_str("&include=spec");
+        }
+        format!("<{url}>; rel=\"next\"")
+    });
+    let page = JobPage {
+        jobs: jobs
+            .iter()
+            .map(|j| {
+                if with_spec {
+                    view(j, None)
+                } else {
+                    summary(j, None)
+                }
+            })
+            .collect(),
         next_cursor,
-    }))
+    };
+    let mut r = axum::Json(page).into_response();
+    if let Some(v) = link.and_then(|l| HeaderValue::from_str(&l).ok()) {
+        r.headers_mut().insert(header::LINK, v);
+    }
+    Ok(r)
 }

@@ -6,7 +6,9 @@
 
 pub mod auth;
 pub mod csv;
+pub mod events;
 pub mod health;
+pub mod http;
 pub mod jobs;
 pub mod page;
 pub mod plot;
@@ -16,11 +18,14 @@ use std::time::Duration;
 
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
-use axum::http::{HeaderValue, Method, Request, StatusCode, header};
+use axum::http::{HeaderName, HeaderValue, Method, Request, StatusCode, header};
 use axum::response::IntoResponse;
 use axum::routing::get;
 use tower_http::catch_panic::CatchPanicLayer;
+use tower_http::compression::CompressionLayer;
 use tower_http::cors::{AllowOrigin, CorsLayer};
+use tower_http::request_id::{MakeRequestUuid, PropagateRequestIdLayer, SetRequestIdLayer};
+use tower_http::set_header::SetResponseHeaderLayer;
 use tower_http::timeout::TimeoutLayer;
 use tower_http::trace::TraceLayer;
 use utoipa::OpenApi;
@@ -73,6 +78,7 @@ pub fn routes() -> (Router<AppState>, utoipa::openapi::OpenApi) {
         .routes(routes!(jobs::create_job, jobs::list_jobs))
         .routes(routes!(jobs::get_job, jobs::cancel_job))
         .routes(routes!(jobs::get_result))
+        .routes(routes!(events::job_events))
         .routes(routes!(plot::get_plot))
         .routes(routes!(health::healthz))
         .routes(routes!(health::readyz))
@@ -158,17 +164,36 @@ pub fn with_layers(routes: Router<AppState>, state: AppState) -> Router {
         Some(cors) => app.layer(cors),
         None => app,
     };
+    // Outermost last: a request passes the request-id layers first, so that
+    // the log span, problem bodies and every response carry its id.
     app.layer(CatchPanicLayer::custom(panic_as_problem))
+        .layer(axum::middleware::from_fn(http::problem_instance))
         .layer(
             TraceLayer::new_for_http().make_span_with(|req: &Request<_>| {
                 tracing::info_span!(
                     "request",
                     method = %req.method(),
                     path = %req.uri().path(),
+                    request_id = req
+                        .headers()
+                        .get(&http::REQUEST_ID)
+                        .and_then(|v| v.to_str().ok())
+                        .unwrap_or(""),
                     job_id = tracing::field::Empty,
                 )
             }),
         )
+        .layer(CompressionLayer::new().gzip(true).br(true))
+        .layer(SetResponseHeaderLayer::if_not_present(
+            header::SERVER,
+            HeaderValue::from_static(concat!("topple/", env!("CARGO_PKG_VERSION"))),
+        ))
+        .layer(PropagateRequestIdLayer::new(http::REQUEST_ID.clone()))
+        .layer(SetRequestIdLayer::new(
+            http::REQUEST_ID.clone(),
+            MakeRequestUuid,
+        ))
+        .layer(axum::middleware::from_fn(http::sanitize_request_id))
         .with_state(state)
 }
 
@@ -190,8 +215,24 @@ fn cors(origins: &[String]) -> Option<CorsLayer> {
         CorsLayer::new()
             .allow_origin(allow)
             .allow_methods([Method::GET, Method::POST, Method::DELETE])
-            .allow_headers([header::CONTENT_TYPE, header::AUTHORIZATION])
-            .expose_headers([header::LOCATION, header::RETRY_AFTER])
+            .allow_headers([
+                header::CONTENT_TYPE,
+                header::AUTHORIZATION,
+                header::ACCEPT,
+                header::IF_NONE_MATCH,
+                http::REQUEST_ID.clone(),
+                HeaderName::from_static("traceparent"),
+                HeaderName::from_static("tracestate"),
+            ])
+            .expose_headers([
+                header::ETAG,
+                header::LOCATION,
+                header::RETRY_AFTER,
+                http::REQUEST_ID.clone(),
+                header::CONTENT_DISPOSITION,
+                header::WWW_AUTHENTICATE,
+                header::LINK,
+            ])
             .max_age(Duration::from_secs(3600)),
     )
 }

@@ -1,11 +1,13 @@
 //! `/v1/jobs/{id}/plot.svg`: the figure of a finished job's result.
 
-use axum::extract::rejection::PathRejection;
-use axum::extract::{Path, State};
-use axum::http::header;
-use axum::response::{IntoResponse, Response};
+use std::sync::Arc;
 
-use super::jobs::{finished_result, parse_id};
+use axum::extract::rejection::{PathRejection, QueryRejection};
+use axum::extract::{Path, Query, State};
+use axum::http::HeaderMap;
+use axum::response::Response;
+
+use super::jobs::{Format, parse_id, query, result_response};
 use super::problem::Problem;
 use crate::service::AppState;
 
@@ -20,9 +22,14 @@ use crate::service::AppState;
     get,
     path = "/v1/jobs/{id}/plot.svg",
     tag = "jobs",
-    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid")),
+    operation_id = "get_plot",
+    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"),
+        ("If-None-Match" = Option<String>, Header, description = "The ETag of the figure already held")),
     responses(
-        (status = 200, description = "The figure", body = String, content_type = "image/svg+xml"),
+        (status = 200, description = "The figure", body = String, content_type = "image/svg+xml",
+            headers(("ETag" = String, description = "Strong: the job key and the format"),
+                    ("Cache-Control" = String, description = "immutable"))),
+        (status = 304, description = "Unchanged (it never changes)"),
         (status = 400, description = "Bad id, or a result with nothing to draw", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
         (status = 409, description = "Not finished (or failed, or canceled)", body = Problem, content_type = "application/problem+json"),
@@ -31,12 +38,24 @@ use crate::service::AppState;
 pub async fn get_plot(
     State(state): State<AppState>,
     path: Result<Path<String>, PathRejection>,
+    q: Result<Query<NoQuery>, QueryRejection>,
+    headers: HeaderMap,
 ) -> Result<Response, Problem> {
     let id = parse_id(path)?;
+    query(q, &[])?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
-    let body = finished_result(&state, id).await?;
-    // Parsing and drawing are CPU work: the blocking pool, not the runtime.
-    let figure = tokio::task::spawn_blocking(move || {
+    result_response(&state, id, Format::Svg, &headers).await
+}
+
+/// A route that takes no query parameters.
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NoQuery {}
+
+/// The figure of result document `body`. Parsing and drawing are CPU work:
+/// the blocking pool, not the runtime.
+pub(crate) async fn render(body: Arc<str>) -> Result<String, Problem> {
+    tokio::task::spawn_blocking(move || {
         serde_json::from_str::<serde_json::Value>(&body)
             .map_err(|e| e.to_string())
             .map(|v| crate::plot::svg(&v))
@@ -44,6 +63,5 @@ pub async fn get_plot(
     .await
     .map_err(|_| Problem::internal("figure rendering stopped"))?
     .map_err(Problem::internal)?
-    .map_err(|e| Problem::bad_request("no-plot", e).param("id"))?;
-    Ok(([(header::CONTENT_TYPE, "image/svg+xml")], figure).into_response())
+    .map_err(|e| Problem::bad_request("no-plot", e).param("id"))
 }

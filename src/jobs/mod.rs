@@ -156,6 +156,6 @@ impl Job {
             Job::FrictionSpectrum(job) => serde_json::to_value(job.run(control)?),
             Job::Forensic(job) => serde_json::to_value(job.run(control)?),
         };
-        Ok(value.unwrap_or(serde_json::Value::Null))
+        Ok(key::with_engine(value.unwrap_or(serde_json::Value::Null)))
     }
 }

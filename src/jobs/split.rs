@@ -78,12 +78,12 @@ impl Job {
         numerics.insert("error_estimate".into(), error.into());
         numerics.insert("wall_time_s".into(), wall.into());
         numerics.insert("tasks".into(), parts.len().into());
-        serde_json::json!({
+        super::key::with_engine(serde_json::json!({
             "kind": "spectrum",
             "spectrum": lines,
             "numerics": numerics,
             "spec": job,
-        })
+        }))
     }
 }
 

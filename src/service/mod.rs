@@ -10,6 +10,7 @@
 pub mod config;
 pub mod metrics;
 pub mod results;
+pub mod throughput;
 pub mod worker;
 
 use std::collections::HashMap;
@@ -56,6 +57,8 @@ pub struct AppState {
     pub metrics: Arc<metrics::Metrics>,
     /// Recent results.
     pub results: Arc<results::ResultCache>,
+    /// The measured computation rate (estimates, poll intervals).
+    pub throughput: Arc<throughput::Throughput>,
     /// The compute pool.
     pub pool: Arc<rayon::ThreadPool>,
     /// What computes jobs.
@@ -178,6 +181,7 @@ impl Application {
             running: Arc::new(Mutex::new(HashMap::new())),
             metrics: Arc::new(metrics::Metrics::new()),
             results: Arc::new(results::ResultCache::default()),
+            throughput: Arc::new(throughput::Throughput::default()),
             pool: Arc::new(pool),
             engine,
             idle_poll: Duration::from_millis(500),

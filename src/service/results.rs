@@ -11,6 +11,16 @@ const MAX_BODY: usize = 512 * 1024;
 /// At most this many bytes in all.
 const MAX_TOTAL: usize = 64 * 1024 * 1024;
 
+/// A finished job's result document and its job's cache key.
+#[derive(Clone, Debug)]
+pub struct Cached {
+    /// The job's cache key (canonical spec and engine version): results of one
+    /// key are the same document, so it makes their entity tag.
+    pub key: Arc<str>,
+    /// The result document (JSON text).
+    pub body: Arc<str>,
+}
+
 /// Recent results by job id, oldest evicted first.
 #[derive(Debug, Default)]
 pub struct ResultCache {
@@ -19,19 +29,19 @@ pub struct ResultCache {
 
 #[derive(Debug, Default)]
 struct Inner {
-    map: HashMap<Uuid, Arc<str>>,
+    map: HashMap<Uuid, Cached>,
     order: VecDeque<Uuid>,
     bytes: usize,
 }
 
 impl ResultCache {
-    /// The cached body of `id`.
-    pub fn get(&self, id: Uuid) -> Option<Arc<str>> {
+    /// The cached result of `id`.
+    pub fn get(&self, id: Uuid) -> Option<Cached> {
         self.inner.lock().ok()?.map.get(&id).cloned()
     }
 
-    /// Keeps `body` for `id` if it is small enough.
-    pub fn put(&self, id: Uuid, body: Arc<str>) {
+    /// Keeps the result `body` of job `id` (cache key `key`) if it is small enough.
+    pub fn put(&self, id: Uuid, key: &str, body: Arc<str>) {
         if body.len() > MAX_BODY {
             return;
         }
@@ -42,14 +52,20 @@ impl ResultCache {
             return;
         }
         inner.bytes += body.len();
-        inner.map.insert(id, body);
+        inner.map.insert(
+            id,
+            Cached {
+                key: Arc::from(key),
+                body,
+            },
+        );
         inner.order.push_back(id);
         while inner.bytes > MAX_TOTAL {
             let Some(old) = inner.order.pop_front() else {
                 break;
             };
             if let Some(b) = inner.map.remove(&old) {
-                inner.bytes -= b.len();
+                inner.bytes -= b.body.len();
             }
         }
     }

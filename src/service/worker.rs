@@ -96,6 +96,8 @@ async fn execute(
             return;
         }
     };
+    // A job of one task is its own spec: its key names the result.
+    let key = crate::jobs::key::cache_key(&job);
     let control = Arc::new(Control::new());
     state.register(id, idx, control.clone());
     let (tx, mut rx) = oneshot::channel();
@@ -156,6 +158,9 @@ async fn execute(
     };
     state.unregister(id, idx);
     let seconds = started.elapsed().as_secs_f64();
+    if matches!(outcome, Outcome::Done(Ok(_))) {
+        state.throughput.record(control.done(), seconds);
+    }
     match outcome {
         Outcome::Done(Ok(Serialised { body, numerics })) if task.tasks == 1 => {
             // The task is the whole job: its result is the job's, in one write.
@@ -166,7 +171,7 @@ async fn execute(
                 .await
             {
                 Ok(true) => {
-                    state.results.put(id, Arc::from(body.as_str()));
+                    state.results.put(id, &key, Arc::from(body.as_str()));
                     info!(seconds, "succeeded");
                 }
                 Ok(false) => info!("finished after its job was canceled or its lease taken over"),
@@ -284,7 +289,7 @@ async fn finish_job(state: &AppState, id: Uuid) {
         .await
     {
         Ok(true) => {
-            state.results.put(id, Arc::from(body.as_str()));
+            state.results.put(id, &record.key, Arc::from(body.as_str()));
             info!("succeeded");
         }
         Ok(false) => {}

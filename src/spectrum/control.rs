@@ -54,6 +54,11 @@ impl Control {
         self.done.fetch_add(n, Ordering::Relaxed);
     }
 
+    /// Work finished so far (simulations).
+    pub fn done(&self) -> u64 {
+        self.done.load(Ordering::Relaxed)
+    }
+
     /// Fraction done, 0..=1.
     pub fn progress(&self) -> f64 {
         let total = self.total.load(Ordering::Relaxed);

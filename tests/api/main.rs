@@ -2,6 +2,7 @@
 //! SQLite database per test.
 
 mod bad_input;
+mod contract;
 mod guard;
 mod helpers;
 

@@ -1,0 +1,165 @@
+//! HTTP as clients expect it: request ids, entity tags and conditional
+//! requests, cache headers, poll intervals.
+
+use axum::body::Body;
+use axum::extract::Request;
+use axum::http::{HeaderMap, HeaderName, HeaderValue, StatusCode, header};
+use axum::middleware::Next;
+use axum::response::{IntoResponse, Response};
+
+/// The request-id header, accepted from clients and echoed on every response.
+pub static REQUEST_ID: HeaderName = HeaderName::from_static("x-request-id");
+
+/// Longest client-chosen request id kept; a longer or unprintable one is
+/// replaced by a generated id.
+pub const MAX_REQUEST_ID: usize = 128;
+
+/// Whether `value` may serve as a request id: 1 to [`MAX_REQUEST_ID`]
+/// printable ASCII characters without spaces.
+pub fn valid_request_id(value: &HeaderValue) -> bool {
+    let b = value.as_bytes();
+    !b.is_empty() && b.len() <= MAX_REQUEST_ID && b.iter().all(|c| (0x21..0x7f).contains(c))
+}
+
+/// Drops a request id a client sent that cannot be kept (too long, or not
+/// printable): the request-id layer then generates one.
+pub async fn sanitize_request_id(mut request: Request, next: Next) -> Response {
+    if let Some(v) = request.headers().get(&REQUEST_ID)
+        && !valid_request_id(v)
+    {
+        request.headers_mut().remove(&REQUEST_ID);
+    }
+    next.run(request).await
+}
+
+/// problem+json bodies name the request they answer: `instance` is
+/// `urn:topple:request:<id>` and `request_id` the id itself.
+pub async fn problem_instance(request: Request, next: Next) -> Response {
+    let id = request
+        .headers()
+        .get(&REQUEST_ID)
+        .and_then(|v| v.to_str().ok())
+        .map(str::to_owned);
+    let response = next.run(request).await;
+    let is_problem = response
+        .headers()
+        .get(header::CONTENT_TYPE)
+        .is_some_and(|v| v.as_bytes().starts_with(b"application/problem+json"));
+    let Some(id) = id.filter(|_| is_problem) else {
+        return response;
+    };
+    let (mut parts, body) = response.into_parts();
+    // Problem bodies are a few hundred bytes.
+    let Ok(bytes) = axum::body::to_bytes(body, 64 * 1024).await else {
+        return (StatusCode::INTERNAL_SERVER_ERROR, "").into_response();
+    };
+    let mut doc: serde_json::Value = match serde_json::from_slice(&bytes) {
+        Ok(v) => v,
+        Err(_) => return Response::from_parts(parts, Body::from(bytes)),
+    };
+    if let Some(o) = doc.as_object_mut() {
+        o.entry("instance")
+            .or_insert_with(|| format!("urn:topple:request:{id}").into());
+        o.insert("request_id".into(), id.into());
+    }
+    let text = doc.to_string();
+    parts.headers.remove(header::CONTENT_LENGTH);
+    Response::from_parts(parts, Body::from(text))
+}
+
+/// Whether the request's `If-None-Match` matches `etag` (weak comparison,
+/// RFC 9110 §13.1.2: `W/` prefixes are ignored; `*` matches any).
+pub fn if_none_match(headers: &HeaderMap, etag: &str) -> bool {
+    let opaque = |t: &str| t.trim().trim_start_matches("W/").to_owned();
+    let ours = opaque(etag);
+    headers
+        .get_all(header::IF_NONE_MATCH)
+        .iter()
+        .filter_map(|v| v.to_str().ok())
+        .flat_map(|v| v.split(','))
+        .any(|t| t.trim() == "*" || opaque(t) == ours)
+}
+
+/// `304 Not Modified` with the validators a 200 would carry.
+pub fn not_modified(etag: &str, cache_control: &str) -> Response {
+    let mut r = StatusCode::NOT_MODIFIED.into_response();
+    set_validators(r.headers_mut(), etag, cache_control);
+    r
+}
+
+/// Sets `ETag` and `Cache-Control`.
+pub fn set_validators(headers: &mut HeaderMap, etag: &str, cache_control: &str) {
+    if let Ok(v) = HeaderValue::from_str(etag) {
+        headers.insert(header::ETAG, v);
+    }
+    if let Ok(v) = HeaderValue::from_str(cache_control) {
+        headers.insert(header::CACHE_CONTROL, v);
+    }
+}
+
+/// Cache-Control of a result: it never changes. Shared caches may keep it
+/// unless reads need a token.
+pub fn immutable(private: bool) -> &'static str {
+    if private {
+        "private, max-age=31536000, immutable"
+    } else {
+        "public, max-age=31536000, immutable"
+    }
+}
+
+/// Cache-Control of a job's status: it changes; revalidate with its ETag.
+pub const REVALIDATE: &str = "no-cache";
+
+/// The strong entity tag of a result representation: the job's cache key
+/// (blake3 of the canonical spec and the engine version) and the format.
+pub fn result_etag(key: &str, format: &str) -> String {
+    format!("\"{}-{format}\"", &key[..key.len().min(32)])
+}
+
+/// A poll interval, in whole seconds from 1 to 30, for work expected to take
+/// `seconds` more: about a fifth of it.
+pub fn poll_interval(seconds: f64) -> u64 {
+    if !seconds.is_finite() {
+        return 30;
+    }
+    (seconds / 5.0).ceil().clamp(1.0, 30.0) as u64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn request_ids_are_bounded_and_printable() {
+        assert!(valid_request_id(&HeaderValue::from_static("abc-123_X")));
+        assert!(!valid_request_id(&HeaderValue::from_static("two words")));
+        assert!(!valid_request_id(&HeaderValue::from_static("")));
+        let long = "x".repeat(MAX_REQUEST_ID + 1);
+        assert!(!valid_request_id(
+            &HeaderValue::from_str(&long).expect("ascii")
+        ));
+    }
+
+    #[test]
+    fn if_none_match_compares_weakly_and_takes_lists_and_stars() {
+        let mut h = HeaderMap::new();
+        h.insert(
+            header::IF_NONE_MATCH,
+            HeaderValue::from_static("\"a\", W/\"b\""),
+        );
+        assert!(if_none_match(&h, "\"b\""));
+        assert!(if_none_match(&h, "W/\"a\""));
+        assert!(!if_none_match(&h, "\"c\""));
+        h.insert(header::IF_NONE_MATCH, HeaderValue::from_static("*"));
+        assert!(if_none_match(&h, "\"anything\""));
+        assert!(!if_none_match(&HeaderMap::new(), "\"a\""));
+    }
+
+    #[test]
+    fn poll_intervals_stay_between_one_and_thirty_seconds() {
+        assert_eq!(poll_interval(0.001), 1);
+        assert_eq!(poll_interval(12.0), 3);
+        assert_eq!(poll_interval(1e6), 30);
+        assert_eq!(poll_interval(f64::NAN), 30);
+    }
+}
