@@ -404,6 +404,11 @@ def check_cancel(page, base):
         " return (s === 'queued' || s === 'running') && !document.getElementById('cancel').hidden; })()",
         10)
     job_id = page.js("document.getElementById('job-id').textContent")
+    # The page follows the job through its event stream, not by polling.
+    page.wait_js("the page to follow the job's events",
+                 "document.getElementById('job').dataset.follow === 'events'", 10)
+    page.wait_js("progress to arrive through the events",
+                 "parseFloat(document.getElementById('progress').value) > 0", 20)
     log(f"spectrum {job_id}: cancel")
     page.click("#cancel")
     page.wait_js("the job to show as canceled",
