@@ -219,4 +219,10 @@ if grep -q 'panicked at' "$server_log"; then
     "$server_log" | sort | uniq -c | sort -rn | head -n 20 >&2
   [[ $rc -ne 0 ]] || rc=1
 fi
+
+# --- Result documents against the described schemas ------------------------
+# Every kind of result, as computed, is a JobResult of the served description,
+# and the schemas refuse wrong types in typed fields.
+log "result documents against components/schemas/JobResult"
+"$py" "$root/tests/contract/validate_results.py" "$bin" || rc=1
 exit "$rc"

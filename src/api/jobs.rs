@@ -28,6 +28,12 @@ use crate::store::{JobRecord, ListQuery, Status, new_job_id, now_rfc3339};
 #[derive(ToSchema)]
 #[serde(untagged)]
 #[allow(dead_code)]
+#[schema(discriminator(property_name = "kind", mapping(
+    ("time_history" = "#/components/schemas/TimeHistorySpec"),
+    ("spectrum" = "#/components/schemas/SpectrumSpec"),
+    ("friction_spectrum" = "#/components/schemas/FrictionSpectrumSpec"),
+    ("forensic" = "#/components/schemas/ForensicSpec"),
+)))]
 pub enum JobSpec {
     /// `"kind": "time_history"`.
     TimeHistory(TimeHistorySpec),
@@ -87,8 +93,10 @@ pub struct Estimate {
 #[derive(Clone, Debug, Serialize, ToSchema)]
 pub struct JobView {
     /// Identifier (UUIDv7).
+    #[schema(format = "uuid")]
     pub id: String,
-    /// "time_history" | "spectrum" | "friction_spectrum".
+    /// The job's kind.
+    #[schema(value_type = crate::jobs::schema::JobKind)]
     pub kind: String,
     /// queued | running | succeeded | failed | canceled.
     pub status: Status,
@@ -100,19 +108,22 @@ pub struct JobView {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cached: Option<bool>,
     /// RFC 3339.
+    #[schema(format = DateTime)]
     pub created_at: String,
     /// RFC 3339.
+    #[schema(format = DateTime)]
     pub started_at: Option<String>,
     /// RFC 3339.
+    #[schema(format = DateTime)]
     pub finished_at: Option<String>,
     /// Why it failed.
     pub error: Option<String>,
-    /// The numerics summary of the result, once done.
+    /// The numerics summary of the result, once done (its `numerics`).
     #[schema(value_type = Option<Object>)]
     pub numerics: Option<serde_json::Value>,
     /// The normalised spec (in listings only with `?include=spec`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<Object>)]
+    #[schema(value_type = Option<crate::jobs::schema::NormalizedSpec>)]
     pub spec: Option<serde_json::Value>,
     /// Links.
     pub links: Links,
@@ -122,7 +133,7 @@ pub struct JobView {
     /// The result, inline, when `?wait=` saw the job finish (or a submission
     /// found it done).
     #[serde(skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<Object>)]
+    #[schema(value_type = Option<crate::jobs::schema::JobResult>)]
     pub result: Option<Box<serde_json::value::RawValue>>,
 }
 
@@ -790,7 +801,7 @@ fn kind_of(v: &serde_json::Value) -> String {
         ("If-None-Match" = Option<String>, Header, description = "The ETag of the representation already held")),
     responses(
         (status = 200, description = "The result document (JSON), or CSV or SVG by ?format= or Accept", content(
-            (Object = "application/json"),
+            (crate::jobs::schema::JobResult = "application/json"),
             (String = "text/csv"),
             (String = "image/svg+xml")
         ), headers(("ETag" = String, description = "Strong: the job key and the format"),

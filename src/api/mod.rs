@@ -43,6 +43,8 @@ use problem::Problem;
         description = "Rocking and overturning of free-standing rigid blocks under cycloidal pulses (Makris & Zhang 2001). Submit a job spec, poll its status, fetch its result.",
         license(name = "MIT")
     ),
+    servers((url = "/", description = "This service (relative to where this description was fetched)")),
+    components(schemas(crate::jobs::schema::JobResult, crate::jobs::schema::Engine)),
     modifiers(&BearerScheme),
     tags(
         (name = "jobs", description = "Time histories, overturning spectra, friction-demand spectra"),
@@ -72,9 +74,38 @@ impl utoipa::Modify for BearerScheme {
     }
 }
 
+/// Every result document carries `engine` (added where documents are made,
+/// in [`crate::jobs::key::with_engine`]): the result schemas say so.
+struct EngineProvenance;
+
+impl utoipa::Modify for EngineProvenance {
+    fn modify(&self, api: &mut utoipa::openapi::OpenApi) {
+        use utoipa::openapi::{RefOr, Schema};
+        let Some(components) = api.components.as_mut() else {
+            return;
+        };
+        for name in [
+            "TimeHistoryResult",
+            "SpectrumResult",
+            "FrictionSpectrumResult",
+            "ForensicResult",
+        ] {
+            if let Some(RefOr::T(Schema::Object(o))) = components.schemas.get_mut(name) {
+                o.properties.insert(
+                    "engine".into(),
+                    utoipa::openapi::Ref::from_schema_name("Engine").into(),
+                );
+                if !o.required.iter().any(|r| r == "engine") {
+                    o.required.push("engine".into());
+                }
+            }
+        }
+    }
+}
+
 /// Routes and their OpenAPI description, from one source.
 pub fn routes() -> (Router<AppState>, utoipa::openapi::OpenApi) {
-    OpenApiRouter::with_openapi(ApiDoc::openapi())
+    let (router, mut api) = OpenApiRouter::with_openapi(ApiDoc::openapi())
         .routes(routes!(jobs::create_job, jobs::list_jobs))
         .routes(routes!(jobs::get_job, jobs::cancel_job))
         .routes(routes!(jobs::get_result))
@@ -83,7 +114,10 @@ pub fn routes() -> (Router<AppState>, utoipa::openapi::OpenApi) {
         .routes(routes!(health::healthz))
         .routes(routes!(health::readyz))
         .routes(routes!(health::metrics))
-        .split_for_parts()
+        .split_for_parts();
+    // The result schemas are known once the routes are merged in.
+    utoipa::Modify::modify(&EngineProvenance, &mut api);
+    (router, api)
 }
 
 /// The OpenAPI document as YAML (what `openapi.yaml` holds).

@@ -64,7 +64,7 @@ pub struct AmplitudeRange {
 #[serde(deny_unknown_fields)]
 pub struct ForensicSpec {
     /// "forensic".
-    #[schema(pattern = "^forensic$")]
+    #[schema(value_type = crate::jobs::schema::ForensicKind)]
     pub kind: String,
     /// The pulse family (`type`, `n`); frequency and amplitude vary.
     pub pulse: Option<PulseSpec>,
@@ -86,7 +86,7 @@ pub struct ForensicSpec {
 }
 
 /// An observation, validated.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct Observation {
     /// Its name.
     pub name: String,
@@ -97,9 +97,10 @@ pub struct Observation {
 }
 
 /// A validated forensic query; serialises to the canonical spec.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct ForensicJob {
     /// "forensic".
+    #[schema(value_type = crate::jobs::schema::ForensicKind)]
     pub kind: &'static str,
     /// Pulse family.
     pub pulse: PulseFamily,
@@ -110,6 +111,7 @@ pub struct ForensicJob {
     /// Amplitudes examined, g.
     pub a_p_g: AmplitudeRange,
     /// "linear" | "nonlinear".
+    #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: &'static str,
     /// Scan step, g.
     pub scan_step_g: f64,
@@ -348,29 +350,29 @@ pub fn intersect(x: &[[f64; 2]], y: &[[f64; 2]]) -> Intervals {
 }
 
 /// One observation's consistent amplitudes at one frequency.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ObservationSet {
     /// The observation.
     pub name: String,
     /// Amplitudes consistent with it, g.
-    pub consistent_g: Intervals,
+    pub consistent_g: Vec<[f64; 2]>,
 }
 
 /// One pulse frequency of the answer.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ForensicFrequency {
     /// f_p, Hz.
     pub frequency_hz: f64,
     /// ω_p, rad/s.
     pub omega_p: f64,
     /// Amplitudes consistent with every observation, g.
-    pub consistent_g: Intervals,
+    pub consistent_g: Vec<[f64; 2]>,
     /// Each observation's consistent amplitudes, g.
     pub per_observation: Vec<ObservationSet>,
 }
 
 /// The range of pulses consistent with everything seen.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct Bounds {
     /// Lowest consistent amplitude at any frequency, g.
     pub min_g: Option<f64>,
@@ -381,7 +383,7 @@ pub struct Bounds {
 }
 
 /// Cost and accuracy.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ForensicNumerics {
     /// Solver, cost and worst error estimate (all observations).
     #[serde(flatten)]
@@ -395,11 +397,13 @@ pub struct ForensicNumerics {
 }
 
 /// The result document.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, utoipa::ToSchema)]
 pub struct ForensicResult {
     /// "forensic".
+    #[schema(value_type = crate::jobs::schema::ForensicKind)]
     pub kind: &'static str,
     /// "linear" | "nonlinear".
+    #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: &'static str,
     /// Pulse family.
     pub pulse: PulseFamily,

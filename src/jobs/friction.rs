@@ -19,9 +19,10 @@ pub const MAX_AMPLITUDES: usize = 100_000;
 /// The spec as users write it.
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
+#[schema(as = FrictionSpectrumSpec)]
 pub struct FrictionSpec {
     /// "friction_spectrum".
-    #[schema(pattern = "^friction_spectrum$")]
+    #[schema(value_type = crate::jobs::schema::FrictionSpectrumKind)]
     pub kind: String,
     /// The block.
     #[schema(required = true, value_type = BlockSpec)]
@@ -39,15 +40,18 @@ pub struct FrictionSpec {
 }
 
 /// A validated friction-spectrum job.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[schema(as = FrictionSpectrumJob)]
 pub struct FrictionJob {
     /// "friction_spectrum".
+    #[schema(value_type = crate::jobs::schema::FrictionSpectrumKind)]
     pub kind: &'static str,
     /// Block.
     pub block: BlockNorm,
     /// Pulse family.
     pub pulse: PulseFamily,
     /// "linear" | "nonlinear".
+    #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: &'static str,
     /// ω_p/p.
     pub omega_ratio: f64,
@@ -105,7 +109,7 @@ impl FrictionSpec {
 }
 
 /// One amplitude of a friction spectrum.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct FrictionPointDoc {
     /// a_p/(αg).
     pub a_alpha_g: f64,
@@ -133,9 +137,11 @@ pub struct FrictionPointDoc {
 }
 
 /// The result document of a friction-spectrum job.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[schema(as = FrictionSpectrumResult)]
 pub struct FrictionResult {
     /// "friction_spectrum".
+    #[schema(value_type = crate::jobs::schema::FrictionSpectrumKind)]
     pub kind: &'static str,
     /// ω_p/p.
     pub omega_ratio: f64,

@@ -7,6 +7,7 @@ pub mod key;
 pub mod limits;
 pub mod numerics;
 pub mod range;
+pub mod schema;
 pub mod spec;
 pub mod spectrum;
 pub mod split;

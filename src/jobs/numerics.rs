@@ -5,9 +5,10 @@ use serde::{Deserialize, Serialize};
 use crate::dynamics::response::Numerics;
 
 /// Method, tolerances, cost and error of a computation.
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct NumericsDoc {
     /// "exact" | "dopri5" | "dop853".
+    #[schema(value_type = crate::jobs::schema::MethodName)]
     pub method: String,
     /// Relative tolerance.
     pub rtol: Option<f64>,

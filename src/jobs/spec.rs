@@ -221,9 +221,10 @@ pub const DEFAULT_RTOL: f64 = 1e-10;
 pub const DEFAULT_ATOL: f64 = 1e-12;
 
 /// The solver, normalised.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct SolverNorm {
     /// "exact" | "dopri5" | "dop853".
+    #[schema(value_type = crate::jobs::schema::MethodName)]
     pub method: &'static str,
     /// Relative tolerance (Runge–Kutta only).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -253,7 +254,7 @@ impl SolverNorm {
 }
 
 /// The block, normalised (SI units, defaults filled).
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct BlockNorm {
     /// α, rad.
     pub alpha: f64,
@@ -445,10 +446,11 @@ fn exactly_one(
 }
 
 /// The pulse of a time history, normalised.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct PulseNorm {
     /// Family name.
     #[serde(rename = "type")]
+    #[schema(value_type = crate::jobs::schema::PulseTypeName)]
     pub kind: &'static str,
     /// Cycles (cn only).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -650,14 +652,16 @@ pub const MAX_RECORD_SAMPLES: usize = 200_000;
 pub const RECORD_DT_RANGE: (f64, f64) = (1e-5, 1.0);
 
 /// A record, normalised: samples in m/s².
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct GroundMotionNorm {
     /// Sampling interval, s.
     pub dt: f64,
     /// Accelerations, m/s².
     #[serde(serialize_with = "serialize_samples")]
+    #[schema(value_type = Vec<f64>)]
     pub acc: Arc<[f64]>,
     /// Always "m/s2".
+    #[schema(value_type = crate::jobs::schema::MetresPerSecondSquared)]
     pub unit: &'static str,
 }
 

@@ -30,7 +30,7 @@ pub const MAX_SCAN_POINTS: f64 = 1e6;
 #[serde(deny_unknown_fields)]
 pub struct SpectrumSpec {
     /// "spectrum".
-    #[schema(pattern = "^spectrum$")]
+    #[schema(value_type = crate::jobs::schema::SpectrumKind)]
     pub kind: String,
     /// The block.
     #[schema(required = true, value_type = BlockSpec)]
@@ -54,10 +54,11 @@ pub struct SpectrumSpec {
 }
 
 /// The pulse family of a spectrum, normalised.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct PulseFamily {
     /// Family name.
     #[serde(rename = "type")]
+    #[schema(value_type = crate::jobs::schema::PulseTypeName)]
     pub kind: &'static str,
     /// Cycles (cn only).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -104,15 +105,17 @@ pub fn validate_family(spec: Option<&PulseSpec>, base: &str) -> Result<PulseFami
 }
 
 /// A validated spectrum job; serialises to the canonical spec.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct SpectrumJob {
     /// "spectrum".
+    #[schema(value_type = crate::jobs::schema::SpectrumKind)]
     pub kind: &'static str,
     /// Block.
     pub block: BlockNorm,
     /// Pulse family.
     pub pulse: PulseFamily,
     /// "linear" | "nonlinear".
+    #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: &'static str,
     /// ω_p/p values.
     pub omega_ratio: Vec<f64>,
@@ -216,11 +219,12 @@ impl SpectrumSpec {
 }
 
 /// One transition in a result.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct TransitionDoc {
     /// Amplitude, αg (bracket midpoint).
     pub a_alpha_g: f64,
     /// "up": overturning begins as a_p grows; "down": a safe interval begins.
+    #[schema(value_type = crate::jobs::schema::TransitionDirection)]
     pub direction: String,
     /// Mode on the overturning side.
     pub mode: u8,
@@ -247,7 +251,7 @@ impl From<&Transition> for TransitionDoc {
 }
 
 /// A change of overturning mode.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ModeChangeDoc {
     /// Amplitude, αg.
     pub a_alpha_g: f64,
@@ -271,7 +275,7 @@ impl From<&ModeChange> for ModeChangeDoc {
 }
 
 /// The principal view of one frequency.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct PrincipalDoc {
     /// Transitions without narrow bands.
     pub transitions: Vec<TransitionDoc>,
@@ -286,7 +290,7 @@ pub struct PrincipalDoc {
 }
 
 /// One frequency of the spectrum.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct FrequencyDoc {
     /// ω_p/p.
     pub omega_ratio: f64,
@@ -313,9 +317,10 @@ pub struct FrequencyDoc {
 }
 
 /// What a run of many simulations cost, and the accuracy of the worst one.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ScanCost {
     /// "exact" | "dopri5" | "dop853".
+    #[schema(value_type = crate::jobs::schema::MethodName)]
     pub method: String,
     /// Relative tolerance.
     pub rtol: Option<f64>,
@@ -353,7 +358,7 @@ impl ScanCost {
 }
 
 /// Cost and accuracy of a spectrum.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SpectrumNumerics {
     /// Solver, cost and worst error estimate.
     #[serde(flatten)]
@@ -379,9 +384,10 @@ impl SpectrumNumerics {
 }
 
 /// The result document of a spectrum job.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct SpectrumResult {
     /// "spectrum".
+    #[schema(value_type = crate::jobs::schema::SpectrumKind)]
     pub kind: &'static str,
     /// One entry per frequency.
     pub spectrum: Vec<FrequencyDoc>,

@@ -36,7 +36,7 @@ pub struct OutputsSpec {
 #[serde(deny_unknown_fields)]
 pub struct TimeHistorySpec {
     /// "time_history".
-    #[schema(pattern = "^time_history$")]
+    #[schema(value_type = crate::jobs::schema::TimeHistoryKind)]
     pub kind: String,
     /// The block.
     #[schema(required = true, value_type = BlockSpec)]
@@ -54,7 +54,7 @@ pub struct TimeHistorySpec {
 }
 
 /// Outputs, normalised.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct OutputsNorm {
     /// Series samples (0: none).
     pub series: usize,
@@ -70,9 +70,10 @@ pub struct OutputsNorm {
 }
 
 /// A validated time-history job; serialises to the canonical spec.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct TimeHistoryJob {
     /// "time_history".
+    #[schema(value_type = crate::jobs::schema::TimeHistoryKind)]
     pub kind: &'static str,
     /// Block.
     pub block: BlockNorm,
@@ -83,6 +84,7 @@ pub struct TimeHistoryJob {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ground_motion: Option<GroundMotionNorm>,
     /// "linear" | "nonlinear".
+    #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: &'static str,
     /// Solver.
     pub solver: SolverNorm,
@@ -159,7 +161,7 @@ impl TimeHistorySpec {
 }
 
 /// One impact in a result.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ImpactDoc {
     /// Time, s.
     pub t: f64,
@@ -170,10 +172,11 @@ pub struct ImpactDoc {
 }
 
 /// A note on a result.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct WarningDoc {
     /// "sliding" | "lift_off" | "demand_excludes_fall" | "free_rocking_truncated" |
     /// "impact_list_truncated" | "near_separatrix".
+    #[schema(value_type = crate::jobs::schema::WarningKind)]
     pub kind: String,
     /// When it happens, s.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -225,7 +228,7 @@ impl WarningDoc {
 }
 
 /// Sampled series.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SeriesDoc {
     /// Time, s.
     pub t: Vec<f64>,
@@ -242,9 +245,10 @@ pub struct SeriesDoc {
 }
 
 /// The result document of a time-history job.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
 pub struct TimeHistoryResult {
     /// "time_history".
+    #[schema(value_type = crate::jobs::schema::TimeHistoryKind)]
     pub kind: &'static str,
     /// Whether rocking started at all.
     pub rocked: bool,
