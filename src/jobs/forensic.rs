@@ -76,6 +76,7 @@ pub struct ForensicSpec {
     /// Amplitudes examined, g.
     pub a_p_g: Option<AmplitudeRange>,
     /// "linear" | "nonlinear" (default).
+    #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
     /// Scan step, g (default 0.01): every interval wider than this is found.
     pub scan_step_g: Option<f64>,

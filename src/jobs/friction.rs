@@ -30,6 +30,7 @@ pub struct FrictionSpec {
     /// The pulse family.
     pub pulse: Option<PulseSpec>,
     /// "linear" | "nonlinear" (default).
+    #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
     /// ω_p/p (one value).
     pub omega_ratio: Option<f64>,

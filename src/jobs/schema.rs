@@ -92,6 +92,81 @@ pub enum PulseTypeName {
     Cn,
 }
 
+/// A pulse family as a spec names it (canonical names first, then aliases).
+#[derive(ToSchema)]
+pub enum PulseTypeInput {
+    /// Type A, eq. 22.
+    #[schema(rename = "one_sine")]
+    OneSine,
+    /// Type B, eq. 53.
+    #[schema(rename = "one_cosine")]
+    OneCosine,
+    /// Type Cn (with `n`).
+    #[schema(rename = "cn")]
+    Cn,
+    /// Alias of one_sine.
+    #[schema(rename = "sine")]
+    Sine,
+    /// Alias of one_sine.
+    #[schema(rename = "type_a")]
+    TypeA,
+    /// Alias of one_sine.
+    #[schema(rename = "a")]
+    A,
+    /// Alias of one_cosine.
+    #[schema(rename = "cosine")]
+    Cosine,
+    /// Alias of one_cosine.
+    #[schema(rename = "type_b")]
+    TypeB,
+    /// Alias of one_cosine.
+    #[schema(rename = "b")]
+    B,
+    /// Alias of cn.
+    #[schema(rename = "type_cn")]
+    TypeCn,
+    /// Alias of cn.
+    #[schema(rename = "type_c")]
+    TypeC,
+    /// Alias of cn.
+    #[schema(rename = "c")]
+    C,
+}
+
+/// A solver as a spec names it.
+#[derive(ToSchema)]
+pub enum MethodInput {
+    /// The closed form (linear formulation, pulses).
+    #[schema(rename = "exact")]
+    Exact,
+    /// Dormand–Prince 5(4).
+    #[schema(rename = "dopri5")]
+    Dopri5,
+    /// Alias of dopri5.
+    #[schema(rename = "rk45")]
+    Rk45,
+    /// Dormand–Prince 8(5,3).
+    #[schema(rename = "dop853")]
+    Dop853,
+}
+
+/// The unit of a record's samples.
+#[derive(ToSchema)]
+pub enum UnitInput {
+    /// Multiples of g (the block's g).
+    #[schema(rename = "g")]
+    G,
+    /// m/s².
+    #[schema(rename = "m/s2")]
+    MetresPerSecondSquared,
+    /// Alias of m/s2.
+    #[schema(rename = "m/s^2")]
+    Caret,
+    /// Alias of m/s2.
+    #[schema(rename = "m/s²")]
+    Superscript,
+}
+
 /// Direction of a transition: "up" where overturning begins as the amplitude
 /// grows, "down" where a safe interval begins.
 #[derive(ToSchema)]

@@ -186,6 +186,7 @@ pub struct BlockSpec {
 pub struct PulseSpec {
     /// "one_sine" | "one_cosine" | "cn" (aliases: "sine", "type_a", "cosine", "type_b", "type_cn").
     #[serde(rename = "type", alias = "shape")]
+    #[schema(value_type = Option<crate::jobs::schema::PulseTypeInput>)]
     pub kind: Option<String>,
     /// Displacement cycles of a Type-Cn pulse (default 1).
     pub n: Option<u32>,
@@ -208,6 +209,7 @@ pub struct PulseSpec {
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
     /// "exact" | "dopri5" | "dop853".
+    #[schema(value_type = Option<crate::jobs::schema::MethodInput>)]
     pub method: Option<String>,
     /// Relative tolerance.
     pub rtol: Option<f64>,
@@ -643,6 +645,7 @@ pub struct GroundMotionSpec {
     /// Accelerations at t_k = k·dt, k = 0..N−1 (2 <= N <= 200000), linear in between.
     pub acc: Option<Vec<f64>>,
     /// Unit of `acc`: "g" | "m/s2".
+    #[schema(value_type = Option<crate::jobs::schema::UnitInput>)]
     pub unit: Option<String>,
 }
 

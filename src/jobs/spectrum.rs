@@ -38,6 +38,7 @@ pub struct SpectrumSpec {
     /// The pulse family (`type`, `n`); frequency and amplitude vary.
     pub pulse: Option<PulseSpec>,
     /// "linear" | "nonlinear" (default).
+    #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
     /// ω_p/p values.
     pub omega_ratio: Option<RangeSpec>,

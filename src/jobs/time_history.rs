@@ -46,6 +46,7 @@ pub struct TimeHistorySpec {
     /// A sampled ground-acceleration record (give this or `pulse`).
     pub ground_motion: Option<GroundMotionSpec>,
     /// "linear" | "nonlinear" (default).
+    #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
     /// Solver (default: exact for a pulse with the linear formulation, dop853 otherwise).
     pub solver: Option<SolverSpec>,

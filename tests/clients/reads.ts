@@ -1,0 +1,69 @@
+// Reads of the API through the types openapi-typescript generates from
+// openapi.yaml, checked with `tsc --strict --noEmit`: typed result fields
+// compile, typos do not (each @ts-expect-error must meet an error).
+import type { components, paths } from "./api";
+
+type S = components["schemas"];
+
+export function summary(view: S["JobView"]): string {
+  const r = view.result;
+  if (!r) return view.status;
+  switch (r.kind) {
+    case "time_history": {
+      const overturned: boolean = r.overturned;
+      const mode: number | null | undefined = r.mode;
+      const demand: number | null | undefined = r.peak_friction_demand;
+      const first = r.impacts?.[0]?.t;
+      return `${overturned} ${mode} ${demand} ${first} ${r.engine.version}`;
+    }
+    case "spectrum": {
+      const t = r.spectrum[0].transitions[0];
+      const a: number = t.a_alpha_g;
+      const up: "up" | "down" = t.direction;
+      return `${a} ${up} ${r.spectrum[0].min_overturn_alpha_g}`;
+    }
+    case "friction_spectrum": {
+      const p = r.points[0];
+      const lifted: boolean | undefined = p.lift_off;
+      return `${p.peak_friction_demand ?? "unbounded"} ${lifted}`;
+    }
+    case "forensic":
+      return `${r.frequencies.length}`;
+  }
+}
+
+export const spec: S["TimeHistorySpec"] = {
+  kind: "time_history",
+  block: { alpha: 0.25, p: 2.14, eta: 0.9 },
+  pulse: { type: "one_sine", omega_ratio: 5, a_p_alpha_g: 4 },
+  formulation: "nonlinear",
+};
+
+export const typoFormulation: S["TimeHistorySpec"] = {
+  kind: "time_history",
+  block: { alpha: 0.25, p: 2.14 },
+  pulse: { type: "one_sine", omega_ratio: 5, a_p_alpha_g: 4 },
+  // @ts-expect-error a misspelt formulation is refused
+  formulation: "nonlinaer",
+};
+
+export const typoPulse: S["TimeHistorySpec"] = {
+  kind: "time_history",
+  block: { alpha: 0.25, p: 2.14 },
+  // @ts-expect-error a misspelt pulse type is refused
+  pulse: { type: "one_sin", omega_ratio: 5, a_p_alpha_g: 4 },
+};
+
+export function wrongKind(r: S["TimeHistoryResult"]): void {
+  // @ts-expect-error the kind of a time-history result is "time_history"
+  const k: "spectrum" = r.kind;
+  // @ts-expect-error overturned is a boolean
+  const o: string = r.overturned;
+  void k;
+  void o;
+}
+
+export type Csv = paths["/v1/jobs/{id}/result"]["get"]["responses"][200]["content"]["text/csv"];
+export type Svg = paths["/v1/jobs/{id}/plot.svg"]["get"]["responses"][200]["content"]["image/svg+xml"];
+export const csv: Csv = "t_s,theta_rad\n";
+export const svg: Svg = "<svg/>";

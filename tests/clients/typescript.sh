@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# A TypeScript client's types generated from openapi.yaml (openapi-typescript),
+# and reads.ts type-checked against them with tsc --strict --noEmit.
+# Installs the pinned tools under target/clients-node (npm registry).
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+work=$root/target/clients-node
+mkdir -p "$work"
+cp "$root/tests/clients/package.json" "$work/package.json"
+if ! cmp -s "$root/tests/clients/package.json" "$work/.installed" 2>/dev/null; then
+  (cd "$work" && npm install --no-audit --no-fund --loglevel=error >/dev/null)
+  cp "$root/tests/clients/package.json" "$work/.installed"
+fi
+"$work/node_modules/.bin/openapi-typescript" "$root/openapi.yaml" -o "$work/api.d.ts" >/dev/null
+cp "$root/tests/clients/reads.ts" "$work/reads.ts"
+"$work/node_modules/.bin/tsc" --strict --noEmit --target es2022 --module es2022 \
+  --moduleResolution bundler --skipLibCheck "$work/reads.ts"
+echo "typescript.sh: the generated types check (tsc --strict)"
