@@ -802,8 +802,8 @@ fn kind_of(v: &serde_json::Value) -> String {
     responses(
         (status = 200, description = "The result document (JSON), or CSV or SVG by ?format= or Accept", content(
             (crate::jobs::schema::JobResult = "application/json"),
-            (String = "text/csv"),
-            (String = "image/svg+xml")
+            (crate::jobs::schema::CsvTable = "text/csv"),
+            (crate::jobs::schema::SvgFigure = "image/svg+xml")
         ), headers(("ETag" = String, description = "Strong: the job key and the format"),
                    ("Cache-Control" = String, description = "immutable"),
                    ("Content-Disposition" = Option<String>, description = "CSV: a file name"))),

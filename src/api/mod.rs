@@ -129,6 +129,7 @@ pub fn openapi_yaml() -> String {
             utoipa::openapi::HttpMethod::Get,
             utoipa::openapi::path::OperationBuilder::new()
                 .tag("operations")
+                .operation_id(Some("openapi"))
                 .summary(Some("This API description (OpenAPI 3.1, YAML)"))
                 .response(
                     "200",
@@ -136,7 +137,15 @@ pub fn openapi_yaml() -> String {
                         .description("The description")
                         .content(
                             "application/yaml",
-                            utoipa::openapi::ContentBuilder::new().build(),
+                            utoipa::openapi::ContentBuilder::new()
+                                .schema(Some(
+                                    utoipa::openapi::ObjectBuilder::new()
+                                        .schema_type(utoipa::openapi::schema::Type::String)
+                                        .format(Some(utoipa::openapi::SchemaFormat::KnownFormat(
+                                            utoipa::openapi::KnownFormat::Binary,
+                                        ))),
+                                ))
+                                .build(),
                         )
                         .build(),
                 )

@@ -26,7 +26,7 @@ use crate::service::AppState;
     params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"),
         ("If-None-Match" = Option<String>, Header, description = "The ETag of the figure already held")),
     responses(
-        (status = 200, description = "The figure", body = String, content_type = "image/svg+xml",
+        (status = 200, description = "The figure", body = crate::jobs::schema::SvgFigure, content_type = "image/svg+xml",
             headers(("ETag" = String, description = "Strong: the job key and the format"),
                     ("Cache-Control" = String, description = "immutable"))),
         (status = 304, description = "Unchanged (it never changes)"),

@@ -237,6 +237,16 @@ pub enum JobResult {
     Forensic(ForensicResult),
 }
 
+/// A figure: an SVG document.
+#[derive(ToSchema)]
+#[schema(value_type = String, format = Binary)]
+pub struct SvgFigure(String);
+
+/// A table: CSV whose header row names each quantity and its unit.
+#[derive(ToSchema)]
+#[schema(value_type = String, format = Binary)]
+pub struct CsvTable(String);
+
 /// What computed a result (every result document carries it).
 #[derive(ToSchema)]
 pub struct Engine {
