@@ -137,15 +137,7 @@ pub fn openapi_yaml() -> String {
                         .description("The description")
                         .content(
                             "application/yaml",
-                            utoipa::openapi::ContentBuilder::new()
-                                .schema(Some(
-                                    utoipa::openapi::ObjectBuilder::new()
-                                        .schema_type(utoipa::openapi::schema::Type::String)
-                                        .format(Some(utoipa::openapi::SchemaFormat::KnownFormat(
-                                            utoipa::openapi::KnownFormat::Binary,
-                                        ))),
-                                ))
-                                .build(),
+                            utoipa::openapi::ContentBuilder::new().build(),
                         )
                         .build(),
                 )
