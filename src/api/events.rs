@@ -98,10 +98,12 @@ impl Follow {
     path = "/v1/jobs/{id}/events",
     tag = "jobs",
     operation_id = "job_events",
+    security((), ("bearer" = [])),
     params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid")),
     responses(
         (status = 200, description = "The stream: `status` events, then one `done` event; data is a JobView", body = String, content_type = "text/event-stream"),
         (status = 400, description = "Not a job id, or a query parameter", body = Problem, content_type = "application/problem+json"),
+        (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
     )
 )]

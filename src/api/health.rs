@@ -17,7 +17,7 @@ pub struct Health {
 }
 
 /// The process is up.
-#[utoipa::path(get, path = "/healthz", tag = "operations",
+#[utoipa::path(get, path = "/healthz", tag = "operations", security(()),
     responses((status = 200, description = "Alive", body = Health)))]
 pub async fn healthz() -> axum::Json<Health> {
     axum::Json(Health {
@@ -26,7 +26,7 @@ pub async fn healthz() -> axum::Json<Health> {
 }
 
 /// The database answers and the instance is not shutting down.
-#[utoipa::path(get, path = "/readyz", tag = "operations",
+#[utoipa::path(get, path = "/readyz", tag = "operations", security(()),
     responses(
         (status = 200, description = "Ready", body = Health),
         (status = 503, description = "Not ready", body = Problem, content_type = "application/problem+json"),
@@ -57,8 +57,9 @@ pub async fn readyz(State(state): State<AppState>) -> Result<axum::Json<Health>,
 }
 
 /// Prometheus metrics: jobs by status, queue depth, cache hits, compute seconds by kind.
-#[utoipa::path(get, path = "/metrics", tag = "operations",
-    responses((status = 200, description = "Prometheus text exposition", body = String, content_type = "text/plain")))]
+#[utoipa::path(get, path = "/metrics", tag = "operations", security((), ("bearer" = [])),
+    responses((status = 200, description = "Prometheus text exposition", body = String, content_type = "text/plain"),
+        (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json")))]
 pub async fn metrics(State(state): State<AppState>) -> Result<Response, Problem> {
     let counts = state.store.counts().await?;
     let text = state.metrics.render(&counts);

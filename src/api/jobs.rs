@@ -577,6 +577,7 @@ pub struct JobQuery {
     path = "/v1/jobs/{id}",
     tag = "jobs",
     operation_id = "get_job",
+    security((), ("bearer" = [])),
     params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"), JobQuery,
         ("If-None-Match" = Option<String>, Header, description = "The ETag of a status already seen")),
     responses(
@@ -585,6 +586,7 @@ pub struct JobQuery {
                     ("Retry-After" = Option<String>, description = "While unfinished: seconds until a poll is worthwhile"))),
         (status = 304, description = "Unchanged since the ETag sent in If-None-Match"),
         (status = 400, description = "Not a job id, or a bad or unknown query parameter", body = Problem, content_type = "application/problem+json"),
+        (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
     )
 )]
@@ -797,6 +799,7 @@ fn kind_of(v: &serde_json::Value) -> String {
     path = "/v1/jobs/{id}/result",
     tag = "jobs",
     operation_id = "get_result",
+    security((), ("bearer" = [])),
     params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"), ResultQuery,
         ("If-None-Match" = Option<String>, Header, description = "The ETag of the representation already held")),
     responses(
@@ -809,6 +812,7 @@ fn kind_of(v: &serde_json::Value) -> String {
                    ("Content-Disposition" = Option<String>, description = "CSV: a file name"))),
         (status = 304, description = "Unchanged (it never changes)"),
         (status = 400, description = "Bad id or format, an unknown parameter, or no CSV form", body = Problem, content_type = "application/problem+json"),
+        (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
         (status = 409, description = "Not finished (Retry-After says when to look again), failed, or canceled", body = Problem, content_type = "application/problem+json",
             headers(("Retry-After" = Option<String>, description = "Seconds until a poll is worthwhile"))),
@@ -912,11 +916,13 @@ pub struct JobPage {
     path = "/v1/jobs",
     tag = "jobs",
     operation_id = "list_jobs",
+    security((), ("bearer" = [])),
     params(ListParams),
     responses(
         (status = 200, description = "A page of jobs", body = JobPage,
             headers(("Link" = Option<String>, description = "The next page: <url>; rel=\"next\""))),
         (status = 400, description = "Bad parameter", body = Problem, content_type = "application/problem+json"),
+        (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json"),
     )
 )]
 pub async fn list_jobs(

@@ -41,7 +41,7 @@ use problem::Problem;
     info(
         title = "topple",
         description = "Rocking and overturning of free-standing rigid blocks under cycloidal pulses (Makris & Zhang 2001). Submit a job spec, poll its status, fetch its result.",
-        license(name = "MIT")
+        license(name = "MIT", identifier = "MIT")
     ),
     servers((url = "/", description = "This service (relative to where this description was fetched)")),
     components(schemas(crate::jobs::schema::JobResult, crate::jobs::schema::Engine)),
@@ -130,6 +130,7 @@ pub fn openapi_yaml() -> String {
             utoipa::openapi::path::OperationBuilder::new()
                 .tag("operations")
                 .operation_id(Some("openapi"))
+                .security(utoipa::openapi::security::SecurityRequirement::default())
                 .summary(Some("This API description (OpenAPI 3.1, YAML)"))
                 .response(
                     "200",

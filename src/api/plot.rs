@@ -23,6 +23,7 @@ use crate::service::AppState;
     path = "/v1/jobs/{id}/plot.svg",
     tag = "jobs",
     operation_id = "get_plot",
+    security((), ("bearer" = [])),
     params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"),
         ("If-None-Match" = Option<String>, Header, description = "The ETag of the figure already held")),
     responses(
@@ -31,6 +32,7 @@ use crate::service::AppState;
                     ("Cache-Control" = String, description = "immutable"))),
         (status = 304, description = "Unchanged (it never changes)"),
         (status = 400, description = "Bad id, or a result with nothing to draw", body = Problem, content_type = "application/problem+json"),
+        (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
         (status = 409, description = "Not finished (or failed, or canceled)", body = Problem, content_type = "application/problem+json"),
     )

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # A TypeScript client's types generated from openapi.yaml (openapi-typescript),
 # and reads.ts type-checked against them with tsc --strict --noEmit.
+# Then `redocly lint` (recommended rules) of openapi.yaml: zero errors.
 # Installs the pinned tools under target/clients-node (npm registry).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -16,3 +17,5 @@ cp "$root/tests/clients/reads.ts" "$work/reads.ts"
 "$work/node_modules/.bin/tsc" --strict --noEmit --target es2022 --module es2022 \
   --moduleResolution bundler --skipLibCheck "$work/reads.ts"
 echo "typescript.sh: the generated types check (tsc --strict)"
+# The description itself: redocly's recommended rules, no errors allowed.
+REDOCLY_TELEMETRY=off REDOCLY_SUPPRESS_UPDATE_NOTICE=true "$work/node_modules/.bin/redocly" lint --format=summary "$root/openapi.yaml"
