@@ -799,6 +799,8 @@ const NULLABLE: &[&str] = &[
     "peak_friction_demand_time",
     "initiation_friction_demand",
     "min_overturn_alpha_g",
+    "min_overturn_g",
+    "min_overturn_m_s2",
     "min_overturn_mode",
     "overturns_above_alpha_g",
     "closed_form_mode2_alpha_g",

@@ -40,10 +40,18 @@ pub struct SpectrumSpec {
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
-    /// ω_p/p values.
+    /// ω_p/p values (give this, `omega_p` or `frequency_hz`).
     pub omega_ratio: Option<RangeSpec>,
-    /// Highest amplitude, αg (default 20).
+    /// Pulse circular frequencies ω_p, rad/s.
+    pub omega_p: Option<RangeSpec>,
+    /// Pulse frequencies f_p = ω_p/2π, Hz.
+    pub frequency_hz: Option<RangeSpec>,
+    /// Highest amplitude, αg (default 20; or give `a_max` or `a_max_g`).
     pub a_max_alpha_g: Option<f64>,
+    /// Highest amplitude, m/s².
+    pub a_max: Option<f64>,
+    /// Highest amplitude, g.
+    pub a_max_g: Option<f64>,
     /// Bracket width of each transition, αg (default 1e-4).
     pub tolerance: Option<f64>,
     /// Scan step, αg (default 0.02): every band wider than this is found.
@@ -154,28 +162,75 @@ impl SpectrumSpec {
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let solver = validate_solver(self.solver.as_ref(), formulation, "/solver")?;
-        let omega_ratio = self
-            .omega_ratio
-            .as_ref()
-            .ok_or_else(|| {
-                SpecError::at(
+        // Frequencies in any unit, normalised to ω_p/p: one job, one cache key.
+        let p = block.p;
+        let unit_g = block.alpha * block.g;
+        let frequencies: [(&Option<RangeSpec>, &str, f64); 3] = [
+            (&self.omega_ratio, "omega_ratio", 1.0),
+            (&self.omega_p, "omega_p", 1.0 / p),
+            (
+                &self.frequency_hz,
+                "frequency_hz",
+                std::f64::consts::TAU / p,
+            ),
+        ];
+        let given: Vec<_> = frequencies.iter().filter(|f| f.0.is_some()).collect();
+        let (range, name, to_ratio) = match given.as_slice() {
+            [one] => (
+                one.0
+                    .as_ref()
+                    .ok_or_else(|| SpecError::at("/omega_ratio", "missing"))?,
+                one.1,
+                one.2,
+            ),
+            [] => {
+                return Err(SpecError::at(
                     "/omega_ratio",
-                    "missing field: {\"from\", \"to\", \"steps\"} or a list",
-                )
-            })?
-            .values(
-                "/omega_ratio",
-                OMEGA_RATIO_RANGE.0,
-                OMEGA_RATIO_RANGE.1,
-                MAX_FREQUENCIES,
-            )?;
-        let a_max = positive_in(
-            self.a_max_alpha_g.unwrap_or(DEFAULT_A_MAX),
-            1.0,
-            1e4,
-            "/a_max_alpha_g",
-            "αg",
-        )?;
+                    "missing field: the frequencies as omega_ratio (ω_p/p), omega_p (rad/s) or frequency_hz: {\"from\", \"to\", \"steps\"} or a list",
+                ));
+            }
+            [_, second, ..] => {
+                return Err(SpecError::at(
+                    format!("/{}", second.1),
+                    "give the frequencies once: omega_ratio, omega_p or frequency_hz",
+                ));
+            }
+        };
+        let pointer = format!("/{name}");
+        let omega_ratio: Vec<f64> = range
+            .values(&pointer, 0.0, f64::MAX, MAX_FREQUENCIES)?
+            .into_iter()
+            .map(|v| v * to_ratio)
+            .collect();
+        if let Some(bad) = omega_ratio
+            .iter()
+            .find(|r| !(OMEGA_RATIO_RANGE.0..=OMEGA_RATIO_RANGE.1).contains(*r))
+        {
+            return Err(SpecError::at(
+                pointer,
+                format!(
+                    "every frequency must give ω_p/p in [{}, {}] for this block (p = {p} rad/s); one gives {bad}",
+                    OMEGA_RATIO_RANGE.0, OMEGA_RATIO_RANGE.1
+                ),
+            ));
+        }
+        let amplitudes: [(Option<f64>, &str, f64); 3] = [
+            (self.a_max_alpha_g, "a_max_alpha_g", 1.0),
+            (self.a_max, "a_max", 1.0 / unit_g),
+            (self.a_max_g, "a_max_g", block.g / unit_g),
+        ];
+        let given: Vec<_> = amplitudes.iter().filter(|a| a.0.is_some()).collect();
+        let (a_max, a_name) = match given.as_slice() {
+            [] => (DEFAULT_A_MAX, "a_max_alpha_g"),
+            [one] => (one.0.unwrap_or(DEFAULT_A_MAX) * one.2, one.1),
+            [_, second, ..] => {
+                return Err(SpecError::at(
+                    format!("/{}", second.1),
+                    "give the highest amplitude once: a_max_alpha_g, a_max or a_max_g",
+                ));
+            }
+        };
+        let a_max = positive_in(a_max, 1.0, 1e4, &format!("/{a_name}"), "αg")?;
         let tolerance = positive_in(
             self.tolerance.unwrap_or(DEFAULT_TOLERANCE),
             1e-9,
@@ -315,6 +370,18 @@ pub struct FrequencyDoc {
     pub eq21_alpha_g: f64,
     /// Linear one-sine mode-2 boundary from the corrected eq. 47 (linear one-sine only).
     pub closed_form_mode2_alpha_g: Option<f64>,
+    /// ω_p, rad/s (ω_p/p × p).
+    #[serde(default)]
+    pub omega_p: f64,
+    /// f_p = ω_p/2π, Hz.
+    #[serde(default)]
+    pub frequency_hz: f64,
+    /// `min_overturn_alpha_g` in g.
+    #[serde(default)]
+    pub min_overturn_g: Option<f64>,
+    /// `min_overturn_alpha_g` in m/s².
+    #[serde(default)]
+    pub min_overturn_m_s2: Option<f64>,
 }
 
 /// What a run of many simulations cost, and the accuracy of the worst one.
@@ -451,6 +518,13 @@ impl SpectrumJob {
                 },
                 eq21_alpha_g: l.eq21,
                 closed_form_mode2_alpha_g: l.mode2_closed_form,
+                omega_p: l.omega_ratio * self.block.p,
+                frequency_hz: l.omega_ratio * self.block.p / std::f64::consts::TAU,
+                min_overturn_g: l.derived.min_overturn.map(|a| a * self.block.alpha),
+                min_overturn_m_s2: l
+                    .derived
+                    .min_overturn
+                    .map(|a| a * self.block.alpha * self.block.g),
             })
             .collect();
         Ok(SpectrumResult {
@@ -465,5 +539,73 @@ impl SpectrumJob {
             ),
             spec: self.clone(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use serde_json::{Value, json};
+
+    use crate::jobs::Job;
+    use crate::jobs::key::cache_key;
+    use crate::spectrum::Control;
+
+    fn spectrum(axes: Value) -> Result<Job, crate::jobs::spec::SpecError> {
+        let mut spec = json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.0, "eta": 0.9},
+                              "pulse": {"type": "one_sine"}, "formulation": "linear"});
+        for (k, v) in axes.as_object().expect("object") {
+            spec[k] = v.clone();
+        }
+        Job::from_value(&spec)
+    }
+
+    #[test]
+    fn frequencies_and_amplitudes_in_any_unit_make_the_same_job() {
+        let tau = std::f64::consts::TAU;
+        let reference =
+            spectrum(json!({"omega_ratio": [1.0, 3.0], "a_max_alpha_g": 8.0})).expect("valid");
+        for axes in [
+            json!({"omega_p": [2.0, 6.0], "a_max_g": 2.0}),
+            json!({"frequency_hz": [2.0 / tau, 6.0 / tau], "a_max": 8.0 * 0.25 * 9.81}),
+            json!({"omega_ratio": {"from": 1, "to": 3, "steps": 2}, "a_max_alpha_g": 8}),
+        ] {
+            let job = spectrum(axes.clone()).expect("valid");
+            assert_eq!(cache_key(&job), cache_key(&reference), "{axes}");
+        }
+    }
+
+    #[test]
+    fn a_frequency_axis_is_given_once_and_named_when_wrong() {
+        let e = spectrum(json!({"omega_ratio": [1.0], "frequency_hz": [0.5]})).expect_err("twice");
+        assert_eq!(e.pointer, "/frequency_hz");
+        let e = spectrum(json!({"a_max_alpha_g": 5, "a_max_g": 1})).expect_err("no frequencies");
+        assert_eq!(e.pointer, "/omega_ratio");
+        let e = spectrum(json!({"omega_p": [2.0], "a_max_alpha_g": 5, "a_max_g": 1}))
+            .expect_err("two maxima");
+        assert_eq!(e.pointer, "/a_max_g");
+        // 1e5 rad/s on a block of p = 2 is ω_p/p = 5e4, above the accepted range.
+        let e = spectrum(json!({"omega_p": [1e5]})).expect_err("out of range");
+        assert_eq!(e.pointer, "/omega_p");
+        assert!(e.message.contains("p = 2 rad/s"), "{}", e.message);
+    }
+
+    #[test]
+    fn every_frequency_echoes_its_dimensional_values() {
+        let job = spectrum(json!({"frequency_hz": [0.5], "a_max_g": 2.0})).expect("valid");
+        let doc = job.run(&Control::new()).expect("runs");
+        let line = &doc["spectrum"][0];
+        let ratio = line["omega_ratio"].as_f64().expect("ratio");
+        assert!(
+            (ratio - std::f64::consts::PI / 2.0).abs() < 1e-12,
+            "{ratio}"
+        );
+        assert!((line["omega_p"].as_f64().expect("omega_p") - std::f64::consts::PI).abs() < 1e-12);
+        assert!((line["frequency_hz"].as_f64().expect("hz") - 0.5).abs() < 1e-12);
+        let min = line["min_overturn_alpha_g"]
+            .as_f64()
+            .expect("overturns below 8 αg");
+        let g = line["min_overturn_g"].as_f64().expect("in g");
+        let si = line["min_overturn_m_s2"].as_f64().expect("in m/s²");
+        assert!((g - 0.25 * min).abs() < 1e-12 && (si - 0.25 * 9.81 * min).abs() < 1e-9);
     }
 }
