@@ -32,10 +32,18 @@ pub struct FrictionSpec {
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
-    /// ω_p/p (one value).
+    /// ω_p/p (one value; or give `omega_p` or `frequency_hz`).
     pub omega_ratio: Option<f64>,
-    /// Amplitudes a_p/(αg).
+    /// ω_p, rad/s.
+    pub omega_p: Option<f64>,
+    /// f_p = ω_p/2π, Hz.
+    pub frequency_hz: Option<f64>,
+    /// Amplitudes a_p/(αg) (or give `a_p` or `a_p_g`).
     pub a_alpha_g: Option<RangeSpec>,
+    /// Amplitudes, m/s².
+    pub a_p: Option<RangeSpec>,
+    /// Amplitudes, g.
+    pub a_p_g: Option<RangeSpec>,
     /// Solver.
     pub solver: Option<SolverSpec>,
 }
@@ -73,30 +81,77 @@ impl FrictionSpec {
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let solver = validate_solver(self.solver.as_ref(), formulation, "/solver")?;
-        let omega_ratio = self
-            .omega_ratio
-            .ok_or_else(|| SpecError::at("/omega_ratio", "missing field (one value of ω_p/p)"))?;
+        // The frequency and the amplitudes in any unit, normalised to ω_p/p and αg.
+        let p = block.p;
+        let unit_g = block.alpha * block.g;
+        let frequencies = [
+            (self.omega_ratio, "omega_ratio", 1.0),
+            (self.omega_p, "omega_p", 1.0 / p),
+            (self.frequency_hz, "frequency_hz", std::f64::consts::TAU / p),
+        ];
+        let given: Vec<_> = frequencies.iter().filter(|f| f.0.is_some()).collect();
+        let (value, name, to_ratio) = match given.as_slice() {
+            [one] => (one.0.unwrap_or(f64::NAN), one.1, one.2),
+            [] => {
+                return Err(SpecError::at(
+                    "/omega_ratio",
+                    "missing field: one frequency as omega_ratio (ω_p/p), omega_p (rad/s) or frequency_hz",
+                ));
+            }
+            [_, second, ..] => {
+                return Err(SpecError::at(
+                    format!("/{}", second.1),
+                    "give the frequency once: omega_ratio, omega_p or frequency_hz",
+                ));
+            }
+        };
+        let omega_ratio = value * to_ratio;
         if !(omega_ratio.is_finite()
             && (OMEGA_RATIO_RANGE.0..=OMEGA_RATIO_RANGE.1).contains(&omega_ratio))
         {
             return Err(SpecError::at(
-                "/omega_ratio",
+                format!("/{name}"),
                 format!(
-                    "must lie in [{}, {}] (got {omega_ratio})",
+                    "must give ω_p/p in [{}, {}] for this block (p = {p} rad/s; got ω_p/p = {omega_ratio})",
                     OMEGA_RATIO_RANGE.0, OMEGA_RATIO_RANGE.1
                 ),
             ));
         }
-        let a_alpha_g = self
-            .a_alpha_g
-            .as_ref()
-            .ok_or_else(|| {
-                SpecError::at(
+        let amplitudes = [
+            (&self.a_alpha_g, "a_alpha_g", 1.0),
+            (&self.a_p, "a_p", 1.0 / unit_g),
+            (&self.a_p_g, "a_p_g", block.g / unit_g),
+        ];
+        let given: Vec<_> = amplitudes.iter().filter(|a| a.0.is_some()).collect();
+        let (range, name, to_alpha_g) = match given.as_slice() {
+            [one] => (one.0, one.1, one.2),
+            [] => {
+                return Err(SpecError::at(
                     "/a_alpha_g",
-                    "missing field: {\"from\", \"to\", \"steps\"} or a list",
-                )
-            })?
-            .values("/a_alpha_g", 1e-6, 1e6, MAX_AMPLITUDES)?;
+                    "missing field: the amplitudes as a_alpha_g (αg), a_p (m/s²) or a_p_g: {\"from\", \"to\", \"steps\"} or a list",
+                ));
+            }
+            [_, second, ..] => {
+                return Err(SpecError::at(
+                    format!("/{}", second.1),
+                    "give the amplitudes once: a_alpha_g, a_p or a_p_g",
+                ));
+            }
+        };
+        let pointer = format!("/{name}");
+        let a_alpha_g: Vec<f64> = range
+            .as_ref()
+            .ok_or_else(|| SpecError::at(&pointer, "missing"))?
+            .values(&pointer, 0.0, f64::MAX, MAX_AMPLITUDES)?
+            .into_iter()
+            .map(|a| a * to_alpha_g)
+            .collect();
+        if let Some(bad) = a_alpha_g.iter().find(|a| !(1e-6..=1e6).contains(*a)) {
+            return Err(SpecError::at(
+                pointer,
+                format!("every amplitude must give a_p/(αg) in [1e-6, 1e6]; one gives {bad}"),
+            ));
+        }
         Ok(FrictionJob {
             kind: "friction_spectrum",
             block,
@@ -114,6 +169,9 @@ impl FrictionSpec {
 pub struct FrictionPointDoc {
     /// a_p/(αg).
     pub a_alpha_g: f64,
+    /// a_p, g.
+    #[serde(default)]
+    pub a_p_g: f64,
     /// max |f_x/f_z| over the rocking history: the minimum μ for pure rocking;
     /// null when the block lifts off (`lift_off`): the demand is unbounded.
     pub peak_friction_demand: Option<f64>,
@@ -146,6 +204,10 @@ pub struct FrictionResult {
     pub kind: &'static str,
     /// ω_p/p.
     pub omega_ratio: f64,
+    /// ω_p, rad/s.
+    pub omega_p: f64,
+    /// f_p, Hz.
+    pub frequency_hz: f64,
     /// One entry per amplitude.
     pub points: Vec<FrictionPointDoc>,
     /// Cost and accuracy.
@@ -175,11 +237,14 @@ impl FrictionJob {
         Ok(FrictionResult {
             kind: "friction_spectrum",
             omega_ratio: self.omega_ratio,
+            omega_p: self.omega_ratio * self.block.p,
+            frequency_hz: self.omega_ratio * self.block.p / std::f64::consts::TAU,
             points: s
                 .points
                 .iter()
                 .map(|p| FrictionPointDoc {
                     a_alpha_g: p.level,
+                    a_p_g: p.level * block.slenderness,
                     peak_friction_demand: p.peak_demand,
                     peak_over_tan_alpha: p.peak_demand.map(|d| d / tan),
                     initiation_friction_demand: p.initiation_demand,
@@ -235,6 +300,38 @@ mod tests {
         assert!((peak - 0.5096).abs() <= 0.005 * 0.5096, "{six}");
         let over_tan = six["peak_over_tan_alpha"].as_f64().expect("bounded");
         assert!((over_tan - peak / 0.25f64.tan()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_frequency_and_amplitudes_in_any_unit_make_the_same_job() {
+        let base = |axes: Value| {
+            let mut spec = json!({"kind": "friction_spectrum",
+                "block": {"alpha": 0.25, "p": 2.0, "eta": 0.9}, "pulse": {"type": "one_sine"}});
+            for (k, v) in axes.as_object().expect("object") {
+                spec[k] = v.clone();
+            }
+            Job::from_value(&spec)
+        };
+        let key = |axes: Value| crate::jobs::key::cache_key(&base(axes).expect("valid"));
+        let reference = key(json!({"omega_ratio": 3.0, "a_alpha_g": [2.0, 4.0]}));
+        let tau = std::f64::consts::TAU;
+        assert_eq!(key(json!({"omega_p": 6.0, "a_p_g": [0.5, 1.0]})), reference);
+        assert_eq!(
+            key(json!({"frequency_hz": 6.0 / tau, "a_p": [0.5 * 9.81, 9.81]})),
+            reference
+        );
+        let e = base(json!({"omega_ratio": 3.0, "omega_p": 6.0, "a_alpha_g": [2.0]}))
+            .expect_err("twice");
+        assert_eq!(e.pointer, "/omega_p");
+        let e = base(json!({"omega_ratio": 3.0, "a_p_g": [-1.0]})).expect_err("negative");
+        assert!(e.pointer.starts_with("/a_p_g"), "{}", e.pointer);
+        let doc = base(json!({"omega_p": 6.0, "a_p_g": [0.5]}))
+            .expect("valid")
+            .run(&Control::new())
+            .expect("runs");
+        assert!((doc["omega_p"].as_f64().expect("omega_p") - 6.0).abs() < 1e-12);
+        assert!((doc["points"][0]["a_p_g"].as_f64().expect("a_p_g") - 0.5).abs() < 1e-12);
+        assert!((doc["points"][0]["a_alpha_g"].as_f64().expect("αg") - 2.0).abs() < 1e-12);
     }
 
     #[test]
