@@ -71,10 +71,16 @@ pub struct ForensicSpec {
     /// What was seen.
     #[schema(required = true, value_type = Vec<ObservationSpec>)]
     pub observations: Option<Vec<ObservationSpec>>,
-    /// Pulse frequencies f_p = ω_p/2π, Hz.
+    /// Pulse frequencies f_p = ω_p/2π, Hz (or give `omega_p`, or `omega_ratio`).
     pub frequency_hz: Option<RangeSpec>,
-    /// Amplitudes examined, g.
+    /// Pulse circular frequencies ω_p, rad/s.
+    pub omega_p: Option<RangeSpec>,
+    /// ω_p/p: only when every observation's block has the same p.
+    pub omega_ratio: Option<RangeSpec>,
+    /// Amplitudes examined, g (or give `a_p`).
     pub a_p_g: Option<AmplitudeRange>,
+    /// Amplitudes examined, m/s² (`from` and `to` in m/s²).
+    pub a_p: Option<AmplitudeRange>,
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
@@ -199,22 +205,64 @@ impl ForensicSpec {
             .enumerate()
             .map(|(i, o)| o.validate(&format!("/observations/{i}"), i))
             .collect::<Result<Vec<_>, _>>()?;
-        let frequency_hz = self
-            .frequency_hz
-            .as_ref()
-            .ok_or_else(|| {
-                SpecError::at(
+        // Frequencies in Hz, rad/s, or ω_p/p where every block shares p.
+        let tau = std::f64::consts::TAU;
+        let ps: Vec<f64> = observations.iter().map(|o| o.block.p).collect();
+        let same_p = ps.iter().all(|p| (p / ps[0] - 1.0).abs() < 1e-12);
+        let given: Vec<(&RangeSpec, &str)> = [
+            (self.frequency_hz.as_ref(), "frequency_hz"),
+            (self.omega_p.as_ref(), "omega_p"),
+            (self.omega_ratio.as_ref(), "omega_ratio"),
+        ]
+        .into_iter()
+        .filter_map(|(r, n)| Some((r?, n)))
+        .collect();
+        let (range, name) = match given.as_slice() {
+            [one] => *one,
+            [] => {
+                return Err(SpecError::at(
                     "/frequency_hz",
-                    "missing field: {\"from\", \"to\", \"steps\"} or a list, Hz",
-                )
-            })?
-            .values("/frequency_hz", 1e-3, 1e3, MAX_FREQUENCIES)?;
+                    "missing field: the pulse frequencies as frequency_hz, omega_p (rad/s) or omega_ratio: {\"from\", \"to\", \"steps\"} or a list",
+                ));
+            }
+            [_, second, ..] => {
+                return Err(SpecError::at(
+                    format!("/{}", second.1),
+                    "give the frequencies once: frequency_hz, omega_p or omega_ratio",
+                ));
+            }
+        };
+        if name == "omega_ratio" && !same_p {
+            return Err(SpecError::at(
+                "/omega_ratio",
+                format!(
+                    "ω_p/p names one frequency per block only when every block has the same p; these have p = {ps:?} rad/s: give frequency_hz or omega_p"
+                ),
+            ));
+        }
+        let to_hz = match name {
+            "omega_p" => 1.0 / tau,
+            "omega_ratio" => ps[0] / tau,
+            _ => 1.0,
+        };
+        let pointer = format!("/{name}");
+        let frequency_hz: Vec<f64> = range
+            .values(&pointer, 0.0, f64::MAX, MAX_FREQUENCIES)?
+            .into_iter()
+            .map(|v| v * to_hz)
+            .collect();
+        if let Some(bad) = frequency_hz.iter().find(|f| !(1e-3..=1e3).contains(*f)) {
+            return Err(SpecError::at(
+                &pointer,
+                format!("every frequency must lie in [1e-3, 1e3] Hz; one is {bad} Hz"),
+            ));
+        }
         for (i, o) in observations.iter().enumerate() {
             for &f in &frequency_hz {
                 let ratio = 2.0 * std::f64::consts::PI * f / o.block.p;
                 if !(OMEGA_RATIO_RANGE.0..=OMEGA_RATIO_RANGE.1).contains(&ratio) {
                     return Err(SpecError::at(
-                        "/frequency_hz",
+                        &pointer,
                         format!(
                             "{f} Hz is ω_p/p = {ratio:.3e} for observation {i} ({}), outside [{}, {}]",
                             o.name, OMEGA_RATIO_RANGE.0, OMEGA_RATIO_RANGE.1
@@ -223,9 +271,35 @@ impl ForensicSpec {
                 }
             }
         }
-        let range = self
-            .a_p_g
-            .ok_or_else(|| SpecError::at("/a_p_g", "missing field: {\"from\", \"to\"} in g"))?;
+        // Amplitudes in g, or in m/s² where every block shares g.
+        let range = match (self.a_p_g, self.a_p) {
+            (Some(r), None) => r,
+            (None, Some(r)) => {
+                let g = observations[0].block.g;
+                if observations.iter().any(|o| o.block.g != g) {
+                    return Err(SpecError::at(
+                        "/a_p",
+                        "a_p in m/s² converts to g only when every block has the same g: give a_p_g",
+                    ));
+                }
+                AmplitudeRange {
+                    from: r.from / g,
+                    to: r.to / g,
+                }
+            }
+            (Some(_), Some(_)) => {
+                return Err(SpecError::at(
+                    "/a_p",
+                    "give the amplitudes once: a_p_g or a_p",
+                ));
+            }
+            (None, None) => {
+                return Err(SpecError::at(
+                    "/a_p_g",
+                    "missing field: {\"from\", \"to\"} in g (or a_p in m/s²)",
+                ));
+            }
+        };
         let from = in_range(
             range.from,
             0.0,
@@ -563,5 +637,64 @@ mod tests {
         let b = vec![[0.5, 2.5]];
         assert_eq!(intersect(&a, &b), vec![[0.5, 1.0], [2.0, 2.5]]);
         assert_eq!(clip(&a, 0.5, 2.5), vec![[0.5, 1.0], [2.0, 2.5]]);
+    }
+}
+
+#[cfg(test)]
+mod unit_tests {
+    use serde_json::{Value, json};
+
+    use crate::jobs::Job;
+    use crate::jobs::key::cache_key;
+
+    fn query(observations: Value, axes: Value) -> Result<Job, crate::jobs::spec::SpecError> {
+        let mut spec = json!({"kind": "forensic", "pulse": {"type": "one_sine"},
+                              "observations": observations});
+        for (k, v) in axes.as_object().expect("object") {
+            spec[k] = v.clone();
+        }
+        Job::from_value(&spec)
+    }
+
+    fn twins() -> Value {
+        json!([{"name": "a", "overturned": true, "block": {"alpha": 0.25, "p": 2.0}},
+               {"name": "b", "overturned": false, "block": {"alpha": 0.3, "p": 2.0}}])
+    }
+
+    #[test]
+    fn frequencies_and_amplitudes_in_any_unit_make_the_same_query() {
+        let tau = std::f64::consts::TAU;
+        let key = |axes: Value| cache_key(&query(twins(), axes).expect("valid"));
+        let reference = key(json!({"frequency_hz": [1.0 / tau, 2.0 / tau],
+                                   "a_p_g": {"from": 0.1, "to": 1.5}}));
+        assert_eq!(
+            key(json!({"omega_p": [1.0, 2.0], "a_p": {"from": 0.981, "to": 14.715}})),
+            reference
+        );
+        // Both blocks have p = 2 rad/s: ω_p/p = 0.5 and 1 are 1 and 2 rad/s.
+        assert_eq!(
+            key(json!({"omega_ratio": [0.5, 1.0], "a_p_g": {"from": 0.1, "to": 1.5}})),
+            reference
+        );
+    }
+
+    #[test]
+    fn omega_ratio_across_blocks_of_different_size_is_refused_with_the_reason() {
+        let mixed = json!([{"name": "a", "overturned": true, "block": {"alpha": 0.25, "p": 2.0}},
+                           {"name": "b", "overturned": false, "block": {"alpha": 0.3, "p": 1.5}}]);
+        let e = query(
+            mixed,
+            json!({"omega_ratio": [1.0], "a_p_g": {"from": 0.1, "to": 1.0}}),
+        )
+        .expect_err("ambiguous");
+        assert_eq!(e.pointer, "/omega_ratio");
+        assert!(e.message.contains("same p"), "{}", e.message);
+        let e = query(
+            twins(),
+            json!({"frequency_hz": [0.5], "omega_p": [3.0],
+                                      "a_p_g": {"from": 0.1, "to": 1.0}}),
+        )
+        .expect_err("twice");
+        assert_eq!(e.pointer, "/omega_p");
     }
 }
