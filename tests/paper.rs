@@ -369,4 +369,6 @@ fn the_fall_of_a_block_bound_to_overturn_is_not_counted_and_the_result_says_so()
         t <= until && peak > eq51(0.25, 6.0 * 0.25 * G),
         "{peak} at {t}"
     );
+    // SciPy DOP853 on eqs. 12 and 20 (bench/friction_scipy.py): 1.2612240 at T.
+    assert!((peak - 1.261_224_0).abs() < 1e-6, "{peak}");
 }

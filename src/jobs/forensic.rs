@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    parse_formulation, validate_block, validate_solver,
+    at_most_one, parse_formulation, validate_block, validate_solver,
 };
 use super::spectrum::{PulseFamily, ScanCost, validate_family};
 use crate::dynamics::Formulation;
@@ -209,29 +209,22 @@ impl ForensicSpec {
         let tau = std::f64::consts::TAU;
         let ps: Vec<f64> = observations.iter().map(|o| o.block.p).collect();
         let same_p = ps.iter().all(|p| (p / ps[0] - 1.0).abs() < 1e-12);
-        let given: Vec<(&RangeSpec, &str)> = [
-            (self.frequency_hz.as_ref(), "frequency_hz"),
-            (self.omega_p.as_ref(), "omega_p"),
-            (self.omega_ratio.as_ref(), "omega_ratio"),
-        ]
-        .into_iter()
-        .filter_map(|(r, n)| Some((r?, n)))
-        .collect();
-        let (range, name) = match given.as_slice() {
-            [one] => *one,
-            [] => {
-                return Err(SpecError::at(
-                    "/frequency_hz",
-                    "missing field: the pulse frequencies as frequency_hz, omega_p (rad/s) or omega_ratio: {\"from\", \"to\", \"steps\"} or a list",
-                ));
-            }
-            [_, second, ..] => {
-                return Err(SpecError::at(
-                    format!("/{}", second.1),
-                    "give the frequencies once: frequency_hz, omega_p or omega_ratio",
-                ));
-            }
-        };
+        let (range, which) = at_most_one(
+            "",
+            &[
+                (self.frequency_hz.as_ref(), "frequency_hz"),
+                (self.omega_p.as_ref(), "omega_p"),
+                (self.omega_ratio.as_ref(), "omega_ratio"),
+            ],
+            "frequency axis",
+        )?
+        .ok_or_else(|| {
+            SpecError::at(
+                "/frequency_hz",
+                "missing field: the pulse frequencies as frequency_hz, omega_p (rad/s) or omega_ratio: {\"from\", \"to\", \"steps\"} or a list",
+            )
+        })?;
+        let name = ["frequency_hz", "omega_p", "omega_ratio"][which];
         if name == "omega_ratio" && !same_p {
             return Err(SpecError::at(
                 "/omega_ratio",
@@ -290,7 +283,7 @@ impl ForensicSpec {
             (Some(_), Some(_)) => {
                 return Err(SpecError::at(
                     "/a_p",
-                    "give the amplitudes once: a_p_g or a_p",
+                    "give exactly one amplitude range (a_p_g, a_p), not several",
                 ));
             }
             (None, None) => {

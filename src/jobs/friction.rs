@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    parse_formulation, validate_block, validate_solver,
+    in_one_unit, parse_formulation, validate_block, validate_solver,
 };
 use super::spectrum::{PulseFamily, SpectrumNumerics, validate_family};
 use crate::dynamics::Formulation;
@@ -84,27 +84,20 @@ impl FrictionSpec {
         // The frequency and the amplitudes in any unit, normalised to ω_p/p and αg.
         let p = block.p;
         let unit_g = block.alpha * block.g;
-        let frequencies = [
-            (self.omega_ratio, "omega_ratio", 1.0),
-            (self.omega_p, "omega_p", 1.0 / p),
-            (self.frequency_hz, "frequency_hz", std::f64::consts::TAU / p),
-        ];
-        let given: Vec<_> = frequencies.iter().filter(|f| f.0.is_some()).collect();
-        let (value, name, to_ratio) = match given.as_slice() {
-            [one] => (one.0.unwrap_or(f64::NAN), one.1, one.2),
-            [] => {
-                return Err(SpecError::at(
-                    "/omega_ratio",
-                    "missing field: one frequency as omega_ratio (ω_p/p), omega_p (rad/s) or frequency_hz",
-                ));
-            }
-            [_, second, ..] => {
-                return Err(SpecError::at(
-                    format!("/{}", second.1),
-                    "give the frequency once: omega_ratio, omega_p or frequency_hz",
-                ));
-            }
-        };
+        let (value, name, to_ratio) = in_one_unit(
+            &[
+                (self.omega_ratio, "omega_ratio", 1.0),
+                (self.omega_p, "omega_p", 1.0 / p),
+                (self.frequency_hz, "frequency_hz", std::f64::consts::TAU / p),
+            ],
+            "frequency",
+        )?
+        .ok_or_else(|| {
+            SpecError::at(
+                "/omega_ratio",
+                "missing field: one frequency as omega_ratio (ω_p/p), omega_p (rad/s) or frequency_hz",
+            )
+        })?;
         let omega_ratio = value * to_ratio;
         if !(omega_ratio.is_finite()
             && (OMEGA_RATIO_RANGE.0..=OMEGA_RATIO_RANGE.1).contains(&omega_ratio))
@@ -117,31 +110,22 @@ impl FrictionSpec {
                 ),
             ));
         }
-        let amplitudes = [
-            (&self.a_alpha_g, "a_alpha_g", 1.0),
-            (&self.a_p, "a_p", 1.0 / unit_g),
-            (&self.a_p_g, "a_p_g", block.g / unit_g),
-        ];
-        let given: Vec<_> = amplitudes.iter().filter(|a| a.0.is_some()).collect();
-        let (range, name, to_alpha_g) = match given.as_slice() {
-            [one] => (one.0, one.1, one.2),
-            [] => {
-                return Err(SpecError::at(
-                    "/a_alpha_g",
-                    "missing field: the amplitudes as a_alpha_g (αg), a_p (m/s²) or a_p_g: {\"from\", \"to\", \"steps\"} or a list",
-                ));
-            }
-            [_, second, ..] => {
-                return Err(SpecError::at(
-                    format!("/{}", second.1),
-                    "give the amplitudes once: a_alpha_g, a_p or a_p_g",
-                ));
-            }
-        };
+        let (range, name, to_alpha_g) = in_one_unit(
+            &[
+                (self.a_alpha_g.as_ref(), "a_alpha_g", 1.0),
+                (self.a_p.as_ref(), "a_p", 1.0 / unit_g),
+                (self.a_p_g.as_ref(), "a_p_g", block.g / unit_g),
+            ],
+            "amplitude axis",
+        )?
+        .ok_or_else(|| {
+            SpecError::at(
+                "/a_alpha_g",
+                "missing field: the amplitudes as a_alpha_g (αg), a_p (m/s²) or a_p_g: {\"from\", \"to\", \"steps\"} or a list",
+            )
+        })?;
         let pointer = format!("/{name}");
         let a_alpha_g: Vec<f64> = range
-            .as_ref()
-            .ok_or_else(|| SpecError::at(&pointer, "missing"))?
             .values(&pointer, 0.0, f64::MAX, MAX_AMPLITUDES)?
             .into_iter()
             .map(|a| a * to_alpha_g)

@@ -411,38 +411,61 @@ pub fn shape_name(shape: PulseShape) -> &'static str {
     }
 }
 
+/// The one of `options` (a value and its field name under `base`) that is
+/// given, with its index; `None` when none is. Two given are an error at the
+/// second, naming every alternative: a quantity is given in one unit only.
+pub fn at_most_one<T: Copy>(
+    base: &str,
+    options: &[(Option<T>, &str)],
+    what: &str,
+) -> Result<Option<(T, usize)>, SpecError> {
+    let given: Vec<(usize, T, &str)> = options
+        .iter()
+        .enumerate()
+        .filter_map(|(i, (v, n))| v.map(|v| (i, v, *n)))
+        .collect();
+    match given.as_slice() {
+        [] => Ok(None),
+        [(i, v, _)] => Ok(Some((*v, *i))),
+        [_, (_, _, second), ..] => {
+            let names: Vec<&str> = options.iter().map(|(_, n)| *n).collect();
+            Err(SpecError::at(
+                format!("{base}/{second}"),
+                format!(
+                    "give exactly one {what} ({}), not several",
+                    names.join(", ")
+                ),
+            ))
+        }
+    }
+}
+
+/// A quantity a spec may give in any of several units: `(value, field, factor
+/// to the canonical unit)` for each. The one given, with its field and factor
+/// (`None` when none is); two given are an error at the second.
+pub fn in_one_unit<T: Copy>(
+    options: &[(Option<T>, &'static str, f64)],
+    what: &str,
+) -> Result<Option<(T, &'static str, f64)>, SpecError> {
+    let named: Vec<(Option<T>, &str)> = options.iter().map(|o| (o.0, o.1)).collect();
+    Ok(at_most_one("", &named, what)?.map(|(v, i)| (v, options[i].1, options[i].2)))
+}
+
 fn exactly_one(
     base: &str,
     options: &[(Option<f64>, &str)],
     what: &str,
 ) -> Result<(f64, usize), SpecError> {
-    let given: Vec<(usize, f64, &str)> = options
-        .iter()
-        .enumerate()
-        .filter_map(|(i, (v, n))| v.map(|v| (i, v, *n)))
-        .collect();
     let names: Vec<&str> = options.iter().map(|(_, n)| *n).collect();
-    match given.as_slice() {
-        [] => Err(SpecError::at(
+    match at_most_one(base, options, what)? {
+        None => Err(SpecError::at(
             base,
             format!("missing {what}: give exactly one of {}", names.join(", ")),
         )),
-        [(i, v, name)] => {
-            if v.is_finite() {
-                Ok((*v, *i))
-            } else {
-                Err(SpecError::at(
-                    format!("{base}/{name}"),
-                    "must be a finite number",
-                ))
-            }
-        }
-        [_, (_, _, second), ..] => Err(SpecError::at(
-            format!("{base}/{second}"),
-            format!(
-                "give exactly one {what} ({}), not several",
-                names.join(", ")
-            ),
+        Some((v, i)) if v.is_finite() => Ok((v, i)),
+        Some((_, i)) => Err(SpecError::at(
+            format!("{base}/{}", names[i]),
+            "must be a finite number",
         )),
     }
 }

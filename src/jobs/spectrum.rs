@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    parse_formulation, parse_shape, shape_name, validate_block, validate_solver,
+    in_one_unit, parse_formulation, parse_shape, shape_name, validate_block, validate_solver,
 };
 use crate::dynamics::{Formulation, PulseShape};
 use crate::spectrum::overturning::Derived;
@@ -165,37 +165,20 @@ impl SpectrumSpec {
         // Frequencies in any unit, normalised to ω_p/p: one job, one cache key.
         let p = block.p;
         let unit_g = block.alpha * block.g;
-        let frequencies: [(&Option<RangeSpec>, &str, f64); 3] = [
-            (&self.omega_ratio, "omega_ratio", 1.0),
-            (&self.omega_p, "omega_p", 1.0 / p),
-            (
-                &self.frequency_hz,
-                "frequency_hz",
-                std::f64::consts::TAU / p,
-            ),
-        ];
-        let given: Vec<_> = frequencies.iter().filter(|f| f.0.is_some()).collect();
-        let (range, name, to_ratio) = match given.as_slice() {
-            [one] => (
-                one.0
-                    .as_ref()
-                    .ok_or_else(|| SpecError::at("/omega_ratio", "missing"))?,
-                one.1,
-                one.2,
-            ),
-            [] => {
-                return Err(SpecError::at(
-                    "/omega_ratio",
-                    "missing field: the frequencies as omega_ratio (ω_p/p), omega_p (rad/s) or frequency_hz: {\"from\", \"to\", \"steps\"} or a list",
-                ));
-            }
-            [_, second, ..] => {
-                return Err(SpecError::at(
-                    format!("/{}", second.1),
-                    "give the frequencies once: omega_ratio, omega_p or frequency_hz",
-                ));
-            }
-        };
+        let (range, name, to_ratio) = in_one_unit(
+            &[
+                (self.omega_ratio.as_ref(), "omega_ratio", 1.0),
+                (self.omega_p.as_ref(), "omega_p", 1.0 / p),
+                (self.frequency_hz.as_ref(), "frequency_hz", std::f64::consts::TAU / p),
+            ],
+            "frequency axis",
+        )?
+        .ok_or_else(|| {
+            SpecError::at(
+                "/omega_ratio",
+                "missing field: the frequencies as omega_ratio (ω_p/p), omega_p (rad/s) or frequency_hz: {\"from\", \"to\", \"steps\"} or a list",
+            )
+        })?;
         let pointer = format!("/{name}");
         let omega_ratio: Vec<f64> = range
             .values(&pointer, 0.0, f64::MAX, MAX_FREQUENCIES)?
@@ -214,21 +197,16 @@ impl SpectrumSpec {
                 ),
             ));
         }
-        let amplitudes: [(Option<f64>, &str, f64); 3] = [
-            (self.a_max_alpha_g, "a_max_alpha_g", 1.0),
-            (self.a_max, "a_max", 1.0 / unit_g),
-            (self.a_max_g, "a_max_g", block.g / unit_g),
-        ];
-        let given: Vec<_> = amplitudes.iter().filter(|a| a.0.is_some()).collect();
-        let (a_max, a_name) = match given.as_slice() {
-            [] => (DEFAULT_A_MAX, "a_max_alpha_g"),
-            [one] => (one.0.unwrap_or(DEFAULT_A_MAX) * one.2, one.1),
-            [_, second, ..] => {
-                return Err(SpecError::at(
-                    format!("/{}", second.1),
-                    "give the highest amplitude once: a_max_alpha_g, a_max or a_max_g",
-                ));
-            }
+        let (a_max, a_name) = match in_one_unit(
+            &[
+                (self.a_max_alpha_g, "a_max_alpha_g", 1.0),
+                (self.a_max, "a_max", 1.0 / unit_g),
+                (self.a_max_g, "a_max_g", block.g / unit_g),
+            ],
+            "highest amplitude",
+        )? {
+            None => (DEFAULT_A_MAX, "a_max_alpha_g"),
+            Some((v, name, factor)) => (v * factor, name),
         };
         let a_max = positive_in(a_max, 1.0, 1e4, &format!("/{a_name}"), "αg")?;
         let tolerance = positive_in(
