@@ -206,6 +206,12 @@ wait "$schemathesis_pid" || rc=$?
 schemathesis_pid=
 [[ $rc -eq 124 ]] && log "schemathesis exceeded SCHEMATHESIS_TIME_LIMIT=${time_limit}s"
 
+# --- The request schema and the server on the catalogue of bad inputs -----
+if kill -0 "$server_pid" 2>/dev/null; then
+  log "request schema and server against the catalogue of bad inputs"
+  "$py" "$root/tests/contract/request_agreement.py" "$base" || rc=1
+fi
+
 # --- The server's side -----------------------------------------------------
 if ! kill -0 "$server_pid" 2>/dev/null; then
   log "the server exited during the run"

@@ -5,6 +5,7 @@ use std::time::Duration;
 
 use axum::extract::rejection::{PathRejection, QueryRejection};
 use axum::extract::{Path, Query, State};
+use axum::http::HeaderMap;
 use axum::response::sse::{Event, KeepAlive, Sse};
 use futures_util::Stream;
 use tokio::time::Instant;
@@ -55,8 +56,10 @@ impl Follow {
             }
             let job = load(&self.state, self.id).await.ok()?;
             let etag = status_etag(&job);
-            if self.last.as_deref() != Some(etag.as_str()) {
-                let final_status = job.status.is_final();
+            let final_status = job.status.is_final();
+            // A finished job always ends the stream with `done`, even for a
+            // client that resumes having seen it (so it never waits in vain).
+            if self.last.as_deref() != Some(etag.as_str()) || final_status {
                 // Progress events are light summaries; the final one is the
                 // whole job view.
                 let shown = if final_status {
@@ -99,9 +102,12 @@ impl Follow {
     tag = "jobs",
     operation_id = "job_events",
     security((), ("bearer" = [])),
-    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid")),
+    params(
+        ("id" = String, Path, description = "Job id (a UUID)", format = "uuid"),
+        ("Last-Event-ID" = Option<String>, Header, description = "The `id` of the last event seen: a reconnecting client resumes after it (a finished job still ends with `done`)"),
+    ),
     responses(
-        (status = 200, description = "The stream: `status` events, then one `done` event; data is a JobView", body = String, content_type = "text/event-stream"),
+        (status = 200, description = "The stream: `status` events, then one `done` event; data is a JobView", body = crate::jobs::schema::JobEvent, content_type = "text/event-stream"),
         (status = 400, description = "Not a job id, or a query parameter", body = Problem, content_type = "application/problem+json"),
         (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
@@ -111,16 +117,24 @@ pub async fn job_events(
     State(state): State<AppState>,
     path: Result<Path<String>, PathRejection>,
     q: Result<Query<NoQuery>, QueryRejection>,
+    headers: HeaderMap,
 ) -> Result<Sse<impl Stream<Item = Result<Event, Infallible>>>, Problem> {
     let id = parse_id(path)?;
     query(q, &[])?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
     // A job that does not exist is a 404, not an empty stream.
     load(&state, id).await?;
+    // A client that reconnects (EventSource does) names the last event it
+    // saw: the stream resumes after it instead of repeating it.
+    let last = headers
+        .get("last-event-id")
+        .and_then(|v| v.to_str().ok())
+        .filter(|v| v.len() <= 128)
+        .map(str::to_string);
     let follow = Follow {
         state,
         id,
-        last: None,
+        last,
         sent: None,
         done: false,
     };

@@ -111,15 +111,16 @@ pub struct JobView {
     #[schema(format = DateTime)]
     pub created_at: String,
     /// RFC 3339.
-    #[schema(format = DateTime)]
+    #[schema(format = DateTime, required = true)]
     pub started_at: Option<String>,
     /// RFC 3339.
-    #[schema(format = DateTime)]
+    #[schema(format = DateTime, required = true)]
     pub finished_at: Option<String>,
     /// Why it failed.
+    #[schema(required = true)]
     pub error: Option<String>,
     /// The numerics summary of the result, once done (its `numerics`).
-    #[schema(value_type = Option<Object>)]
+    #[schema(value_type = Option<Object>, required = true)]
     pub numerics: Option<serde_json::Value>,
     /// The normalised spec (in listings only with `?include=spec`).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -484,9 +485,10 @@ pub async fn create_job(
         )
         .at(pointer)
     })?;
-    let size = job
-        .check_limits(&state.config.limits)
-        .map_err(|e| Problem::over_limit(&e))?;
+    let size = job.check_limits(&state.config.limits).map_err(|e| {
+        let written = serde_json::from_str(text).unwrap_or_default();
+        Problem::over_limit(&e.as_written(&written))
+    })?;
     let key = cache_key(&job);
     admit(&state, &key).await?;
     let spec = serde_json::to_string(&job).map_err(|e| Problem::internal(e.to_string()))?;

@@ -117,6 +117,7 @@ pub fn routes() -> (Router<AppState>, utoipa::openapi::OpenApi) {
         .split_for_parts();
     // The result schemas are known once the routes are merged in.
     utoipa::Modify::modify(&EngineProvenance, &mut api);
+    crate::jobs::schema::rules::add(&mut api);
     (router, api)
 }
 
@@ -145,7 +146,43 @@ pub fn openapi_yaml() -> String {
                 .build(),
         ),
     );
-    api.to_yaml().unwrap_or_default()
+    portable_floats(&api.to_yaml().unwrap_or_default())
+}
+
+/// The YAML with every number in exponent form written with a decimal point
+/// (`1e-9` as `1.0e-9`): YAML 1.1 parsers (PyYAML) read `1e-9` as a string.
+fn portable_floats(yaml: &str) -> String {
+    let mut out = String::with_capacity(yaml.len() + 64);
+    for line in yaml.split_inclusive('\n') {
+        let body = line.trim_end_matches('\n');
+        let start = match body.rfind(": ") {
+            Some(i) => i + 2,
+            None => match body.trim_start().strip_prefix("- ") {
+                Some(rest) => body.len() - rest.len(),
+                None => 0,
+            },
+        };
+        let value = &body[start..];
+        let unsigned = value.strip_prefix('-').unwrap_or(value);
+        let bare_exponent = unsigned
+            .split_once('e')
+            .is_some_and(|(mantissa, exponent)| {
+                let exponent = exponent.strip_prefix(['-', '+']).unwrap_or(exponent);
+                !mantissa.is_empty()
+                    && !exponent.is_empty()
+                    && mantissa.bytes().all(|b| b.is_ascii_digit())
+                    && exponent.bytes().all(|b| b.is_ascii_digit())
+            });
+        match value.find('e') {
+            Some(e) if bare_exponent => {
+                out.push_str(&line[..start + e]);
+                out.push_str(".0");
+                out.push_str(&line[start + e..]);
+            }
+            _ => out.push_str(line),
+        }
+    }
+    out
 }
 
 async fn not_found() -> Problem {
@@ -306,4 +343,18 @@ async fn bare_errors_as_problems(response: axum::response::Response) -> axum::re
         }
     }
     problem
+}
+
+#[cfg(test)]
+mod tests {
+    use super::portable_floats;
+
+    #[test]
+    fn exponent_numbers_get_a_decimal_point() {
+        let yaml = "a:\n  minimum: 1e-9\n  maximum: -1e8\n  x: 1.5e-3\n  d: Width 1e-4 to 2\n  - 1e4\n  s: 'x: 1e4'\n";
+        assert_eq!(
+            portable_floats(yaml),
+            "a:\n  minimum: 1.0e-9\n  maximum: -1.0e8\n  x: 1.5e-3\n  d: Width 1e-4 to 2\n  - 1.0e4\n  s: 'x: 1e4'\n"
+        );
+    }
 }

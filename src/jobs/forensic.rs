@@ -42,10 +42,13 @@ pub struct ObservationSpec {
     /// The block (α and p, or b and h).
     pub block: Option<BlockSpec>,
     /// Half-width b, m (shorthand for `block.b`).
+    #[schema(exclusive_minimum = 0.0)]
     pub b: Option<f64>,
     /// Half-height h, m (shorthand for `block.h`).
+    #[schema(exclusive_minimum = 0.0)]
     pub h: Option<f64>,
     /// Whether it overturned.
+    #[schema(required = true, value_type = bool)]
     pub overturned: Option<bool>,
 }
 
@@ -53,9 +56,11 @@ pub struct ObservationSpec {
 #[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AmplitudeRange {
-    /// Lowest amplitude, g.
+    /// Lowest amplitude (g for `a_p_g`, m/s² for `a_p`).
+    #[schema(minimum = 0.0)]
     pub from: f64,
-    /// Highest amplitude, g.
+    /// Highest amplitude, above `from`.
+    #[schema(exclusive_minimum = 0.0)]
     pub to: f64,
 }
 
@@ -67,9 +72,10 @@ pub struct ForensicSpec {
     #[schema(value_type = crate::jobs::schema::ForensicKind)]
     pub kind: String,
     /// The pulse family (`type`, `n`); frequency and amplitude vary.
+    #[schema(required = true, value_type = crate::jobs::schema::PulseFamilyInput)]
     pub pulse: Option<PulseSpec>,
-    /// What was seen.
-    #[schema(required = true, value_type = Vec<ObservationSpec>)]
+    /// What was seen (1 to 32 observations).
+    #[schema(required = true, value_type = Vec<ObservationSpec>, min_items = 1, max_items = 32)]
     pub observations: Option<Vec<ObservationSpec>>,
     /// Pulse frequencies f_p = ω_p/2π, Hz (or give `omega_p`, or `omega_ratio`).
     pub frequency_hz: Option<RangeSpec>,
@@ -84,9 +90,11 @@ pub struct ForensicSpec {
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
-    /// Scan step, g (default 0.01): every interval wider than this is found.
+    /// Scan step, g (the tolerance to 1, default 0.01): every interval wider than this is found.
+    #[schema(minimum = 1e-9, maximum = 1.0)]
     pub scan_step_g: Option<f64>,
-    /// Bracket width of every interval end, g (default 1e-4).
+    /// Bracket width of every interval end, g (1e-9 to 0.1, default 1e-4).
+    #[schema(minimum = 1e-9, maximum = 0.1)]
     pub tolerance_g: Option<f64>,
     /// Solver.
     pub solver: Option<SolverSpec>,
@@ -443,10 +451,13 @@ pub struct ForensicFrequency {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct Bounds {
     /// Lowest consistent amplitude at any frequency, g.
+    #[schema(required = true)]
     pub min_g: Option<f64>,
     /// Highest consistent amplitude at any frequency, g.
+    #[schema(required = true)]
     pub max_g: Option<f64>,
     /// Lowest and highest frequency with a consistent amplitude, Hz.
+    #[schema(required = true)]
     pub frequency_hz: Option<[f64; 2]>,
 }
 

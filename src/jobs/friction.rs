@@ -27,16 +27,20 @@ pub struct FrictionSpec {
     /// The block.
     #[schema(required = true, value_type = BlockSpec)]
     pub block: Option<BlockSpec>,
-    /// The pulse family.
+    /// The pulse family (`type`, `n`).
+    #[schema(required = true, value_type = crate::jobs::schema::PulseFamilyInput)]
     pub pulse: Option<PulseSpec>,
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
-    /// ω_p/p (one value; or give `omega_p` or `frequency_hz`).
+    /// ω_p/p (one value, 1e-3 to 1e4; or give `omega_p` or `frequency_hz`).
+    #[schema(minimum = 1e-3, maximum = 1e4)]
     pub omega_ratio: Option<f64>,
     /// ω_p, rad/s.
+    #[schema(exclusive_minimum = 0.0)]
     pub omega_p: Option<f64>,
     /// f_p = ω_p/2π, Hz.
+    #[schema(exclusive_minimum = 0.0)]
     pub frequency_hz: Option<f64>,
     /// Amplitudes a_p/(αg) (or give `a_p` or `a_p_g`).
     pub a_alpha_g: Option<RangeSpec>,
@@ -155,23 +159,30 @@ pub struct FrictionPointDoc {
     pub a_alpha_g: f64,
     /// a_p, g.
     #[serde(default)]
+    #[schema(required = true)]
     pub a_p_g: f64,
     /// max |f_x/f_z| over the rocking history: the minimum μ for pure rocking;
     /// null when the block lifts off (`lift_off`): the demand is unbounded.
+    #[schema(required = true)]
     pub peak_friction_demand: Option<f64>,
     /// The same over tan α (the axis of Fig. 9); null with it.
+    #[schema(required = true)]
     pub peak_over_tan_alpha: Option<f64>,
     /// f_x/f_z when rocking starts (eq. 7; eq. 51 for one-cosine).
+    #[schema(required = true)]
     pub initiation_friction_demand: Option<f64>,
     /// Whether the block overturned.
     pub overturned: bool,
     /// Overturning mode.
+    #[schema(required = true)]
     pub mode: Option<u8>,
     /// Whether f_z reached 0: the block would lift off, no μ sustains pure
     /// rocking.
     #[serde(default)]
+    #[schema(required = true)]
     pub lift_off: bool,
     /// First time f_z ≤ 0, s.
+    #[schema(required = true)]
     pub lift_off_time: Option<f64>,
     /// The demand was followed up to this time (the pulse end) only: the block
     /// was then bound to overturn, and its fall is not counted.

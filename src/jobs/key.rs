@@ -4,7 +4,7 @@ use super::Job;
 
 /// Version of the engine's numerics; part of every key, so that a change in
 /// what the engine computes never serves stale results.
-pub const ENGINE_VERSION: &str = concat!("topple-engine/", env!("CARGO_PKG_VERSION"), "/2");
+pub const ENGINE_VERSION: &str = concat!("topple-engine/", env!("CARGO_PKG_VERSION"), "/3");
 
 /// The build's commit, when the build was told it (`TOPPLE_COMMIT` at compile
 /// time: the Dockerfile and CI set it).

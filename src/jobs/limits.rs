@@ -55,6 +55,27 @@ pub struct LimitError {
     pub message: String,
 }
 
+impl LimitError {
+    /// The error pointing at the field as the spec wrote it: a frequency or
+    /// amplitude axis is normalised to ω_p/p or αg, but the user may have given
+    /// it as `omega_p`, `frequency_hz`, `a_p` or `a_p_g`.
+    pub fn as_written(mut self, spec: &serde_json::Value) -> Self {
+        const AXES: [&[&str]; 2] = [
+            &["omega_ratio", "omega_p", "frequency_hz"],
+            &["a_alpha_g", "a_p", "a_p_g"],
+        ];
+        let field = self.pointer.trim_start_matches('/');
+        if let Some(axis) = AXES.iter().find(|axis| axis.contains(&field))
+            && let Some(given) = axis
+                .iter()
+                .find(|name| spec.get(**name).is_some_and(|v| !v.is_null()))
+        {
+            self.pointer = format!("/{given}");
+        }
+        self
+    }
+}
+
 /// Bisection steps assumed per transition, and transitions per frequency, in
 /// the work estimate of a spectrum: a bracket of one scan step narrowed to the
 /// tolerance takes log2(step/tolerance) steps; a frequency has a handful of
@@ -176,6 +197,21 @@ mod tests {
         // Each of 6 transitions narrows 0.02 to 1e-4: 8 bisection steps.
         assert_eq!(s.work, 40.0 * (1000.0 + 6.0 * 8.0));
         assert!(spectrum(40, 0.02).check_limits(&Limits::default()).is_ok());
+    }
+
+    #[test]
+    fn an_oversized_job_names_the_field_as_written() {
+        let text = r#"{"kind":"spectrum","block":{"alpha":0.2,"p":2},"pulse":{"type":"one_sine"},
+            "omega_p":{"from":1,"to":20,"steps":2000},"scan_step_alpha_g":0.0001}"#;
+        let Job::Spectrum(job) = Job::parse(text).expect("valid") else {
+            panic!("a spectrum")
+        };
+        let e = Job::Spectrum(job)
+            .check_limits(&Limits::default())
+            .expect_err("over the grid limit");
+        assert_eq!(e.pointer, "/omega_ratio");
+        let spec: serde_json::Value = serde_json::from_str(text).expect("json");
+        assert_eq!(e.as_written(&spec).pointer, "/omega_p");
     }
 
     #[test]

@@ -11,8 +11,10 @@ pub struct NumericsDoc {
     #[schema(value_type = crate::jobs::schema::MethodName)]
     pub method: String,
     /// Relative tolerance.
+    #[schema(required = true)]
     pub rtol: Option<f64>,
     /// Absolute tolerance.
+    #[schema(required = true)]
     pub atol: Option<f64>,
     /// Accepted steps (closed-form segments for exact).
     pub steps_accepted: u64,

@@ -11,15 +11,20 @@ pub enum RangeSpec {
     /// `steps` evenly spaced values from `from` to `to` inclusive.
     Even {
         /// First value.
+        #[schema(exclusive_minimum = 0.0)]
         from: f64,
-        /// Last value.
+        /// Last value (at least `from`).
+        #[schema(exclusive_minimum = 0.0)]
         to: f64,
         /// Number of values (≥ 1).
+        #[schema(minimum = 1)]
         steps: usize,
     },
     /// Explicit values.
+    #[schema(value_type = Vec<crate::jobs::schema::PositiveNumber>)]
     List(Vec<f64>),
     /// One value.
+    #[schema(value_type = crate::jobs::schema::PositiveNumber)]
     One(f64),
 }
 

@@ -259,3 +259,183 @@ pub struct Engine {
     /// The build's commit, when known.
     pub commit: Option<String>,
 }
+
+/// A positive number.
+#[derive(ToSchema)]
+#[schema(value_type = f64, exclusive_minimum = 0.0)]
+pub struct PositiveNumber(f64);
+
+/// The pulse family of a spectrum, friction spectrum or forensic query: the
+/// frequency and the amplitude vary, so only the family is given.
+#[derive(ToSchema, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PulseFamilyInput {
+    /// "one_sine" | "one_cosine" | "cn" (aliases: "sine", "type_a", "cosine", "type_b", "type_cn").
+    #[serde(rename = "type")]
+    #[schema(value_type = PulseTypeInput)]
+    kind: String,
+    /// Displacement cycles of a Type-Cn pulse (default 1; cn only).
+    #[schema(minimum = 1, maximum = 1000)]
+    n: Option<u32>,
+}
+
+/// The rules of a spec that span several fields (one of several units, a
+/// block by parameters or by geometry, a pulse or a record), as JSON Schema
+/// keywords on the request schemas. A field counts as given when it is
+/// present and not null, as the server reads it.
+pub mod rules {
+    use serde_json::{Value, json};
+    use utoipa::openapi::{OpenApi, RefOr, Schema, extensions::Extensions};
+
+    /// `name` is present and not null.
+    fn given(name: &str) -> Value {
+        json!({"required": [name], "properties": {name: {"not": {"type": "null"}}}})
+    }
+
+    /// Exactly one of `names` is given.
+    fn exactly_one(names: &[&str]) -> Value {
+        json!({"oneOf": names.iter().map(|n| given(n)).collect::<Vec<_>>()})
+    }
+
+    /// At most one of `names` is given.
+    fn at_most_one(names: &[&str]) -> Value {
+        let mut pairs = Vec::new();
+        for (i, a) in names.iter().enumerate() {
+            for b in &names[i + 1..] {
+                pairs.push(json!({"allOf": [given(a), given(b)]}));
+            }
+        }
+        match <[Value; 1]>::try_from(pairs) {
+            Ok([pair]) => json!({ "not": pair }),
+            Err(pairs) => json!({"not": {"anyOf": pairs}}),
+        }
+    }
+
+    /// Each of `names` is given when any of them is.
+    fn together(names: &[&str]) -> Value {
+        json!({"anyOf": [
+            {"allOf": names.iter().map(|n| given(n)).collect::<Vec<_>>()},
+            {"not": {"anyOf": names.iter().map(|n| given(n)).collect::<Vec<_>>()}},
+        ]})
+    }
+
+    /// `n` only for Type-Cn pulses.
+    fn n_for_cn_only() -> Value {
+        json!({"if": {"required": ["type"], "properties": {"type": {"not": {"enum": ["cn", "type_cn", "type_c", "c"]}}}},
+               "then": {"properties": {"n": {"type": "null"}}}})
+    }
+
+    /// The rules, by schema name.
+    fn table() -> Vec<(&'static str, Vec<Value>)> {
+        let frequency = ["omega_ratio", "omega_p", "frequency_hz"];
+        vec![
+            (
+                "BlockSpec",
+                vec![
+                    together(&["alpha", "p"]),
+                    together(&["b", "h"]),
+                    exactly_one(&["alpha", "b"]),
+                ],
+            ),
+            (
+                "ObservationSpec",
+                vec![together(&["b", "h"]), exactly_one(&["block", "b"])],
+            ),
+            (
+                "TimeHistorySpec",
+                vec![exactly_one(&["pulse", "ground_motion"])],
+            ),
+            (
+                "PulseSpec",
+                vec![
+                    exactly_one(&frequency),
+                    exactly_one(&["a_p", "a_p_g", "a_p_alpha_g"]),
+                    n_for_cn_only(),
+                ],
+            ),
+            ("PulseFamilyInput", vec![n_for_cn_only()]),
+            (
+                "SpectrumSpec",
+                vec![
+                    exactly_one(&frequency),
+                    at_most_one(&["a_max_alpha_g", "a_max", "a_max_g"]),
+                ],
+            ),
+            (
+                "FrictionSpectrumSpec",
+                vec![
+                    exactly_one(&frequency),
+                    exactly_one(&["a_alpha_g", "a_p", "a_p_g"]),
+                ],
+            ),
+            (
+                "ForensicSpec",
+                vec![exactly_one(&frequency), at_most_one(&["a_p_g", "a_p"])],
+            ),
+        ]
+    }
+
+    /// Adds the rules (as `allOf`) to the request schemas of `api`, and
+    /// `minItems: 1` to lists of values.
+    pub fn add(api: &mut OpenApi) {
+        let Some(components) = api.components.as_mut() else {
+            return;
+        };
+        for (name, rules) in table() {
+            if let Some(RefOr::T(Schema::Object(o))) = components.schemas.get_mut(name) {
+                let mut extensions = o.extensions.take().unwrap_or_default();
+                extensions.merge(Extensions::from_iter([("allOf", Value::Array(rules))]));
+                o.extensions = Some(extensions);
+            }
+        }
+        // An event's data is a JobView written as JSON.
+        if let Some(RefOr::T(Schema::Object(event))) = components.schemas.get_mut("JobEvent")
+            && let Some(RefOr::T(Schema::Object(data))) = event.properties.get_mut("data")
+        {
+            let mut extensions = data.extensions.take().unwrap_or_default();
+            extensions.merge(Extensions::from_iter([
+                ("contentMediaType", Value::from("application/json")),
+                (
+                    "contentSchema",
+                    json!({"$ref": "#/components/schemas/JobView"}),
+                ),
+            ]));
+            data.extensions = Some(extensions);
+        }
+        // α < π/2 (an attribute would take the constant as a literal only).
+        if let Some(RefOr::T(Schema::Object(block))) = components.schemas.get_mut("BlockSpec")
+            && let Some(RefOr::T(Schema::Object(alpha))) = block.properties.get_mut("alpha")
+        {
+            alpha.exclusive_maximum = Some(std::f64::consts::FRAC_PI_2.into());
+        }
+        if let Some(RefOr::T(Schema::OneOf(one_of))) = components.schemas.get_mut("RangeSpec") {
+            for item in one_of.items.iter_mut() {
+                if let RefOr::T(Schema::Array(list)) = item {
+                    list.min_items = Some(1);
+                }
+            }
+        }
+    }
+}
+
+/// The name of an event of a job's stream.
+#[derive(ToSchema)]
+#[schema(rename_all = "snake_case")]
+pub enum JobEventName {
+    /// The job's state now (the first event, then each change).
+    Status,
+    /// The finished job (the last event).
+    Done,
+}
+
+/// One Server-Sent Event of `GET /v1/jobs/{id}/events`, as a client parses
+/// it from the stream (comments, which keep the connection alive, carry none).
+#[derive(ToSchema)]
+pub struct JobEvent {
+    /// `status` while the job runs, `done` for the last event.
+    event: JobEventName,
+    /// The job status's ETag (send it as `Last-Event-ID` to resume).
+    id: String,
+    /// The job as JSON: a light JobView while it runs, the whole JobView when done.
+    data: String,
+}

@@ -159,24 +159,31 @@ pub fn from_value<T: for<'de> Deserialize<'de>>(
 pub struct BlockSpec {
     /// Slenderness α, rad.
     #[serde(alias = "slenderness")]
+    #[schema(exclusive_minimum = 0.0)]
     pub alpha: Option<f64>,
     /// Frequency parameter p, rad/s.
     #[serde(alias = "frequency_parameter")]
+    #[schema(exclusive_minimum = 0.0)]
     pub p: Option<f64>,
     /// Half-width b, m.
     #[serde(alias = "half_width")]
+    #[schema(exclusive_minimum = 0.0)]
     pub b: Option<f64>,
     /// Half-height h, m.
     #[serde(alias = "half_height")]
+    #[schema(exclusive_minimum = 0.0)]
     pub h: Option<f64>,
     /// Coefficient of restitution η (default 1 − 1.5 sin²α, floored at 0).
     #[serde(alias = "restitution")]
+    #[schema(minimum = 0.0, maximum = 1.0)]
     pub eta: Option<f64>,
     /// Friction coefficient μ (optional; enables sliding warnings).
     #[serde(alias = "friction")]
+    #[schema(exclusive_minimum = 0.0)]
     pub mu: Option<f64>,
     /// Gravity, m/s² (default 9.81).
     #[serde(alias = "gravity")]
+    #[schema(exclusive_minimum = 0.0)]
     pub g: Option<f64>,
 }
 
@@ -186,21 +193,26 @@ pub struct BlockSpec {
 pub struct PulseSpec {
     /// "one_sine" | "one_cosine" | "cn" (aliases: "sine", "type_a", "cosine", "type_b", "type_cn").
     #[serde(rename = "type", alias = "shape")]
-    #[schema(value_type = Option<crate::jobs::schema::PulseTypeInput>)]
+    #[schema(required = true, value_type = crate::jobs::schema::PulseTypeInput)]
     pub kind: Option<String>,
-    /// Displacement cycles of a Type-Cn pulse (default 1).
+    /// Displacement cycles of a Type-Cn pulse (default 1; cn only).
+    #[schema(minimum = 1, maximum = 1000)]
     pub n: Option<u32>,
     /// Circular frequency ω_p, rad/s.
+    #[schema(exclusive_minimum = 0.0)]
     pub omega_p: Option<f64>,
     /// Frequency f = ω_p/(2π), Hz.
+    #[schema(exclusive_minimum = 0.0)]
     pub frequency_hz: Option<f64>,
-    /// ω_p/p.
+    /// ω_p/p (1e-3 to 1e4).
+    #[schema(minimum = 1e-3, maximum = 1e4)]
     pub omega_ratio: Option<f64>,
-    /// Amplitude, m/s².
+    /// Amplitude, m/s² (non-zero; the sign sets the direction).
     pub a_p: Option<f64>,
-    /// Amplitude in g.
+    /// Amplitude in g (non-zero).
     pub a_p_g: Option<f64>,
-    /// Amplitude in α g.
+    /// Amplitude in α g (non-zero, |a_p|/(αg) ≤ 1e8).
+    #[schema(minimum = -1e8, maximum = 1e8)]
     pub a_p_alpha_g: Option<f64>,
 }
 
@@ -211,9 +223,11 @@ pub struct SolverSpec {
     /// "exact" | "dopri5" | "dop853".
     #[schema(value_type = Option<crate::jobs::schema::MethodInput>)]
     pub method: Option<String>,
-    /// Relative tolerance.
+    /// Relative tolerance (1e-14 to 0.1; default 1e-10).
+    #[schema(minimum = 1e-14, maximum = 0.1)]
     pub rtol: Option<f64>,
-    /// Absolute tolerance.
+    /// Absolute tolerance (above 0, at most 0.1; default 1e-12).
+    #[schema(exclusive_minimum = 0.0, maximum = 0.1)]
     pub atol: Option<f64>,
 }
 
@@ -664,11 +678,13 @@ pub fn validate_solver_for(
 #[serde(deny_unknown_fields)]
 pub struct GroundMotionSpec {
     /// Sampling interval, s (1e-5 <= dt <= 1).
+    #[schema(required = true, value_type = f64, minimum = 1e-5, maximum = 1.0)]
     pub dt: Option<f64>,
     /// Accelerations at t_k = k·dt, k = 0..N−1 (2 <= N <= 200000), linear in between.
+    #[schema(required = true, value_type = Vec<f64>, min_items = 2, max_items = 200_000)]
     pub acc: Option<Vec<f64>>,
     /// Unit of `acc`: "g" | "m/s2".
-    #[schema(value_type = Option<crate::jobs::schema::UnitInput>)]
+    #[schema(required = true, value_type = crate::jobs::schema::UnitInput)]
     pub unit: Option<String>,
 }
 

@@ -36,6 +36,7 @@ pub struct SpectrumSpec {
     #[schema(required = true, value_type = BlockSpec)]
     pub block: Option<BlockSpec>,
     /// The pulse family (`type`, `n`); frequency and amplitude vary.
+    #[schema(required = true, value_type = crate::jobs::schema::PulseFamilyInput)]
     pub pulse: Option<PulseSpec>,
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
@@ -46,17 +47,23 @@ pub struct SpectrumSpec {
     pub omega_p: Option<RangeSpec>,
     /// Pulse frequencies f_p = ω_p/2π, Hz.
     pub frequency_hz: Option<RangeSpec>,
-    /// Highest amplitude, αg (default 20; or give `a_max` or `a_max_g`).
+    /// Highest amplitude, αg (1 to 1e4, default 20; or give `a_max` or `a_max_g`).
+    #[schema(minimum = 1.0, maximum = 1e4)]
     pub a_max_alpha_g: Option<f64>,
-    /// Highest amplitude, m/s².
+    /// Highest amplitude, m/s² (1 to 1e4 αg).
+    #[schema(exclusive_minimum = 0.0)]
     pub a_max: Option<f64>,
-    /// Highest amplitude, g.
+    /// Highest amplitude, g (1 to 1e4 αg).
+    #[schema(exclusive_minimum = 0.0)]
     pub a_max_g: Option<f64>,
-    /// Bracket width of each transition, αg (default 1e-4).
+    /// Bracket width of each transition, αg (1e-9 to 0.1, default 1e-4).
+    #[schema(minimum = 1e-9, maximum = 0.1)]
     pub tolerance: Option<f64>,
-    /// Scan step, αg (default 0.02): every band wider than this is found.
+    /// Scan step, αg (the tolerance to 1, default 0.02): every band wider than this is found.
+    #[schema(minimum = 1e-9, maximum = 1.0)]
     pub scan_step_alpha_g: Option<f64>,
-    /// Principal view: drop bands narrower than this fraction of their amplitude (default 0.01).
+    /// Principal view: drop bands narrower than this fraction of their amplitude (0 to 1, default 0.01).
+    #[schema(minimum = 0.0, maximum = 1.0)]
     pub principal_relative_width: Option<f64>,
     /// Solver.
     pub solver: Option<SolverSpec>,
@@ -266,12 +273,18 @@ pub struct TransitionDoc {
     pub impacts: u64,
     /// [lo, hi], width ≤ tolerance.
     pub bracket: [f64; 2],
+    /// `a_alpha_g` in g.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub a_g: f64,
 }
 
-impl From<&Transition> for TransitionDoc {
-    fn from(t: &Transition) -> Self {
+impl TransitionDoc {
+    /// The transition `t` of a block of slenderness `alpha`.
+    fn new(t: &Transition, alpha: f64) -> Self {
         TransitionDoc {
             a_alpha_g: t.at,
+            a_g: t.at * alpha,
             direction: match t.direction {
                 Direction::Up => "up",
                 Direction::Down => "down",
@@ -314,12 +327,15 @@ pub struct PrincipalDoc {
     /// Transitions without narrow bands.
     pub transitions: Vec<TransitionDoc>,
     /// Lowest overturning amplitude, αg.
+    #[schema(required = true)]
     pub min_overturn_alpha_g: Option<f64>,
     /// Its mode.
+    #[schema(required = true)]
     pub min_overturn_mode: Option<u8>,
     /// Safe intervals above the minimum.
     pub safe_intervals: Vec<[f64; 2]>,
     /// All amplitudes above this overturn (up to a_max).
+    #[schema(required = true)]
     pub overturns_above_alpha_g: Option<f64>,
 }
 
@@ -330,35 +346,47 @@ pub struct FrequencyDoc {
     pub omega_ratio: f64,
     /// Rocking threshold, αg.
     pub threshold_alpha_g: f64,
+    /// `threshold_alpha_g` in g.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub threshold_g: f64,
     /// Every transition (fine structure).
     pub transitions: Vec<TransitionDoc>,
     /// Mode changes inside overturning regions.
     pub mode_changes: Vec<ModeChangeDoc>,
     /// Lowest overturning amplitude, αg.
+    #[schema(required = true)]
     pub min_overturn_alpha_g: Option<f64>,
     /// Its mode.
+    #[schema(required = true)]
     pub min_overturn_mode: Option<u8>,
     /// Safe intervals above the minimum, [lo, hi] αg.
     pub safe_intervals: Vec<[f64; 2]>,
     /// All amplitudes above this overturn (up to a_max), αg.
+    #[schema(required = true)]
     pub overturns_above_alpha_g: Option<f64>,
     /// Without bands narrower than the principal relative width.
     pub principal: PrincipalDoc,
     /// Eq. 21: 1 + β ω_p/p.
     pub eq21_alpha_g: f64,
     /// Linear one-sine mode-2 boundary from the corrected eq. 47 (linear one-sine only).
+    #[schema(required = true)]
     pub closed_form_mode2_alpha_g: Option<f64>,
     /// ω_p, rad/s (ω_p/p × p).
     #[serde(default)]
+    #[schema(required = true)]
     pub omega_p: f64,
     /// f_p = ω_p/2π, Hz.
     #[serde(default)]
+    #[schema(required = true)]
     pub frequency_hz: f64,
     /// `min_overturn_alpha_g` in g.
     #[serde(default)]
+    #[schema(required = true)]
     pub min_overturn_g: Option<f64>,
     /// `min_overturn_alpha_g` in m/s².
     #[serde(default)]
+    #[schema(required = true)]
     pub min_overturn_m_s2: Option<f64>,
 }
 
@@ -369,8 +397,10 @@ pub struct ScanCost {
     #[schema(value_type = crate::jobs::schema::MethodName)]
     pub method: String,
     /// Relative tolerance.
+    #[schema(required = true)]
     pub rtol: Option<f64>,
     /// Absolute tolerance.
+    #[schema(required = true)]
     pub atol: Option<f64>,
     /// Simulations run.
     pub simulations: u64,
@@ -471,13 +501,19 @@ impl SpectrumJob {
             principal_relative_width: self.principal_relative_width,
         };
         let s = overturning_spectrum(&req, control)?;
+        let alpha = self.block.alpha;
         let spectrum = s
             .lines
             .iter()
             .map(|l| FrequencyDoc {
                 omega_ratio: l.omega_ratio,
                 threshold_alpha_g: l.threshold,
-                transitions: l.transitions.iter().map(TransitionDoc::from).collect(),
+                threshold_g: l.threshold * alpha,
+                transitions: l
+                    .transitions
+                    .iter()
+                    .map(|t| TransitionDoc::new(t, alpha))
+                    .collect(),
                 mode_changes: l.mode_changes.iter().map(ModeChangeDoc::from).collect(),
                 min_overturn_alpha_g: l.derived.min_overturn,
                 min_overturn_mode: l.derived.min_overturn_mode,
@@ -487,7 +523,7 @@ impl SpectrumJob {
                     transitions: l
                         .principal_transitions
                         .iter()
-                        .map(TransitionDoc::from)
+                        .map(|t| TransitionDoc::new(t, alpha))
                         .collect(),
                     min_overturn_alpha_g: l.principal.min_overturn,
                     min_overturn_mode: l.principal.min_overturn_mode,
@@ -585,5 +621,15 @@ mod tests {
         let g = line["min_overturn_g"].as_f64().expect("in g");
         let si = line["min_overturn_m_s2"].as_f64().expect("in m/s²");
         assert!((g - 0.25 * min).abs() < 1e-12 && (si - 0.25 * 9.81 * min).abs() < 1e-9);
+        // Every transition and the rocking threshold in g as well as αg.
+        let transitions = line["transitions"].as_array().expect("transitions");
+        assert!(!transitions.is_empty());
+        for t in transitions {
+            let (a, a_g) = (t["a_alpha_g"].as_f64(), t["a_g"].as_f64());
+            let (a, a_g) = (a.expect("αg"), a_g.expect("g"));
+            assert!((a_g - 0.25 * a).abs() < 1e-12, "{a} αg, {a_g} g");
+        }
+        let threshold = line["threshold_alpha_g"].as_f64().expect("αg");
+        assert!((line["threshold_g"].as_f64().expect("g") - 0.25 * threshold).abs() < 1e-12);
     }
 }

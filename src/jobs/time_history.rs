@@ -19,7 +19,8 @@ pub const MAX_SERIES_POINTS: usize = 1_000_000;
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputsSpec {
-    /// Number of uniformly spaced samples of (t, θ, θ̇, ü_g, f_x/f_z); none by default.
+    /// Number of uniformly spaced samples of (t, θ, θ̇, ü_g, f_x/f_z); none by default (at most 1e6).
+    #[schema(maximum = 1_000_000)]
     pub series: Option<usize>,
     /// Follow the base reactions (peak friction demand, warnings); default true.
     pub reactions: Option<bool>,
@@ -28,6 +29,7 @@ pub struct OutputsSpec {
     /// Follow free rocking after the pulse for at most this many impacts (default 1000).
     pub max_free_impacts: Option<u64>,
     /// Stop the simulation at this time, s (free rocking only).
+    #[schema(exclusive_minimum = 0.0)]
     pub duration: Option<f64>,
 }
 
@@ -254,12 +256,14 @@ pub struct TimeHistoryResult {
     /// Whether rocking started at all.
     pub rocked: bool,
     /// First rocking start, s.
+    #[schema(required = true)]
     pub rocking_start: Option<f64>,
     /// Number of rocking starts (restarts after rest included).
     pub rocking_starts: u32,
     /// Whether the block overturned.
     pub overturned: bool,
     /// 1 (after ≥ 1 impact), 2 (no impact) or null.
+    #[schema(required = true)]
     pub mode: Option<u8>,
     /// Number of impacts.
     pub impact_count: u64,
@@ -270,8 +274,10 @@ pub struct TimeHistoryResult {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub impacts: Option<Vec<ImpactDoc>>,
     /// Time |θ| reached π/2, s.
+    #[schema(required = true)]
     pub overturn_time: Option<f64>,
     /// Time the block came to rest for good, s.
+    #[schema(required = true)]
     pub rest_time: Option<f64>,
     /// Time the outcome became certain, s.
     pub decided_at: f64,
@@ -282,6 +288,7 @@ pub struct TimeHistoryResult {
     /// max |f_x/f_z| while rocking (minimum μ for pure rocking), when reactions
     /// are followed; null when the block lifts off (`lift_off`): no μ sustains
     /// pure rocking there, the demand is unbounded.
+    #[schema(required = true)]
     pub peak_friction_demand: Option<f64>,
     /// Time of that peak, s.
     #[serde(skip_serializing_if = "Option::is_none")]

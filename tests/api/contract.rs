@@ -483,6 +483,20 @@ async fn events_stream_the_status_then_progress_then_the_finished_job() {
     let events = read_events(r, Duration::from_secs(5)).await;
     assert_eq!(events.len(), 1);
     assert_eq!(events[0].0, "done");
+    // Resuming after the last event seen: a finished job still ends with
+    // `done`, at once.
+    let (_, finished) = app.get(&format!("/v1/jobs/{id}")).await;
+    let etag = header(&get(&app, &format!("/v1/jobs/{id}"), &[]).await, "etag");
+    let r = get(
+        &app,
+        &format!("/v1/jobs/{id}/events"),
+        &[("last-event-id", etag.as_str())],
+    )
+    .await;
+    let events = read_events(r, Duration::from_secs(5)).await;
+    assert_eq!(events.len(), 1, "{events:?}");
+    assert_eq!(events[0].0, "done");
+    assert_eq!(events[0].1["status"], finished["status"]);
     let (status, problem) = app
         .get(&format!("/v1/jobs/{}/events", uuid::Uuid::now_v7()))
         .await;

@@ -1,0 +1,261 @@
+#!/usr/bin/env python3
+"""The request schema (components/schemas/JobSpec of the served
+/openapi.yaml) and the server agree on the catalogue of bad inputs: every
+spec below breaks one rule JSON Schema can express, and both the schema and
+the server (POST /v1/jobs, a 422 or 400 naming the field) refuse it. Every
+spec the repository ships, and a set of valid variants, passes the schema
+(the schema is not stricter than the server on real specs), and the server
+accepts the variants. Rules the schema cannot express (bounds that depend on
+the block, `to` above `from`) are listed too: the server refuses them, the
+schema lets them through, so a client learns of them from the server's 422.
+
+    request_agreement.py BASE_URL
+
+Runs in the schemathesis venv (jsonschema_rs, PyYAML) against a live
+server; tests/schemathesis.sh calls it. Prints one line per case and
+`N passed, N failed`.
+"""
+
+import copy
+import glob
+import json
+import os
+import sys
+import urllib.error
+import urllib.request
+
+import jsonschema_rs
+import yaml
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+TH = {"kind": "time_history", "block": {"alpha": 0.2, "p": 2.0},
+      "pulse": {"type": "one_sine", "omega_ratio": 3.0, "a_p_alpha_g": 2.0}}
+GM = {"kind": "time_history", "block": {"b": 0.5, "h": 1.5},
+      "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, -0.2, 0.0]}}
+SP = {"kind": "spectrum", "block": {"alpha": 0.2, "p": 2.0}, "pulse": {"type": "one_sine"},
+      "omega_ratio": [2.0], "a_max_alpha_g": 3.0}
+FR = {"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+      "pulse": {"type": "one_cosine"}, "omega_ratio": 4.0, "a_alpha_g": [2.0]}
+FO = {"kind": "forensic", "pulse": {"type": "one_sine"},
+      "observations": [{"name": "cabinet", "b": 0.5, "h": 1.5, "overturned": True}],
+      "frequency_hz": [1.0], "a_p_g": {"from": 0.1, "to": 0.5}}
+
+DELETE = object()
+
+
+def edit(base, **changes):
+    """`base` with fields set (a path "a.b.0" -> value) or deleted (DELETE)."""
+    spec = copy.deepcopy(base)
+    for path, value in changes.items():
+        keys = [int(k) if k.isdigit() else k for k in path.split("__")]
+        node = spec
+        for k in keys[:-1]:
+            node = node[k]
+        if value is DELETE:
+            del node[keys[-1]]
+        else:
+            node[keys[-1]] = value
+    return spec
+
+
+# (what, spec, the pointer the server names)
+BAD = [
+    ("misspelt kind", edit(TH, kind="time_histroy"), "/kind"),
+    ("misspelt formulation", edit(TH, formulation="nonlinaer"), "/formulation"),
+    ("misspelt pulse type", edit(TH, pulse__type="one_sin"), "/pulse/type"),
+    ("unknown field", edit(TH, omega=3.0), "/omega"),
+    ("unknown block field", edit(TH, block__beta=1.0), "/block/beta"),
+    ("a string for a number", edit(TH, block__alpha="0.2"), "/block/alpha"),
+    ("no block", edit(TH, block=DELETE), "/block"),
+    ("alpha = 0", edit(TH, block__alpha=0.0), "/block/alpha"),
+    ("alpha = 1.6 > pi/2", edit(TH, block__alpha=1.6), "/block/alpha"),
+    ("p < 0", edit(TH, block__p=-1.0), "/block/p"),
+    ("eta > 1", edit(TH, block__eta=1.5), "/block/eta"),
+    ("eta < 0", edit(TH, block__eta=-0.1), "/block/eta"),
+    ("mu = 0", edit(TH, block__mu=0.0), "/block/mu"),
+    ("g = 0", edit(TH, block__g=0.0), "/block/g"),
+    ("alpha without p", edit(TH, block__p=DELETE), "/block/p"),
+    ("empty block", edit(TH, block={}), "/block"),
+    ("parameters and geometry", edit(TH, block={"alpha": 0.2, "p": 2.0, "b": 0.5, "h": 1.5}),
+     "/block"),
+    ("b without h", edit(GM, block={"b": 0.5}), "/block/h"),
+    ("b < 0", edit(GM, block={"b": -0.5, "h": 1.5}), "/block/b"),
+    ("no pulse type", edit(TH, pulse__type=DELETE), "/pulse/type"),
+    ("two frequencies", edit(TH, pulse__omega_p=6.0), "/pulse/omega_ratio"),
+    ("no frequency", edit(TH, pulse__omega_ratio=DELETE), "/pulse"),
+    ("no amplitude", edit(TH, pulse__a_p_alpha_g=DELETE), "/pulse"),
+    ("two amplitudes", edit(TH, pulse__a_p_g=0.5), "/pulse/a_p_alpha_g"),
+    ("omega_ratio = 0", edit(TH, pulse__omega_ratio=0.0), "/pulse/omega_ratio"),
+    ("omega_ratio > 1e4", edit(TH, pulse__omega_ratio=2e4), "/pulse/omega_ratio"),
+    ("omega_p < 0", edit(TH, pulse={"type": "one_sine", "omega_p": -3.0, "a_p_alpha_g": 2.0}),
+     "/pulse/omega_p"),
+    ("frequency_hz = 0",
+     edit(TH, pulse={"type": "one_sine", "frequency_hz": 0.0, "a_p_alpha_g": 2.0}),
+     "/pulse/frequency_hz"),
+    ("|a_p_alpha_g| > 1e8", edit(TH, pulse__a_p_alpha_g=-2e8), "/pulse/a_p_alpha_g"),
+    ("n for a one-sine pulse", edit(TH, pulse__n=2), "/pulse/n"),
+    ("cn with n = 0", edit(TH, pulse__type="cn", pulse__n=0), "/pulse/n"),
+    ("cn with n = 1001", edit(TH, pulse__type="cn", pulse__n=1001), "/pulse/n"),
+    ("a pulse and a record", edit(GM, pulse=TH["pulse"]), "/ground_motion"),
+    ("neither pulse nor record", edit(TH, pulse=DELETE), "/pulse"),
+    ("record without dt", edit(GM, ground_motion__dt=DELETE), "/ground_motion/dt"),
+    ("record dt = 2 s", edit(GM, ground_motion__dt=2.0), "/ground_motion/dt"),
+    ("record without unit", edit(GM, ground_motion__unit=DELETE), "/ground_motion/unit"),
+    ("record in km/s2", edit(GM, ground_motion__unit="km/s2"), "/ground_motion/unit"),
+    ("record of one sample", edit(GM, ground_motion__acc=[0.1]), "/ground_motion/acc"),
+    ("record without samples", edit(GM, ground_motion__acc=DELETE), "/ground_motion/acc"),
+    ("unknown method", edit(TH, solver={"method": "rk4"}), "/solver/method"),
+    ("rtol = 1", edit(TH, solver={"method": "dop853", "rtol": 1.0}), "/solver/rtol"),
+    ("atol = 0", edit(TH, solver={"method": "dop853", "atol": 0.0}), "/solver/atol"),
+    ("series > 1e6", edit(TH, outputs={"series": 2_000_000}), "/outputs/series"),
+    ("negative series", edit(TH, outputs={"series": -1}), "/outputs/series"),
+    ("duration = 0", edit(TH, outputs={"duration": 0.0}), "/outputs/duration"),
+    ("spectrum without pulse", edit(SP, pulse=DELETE), "/pulse"),
+    ("spectrum pulse with a frequency", edit(SP, pulse__omega_ratio=2.0), "/pulse/omega_ratio"),
+    ("spectrum pulse with an amplitude", edit(SP, pulse__a_p_g=0.2), "/pulse/a_p_g"),
+    ("spectrum without frequencies", edit(SP, omega_ratio=DELETE), "/omega_ratio"),
+    ("spectrum frequencies twice", edit(SP, omega_p=[4.0]), "/omega_p"),
+    ("spectrum empty list", edit(SP, omega_ratio=[]), "/omega_ratio"),
+    ("spectrum negative frequency", edit(SP, omega_ratio=[2.0, -1.0]), "/omega_ratio/1"),
+    ("spectrum steps = 0", edit(SP, omega_ratio={"from": 1.0, "to": 2.0, "steps": 0}),
+     "/omega_ratio/steps"),
+    ("spectrum range from 0", edit(SP, omega_ratio={"from": 0.0, "to": 2.0, "steps": 3}),
+     "/omega_ratio"),
+    ("a_max_alpha_g < 1", edit(SP, a_max_alpha_g=0.5), "/a_max_alpha_g"),
+    ("a_max_alpha_g > 1e4", edit(SP, a_max_alpha_g=2e4), "/a_max_alpha_g"),
+    ("highest amplitude twice", edit(SP, a_max_g=1.0), "/a_max_g"),
+    ("a_max = 0", edit(SP, a_max_alpha_g=DELETE, a_max=0.0), "/a_max"),
+    ("tolerance > 0.1", edit(SP, tolerance=0.5), "/tolerance"),
+    ("scan step > 1", edit(SP, scan_step_alpha_g=2.0), "/scan_step_alpha_g"),
+    ("principal width > 1", edit(SP, principal_relative_width=1.5), "/principal_relative_width"),
+    ("friction without frequency", edit(FR, omega_ratio=DELETE), "/omega_ratio"),
+    ("friction frequency twice", edit(FR, frequency_hz=1.0), "/frequency_hz"),
+    ("friction omega_ratio = 0", edit(FR, omega_ratio=0.0), "/omega_ratio"),
+    ("friction omega_p < 0", edit(FR, omega_ratio=DELETE, omega_p=-1.0), "/omega_p"),
+    ("friction without amplitudes", edit(FR, a_alpha_g=DELETE), "/a_alpha_g"),
+    ("friction amplitudes twice", edit(FR, a_p_g=[0.5]), "/a_p_g"),
+    ("friction pulse with an amplitude", edit(FR, pulse__a_p=1.0), "/pulse/a_p"),
+    ("friction n for one-cosine", edit(FR, pulse__n=3), "/pulse/n"),
+    ("forensic without pulse", edit(FO, pulse=DELETE), "/pulse"),
+    ("forensic without observations", edit(FO, observations=DELETE), "/observations"),
+    ("forensic no observation", edit(FO, observations=[]), "/observations"),
+    ("forensic 33 observations", edit(FO, observations=FO["observations"] * 33), "/observations"),
+    ("observation without outcome", edit(FO, observations__0__overturned=DELETE),
+     "/observations/0/overturned"),
+    ("observation block and b", edit(FO, observations__0__block={"alpha": 0.2, "p": 2.0}),
+     "/observations/0/block"),
+    ("observation without block", edit(FO, observations=[{"name": "x", "overturned": False}]),
+     "/observations/0/block"),
+    ("observation b without h", edit(FO, observations__0__h=DELETE), "/observations/0/h"),
+    ("observation h < 0", edit(FO, observations__0__h=-1.0), "/observations/0/h"),
+    ("forensic without frequencies", edit(FO, frequency_hz=DELETE), "/frequency_hz"),
+    ("forensic frequencies twice", edit(FO, omega_p=[6.0]), "/omega_p"),
+    ("forensic amplitudes twice", edit(FO, a_p={"from": 1.0, "to": 4.0}), "/a_p"),
+    ("forensic amplitude from < 0", edit(FO, a_p_g={"from": -0.1, "to": 0.5}), "/a_p_g/from"),
+    ("forensic amplitude range without to", edit(FO, a_p_g={"from": 0.1}), "/a_p_g"),
+    ("forensic tolerance > 0.1", edit(FO, tolerance_g=0.5), "/tolerance_g"),
+    ("forensic scan step > 1", edit(FO, scan_step_g=2.0), "/scan_step_g"),
+]
+
+# Rules JSON Schema cannot state (they depend on the block or on two values):
+# the server refuses, the schema accepts.
+SERVER_ONLY = [
+    ("omega_p outside 1e-3..1e4 p for this block",
+     edit(TH, pulse={"type": "one_sine", "omega_p": 1e6, "a_p_alpha_g": 2.0}), "/pulse/omega_p"),
+    ("a_p = 0 m/s2", edit(TH, pulse={"type": "one_sine", "omega_ratio": 3.0, "a_p": 0.0}),
+     "/pulse/a_p"),
+    ("a_max_g above 1e4 alpha g", edit(SP, a_max_alpha_g=DELETE, a_max_g=1e5), "/a_max_g"),
+    ("range with to < from", edit(SP, omega_ratio={"from": 4.0, "to": 2.0, "steps": 3}),
+     "/omega_ratio"),
+    ("scan step below the tolerance", edit(SP, tolerance=0.05, scan_step_alpha_g=0.01),
+     "/scan_step_alpha_g"),
+    ("forensic amplitude to <= from", edit(FO, a_p_g={"from": 0.5, "to": 0.5}), "/a_p_g"),
+]
+
+# Valid variants, beyond the shipped specs: every unit, both block forms,
+# explicit nulls for optional fields.
+GOOD = [
+    ("time history", TH),
+    ("record by geometry", GM),
+    ("cn with n", edit(TH, pulse__type="cn", pulse__n=2)),
+    ("omega_p and a_p_g", edit(TH, pulse={"type": "one_cosine", "omega_p": 6.0, "a_p_g": 0.5})),
+    ("frequency_hz and a_p", edit(TH, pulse={"type": "one_sine", "frequency_hz": 1.0, "a_p": 4.0})),
+    ("explicit nulls", edit(TH, formulation=None, solver=None, outputs=None, block__eta=None,
+                            pulse__omega_p=None, pulse__n=None)),
+    ("linear, exact", edit(TH, formulation="linear", solver={"method": "exact"})),
+    ("spectrum", SP),
+    ("spectrum in Hz and g", edit(SP, omega_ratio=DELETE, frequency_hz={"from": 0.5, "to": 1.0,
+                                                                      "steps": 2},
+                                  a_max_alpha_g=DELETE, a_max_g=0.5)),
+    ("spectrum with the default amplitude", edit(SP, a_max_alpha_g=DELETE, omega_ratio=2.0)),
+    ("friction spectrum", FR),
+    ("friction in rad/s and m/s2", edit(FR, omega_ratio=DELETE, omega_p=8.56, a_alpha_g=DELETE,
+                                        a_p=[4.0, 5.0])),
+    ("forensic", FO),
+    ("forensic with a block and a_p", edit(FO, observations=[
+        {"block": {"alpha": 0.2, "p": 2.0}, "overturned": False}], a_p_g=DELETE,
+        a_p={"from": 1.0, "to": 3.0})),
+]
+
+
+def post(base, spec):
+    request = urllib.request.Request(
+        f"{base}/v1/jobs", data=json.dumps(spec).encode(), method="POST",
+        headers={"Content-Type": "application/json", "Accept": "application/json"})
+    try:
+        with urllib.request.urlopen(request, timeout=60) as response:
+            return response.status, json.loads(response.read() or b"{}")
+    except urllib.error.HTTPError as e:
+        return e.code, json.loads(e.read() or b"{}")
+
+
+def main():
+    base = sys.argv[1].rstrip("/")
+    with urllib.request.urlopen(f"{base}/openapi.yaml", timeout=10) as response:
+        description = yaml.safe_load(response.read())
+    schema = jsonschema_rs.validator_for(
+        {"$ref": "#/components/schemas/JobSpec", "components": description["components"]})
+    passed = failed = 0
+
+    def check(what, ok, detail=""):
+        nonlocal passed, failed
+        print(f"{'ok  ' if ok else 'FAIL'} {what}{(': ' + detail) if detail and not ok else ''}")
+        if ok:
+            passed += 1
+        else:
+            failed += 1
+
+    for what, spec, pointer in BAD:
+        refused = not schema.is_valid(spec)
+        status, problem = post(base, spec)
+        named = problem.get("pointer")
+        check(f"bad: {what}: schema refuses, server {status} at {named}",
+              refused and status in (400, 422) and named == pointer,
+              f"schema {'refuses' if refused else 'ACCEPTS'}; server {status} "
+              f"{problem.get('pointer')!r} (want {pointer!r}): {problem.get('detail')}")
+    for what, spec, pointer in SERVER_ONLY:
+        accepted = schema.is_valid(spec)
+        status, problem = post(base, spec)
+        named = problem.get("pointer")
+        check(f"server only: {what}: server {status} at {named}",
+              accepted and status == 422 and named == pointer,
+              f"schema {'accepts' if accepted else 'REFUSES'}; server {status} "
+              f"{named!r} (want {pointer!r}): {problem.get('detail')}")
+    shipped = [(os.path.basename(p), json.load(open(p)))
+               for p in sorted(glob.glob(os.path.join(ROOT, "specs", "*.json")))]
+    for what, spec in shipped:
+        errors = [f"{e.instance_path}: {e.message}" for e in schema.iter_errors(spec)]
+        check(f"shipped spec {what}: schema accepts", not errors, "; ".join(errors)[:400])
+    for what, spec in GOOD:
+        errors = [f"{e.instance_path}: {e.message}" for e in schema.iter_errors(spec)]
+        status, problem = post(base, spec)
+        check(f"good: {what}: schema accepts, server {status}",
+              not errors and status in (200, 201, 202, 303),
+              f"{'; '.join(errors)[:400]} server {status}: {problem.get('detail')}")
+    print(f"{passed} passed, {failed} failed")
+    sys.exit(1 if failed else 0)
+
+
+if __name__ == "__main__":
+    main()
