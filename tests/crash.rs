@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use common::server::{Server, http, list_all, sqlite_url, temp_dir, wait_until};
+use common::server::{Server, http, list_all, sqlite_url, status, temp_dir, wait_until};
 use serde_json::{Value, json};
 use sqlx::Connection;
 use topple::jobs::Job;
@@ -540,13 +540,24 @@ async fn store_missing_parts_pg(db: &str, id: &str) -> usize {
 
 /// A kill after the last task of a job stored its part but before the job's
 /// result was assembled from the parts: the restarted server must still
-/// assemble them. The state is reproduced exactly: the server is killed
+/// assemble them, at once, even with a queue of long jobs behind it
+/// (`queue` of them). The state is reproduced exactly: the server is killed
 /// mid-spectrum, then `store` stores the remaining parts as a worker does.
-fn crash_before_assembly(db: &str, log: &Path, args: &[&str], store: impl FnOnce(&str) -> usize) {
+fn crash_before_assembly(
+    db: &str,
+    log: &Path,
+    args: &[&str],
+    queue: usize,
+    store: impl FnOnce(&str) -> usize,
+) {
     eprintln!("server log: {}", log.display());
     let spec = spectrum(48);
     let mut server = Server::start(db, args, Some(log));
     let id = submit(&server.base, &spec);
+    // Long jobs queued behind it (one worker): each takes seconds.
+    let queued: Vec<String> = (0..queue)
+        .map(|i| submit(&server.base, &spectrum(40 + i)))
+        .collect();
     let job = wait_until(&server.base, &id, Duration::from_secs(60), |j| {
         j["progress"].as_f64().unwrap_or(0.0) >= 0.2 || is_final(j)
     });
@@ -555,13 +566,26 @@ fn crash_before_assembly(db: &str, log: &Path, args: &[&str], store: impl FnOnce
     assert!(store(&id) > 0, "parts left to store");
 
     let mut server = Server::start(db, args, Some(log));
-    let job = wait_until(&server.base, &id, Duration::from_secs(15), is_final);
+    let limit = if queue > 0 { 3 } else { 15 };
+    let job = wait_until(&server.base, &id, Duration::from_secs(limit), is_final);
     assert_eq!(
         job["status"], "succeeded",
-        "every task of job {id} is done, yet 15 s after a restart the job is {}: \
-         a kill between the last task's result and the job's assembly leaves it unfinished",
+        "every task of job {id} is done, yet {limit} s after a restart the job is {} \
+         ({queue} long jobs queued): a kill between the last task's result and the job's \
+         assembly leaves it unfinished, or waiting for the queue to drain",
         job["status"]
     );
+    if let Some(last) = queued.last() {
+        // The queue was not drained first.
+        assert!(
+            !is_final(&status(&server.base, last)),
+            "the queue drained first"
+        );
+    }
+    for q in &queued {
+        http::request("DELETE", &format!("{}/v1/jobs/{q}", server.base), None).expect("cancel");
+        wait_until(&server.base, q, Duration::from_secs(30), is_final);
+    }
     assert_same(
         &id,
         &physics(&result_text(&server.base, &id)),
@@ -574,7 +598,18 @@ fn crash_before_assembly(db: &str, log: &Path, args: &[&str], store: impl FnOnce
 fn sqlite_a_crash_between_the_last_part_and_the_assembly_still_finishes_the_job() {
     let dir = temp_dir("crash-assembly");
     let db = sqlite_url(&dir);
-    crash_before_assembly(&db, &dir.join("server.log"), &["--workers", "1"], |id| {
+    crash_before_assembly(&db, &dir.join("server.log"), &["--workers", "1"], 0, |id| {
+        block_on(store_missing_parts_sqlite(&db, id))
+    });
+    block_on(sqlite_integrity(&db));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn sqlite_a_stranded_job_is_assembled_at_once_whatever_the_queue() {
+    let dir = temp_dir("crash-assembly-queue");
+    let db = sqlite_url(&dir);
+    crash_before_assembly(&db, &dir.join("server.log"), &["--workers", "1"], 6, |id| {
         block_on(store_missing_parts_sqlite(&db, id))
     });
     block_on(sqlite_integrity(&db));
@@ -586,7 +621,7 @@ fn postgres_a_crash_between_the_last_part_and_the_assembly_still_finishes_the_jo
     with_postgres("crash_asm", |url| {
         let dir = temp_dir("crash-assembly-postgres");
         let args = ["--workers", "1", "--lease", "1"];
-        crash_before_assembly(url, &dir.join("server.log"), &args, |id| {
+        crash_before_assembly(url, &dir.join("server.log"), &args, 0, |id| {
             block_on(store_missing_parts_pg(url, id))
         });
         block_on(pg_integrity(url));

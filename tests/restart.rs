@@ -54,19 +54,45 @@ fn a_killed_server_loses_no_job_queued_or_running() {
 #[test]
 fn sigterm_lets_the_running_job_finish_and_exits_cleanly() {
     let db = temp_db("restart-term");
-    let mut server = start(&db, &["--workers", "1", "--shutdown-grace", "30"]);
+    let mut server = start(&db, &["--workers", "1", "--shutdown-grace", "60"]);
     let (_, job) = http::post_json(&format!("{}/v1/jobs", server.base), &spectrum(30));
     let id = job["id"].as_str().expect("id").to_string();
+    let (_, queued) = http::post_json(&format!("{}/v1/jobs", server.base), &history());
+    let queued_id = queued["id"].as_str().expect("id").to_string();
     let job = wait_status(&server.base, &id, "running", Duration::from_secs(10));
     assert_eq!(job["status"], "running");
-    let exit = server.terminate(Duration::from_secs(30));
+    let exit = server.terminate(Duration::from_secs(60));
     assert!(exit.success(), "{exit:?}");
-    // The task in flight finished before the process left; the job's other
-    // tasks stayed queued and finish after the restart.
+    // Within the grace period the stopping server finished the job it had
+    // begun — every one of its 30 tasks, not only the one in flight — and
+    // started nothing new.
+    let stored = |id: &str| -> String {
+        tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .expect("a runtime")
+            .block_on(async {
+                use sqlx::Connection;
+                let mut conn = sqlx::SqliteConnection::connect(&db).await.expect("opens");
+                let status: String = sqlx::query_scalar("SELECT status FROM jobs WHERE id = ?1")
+                    .bind(id)
+                    .fetch_one(&mut conn)
+                    .await
+                    .expect("the job is stored");
+                status
+            })
+    };
+    assert_eq!(stored(&id), "succeeded");
+    assert_eq!(stored(&queued_id), "queued");
     let mut again = start(&db, &["--workers", "1"]);
-    let job = wait_status(&again.base, &id, "succeeded", Duration::from_secs(60));
-    assert_eq!(job["status"], "succeeded", "{job}");
     let result = http::get_json(&format!("{}/v1/jobs/{id}/result", again.base));
     assert_eq!(result["spectrum"].as_array().map(|a| a.len()), Some(30));
+    let job = wait_status(
+        &again.base,
+        &queued_id,
+        "succeeded",
+        Duration::from_secs(60),
+    );
+    assert_eq!(job["status"], "succeeded", "{job}");
     again.kill();
 }

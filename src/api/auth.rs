@@ -21,12 +21,16 @@ const OPEN: [&str; 4] = ["/healthz", "/readyz", "/openapi.yaml", "/"];
 /// Compares blake3 digests, whose equality is constant-time, so the time taken
 /// says nothing about how much of a guess was right.
 pub fn authorised(presented: Option<&HeaderValue>, token: &str) -> bool {
-    let Some(given) = presented
+    // The scheme is case-insensitive (RFC 9110 §11.1): `bearer`, `BEARER`.
+    let Some((scheme, given)) = presented
         .and_then(|v| v.to_str().ok())
-        .and_then(|v| v.strip_prefix("Bearer "))
+        .and_then(|v| v.trim_start().split_once(' '))
     else {
         return false;
     };
+    if !scheme.eq_ignore_ascii_case("bearer") {
+        return false;
+    }
     blake3::hash(given.trim().as_bytes()) == blake3::hash(token.as_bytes())
 }
 
@@ -70,14 +74,25 @@ mod tests {
 
     #[test]
     fn only_the_exact_bearer_token_passes() {
-        let ok = HeaderValue::from_static("Bearer s3cret");
-        assert!(authorised(Some(&ok), "s3cret"));
+        for ok in [
+            "Bearer s3cret",
+            "bearer s3cret",
+            "BEARER s3cret",
+            "beaRer  s3cret",
+        ] {
+            assert!(
+                authorised(Some(&HeaderValue::from_static(ok)), "s3cret"),
+                "{ok}"
+            );
+        }
         for bad in [
             "Bearer s3cre",
             "Bearer s3cret2",
             "Basic s3cret",
             "s3cret",
             "Bearer ",
+            "Bearers s3cret",
+            "Bearer\ts3cret",
         ] {
             assert!(
                 !authorised(Some(&HeaderValue::from_static(bad)), "s3cret"),

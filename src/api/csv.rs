@@ -16,9 +16,15 @@ fn f(v: Option<&Value>) -> String {
     }
 }
 
-/// `s` as a CSV field (RFC 4180).
+/// `s` as a CSV field (RFC 4180), safe to open in a spreadsheet: text
+/// starting with `=`, `+`, `-`, `@`, a tab or a carriage return would be read
+/// as a formula, so it gets a leading `'` and quotes (OWASP's rule for CSV
+/// injection). Only user text goes through here; numbers are written as they
+/// are.
 fn quote(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
+    if s.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        format!("\"'{}\"", s.replace('"', "\"\""))
+    } else if s.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {
         s.to_string()
@@ -383,6 +389,38 @@ mod tests {
         assert_eq!(l[5], "1.0,6.3,transformer,survived,0.1,0.7");
         // 3 rows for the intersection, 3 + 2 per observation.
         assert_eq!(l.len(), 1 + 3 + 5);
+    }
+
+    #[test]
+    fn user_text_cannot_be_a_spreadsheet_formula() {
+        for (name, cell) in [
+            (
+                "=HYPERLINK(\"http://evil\",\"x\")",
+                "\"'=HYPERLINK(\"\"http://evil\"\",\"\"x\"\")\"",
+            ),
+            ("+1+2", "\"'+1+2\""),
+            ("-2+3", "\"'-2+3\""),
+            ("@SUM(A1)", "\"'@SUM(A1)\""),
+            ("\t=1", "\"'\t=1\""),
+            ("\r=1", "\"'\r=1\""),
+            ("a=1", "a=1"),
+            ("loco, 1906", "\"loco, 1906\""),
+        ] {
+            assert_eq!(quote(name), cell, "{name:?}");
+        }
+        // In a forensic table the name is text; the numbers stay numbers.
+        let doc = json!({"kind": "forensic",
+            "observations": [{"name": "=HYPERLINK(\"http://evil\",\"x\")", "overturned": true}],
+            "frequencies": [{"frequency_hz": 1.0, "omega_p": 6.3, "consistent_g": [[-0.5, 0.7]],
+                "per_observation": [{"name": "=HYPERLINK(\"http://evil\",\"x\")",
+                                     "consistent_g": [[-0.5, 3.0]]}]}]});
+        let csv = to_csv(&doc).expect("csv");
+        let l = lines(&csv);
+        assert_eq!(l[1], "1.0,6.3,,,-0.5,0.7");
+        assert_eq!(
+            l[2],
+            "1.0,6.3,\"'=HYPERLINK(\"\"http://evil\"\",\"\"x\"\")\",overturned,-0.5,3.0"
+        );
     }
 
     #[test]

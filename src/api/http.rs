@@ -125,6 +125,26 @@ pub fn poll_interval(seconds: f64) -> u64 {
     (seconds / 5.0).ceil().clamp(1.0, 30.0) as u64
 }
 
+/// Middleware: a body whose declared `Content-Length` is over the limit is
+/// refused with 413 before a byte of it is read — and so before hyper sends
+/// `100 Continue` to a client that asked with `Expect: 100-continue`.
+pub async fn refuse_oversized_bodies(
+    axum::extract::State(state): axum::extract::State<crate::service::AppState>,
+    req: Request,
+    next: Next,
+) -> Response {
+    let max = state.config.max_body_bytes;
+    let declared = req
+        .headers()
+        .get(header::CONTENT_LENGTH)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.trim().parse::<u64>().ok());
+    if declared.is_some_and(|n| n > max as u64) {
+        return super::problem::Problem::body_too_large(max).into_response();
+    }
+    next.run(req).await
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -445,20 +445,7 @@ pub async fn create_job(
     let body = body.map_err(|e| {
         let status = e.status();
         if status == StatusCode::PAYLOAD_TOO_LARGE {
-            let max = state.config.max_body_bytes;
-            let mut p = Problem::new(
-                status,
-                "body-too-large",
-                "Body too large",
-                format!(
-                    "the body is larger than this service's limit of {max} bytes (max_body_bytes)"
-                ),
-            )
-            .at("")
-            .header_name("content-length");
-            p.limit = Some("max_body_bytes".into());
-            p.maximum = Some(max as f64);
-            p
+            Problem::body_too_large(state.config.max_body_bytes)
         } else {
             Problem::new(status, "invalid-body", "Unreadable body", e.body_text()).at("")
         }

@@ -97,6 +97,21 @@ impl Problem {
         p
     }
 
+    /// 413: a body over `max` bytes (`max_body_bytes`).
+    pub fn body_too_large(max: usize) -> Self {
+        let mut p = Problem::new(
+            StatusCode::PAYLOAD_TOO_LARGE,
+            "body-too-large",
+            "Body too large",
+            format!("the body is larger than this service's limit of {max} bytes (max_body_bytes)"),
+        )
+        .at("")
+        .header_name("content-length");
+        p.limit = Some("max_body_bytes".into());
+        p.maximum = Some(max as f64);
+        p
+    }
+
     /// 400, malformed request.
     pub fn bad_request(kind: &str, detail: impl Into<String>) -> Self {
         Problem::new(StatusCode::BAD_REQUEST, kind, "Bad request", detail)

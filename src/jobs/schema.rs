@@ -392,15 +392,10 @@ pub mod rules {
         if let Some(RefOr::T(Schema::Object(event))) = components.schemas.get_mut("JobEvent")
             && let Some(RefOr::T(Schema::Object(data))) = event.properties.get_mut("data")
         {
-            let mut extensions = data.extensions.take().unwrap_or_default();
-            extensions.merge(Extensions::from_iter([
-                ("contentMediaType", Value::from("application/json")),
-                (
-                    "contentSchema",
-                    json!({"$ref": "#/components/schemas/JobView"}),
-                ),
-            ]));
-            data.extensions = Some(extensions);
+            data.content_media_type = "application/json".into();
+            data.content_schema = Some(Box::new(
+                utoipa::openapi::Ref::from_schema_name("JobView").into(),
+            ));
         }
         // α < π/2 (an attribute would take the constant as a literal only).
         if let Some(RefOr::T(Schema::Object(block))) = components.schemas.get_mut("BlockSpec")

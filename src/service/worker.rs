@@ -18,26 +18,35 @@ use crate::store::{Status, TaskClaim, now_rfc3339};
 /// Runs worker `n` until shutdown.
 pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>) {
     let owner = format!("{}#{n}", state.config.instance);
+    if n == 0 {
+        tokio::spawn(assemble_stranded(state.clone(), shutdown.clone()));
+    }
+    // Since when the service is stopping: from then on the worker takes
+    // only tasks of jobs already running (a split spectrum is finished, not
+    // left half done), until the grace period ends or none is left.
+    let mut stopping_since: Option<Instant> = None;
     loop {
         if *shutdown.borrow() {
-            break;
+            let since = *stopping_since.get_or_insert_with(Instant::now);
+            if since.elapsed() >= state.config.shutdown_grace {
+                break;
+            }
         }
+        let stopping = stopping_since.is_some();
         let claimed = state
             .store
-            .claim(&owner, &now_rfc3339(), state.config.lease)
+            .claim_in(&owner, &now_rfc3339(), state.config.lease, stopping)
             .await;
         match claimed {
             Ok(Some(task)) => {
                 let span =
                     info_span!("job", job_id = %task.job_id, task = task.idx, kind = %task.kind);
-                execute(&state, &owner, task, &mut shutdown)
+                execute(&state, &owner, task, &mut shutdown, &mut stopping_since)
                     .instrument(span)
                     .await;
             }
+            Ok(None) | Err(_) if stopping => break,
             Ok(None) => {
-                if n == 0 {
-                    finish_stranded(&state).await;
-                }
                 // Idle: wait for a submission here or elsewhere, a shutdown, or
                 // poll again (a lease that lapses is noticed this way).
                 tokio::select! {
@@ -81,6 +90,7 @@ async fn execute(
     owner: &str,
     task: TaskClaim,
     shutdown: &mut watch::Receiver<bool>,
+    stopping_since: &mut Option<Instant>,
 ) {
     let (id, idx) = (task.job_id, task.idx);
     info!(attempt = task.attempts, "task started");
@@ -122,7 +132,6 @@ async fn execute(
             }
         });
     }
-    let mut stopping_since: Option<Instant> = None;
     let mut timed_out = false;
     let outcome = loop {
         tokio::select! {
@@ -151,7 +160,7 @@ async fn execute(
             }
             _ = shutdown.changed(), if stopping_since.is_none() => {
                 if *shutdown.borrow() {
-                    stopping_since = Some(Instant::now());
+                    *stopping_since = Some(Instant::now());
                 }
             }
         }
@@ -228,6 +237,51 @@ async fn execute(
     }
 }
 
+/// The jobs this process is assembling, so that the look for stranded jobs
+/// does not assemble a job a second time while its last worker does.
+static ASSEMBLING: std::sync::Mutex<Vec<Uuid>> = std::sync::Mutex::new(Vec::new());
+
+/// A job marked as being assembled here, until dropped.
+struct Assembling(Uuid);
+
+impl Assembling {
+    /// Marks `id`; `None` if it is being assembled already.
+    fn start(id: Uuid) -> Option<Assembling> {
+        let mut ids = ASSEMBLING.lock().unwrap_or_else(|e| e.into_inner());
+        if ids.contains(&id) {
+            return None;
+        }
+        ids.push(id);
+        Some(Assembling(id))
+    }
+}
+
+impl Drop for Assembling {
+    fn drop(&mut self) {
+        let mut ids = ASSEMBLING.lock().unwrap_or_else(|e| e.into_inner());
+        ids.retain(|x| *x != self.0);
+    }
+}
+
+/// How often [`assemble_stranded`] looks for stranded jobs.
+const STRANDED_LOOK: Duration = Duration::from_millis(500);
+
+/// At start and then every [`STRANDED_LOOK`] until shutdown, assembles the
+/// jobs a stopped process left with every task done but no result — whatever
+/// the queue holds, so they never wait behind it.
+async fn assemble_stranded(state: AppState, mut shutdown: watch::Receiver<bool>) {
+    loop {
+        if *shutdown.borrow() {
+            break;
+        }
+        finish_stranded(&state).await;
+        tokio::select! {
+            _ = shutdown.changed() => {}
+            _ = tokio::time::sleep(STRANDED_LOOK) => {}
+        }
+    }
+}
+
 /// Assembles the jobs whose tasks are all done but whose result is not: a
 /// process that stopped between the two leaves them so.
 async fn finish_stranded(state: &AppState) {
@@ -245,6 +299,9 @@ async fn finish_stranded(state: &AppState) {
 /// Assembles and stores the job's result once every task is done (whichever
 /// worker completes the last task does it; storing it twice is harmless).
 async fn finish_job(state: &AppState, id: Uuid) {
+    let Some(_assembling) = Assembling::start(id) else {
+        return;
+    };
     let parts = match state.store.parts(id).await {
         Ok(Some(parts)) => parts,
         Ok(None) => return,

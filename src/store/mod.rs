@@ -176,6 +176,18 @@ pub trait JobStore: Send + Sync {
         owner: &'a str,
         now: &'a str,
         lease: Duration,
+    ) -> BoxFuture<'a, Result<Option<TaskClaim>, StoreError>> {
+        self.claim_in(owner, now, lease, false)
+    }
+    /// As [`Store::claim`], among the jobs already running only when
+    /// `started_only` (a stopping instance finishes what it began, within its
+    /// grace period, and starts nothing new).
+    fn claim_in<'a>(
+        &'a self,
+        owner: &'a str,
+        now: &'a str,
+        lease: Duration,
+        started_only: bool,
     ) -> BoxFuture<'a, Result<Option<TaskClaim>, StoreError>>;
     /// Renews the task's lease and records its progress; returns the job's
     /// status (a job canceled meanwhile reads `Canceled`), or `None` when the

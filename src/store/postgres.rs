@@ -240,11 +240,12 @@ impl JobStore for PgStore {
         })
     }
 
-    fn claim<'a>(
+    fn claim_in<'a>(
         &'a self,
         owner: &'a str,
         now: &'a str,
         lease: Duration,
+        started_only: bool,
     ) -> BoxFuture<'a, Result<Option<TaskClaim>, StoreError>> {
         Box::pin(async move {
             let mut tx = self.pool.begin().await?;
@@ -253,7 +254,7 @@ impl JobStore for PgStore {
                 "WITH next AS ( \
                    SELECT t.job_id, t.idx FROM tasks t JOIN jobs j ON j.id = t.job_id \
                    WHERE (t.status = 'queued' OR (t.status = 'running' AND t.lease_until < now())) \
-                   AND j.status IN ('queued', 'running') \
+                   AND j.status IN ('queued', 'running') AND (NOT $3 OR j.status = 'running') \
                    ORDER BY t.created_at, t.idx LIMIT 1 FOR UPDATE OF t SKIP LOCKED) \
                  UPDATE tasks SET status = 'running', lease_owner = $1, \
                    lease_until = now() + make_interval(secs => $2), attempts = tasks.attempts + 1 \
@@ -262,6 +263,7 @@ impl JobStore for PgStore {
             )
             .bind(owner)
             .bind(lease.as_secs_f64())
+            .bind(started_only)
             .fetch_optional(&mut *tx)
             .await?;
             let Some(row) = row else {

@@ -275,11 +275,12 @@ impl JobStore for SqliteStore {
         })
     }
 
-    fn claim<'a>(
+    fn claim_in<'a>(
         &'a self,
         owner: &'a str,
         now: &'a str,
         lease: Duration,
+        started_only: bool,
     ) -> BoxFuture<'a, Result<Option<TaskClaim>, StoreError>> {
         Box::pin(async move {
             let _write = self.writer.lock().await;
@@ -289,12 +290,14 @@ impl JobStore for SqliteStore {
                 "UPDATE tasks SET status = 'running', lease_owner = ?1, lease_until = ?3, attempts = attempts + 1 \
                  WHERE rowid = (SELECT t.rowid FROM tasks t JOIN jobs j ON j.id = t.job_id \
                    WHERE (t.status = 'queued' OR (t.status = 'running' AND t.lease_until < ?2)) \
-                   AND j.status IN ('queued', 'running') ORDER BY t.created_at, t.idx LIMIT 1) \
+                   AND j.status IN ('queued', 'running') AND (?4 = 0 OR j.status = 'running') \
+                   ORDER BY t.created_at, t.idx LIMIT 1) \
                  RETURNING job_id, idx, payload, attempts",
             )
             .bind(owner)
             .bind(now)
             .bind(&until)
+            .bind(started_only)
             .fetch_optional(&mut *tx)
             .await?;
             let Some(row) = row else {

@@ -537,6 +537,38 @@ async fn oversize_body_is_413() {
     app.stop().await;
 }
 
+/// A client that declares an over-limit body and waits for `100 Continue`
+/// (as curl does for large uploads) gets the 413 at once, without sending a
+/// byte of the body; so does one that does not wait.
+#[tokio::test]
+async fn over_limit_content_length_is_413_before_the_body() {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let app = spawn_app("bi-expect").await;
+    let addr = app.base.trim_start_matches("http://").to_string();
+    for expect in ["Expect: 100-continue\r\n", ""] {
+        let mut socket = tokio::net::TcpStream::connect(&addr)
+            .await
+            .expect("connects");
+        let head = format!(
+            "POST /v1/jobs HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\n\
+             Content-Length: {}\r\n{expect}\r\n",
+            50 * MAX_BODY
+        );
+        socket.write_all(head.as_bytes()).await.expect("sent");
+        let mut answer = vec![0u8; 4096];
+        let n = tokio::time::timeout(std::time::Duration::from_secs(5), socket.read(&mut answer))
+            .await
+            .expect("an answer without the body")
+            .expect("reads");
+        let text = String::from_utf8_lossy(&answer[..n]).to_string();
+        assert!(text.starts_with("HTTP/1.1 413"), "{expect:?}: {text}");
+        assert!(!text.contains("100 Continue"), "{text}");
+        assert!(text.contains("max_body_bytes"), "{text}");
+    }
+    assert_still_up(&app).await;
+    app.stop().await;
+}
+
 #[tokio::test]
 async fn unknown_job_id_is_404_naming_id() {
     let app = spawn_app("bi-unknown-id").await;

@@ -525,3 +525,29 @@ async fn every_result_says_what_computed_it() {
     );
     app.stop().await;
 }
+
+#[tokio::test]
+async fn user_text_reaches_csv_as_text_never_as_a_formula() {
+    let app = spawn_app("csv-injection").await;
+    let evil = "=HYPERLINK(\"http://evil\",\"x\")";
+    let spec = serde_json::json!({"kind": "forensic", "pulse": {"type": "one_sine"},
+        "observations": [{"name": evil, "b": 0.5, "h": 1.5, "overturned": true}],
+        "frequency_hz": [1.0], "a_p_g": {"from": 0.1, "to": 0.6}});
+    let (status, job, _) = app.post("/v1/jobs?wait=60", &spec).await;
+    assert_eq!(status, 200, "{job}");
+    let id = job["id"].as_str().expect("id");
+    let (status, _, csv) = app
+        .get_text(&format!("/v1/jobs/{id}/result?format=csv"))
+        .await;
+    assert_eq!(status, 200);
+    let rows: Vec<&str> = csv.lines().filter(|l| l.contains("HYPERLINK")).collect();
+    assert!(!rows.is_empty(), "{csv}");
+    for row in rows {
+        let cells: Vec<&str> = row.splitn(3, ',').collect();
+        assert!(
+            cells[2].starts_with("\"'=HYPERLINK("),
+            "the name must be inert text: {row}"
+        );
+    }
+    app.stop().await;
+}

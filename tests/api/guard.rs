@@ -62,7 +62,19 @@ async fn with_a_token_writes_need_it_and_reads_stay_open() {
                 .is_some_and(|v| v.as_bytes().starts_with(b"Bearer"))
         );
     }
-    let r = post(Some("Bearer s3cret")).await.expect("r");
+    // The scheme is case-insensitive.
+    for auth in ["bearer s3cret", "BEARER s3cret"] {
+        let r = post(Some(auth)).await.expect("r");
+        assert!(r.status().is_success(), "{auth}: {}", r.status());
+    }
+    let r = app
+        .client
+        .post(app.url("/v1/jobs"))
+        .header("authorization", "Bearer s3cret")
+        .json(&history(3.5))
+        .send()
+        .await
+        .expect("r");
     assert_eq!(r.status().as_u16(), 202);
     let job: Value = r.json().await.expect("json");
     let id = job["id"].as_str().expect("id");
