@@ -41,6 +41,16 @@ pub async fn readyz(State(state): State<AppState>) -> Result<axum::Json<Health>,
             "the database does not answer",
         )
     })?;
+    state.store.writable().await.map_err(|e| {
+        tracing::warn!(error = %e, "readiness: the database does not take writes");
+        Problem::new(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "not-ready",
+            "Not ready",
+            "the database does not take writes (full disk, or unavailable)",
+        )
+        .retry_after(2)
+    })?;
     // A busy compute pool is working, not broken: readiness asks only that it
     // still has its threads.
     if state.pool.current_num_threads() == 0 || *state.stopping.borrow() {

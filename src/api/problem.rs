@@ -138,10 +138,38 @@ impl Problem {
     }
 }
 
+/// The one place storage failures become HTTP: a full disk is 507, an
+/// unreachable or failing database 503, both with `Retry-After`; only what is
+/// neither (a bug, a corrupt row) is a 500.
 impl From<crate::store::StoreError> for Problem {
     fn from(e: crate::store::StoreError) -> Self {
-        tracing::error!(error = %e, "storage failure");
-        Problem::internal("storage failure")
+        use crate::store::Failure;
+        match e.failure() {
+            Failure::NoSpace => {
+                tracing::warn!(error = %e, "storage full");
+                Problem::new(
+                    StatusCode::INSUFFICIENT_STORAGE,
+                    "storage-full",
+                    "Storage full",
+                    "the service's storage is full: nothing was saved; retry later",
+                )
+                .retry_after(30)
+            }
+            Failure::Unavailable => {
+                tracing::warn!(error = %e, "storage unavailable");
+                Problem::new(
+                    StatusCode::SERVICE_UNAVAILABLE,
+                    "storage-unavailable",
+                    "Storage unavailable",
+                    "the service's database is unavailable: nothing was saved; retry shortly",
+                )
+                .retry_after(2)
+            }
+            Failure::Other => {
+                tracing::error!(error = %e, "storage failure");
+                Problem::internal("storage failure")
+            }
+        }
     }
 }
 

@@ -25,6 +25,61 @@ pub enum StoreError {
     /// A row could not be decoded.
     #[error("corrupt row: {0}")]
     Corrupt(String),
+    /// Writes failed moments ago (full disk, database unavailable).
+    #[error("writes failing: {0}")]
+    WritesFailing(String),
+}
+
+/// What a storage failure means for a client.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Failure {
+    /// The disk (or the database's quota) is full: retry once space frees.
+    NoSpace,
+    /// The database is unreachable, busy, restarting or failing I/O: retry soon.
+    Unavailable,
+    /// Anything else (a bug, a corrupt row).
+    Other,
+}
+
+impl StoreError {
+    /// What this failure means for a client.
+    pub fn failure(&self) -> Failure {
+        match self {
+            StoreError::Database(e) => match e {
+                sqlx::Error::Database(db) => {
+                    let code = db.code().unwrap_or_default();
+                    // SQLite: the primary result code is the low byte of the
+                    // extended one. PostgreSQL: SQLSTATE.
+                    match code.parse::<i64>().map(|c| c & 0xff) {
+                        Ok(13) => Failure::NoSpace,                       // SQLITE_FULL
+                        Ok(5 | 6 | 10 | 14 | 15) => Failure::Unavailable, // BUSY, LOCKED, IOERR, CANTOPEN, PROTOCOL
+                        _ => match code.as_ref() {
+                            "53100" => Failure::NoSpace, // disk_full
+                            c if c.starts_with("08")      // connection exception
+                                || c.starts_with("53")    // insufficient resources
+                                || c.starts_with("57P")   // operator intervention
+                                || c == "40001"           // serialization failure
+                                || c == "40P01" =>
+                            // deadlock
+                            {
+                                Failure::Unavailable
+                            }
+                            _ => Failure::Other,
+                        },
+                    }
+                }
+                sqlx::Error::Io(_)
+                | sqlx::Error::Tls(_)
+                | sqlx::Error::Protocol(_)
+                | sqlx::Error::PoolTimedOut
+                | sqlx::Error::PoolClosed
+                | sqlx::Error::WorkerCrashed => Failure::Unavailable,
+                _ => Failure::Other,
+            },
+            StoreError::WritesFailing(_) => Failure::Unavailable,
+            StoreError::Migrate(_) | StoreError::Corrupt(_) => Failure::Other,
+        }
+    }
 }
 
 /// The life of a job.
@@ -263,6 +318,11 @@ pub trait JobStore: Send + Sync {
     fn counts(&self) -> BoxFuture<'_, Result<Vec<(Status, i64)>, StoreError>>;
     /// Whether the database answers.
     fn ping(&self) -> BoxFuture<'_, Result<(), StoreError>>;
+    /// Whether the database takes writes: after a write failed for want of
+    /// space or of the database, this tries one; `Ok` otherwise.
+    fn writable(&self) -> BoxFuture<'_, Result<(), StoreError>> {
+        Box::pin(async { Ok(()) })
+    }
     /// Waits until another instance may have queued work (PostgreSQL
     /// LISTEN/NOTIFY); a store of one instance never resolves.
     fn queued_elsewhere(&self) -> BoxFuture<'_, ()> {

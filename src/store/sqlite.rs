@@ -30,7 +30,23 @@ macro_rules! job_select {
 pub struct SqliteStore {
     pool: SqlitePool,
     writer: std::sync::Arc<tokio::sync::Mutex<()>>,
+    /// Since when writes fail for want of space or of the database (none
+    /// succeeded since), and when the last one failed.
+    failing: std::sync::Arc<std::sync::Mutex<WriteHealth>>,
 }
+
+/// How writes have been going, for readiness.
+#[derive(Debug, Default)]
+struct WriteHealth {
+    /// A write failed, and none has succeeded since.
+    failing: bool,
+    /// When the last write failed.
+    last_failure: Option<std::time::Instant>,
+}
+
+/// After a failed write, readiness stays 503 this long even if a small write
+/// gets through meanwhile: a nearly full disk takes some writes and not others.
+const FAILURE_WINDOW: Duration = Duration::from_secs(5);
 
 pub(super) fn parse_id(id: &str) -> Result<Uuid, StoreError> {
     Uuid::parse_str(id).map_err(|e| StoreError::Corrupt(e.to_string()))
@@ -115,15 +131,15 @@ impl SqliteStore {
         sqlx::migrate!("./migrations/sqlite").run(&pool).await?;
         let writer = std::sync::Arc::new(tokio::sync::Mutex::new(()));
         tokio::spawn(checkpoint_loop(pool.clone(), writer.clone()));
-        Ok(SqliteStore { pool, writer })
+        Ok(SqliteStore {
+            pool,
+            writer,
+            failing: Default::default(),
+        })
     }
 
     async fn fetch(&self, id: Uuid) -> Result<Option<JobRecord>, StoreError> {
-        let row = sqlx::query(concat!(job_select!(), "WHERE j.id = ?1"))
-            .bind(id.to_string())
-            .fetch_optional(&self.pool)
-            .await?;
-        row.as_ref().map(record).transpose()
+        fetch_with(&self.pool, id).await
     }
 
     async fn insert_tasks(
@@ -145,6 +161,18 @@ impl SqliteStore {
         }
         Ok(())
     }
+}
+
+/// One job, read with `executor` (the pool, or a transaction).
+async fn fetch_with<'e, E>(executor: E, id: Uuid) -> Result<Option<JobRecord>, StoreError>
+where
+    E: sqlx::Executor<'e, Database = sqlx::Sqlite>,
+{
+    let row = sqlx::query(concat!(job_select!(), "WHERE j.id = ?1"))
+        .bind(id.to_string())
+        .fetch_optional(executor)
+        .await?;
+    row.as_ref().map(record).transpose()
 }
 
 /// Marks a running or queued job succeeded with its result, in `tx`; returns
@@ -182,6 +210,34 @@ async fn store_result(
     Ok(updated == 1)
 }
 
+/// After a failed write the connection is closed instead of going back to
+/// the pool: whatever state the failure left it in (a transaction SQLite rolled
+/// back by itself, or one still open and holding the write lock after a full
+/// disk or an I/O error), no later request inherits it.
+fn discard_on_error<T>(
+    conn: &mut sqlx::pool::PoolConnection<sqlx::Sqlite>,
+    result: &Result<T, StoreError>,
+) {
+    if result.is_err() {
+        conn.close_on_drop();
+    }
+}
+
+impl SqliteStore {
+    /// Records how a write that changes data ended, for readiness.
+    fn note<T>(&self, result: &Result<T, StoreError>) {
+        let mut health = self.failing.lock().unwrap_or_else(|e| e.into_inner());
+        match result {
+            Ok(_) => health.failing = false,
+            Err(e) if e.failure() != super::Failure::Other => {
+                health.failing = true;
+                health.last_failure = Some(std::time::Instant::now());
+            }
+            Err(_) => {}
+        }
+    }
+}
+
 impl JobStore for SqliteStore {
     fn submit<'a>(
         &'a self,
@@ -194,52 +250,60 @@ impl JobStore for SqliteStore {
     ) -> BoxFuture<'a, Result<Submitted, StoreError>> {
         Box::pin(async move {
             let _write = self.writer.lock().await;
-            let mut tx = self.pool.begin().await?;
-            let inserted = sqlx::query(
-                "INSERT INTO jobs (id, key, kind, spec, status, created_at) VALUES (?1, ?2, ?3, ?4, 'queued', ?5) ON CONFLICT (key) DO NOTHING",
-            )
-            .bind(id.to_string())
-            .bind(key)
-            .bind(kind)
-            .bind(spec)
-            .bind(now)
-            .execute(&mut *tx)
-            .await?
-            .rows_affected();
-            let (job_id, cached) = if inserted == 1 {
-                Self::insert_tasks(&mut tx, id, now, tasks).await?;
-                (id, false)
-            } else {
-                let row = sqlx::query("SELECT id, status FROM jobs WHERE key = ?1")
-                    .bind(key)
-                    .fetch_one(&mut *tx)
-                    .await?;
-                let existing = parse_id(&row.try_get::<String, _>("id")?)?;
-                let status: String = row.try_get("status")?;
-                if status == "failed" || status == "canceled" {
-                    // The same work failed or was canceled before: queue it again.
-                    sqlx::query(
-                        "UPDATE jobs SET status = 'queued', error = NULL, numerics = NULL, started_at = NULL, finished_at = NULL WHERE id = ?1",
-                    )
-                    .bind(existing.to_string())
-                    .execute(&mut *tx)
-                    .await?;
-                    sqlx::query("DELETE FROM tasks WHERE job_id = ?1")
+            let mut conn = self.pool.acquire().await?;
+            let result: Result<_, StoreError> = async {
+                let mut tx = sqlx::Connection::begin(&mut *conn).await?;
+                let inserted = sqlx::query(
+                    "INSERT INTO jobs (id, key, kind, spec, status, created_at) VALUES (?1, ?2, ?3, ?4, 'queued', ?5) ON CONFLICT (key) DO NOTHING",
+                )
+                .bind(id.to_string())
+                .bind(key)
+                .bind(kind)
+                .bind(spec)
+                .bind(now)
+                .execute(&mut *tx)
+                .await?
+                .rows_affected();
+                let (job_id, cached) = if inserted == 1 {
+                    Self::insert_tasks(&mut tx, id, now, tasks).await?;
+                    (id, false)
+                } else {
+                    let row = sqlx::query("SELECT id, status FROM jobs WHERE key = ?1")
+                        .bind(key)
+                        .fetch_one(&mut *tx)
+                        .await?;
+                    let existing = parse_id(&row.try_get::<String, _>("id")?)?;
+                    let status: String = row.try_get("status")?;
+                    if status == "failed" || status == "canceled" {
+                        // The same work failed or was canceled before: queue it again.
+                        sqlx::query(
+                            "UPDATE jobs SET status = 'queued', error = NULL, numerics = NULL, started_at = NULL, finished_at = NULL WHERE id = ?1",
+                        )
                         .bind(existing.to_string())
                         .execute(&mut *tx)
                         .await?;
-                    Self::insert_tasks(&mut tx, existing, now, tasks).await?;
-                    (existing, false)
-                } else {
-                    (existing, true)
-                }
-            };
-            tx.commit().await?;
-            let job = self
-                .fetch(job_id)
-                .await?
-                .ok_or_else(|| StoreError::Corrupt("submitted job vanished".into()))?;
-            Ok(Submitted { job, cached })
+                        sqlx::query("DELETE FROM tasks WHERE job_id = ?1")
+                            .bind(existing.to_string())
+                            .execute(&mut *tx)
+                            .await?;
+                        Self::insert_tasks(&mut tx, existing, now, tasks).await?;
+                        (existing, false)
+                    } else {
+                        (existing, true)
+                    }
+                };
+                // The answer is read inside the transaction and returned only
+                // once it committed: a 2xx always stands for a stored job.
+                let job = fetch_with(&mut *tx, job_id)
+                    .await?
+                    .ok_or_else(|| StoreError::Corrupt("submitted job vanished".into()))?;
+                tx.commit().await?;
+                Ok(Submitted { job, cached })
+            }
+            .await;
+            discard_on_error(&mut conn, &result);
+            self.note(&result);
+            result
         })
     }
 
@@ -285,50 +349,56 @@ impl JobStore for SqliteStore {
         Box::pin(async move {
             let _write = self.writer.lock().await;
             let until = rfc3339(SystemTime::now() + lease);
-            let mut tx = self.pool.begin().await?;
-            let row = sqlx::query(
-                "UPDATE tasks SET status = 'running', lease_owner = ?1, lease_until = ?3, attempts = attempts + 1 \
-                 WHERE rowid = (SELECT t.rowid FROM tasks t JOIN jobs j ON j.id = t.job_id \
-                   WHERE (t.status = 'queued' OR (t.status = 'running' AND t.lease_until < ?2)) \
-                   AND j.status IN ('queued', 'running') AND (?4 = 0 OR j.status = 'running') \
-                   ORDER BY t.created_at, t.idx LIMIT 1) \
-                 RETURNING job_id, idx, payload, attempts",
-            )
-            .bind(owner)
-            .bind(now)
-            .bind(&until)
-            .bind(started_only)
-            .fetch_optional(&mut *tx)
-            .await?;
-            let Some(row) = row else {
+            let mut conn = self.pool.acquire().await?;
+            let result: Result<_, StoreError> = async {
+                let mut tx = sqlx::Connection::begin(&mut *conn).await?;
+                let row = sqlx::query(
+                    "UPDATE tasks SET status = 'running', lease_owner = ?1, lease_until = ?3, attempts = attempts + 1 \
+                     WHERE rowid = (SELECT t.rowid FROM tasks t JOIN jobs j ON j.id = t.job_id \
+                       WHERE (t.status = 'queued' OR (t.status = 'running' AND t.lease_until < ?2)) \
+                       AND j.status IN ('queued', 'running') AND (?4 = 0 OR j.status = 'running') \
+                       ORDER BY t.created_at, t.idx LIMIT 1) \
+                     RETURNING job_id, idx, payload, attempts",
+                )
+                .bind(owner)
+                .bind(now)
+                .bind(&until)
+                .bind(started_only)
+                .fetch_optional(&mut *tx)
+                .await?;
+                let Some(row) = row else {
+                    tx.commit().await?;
+                    return Ok(None);
+                };
+                let job_id: String = row.try_get("job_id")?;
+                sqlx::query(
+                    "UPDATE jobs SET status = 'running', started_at = COALESCE(started_at, MAX(?2, created_at)) WHERE id = ?1 AND status = 'queued'",
+                )
+                .bind(&job_id)
+                .bind(now)
+                .execute(&mut *tx)
+                .await?;
+                let job_row = sqlx::query(
+                    "SELECT kind, (SELECT COUNT(*) FROM tasks WHERE job_id = ?1) AS n FROM jobs WHERE id = ?1",
+                )
+                .bind(&job_id)
+                .fetch_one(&mut *tx)
+                .await?;
+                let kind: String = job_row.try_get("kind")?;
+                let tasks: i64 = job_row.try_get("n")?;
                 tx.commit().await?;
-                return Ok(None);
-            };
-            let job_id: String = row.try_get("job_id")?;
-            sqlx::query(
-                "UPDATE jobs SET status = 'running', started_at = COALESCE(started_at, MAX(?2, created_at)) WHERE id = ?1 AND status = 'queued'",
-            )
-            .bind(&job_id)
-            .bind(now)
-            .execute(&mut *tx)
-            .await?;
-            let job_row = sqlx::query(
-                "SELECT kind, (SELECT COUNT(*) FROM tasks WHERE job_id = ?1) AS n FROM jobs WHERE id = ?1",
-            )
-            .bind(&job_id)
-            .fetch_one(&mut *tx)
-            .await?;
-            let kind: String = job_row.try_get("kind")?;
-            let tasks: i64 = job_row.try_get("n")?;
-            tx.commit().await?;
-            Ok(Some(TaskClaim {
-                job_id: parse_id(&job_id)?,
-                idx: row.try_get("idx")?,
-                kind,
-                payload: row.try_get("payload")?,
-                attempts: row.try_get("attempts")?,
-                tasks,
-            }))
+                Ok(Some(TaskClaim {
+                    job_id: parse_id(&job_id)?,
+                    idx: row.try_get("idx")?,
+                    kind,
+                    payload: row.try_get("payload")?,
+                    attempts: row.try_get("attempts")?,
+                    tasks,
+                }))
+            }
+            .await;
+            discard_on_error(&mut conn, &result);
+            result
         })
     }
 
@@ -403,20 +473,27 @@ impl JobStore for SqliteStore {
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
             let _write = self.writer.lock().await;
-            let mut tx = self.pool.begin().await?;
-            let held = sqlx::query(
-                "UPDATE tasks SET status = 'done', progress = 1, done_by = lease_owner, lease_owner = NULL, lease_until = NULL \
-                 WHERE job_id = ?1 AND idx = ?2 AND lease_owner = ?3 AND status = 'running'",
-            )
-            .bind(job.to_string())
-            .bind(idx)
-            .bind(owner)
-            .execute(&mut *tx)
-            .await?
-            .rows_affected();
-            let stored = held == 1 && store_result(&mut tx, job, body, numerics, now).await?;
-            tx.commit().await?;
-            Ok(stored)
+            let mut conn = self.pool.acquire().await?;
+            let result: Result<_, StoreError> = async {
+                let mut tx = sqlx::Connection::begin(&mut *conn).await?;
+                let held = sqlx::query(
+                    "UPDATE tasks SET status = 'done', progress = 1, done_by = lease_owner, lease_owner = NULL, lease_until = NULL \
+                     WHERE job_id = ?1 AND idx = ?2 AND lease_owner = ?3 AND status = 'running'",
+                )
+                .bind(job.to_string())
+                .bind(idx)
+                .bind(owner)
+                .execute(&mut *tx)
+                .await?
+                .rows_affected();
+                let stored = held == 1 && store_result(&mut tx, job, body, numerics, now).await?;
+                tx.commit().await?;
+                Ok(stored)
+            }
+            .await;
+            discard_on_error(&mut conn, &result);
+            self.note(&result);
+            result
         })
     }
 
@@ -449,10 +526,17 @@ impl JobStore for SqliteStore {
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
             let _write = self.writer.lock().await;
-            let mut tx = self.pool.begin().await?;
-            let stored = store_result(&mut tx, job, body, numerics, now).await?;
-            tx.commit().await?;
-            Ok(stored)
+            let mut conn = self.pool.acquire().await?;
+            let result: Result<_, StoreError> = async {
+                let mut tx = sqlx::Connection::begin(&mut *conn).await?;
+                let stored = store_result(&mut tx, job, body, numerics, now).await?;
+                tx.commit().await?;
+                Ok(stored)
+            }
+            .await;
+            discard_on_error(&mut conn, &result);
+            self.note(&result);
+            result
         })
     }
 
@@ -464,24 +548,30 @@ impl JobStore for SqliteStore {
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
             let _write = self.writer.lock().await;
-            let mut tx = self.pool.begin().await?;
-            let n = sqlx::query(
-                "UPDATE jobs SET status = 'failed', error = ?2, finished_at = ?3 WHERE id = ?1 AND status IN ('queued', 'running')",
-            )
-            .bind(job.to_string())
-            .bind(error)
-            .bind(now)
-            .execute(&mut *tx)
-            .await?
-            .rows_affected();
-            sqlx::query(
-                "UPDATE tasks SET status = 'canceled', lease_owner = NULL, lease_until = NULL WHERE job_id = ?1 AND status IN ('queued', 'running')",
-            )
-            .bind(job.to_string())
-            .execute(&mut *tx)
-            .await?;
-            tx.commit().await?;
-            Ok(n == 1)
+            let mut conn = self.pool.acquire().await?;
+            let result: Result<_, StoreError> = async {
+                let mut tx = sqlx::Connection::begin(&mut *conn).await?;
+                let n = sqlx::query(
+                    "UPDATE jobs SET status = 'failed', error = ?2, finished_at = ?3 WHERE id = ?1 AND status IN ('queued', 'running')",
+                )
+                .bind(job.to_string())
+                .bind(error)
+                .bind(now)
+                .execute(&mut *tx)
+                .await?
+                .rows_affected();
+                sqlx::query(
+                    "UPDATE tasks SET status = 'canceled', lease_owner = NULL, lease_until = NULL WHERE job_id = ?1 AND status IN ('queued', 'running')",
+                )
+                .bind(job.to_string())
+                .execute(&mut *tx)
+                .await?;
+                tx.commit().await?;
+                Ok(n == 1)
+            }
+            .await;
+            discard_on_error(&mut conn, &result);
+            result
         })
     }
 
@@ -514,22 +604,29 @@ impl JobStore for SqliteStore {
     ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>> {
         Box::pin(async move {
             let _write = self.writer.lock().await;
-            let mut tx = self.pool.begin().await?;
-            sqlx::query(
-                "UPDATE jobs SET status = 'canceled', finished_at = ?2 WHERE id = ?1 AND status IN ('queued', 'running')",
-            )
-            .bind(id.to_string())
-            .bind(now)
-            .execute(&mut *tx)
-            .await?;
-            sqlx::query(
-                "UPDATE tasks SET status = 'canceled', lease_owner = NULL, lease_until = NULL WHERE job_id = ?1 AND status IN ('queued', 'running')",
-            )
-            .bind(id.to_string())
-            .execute(&mut *tx)
-            .await?;
-            tx.commit().await?;
-            self.fetch(id).await
+            let mut conn = self.pool.acquire().await?;
+            let result: Result<_, StoreError> = async {
+                let mut tx = sqlx::Connection::begin(&mut *conn).await?;
+                sqlx::query(
+                    "UPDATE jobs SET status = 'canceled', finished_at = ?2 WHERE id = ?1 AND status IN ('queued', 'running')",
+                )
+                .bind(id.to_string())
+                .bind(now)
+                .execute(&mut *tx)
+                .await?;
+                sqlx::query(
+                    "UPDATE tasks SET status = 'canceled', lease_owner = NULL, lease_until = NULL WHERE job_id = ?1 AND status IN ('queued', 'running')",
+                )
+                .bind(id.to_string())
+                .execute(&mut *tx)
+                .await?;
+                let job = fetch_with(&mut *tx, id).await?;
+                tx.commit().await?;
+                Ok(job)
+            }
+            .await;
+            discard_on_error(&mut conn, &result);
+            result
         })
     }
 
@@ -601,6 +698,36 @@ impl JobStore for SqliteStore {
         Box::pin(async move {
             sqlx::query("SELECT 1").execute(&self.pool).await?;
             Ok(())
+        })
+    }
+
+    fn writable(&self) -> BoxFuture<'_, Result<(), StoreError>> {
+        Box::pin(async move {
+            {
+                let health = self.failing.lock().unwrap_or_else(|e| e.into_inner());
+                if let Some(at) = health.last_failure
+                    && at.elapsed() < FAILURE_WINDOW
+                {
+                    return Err(StoreError::WritesFailing(format!(
+                        "a write failed {:.1} s ago",
+                        at.elapsed().as_secs_f64()
+                    )));
+                }
+                if !health.failing {
+                    return Ok(());
+                }
+            }
+            let _write = self.writer.lock().await;
+            let result = sqlx::query(
+                "INSERT INTO probe (id, at) VALUES (1, ?1) ON CONFLICT (id) DO UPDATE SET at = excluded.at",
+            )
+            .bind(super::now_rfc3339())
+            .execute(&self.pool)
+            .await
+            .map(|_| ())
+            .map_err(StoreError::from);
+            self.note(&result);
+            result
         })
     }
 }

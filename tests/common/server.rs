@@ -164,6 +164,15 @@ pub mod http {
 
     /// Sends one request (`Connection: close`) and returns the status and body.
     pub fn request(method: &str, url: &str, body: Option<&str>) -> std::io::Result<(u16, String)> {
+        request_full(method, url, body).map(|(status, _, body)| (status, body))
+    }
+
+    /// As [`request`], with the response head (status line and headers) too.
+    pub fn request_full(
+        method: &str,
+        url: &str,
+        body: Option<&str>,
+    ) -> std::io::Result<(u16, String, String)> {
         let rest = url.trim_start_matches("http://");
         let (host, path) = rest
             .split_once('/')
@@ -214,7 +223,7 @@ pub mod http {
         };
         let text =
             String::from_utf8(payload).map_err(|_| Error::new(ErrorKind::InvalidData, "UTF-8"))?;
-        Ok((status, text))
+        Ok((status, head, text))
     }
 
     /// The status of a GET.
