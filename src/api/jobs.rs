@@ -432,6 +432,10 @@ async fn wait_for(state: &AppState, id: Uuid, limit: Duration) -> Result<JobReco
         (status = 422, description = "Invalid spec, or over a service limit; `pointer` names the field", body = Problem, content_type = "application/problem+json"),
         (status = 429, description = "Queue full; retry after the Retry-After seconds", body = Problem, content_type = "application/problem+json",
             headers(("Retry-After" = String, description = "Seconds to wait"))),
+        (status = 503, description = "The database is unavailable; nothing was saved", body = Problem, content_type = "application/problem+json",
+            headers(("Retry-After" = String, description = "Seconds to wait"))),
+        (status = 507, description = "The service's storage is full; nothing was saved", body = Problem, content_type = "application/problem+json",
+            headers(("Retry-After" = String, description = "Seconds to wait"))),
     )
 )]
 pub async fn create_job(
