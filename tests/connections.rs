@@ -2,7 +2,8 @@
 //! that never finishes its headers, an idle keep-alive connection, a body sent
 //! a byte at a time, more connections than the server serves at once, more
 //! than it has file descriptors for, and all of them at once during a
-//! shutdown, which still ends within the grace period.
+//! shutdown, which still ends within the grace period. Limits of zero are
+//! refused at start.
 
 mod common;
 
@@ -440,4 +441,41 @@ fn a_body_sent_too_slowly_is_answered_408() {
         http::get_status(&format!("{}/healthz", server.base)).expect("GET /healthz"),
         200
     );
+}
+
+#[test]
+fn zero_connection_limits_are_refused_at_start() {
+    let dir = temp_dir("conn-zero");
+    let db = sqlite_url(&dir);
+    for (flag, message) in [
+        ("--max-connections", "--max-connections must be at least 1"),
+        (
+            "--header-read-timeout",
+            "--header-read-timeout must be a positive number of seconds",
+        ),
+        (
+            "--idle-timeout",
+            "--idle-timeout must be a positive number of seconds",
+        ),
+        (
+            "--body-read-timeout",
+            "--body-read-timeout must be a positive number of seconds",
+        ),
+    ] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_topple"))
+            .args([
+                "serve",
+                "--addr",
+                "127.0.0.1:0",
+                "--database",
+                &db,
+                flag,
+                "0",
+            ])
+            .output()
+            .expect("topple runs");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{flag} 0: {stderr}");
+        assert!(stderr.contains(message), "{flag} 0: {stderr}");
+    }
 }
