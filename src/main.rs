@@ -40,9 +40,24 @@ struct ServeArgs {
     /// Longest ?wait= honoured, seconds.
     #[arg(long, env = "TOPPLE_MAX_WAIT", default_value_t = 60.0)]
     max_wait: f64,
-    /// Seconds shutdown waits for running jobs before requeuing them.
+    /// Seconds shutdown waits for requests in flight and running jobs; then
+    /// it drops the connections left and requeues the jobs left.
     #[arg(long, env = "TOPPLE_SHUTDOWN_GRACE", default_value_t = 20.0)]
     shutdown_grace: f64,
+    /// Seconds a client may take to send a request's headers (from connecting,
+    /// or from the first byte after an idle spell); then the connection closes.
+    #[arg(long, env = "TOPPLE_HEADER_READ_TIMEOUT", default_value_t = 10.0)]
+    header_read_timeout: f64,
+    /// Seconds a connection may stay open with no request in flight.
+    #[arg(long, env = "TOPPLE_IDLE_TIMEOUT", default_value_t = 60.0)]
+    idle_timeout: f64,
+    /// Seconds a client may take to send a request's body (from the end of its
+    /// headers); then the request is answered 408.
+    #[arg(long, env = "TOPPLE_BODY_READ_TIMEOUT", default_value_t = 30.0)]
+    body_read_timeout: f64,
+    /// Most connections served at once; more wait in the listen backlog.
+    #[arg(long, env = "TOPPLE_MAX_CONNECTIONS", default_value_t = 1024)]
+    max_connections: usize,
     /// Seconds a claimed task stays leased without a heartbeat (then another
     /// instance may take it over).
     #[arg(long, env = "TOPPLE_LEASE", default_value_t = 10.0)]
@@ -155,6 +170,13 @@ fn seconds(v: f64, name: &str) -> Result<std::time::Duration, (u8, String)> {
     }
 }
 
+fn positive_seconds(v: f64, name: &str) -> Result<std::time::Duration, (u8, String)> {
+    match seconds(v, name)? {
+        d if d.is_zero() => Err((2, format!("--{name} must be a positive number of seconds"))),
+        d => Ok(d),
+    }
+}
+
 fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()
         .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"));
@@ -169,6 +191,9 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
             .init();
     } else {
         builder.init();
+    }
+    if args.max_connections == 0 {
+        return Err((2, "--max-connections must be at least 1".into()));
     }
     let mut config = topple::service::ServeConfig {
         addr: args.addr,
@@ -196,6 +221,10 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
             .map(|o| o.trim().to_string())
             .filter(|o| !o.is_empty())
             .collect(),
+        header_read_timeout: positive_seconds(args.header_read_timeout, "header-read-timeout")?,
+        idle_timeout: positive_seconds(args.idle_timeout, "idle-timeout")?,
+        body_read_timeout: positive_seconds(args.body_read_timeout, "body-read-timeout")?,
+        max_connections: args.max_connections,
         ..Default::default()
     };
     if let Some(name) = args.instance {

@@ -406,6 +406,51 @@ async fn wait_for(state: &AppState, id: Uuid, limit: Duration) -> Result<JobReco
     }
 }
 
+/// Whether the body was cut off by the body read deadline.
+fn body_timed_out(e: &BytesRejection) -> bool {
+    let mut cause: Option<&(dyn std::error::Error + 'static)> = Some(e);
+    while let Some(err) = cause {
+        if err.is::<tower_http::timeout::TimeoutError>() {
+            return true;
+        }
+        cause = err.source();
+    }
+    false
+}
+
+/// 408 for a body that came too slowly; the connection closes after it (the
+/// rest of the body is never read).
+fn body_timeout(state: &AppState) -> Response {
+    state.metrics.body_timeouts.increment(1);
+    let limit = state.config.body_read_timeout.as_secs_f64();
+    let mut p = Problem::new(
+        StatusCode::REQUEST_TIMEOUT,
+        "body-timeout",
+        "Body too slow",
+        format!(
+            "the body did not arrive within this service's limit of {limit} s (body_read_timeout)"
+        ),
+    )
+    .at("");
+    p.limit = Some("body_read_timeout".into());
+    p.maximum = Some(limit);
+    let mut response = p.into_response();
+    response
+        .headers_mut()
+        .insert(header::CONNECTION, HeaderValue::from_static("close"));
+    response
+}
+
+/// The problem with an unreadable body: too large (413), or otherwise broken.
+fn body_problem(state: &AppState, e: &BytesRejection) -> Problem {
+    let status = e.status();
+    if status == StatusCode::PAYLOAD_TOO_LARGE {
+        Problem::body_too_large(state.config.max_body_bytes)
+    } else {
+        Problem::new(status, "invalid-body", "Unreadable body", e.body_text()).at("")
+    }
+}
+
 /// Submit a job.
 ///
 /// The body is a job spec exactly as `topple run` accepts it. An identical job
@@ -427,6 +472,7 @@ async fn wait_for(state: &AppState, id: Uuid, limit: Duration) -> Result<JobReco
             headers(("Location" = String, description = "The job's URL"))),
         (status = 400, description = "Not JSON, or a bad query", body = Problem, content_type = "application/problem+json"),
         (status = 401, description = "A token is configured and the request lacks it", body = Problem, content_type = "application/problem+json"),
+        (status = 408, description = "The body did not arrive within the service's limit (body_read_timeout); the connection is closed", body = Problem, content_type = "application/problem+json"),
         (status = 413, description = "Body too large", body = Problem, content_type = "application/problem+json"),
         (status = 415, description = "Not sent as application/json", body = Problem, content_type = "application/problem+json"),
         (status = 422, description = "Invalid spec, or over a service limit; `pointer` names the field", body = Problem, content_type = "application/problem+json"),
@@ -446,14 +492,11 @@ pub async fn create_job(
 ) -> Result<Response, Problem> {
     check_json_content_type(&headers)?;
     let query = self::query(query, &["wait"])?;
-    let body = body.map_err(|e| {
-        let status = e.status();
-        if status == StatusCode::PAYLOAD_TOO_LARGE {
-            Problem::body_too_large(state.config.max_body_bytes)
-        } else {
-            Problem::new(status, "invalid-body", "Unreadable body", e.body_text()).at("")
-        }
-    })?;
+    let body = match body {
+        Ok(body) => body,
+        Err(e) if body_timed_out(&e) => return Ok(body_timeout(&state)),
+        Err(e) => return Err(body_problem(&state, &e)),
+    };
     let wait = wait_duration(&state, query.wait)?;
     let text = std::str::from_utf8(&body)
         .map_err(|_| Problem::bad_request("invalid-body", "the body is not UTF-8"))?;

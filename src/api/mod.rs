@@ -26,7 +26,7 @@ use tower_http::compression::CompressionLayer;
 use tower_http::cors::{AllowOrigin, CorsLayer};
 use tower_http::request_id::{MakeRequestUuid, PropagateRequestIdLayer, SetRequestIdLayer};
 use tower_http::set_header::SetResponseHeaderLayer;
-use tower_http::timeout::TimeoutLayer;
+use tower_http::timeout::{RequestBodyDeadlineLayer, TimeoutLayer};
 use tower_http::trace::TraceLayer;
 use utoipa::OpenApi;
 use utoipa_axum::router::OpenApiRouter;
@@ -214,8 +214,8 @@ pub fn router(state: AppState) -> Router {
 
 /// Wraps routes in what every request passes through: tracing, panic
 /// catching, CORS, the request timeout, bare errors turned into problem+json,
-/// authentication and the body limit; unknown routes and methods answer
-/// problem+json too.
+/// authentication, the body limit and the body read deadline; unknown routes
+/// and methods answer problem+json too.
 pub fn with_layers(routes: Router<AppState>, state: AppState) -> Router {
     let max_body = state.config.max_body_bytes;
     let timeout = state.config.max_wait + Duration::from_secs(15);
@@ -224,6 +224,9 @@ pub fn with_layers(routes: Router<AppState>, state: AppState) -> Router {
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(max_body))
+        .layer(RequestBodyDeadlineLayer::new(
+            state.config.body_read_timeout,
+        ))
         .layer(axum::middleware::from_fn_with_state(
             state.clone(),
             http::refuse_oversized_bodies,

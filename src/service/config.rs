@@ -38,6 +38,17 @@ pub struct ServeConfig {
     pub auth_reads: bool,
     /// Origins allowed by CORS (`*` for any); none: same origin only.
     pub cors_origins: Vec<String>,
+    /// Longest time a client may take to send a request's headers, counted
+    /// from the connection's opening or from the first byte of a request
+    /// after an idle spell; past it the connection is closed.
+    pub header_read_timeout: Duration,
+    /// Longest time a connection stays open with no request in flight.
+    pub idle_timeout: Duration,
+    /// Longest time a client may take to send a request's body, counted from
+    /// the end of its headers; past it the request is answered 408.
+    pub body_read_timeout: Duration,
+    /// Most connections served at once; more wait in the listen backlog.
+    pub max_connections: usize,
 }
 
 impl Default for ServeConfig {
@@ -59,6 +70,10 @@ impl Default for ServeConfig {
             api_token: None,
             auth_reads: false,
             cors_origins: Vec::new(),
+            header_read_timeout: Duration::from_secs(10),
+            idle_timeout: Duration::from_secs(60),
+            body_read_timeout: Duration::from_secs(30),
+            max_connections: 1024,
         }
     }
 }

@@ -21,6 +21,20 @@ pub struct Metrics {
     pub rejected_full: Counter,
     /// Jobs failed for running past the compute-time limit.
     pub timed_out: Counter,
+    /// Connections open now.
+    pub connections_open: Gauge,
+    /// Connections accepted.
+    pub connections_accepted: Counter,
+    /// Connections closed for sending request headers too slowly.
+    pub closed_header_timeout: Counter,
+    /// Connections closed after idling past the idle timeout.
+    pub closed_idle_timeout: Counter,
+    /// Connections dropped when the shutdown grace period ran out.
+    pub closed_at_shutdown: Counter,
+    /// Failed accepts (other than connections reset before they were accepted).
+    pub accept_errors: Counter,
+    /// Requests answered 408 because their body came too slowly.
+    pub body_timeouts: Counter,
     jobs: Vec<(Status, Gauge)>,
     queue_depth: Gauge,
     compute: Vec<(&'static str, Histogram)>,
@@ -48,6 +62,21 @@ impl Metrics {
         let submitted = counter("topple_jobs_submitted_total");
         let rejected_full = counter("topple_jobs_rejected_queue_full_total");
         let timed_out = counter("topple_jobs_timed_out_total");
+        let connections_open =
+            recorder.register_gauge(&Key::from_name("topple_connections_open"), &META);
+        let connections_accepted = counter("topple_connections_accepted_total");
+        let closed = |reason: &'static str| {
+            let key = Key::from_parts(
+                "topple_connections_closed_total",
+                vec![Label::new("reason", reason)],
+            );
+            recorder.register_counter(&key, &META)
+        };
+        let closed_header_timeout = closed("header_timeout");
+        let closed_idle_timeout = closed("idle_timeout");
+        let closed_at_shutdown = closed("shutdown");
+        let accept_errors = counter("topple_accept_errors_total");
+        let body_timeouts = counter("topple_request_body_timeouts_total");
         let jobs = Status::ALL
             .iter()
             .map(|&s| {
@@ -70,6 +99,13 @@ impl Metrics {
             submitted,
             rejected_full,
             timed_out,
+            connections_open,
+            connections_accepted,
+            closed_header_timeout,
+            closed_idle_timeout,
+            closed_at_shutdown,
+            accept_errors,
+            body_timeouts,
             jobs,
             queue_depth,
             compute,

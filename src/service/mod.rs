@@ -4,10 +4,11 @@
 //! `Application::build` opens the store (applying migrations), requeues jobs
 //! that a dead process left running, and binds the listener;
 //! `Application::run_until` serves until the shutdown future resolves, then
-//! stops accepting, lets running jobs finish within the grace period and
-//! requeues the rest.
+//! stops accepting, lets requests in flight and running jobs finish within the
+//! grace period, drops the connections left and requeues the jobs left.
 
 pub mod config;
+mod conn;
 pub mod metrics;
 pub mod results;
 pub mod throughput;
@@ -218,15 +219,13 @@ impl Application {
         let app = crate::api::router(state.clone());
         info!(addr = %listener.local_addr()?, workers = state.config.workers, "serving");
         let (signal_tx, signal_rx) = watch::channel(false);
-        let serve = axum::serve(listener, app).with_graceful_shutdown({
-            let mut rx = signal_rx.clone();
-            async move {
-                let _ = rx.wait_for(|v| *v).await;
-            }
+        let server = tokio::spawn({
+            let config = state.config.clone();
+            let metrics = state.metrics.clone();
+            async move { conn::serve(listener, app, &config, metrics, signal_rx).await }
         });
-        let server = tokio::spawn(async move { serve.await });
         shutdown.await;
-        info!("shutting down: no new requests, draining jobs");
+        info!("shutting down: no new requests, draining requests and jobs");
         let _ = signal_tx.send(true);
         // Workers stop claiming; requests waiting on jobs answer at once.
         let _ = state.stop.send(true);
@@ -234,9 +233,8 @@ impl Application {
         for w in workers {
             let _ = w.await;
         }
-        match server.await {
-            Ok(r) => r?,
-            Err(e) => return Err(ServeError::Io(std::io::Error::other(e.to_string()))),
+        if let Err(e) = server.await {
+            return Err(ServeError::Io(std::io::Error::other(e.to_string())));
         }
         info!("stopped");
         Ok(())

@@ -33,10 +33,16 @@ impl Server {
     /// exits at start-up (another process took its port meanwhile) is started
     /// again on another port.
     pub fn start(db: &str, extra: &[&str], log: Option<&Path>) -> Server {
+        Server::start_under(&[], db, extra, log)
+    }
+
+    /// As [`Server::start`], the binary run by `wrapper` (a program and its
+    /// arguments, given the binary and its arguments after them) when not empty.
+    pub fn start_under(wrapper: &[&str], db: &str, extra: &[&str], log: Option<&Path>) -> Server {
         let mut attempts = 0;
         loop {
             attempts += 1;
-            match Server::try_start(db, extra, log) {
+            match Server::try_start(wrapper, db, extra, log) {
                 Ok(server) => return server,
                 Err(why) if attempts < 3 => eprintln!("{why}; starting again"),
                 Err(why) => panic!("{why}"),
@@ -44,7 +50,12 @@ impl Server {
         }
     }
 
-    fn try_start(db: &str, extra: &[&str], log: Option<&Path>) -> Result<Server, String> {
+    fn try_start(
+        wrapper: &[&str],
+        db: &str,
+        extra: &[&str],
+        log: Option<&Path>,
+    ) -> Result<Server, String> {
         let port = free_port();
         let (stdout, stderr) = match log {
             Some(path) => {
@@ -58,7 +69,16 @@ impl Server {
             }
             None => (Stdio::null(), Stdio::null()),
         };
-        let child = Command::new(env!("CARGO_BIN_EXE_topple"))
+        let binary = env!("CARGO_BIN_EXE_topple");
+        let mut command = match wrapper.split_first() {
+            Some((program, args)) => {
+                let mut c = Command::new(program);
+                c.args(args).arg(binary);
+                c
+            }
+            None => Command::new(binary),
+        };
+        let child = command
             .args([
                 "serve",
                 "--addr",
