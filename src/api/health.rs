@@ -40,6 +40,7 @@ pub async fn readyz(State(state): State<AppState>) -> Result<axum::Json<Health>,
             "Not ready",
             "the database does not answer",
         )
+        .retry_after(2)
     })?;
     state.store.writable().await.map_err(|e| {
         tracing::warn!(error = %e, "readiness: the database does not take writes");
@@ -59,7 +60,8 @@ pub async fn readyz(State(state): State<AppState>) -> Result<axum::Json<Health>,
             "not-ready",
             "Not ready",
             "shutting down",
-        ));
+        )
+        .retry_after(2));
     }
     Ok(axum::Json(Health {
         status: "ready".into(),

@@ -16,6 +16,49 @@ use super::{BoxFuture, JobRecord, JobStore, ListQuery, Status, StoreError, Submi
 /// The channel that announces queued work.
 const CHANNEL: &str = "topple_tasks";
 
+/// Longest wait for a connection: past it a request fails with 503.
+const ACQUIRE_TIMEOUT: Duration = Duration::from_millis(1500);
+
+/// Longest pause between attempts to listen again after the connection was
+/// lost (the pauses double from 100 ms up to it).
+const LISTEN_BACKOFF_MAX: Duration = Duration::from_secs(3);
+
+/// Wakes idle workers at each notification on [`CHANNEL`], for as long as the
+/// pool is open. A lost connection (the database restarted, or the network
+/// failed) is listened on again, with a backoff, for as long as it takes; the
+/// workers poll meanwhile, and are woken once listening resumes in case work
+/// was queued while it was down.
+async fn listen(pool: PgPool, mut listener: PgListener, wake: Arc<Notify>) {
+    loop {
+        match listener.recv().await {
+            Ok(_) => wake.notify_waiters(),
+            Err(e) => {
+                if pool.is_closed() {
+                    return;
+                }
+                tracing::warn!(error = %e, "lost the notification connection; listening again");
+                let mut pause = Duration::from_millis(100);
+                listener = loop {
+                    tokio::time::sleep(pause).await;
+                    if pool.is_closed() {
+                        return;
+                    }
+                    match PgListener::connect_with(&pool).await {
+                        Ok(mut l) => match l.listen(CHANNEL).await {
+                            Ok(()) => break l,
+                            Err(e) => tracing::debug!(error = %e, "listen failed"),
+                        },
+                        Err(e) => tracing::debug!(error = %e, "notification connection failed"),
+                    }
+                    pause = (pause * 2).min(LISTEN_BACKOFF_MAX);
+                };
+                tracing::info!("listening for queued tasks again");
+                wake.notify_waiters();
+            }
+        }
+    }
+}
+
 /// The job columns, with the progress taken from the tasks.
 macro_rules! job_select {
     () => {
@@ -62,20 +105,15 @@ impl PgStore {
     pub async fn open(url: &str, connections: u32) -> Result<Self, StoreError> {
         let pool = PgPoolOptions::new()
             .max_connections(connections.max(2))
-            .acquire_timeout(Duration::from_secs(10))
+            // A database that is down fails requests fast (503), not after 10 s.
+            .acquire_timeout(ACQUIRE_TIMEOUT)
             .connect(url)
             .await?;
         sqlx::migrate!("./migrations/postgres").run(&pool).await?;
         let queued = Arc::new(Notify::new());
         let mut listener = PgListener::connect_with(&pool).await?;
         listener.listen(CHANNEL).await?;
-        let wake = queued.clone();
-        tokio::spawn(async move {
-            // Reconnects by itself; ends when the pool is closed.
-            while let Ok(_n) = listener.recv().await {
-                wake.notify_waiters();
-            }
-        });
+        tokio::spawn(listen(pool.clone(), listener, queued.clone()));
         Ok(PgStore { pool, queued })
     }
 
