@@ -46,7 +46,7 @@ struct WriteHealth {
 
 /// After a failed write, readiness stays 503 this long even if a small write
 /// gets through meanwhile: a nearly full disk takes some writes and not others.
-const FAILURE_WINDOW: Duration = Duration::from_secs(5);
+const FAILURE_WINDOW: Duration = Duration::from_secs(2);
 
 pub(super) fn parse_id(id: &str) -> Result<Uuid, StoreError> {
     Uuid::parse_str(id).map_err(|e| StoreError::Corrupt(e.to_string()))
