@@ -247,7 +247,21 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
     })
 }
 
+/// Allocations of 128 KiB and more get pages of their own, returned to the
+/// system when freed. glibc otherwise raises that threshold to the largest
+/// block freed so far (up to 32 MiB), after which a large result read or
+/// written once stays in the heap: resident, though unused.
+fn return_large_blocks() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt only sets a tunable of the allocator; it is called
+    // before any other thread exists.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 128 * 1024);
+    }
+}
+
 fn main() -> ExitCode {
+    return_large_blocks();
     let cli = Cli::parse();
     let command = cli.command.unwrap_or_else(|| {
         // `topple` alone serves with the defaults (and environment).
