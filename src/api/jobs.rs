@@ -125,7 +125,7 @@ pub struct JobView {
     /// The normalised spec (in listings only with `?include=spec`).
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schema(value_type = Option<crate::jobs::schema::NormalizedSpec>)]
-    pub spec: Option<serde_json::Value>,
+    pub spec: Option<Box<serde_json::value::RawValue>>,
     /// Links.
     pub links: Links,
     /// On submission: the simulations the job needs and the time expected.
@@ -140,7 +140,11 @@ pub struct JobView {
 
 pub(crate) fn view(r: &JobRecord, cached: Option<bool>) -> JobView {
     let mut v = summary(r, cached);
-    v.spec = Some(serde_json::from_str(&r.spec).unwrap_or(serde_json::Value::Null));
+    // The stored text as it is: a spec may hold a long record, several times
+    // its text once parsed.
+    v.spec = serde_json::value::RawValue::from_string(r.spec.clone())
+        .or_else(|_| serde_json::value::RawValue::from_string("null".into()))
+        .ok();
     v
 }
 
