@@ -58,6 +58,11 @@ struct ServeArgs {
     /// Most connections served at once; more wait in the listen backlog.
     #[arg(long, env = "TOPPLE_MAX_CONNECTIONS", default_value_t = 1024)]
     max_connections: usize,
+    /// MiB of large result documents (over 512 KiB) held in memory at once
+    /// for the requests reading them; a read beyond waits for room, then
+    /// answers 503.
+    #[arg(long, env = "TOPPLE_RESULT_MEMORY", default_value_t = 128)]
+    result_memory: usize,
     /// Seconds a claimed task stays leased without a heartbeat (then another
     /// instance may take it over).
     #[arg(long, env = "TOPPLE_LEASE", default_value_t = 10.0)]
@@ -195,6 +200,9 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
     if args.max_connections == 0 {
         return Err((2, "--max-connections must be at least 1".into()));
     }
+    if args.result_memory == 0 {
+        return Err((2, "--result-memory must be at least 1 (MiB)".into()));
+    }
     let mut config = topple::service::ServeConfig {
         addr: args.addr,
         database_url: args.database,
@@ -225,6 +233,7 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
         idle_timeout: positive_seconds(args.idle_timeout, "idle-timeout")?,
         body_read_timeout: positive_seconds(args.body_read_timeout, "body-read-timeout")?,
         max_connections: args.max_connections,
+        result_memory: args.result_memory.saturating_mul(1 << 20),
         ..Default::default()
     };
     if let Some(name) = args.instance {
@@ -247,7 +256,21 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
     })
 }
 
+/// Allocations of 128 KiB and more get pages of their own, returned to the
+/// system when freed. glibc otherwise raises that threshold to the largest
+/// block freed so far (up to 32 MiB), after which a large result read or
+/// written once stays in the heap: resident, though unused.
+fn return_large_blocks() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt only sets a tunable of the allocator; it is called
+    // before any other thread exists.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 128 * 1024);
+    }
+}
+
 fn main() -> ExitCode {
+    return_large_blocks();
     let cli = Cli::parse();
     let command = cli.command.unwrap_or_else(|| {
         // `topple` alone serves with the defaults (and environment).

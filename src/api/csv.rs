@@ -55,16 +55,19 @@ pub fn to_csv(result: &Value) -> Result<String, String> {
     Ok(out)
 }
 
+/// The columns of a time history's series: (key, header).
+const SERIES_COLUMNS: [(&str, &str); 5] = [
+    ("t", "t_s"),
+    ("theta", "theta_rad"),
+    ("theta_dot", "theta_dot_rad_per_s"),
+    ("ground_acceleration", "ground_acceleration_m_per_s2"),
+    ("fx_over_fz", "fx_over_fz"),
+];
+
 /// The series when there is one; else the impacts; else a one-row summary.
 fn time_history(result: &Value, out: &mut String) {
     if let Some(s) = result.get("series") {
-        let cols = [
-            ("t", "t_s"),
-            ("theta", "theta_rad"),
-            ("theta_dot", "theta_dot_rad_per_s"),
-            ("ground_acceleration", "ground_acceleration_m_per_s2"),
-            ("fx_over_fz", "fx_over_fz"),
-        ];
+        let cols = SERIES_COLUMNS;
         let data: Vec<&[Value]> = cols.iter().map(|(key, _)| array(s, key)).collect();
         let present: Vec<usize> = (0..cols.len()).filter(|&i| !data[i].is_empty()).collect();
         if !present.is_empty() {
@@ -272,6 +275,144 @@ fn forensic(result: &Value, out: &mut String) {
     }
 }
 
+/// The table of a time history's series read row by row from the stored
+/// document, without parsing it whole: the same bytes as [`to_csv`], in
+/// pieces, holding only the document and the piece at hand.
+///
+/// It keeps, per column present, the offset in the document of the column's
+/// next sample; each sample is parsed on its own and written as [`to_csv`]
+/// writes it.
+#[derive(Clone, Debug)]
+pub struct SeriesRows {
+    /// The header row, until written.
+    header: Option<String>,
+    /// Per column present: where its next sample starts (`None`: ended).
+    next: Vec<Option<usize>>,
+}
+
+/// The parts of a result document that decide its table; the rest (a
+/// record in the spec, say) is skipped without being kept.
+#[derive(serde::Deserialize)]
+struct Head<'a> {
+    #[serde(borrow)]
+    kind: Option<&'a str>,
+    #[serde(borrow)]
+    series: Option<&'a serde_json::value::RawValue>,
+}
+
+/// The columns of a series, as text.
+#[derive(serde::Deserialize)]
+struct Columns<'a> {
+    #[serde(borrow)]
+    t: Option<&'a serde_json::value::RawValue>,
+    #[serde(borrow)]
+    theta: Option<&'a serde_json::value::RawValue>,
+    #[serde(borrow)]
+    theta_dot: Option<&'a serde_json::value::RawValue>,
+    #[serde(borrow)]
+    ground_acceleration: Option<&'a serde_json::value::RawValue>,
+    #[serde(borrow)]
+    fx_over_fz: Option<&'a serde_json::value::RawValue>,
+}
+
+/// JSON's whitespace.
+const WS: [char; 4] = [' ', '\t', '\n', '\r'];
+
+impl SeriesRows {
+    /// The series table of result document `text` when it is a time history
+    /// with a series (`None` otherwise, or when the document is not one this
+    /// reading is sure of: [`to_csv`] renders those).
+    pub fn of(text: &str) -> Option<SeriesRows> {
+        let head: Head<'_> = serde_json::from_str(text).ok()?;
+        if head.kind != Some("time_history") {
+            return None;
+        }
+        let columns: Columns<'_> = serde_json::from_str(head.series?.get()).ok()?;
+        let raw = [
+            columns.t,
+            columns.theta,
+            columns.theta_dot,
+            columns.ground_acceleration,
+            columns.fx_over_fz,
+        ];
+        let mut headers = Vec::new();
+        let mut next = Vec::new();
+        for (raw, (_, name)) in raw.iter().zip(SERIES_COLUMNS) {
+            let Some(raw) = raw.map(|r| r.get()) else {
+                continue;
+            };
+            // The column's offset in the document (it is a slice of it).
+            let at = (raw.as_ptr().addr()).checked_sub(text.as_ptr().addr())?;
+            let inside = raw.strip_prefix('[')?;
+            if inside.trim_start_matches(WS).starts_with(']') {
+                continue;
+            }
+            headers.push(name.to_string());
+            next.push(Some(at + 1));
+        }
+        if next.is_empty() {
+            return None;
+        }
+        let mut header = String::new();
+        row(&mut header, &headers);
+        Some(SeriesRows {
+            header: Some(header),
+            next,
+        })
+    }
+
+    /// Appends rows of document `text` (the one given to [`SeriesRows::of`])
+    /// to `out` until it holds `min` bytes or the table ends; whether rows
+    /// remain.
+    pub fn fill(&mut self, text: &str, out: &mut String, min: usize) -> bool {
+        if let Some(header) = self.header.take() {
+            out.push_str(&header);
+        }
+        let mut fields = Vec::with_capacity(self.next.len());
+        while out.len() < min {
+            fields.clear();
+            let mut any = false;
+            for at in &mut self.next {
+                let sample = next_sample(text, at);
+                any |= sample.is_some();
+                fields.push(f(sample.as_ref()));
+            }
+            if !any {
+                return false;
+            }
+            row(out, &fields);
+        }
+        self.next.iter().any(Option::is_some)
+    }
+}
+
+/// The array element of `text` at or after `at` (just past the `[` or the
+/// previous element), moving `at` past it; `None`, and `at` cleared, at the
+/// array's end.
+fn next_sample(text: &str, at: &mut Option<usize>) -> Option<Value> {
+    let rest = text.get((*at)?..)?.trim_start_matches(WS);
+    let rest = rest
+        .strip_prefix(',')
+        .unwrap_or(rest)
+        .trim_start_matches(WS);
+    if rest.starts_with(']') {
+        *at = None;
+        return None;
+    }
+    let start = text.len() - rest.len();
+    let mut values = serde_json::Deserializer::from_str(rest).into_iter::<Value>();
+    match values.next() {
+        Some(Ok(v)) => {
+            *at = Some(start + values.byte_offset());
+            Some(v)
+        }
+        _ => {
+            *at = None;
+            None
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -421,6 +562,84 @@ mod tests {
             l[2],
             "1.0,6.3,\"'=HYPERLINK(\"\"http://evil\"\",\"\"x\"\")\",overturned,-0.5,3.0"
         );
+    }
+
+    /// The table [`SeriesRows`] writes for `text`, in pieces of `piece` bytes.
+    fn streamed(text: &str, piece: usize) -> Option<String> {
+        let mut rows = SeriesRows::of(text)?;
+        let mut out = String::new();
+        let mut pieces = 0;
+        loop {
+            let mut chunk = String::new();
+            let more = rows.fill(text, &mut chunk, piece);
+            out.push_str(&chunk);
+            pieces += 1;
+            assert!(pieces < 100_000, "no end");
+            if !more {
+                return Some(out);
+            }
+        }
+    }
+
+    #[test]
+    fn series_read_row_by_row_are_the_whole_table() {
+        let docs = [
+            json!({"kind": "time_history", "spec": {"acc": [1.0, 2.0]}, "series": {
+                "t": [0.0, 0.1, 0.2], "theta": [0.0, -0.01, -0.02], "theta_dot": [0.0, -0.1, -0.2],
+                "ground_acceleration": [0.0, 1.0, 2.0], "fx_over_fz": [0.0, null, 0.3]}}),
+            // Columns of different lengths, one empty, one missing, odd numbers.
+            json!({"kind": "time_history", "series": {
+                "t": [0.0, 1e-300, -0.0, 1.7976931348623157e308, 12345678901234567890u64],
+                "theta": [], "theta_dot": [-5, 0.30000000000000004],
+                "ground_acceleration": [null]}, "impacts": []}),
+            json!({"series": {"t": [1.0]}, "kind": "time_history"}),
+        ];
+        for doc in docs {
+            let whole = to_csv(&doc).expect("csv");
+            for text in [
+                serde_json::to_string(&doc).expect("json"),
+                serde_json::to_string_pretty(&doc).expect("json"),
+            ] {
+                for piece in [1, 7, 64, 1 << 16] {
+                    assert_eq!(
+                        streamed(&text, piece).as_deref(),
+                        Some(whole.as_str()),
+                        "{text}"
+                    );
+                }
+            }
+        }
+        // A long series, as a result holds it.
+        let n = 20_000;
+        let t: Vec<f64> = (0..n).map(|k| k as f64 * 0.0005).collect();
+        let theta: Vec<f64> = t.iter().map(|t| (t * 7.0).sin() * 1e-3).collect();
+        let ratio: Vec<Option<f64>> = t.iter().map(|t| (*t < 5.0).then_some(t / 3.0)).collect();
+        let doc = json!({"kind": "time_history", "series": {"t": t, "theta": theta,
+            "theta_dot": theta, "ground_acceleration": t, "fx_over_fz": ratio}});
+        let whole = to_csv(&doc).expect("csv");
+        assert_eq!(whole.lines().count(), n + 1);
+        let text = serde_json::to_string(&doc).expect("json");
+        assert_eq!(streamed(&text, 1 << 16).as_deref(), Some(whole.as_str()));
+    }
+
+    #[test]
+    fn other_tables_are_left_to_the_whole_document() {
+        for doc in [
+            json!({"kind": "time_history", "impacts": [{"t": 1.0}]}),
+            json!({"kind": "time_history", "series": null, "impacts": []}),
+            json!({"kind": "time_history", "series": {"t": [], "theta": 3}}),
+            json!({"kind": "time_history", "series": [1, 2]}),
+            json!({"kind": "spectrum", "series": {"t": [1.0]}}),
+        ] {
+            assert!(SeriesRows::of(&doc.to_string()).is_none(), "{doc}");
+        }
+        // An escaped kind, or a repeated key: the whole document decides.
+        for text in [
+            r#"{"kind":"time_\u0068istory","series":{"t":[1.0]}}"#,
+            r#"{"kind":"time_history","series":{"t":[1.0]},"series":{"t":[2.0]}}"#,
+        ] {
+            assert!(SeriesRows::of(text).is_none(), "{text}");
+        }
     }
 
     #[test]

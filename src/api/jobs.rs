@@ -1,18 +1,20 @@
 //! `/v1/jobs`: submit, inspect, fetch results, cancel, list.
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use axum::body::Bytes;
+use axum::body::{Body, Bytes};
 use axum::extract::rejection::{BytesRejection, PathRejection, QueryRejection};
 use axum::extract::{Path, Query, State};
 use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
+use tokio::sync::OwnedSemaphorePermit;
 use tracing::info;
 use utoipa::{IntoParams, ToSchema};
 use uuid::Uuid;
 
-use super::csv::to_csv;
+use super::csv::{SeriesRows, to_csv};
 use super::problem::Problem;
 use crate::jobs::forensic::ForensicSpec;
 use crate::jobs::friction::FrictionSpec;
@@ -21,7 +23,7 @@ use crate::jobs::spectrum::SpectrumSpec;
 use crate::jobs::time_history::TimeHistorySpec;
 use crate::jobs::{Job, KINDS};
 use crate::service::AppState;
-use crate::service::results::Cached;
+use crate::service::results::{Cached, Document, LoadError, MAX_BODY, SharedText};
 use crate::store::{JobRecord, ListQuery, Status, new_job_id, now_rfc3339};
 
 /// A job spec: exactly what `topple run` accepts.
@@ -125,7 +127,7 @@ pub struct JobView {
     /// The normalised spec (in listings only with `?include=spec`).
     #[serde(skip_serializing_if = "Option::is_none")]
     #[schema(value_type = Option<crate::jobs::schema::NormalizedSpec>)]
-    pub spec: Option<serde_json::Value>,
+    pub spec: Option<Box<serde_json::value::RawValue>>,
     /// Links.
     pub links: Links,
     /// On submission: the simulations the job needs and the time expected.
@@ -140,7 +142,11 @@ pub struct JobView {
 
 pub(crate) fn view(r: &JobRecord, cached: Option<bool>) -> JobView {
     let mut v = summary(r, cached);
-    v.spec = Some(serde_json::from_str(&r.spec).unwrap_or(serde_json::Value::Null));
+    // The stored text as it is: a spec may hold a long record, several times
+    // its text once parsed.
+    v.spec = serde_json::value::RawValue::from_string(r.spec.clone())
+        .or_else(|_| serde_json::value::RawValue::from_string("null".into()))
+        .ok();
     v
 }
 
@@ -276,21 +282,63 @@ pub(crate) async fn load(state: &AppState, id: Uuid) -> Result<JobRecord, Proble
         .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))
 }
 
+/// Longest a result read waits for a turn to read the database, for room in
+/// the memory budget of large results or for a rendering slot; then 503.
+const RESULT_WAIT: Duration = Duration::from_secs(10);
+
+/// Seconds a client told that result reads are busy waits before trying again.
+const BUSY_RETRY_S: u64 = 2;
+
+/// Bytes per piece of a streamed CSV table.
+const CSV_PIECE: usize = 64 * 1024;
+
+/// 503: the memory for large results, or the rendering slots, stayed taken
+/// for [`RESULT_WAIT`].
+fn busy(what: &str) -> Problem {
+    Problem::new(
+        StatusCode::SERVICE_UNAVAILABLE,
+        "busy",
+        "Busy",
+        format!(
+            "{what} stayed busy for {} s; try again in {BUSY_RETRY_S} s",
+            RESULT_WAIT.as_secs()
+        ),
+    )
+    .retry_after(BUSY_RETRY_S)
+}
+
 async fn load_result(state: &AppState, id: Uuid, key: &str) -> Result<Cached, Problem> {
-    if let Some(found) = state.results.get(id) {
-        return Ok(found);
+    match state
+        .results
+        .load(id, key, RESULT_WAIT, state.store.result(id))
+        .await
+    {
+        Ok(Some(found)) => Ok(found),
+        Ok(None) => Err(Problem::internal(format!("result of job {id} is missing"))),
+        Err(LoadError::Store(e)) => Err(e.into()),
+        Err(LoadError::Busy) => Err(busy(
+            "the memory for large results (result_memory) or the database",
+        )),
     }
-    let body: std::sync::Arc<str> = state
-        .store
-        .result(id)
-        .await?
-        .ok_or_else(|| Problem::internal(format!("result of job {id} is missing")))?
-        .into();
-    state.results.put(id, key, body.clone());
-    Ok(Cached {
-        key: key.into(),
-        body,
-    })
+}
+
+/// A turn to parse and render a whole result document of `len` bytes
+/// (figures, and tables other than a series): large documents (over
+/// [`MAX_BODY`]) take turns, [`crate::service::RENDERS`] at once, as a
+/// document parsed is several times its text; small ones need none.
+pub(crate) async fn render_turn(
+    state: &AppState,
+    len: usize,
+) -> Result<Option<OwnedSemaphorePermit>, Problem> {
+    if len <= MAX_BODY {
+        return Ok(None);
+    }
+    tokio::time::timeout(RESULT_WAIT, state.renders.clone().acquire_owned())
+        .await
+        .ok()
+        .and_then(Result::ok)
+        .map(Some)
+        .ok_or_else(|| busy("rendering"))
 }
 
 /// A body that says it is something other than JSON is refused (415); one
@@ -572,7 +620,8 @@ pub async fn create_job(
         if record.status == Status::Succeeded {
             // The stored document is inlined as it is, never parsed again.
             let found = load_result(&state, id, &record.key).await?;
-            v.result = serde_json::value::RawValue::from_string(found.body.to_string()).ok();
+            v.result =
+                serde_json::value::RawValue::from_string(found.body.as_str().to_string()).ok();
         }
         StatusCode::OK
     } else {
@@ -781,39 +830,86 @@ pub(crate) async fn result_response(
     }
     let body = found.body;
     let mut response = match format {
+        // The stored text as it is: neither parsed nor copied.
         Format::Json => (
             [(header::CONTENT_TYPE, "application/json")],
-            body.to_string(),
+            Body::from(Bytes::from_owner(SharedText(body))),
         )
             .into_response(),
-        Format::Csv => {
-            // Parsing and rendering a large result is not work for the runtime.
-            // It goes to the blocking pool rather than the compute pool, where
-            // it would queue behind running spectra.
-            let table = tokio::task::spawn_blocking(move || {
-                serde_json::from_str::<serde_json::Value>(&body)
-                    .map_err(|e| e.to_string())
-                    .map(|v| to_csv(&v).map(|t| (t, kind_of(&v))))
-            })
-            .await
-            .map_err(|_| Problem::internal("CSV rendering stopped"))?
-            .map_err(Problem::internal)?
-            .map_err(|e| Problem::bad_request("no-csv", e).param("format"))?;
-            let disposition = format!("attachment; filename=\"{}-{id}.csv\"", table.1);
-            let mut r =
-                ([(header::CONTENT_TYPE, "text/csv; charset=utf-8")], table.0).into_response();
-            if let Ok(v) = HeaderValue::from_str(&disposition) {
-                r.headers_mut().insert(header::CONTENT_DISPOSITION, v);
-            }
-            r
-        }
+        Format::Csv => csv_response(state, id, body).await?,
         Format::Svg => {
-            let figure = super::plot::render(body).await?;
+            let figure = super::plot::render(state, body).await?;
             ([(header::CONTENT_TYPE, "image/svg+xml")], figure).into_response()
         }
     };
     super::http::set_validators(response.headers_mut(), &etag, cache);
     Ok(response)
+}
+
+/// The CSV table of result document `doc` of job `id`. A series is streamed
+/// from the stored text in pieces; other tables (small: impacts, summaries,
+/// spectra) are rendered whole from the parsed document, in a rendering turn.
+/// Parsing and rendering are not work for the runtime: they go to the
+/// blocking pool rather than the compute pool, where they would queue behind
+/// running spectra.
+async fn csv_response(state: &AppState, id: Uuid, doc: Arc<Document>) -> Result<Response, Problem> {
+    let stopped = |_| Problem::internal("CSV rendering stopped");
+    let rows = tokio::task::spawn_blocking({
+        let doc = doc.clone();
+        move || SeriesRows::of(doc.as_str())
+    })
+    .await
+    .map_err(stopped)?;
+    let (body, kind) = match rows {
+        Some(rows) => (
+            Body::from_stream(csv_pieces(rows, doc)),
+            "time_history".to_string(),
+        ),
+        None => {
+            let turn = render_turn(state, doc.as_str().len()).await?;
+            let (table, kind) = tokio::task::spawn_blocking(move || {
+                let _turn = turn;
+                serde_json::from_str::<serde_json::Value>(doc.as_str())
+                    .map_err(|e| e.to_string())
+                    .map(|v| to_csv(&v).map(|t| (t, kind_of(&v))))
+            })
+            .await
+            .map_err(stopped)?
+            .map_err(Problem::internal)?
+            .map_err(|e| Problem::bad_request("no-csv", e).param("format"))?;
+            (Body::from(table), kind)
+        }
+    };
+    let disposition = format!("attachment; filename=\"{kind}-{id}.csv\"");
+    let mut r = ([(header::CONTENT_TYPE, "text/csv; charset=utf-8")], body).into_response();
+    if let Ok(v) = HeaderValue::from_str(&disposition) {
+        r.headers_mut().insert(header::CONTENT_DISPOSITION, v);
+    }
+    Ok(r)
+}
+
+/// The pieces of a series table, each written on the blocking pool when the
+/// client has taken the previous one: memory per download is one piece.
+fn csv_pieces(
+    rows: SeriesRows,
+    doc: Arc<Document>,
+) -> impl futures_util::Stream<Item = Result<Bytes, std::io::Error>> + Send + 'static {
+    futures_util::stream::try_unfold(Some((rows, doc)), |left| async move {
+        let Some((mut rows, doc)) = left else {
+            return Ok(None);
+        };
+        let (piece, more, rows, doc) = tokio::task::spawn_blocking(move || {
+            let mut piece = String::with_capacity(CSV_PIECE + 1024);
+            let more = rows.fill(doc.as_str(), &mut piece, CSV_PIECE);
+            (piece, more, rows, doc)
+        })
+        .await
+        .map_err(std::io::Error::other)?;
+        if piece.is_empty() && !more {
+            return Ok(None);
+        }
+        Ok(Some((Bytes::from(piece), more.then_some((rows, doc)))))
+    })
 }
 
 /// The kind of a result document, for file names.
@@ -852,6 +948,8 @@ fn kind_of(v: &serde_json::Value) -> String {
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
         (status = 409, description = "Not finished (Retry-After says when to look again), failed, or canceled", body = Problem, content_type = "application/problem+json",
             headers(("Retry-After" = Option<String>, description = "Seconds until a poll is worthwhile"))),
+        (status = 503, description = "Busy: the memory for large results (result_memory) or the rendering turns stayed taken for 10 s, or the database is unavailable", body = Problem, content_type = "application/problem+json",
+            headers(("Retry-After" = String, description = "Seconds to wait"))),
     )
 )]
 pub async fn get_result(

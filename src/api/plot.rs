@@ -10,6 +10,7 @@ use axum::response::Response;
 use super::jobs::{Format, parse_id, query, result_response};
 use super::problem::Problem;
 use crate::service::AppState;
+use crate::service::results::Document;
 
 /// A job's result as a figure (SVG).
 ///
@@ -35,6 +36,8 @@ use crate::service::AppState;
         (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
         (status = 409, description = "Not finished (or failed, or canceled)", body = Problem, content_type = "application/problem+json"),
+        (status = 503, description = "Busy: the memory for large results (result_memory) or the rendering turns stayed taken for 10 s, or the database is unavailable", body = Problem, content_type = "application/problem+json",
+            headers(("Retry-After" = String, description = "Seconds to wait"))),
     )
 )]
 pub async fn get_plot(
@@ -55,10 +58,13 @@ pub async fn get_plot(
 pub struct NoQuery {}
 
 /// The figure of result document `body`. Parsing and drawing are CPU work:
-/// the blocking pool, not the runtime.
-pub(crate) async fn render(body: Arc<str>) -> Result<String, Problem> {
+/// the blocking pool, not the runtime, in a rendering turn (a large document
+/// parsed is several times its text).
+pub(crate) async fn render(state: &AppState, body: Arc<Document>) -> Result<String, Problem> {
+    let turn = super::jobs::render_turn(state, body.as_str().len()).await?;
     tokio::task::spawn_blocking(move || {
-        serde_json::from_str::<serde_json::Value>(&body)
+        let _turn = turn;
+        serde_json::from_str::<serde_json::Value>(body.as_str())
             .map_err(|e| e.to_string())
             .map(|v| crate::plot::svg(&v))
     })

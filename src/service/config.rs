@@ -49,6 +49,10 @@ pub struct ServeConfig {
     pub body_read_timeout: Duration,
     /// Most connections served at once; more wait in the listen backlog.
     pub max_connections: usize,
+    /// Most bytes of large result documents (over 512 KiB) held in memory at
+    /// once for the requests reading them; a read beyond waits for room, then
+    /// answers 503.
+    pub result_memory: usize,
 }
 
 impl Default for ServeConfig {
@@ -74,6 +78,7 @@ impl Default for ServeConfig {
             idle_timeout: Duration::from_secs(60),
             body_read_timeout: Duration::from_secs(30),
             max_connections: 1024,
+            result_memory: 128 << 20,
         }
     }
 }

@@ -38,6 +38,11 @@ pub type Engine = Arc<
         + Sync,
 >;
 
+/// Large result documents (over [`results::MAX_BODY`]) parsed whole and
+/// rendered at once (figures, tables other than a series): a document parsed
+/// is several times its text.
+pub const RENDERS: usize = 1;
+
 /// Tasks computing in this instance, by (job, task index).
 type Running = HashMap<(Uuid, i64), Arc<Control>>;
 
@@ -56,8 +61,10 @@ pub struct AppState {
     running: Arc<Mutex<Running>>,
     /// Metrics.
     pub metrics: Arc<metrics::Metrics>,
-    /// Recent results.
+    /// Result documents in memory.
     pub results: Arc<results::ResultCache>,
+    /// Turns to parse and render a large result document whole ([`RENDERS`]).
+    pub renders: Arc<tokio::sync::Semaphore>,
     /// The measured computation rate (estimates, poll intervals).
     pub throughput: Arc<throughput::Throughput>,
     /// The compute pool.
@@ -174,6 +181,7 @@ impl Application {
         let listener = TcpListener::bind(&config.addr).await?;
         let (finished, _) = broadcast::channel(1024);
         let (stop, stopping) = watch::channel(false);
+        let results = Arc::new(results::ResultCache::new(config.result_memory));
         let state = AppState {
             store,
             config: Arc::new(config),
@@ -181,7 +189,8 @@ impl Application {
             finished,
             running: Arc::new(Mutex::new(HashMap::new())),
             metrics: Arc::new(metrics::Metrics::new()),
-            results: Arc::new(results::ResultCache::default()),
+            results,
+            renders: Arc::new(tokio::sync::Semaphore::new(RENDERS)),
             throughput: Arc::new(throughput::Throughput::default()),
             pool: Arc::new(pool),
             engine,

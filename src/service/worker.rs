@@ -180,7 +180,7 @@ async fn execute(
                 .await
             {
                 Ok(true) => {
-                    state.results.put(id, &key, Arc::from(body.as_str()));
+                    state.results.put(id, &key, &body);
                     info!(seconds, "succeeded");
                 }
                 Ok(false) => info!("finished after its job was canceled or its lease taken over"),
@@ -346,7 +346,7 @@ async fn finish_job(state: &AppState, id: Uuid) {
         .await
     {
         Ok(true) => {
-            state.results.put(id, &record.key, Arc::from(body.as_str()));
+            state.results.put(id, &record.key, &body);
             info!("succeeded");
         }
         Ok(false) => {}
