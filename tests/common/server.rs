@@ -283,6 +283,24 @@ pub mod http {
     }
 }
 
+/// CPU time (user + system) of process `pid` so far, from `/proc`.
+pub fn cpu_time(pid: u32) -> Duration {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).expect("/proc/<pid>/stat");
+    // Fields after the command name (which may hold spaces) start after ')'.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: u64 =
+        fields[11].parse::<u64>().expect("utime") + fields[12].parse::<u64>().expect("stime");
+    let per_second = Command::new("getconf")
+        .arg("CLK_TCK")
+        .output()
+        .ok()
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .and_then(|s| s.trim().parse().ok())
+        .unwrap_or(100.0);
+    Duration::from_secs_f64(ticks as f64 / per_second)
+}
+
 /// The job as `GET /v1/jobs/{id}` shows it.
 pub fn status(base: &str, id: &str) -> Value {
     http::get_json(&format!("{base}/v1/jobs/{id}"))
