@@ -25,11 +25,12 @@ pub async fn healthz() -> axum::Json<Health> {
     })
 }
 
-/// The database answers and the instance is not shutting down.
+/// The database answers and takes writes, and the instance is not shutting down.
 #[utoipa::path(get, path = "/readyz", tag = "operations", security(()),
     responses(
         (status = 200, description = "Ready", body = Health),
-        (status = 503, description = "Not ready", body = Problem, content_type = "application/problem+json"),
+        (status = 503, description = "Not ready: the database does not answer or does not take writes (full disk), or shutting down", body = Problem, content_type = "application/problem+json",
+            headers(("Retry-After" = String, description = "Seconds to wait"))),
     ))]
 pub async fn readyz(State(state): State<AppState>) -> Result<axum::Json<Health>, Problem> {
     state.store.ping().await.map_err(|e| {
