@@ -1,5 +1,7 @@
 //! Per-task queue overhead — claim, one heartbeat, completion — on SQLite and
-//! on PostgreSQL (skipped with a message when no PostgreSQL answers).
+//! on PostgreSQL (skipped with a message when no PostgreSQL answers): with a
+//! short queue (one job of 200 tasks at a time), and with a deep one (5,000
+//! single-task jobs of three tenants waiting).
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -8,7 +10,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use sqlx::Connection;
 use topple::store::postgres::PgStore;
 use topple::store::sqlite::SqliteStore;
-use topple::store::{JobStore, now_rfc3339};
+use topple::store::{JobStore, NewJob, now_rfc3339};
 use uuid::Uuid;
 
 const TASKS: usize = 200;
@@ -16,42 +18,70 @@ const TASKS: usize = 200;
 async fn cycle(store: &dyn JobStore, iters: u64) -> Duration {
     let mut total = Duration::ZERO;
     let mut left = iters as usize;
-    let lease = Duration::from_secs(30);
     while left > 0 {
         let n = left.min(TASKS);
         let payloads: Vec<String> = (0..n).map(|i| format!("{{\"t\":{i}}}")).collect();
         let key = Uuid::now_v7().to_string();
-        store
-            .submit(
-                Uuid::now_v7(),
-                &key,
-                "spectrum",
-                "{}",
-                &now_rfc3339(),
-                &payloads,
-            )
-            .await
-            .expect("submits");
-        let start = Instant::now();
-        for _ in 0..n {
-            let t = store
-                .claim("bench", &now_rfc3339(), lease)
-                .await
-                .expect("claims")
-                .expect("a task");
-            store
-                .heartbeat(t.job_id, t.idx, "bench", 0.5, lease)
-                .await
-                .expect("beats");
-            store
-                .complete(t.job_id, t.idx, "bench", "{\"spectrum\":[]}")
-                .await
-                .expect("completes");
-        }
-        total += start.elapsed();
+        submit(store, "default", &key, &payloads).await;
+        total += claim_beat_complete(store, n).await;
         left -= n;
     }
     total
+}
+
+async fn submit(store: &dyn JobStore, tenant: &str, key: &str, payloads: &[String]) {
+    store
+        .submit(NewJob {
+            tenant,
+            id: Uuid::now_v7(),
+            key,
+            kind: "spectrum",
+            spec: "{}",
+            now: &now_rfc3339(),
+            tasks: payloads,
+        })
+        .await
+        .expect("submits");
+}
+
+/// The time `n` tasks take to be claimed, beaten once and completed.
+async fn claim_beat_complete(store: &dyn JobStore, n: usize) -> Duration {
+    let lease = Duration::from_secs(30);
+    let start = Instant::now();
+    for _ in 0..n {
+        let t = store
+            .claim("bench", &now_rfc3339(), lease)
+            .await
+            .expect("claims")
+            .expect("a task");
+        store
+            .heartbeat(t.computation, t.idx, "bench", 0.5, lease)
+            .await
+            .expect("beats");
+        store
+            .complete(t.computation, t.idx, "bench", "{\"spectrum\":[]}")
+            .await
+            .expect("completes");
+    }
+    start.elapsed()
+}
+
+/// Jobs waiting in the deep case.
+const DEPTH: usize = 5_000;
+
+/// As [`cycle`], with at least [`DEPTH`] single-task jobs of three tenants
+/// waiting at every claim.
+async fn deep(store: &dyn JobStore, iters: u64, waiting: &mut usize) -> Duration {
+    let n = iters as usize;
+    let payload = vec!["{\"t\":0}".to_string()];
+    while *waiting < DEPTH + n {
+        let tenant = ["alice", "bob", "carol"][*waiting % 3];
+        submit(store, tenant, &Uuid::now_v7().to_string(), &payload).await;
+        *waiting += 1;
+    }
+    let took = claim_beat_complete(store, n).await;
+    *waiting -= n;
+    took
 }
 
 fn queue(c: &mut Criterion) {
@@ -69,6 +99,10 @@ fn queue(c: &mut Criterion) {
     );
     g.bench_function("sqlite", |b| {
         b.iter_custom(|iters| rt.block_on(cycle(sqlite.as_ref(), iters)))
+    });
+    let mut waiting = 0;
+    g.bench_function("sqlite_deep", |b| {
+        b.iter_custom(|iters| rt.block_on(deep(sqlite.as_ref(), iters, &mut waiting)))
     });
     let admin = std::env::var("TOPPLE_TEST_POSTGRES")
         .unwrap_or_else(|_| "postgres://postgres@127.0.0.1:5432/postgres".into());
@@ -88,6 +122,10 @@ fn queue(c: &mut Criterion) {
         );
         g.bench_function("postgres", |b| {
             b.iter_custom(|iters| rt.block_on(cycle(pg.as_ref(), iters)))
+        });
+        let mut waiting = 0;
+        g.bench_function("postgres_deep", |b| {
+            b.iter_custom(|iters| rt.block_on(deep(pg.as_ref(), iters, &mut waiting)))
         });
         drop(pg);
         rt.block_on(async {

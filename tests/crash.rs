@@ -149,30 +149,38 @@ fn is_final(job: &Value) -> bool {
 
 /// Counts that must all be zero in a consistent database (the same SQL for
 /// SQLite and PostgreSQL).
-const CONSISTENCY: [(&str, &str); 7] = [
+const CONSISTENCY: [(&str, &str); 9] = [
     (
-        "tasks without their job",
-        "SELECT COUNT(*) FROM tasks t WHERE NOT EXISTS (SELECT 1 FROM jobs j WHERE j.id = t.job_id)",
+        "tasks without their computation",
+        "SELECT COUNT(*) FROM tasks t WHERE NOT EXISTS (SELECT 1 FROM computations c WHERE c.id = t.computation_id)",
     ),
     (
-        "results without their job",
-        "SELECT COUNT(*) FROM results r WHERE NOT EXISTS (SELECT 1 FROM jobs j WHERE j.id = r.job_id)",
+        "results without their computation",
+        "SELECT COUNT(*) FROM results r WHERE NOT EXISTS (SELECT 1 FROM computations c WHERE c.id = r.computation_id)",
     ),
     (
-        "jobs without tasks",
-        "SELECT COUNT(*) FROM jobs j WHERE NOT EXISTS (SELECT 1 FROM tasks t WHERE t.job_id = j.id)",
+        "computations without tasks",
+        "SELECT COUNT(*) FROM computations c WHERE NOT EXISTS (SELECT 1 FROM tasks t WHERE t.computation_id = c.id)",
     ),
     (
-        "succeeded jobs without a result",
-        "SELECT COUNT(*) FROM jobs j WHERE j.status = 'succeeded' AND NOT EXISTS (SELECT 1 FROM results r WHERE r.job_id = j.id)",
+        "succeeded computations without a result",
+        "SELECT COUNT(*) FROM computations c WHERE c.status = 'succeeded' AND NOT EXISTS (SELECT 1 FROM results r WHERE r.computation_id = c.id)",
     ),
     (
-        "results of jobs that did not succeed",
-        "SELECT COUNT(*) FROM results r JOIN jobs j ON j.id = r.job_id WHERE j.status <> 'succeeded'",
+        "results of computations that did not succeed",
+        "SELECT COUNT(*) FROM results r JOIN computations c ON c.id = r.computation_id WHERE c.status <> 'succeeded'",
     ),
     (
-        "tasks of succeeded jobs not done",
-        "SELECT COUNT(*) FROM tasks t JOIN jobs j ON j.id = t.job_id WHERE j.status = 'succeeded' AND t.status <> 'done'",
+        "tasks of succeeded computations not done",
+        "SELECT COUNT(*) FROM tasks t JOIN computations c ON c.id = t.computation_id WHERE c.status = 'succeeded' AND t.status <> 'done'",
+    ),
+    (
+        "jobs without their computation",
+        "SELECT COUNT(*) FROM jobs j WHERE NOT EXISTS (SELECT 1 FROM computations c WHERE c.id = j.computation_id)",
+    ),
+    (
+        "jobs whose status is not their computation's",
+        "SELECT COUNT(*) FROM jobs j JOIN computations c ON c.id = j.computation_id WHERE j.status <> c.status",
     ),
     (
         "jobs not finished",
@@ -238,13 +246,13 @@ async fn pg_integrity(url: &str) {
                  JOIN pg_class c ON c.oid = i.indexrelid \
                  JOIN pg_class t ON t.oid = i.indrelid \
                  JOIN pg_am am ON am.oid = c.relam \
-                 WHERE am.amname = 'btree' AND t.relname IN ('jobs', 'tasks', 'results') \
+                 WHERE am.amname = 'btree' AND t.relname IN ('jobs', 'computations', 'tasks', 'results', 'tenants') \
                  AND t.relnamespace = current_schema()::regnamespace ORDER BY 1",
             )
             .fetch_all(&mut conn)
             .await
             .expect("index list");
-            for table in ["jobs_pkey", "tasks_pkey", "results_pkey"] {
+            for table in ["jobs_pkey", "computations_pkey", "tasks_pkey", "results_pkey"] {
                 assert!(indexes.iter().any(|i| i == table), "{table} in {indexes:?}");
             }
             for index in &indexes {
@@ -489,7 +497,7 @@ async fn store_missing_parts_sqlite(db: &str, id: &str) -> usize {
         .await
         .expect("the database opens");
     let rest: Vec<(i64, String)> =
-        sqlx::query_as("SELECT idx, payload FROM tasks WHERE job_id = ?1 AND status <> 'done'")
+        sqlx::query_as("SELECT idx, payload FROM tasks WHERE computation_id = (SELECT computation_id FROM jobs WHERE id = ?1) AND status <> 'done'")
             .bind(id)
             .fetch_all(&mut conn)
             .await
@@ -497,7 +505,7 @@ async fn store_missing_parts_sqlite(db: &str, id: &str) -> usize {
     for (idx, payload) in &rest {
         sqlx::query(
             "UPDATE tasks SET status = 'done', progress = 1, result = ?3, done_by = 'crash#0', \
-             lease_owner = NULL, lease_until = NULL WHERE job_id = ?1 AND idx = ?2",
+             lease_owner = NULL, lease_until = NULL WHERE computation_id = (SELECT computation_id FROM jobs WHERE id = ?1) AND idx = ?2",
         )
         .bind(id)
         .bind(idx)
@@ -516,7 +524,7 @@ async fn store_missing_parts_pg(db: &str, id: &str) -> usize {
         .await
         .expect("PostgreSQL connects");
     let rest: Vec<(i64, String)> = sqlx::query_as(
-        "SELECT idx::BIGINT, payload FROM tasks WHERE job_id = $1 AND status <> 'done'",
+        "SELECT idx::BIGINT, payload FROM tasks WHERE computation_id = (SELECT computation_id FROM jobs WHERE id = $1) AND status <> 'done'",
     )
     .bind(id)
     .fetch_all(&mut conn)
@@ -525,7 +533,7 @@ async fn store_missing_parts_pg(db: &str, id: &str) -> usize {
     for (idx, payload) in &rest {
         sqlx::query(
             "UPDATE tasks SET status = 'done', progress = 1, result = $3, done_by = 'crash#0', \
-             lease_owner = NULL, lease_until = NULL WHERE job_id = $1 AND idx = $2",
+             lease_owner = NULL, lease_until = NULL WHERE computation_id = (SELECT computation_id FROM jobs WHERE id = $1) AND idx = $2",
         )
         .bind(id)
         .bind(idx)

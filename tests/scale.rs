@@ -114,7 +114,7 @@ fn offline(spec: &Value) -> Value {
 async fn finishers(db: &str, id: &str) -> Vec<String> {
     let pool = sqlx::PgPool::connect(db).await.expect("connects");
     let rows = sqlx::query(
-        "SELECT DISTINCT split_part(done_by, '#', 1) AS who FROM tasks WHERE job_id = $1",
+        "SELECT DISTINCT split_part(done_by, '#', 1) AS who FROM tasks WHERE computation_id = (SELECT computation_id FROM jobs WHERE id = $1)",
     )
     .bind(id)
     .fetch_all(&pool)
@@ -271,7 +271,7 @@ async fn when_one_instance_is_killed_the_other_takes_over_its_tasks() {
     let pool = sqlx::PgPool::connect(&db.url).await.expect("connects");
     let deadline = Instant::now() + Duration::from_secs(20);
     loop {
-        let n: i64 = sqlx::query("SELECT COUNT(*) AS n FROM tasks WHERE job_id = $1 AND lease_owner LIKE 'A#%' AND status = 'running'")
+        let n: i64 = sqlx::query("SELECT COUNT(*) AS n FROM tasks WHERE computation_id = (SELECT computation_id FROM jobs WHERE id = $1) AND lease_owner LIKE 'A#%' AND status = 'running'")
             .bind(&id)
             .fetch_one(&pool)
             .await
@@ -289,7 +289,7 @@ async fn when_one_instance_is_killed_the_other_takes_over_its_tasks() {
     let done = wait_for(&client, &b_base, &id, "succeeded", Duration::from_secs(180)).await;
     assert_eq!(done["status"], "succeeded", "{done}");
     let taken_over: i64 =
-        sqlx::query("SELECT COUNT(*) AS n FROM tasks WHERE job_id = $1 AND attempts > 1")
+        sqlx::query("SELECT COUNT(*) AS n FROM tasks WHERE computation_id = (SELECT computation_id FROM jobs WHERE id = $1) AND attempts > 1")
             .bind(&id)
             .fetch_one(&pool)
             .await

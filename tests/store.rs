@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use topple::store::postgres::PgStore;
 use topple::store::sqlite::SqliteStore;
-use topple::store::{JobStore, ListQuery, Status, now_rfc3339};
+use topple::store::{Deleted, JobStore, ListQuery, NewJob, Status, now_rfc3339};
 use uuid::Uuid;
 
 async fn sqlite() -> Arc<dyn JobStore> {
@@ -28,19 +28,42 @@ fn tasks(n: usize) -> Vec<String> {
     (0..n).map(|i| format!("{{\"task\":{i}}}")).collect()
 }
 
+/// The tenant of the single-tenant cases.
+const T: &str = "default";
+
 async fn submit(store: &dyn JobStore, key: &str, n: usize) -> (Uuid, bool) {
-    let s = store
-        .submit(
-            Uuid::now_v7(),
-            key,
-            "spectrum",
-            "{}",
-            &now_rfc3339(),
-            &tasks(n),
-        )
-        .await
-        .expect("submits");
+    let s = submit_as(store, T, key, n).await;
     (s.job.id, s.cached)
+}
+
+async fn submit_as(
+    store: &dyn JobStore,
+    tenant: &str,
+    key: &str,
+    n: usize,
+) -> topple::store::Submitted {
+    store
+        .submit(NewJob {
+            tenant,
+            id: Uuid::now_v7(),
+            key,
+            kind: "spectrum",
+            spec: "{}",
+            now: &now_rfc3339(),
+            tasks: &tasks(n),
+        })
+        .await
+        .expect("submits")
+}
+
+/// The computation of the tenant's job.
+async fn computation(store: &dyn JobStore, tenant: &str, id: Uuid) -> Uuid {
+    store
+        .get(tenant, id)
+        .await
+        .expect("reads")
+        .expect("exists")
+        .computation
 }
 
 async fn the_same_key_is_one_job(store: &dyn JobStore) {
@@ -50,12 +73,13 @@ async fn the_same_key_is_one_job(store: &dyn JobStore) {
     assert_eq!((cached_a, cached_b, cached_c), (false, true, false));
     assert_eq!(a, b);
     assert_ne!(a, c);
-    let job = store.get(a).await.expect("reads").expect("exists");
+    let job = store.get(T, a).await.expect("reads").expect("exists");
     assert_eq!((job.status, job.progress), (Status::Queued, 0.0));
 }
 
 async fn tasks_are_claimed_once_completed_and_assembled(store: &dyn JobStore) {
-    let (id, _) = submit(store, "k3", 3).await;
+    let (job, _) = submit(store, "k3", 3).await;
+    let id = computation(store, T, job).await;
     let lease = Duration::from_secs(30);
     let mut claimed = Vec::new();
     while let Some(t) = store
@@ -63,7 +87,7 @@ async fn tasks_are_claimed_once_completed_and_assembled(store: &dyn JobStore) {
         .await
         .expect("claims")
     {
-        if t.job_id == id {
+        if t.computation == id {
             claimed.push(t.idx);
         }
         if claimed.len() == 3 {
@@ -72,9 +96,9 @@ async fn tasks_are_claimed_once_completed_and_assembled(store: &dyn JobStore) {
     }
     claimed.sort();
     assert_eq!(claimed, vec![0, 1, 2]);
-    let job = store.get(id).await.expect("reads").expect("exists");
-    assert_eq!(job.status, Status::Running);
-    assert!(job.started_at.is_some());
+    let running = store.get(T, job).await.expect("reads").expect("exists");
+    assert_eq!(running.status, Status::Running);
+    assert!(running.started_at.is_some());
     assert_eq!(
         store
             .heartbeat(id, 1, "w1", 0.5, lease)
@@ -125,18 +149,19 @@ async fn tasks_are_claimed_once_completed_and_assembled(store: &dyn JobStore) {
         store.result(id).await.expect("reads").as_deref(),
         Some("{\"r\":1}")
     );
-    let job = store.get(id).await.expect("reads").expect("exists");
-    assert_eq!((job.status, job.progress), (Status::Succeeded, 1.0));
+    let done = store.get(T, job).await.expect("reads").expect("exists");
+    assert_eq!((done.status, done.progress), (Status::Succeeded, 1.0));
 }
 
 async fn a_lapsed_lease_is_taken_over_and_the_old_owner_writes_nothing(store: &dyn JobStore) {
-    let (id, _) = submit(store, "k4", 1).await;
+    let (job, _) = submit(store, "k4", 1).await;
+    let id = computation(store, T, job).await;
     let first = store
         .claim("dead", &now_rfc3339(), Duration::from_millis(200))
         .await
         .expect("claims")
         .expect("a task");
-    assert_eq!((first.job_id, first.attempts), (id, 1));
+    assert_eq!((first.computation, first.attempts), (id, 1));
     assert!(
         store
             .claim("other", &now_rfc3339(), Duration::from_secs(30))
@@ -150,7 +175,7 @@ async fn a_lapsed_lease_is_taken_over_and_the_old_owner_writes_nothing(store: &d
         .await
         .expect("claims")
         .expect("taken over");
-    assert_eq!((second.job_id, second.idx, second.attempts), (id, 0, 2));
+    assert_eq!((second.computation, second.idx, second.attempts), (id, 0, 2));
     assert!(
         !store
             .complete(id, 0, "dead", "\"stale\"")
@@ -171,20 +196,24 @@ async fn a_lapsed_lease_is_taken_over_and_the_old_owner_writes_nothing(store: &d
 
 async fn cancel_stops_every_task_and_resubmission_requeues(store: &dyn JobStore) {
     let (id, _) = submit(store, "k5", 2).await;
+    let c = computation(store, T, id).await;
     let t = store
         .claim("w", &now_rfc3339(), Duration::from_secs(30))
         .await
         .expect("claims")
         .expect("task");
-    let job = store
-        .cancel(id, &now_rfc3339())
+    let canceled = store
+        .cancel(T, id, &now_rfc3339())
         .await
         .expect("cancels")
         .expect("exists");
-    assert_eq!(job.status, Status::Canceled);
+    assert_eq!(
+        (canceled.job.status, canceled.changed, canceled.stopped),
+        (Status::Canceled, true, true)
+    );
     assert_eq!(
         store
-            .heartbeat(id, t.idx, "w", 0.1, Duration::from_secs(1))
+            .heartbeat(c, t.idx, "w", 0.1, Duration::from_secs(1))
             .await
             .expect("beats"),
         None
@@ -198,7 +227,7 @@ async fn cancel_stops_every_task_and_resubmission_requeues(store: &dyn JobStore)
     );
     let (again, cached) = submit(store, "k5", 2).await;
     assert_eq!((again, cached), (id, false));
-    let job = store.get(id).await.expect("reads").expect("exists");
+    let job = store.get(T, id).await.expect("reads").expect("exists");
     assert_eq!(job.status, Status::Queued);
     // Failing a job cancels its other tasks.
     let t = store
@@ -208,11 +237,11 @@ async fn cancel_stops_every_task_and_resubmission_requeues(store: &dyn JobStore)
         .expect("task");
     assert!(
         store
-            .fail(t.job_id, "boom", &now_rfc3339())
+            .fail(t.computation, "boom", &now_rfc3339())
             .await
             .expect("fails")
     );
-    let job = store.get(id).await.expect("reads").expect("exists");
+    let job = store.get(T, id).await.expect("reads").expect("exists");
     assert_eq!(
         (job.status, job.error.as_deref()),
         (Status::Failed, Some("boom"))
@@ -236,12 +265,15 @@ async fn listing_pages_newest_first(store: &dyn JobStore) {
     let mut before = None;
     loop {
         let page = store
-            .list(&ListQuery {
-                status: Some(Status::Queued),
-                kind: Some("spectrum".into()),
-                limit: 2,
-                before,
-            })
+            .list(
+                T,
+                &ListQuery {
+                    status: Some(Status::Queued),
+                    kind: Some("spectrum".into()),
+                    limit: 2,
+                    before,
+                },
+            )
             .await
             .expect("lists");
         seen.extend(page.iter().map(|j| j.id));
@@ -257,13 +289,14 @@ async fn listing_pages_newest_first(store: &dyn JobStore) {
 }
 
 async fn a_single_task_job_completes_in_one_write(store: &dyn JobStore) {
-    let (id, _) = submit(store, "k6", 1).await;
+    let (job, _) = submit(store, "k6", 1).await;
+    let id = computation(store, T, job).await;
     let t = store
         .claim("w", &now_rfc3339(), Duration::from_secs(30))
         .await
         .expect("claims")
         .expect("task");
-    assert_eq!((t.job_id, t.tasks), (id, 1));
+    assert_eq!((t.computation, t.tasks), (id, 1));
     assert!(
         !store
             .complete_only(id, 0, "intruder", "{}", "{}", &now_rfc3339())
@@ -282,7 +315,7 @@ async fn a_single_task_job_completes_in_one_write(store: &dyn JobStore) {
             .await
             .expect("writes")
     );
-    let job = store.get(id).await.expect("reads").expect("exists");
+    let job = store.get(T, job).await.expect("reads").expect("exists");
     assert_eq!(
         (job.status, job.numerics.as_deref()),
         (Status::Succeeded, Some("{\"n\":1}"))
@@ -290,6 +323,148 @@ async fn a_single_task_job_completes_in_one_write(store: &dyn JobStore) {
     assert_eq!(
         store.result(id).await.expect("reads").as_deref(),
         Some("{\"r\":3}")
+    );
+}
+
+async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
+    let lease = Duration::from_secs(30);
+    let a = submit_as(store, "alice", "shared", 2).await;
+    let b = submit_as(store, "bob", "shared", 2).await;
+    // Bob's job is his own, over the computation Alice's queued.
+    assert_eq!((a.cached, b.cached), (false, true));
+    assert_ne!(a.job.id, b.job.id);
+    assert_eq!(a.job.computation, b.job.computation);
+    let c = a.job.computation;
+    // Neither sees, lists, cancels or deletes the other's job.
+    assert!(store.get("bob", a.job.id).await.expect("reads").is_none());
+    assert!(store.get("alice", b.job.id).await.expect("reads").is_none());
+    let listed = |tenant: &'static str| async move {
+        store
+            .list(tenant, &ListQuery { limit: 10, ..Default::default() })
+            .await
+            .expect("lists")
+            .iter()
+            .map(|j| j.id)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(listed("alice").await, vec![a.job.id]);
+    assert_eq!(listed("bob").await, vec![b.job.id]);
+    assert!(store.cancel("bob", a.job.id, &now_rfc3339()).await.expect("cancels").is_none());
+    assert_eq!(store.delete("alice", b.job.id).await.expect("deletes"), Deleted::NotFound);
+    // One computation, computed once: its two tasks, then nothing.
+    let t0 = store.claim("w", &now_rfc3339(), lease).await.expect("claims").expect("task");
+    let t1 = store.claim("w", &now_rfc3339(), lease).await.expect("claims").expect("task");
+    assert_eq!((t0.computation, t1.computation), (c, c));
+    assert!(store.claim("w", &now_rfc3339(), lease).await.expect("claims").is_none());
+    for tenant_job in [("alice", a.job.id), ("bob", b.job.id)] {
+        let job = store.get(tenant_job.0, tenant_job.1).await.expect("reads").expect("exists");
+        assert_eq!(job.status, Status::Running, "{tenant_job:?}");
+    }
+    // Bob cancels: his job only; Alice's still needs the computation.
+    let canceled = store
+        .cancel("bob", b.job.id, &now_rfc3339())
+        .await
+        .expect("cancels")
+        .expect("his job");
+    assert_eq!(
+        (canceled.job.status, canceled.changed, canceled.stopped),
+        (Status::Canceled, true, false)
+    );
+    assert_eq!(
+        store.heartbeat(c, t0.idx, "w", 0.5, lease).await.expect("beats"),
+        Some(Status::Running)
+    );
+    // A deletion of a live job is refused; of Bob's canceled one, done.
+    assert!(matches!(
+        store.delete("alice", a.job.id).await.expect("deletes"),
+        Deleted::NotFinished(_)
+    ));
+    for t in [&t0, &t1] {
+        assert!(store.complete(c, t.idx, "w", "\"part\"").await.expect("completes"));
+    }
+    assert!(store.succeed(c, "{\"r\":1}", "{\"n\":2}", &now_rfc3339()).await.expect("stores"));
+    let done = store.get("alice", a.job.id).await.expect("reads").expect("exists");
+    assert_eq!(
+        (done.status, done.numerics.as_deref()),
+        (Status::Succeeded, Some("{\"n\":2}"))
+    );
+    // Bob's canceled job stays canceled; submitting again gives it the result
+    // at once, without recomputing.
+    let bob = store.get("bob", b.job.id).await.expect("reads").expect("exists");
+    assert_eq!(bob.status, Status::Canceled);
+    let again = submit_as(store, "bob", "shared", 2).await;
+    assert_eq!((again.job.id, again.job.status, again.cached), (b.job.id, Status::Succeeded, true));
+    assert!(store.claim("w", &now_rfc3339(), lease).await.expect("claims").is_none());
+    // A third tenant gets a job of its own, done already.
+    let carol = submit_as(store, "carol", "shared", 2).await;
+    assert_eq!((carol.job.status, carol.cached), (Status::Succeeded, true));
+    assert_ne!(carol.job.id, a.job.id);
+    // Deletions: the result stays while any job refers to it.
+    assert_eq!(store.delete("bob", b.job.id).await.expect("deletes"), Deleted::Gone);
+    assert!(store.get("bob", b.job.id).await.expect("reads").is_none());
+    assert_eq!(store.delete("alice", a.job.id).await.expect("deletes"), Deleted::Gone);
+    assert!(store.result(c).await.expect("reads").is_some());
+    assert_eq!(store.delete("carol", carol.job.id).await.expect("deletes"), Deleted::Gone);
+    assert!(store.result(c).await.expect("reads").is_none());
+    assert!(store.computation(c).await.expect("reads").is_none());
+    // The same spec again is new work.
+    let fresh = submit_as(store, "alice", "shared", 2).await;
+    assert!(!fresh.cached);
+    assert_ne!(fresh.job.computation, c);
+    // The last live job canceled stops the computation.
+    let stop = store
+        .cancel("alice", fresh.job.id, &now_rfc3339())
+        .await
+        .expect("cancels")
+        .expect("exists");
+    assert!(stop.stopped);
+    assert!(store.claim("w", &now_rfc3339(), lease).await.expect("claims").is_none());
+}
+
+async fn retention_purges_old_finished_jobs_and_their_results(store: &dyn JobStore) {
+    let lease = Duration::from_secs(30);
+    let old = submit_as(store, "alice", "old", 1).await;
+    let kept = submit_as(store, "bob", "old", 1).await;
+    let t = store.claim("w", &now_rfc3339(), lease).await.expect("claims").expect("task");
+    assert!(
+        store
+            .complete_only(t.computation, 0, "w", "{}", "{}", &now_rfc3339())
+            .await
+            .expect("stores")
+    );
+    let live = submit_as(store, "alice", "live", 1).await;
+    let cutoff = now_rfc3339();
+    // Jobs finished before the cutoff go; Bob's too; the live one stays.
+    assert_eq!(store.purge(&cutoff).await.expect("purges"), 2);
+    assert!(store.get("alice", old.job.id).await.expect("reads").is_none());
+    assert!(store.get("bob", kept.job.id).await.expect("reads").is_none());
+    assert!(store.result(old.job.computation).await.expect("reads").is_none());
+    let still = store.get("alice", live.job.id).await.expect("reads").expect("kept");
+    assert_eq!(still.status, Status::Queued);
+    assert_eq!(store.purge("1970-01-01T00:00:00.000000Z").await.expect("purges"), 0);
+}
+
+async fn claims_take_turns_across_tenants_and_computations(store: &dyn JobStore) {
+    let lease = Duration::from_secs(30);
+    let big1 = submit_as(store, "alice", "big1", 4).await.job.computation;
+    let big2 = submit_as(store, "alice", "big2", 4).await.job.computation;
+    let small = submit_as(store, "bob", "small", 1).await.job.computation;
+    let mut order = Vec::new();
+    while let Some(t) = store.claim("w", &now_rfc3339(), lease).await.expect("claims") {
+        order.push(if t.computation == big1 {
+            "big1"
+        } else if t.computation == big2 {
+            "big2"
+        } else {
+            assert_eq!(t.computation, small);
+            "small"
+        });
+    }
+    // Bob's single task comes second, not ninth; Alice's two computations
+    // alternate.
+    assert_eq!(
+        order,
+        ["big1", "small", "big2", "big1", "big2", "big1", "big2", "big1", "big2"]
     );
 }
 
@@ -305,22 +480,33 @@ async fn suite(store: Arc<dyn JobStore>) {
 async fn sqlite_store_keeps_its_contract() {
     suite(sqlite().await).await;
     listing_pages_newest_first(sqlite().await.as_ref()).await;
+    tenants_share_computations_not_jobs(sqlite().await.as_ref()).await;
+    retention_purges_old_finished_jobs_and_their_results(sqlite().await.as_ref()).await;
+    claims_take_turns_across_tenants_and_computations(sqlite().await.as_ref()).await;
 }
 
 #[tokio::test]
 async fn postgres_store_keeps_its_contract() {
-    let Some(db) = common::pg_database("store").await else {
-        return;
-    };
-    let store: Arc<dyn JobStore> = Arc::new(PgStore::open(&db.url, 4).await.expect("opens"));
-    suite(store.clone()).await;
-    drop(store);
-    let fresh = common::pg_database("store_list")
-        .await
-        .expect("second database");
-    let store: Arc<dyn JobStore> = Arc::new(PgStore::open(&fresh.url, 4).await.expect("opens"));
-    listing_pages_newest_first(store.as_ref()).await;
-    drop(store);
-    db.drop_now().await;
-    fresh.drop_now().await;
+    let mut dbs = Vec::new();
+    for (n, case) in ["store", "store_list", "store_tenants", "store_retention", "store_turns"]
+        .into_iter()
+        .enumerate()
+    {
+        let Some(db) = common::pg_database(case).await else {
+            return;
+        };
+        let store: Arc<dyn JobStore> = Arc::new(PgStore::open(&db.url, 4).await.expect("opens"));
+        match n {
+            0 => suite(store.clone()).await,
+            1 => listing_pages_newest_first(store.as_ref()).await,
+            2 => tenants_share_computations_not_jobs(store.as_ref()).await,
+            3 => retention_purges_old_finished_jobs_and_their_results(store.as_ref()).await,
+            _ => claims_take_turns_across_tenants_and_computations(store.as_ref()).await,
+        }
+        drop(store);
+        dbs.push(db);
+    }
+    for db in dbs {
+        db.drop_now().await;
+    }
 }

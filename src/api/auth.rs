@@ -13,6 +13,20 @@ use axum::response::{IntoResponse, Response};
 use super::problem::Problem;
 use crate::service::AppState;
 
+/// The tenant a request acts for.
+#[derive(Clone, Debug)]
+pub struct Tenant(pub std::sync::Arc<str>);
+
+impl Tenant {
+    /// Its name.
+    pub fn name(&self) -> &str {
+        &self.0
+    }
+}
+
+/// The tenant of a service without a tokens file.
+pub const DEFAULT_TENANT: &str = "default";
+
 /// Paths anyone may read, whatever the settings.
 const OPEN: [&str; 4] = ["/healthz", "/readyz", "/openapi.yaml", "/"];
 
@@ -46,7 +60,13 @@ fn needs_token(state: &AppState, method: &Method, path: &str) -> bool {
 }
 
 /// Middleware: 401 problem+json unless the request may pass.
-pub async fn require_token(State(state): State<AppState>, req: Request, next: Next) -> Response {
+pub async fn require_token(
+    State(state): State<AppState>,
+    mut req: Request,
+    next: Next,
+) -> Response {
+    req.extensions_mut()
+        .insert(Tenant(std::sync::Arc::from(DEFAULT_TENANT)));
     if needs_token(&state, req.method(), req.uri().path()) {
         let token = state.config.api_token.as_deref().unwrap_or_default();
         if !authorised(req.headers().get(header::AUTHORIZATION), token) {

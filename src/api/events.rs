@@ -4,13 +4,14 @@ use std::convert::Infallible;
 use std::time::Duration;
 
 use axum::extract::rejection::{PathRejection, QueryRejection};
-use axum::extract::{Path, Query, State};
+use axum::extract::{Extension, Path, Query, State};
 use axum::http::HeaderMap;
 use axum::response::sse::{Event, KeepAlive, Sse};
 use futures_util::Stream;
 use tokio::time::Instant;
 use uuid::Uuid;
 
+use super::auth::Tenant;
 use super::jobs::{load, parse_id, query, status_etag, summary, view};
 use super::plot::NoQuery;
 use super::problem::Problem;
@@ -28,6 +29,7 @@ const KEEP_ALIVE: Duration = Duration::from_secs(15);
 /// Where a stream is.
 struct Follow {
     state: AppState,
+    tenant: Tenant,
     id: Uuid,
     /// ETag of the last status sent.
     last: Option<String>,
@@ -54,7 +56,7 @@ impl Follow {
             if *stopping.borrow() {
                 return None;
             }
-            let job = load(&self.state, self.id).await.ok()?;
+            let job = load(&self.state, &self.tenant, self.id).await.ok()?;
             let etag = status_etag(&job);
             let final_status = job.status.is_final();
             // A finished job always ends the stream with `done`, even for a
@@ -115,6 +117,7 @@ impl Follow {
 )]
 pub async fn job_events(
     State(state): State<AppState>,
+    Extension(tenant): Extension<Tenant>,
     path: Result<Path<String>, PathRejection>,
     q: Result<Query<NoQuery>, QueryRejection>,
     headers: HeaderMap,
@@ -123,7 +126,7 @@ pub async fn job_events(
     query(q, &[])?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
     // A job that does not exist is a 404, not an empty stream.
-    load(&state, id).await?;
+    load(&state, &tenant, id).await?;
     // A client that reconnects (EventSource does) names the last event it
     // saw: the stream resumes after it instead of repeating it.
     let last = headers
@@ -133,6 +136,7 @@ pub async fn job_events(
         .map(str::to_string);
     let follow = Follow {
         state,
+        tenant,
         id,
         last,
         sent: None,

@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use axum::body::{Body, Bytes};
 use axum::extract::rejection::{BytesRejection, PathRejection, QueryRejection};
-use axum::extract::{Path, Query, State};
+use axum::extract::{Extension, Path, Query, State};
 use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
@@ -24,7 +24,8 @@ use crate::jobs::time_history::TimeHistorySpec;
 use crate::jobs::{Job, KINDS};
 use crate::service::AppState;
 use crate::service::results::{Cached, Document, LoadError, MAX_BODY, SharedText};
-use crate::store::{JobRecord, ListQuery, Status, new_job_id, now_rfc3339};
+use super::auth::Tenant;
+use crate::store::{Deleted, JobRecord, ListQuery, NewJob, Status, new_job_id, now_rfc3339};
 
 /// A job spec: exactly what `topple run` accepts.
 #[derive(ToSchema)]
@@ -61,7 +62,8 @@ pub struct Links {
     pub plot: String,
     /// Its status as Server-Sent Events.
     pub events: String,
-    /// DELETE cancels it.
+    /// DELETE cancels it while queued or running and deletes it once
+    /// finished; `POST {self}/cancel` only ever cancels.
     pub cancel: String,
 }
 
@@ -274,10 +276,12 @@ pub(crate) fn parse_id(path: Result<Path<String>, PathRejection>) -> Result<Uuid
     })
 }
 
-pub(crate) async fn load(state: &AppState, id: Uuid) -> Result<JobRecord, Problem> {
+/// The tenant's job `id`; another tenant's job is not found, as if it did
+/// not exist (a 403 would confirm that it does).
+pub(crate) async fn load(state: &AppState, tenant: &Tenant, id: Uuid) -> Result<JobRecord, Problem> {
     state
         .store
-        .get(id)
+        .get(tenant.name(), id)
         .await?
         .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))
 }
@@ -307,14 +311,20 @@ fn busy(what: &str) -> Problem {
     .retry_after(BUSY_RETRY_S)
 }
 
-async fn load_result(state: &AppState, id: Uuid, key: &str) -> Result<Cached, Problem> {
+/// The result document of job `job` (of its computation, which identical
+/// jobs of other tenants share).
+async fn load_result(state: &AppState, job: &JobRecord) -> Result<Cached, Problem> {
+    let id = job.computation;
     match state
         .results
-        .load(id, key, RESULT_WAIT, state.store.result(id))
+        .load(id, &job.key, RESULT_WAIT, state.store.result(id))
         .await
     {
         Ok(Some(found)) => Ok(found),
-        Ok(None) => Err(Problem::internal(format!("result of job {id} is missing"))),
+        Ok(None) => Err(Problem::internal(format!(
+            "result of job {} is missing",
+            job.id
+        ))),
         Err(LoadError::Store(e)) => Err(e.into()),
         Err(LoadError::Busy) => Err(busy(
             "the memory for large results (result_memory) or the database",
@@ -376,16 +386,44 @@ fn check_json_content_type(headers: &HeaderMap) -> Result<(), Problem> {
 /// Seconds a client told the queue is full waits before trying again.
 const RETRY_AFTER_S: u64 = 2;
 
-/// Refuses new work while the queue is full (429 with Retry-After); work
+/// Refuses new work while the queue is full (429 with Retry-After), and a
+/// tenant's new live job beyond its quota (`max_queued_per_tenant`); work
 /// already known under `key` (queued, running or done) is always answered.
-async fn admit(state: &AppState, key: &str) -> Result<(), Problem> {
+async fn admit(state: &AppState, tenant: &Tenant, key: &str) -> Result<(), Problem> {
     let max = state.config.max_queued;
-    if max == u64::MAX || (state.store.queued().await? as u64) < max {
+    let quota = state.config.max_queued_per_tenant;
+    if max == u64::MAX && quota.is_none() {
         return Ok(());
     }
-    if let Some(job) = state.store.by_key(key).await?
-        && !matches!(job.status, Status::Failed | Status::Canceled)
+    let a = state.store.admission(tenant.name(), key).await?;
+    let answered = |s: Option<Status>| matches!(s, Some(Status::Queued | Status::Running | Status::Succeeded));
+    // The tenant's own job for this key, live or done: it is the answer.
+    if answered(a.own) {
+        return Ok(());
+    }
+    // A computation done: a new job over it is done at once.
+    if a.computation == Some(Status::Succeeded) {
+        return Ok(());
+    }
+    if let Some(quota) = quota
+        && a.live as u64 >= quota
     {
+        state.metrics.rejected_full.increment(1);
+        return Err(Problem::new(
+            StatusCode::TOO_MANY_REQUESTS,
+            "tenant-quota",
+            "Tenant quota reached",
+            format!(
+                "tenant {:?} has {} jobs queued or running, its quota (max_queued_per_tenant); try again in {RETRY_AFTER_S} s, once one finishes",
+                tenant.name(),
+                a.live
+            ),
+        )
+        .limit("max_queued_per_tenant", quota as f64)
+        .retry_after(RETRY_AFTER_S));
+    }
+    // Joining a computation in flight queues no new work.
+    if max == u64::MAX || (a.queued as u64) < max || answered(a.computation) {
         return Ok(());
     }
     state.metrics.rejected_full.increment(1);
@@ -395,18 +433,23 @@ async fn admit(state: &AppState, key: &str) -> Result<(), Problem> {
         "Queue full",
         format!("{max} jobs are waiting (max_queued); try again in {RETRY_AFTER_S} s"),
     )
+    .limit("max_queued", max as f64)
     .retry_after(RETRY_AFTER_S))
 }
 
 /// The stored result document of job `id`: 404 without the job, 409 until it
 /// has succeeded.
-pub(crate) async fn finished_result(state: &AppState, id: Uuid) -> Result<Cached, Problem> {
-    if let Some(found) = state.results.get(id) {
-        return Ok(found);
-    }
-    let job = load(state, id).await?;
+pub(crate) async fn finished_result(
+    state: &AppState,
+    tenant: &Tenant,
+    id: Uuid,
+) -> Result<Cached, Problem> {
+    let job = load(state, tenant, id).await?;
     match job.status {
-        Status::Succeeded => load_result(state, id, &job.key).await,
+        Status::Succeeded => match state.results.get(job.computation) {
+            Some(found) => Ok(found),
+            None => load_result(state, &job).await,
+        },
         Status::Failed => Err(Problem::conflict(
             "job-failed",
             format!("job {id} failed: {}", job.error.unwrap_or_default()),
@@ -426,13 +469,18 @@ pub(crate) async fn finished_result(state: &AppState, id: Uuid) -> Result<Cached
     }
 }
 
-/// Waits until job `id` reaches a final status or `limit` passes.
-async fn wait_for(state: &AppState, id: Uuid, limit: Duration) -> Result<JobRecord, Problem> {
+/// Waits until the tenant's job `id` reaches a final status or `limit` passes.
+async fn wait_for(
+    state: &AppState,
+    tenant: &Tenant,
+    id: Uuid,
+    limit: Duration,
+) -> Result<JobRecord, Problem> {
     let deadline = Instant::now() + limit;
     let mut events = state.finished.subscribe();
     let mut stopping = state.stopping.clone();
     loop {
-        let job = load(state, id).await?;
+        let job = load(state, tenant, id).await?;
         if job.status.is_final() || Instant::now() >= deadline || *stopping.borrow() {
             return Ok(job);
         }
@@ -444,7 +492,7 @@ async fn wait_for(state: &AppState, id: Uuid, limit: Duration) -> Result<JobReco
             tokio::select! {
                 r = tokio::time::timeout_at(until.into(), events.recv()) => {
                     match r {
-                        Ok(Ok(done)) if done != id => continue,
+                        Ok(Ok(done)) if done != job.computation => continue,
                         _ => break,
                     }
                 }
@@ -534,6 +582,7 @@ fn body_problem(state: &AppState, e: &BytesRejection) -> Problem {
 )]
 pub async fn create_job(
     State(state): State<AppState>,
+    Extension(tenant): Extension<Tenant>,
     headers: HeaderMap,
     query: Result<Query<CreateQuery>, QueryRejection>,
     body: Result<Bytes, BytesRejection>,
@@ -572,7 +621,7 @@ pub async fn create_job(
         Problem::over_limit(&e.as_written(&written))
     })?;
     let key = cache_key(&job);
-    admit(&state, &key).await?;
+    admit(&state, &tenant, &key).await?;
     let spec = serde_json::to_string(&job).map_err(|e| Problem::internal(e.to_string()))?;
     let tasks: Vec<String> = job
         .split()
@@ -581,17 +630,19 @@ pub async fn create_job(
         .collect();
     let submitted = state
         .store
-        .submit(
-            new_job_id(),
-            &key,
-            job.kind(),
-            &spec,
-            &now_rfc3339(),
-            &tasks,
-        )
+        .submit(NewJob {
+            tenant: tenant.name(),
+            id: new_job_id(),
+            key: &key,
+            kind: job.kind(),
+            spec: &spec,
+            now: &now_rfc3339(),
+            tasks: &tasks,
+        })
         .await?;
     let id = submitted.job.id;
     tracing::Span::current().record("job_id", tracing::field::display(id));
+    super::http::audit("submit", &tenant, id, &headers);
     if submitted.cached {
         state.metrics.cache_hits.increment(1);
     } else {
@@ -605,7 +656,7 @@ pub async fn create_job(
     if let Some(limit) = wait
         && !record.status.is_final()
     {
-        record = wait_for(&state, id, limit).await?;
+        record = wait_for(&state, &tenant, id, limit).await?;
     }
     let mut v = view(&record, Some(submitted.cached));
     v.estimate = Some(Estimate {
@@ -619,7 +670,7 @@ pub async fn create_job(
     let status = if record.status.is_final() && (wait.is_some() || submitted.cached) {
         if record.status == Status::Succeeded {
             // The stored document is inlined as it is, never parsed again.
-            let found = load_result(&state, id, &record.key).await?;
+            let found = load_result(&state, &record).await?;
             v.result =
                 serde_json::value::RawValue::from_string(found.body.as_str().to_string()).ok();
         }
@@ -677,6 +728,7 @@ pub struct JobQuery {
 )]
 pub async fn get_job(
     State(state): State<AppState>,
+    Extension(tenant): Extension<Tenant>,
     path: Result<Path<String>, PathRejection>,
     q: Result<Query<JobQuery>, QueryRejection>,
     headers: HeaderMap,
@@ -685,11 +737,11 @@ pub async fn get_job(
     let q = query(q, &["wait"])?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
     let wait = wait_duration(&state, q.wait)?;
-    let mut job = load(&state, id).await?;
+    let mut job = load(&state, &tenant, id).await?;
     if let Some(limit) = wait {
         let seen = super::http::if_none_match(&headers, &status_etag(&job));
         if seen || !job.status.is_final() {
-            job = wait_for_change(&state, id, limit, seen).await?;
+            job = wait_for_change(&state, &tenant, id, limit, seen).await?;
         }
     }
     let etag = status_etag(&job);
@@ -718,18 +770,19 @@ pub async fn get_job(
 /// its status ETag to change.
 async fn wait_for_change(
     state: &AppState,
+    tenant: &Tenant,
     id: Uuid,
     limit: Duration,
     on_any_change: bool,
 ) -> Result<JobRecord, Problem> {
     if !on_any_change {
-        return wait_for(state, id, limit).await;
+        return wait_for(state, tenant, id, limit).await;
     }
     let deadline = Instant::now() + limit;
-    let first = status_etag(&load(state, id).await?);
+    let first = status_etag(&load(state, tenant, id).await?);
     let mut stopping = state.stopping.clone();
     loop {
-        let job = load(state, id).await?;
+        let job = load(state, tenant, id).await?;
         if status_etag(&job) != first || Instant::now() >= deadline || *stopping.borrow() {
             return Ok(job);
         }
@@ -818,13 +871,14 @@ impl Format {
 /// `If-None-Match` gets a 304 without rendering anything.
 pub(crate) async fn result_response(
     state: &AppState,
+    tenant: &Tenant,
     id: Uuid,
     format: Format,
     headers: &HeaderMap,
 ) -> Result<Response, Problem> {
-    let found = finished_result(state, id).await?;
+    let found = finished_result(state, tenant, id).await?;
     let etag = super::http::result_etag(&found.key, format.name());
-    let cache = super::http::immutable(state.config.api_token.is_some() && state.config.auth_reads);
+    let cache = super::http::immutable(state.config.reads_need_token());
     if super::http::if_none_match(headers, &etag) {
         return Ok(super::http::not_modified(&etag, cache));
     }
@@ -954,6 +1008,7 @@ fn kind_of(v: &serde_json::Value) -> String {
 )]
 pub async fn get_result(
     State(state): State<AppState>,
+    Extension(tenant): Extension<Tenant>,
     path: Result<Path<String>, PathRejection>,
     q: Result<Query<ResultQuery>, QueryRejection>,
     headers: HeaderMap,
@@ -961,10 +1016,16 @@ pub async fn get_result(
     let id = parse_id(path)?;
     let q = query(q, &["format"])?;
     let format = Format::negotiate(q.format.as_deref(), &headers)?;
-    result_response(&state, id, format, &headers).await
+    result_response(&state, &tenant, id, format, &headers).await
 }
 
-/// Cancel a job: running work stops within milliseconds.
+/// Cancel a job, or delete a finished one.
+///
+/// A queued or running job is canceled (200 with the job): its computation
+/// stops within milliseconds unless another tenant's job over the same
+/// computation still needs it. A finished job (succeeded, failed or canceled)
+/// is deleted (204): gone from listings, its id answers 404, and its result is
+/// purged once no job refers to it.
 #[utoipa::path(
     delete,
     path = "/v1/jobs/{id}",
@@ -973,36 +1034,107 @@ pub async fn get_result(
     security((), ("bearer" = [])),
     params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid")),
     responses(
-        (status = 200, description = "Canceled (or already canceled)", body = JobView),
+        (status = 200, description = "Canceled", body = JobView),
+        (status = 204, description = "Deleted: the job had finished"),
         (status = 400, description = "Not a job id", body = Problem, content_type = "application/problem+json"),
-        (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
-        (status = 409, description = "Already finished", body = Problem, content_type = "application/problem+json"),
-        (status = 401, description = "A token is configured and the request lacks it", body = Problem, content_type = "application/problem+json"),
+        (status = 401, description = "A token is needed and the request lacks it", body = Problem, content_type = "application/problem+json"),
+        (status = 404, description = "No such job (of this tenant)", body = Problem, content_type = "application/problem+json"),
+        (status = 503, description = "The database is unavailable; nothing changed", body = Problem, content_type = "application/problem+json",
+            headers(("Retry-After" = String, description = "Seconds to wait"))),
     )
 )]
 pub async fn cancel_job(
     State(state): State<AppState>,
+    Extension(tenant): Extension<Tenant>,
+    headers: HeaderMap,
+    path: Result<Path<String>, PathRejection>,
+    q: Result<Query<super::plot::NoQuery>, QueryRejection>,
+) -> Result<Response, Problem> {
+    let id = parse_id(path)?;
+    query(q, &[])?;
+    tracing::Span::current().record("job_id", tracing::field::display(id));
+    let job = match cancel(&state, &tenant, id, &headers).await? {
+        Ok(canceled) => return Ok(axum::Json(view(&canceled, None)).into_response()),
+        Err(finished) => finished,
+    };
+    match state.store.delete(tenant.name(), id).await? {
+        Deleted::Gone => {
+            super::http::audit("delete", &tenant, id, &headers);
+            info!(job_id = %id, status = job.status.as_str(), "deleted");
+            Ok(StatusCode::NO_CONTENT.into_response())
+        }
+        Deleted::NotFound => Err(Problem::not_found(format!("no job {id}")).param("id")),
+        // Queued again (resubmitted) between the two steps: it stays.
+        Deleted::NotFinished(job) => Err(Problem::conflict(
+            "not-finished",
+            format!("job {id} is {} again; cancel it first", job.status.as_str()),
+        )),
+    }
+}
+
+/// Cancels the tenant's job `id` if it is queued or running: `Ok` with the
+/// job canceled, `Err` with the job as it was if it had finished already.
+async fn cancel(
+    state: &AppState,
+    tenant: &Tenant,
+    id: Uuid,
+    headers: &HeaderMap,
+) -> Result<Result<JobRecord, JobRecord>, Problem> {
+    let canceled = state
+        .store
+        .cancel(tenant.name(), id, &now_rfc3339())
+        .await?
+        .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))?;
+    if !canceled.changed {
+        return Ok(Err(canceled.job));
+    }
+    let job = canceled.job;
+    if canceled.stopped {
+        state.cancel_local(job.computation);
+    }
+    // Whoever waits on this job looks again.
+    let _ = state.finished.send(job.computation);
+    super::http::audit("cancel", tenant, id, headers);
+    info!(job_id = %id, computation_stopped = canceled.stopped, "canceled");
+    Ok(Ok(job))
+}
+
+/// Cancel a job, never delete it.
+///
+/// As `DELETE /v1/jobs/{id}` on a queued or running job; a job that finished
+/// meanwhile is left as it is (409), never deleted.
+#[utoipa::path(
+    post,
+    path = "/v1/jobs/{id}/cancel",
+    tag = "jobs",
+    operation_id = "cancel_only",
+    security((), ("bearer" = [])),
+    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid")),
+    responses(
+        (status = 200, description = "Canceled", body = JobView),
+        (status = 400, description = "Not a job id", body = Problem, content_type = "application/problem+json"),
+        (status = 401, description = "A token is needed and the request lacks it", body = Problem, content_type = "application/problem+json"),
+        (status = 404, description = "No such job (of this tenant)", body = Problem, content_type = "application/problem+json"),
+        (status = 409, description = "Already finished", body = Problem, content_type = "application/problem+json"),
+        (status = 503, description = "The database is unavailable; nothing changed", body = Problem, content_type = "application/problem+json",
+            headers(("Retry-After" = String, description = "Seconds to wait"))),
+    )
+)]
+pub async fn cancel_only(
+    State(state): State<AppState>,
+    Extension(tenant): Extension<Tenant>,
+    headers: HeaderMap,
     path: Result<Path<String>, PathRejection>,
     q: Result<Query<super::plot::NoQuery>, QueryRejection>,
 ) -> Result<axum::Json<JobView>, Problem> {
     let id = parse_id(path)?;
     query(q, &[])?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
-    let job = state
-        .store
-        .cancel(id, &now_rfc3339())
-        .await?
-        .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))?;
-    match job.status {
-        Status::Canceled => {
-            state.cancel_local(id);
-            let _ = state.finished.send(id);
-            info!(job_id = %id, "canceled");
-            Ok(axum::Json(view(&job, None)))
-        }
-        s => Err(Problem::conflict(
+    match cancel(&state, &tenant, id, &headers).await? {
+        Ok(job) => Ok(axum::Json(view(&job, None))),
+        Err(job) => Err(Problem::conflict(
             "already-finished",
-            format!("job {id} already {}", s.as_str()),
+            format!("job {id} already {}", job.status.as_str()),
         )),
     }
 }
@@ -1061,6 +1193,7 @@ pub struct JobPage {
 )]
 pub async fn list_jobs(
     State(state): State<AppState>,
+    Extension(tenant): Extension<Tenant>,
     q: Result<Query<ListParams>, QueryRejection>,
 ) -> Result<Response, Problem> {
     let q = query(q, &["status", "kind", "limit", "cursor", "include"])?;
@@ -1111,12 +1244,15 @@ pub async fn list_jobs(
     };
     let jobs = state
         .store
-        .list(&ListQuery {
+        .list(
+            tenant.name(),
+            &ListQuery {
             status,
             kind: q.kind.clone(),
             limit,
             before,
-        })
+            },
+        )
         .await?;
     let next_cursor = if jobs.len() as u32 == limit {
         jobs.last().map(|j| j.id.to_string())

@@ -110,6 +110,7 @@ pub fn routes() -> (Router<AppState>, utoipa::openapi::OpenApi) {
         .routes(routes!(jobs::create_job, jobs::list_jobs))
         .routes(routes!(jobs::get_job, jobs::cancel_job))
         .routes(routes!(jobs::get_result))
+        .routes(routes!(jobs::cancel_only))
         .routes(routes!(events::job_events))
         .routes(routes!(plot::get_plot))
         .routes(routes!(health::healthz))

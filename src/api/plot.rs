@@ -3,10 +3,11 @@
 use std::sync::Arc;
 
 use axum::extract::rejection::{PathRejection, QueryRejection};
-use axum::extract::{Path, Query, State};
+use axum::extract::{Extension, Path, Query, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
 
+use super::auth::Tenant;
 use super::jobs::{Format, parse_id, query, result_response};
 use super::problem::Problem;
 use crate::service::AppState;
@@ -42,6 +43,7 @@ use crate::service::results::Document;
 )]
 pub async fn get_plot(
     State(state): State<AppState>,
+    Extension(tenant): Extension<Tenant>,
     path: Result<Path<String>, PathRejection>,
     q: Result<Query<NoQuery>, QueryRejection>,
     headers: HeaderMap,
@@ -49,7 +51,7 @@ pub async fn get_plot(
     let id = parse_id(path)?;
     query(q, &[])?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
-    result_response(&state, id, Format::Svg, &headers).await
+    result_response(&state, &tenant, id, Format::Svg, &headers).await
 }
 
 /// A route that takes no query parameters.

@@ -76,6 +76,13 @@ impl Problem {
         self
     }
 
+    /// Naming the service limit (as its setting is named) and its value.
+    pub fn limit(mut self, name: &str, maximum: f64) -> Self {
+        self.limit = Some(name.into());
+        self.maximum = Some(maximum);
+        self
+    }
+
     /// Naming a request header.
     pub fn header_name(mut self, name: &str) -> Self {
         self.header = Some(name.into());

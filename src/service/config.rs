@@ -29,6 +29,11 @@ pub struct ServeConfig {
     pub limits: Limits,
     /// Most jobs waiting in the queue; a submission beyond answers 429.
     pub max_queued: u64,
+    /// Most jobs one tenant may have queued or running; a submission beyond
+    /// answers 429 (none: no quota).
+    pub max_queued_per_tenant: Option<u64>,
+    /// Finished jobs older than this are deleted (none: kept).
+    pub retention: Option<Duration>,
     /// Longest computation of one task (a whole job, or one chunk of a
     /// spectrum); past it the job fails.
     pub job_timeout: Duration,
@@ -70,6 +75,8 @@ impl Default for ServeConfig {
             instance: format!("{}-{}", hostname(), std::process::id()),
             limits: Limits::default(),
             max_queued: 10_000,
+            max_queued_per_tenant: None,
+            retention: None,
             job_timeout: Duration::from_secs(600),
             api_token: None,
             auth_reads: false,
@@ -80,6 +87,14 @@ impl Default for ServeConfig {
             max_connections: 1024,
             result_memory: 128 << 20,
         }
+    }
+}
+
+impl ServeConfig {
+    /// Whether reading a job needs a token (then results are cached
+    /// privately only).
+    pub fn reads_need_token(&self) -> bool {
+        self.api_token.is_some() && self.auth_reads
     }
 }
 

@@ -11,6 +11,7 @@ pub mod config;
 mod conn;
 pub mod metrics;
 pub mod results;
+pub mod retention;
 pub mod throughput;
 pub mod worker;
 
@@ -224,6 +225,9 @@ impl Application {
                 n,
                 state.stopping.clone(),
             )));
+        }
+        if let Some(retention) = state.config.retention {
+            tokio::spawn(retention::run(state.clone(), retention, state.stopping.clone()));
         }
         let app = crate::api::router(state.clone());
         info!(addr = %listener.local_addr()?, workers = state.config.workers, "serving");

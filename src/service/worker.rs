@@ -40,7 +40,7 @@ pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>)
         match claimed {
             Ok(Some(task)) => {
                 let span =
-                    info_span!("job", job_id = %task.job_id, task = task.idx, kind = %task.kind);
+                    info_span!("task", computation = %task.computation, task = task.idx, kind = %task.kind);
                 execute(&state, &owner, task, &mut shutdown, &mut stopping_since)
                     .instrument(span)
                     .await;
@@ -92,7 +92,7 @@ async fn execute(
     shutdown: &mut watch::Receiver<bool>,
     stopping_since: &mut Option<Instant>,
 ) {
-    let (id, idx) = (task.job_id, task.idx);
+    let (id, idx) = (task.computation, task.idx);
     info!(attempt = task.attempts, "task started");
     let job = match parse(&task.payload) {
         Ok(job) => job,
@@ -288,7 +288,7 @@ async fn finish_stranded(state: &AppState) {
     match state.store.stranded().await {
         Ok(ids) => {
             for id in ids {
-                info!(job_id = %id, "assembling a job whose tasks were all done");
+                info!(computation = %id, "assembling a computation whose tasks were all done");
                 finish_job(state, id).await;
             }
         }
@@ -310,7 +310,7 @@ async fn finish_job(state: &AppState, id: Uuid) {
             return;
         }
     };
-    let Ok(Some(record)) = state.store.get(id).await else {
+    let Ok(Some(record)) = state.store.computation(id).await else {
         return;
     };
     let job = match parse(&record.spec) {

@@ -1,6 +1,10 @@
-//! Persistence of jobs and results: one trait, one implementation per backend.
+//! Persistence of jobs, computations and results: one trait, one
+//! implementation over both SQL dialects ([`sql::SqlStore`]), whose
+//! differences live in [`dialect`].
 
+pub mod dialect;
 pub mod postgres;
+pub mod sql;
 pub mod sqlite;
 
 use std::future::Future;
@@ -137,11 +141,17 @@ impl Status {
     ];
 }
 
-/// A job as stored.
+/// A tenant's job as stored: its own life (status, times, error) over a
+/// computation that identical specs share (key, kind, spec, progress,
+/// numerics).
 #[derive(Clone, Debug, PartialEq)]
 pub struct JobRecord {
     /// Identifier.
     pub id: Uuid,
+    /// The tenant it belongs to.
+    pub tenant: String,
+    /// The computation it stands for.
+    pub computation: Uuid,
     /// Cache key.
     pub key: String,
     /// Kind.
@@ -150,7 +160,8 @@ pub struct JobRecord {
     pub spec: String,
     /// Status.
     pub status: Status,
-    /// 0..1: the mean progress of its tasks (a finished task counts 1).
+    /// 0..1: the mean progress of its computation's tasks (a finished task
+    /// counts 1).
     pub progress: f64,
     /// Failure message.
     pub error: Option<String>,
@@ -164,30 +175,101 @@ pub struct JobRecord {
     pub finished_at: Option<String>,
 }
 
+/// A computation as a worker sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Computation {
+    /// Identifier.
+    pub id: Uuid,
+    /// Cache key.
+    pub key: String,
+    /// Kind.
+    pub kind: String,
+    /// Normalised spec (JSON text).
+    pub spec: String,
+    /// Status.
+    pub status: Status,
+}
+
 /// A task claimed by a worker.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TaskClaim {
-    /// The job.
-    pub job_id: Uuid,
-    /// The task's index within the job.
+    /// The computation.
+    pub computation: Uuid,
+    /// The task's index within the computation.
     pub idx: i64,
-    /// The job's kind.
+    /// The computation's kind.
     pub kind: String,
     /// The task's own spec (JSON text).
     pub payload: String,
     /// How many times this task has been claimed (> 1 after a takeover).
     pub attempts: i64,
-    /// How many tasks the job has.
+    /// How many tasks the computation has.
     pub tasks: i64,
+}
+
+/// A submission.
+#[derive(Clone, Copy, Debug)]
+pub struct NewJob<'a> {
+    /// Whose job it is.
+    pub tenant: &'a str,
+    /// The id of the job, if a new one is made.
+    pub id: Uuid,
+    /// Cache key of its computation.
+    pub key: &'a str,
+    /// Kind.
+    pub kind: &'a str,
+    /// Normalised spec (JSON text).
+    pub spec: &'a str,
+    /// RFC 3339.
+    pub now: &'a str,
+    /// The task specs, should the computation be queued.
+    pub tasks: &'a [String],
 }
 
 /// What a submission found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Submitted {
-    /// The job (new, or the existing one with the same key).
+    /// The tenant's job (new, or its existing one for the same key).
     pub job: JobRecord,
-    /// Whether an existing job was returned instead of queuing new work.
+    /// Whether existing work answers it: the tenant's own job, or another
+    /// tenant's computation (queued, running or done), not new work queued.
     pub cached: bool,
+}
+
+/// What a cancellation did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Canceled {
+    /// The job afterwards (a job already finished is returned as it is).
+    pub job: JobRecord,
+    /// Whether this call canceled it (it was queued or running).
+    pub changed: bool,
+    /// Whether its computation was stopped too: no other live job needs it.
+    pub stopped: bool,
+}
+
+/// What a deletion did.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Deleted {
+    /// The job is gone (and its computation and result with it if no other
+    /// job refers to them).
+    Gone,
+    /// The tenant has no such job.
+    NotFound,
+    /// The job is queued or running: cancel it first.
+    NotFinished(JobRecord),
+}
+
+/// What an admission decision needs to know about a submission.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Admission {
+    /// The status of the tenant's own job for this key, if any.
+    pub own: Option<Status>,
+    /// The status of the computation for this key, if any.
+    pub computation: Option<Status>,
+    /// The tenant's jobs queued or running.
+    pub live: i64,
+    /// Computations waiting in the queue, all tenants.
+    pub queued: i64,
 }
 
 /// Filter of a listing.
@@ -203,29 +285,57 @@ pub struct ListQuery {
     pub before: Option<Uuid>,
 }
 
-/// Storage of jobs, their tasks and results. Every write that a worker makes
-/// is conditional on holding the task's lease, so a task that ran twice after a
-/// takeover is written once.
+/// Storage of jobs, the computations they share, their tasks and results.
+///
+/// Every write that a worker makes is conditional on holding the task's
+/// lease, so a task that ran twice after a takeover is written once. Reads
+/// and writes of jobs name their tenant: another tenant's job does not exist.
 pub trait JobStore: Send + Sync {
-    /// Inserts a queued job with its tasks unless one with the same key exists;
-    /// a failed or canceled job with that key is queued again (with fresh tasks).
-    fn submit<'a>(
+    /// The tenant's job for `key`: its existing one (a failed or canceled job
+    /// is queued again), or a new job over the computation with that key
+    /// (shared with other tenants' jobs), which is created and queued with
+    /// its tasks if there is none, or queued again if it failed or was
+    /// canceled.
+    fn submit<'a>(&'a self, job: NewJob<'a>) -> BoxFuture<'a, Result<Submitted, StoreError>>;
+    /// The tenant's job.
+    fn get<'a>(
         &'a self,
+        tenant: &'a str,
         id: Uuid,
-        key: &'a str,
-        kind: &'a str,
-        spec: &'a str,
+    ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>>;
+    /// The result document of a succeeded computation.
+    fn result(&self, computation: Uuid) -> BoxFuture<'_, Result<Option<String>, StoreError>>;
+    /// The tenant's jobs, newest first.
+    fn list<'a>(
+        &'a self,
+        tenant: &'a str,
+        q: &'a ListQuery,
+    ) -> BoxFuture<'a, Result<Vec<JobRecord>, StoreError>>;
+    /// Cancels the tenant's queued or running job; its computation stops
+    /// only if no other live job needs it.
+    fn cancel<'a>(
+        &'a self,
+        tenant: &'a str,
+        id: Uuid,
         now: &'a str,
-        tasks: &'a [String],
-    ) -> BoxFuture<'a, Result<Submitted, StoreError>>;
-    /// One job.
-    fn get(&self, id: Uuid) -> BoxFuture<'_, Result<Option<JobRecord>, StoreError>>;
-    /// The result document of a succeeded job.
-    fn result(&self, id: Uuid) -> BoxFuture<'_, Result<Option<String>, StoreError>>;
-    /// Newest first.
-    fn list<'a>(&'a self, q: &'a ListQuery) -> BoxFuture<'a, Result<Vec<JobRecord>, StoreError>>;
-    /// Claims the oldest queued task, or a running one whose lease lapsed, for
-    /// `owner` for `lease`; marks its job running.
+    ) -> BoxFuture<'a, Result<Option<Canceled>, StoreError>>;
+    /// Deletes the tenant's finished job; its computation, tasks and result
+    /// go once no job refers to them.
+    fn delete<'a>(&'a self, tenant: &'a str, id: Uuid) -> BoxFuture<'a, Result<Deleted, StoreError>>;
+    /// Deletes every finished job that finished before `before` (RFC 3339),
+    /// with the computations no job refers to any more; returns the jobs
+    /// deleted.
+    fn purge<'a>(&'a self, before: &'a str) -> BoxFuture<'a, Result<u64, StoreError>>;
+    /// What admitting a submission of `key` by `tenant` needs to know.
+    fn admission<'a>(
+        &'a self,
+        tenant: &'a str,
+        key: &'a str,
+    ) -> BoxFuture<'a, Result<Admission, StoreError>>;
+    /// Claims a task for `owner` for `lease` and marks its computation and
+    /// jobs running: a task whose lease lapsed first; else a queued task by
+    /// round robin — the tenant served longest ago, its computation served
+    /// longest ago, its first queued task.
     fn claim<'a>(
         &'a self,
         owner: &'a str,
@@ -234,9 +344,9 @@ pub trait JobStore: Send + Sync {
     ) -> BoxFuture<'a, Result<Option<TaskClaim>, StoreError>> {
         self.claim_in(owner, now, lease, false)
     }
-    /// As [`Store::claim`], among the jobs already running only when
-    /// `started_only` (a stopping instance finishes what it began, within its
-    /// grace period, and starts nothing new).
+    /// As [`JobStore::claim`], among the computations already running only
+    /// when `started_only` (a stopping instance finishes what it began,
+    /// within its grace period, and starts nothing new).
     fn claim_in<'a>(
         &'a self,
         owner: &'a str,
@@ -244,12 +354,12 @@ pub trait JobStore: Send + Sync {
         lease: Duration,
         started_only: bool,
     ) -> BoxFuture<'a, Result<Option<TaskClaim>, StoreError>>;
-    /// Renews the task's lease and records its progress; returns the job's
-    /// status (a job canceled meanwhile reads `Canceled`), or `None` when the
-    /// lease was lost.
+    /// Renews the task's lease and records its progress; returns the
+    /// computation's status (one canceled meanwhile reads `Canceled`), or
+    /// `None` when the lease was lost.
     fn heartbeat<'a>(
         &'a self,
-        job: Uuid,
+        computation: Uuid,
         idx: i64,
         owner: &'a str,
         progress: f64,
@@ -258,80 +368,70 @@ pub trait JobStore: Send + Sync {
     /// Stores a task's result if `owner` still holds it.
     fn complete<'a>(
         &'a self,
-        job: Uuid,
+        computation: Uuid,
         idx: i64,
         owner: &'a str,
         result: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>>;
-    /// For a job of one task: stores its result as the job's result and marks
-    /// the job succeeded, in one transaction, if `owner` still holds the task.
+    /// For a computation of one task: stores its result as the computation's
+    /// and marks it and its live jobs succeeded, in one transaction, if
+    /// `owner` still holds the task.
     fn complete_only<'a>(
         &'a self,
-        job: Uuid,
+        computation: Uuid,
         idx: i64,
         owner: &'a str,
         body: &'a str,
         numerics: &'a str,
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>>;
-    /// The task results in order, once every task of the job is done.
-    fn parts(&self, job: Uuid) -> BoxFuture<'_, Result<Option<Vec<String>>, StoreError>>;
-    /// Stores the assembled result and marks the job succeeded (once).
+    /// The task results in order, once every task is done.
+    fn parts(&self, computation: Uuid)
+    -> BoxFuture<'_, Result<Option<Vec<String>>, StoreError>>;
+    /// Stores the assembled result and marks the computation and its live
+    /// jobs succeeded (once).
     fn succeed<'a>(
         &'a self,
-        job: Uuid,
+        computation: Uuid,
         body: &'a str,
         numerics: &'a str,
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>>;
-    /// Marks the job failed and cancels its other tasks.
+    /// Marks the computation and its live jobs failed and cancels its other
+    /// tasks.
     fn fail<'a>(
         &'a self,
-        job: Uuid,
+        computation: Uuid,
         error: &'a str,
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>>;
     /// Returns a task to the queue (shutdown without finishing it).
     fn requeue<'a>(
         &'a self,
-        job: Uuid,
+        computation: Uuid,
         idx: i64,
         owner: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>>;
-    /// Cancels a queued or running job and its tasks; returns the job afterwards.
-    fn cancel<'a>(
-        &'a self,
-        id: Uuid,
-        now: &'a str,
-    ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>>;
     /// At start-up: what a single-instance store left running is requeued (a
     /// shared store leaves it to the leases). Returns the tasks requeued.
     fn recover(&self) -> BoxFuture<'_, Result<u64, StoreError>>;
-    /// Jobs not yet final whose tasks are all done: a process stopped between
-    /// storing the last task and assembling the job's result.
+    /// Computations not yet final whose tasks are all done: a process
+    /// stopped between storing the last task and assembling the result.
     fn stranded(&self) -> BoxFuture<'_, Result<Vec<Uuid>, StoreError>>;
-    /// Jobs waiting in the queue.
-    fn queued(&self) -> BoxFuture<'_, Result<i64, StoreError>>;
-    /// The job with this cache key, if any.
-    fn by_key<'a>(&'a self, key: &'a str) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>>;
-    /// Number of jobs per status.
+    /// One computation.
+    fn computation(&self, id: Uuid) -> BoxFuture<'_, Result<Option<Computation>, StoreError>>;
+    /// Number of jobs per status, all tenants.
     fn counts(&self) -> BoxFuture<'_, Result<Vec<(Status, i64)>, StoreError>>;
     /// Whether the database answers.
     fn ping(&self) -> BoxFuture<'_, Result<(), StoreError>>;
     /// Whether the database takes writes: after a write failed for want of
     /// space or of the database, this tries one; `Ok` otherwise.
-    fn writable(&self) -> BoxFuture<'_, Result<(), StoreError>> {
-        Box::pin(async { Ok(()) })
-    }
+    fn writable(&self) -> BoxFuture<'_, Result<(), StoreError>>;
     /// Waits until another instance may have queued work (PostgreSQL
     /// LISTEN/NOTIFY); a store of one instance never resolves.
-    fn queued_elsewhere(&self) -> BoxFuture<'_, ()> {
-        Box::pin(std::future::pending())
-    }
+    fn queued_elsewhere(&self) -> BoxFuture<'_, ()>;
     /// Tells other instances that work was queued.
-    fn announce_queued(&self) -> BoxFuture<'_, ()> {
-        Box::pin(async {})
-    }
+    fn announce_queued(&self) -> BoxFuture<'_, ()>;
 }
 
 /// A new job id: a UUIDv7 (creation time in its first 48 bits, so ids sort by
