@@ -510,3 +510,71 @@ async fn postgres_store_keeps_its_contract() {
         db.drop_now().await;
     }
 }
+
+/// A job, its task and result as the schema before tenants held them.
+const OLD_ROWS: [&str; 3] = [
+    "INSERT INTO jobs (id, key, kind, spec, status, numerics, created_at, started_at, finished_at) \
+     VALUES ('0190f0e4-0000-7000-8000-000000000001', 'oldkey', 'time_history', '{}', 'succeeded', '{\"n\":1}', \
+     '2026-01-01T00:00:00.000000Z', '2026-01-01T00:00:01.000000Z', '2026-01-01T00:00:02.000000Z')",
+    "INSERT INTO tasks (job_id, idx, payload, status, progress, created_at) \
+     VALUES ('0190f0e4-0000-7000-8000-000000000001', 0, '{}', 'done', 1, '2026-01-01T00:00:00.000000Z')",
+    "INSERT INTO results (job_id, body) VALUES ('0190f0e4-0000-7000-8000-000000000001', '{\"old\":true}')",
+];
+
+/// After the migration, the job is tenant `default`'s, under its id, with
+/// its result; the same spec submitted again is answered from it.
+async fn migrated_job_is_the_default_tenants(store: &dyn JobStore) {
+    let id = Uuid::parse_str("0190f0e4-0000-7000-8000-000000000001").expect("uuid");
+    let job = store.get("default", id).await.expect("reads").expect("kept");
+    assert_eq!(
+        (job.status, job.computation, job.numerics.as_deref()),
+        (Status::Succeeded, id, Some("{\"n\":1}"))
+    );
+    assert_eq!(
+        store.result(id).await.expect("reads").as_deref(),
+        Some("{\"old\":true}")
+    );
+    let again = submit_as(store, "default", "oldkey", 1).await;
+    assert_eq!((again.job.id, again.cached), (id, true));
+    let other = submit_as(store, "alice", "oldkey", 1).await;
+    assert_eq!((other.job.status, other.cached), (Status::Succeeded, true));
+}
+
+#[tokio::test]
+async fn migrations_keep_jobs_made_before_tenants() {
+    let dir = std::env::temp_dir().join(format!("topple-migrate-{}", Uuid::now_v7()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let url = format!("sqlite://{}?mode=rwc", dir.join("old.db").display());
+    {
+        let pool = sqlx::SqlitePool::connect(&url).await.expect("opens");
+        sqlx::migrate!("./migrations/sqlite")
+            .run_to(2, &pool)
+            .await
+            .expect("old schema");
+        for sql in OLD_ROWS {
+            sqlx::query(sql).execute(&pool).await.expect("old rows");
+        }
+        pool.close().await;
+    }
+    let store = SqliteStore::open(&url, 4).await.expect("migrates");
+    migrated_job_is_the_default_tenants(&store).await;
+    let _ = std::fs::remove_dir_all(&dir);
+    let Some(db) = common::pg_database("store_migrate").await else {
+        return;
+    };
+    {
+        let pool = sqlx::PgPool::connect(&db.url).await.expect("connects");
+        sqlx::migrate!("./migrations/postgres")
+            .run_to(1, &pool)
+            .await
+            .expect("old schema");
+        for sql in OLD_ROWS {
+            sqlx::query(sql).execute(&pool).await.expect("old rows");
+        }
+        pool.close().await;
+    }
+    let store = PgStore::open(&db.url, 4).await.expect("migrates");
+    migrated_job_is_the_default_tenants(&store).await;
+    drop(store);
+    db.drop_now().await;
+}
