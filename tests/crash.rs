@@ -252,7 +252,12 @@ async fn pg_integrity(url: &str) {
             .fetch_all(&mut conn)
             .await
             .expect("index list");
-            for table in ["jobs_pkey", "computations_pkey", "tasks_pkey", "results_pkey"] {
+            for table in [
+                "jobs_pkey",
+                "computations_pkey",
+                "tasks_pkey",
+                "results_pkey",
+            ] {
                 assert!(indexes.iter().any(|i| i == table), "{table} in {indexes:?}");
             }
             for index in &indexes {

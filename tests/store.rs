@@ -175,7 +175,10 @@ async fn a_lapsed_lease_is_taken_over_and_the_old_owner_writes_nothing(store: &d
         .await
         .expect("claims")
         .expect("taken over");
-    assert_eq!((second.computation, second.idx, second.attempts), (id, 0, 2));
+    assert_eq!(
+        (second.computation, second.idx, second.attempts),
+        (id, 0, 2)
+    );
     assert!(
         !store
             .complete(id, 0, "dead", "\"stale\"")
@@ -340,7 +343,13 @@ async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
     assert!(store.get("alice", b.job.id).await.expect("reads").is_none());
     let listed = |tenant: &'static str| async move {
         store
-            .list(tenant, &ListQuery { limit: 10, ..Default::default() })
+            .list(
+                tenant,
+                &ListQuery {
+                    limit: 10,
+                    ..Default::default()
+                },
+            )
             .await
             .expect("lists")
             .iter()
@@ -349,15 +358,42 @@ async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
     };
     assert_eq!(listed("alice").await, vec![a.job.id]);
     assert_eq!(listed("bob").await, vec![b.job.id]);
-    assert!(store.cancel("bob", a.job.id, &now_rfc3339()).await.expect("cancels").is_none());
-    assert_eq!(store.delete("alice", b.job.id).await.expect("deletes"), Deleted::NotFound);
+    assert!(
+        store
+            .cancel("bob", a.job.id, &now_rfc3339())
+            .await
+            .expect("cancels")
+            .is_none()
+    );
+    assert_eq!(
+        store.delete("alice", b.job.id).await.expect("deletes"),
+        Deleted::NotFound
+    );
     // One computation, computed once: its two tasks, then nothing.
-    let t0 = store.claim("w", &now_rfc3339(), lease).await.expect("claims").expect("task");
-    let t1 = store.claim("w", &now_rfc3339(), lease).await.expect("claims").expect("task");
+    let t0 = store
+        .claim("w", &now_rfc3339(), lease)
+        .await
+        .expect("claims")
+        .expect("task");
+    let t1 = store
+        .claim("w", &now_rfc3339(), lease)
+        .await
+        .expect("claims")
+        .expect("task");
     assert_eq!((t0.computation, t1.computation), (c, c));
-    assert!(store.claim("w", &now_rfc3339(), lease).await.expect("claims").is_none());
+    assert!(
+        store
+            .claim("w", &now_rfc3339(), lease)
+            .await
+            .expect("claims")
+            .is_none()
+    );
     for tenant_job in [("alice", a.job.id), ("bob", b.job.id)] {
-        let job = store.get(tenant_job.0, tenant_job.1).await.expect("reads").expect("exists");
+        let job = store
+            .get(tenant_job.0, tenant_job.1)
+            .await
+            .expect("reads")
+            .expect("exists");
         assert_eq!(job.status, Status::Running, "{tenant_job:?}");
     }
     // Bob cancels: his job only; Alice's still needs the computation.
@@ -371,7 +407,10 @@ async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
         (Status::Canceled, true, false)
     );
     assert_eq!(
-        store.heartbeat(c, t0.idx, "w", 0.5, lease).await.expect("beats"),
+        store
+            .heartbeat(c, t0.idx, "w", 0.5, lease)
+            .await
+            .expect("beats"),
         Some(Status::Running)
     );
     // A deletion of a live job is refused; of Bob's canceled one, done.
@@ -380,31 +419,67 @@ async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
         Deleted::NotFinished(_)
     ));
     for t in [&t0, &t1] {
-        assert!(store.complete(c, t.idx, "w", "\"part\"").await.expect("completes"));
+        assert!(
+            store
+                .complete(c, t.idx, "w", "\"part\"")
+                .await
+                .expect("completes")
+        );
     }
-    assert!(store.succeed(c, "{\"r\":1}", "{\"n\":2}", &now_rfc3339()).await.expect("stores"));
-    let done = store.get("alice", a.job.id).await.expect("reads").expect("exists");
+    assert!(
+        store
+            .succeed(c, "{\"r\":1}", "{\"n\":2}", &now_rfc3339())
+            .await
+            .expect("stores")
+    );
+    let done = store
+        .get("alice", a.job.id)
+        .await
+        .expect("reads")
+        .expect("exists");
     assert_eq!(
         (done.status, done.numerics.as_deref()),
         (Status::Succeeded, Some("{\"n\":2}"))
     );
     // Bob's canceled job stays canceled; submitting again gives it the result
     // at once, without recomputing.
-    let bob = store.get("bob", b.job.id).await.expect("reads").expect("exists");
+    let bob = store
+        .get("bob", b.job.id)
+        .await
+        .expect("reads")
+        .expect("exists");
     assert_eq!(bob.status, Status::Canceled);
     let again = submit_as(store, "bob", "shared", 2).await;
-    assert_eq!((again.job.id, again.job.status, again.cached), (b.job.id, Status::Succeeded, true));
-    assert!(store.claim("w", &now_rfc3339(), lease).await.expect("claims").is_none());
+    assert_eq!(
+        (again.job.id, again.job.status, again.cached),
+        (b.job.id, Status::Succeeded, true)
+    );
+    assert!(
+        store
+            .claim("w", &now_rfc3339(), lease)
+            .await
+            .expect("claims")
+            .is_none()
+    );
     // A third tenant gets a job of its own, done already.
     let carol = submit_as(store, "carol", "shared", 2).await;
     assert_eq!((carol.job.status, carol.cached), (Status::Succeeded, true));
     assert_ne!(carol.job.id, a.job.id);
     // Deletions: the result stays while any job refers to it.
-    assert_eq!(store.delete("bob", b.job.id).await.expect("deletes"), Deleted::Gone);
+    assert_eq!(
+        store.delete("bob", b.job.id).await.expect("deletes"),
+        Deleted::Gone
+    );
     assert!(store.get("bob", b.job.id).await.expect("reads").is_none());
-    assert_eq!(store.delete("alice", a.job.id).await.expect("deletes"), Deleted::Gone);
+    assert_eq!(
+        store.delete("alice", a.job.id).await.expect("deletes"),
+        Deleted::Gone
+    );
     assert!(store.result(c).await.expect("reads").is_some());
-    assert_eq!(store.delete("carol", carol.job.id).await.expect("deletes"), Deleted::Gone);
+    assert_eq!(
+        store.delete("carol", carol.job.id).await.expect("deletes"),
+        Deleted::Gone
+    );
     assert!(store.result(c).await.expect("reads").is_none());
     assert!(store.computation(c).await.expect("reads").is_none());
     // The same spec again is new work.
@@ -418,14 +493,24 @@ async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
         .expect("cancels")
         .expect("exists");
     assert!(stop.stopped);
-    assert!(store.claim("w", &now_rfc3339(), lease).await.expect("claims").is_none());
+    assert!(
+        store
+            .claim("w", &now_rfc3339(), lease)
+            .await
+            .expect("claims")
+            .is_none()
+    );
 }
 
 async fn retention_purges_old_finished_jobs_and_their_results(store: &dyn JobStore) {
     let lease = Duration::from_secs(30);
     let old = submit_as(store, "alice", "old", 1).await;
     let kept = submit_as(store, "bob", "old", 1).await;
-    let t = store.claim("w", &now_rfc3339(), lease).await.expect("claims").expect("task");
+    let t = store
+        .claim("w", &now_rfc3339(), lease)
+        .await
+        .expect("claims")
+        .expect("task");
     assert!(
         store
             .complete_only(t.computation, 0, "w", "{}", "{}", &now_rfc3339())
@@ -436,12 +521,40 @@ async fn retention_purges_old_finished_jobs_and_their_results(store: &dyn JobSto
     let cutoff = now_rfc3339();
     // Jobs finished before the cutoff go; Bob's too; the live one stays.
     assert_eq!(store.purge(&cutoff).await.expect("purges"), 2);
-    assert!(store.get("alice", old.job.id).await.expect("reads").is_none());
-    assert!(store.get("bob", kept.job.id).await.expect("reads").is_none());
-    assert!(store.result(old.job.computation).await.expect("reads").is_none());
-    let still = store.get("alice", live.job.id).await.expect("reads").expect("kept");
+    assert!(
+        store
+            .get("alice", old.job.id)
+            .await
+            .expect("reads")
+            .is_none()
+    );
+    assert!(
+        store
+            .get("bob", kept.job.id)
+            .await
+            .expect("reads")
+            .is_none()
+    );
+    assert!(
+        store
+            .result(old.job.computation)
+            .await
+            .expect("reads")
+            .is_none()
+    );
+    let still = store
+        .get("alice", live.job.id)
+        .await
+        .expect("reads")
+        .expect("kept");
     assert_eq!(still.status, Status::Queued);
-    assert_eq!(store.purge("1970-01-01T00:00:00.000000Z").await.expect("purges"), 0);
+    assert_eq!(
+        store
+            .purge("1970-01-01T00:00:00.000000Z")
+            .await
+            .expect("purges"),
+        0
+    );
 }
 
 async fn claims_take_turns_across_tenants_and_computations(store: &dyn JobStore) {
@@ -450,7 +563,11 @@ async fn claims_take_turns_across_tenants_and_computations(store: &dyn JobStore)
     let big2 = submit_as(store, "alice", "big2", 4).await.job.computation;
     let small = submit_as(store, "bob", "small", 1).await.job.computation;
     let mut order = Vec::new();
-    while let Some(t) = store.claim("w", &now_rfc3339(), lease).await.expect("claims") {
+    while let Some(t) = store
+        .claim("w", &now_rfc3339(), lease)
+        .await
+        .expect("claims")
+    {
         order.push(if t.computation == big1 {
             "big1"
         } else if t.computation == big2 {
@@ -464,7 +581,9 @@ async fn claims_take_turns_across_tenants_and_computations(store: &dyn JobStore)
     // alternate.
     assert_eq!(
         order,
-        ["big1", "small", "big2", "big1", "big2", "big1", "big2", "big1", "big2"]
+        [
+            "big1", "small", "big2", "big1", "big2", "big1", "big2", "big1", "big2"
+        ]
     );
 }
 
@@ -488,9 +607,15 @@ async fn sqlite_store_keeps_its_contract() {
 #[tokio::test]
 async fn postgres_store_keeps_its_contract() {
     let mut dbs = Vec::new();
-    for (n, case) in ["store", "store_list", "store_tenants", "store_retention", "store_turns"]
-        .into_iter()
-        .enumerate()
+    for (n, case) in [
+        "store",
+        "store_list",
+        "store_tenants",
+        "store_retention",
+        "store_turns",
+    ]
+    .into_iter()
+    .enumerate()
     {
         let Some(db) = common::pg_database(case).await else {
             return;
@@ -525,7 +650,11 @@ const OLD_ROWS: [&str; 3] = [
 /// its result; the same spec submitted again is answered from it.
 async fn migrated_job_is_the_default_tenants(store: &dyn JobStore) {
     let id = Uuid::parse_str("0190f0e4-0000-7000-8000-000000000001").expect("uuid");
-    let job = store.get("default", id).await.expect("reads").expect("kept");
+    let job = store
+        .get("default", id)
+        .await
+        .expect("reads")
+        .expect("kept");
     assert_eq!(
         (job.status, job.computation, job.numerics.as_deref()),
         (Status::Succeeded, id, Some("{\"n\":1}"))

@@ -186,7 +186,12 @@ mod tests {
 
 /// The audit line of a write (submit, cancel, delete): one structured log
 /// line with the tenant, the job and the request's id, under target `audit`.
-pub fn audit(action: &str, tenant: &super::auth::Tenant, job: uuid::Uuid, headers: &axum::http::HeaderMap) {
+pub fn audit(
+    action: &str,
+    tenant: &super::auth::Tenant,
+    job: uuid::Uuid,
+    headers: &axum::http::HeaderMap,
+) {
     let request_id = headers
         .get(&REQUEST_ID)
         .and_then(|v| v.to_str().ok())

@@ -14,6 +14,7 @@ use tracing::info;
 use utoipa::{IntoParams, ToSchema};
 use uuid::Uuid;
 
+use super::auth::Tenant;
 use super::csv::{SeriesRows, to_csv};
 use super::problem::Problem;
 use crate::jobs::forensic::ForensicSpec;
@@ -24,7 +25,6 @@ use crate::jobs::time_history::TimeHistorySpec;
 use crate::jobs::{Job, KINDS};
 use crate::service::AppState;
 use crate::service::results::{Cached, Document, LoadError, MAX_BODY, SharedText};
-use super::auth::Tenant;
 use crate::store::{Deleted, JobRecord, ListQuery, NewJob, Status, new_job_id, now_rfc3339};
 
 /// A job spec: exactly what `topple run` accepts.
@@ -278,7 +278,11 @@ pub(crate) fn parse_id(path: Result<Path<String>, PathRejection>) -> Result<Uuid
 
 /// The tenant's job `id`; another tenant's job is not found, as if it did
 /// not exist (a 403 would confirm that it does).
-pub(crate) async fn load(state: &AppState, tenant: &Tenant, id: Uuid) -> Result<JobRecord, Problem> {
+pub(crate) async fn load(
+    state: &AppState,
+    tenant: &Tenant,
+    id: Uuid,
+) -> Result<JobRecord, Problem> {
     state
         .store
         .get(tenant.name(), id)
@@ -396,7 +400,12 @@ async fn admit(state: &AppState, tenant: &Tenant, key: &str) -> Result<(), Probl
         return Ok(());
     }
     let a = state.store.admission(tenant.name(), key).await?;
-    let answered = |s: Option<Status>| matches!(s, Some(Status::Queued | Status::Running | Status::Succeeded));
+    let answered = |s: Option<Status>| {
+        matches!(
+            s,
+            Some(Status::Queued | Status::Running | Status::Succeeded)
+        )
+    };
     // The tenant's own job for this key, live or done: it is the answer.
     if answered(a.own) {
         return Ok(());
@@ -1247,10 +1256,10 @@ pub async fn list_jobs(
         .list(
             tenant.name(),
             &ListQuery {
-            status,
-            kind: q.kind.clone(),
-            limit,
-            before,
+                status,
+                kind: q.kind.clone(),
+                limit,
+                before,
             },
         )
         .await?;

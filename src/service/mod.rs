@@ -227,7 +227,11 @@ impl Application {
             )));
         }
         if let Some(retention) = state.config.retention {
-            tokio::spawn(retention::run(state.clone(), retention, state.stopping.clone()));
+            tokio::spawn(retention::run(
+                state.clone(),
+                retention,
+                state.stopping.clone(),
+            ));
         }
         let app = crate::api::router(state.clone());
         info!(addr = %listener.local_addr()?, workers = state.config.workers, "serving");

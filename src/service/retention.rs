@@ -22,10 +22,16 @@ pub async fn run(state: AppState, retention: Duration, mut shutdown: watch::Rece
         if *shutdown.borrow() {
             break;
         }
-        let before = rfc3339(SystemTime::now().checked_sub(retention).unwrap_or(SystemTime::UNIX_EPOCH));
+        let before = rfc3339(
+            SystemTime::now()
+                .checked_sub(retention)
+                .unwrap_or(SystemTime::UNIX_EPOCH),
+        );
         match state.store.purge(&before).await {
             Ok(0) => {}
-            Ok(n) => info!(target: "audit", action = "purge", jobs = n, finished_before = %before, "audit"),
+            Ok(n) => {
+                info!(target: "audit", action = "purge", jobs = n, finished_before = %before, "audit")
+            }
             Err(e) => warn!(error = %e, "purging jobs past retention failed"),
         }
         tokio::select! {
@@ -43,6 +49,9 @@ mod tests {
     fn looks_four_times_per_period_within_bounds() {
         assert_eq!(interval(Duration::from_secs(40)), Duration::from_secs(10));
         assert_eq!(interval(Duration::from_millis(100)), Duration::from_secs(1));
-        assert_eq!(interval(Duration::from_secs(30 * 86_400)), Duration::from_secs(600));
+        assert_eq!(
+            interval(Duration::from_secs(30 * 86_400)),
+            Duration::from_secs(600)
+        );
     }
 }

@@ -39,8 +39,7 @@ pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>)
             .await;
         match claimed {
             Ok(Some(task)) => {
-                let span =
-                    info_span!("task", computation = %task.computation, task = task.idx, kind = %task.kind);
+                let span = info_span!("task", computation = %task.computation, task = task.idx, kind = %task.kind);
                 execute(&state, &owner, task, &mut shutdown, &mut stopping_since)
                     .instrument(span)
                     .await;

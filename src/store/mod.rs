@@ -321,7 +321,11 @@ pub trait JobStore: Send + Sync {
     ) -> BoxFuture<'a, Result<Option<Canceled>, StoreError>>;
     /// Deletes the tenant's finished job; its computation, tasks and result
     /// go once no job refers to them.
-    fn delete<'a>(&'a self, tenant: &'a str, id: Uuid) -> BoxFuture<'a, Result<Deleted, StoreError>>;
+    fn delete<'a>(
+        &'a self,
+        tenant: &'a str,
+        id: Uuid,
+    ) -> BoxFuture<'a, Result<Deleted, StoreError>>;
     /// Deletes every finished job that finished before `before` (RFC 3339),
     /// with the computations no job refers to any more; returns the jobs
     /// deleted.
@@ -386,8 +390,7 @@ pub trait JobStore: Send + Sync {
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>>;
     /// The task results in order, once every task is done.
-    fn parts(&self, computation: Uuid)
-    -> BoxFuture<'_, Result<Option<Vec<String>>, StoreError>>;
+    fn parts(&self, computation: Uuid) -> BoxFuture<'_, Result<Option<Vec<String>>, StoreError>>;
     /// Stores the assembled result and marks the computation and its live
     /// jobs succeeded (once).
     fn succeed<'a>(

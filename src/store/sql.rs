@@ -345,11 +345,12 @@ where
         // The job's own status follows its computation's from here on.
         let started = matches!(status, Status::Running | Status::Succeeded).then_some(new.now);
         let finished = (status == Status::Succeeded).then_some(new.now);
-        let own = sqlx::query("SELECT id, status FROM jobs WHERE tenant = $1 AND computation_id = $2")
-            .bind(new.tenant.to_string())
-            .bind(computation.clone())
-            .fetch_optional(&mut *tx)
-            .await?;
+        let own =
+            sqlx::query("SELECT id, status FROM jobs WHERE tenant = $1 AND computation_id = $2")
+                .bind(new.tenant.to_string())
+                .bind(computation.clone())
+                .fetch_optional(&mut *tx)
+                .await?;
         let (job_id, cached) = match own {
             Some(row) => {
                 let id: String = row.try_get("id")?;
@@ -541,10 +542,11 @@ where
             return Ok(Some((row.try_get("computation_id")?, row.try_get("idx")?)));
         }
         let only = i64::from(started_only);
-        let tenant: Option<String> = sqlx::query_scalar(AssertSqlSafe(self.sql.next_tenant.as_str()))
-            .bind(only)
-            .fetch_optional(&mut *tx)
-            .await?;
+        let tenant: Option<String> =
+            sqlx::query_scalar(AssertSqlSafe(self.sql.next_tenant.as_str()))
+                .bind(only)
+                .fetch_optional(&mut *tx)
+                .await?;
         let Some(tenant) = tenant else {
             return Ok(None);
         };
@@ -565,10 +567,11 @@ where
         let Some(computation) = computation else {
             return Ok(None);
         };
-        let idx: Option<i64> = sqlx::query_scalar(AssertSqlSafe(self.sql.first_queued_task.as_str()))
-            .bind(computation.clone())
-            .fetch_optional(&mut *tx)
-            .await?;
+        let idx: Option<i64> =
+            sqlx::query_scalar(AssertSqlSafe(self.sql.first_queued_task.as_str()))
+                .bind(computation.clone())
+                .fetch_optional(&mut *tx)
+                .await?;
         Ok(idx.map(|idx| (computation, idx)))
     }
 
@@ -698,7 +701,8 @@ where
         .execute(&mut *tx)
         .await?
         .rows();
-        let stored = held == 1 && Self::store_result(&mut tx, computation, body, numerics, now).await?;
+        let stored =
+            held == 1 && Self::store_result(&mut tx, computation, body, numerics, now).await?;
         tx.commit().await?;
         Ok(stored)
     }
@@ -757,7 +761,10 @@ where
 
     /// A write of one statement (no transaction needed), with its effect on
     /// readiness noted.
-    async fn write_one(&self, query: sqlx::query::Query<'_, DB, DB::Arguments>) -> Result<u64, StoreError> {
+    async fn write_one(
+        &self,
+        query: sqlx::query::Query<'_, DB, DB::Arguments>,
+    ) -> Result<u64, StoreError> {
         let _turn = self.turn().await;
         let mut conn = self.pool.acquire().await?;
         let result = query
@@ -871,7 +878,11 @@ where
         Box::pin(async move { in_write_turn!(self, |conn| self.cancel_in(conn, tenant, id, now)) })
     }
 
-    fn delete<'a>(&'a self, tenant: &'a str, id: Uuid) -> BoxFuture<'a, Result<Deleted, StoreError>> {
+    fn delete<'a>(
+        &'a self,
+        tenant: &'a str,
+        id: Uuid,
+    ) -> BoxFuture<'a, Result<Deleted, StoreError>> {
         Box::pin(async move { in_write_turn!(self, |conn| self.delete_in(conn, tenant, id)) })
     }
 
@@ -918,7 +929,13 @@ where
         started_only: bool,
     ) -> BoxFuture<'a, Result<Option<TaskClaim>, StoreError>> {
         Box::pin(async move {
-            in_write_turn!(self, |conn| self.claim_in_tx(conn, owner, now, lease, started_only))
+            in_write_turn!(self, |conn| self.claim_in_tx(
+                conn,
+                owner,
+                now,
+                lease,
+                started_only
+            ))
         })
     }
 
@@ -1000,10 +1017,7 @@ where
         })
     }
 
-    fn parts(
-        &self,
-        computation: Uuid,
-    ) -> BoxFuture<'_, Result<Option<Vec<String>>, StoreError>> {
+    fn parts(&self, computation: Uuid) -> BoxFuture<'_, Result<Option<Vec<String>>, StoreError>> {
         Box::pin(async move {
             let rows = sqlx::query(
                 "SELECT status, result FROM tasks WHERE computation_id = $1 ORDER BY idx",
@@ -1032,7 +1046,13 @@ where
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
         Box::pin(async move {
-            in_write_turn!(self, |conn| self.succeed_in(conn, computation, body, numerics, now))
+            in_write_turn!(self, |conn| self.succeed_in(
+                conn,
+                computation,
+                body,
+                numerics,
+                now
+            ))
         })
     }
 
@@ -1042,7 +1062,9 @@ where
         error: &'a str,
         now: &'a str,
     ) -> BoxFuture<'a, Result<bool, StoreError>> {
-        Box::pin(async move { in_write_turn!(self, |conn| self.fail_in(conn, computation, error, now)) })
+        Box::pin(
+            async move { in_write_turn!(self, |conn| self.fail_in(conn, computation, error, now)) },
+        )
     }
 
     fn requeue<'a>(
@@ -1099,10 +1121,11 @@ where
 
     fn computation(&self, id: Uuid) -> BoxFuture<'_, Result<Option<Computation>, StoreError>> {
         Box::pin(async move {
-            let row = sqlx::query("SELECT id, key, kind, spec, status FROM computations WHERE id = $1")
-                .bind(id.to_string())
-                .fetch_optional(&self.pool)
-                .await?;
+            let row =
+                sqlx::query("SELECT id, key, kind, spec, status FROM computations WHERE id = $1")
+                    .bind(id.to_string())
+                    .fetch_optional(&self.pool)
+                    .await?;
             let Some(row) = row else {
                 return Ok(None);
             };

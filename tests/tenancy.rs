@@ -1,0 +1,425 @@
+//! Tenants on one service, against real server processes: private jobs over
+//! shared computations, cancel and delete, quotas, the audit log, and fair
+//! turns for a small job behind big ones — on SQLite, and on two instances
+//! sharing PostgreSQL.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use common::server::{Server, sqlite_url, temp_dir};
+use serde_json::{Value, json};
+use sqlx::Connection;
+
+/// A tenant's token and the line of the tokens file that admits it.
+fn token_line(name: &str) -> (String, String) {
+    let token = format!("tpl_{}", uuid::Uuid::now_v7().simple());
+    let digest = blake3::hash(token.as_bytes()).to_hex();
+    (token, format!("{name} blake3:{digest}"))
+}
+
+/// Writes a tokens file for `names` in `dir`; returns it and the tokens.
+fn tokens_file(dir: &Path, names: &[&str]) -> (PathBuf, Vec<String>) {
+    let mut lines = vec!["# tenants of this test".to_string()];
+    let mut tokens = Vec::new();
+    for name in names {
+        let (token, line) = token_line(name);
+        lines.push(line);
+        tokens.push(token);
+    }
+    let path = dir.join("tokens");
+    std::fs::write(&path, lines.join("\n") + "\n").expect("tokens file");
+    (path, tokens)
+}
+
+/// A client of one server acting for one tenant (or none).
+#[derive(Clone)]
+struct Client {
+    http: reqwest::Client,
+    base: String,
+    token: Option<String>,
+}
+
+impl Client {
+    fn new(base: &str, token: Option<&str>) -> Self {
+        Client {
+            http: reqwest::Client::new(),
+            base: base.to_string(),
+            token: token.map(str::to_string),
+        }
+    }
+
+    fn request(&self, method: reqwest::Method, path: &str) -> reqwest::RequestBuilder {
+        let r = self.http.request(method, format!("{}{path}", self.base));
+        match &self.token {
+            Some(t) => r.bearer_auth(t),
+            None => r,
+        }
+    }
+
+    async fn send(r: reqwest::RequestBuilder) -> (u16, Value) {
+        let resp = r.send().await.expect("the server answers");
+        let status = resp.status().as_u16();
+        let body = resp.json().await.unwrap_or(Value::Null);
+        (status, body)
+    }
+
+    async fn post(&self, path: &str, spec: &Value) -> (u16, Value) {
+        Self::send(self.request(reqwest::Method::POST, path).json(spec)).await
+    }
+
+    async fn get(&self, path: &str) -> (u16, Value) {
+        Self::send(self.request(reqwest::Method::GET, path)).await
+    }
+
+    async fn delete(&self, path: &str) -> (u16, Value) {
+        Self::send(self.request(reqwest::Method::DELETE, path)).await
+    }
+
+    async fn submit(&self, spec: &Value) -> Value {
+        let (status, job) = self.post("/v1/jobs", spec).await;
+        assert!(status == 200 || status == 202, "{status} {job}");
+        job
+    }
+
+    /// The job once finished (long-polling), within `limit`.
+    async fn finished(&self, id: &str, limit: Duration) -> Value {
+        let deadline = Instant::now() + limit;
+        loop {
+            let (status, job) = self.get(&format!("/v1/jobs/{id}?wait=5")).await;
+            assert_eq!(status, 200, "{job}");
+            let done = matches!(
+                job["status"].as_str(),
+                Some("succeeded" | "failed" | "canceled")
+            );
+            if done || Instant::now() > deadline {
+                return job;
+            }
+        }
+    }
+
+    /// Ids of the tenant's jobs, newest first.
+    async fn listed(&self) -> Vec<String> {
+        let (status, page) = self.get("/v1/jobs?limit=500").await;
+        assert_eq!(status, 200, "{page}");
+        page["jobs"]
+            .as_array()
+            .expect("jobs")
+            .iter()
+            .filter_map(|j| j["id"].as_str().map(str::to_string))
+            .collect()
+    }
+}
+
+fn time_history(level: f64) -> Value {
+    json!({
+        "kind": "time_history",
+        "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+        "pulse": {"type": "one_sine", "omega_ratio": 5.0, "a_p_alpha_g": level},
+        "formulation": "nonlinear",
+        "outputs": {"series": 50}
+    })
+}
+
+/// A nonlinear spectrum over `frequencies` frequencies; `p` tells specs apart.
+fn spectrum(frequencies: usize, p: f64) -> Value {
+    json!({
+        "kind": "spectrum",
+        "block": {"alpha": 0.25, "p": p, "eta": 0.9},
+        "pulse": {"type": "one_sine"},
+        "formulation": "nonlinear",
+        "omega_ratio": {"from": 0.25, "to": 10.0, "steps": frequencies},
+        "a_max_alpha_g": 20,
+        "tolerance": 1e-4
+    })
+}
+
+async fn count(db: &str, sql: &str) -> i64 {
+    if db.starts_with("sqlite:") {
+        let mut conn = sqlx::SqliteConnection::connect(db).await.expect("opens");
+        sqlx::query_scalar(sqlx::AssertSqlSafe(sql.to_string()))
+            .fetch_one(&mut conn)
+            .await
+            .expect("counts")
+    } else {
+        let mut conn = sqlx::PgConnection::connect(db).await.expect("connects");
+        sqlx::query_scalar(sqlx::AssertSqlSafe(sql.to_string()))
+            .fetch_one(&mut conn)
+            .await
+            .expect("counts")
+    }
+}
+
+/// Cross-tenant reads, lists, cancels and deletes find nothing; an identical
+/// spec is computed once for both; deletes purge the result with the last job.
+async fn tenants_are_private_and_share_work(db: &str, alice: &Client, bob: &Client) {
+    let spec = time_history(4.0);
+    let a = alice.submit(&spec).await;
+    let b = bob.submit(&spec).await;
+    let (ida, idb) = (a["id"].as_str().expect("id"), b["id"].as_str().expect("id"));
+    assert_ne!(ida, idb);
+    assert_eq!(
+        (a["cached"].as_bool(), b["cached"].as_bool()),
+        (Some(false), Some(true))
+    );
+    // Another tenant's job does not exist for Bob: 404 everywhere, never 403.
+    for path in [
+        format!("/v1/jobs/{ida}"),
+        format!("/v1/jobs/{ida}/result"),
+        format!("/v1/jobs/{ida}/result?format=csv"),
+        format!("/v1/jobs/{ida}/plot.svg"),
+        format!("/v1/jobs/{ida}/events"),
+    ] {
+        let (status, problem) = bob.get(&path).await;
+        assert_eq!(status, 404, "{path}: {problem}");
+        assert_eq!(problem["parameter"], "id", "{problem}");
+    }
+    let (status, _) = bob.delete(&format!("/v1/jobs/{ida}")).await;
+    assert_eq!(status, 404);
+    let (status, _) = bob
+        .post(&format!("/v1/jobs/{ida}/cancel"), &json!({}))
+        .await;
+    assert_eq!(status, 404);
+    assert_eq!(alice.listed().await, vec![ida.to_string()]);
+    assert_eq!(bob.listed().await, vec![idb.to_string()]);
+    let done_a = alice.finished(ida, Duration::from_secs(30)).await;
+    let done_b = bob.finished(idb, Duration::from_secs(30)).await;
+    assert_eq!(
+        (done_a["status"].as_str(), done_b["status"].as_str()),
+        (Some("succeeded"), Some("succeeded"))
+    );
+    let (_, ra) = alice.get(&format!("/v1/jobs/{ida}/result")).await;
+    let (_, rb) = bob.get(&format!("/v1/jobs/{idb}/result")).await;
+    assert_eq!(ra, rb);
+    // Computed once: one computation, its one task claimed once.
+    assert_eq!(count(db, "SELECT COUNT(*) FROM computations").await, 1);
+    assert_eq!(
+        count(db, "SELECT CAST(SUM(attempts) AS BIGINT) FROM tasks").await,
+        1
+    );
+    // Bob deletes his: gone for him, still there for Alice.
+    let (status, _) = bob.delete(&format!("/v1/jobs/{idb}")).await;
+    assert_eq!(status, 204);
+    assert_eq!(bob.get(&format!("/v1/jobs/{idb}")).await.0, 404);
+    assert_eq!(alice.get(&format!("/v1/jobs/{ida}/result")).await.0, 200);
+    // Alice deletes hers: the computation and its result go with it.
+    assert_eq!(alice.delete(&format!("/v1/jobs/{ida}")).await.0, 204);
+    assert_eq!(count(db, "SELECT COUNT(*) FROM computations").await, 0);
+    assert_eq!(count(db, "SELECT COUNT(*) FROM results").await, 0);
+}
+
+/// Bob cancels his job over the computation Alice's job needs too: his job
+/// is canceled, hers runs to success; his resubmission then finds it done.
+async fn cancel_by_one_leaves_the_other_running(alice: &Client, bob: &Client) {
+    let spec = spectrum(40, 2.5);
+    let a = alice.submit(&spec).await;
+    let b = bob.submit(&spec).await;
+    let (ida, idb) = (a["id"].as_str().expect("id"), b["id"].as_str().expect("id"));
+    let (status, canceled) = bob.delete(&format!("/v1/jobs/{idb}")).await;
+    assert_eq!(
+        (status, canceled["status"].as_str()),
+        (200, Some("canceled")),
+        "{canceled}"
+    );
+    let done = alice.finished(ida, Duration::from_secs(120)).await;
+    assert_eq!(done["status"], "succeeded", "{done}");
+    let (_, bobs) = bob.get(&format!("/v1/jobs/{idb}")).await;
+    assert_eq!(bobs["status"], "canceled");
+    let (status, again) = bob.post("/v1/jobs", &spec).await;
+    assert_eq!(
+        (
+            status,
+            again["id"].as_str(),
+            again["status"].as_str(),
+            again["cached"].as_bool()
+        ),
+        (200, Some(idb), Some("succeeded"), Some(true)),
+        "{again}"
+    );
+}
+
+/// A time history submitted behind three 400-frequency spectra finishes
+/// within 2 s and before any of them. Returns how long it took.
+async fn small_job_is_not_stuck_behind_big_ones(big: &Client, small: &Client) -> Duration {
+    let mut spectra = Vec::new();
+    for p in [2.1, 2.2, 2.3] {
+        let job = big.submit(&spectrum(400, p)).await;
+        spectra.push(job["id"].as_str().expect("id").to_string());
+    }
+    // Let the spectra occupy every worker first.
+    let deadline = Instant::now() + Duration::from_secs(20);
+    loop {
+        let (_, first) = big.get(&format!("/v1/jobs/{}", spectra[0])).await;
+        if first["progress"].as_f64().unwrap_or(0.0) > 0.0 || Instant::now() > deadline {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let asked = Instant::now();
+    let (status, job) = small.post("/v1/jobs?wait=30", &time_history(3.5)).await;
+    let took = asked.elapsed();
+    assert_eq!(
+        (status, job["status"].as_str()),
+        (200, Some("succeeded")),
+        "{job}"
+    );
+    for id in &spectra {
+        let (_, s) = big.get(&format!("/v1/jobs/{id}")).await;
+        assert_eq!(s["status"], "running", "the small job came first: {s}");
+        assert!(s["progress"].as_f64().unwrap_or(1.0) < 0.5, "{s}");
+    }
+    assert!(took < Duration::from_secs(2), "the small job took {took:?}");
+    for id in &spectra {
+        let (status, _) = big.delete(&format!("/v1/jobs/{id}")).await;
+        assert_eq!(status, 200);
+    }
+    took
+}
+
+/// Audit lines (JSON logs) of the writes, with tenant, job and request id.
+fn audit_lines(log: &Path) -> Vec<Value> {
+    std::fs::read_to_string(log)
+        .unwrap_or_default()
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|v| v["target"] == "audit")
+        .collect()
+}
+
+#[tokio::test]
+async fn tenants_on_sqlite() {
+    let dir = temp_dir("tenancy-sqlite");
+    let db = sqlite_url(&dir);
+    let (tokens, t) = tokens_file(&dir, &["alice", "bob"]);
+    let log = dir.join("server.log");
+    let server = Server::start(
+        &db,
+        &[
+            "--tokens-file",
+            tokens.to_str().expect("path"),
+            "--workers",
+            "2",
+            "--max-queued-per-tenant",
+            "3",
+            "--log-json",
+        ],
+        Some(&log),
+    );
+    let alice = Client::new(&server.base, Some(&t[0]));
+    let bob = Client::new(&server.base, Some(&t[1]));
+    // Without a token, or with a wrong one, nothing.
+    assert_eq!(Client::new(&server.base, None).get("/v1/jobs").await.0, 401);
+    assert_eq!(
+        Client::new(&server.base, Some("tpl_wrong"))
+            .get("/v1/jobs")
+            .await
+            .0,
+        401
+    );
+    tenants_are_private_and_share_work(&db, &alice, &bob).await;
+    cancel_by_one_leaves_the_other_running(&alice, &bob).await;
+    // The audit log: one line per write, naming tenant, job and request.
+    let marked = alice
+        .request(reqwest::Method::POST, "/v1/jobs")
+        .header("x-request-id", "audit-me-1")
+        .json(&time_history(2.0));
+    let (status, job) = Client::send(marked).await;
+    assert!(status == 200 || status == 202, "{job}");
+    let id = job["id"].as_str().expect("id").to_string();
+    tokio::time::sleep(Duration::from_millis(200)).await;
+    let lines = audit_lines(&log);
+    let submit = lines
+        .iter()
+        .find(|l| l["fields"]["request_id"] == "audit-me-1")
+        .unwrap_or_else(|| panic!("no audit line of the request in {lines:?}"));
+    assert_eq!(submit["fields"]["action"], "submit");
+    assert_eq!(submit["fields"]["tenant"], "alice");
+    assert_eq!(submit["fields"]["job_id"], id.as_str());
+    for action in ["submit", "cancel", "delete"] {
+        assert!(
+            lines
+                .iter()
+                .any(|l| l["fields"]["action"] == action && l["fields"]["tenant"] == "bob"),
+            "no {action} by bob in {lines:?}"
+        );
+    }
+    // The quota: three live jobs a tenant; the fourth waits (429), others not.
+    let (status, _) = alice.delete(&format!("/v1/jobs/{id}")).await;
+    assert!(status == 200 || status == 204);
+    let mut live = Vec::new();
+    for p in [3.1, 3.2, 3.3] {
+        live.push(
+            alice.submit(&spectrum(400, p)).await["id"]
+                .as_str()
+                .expect("id")
+                .to_string(),
+        );
+    }
+    let resp = alice
+        .request(reqwest::Method::POST, "/v1/jobs")
+        .json(&spectrum(400, 3.4))
+        .send()
+        .await
+        .expect("answers");
+    assert_eq!(resp.status().as_u16(), 429);
+    assert!(resp.headers().contains_key("retry-after"));
+    let problem: Value = resp.json().await.expect("problem");
+    assert_eq!(problem["limit"], "max_queued_per_tenant", "{problem}");
+    // Resubmitting a job one has is no new job: answered, not refused.
+    assert_eq!(alice.post("/v1/jobs", &spectrum(400, 3.1)).await.0, 202);
+    // Bob is not limited by Alice's jobs: his small one comes through fast.
+    let (status, quick) = bob.post("/v1/jobs?wait=30", &time_history(3.0)).await;
+    assert_eq!(
+        (status, quick["status"].as_str()),
+        (200, Some("succeeded")),
+        "{quick}"
+    );
+    for id in &live {
+        alice.delete(&format!("/v1/jobs/{id}")).await;
+    }
+    let took = small_job_is_not_stuck_behind_big_ones(&alice, &bob).await;
+    eprintln!("SQLite, two tenants: the small job took {took:?}");
+    drop(server);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[tokio::test]
+async fn one_user_small_job_is_not_stuck_behind_big_ones() {
+    let dir = temp_dir("tenancy-single");
+    let server = Server::start(&sqlite_url(&dir), &["--workers", "2"], None);
+    let user = Client::new(&server.base, None);
+    let took = small_job_is_not_stuck_behind_big_ones(&user, &user).await;
+    eprintln!("SQLite, one user: the small job took {took:?}");
+    drop(server);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[tokio::test]
+async fn tenants_on_two_postgres_instances() {
+    let Some(pg) = common::pg_database("tenancy").await else {
+        return;
+    };
+    let dir = temp_dir("tenancy-pg");
+    let (tokens, t) = tokens_file(&dir, &["alice", "bob"]);
+    let args = [
+        "--tokens-file",
+        tokens.to_str().expect("path"),
+        "--workers",
+        "1",
+    ];
+    let one = Server::start(&pg.url, &args, None);
+    let two = Server::start(&pg.url, &args, None);
+    // Alice on one instance, Bob on the other: ownership holds across them.
+    let alice = Client::new(&one.base, Some(&t[0]));
+    let bob = Client::new(&two.base, Some(&t[1]));
+    tenants_are_private_and_share_work(&pg.url, &alice, &bob).await;
+    let alice_there = Client::new(&two.base, Some(&t[0]));
+    cancel_by_one_leaves_the_other_running(&alice_there, &bob).await;
+    let took = small_job_is_not_stuck_behind_big_ones(&alice, &bob).await;
+    eprintln!("PostgreSQL, two instances, two tenants: the small job took {took:?}");
+    drop(one);
+    drop(two);
+    pg.drop_now().await;
+    let _ = std::fs::remove_dir_all(&dir);
+}
