@@ -423,3 +423,26 @@ async fn tenants_on_two_postgres_instances() {
     pg.drop_now().await;
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[tokio::test]
+async fn retention_deletes_finished_jobs_and_their_results() {
+    let dir = temp_dir("tenancy-retention");
+    let db = sqlite_url(&dir);
+    // 0.00003 days: 2.6 s; looked for every second.
+    let server = Server::start(&db, &["--retention-days", "0.00003"], None);
+    let user = Client::new(&server.base, None);
+    let (status, job) = user.post("/v1/jobs?wait=30", &time_history(4.0)).await;
+    assert_eq!((status, job["status"].as_str()), (200, Some("succeeded")), "{job}");
+    let id = job["id"].as_str().expect("id").to_string();
+    assert_eq!(user.get(&format!("/v1/jobs/{id}/result")).await.0, 200);
+    let deadline = Instant::now() + Duration::from_secs(15);
+    while user.get(&format!("/v1/jobs/{id}")).await.0 == 200 {
+        assert!(Instant::now() < deadline, "the job outlived its retention");
+        tokio::time::sleep(Duration::from_millis(200)).await;
+    }
+    assert_eq!(user.get(&format!("/v1/jobs/{id}/result")).await.0, 404);
+    assert_eq!(count(&db, "SELECT COUNT(*) FROM results").await, 0);
+    assert_eq!(count(&db, "SELECT COUNT(*) FROM computations").await, 0);
+    drop(server);
+    let _ = std::fs::remove_dir_all(&dir);
+}

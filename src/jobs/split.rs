@@ -5,8 +5,12 @@ use serde_json::Value;
 
 use super::Job;
 
-/// Most tasks a spectrum is split into.
-pub const MAX_TASKS: usize = 32;
+/// Most tasks a spectrum is split into: one frequency a task up to this many
+/// frequencies. A task is the unit of turns (a small job waits for one task of
+/// a big one to finish, not for the big one): a frequency of a 400-frequency
+/// nonlinear spectrum is about a thousand simulations, a tenth of a second;
+/// claiming it costs about a millisecond.
+pub const MAX_TASKS: usize = 256;
 
 impl Job {
     /// The tasks of this job, as job specs of their own: a spectrum becomes
@@ -99,7 +103,8 @@ mod tests {
         )
         .expect("valid");
         let tasks = job.split();
-        assert_eq!(tasks.len(), 24);
+        // One task a frequency.
+        assert_eq!(tasks.len(), 70);
         let control = Control::new();
         let parts: Vec<Value> = tasks
             .iter()
@@ -113,7 +118,25 @@ mod tests {
             assembled["numerics"]["simulations"],
             whole["numerics"]["simulations"]
         );
-        assert_eq!(assembled["numerics"]["tasks"], 24);
+        assert_eq!(assembled["numerics"]["tasks"], 70);
+    }
+
+    #[test]
+    fn a_large_spectrum_is_split_into_at_most_max_tasks() {
+        let job = Job::parse(
+            r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":{"from":1,"to":8,"steps":1000}}"#,
+        )
+        .expect("valid");
+        let tasks = job.split();
+        assert_eq!(tasks.len(), 250);
+        let per: Vec<usize> = tasks
+            .iter()
+            .map(|t| match t {
+                Job::Spectrum(s) => s.omega_ratio.len(),
+                _ => 0,
+            })
+            .collect();
+        assert!(per.iter().all(|&n| n == 4), "{per:?}");
     }
 
     #[test]
