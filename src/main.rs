@@ -91,6 +91,16 @@ struct ServeArgs {
     /// Require the token for reads of jobs and metrics too.
     #[arg(long, env = "TOPPLE_AUTH_READS")]
     auth_reads: bool,
+    /// Tenants and their tokens: one `NAME blake3:<hex digest>` line per token
+    /// (`topple token NAME` prints one). With it, every request but the
+    /// probes, the API description and the page needs a token, and sees only
+    /// its tenant's jobs; TOPPLE_API_TOKEN is then a token of tenant
+    /// `default`. Read again when it changes.
+    #[arg(long, env = "TOPPLE_TOKENS_FILE")]
+    tokens_file: Option<std::path::PathBuf>,
+    /// Serve /metrics without a token even where reads need one.
+    #[arg(long, env = "TOPPLE_METRICS_OPEN")]
+    metrics_open: bool,
     /// Origins allowed by CORS, comma-separated (`*`: any); none by default.
     #[arg(long, env = "TOPPLE_CORS_ORIGINS", value_delimiter = ',')]
     cors_origins: Vec<String>,
@@ -102,7 +112,7 @@ struct ServeArgs {
 #[derive(Subcommand)]
 enum Command {
     /// Serve the HTTP API (the default command).
-    Serve(ServeArgs),
+    Serve(Box<ServeArgs>),
     /// Print the OpenAPI description (YAML), as served at /openapi.yaml.
     Openapi,
     /// Run a job spec (a file, or - for stdin) and print the result (JSON or CSV).
@@ -223,6 +233,8 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
         job_timeout: seconds(args.job_timeout, "job-timeout")?,
         api_token: args.api_token.filter(|t| !t.is_empty()),
         auth_reads: args.auth_reads,
+        tokens_file: args.tokens_file.filter(|p| !p.as_os_str().is_empty()),
+        metrics_open: args.metrics_open,
         cors_origins: args
             .cors_origins
             .into_iter()
@@ -244,6 +256,20 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
             return Err((2, "--workers must be at least 1".into()));
         }
         config.workers = w;
+    }
+    if let Some(path) = &config.tokens_file {
+        // A tokens file that does not parse stops the start; the service
+        // reads it again itself, and again whenever it changes.
+        let file =
+            topple::service::config::tenants::TokensFile::open(path, config.api_token.as_deref())
+                .map_err(|e| (2, e.to_string()))?;
+        let tenants = file.tenants();
+        tracing::info!(
+            path = %path.display(),
+            tenants = tenants.tenant_count(),
+            tokens = tenants.len(),
+            "tokens file read"
+        );
     }
     let runtime = tokio::runtime::Runtime::new().map_err(|e| (1, e.to_string()))?;
     runtime.block_on(async move {
@@ -284,7 +310,7 @@ fn main() -> ExitCode {
     let outcome = match command {
         Command::Run { spec, plot, format } => run(&spec, plot.as_deref(), &format),
         Command::Precision { svg } => topple::precision::report(&svg).map_err(|e| (1, e)),
-        Command::Serve(args) => serve(args),
+        Command::Serve(args) => serve(*args),
         Command::Openapi => {
             let _ = write!(std::io::stdout().lock(), "{}", topple::api::openapi_yaml());
             Ok(())

@@ -1,8 +1,12 @@
 //! How a service instance is set up.
 
+use std::path::PathBuf;
 use std::time::Duration;
 
 use crate::jobs::limits::Limits;
+
+#[path = "tenants.rs"]
+pub mod tenants;
 
 /// Settings of `topple serve`.
 #[derive(Clone, Debug, PartialEq)]
@@ -36,6 +40,12 @@ pub struct ServeConfig {
     pub api_token: Option<String>,
     /// Whether reads need the token too.
     pub auth_reads: bool,
+    /// The tenants and their tokens ([`tenants`]): with it, every request
+    /// but the probes, the API description and the page needs a token, and
+    /// belongs to the tenant the token names.
+    pub tokens_file: Option<PathBuf>,
+    /// Whether `/metrics` is open even where reads need a token.
+    pub metrics_open: bool,
     /// Origins allowed by CORS (`*` for any); none: same origin only.
     pub cors_origins: Vec<String>,
     /// Longest time a client may take to send a request's headers, counted
@@ -73,6 +83,8 @@ impl Default for ServeConfig {
             job_timeout: Duration::from_secs(600),
             api_token: None,
             auth_reads: false,
+            tokens_file: None,
+            metrics_open: false,
             cors_origins: Vec::new(),
             header_read_timeout: Duration::from_secs(10),
             idle_timeout: Duration::from_secs(60),
@@ -80,6 +92,15 @@ impl Default for ServeConfig {
             max_connections: 1024,
             result_memory: 128 << 20,
         }
+    }
+}
+
+impl ServeConfig {
+    /// Whether reading jobs needs a token (a tokens file, or the API token
+    /// with `auth_reads`): what is read is then private to whoever presented
+    /// it (`Cache-Control: private`).
+    pub fn reads_need_token(&self) -> bool {
+        self.tokens_file.is_some() || (self.api_token.is_some() && self.auth_reads)
     }
 }
 
