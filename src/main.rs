@@ -101,6 +101,14 @@ struct ServeArgs {
     /// Serve /metrics without a token even where reads need one.
     #[arg(long, env = "TOPPLE_METRICS_OPEN")]
     metrics_open: bool,
+    /// Days a finished job is kept (fractions allowed); then it is deleted.
+    /// Default: forever.
+    #[arg(long, env = "TOPPLE_RETENTION_DAYS")]
+    retention_days: Option<f64>,
+    /// Most jobs one tenant may have queued or running; beyond, its
+    /// submissions answer 429. Default: no limit but --max-queued.
+    #[arg(long, env = "TOPPLE_MAX_QUEUED_PER_TENANT")]
+    max_queued_per_tenant: Option<u64>,
     /// Origins allowed by CORS, comma-separated (`*`: any); none by default.
     #[arg(long, env = "TOPPLE_CORS_ORIGINS", value_delimiter = ',')]
     cors_origins: Vec<String>,
@@ -192,6 +200,20 @@ fn positive_seconds(v: f64, name: &str) -> Result<std::time::Duration, (u8, Stri
     }
 }
 
+/// `days` as a duration: positive and finite, fractions allowed.
+fn retention(days: Option<f64>) -> Result<Option<std::time::Duration>, (u8, String)> {
+    let Some(days) = days else {
+        return Ok(None);
+    };
+    match std::time::Duration::try_from_secs_f64(days * 86_400.0) {
+        Ok(d) if days > 0.0 && !d.is_zero() => Ok(Some(d)),
+        _ => Err((
+            2,
+            "--retention-days must be a positive number of days".into(),
+        )),
+    }
+}
+
 fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()
         .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"));
@@ -212,6 +234,9 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
     }
     if args.result_memory == 0 {
         return Err((2, "--result-memory must be at least 1 (MiB)".into()));
+    }
+    if args.max_queued_per_tenant == Some(0) {
+        return Err((2, "--max-queued-per-tenant must be at least 1".into()));
     }
     let mut config = topple::service::ServeConfig {
         addr: args.addr,
@@ -235,6 +260,8 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
         auth_reads: args.auth_reads,
         tokens_file: args.tokens_file.filter(|p| !p.as_os_str().is_empty()),
         metrics_open: args.metrics_open,
+        retention: retention(args.retention_days)?,
+        max_queued_per_tenant: args.max_queued_per_tenant,
         cors_origins: args
             .cors_origins
             .into_iter()

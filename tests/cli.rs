@@ -498,3 +498,32 @@ fn format_csv_prints_a_table_with_units_in_its_header() {
     let bad = run_file(VALID_NO_SERIES, &["--format", "xml"]);
     assert!(!bad.status.success());
 }
+
+// ------------------------------------------------------------ serve settings
+
+/// `topple serve` with `args` on a database of its own; it is expected to
+/// refuse them before serving.
+fn serve_refused(args: &[&str]) -> String {
+    let db = temp_path("refused.db");
+    let out = topple()
+        .args(["serve", "--addr", "127.0.0.1:0", "--database"])
+        .arg(format!("sqlite://{}", db.display()))
+        .args(args)
+        .env_remove("TOPPLE_TOKENS_FILE")
+        .env_remove("TOPPLE_API_TOKEN")
+        .output()
+        .expect("run topple serve");
+    let _ = std::fs::remove_file(&db);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+    one_line_failure(&out)
+}
+
+#[test]
+fn retention_and_per_tenant_quota_must_be_positive() {
+    for days in ["0", "-1", "NaN", "inf", "-0.5"] {
+        let line = serve_refused(&[&format!("--retention-days={days}")]);
+        assert!(line.contains("--retention-days"), "{days}: {line}");
+    }
+    let line = serve_refused(&["--max-queued-per-tenant", "0"]);
+    assert!(line.contains("--max-queued-per-tenant"), "{line}");
+}

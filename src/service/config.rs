@@ -46,6 +46,11 @@ pub struct ServeConfig {
     pub tokens_file: Option<PathBuf>,
     /// Whether `/metrics` is open even where reads need a token.
     pub metrics_open: bool,
+    /// How long a finished job is kept; none: forever.
+    pub retention: Option<Duration>,
+    /// Most jobs one tenant may have queued or running; a submission beyond
+    /// answers 429. None: only [`ServeConfig::max_queued`] bounds them.
+    pub max_queued_per_tenant: Option<u64>,
     /// Origins allowed by CORS (`*` for any); none: same origin only.
     pub cors_origins: Vec<String>,
     /// Longest time a client may take to send a request's headers, counted
@@ -85,6 +90,8 @@ impl Default for ServeConfig {
             auth_reads: false,
             tokens_file: None,
             metrics_open: false,
+            retention: None,
+            max_queued_per_tenant: None,
             cors_origins: Vec::new(),
             header_read_timeout: Duration::from_secs(10),
             idle_timeout: Duration::from_secs(60),
