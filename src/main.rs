@@ -135,6 +135,13 @@ enum Command {
         #[arg(long, default_value = "json", value_parser = ["json", "csv"])]
         format: String,
     },
+    /// Make a random token for tenant NAME and print, as one line of JSON,
+    /// the token and the line to append to the tokens file.
+    Token {
+        /// The tenant: 1 to 64 letters, digits, `_`, `.` or `-`, the first a
+        /// letter or digit.
+        name: String,
+    },
     /// Print the work-precision table of the solvers and write its SVG diagram.
     Precision {
         /// Where to write the SVG diagram.
@@ -212,6 +219,26 @@ fn retention(days: Option<f64>) -> Result<Option<std::time::Duration>, (u8, Stri
             "--retention-days must be a positive number of days".into(),
         )),
     }
+}
+
+/// `topple token NAME`: a token from the operating system's random source,
+/// and its line of the tokens file.
+fn token(name: &str) -> Result<(), (u8, String)> {
+    use topple::service::config::tenants;
+    if !tenants::valid_name(name) {
+        return Err((
+            2,
+            format!("{name:?} is not a tenant name: {}", tenants::NAME_RULE),
+        ));
+    }
+    let mut bytes = [0u8; 32];
+    getrandom::fill(&mut bytes).map_err(|e| (1, format!("no random source: {e}")))?;
+    let hex: String = bytes.iter().map(|b| format!("{b:02x}")).collect();
+    let token = format!("{}{hex}", tenants::TOKEN_PREFIX);
+    let line = format!("{name} {}", tenants::digest(&token));
+    let out = serde_json::json!({"name": name, "token": token, "line": line});
+    let _ = writeln!(std::io::stdout().lock(), "{out}");
+    Ok(())
 }
 
 fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
@@ -338,6 +365,7 @@ fn main() -> ExitCode {
         Command::Run { spec, plot, format } => run(&spec, plot.as_deref(), &format),
         Command::Precision { svg } => topple::precision::report(&svg).map_err(|e| (1, e)),
         Command::Serve(args) => serve(*args),
+        Command::Token { name } => token(&name),
         Command::Openapi => {
             let _ = write!(std::io::stdout().lock(), "{}", topple::api::openapi_yaml());
             Ok(())
