@@ -5,6 +5,7 @@ use std::time::Duration;
 
 use crate::jobs::limits::Limits;
 
+/// The tenants and their tokens (`--tokens-file`).
 #[path = "tenants.rs"]
 pub mod tenants;
 

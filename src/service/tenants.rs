@@ -9,7 +9,7 @@
 //!
 //! The file holds digests, never tokens: a token presented is hashed and
 //! looked up by its digest. The file is read again when its modification
-//! time (or length) changes, checked at most once per [`RECHECK`]; a version
+//! time (or length) changes, checked at most once a second; a version
 //! that does not parse is refused and the last good one kept.
 
 use std::collections::HashMap;
