@@ -17,8 +17,9 @@
 //!   PostgreSQL implementations.
 //! - [`service`]: the server: workers that claim tasks and compute them on the
 //!   rayon pool, startup, graceful shutdown, metrics.
-//! - [`api`]: axum routes, problem+json errors, authentication, CSV, the
-//!   OpenAPI description, the page at `/`.
+//! - [`api`]: axum routes, problem+json errors, authentication (the tenant of
+//!   every request, from its token), CSV, the OpenAPI description, the page
+//!   at `/`.
 //! - [`plot`]: SVG figures of every result kind; [`precision`]: the
 //!   work-precision study.
 //!

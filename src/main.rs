@@ -91,6 +91,24 @@ struct ServeArgs {
     /// Require the token for reads of jobs and metrics too.
     #[arg(long, env = "TOPPLE_AUTH_READS")]
     auth_reads: bool,
+    /// Tenants and their tokens: one `NAME blake3:<hex digest>` line per token
+    /// (`topple token NAME` prints one). With it, every request but the
+    /// probes, the API description and the page needs a token, and sees only
+    /// its tenant's jobs; TOPPLE_API_TOKEN is then a token of tenant
+    /// `default`. Read again when it changes.
+    #[arg(long, env = "TOPPLE_TOKENS_FILE")]
+    tokens_file: Option<std::path::PathBuf>,
+    /// Serve /metrics without a token even where reads need one.
+    #[arg(long, env = "TOPPLE_METRICS_OPEN")]
+    metrics_open: bool,
+    /// Days a finished job is kept (fractions allowed); then it is deleted.
+    /// Default: forever.
+    #[arg(long, env = "TOPPLE_RETENTION_DAYS")]
+    retention_days: Option<f64>,
+    /// Most jobs one tenant may have queued or running; beyond, its
+    /// submissions answer 429. Default: no limit but --max-queued.
+    #[arg(long, env = "TOPPLE_MAX_QUEUED_PER_TENANT")]
+    max_queued_per_tenant: Option<u64>,
     /// Origins allowed by CORS, comma-separated (`*`: any); none by default.
     #[arg(long, env = "TOPPLE_CORS_ORIGINS", value_delimiter = ',')]
     cors_origins: Vec<String>,
@@ -102,7 +120,7 @@ struct ServeArgs {
 #[derive(Subcommand)]
 enum Command {
     /// Serve the HTTP API (the default command).
-    Serve(ServeArgs),
+    Serve(Box<ServeArgs>),
     /// Print the OpenAPI description (YAML), as served at /openapi.yaml.
     Openapi,
     /// Run a job spec (a file, or - for stdin) and print the result (JSON or CSV).
@@ -116,6 +134,13 @@ enum Command {
         /// names quantities and units).
         #[arg(long, default_value = "json", value_parser = ["json", "csv"])]
         format: String,
+    },
+    /// Make a random token for tenant NAME and print, as one line of JSON,
+    /// the token and the line to append to the tokens file.
+    Token {
+        /// The tenant: 1 to 64 letters, digits, `_`, `.` or `-`, the first a
+        /// letter or digit.
+        name: String,
     },
     /// Print the work-precision table of the solvers and write its SVG diagram.
     Precision {
@@ -182,6 +207,40 @@ fn positive_seconds(v: f64, name: &str) -> Result<std::time::Duration, (u8, Stri
     }
 }
 
+/// `days` as a duration: positive and finite, fractions allowed.
+fn retention(days: Option<f64>) -> Result<Option<std::time::Duration>, (u8, String)> {
+    let Some(days) = days else {
+        return Ok(None);
+    };
+    match std::time::Duration::try_from_secs_f64(days * 86_400.0) {
+        Ok(d) if days > 0.0 && !d.is_zero() => Ok(Some(d)),
+        _ => Err((
+            2,
+            "--retention-days must be a positive number of days".into(),
+        )),
+    }
+}
+
+/// `topple token NAME`: a token from the operating system's random source,
+/// and its line of the tokens file.
+fn token(name: &str) -> Result<(), (u8, String)> {
+    use topple::service::tenants;
+    if !tenants::valid_name(name) {
+        return Err((
+            2,
+            format!("{name:?} is not a tenant name: {}", tenants::NAME_RULE),
+        ));
+    }
+    let mut bytes = [0u8; 32];
+    getrandom::fill(&mut bytes).map_err(|e| (1, format!("no random source: {e}")))?;
+    let hex: String = bytes.iter().map(|b| format!("{b:02x}")).collect();
+    let token = format!("{}{hex}", tenants::TOKEN_PREFIX);
+    let line = format!("{name} {}", tenants::digest(&token));
+    let out = serde_json::json!({"name": name, "token": token, "line": line});
+    let _ = writeln!(std::io::stdout().lock(), "{out}");
+    Ok(())
+}
+
 fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()
         .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"));
@@ -203,6 +262,9 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
     if args.result_memory == 0 {
         return Err((2, "--result-memory must be at least 1 (MiB)".into()));
     }
+    if args.max_queued_per_tenant == Some(0) {
+        return Err((2, "--max-queued-per-tenant must be at least 1".into()));
+    }
     let mut config = topple::service::ServeConfig {
         addr: args.addr,
         database_url: args.database,
@@ -223,6 +285,10 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
         job_timeout: seconds(args.job_timeout, "job-timeout")?,
         api_token: args.api_token.filter(|t| !t.is_empty()),
         auth_reads: args.auth_reads,
+        tokens_file: args.tokens_file.filter(|p| !p.as_os_str().is_empty()),
+        metrics_open: args.metrics_open,
+        retention: retention(args.retention_days)?,
+        max_queued_per_tenant: args.max_queued_per_tenant,
         cors_origins: args
             .cors_origins
             .into_iter()
@@ -244,6 +310,19 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
             return Err((2, "--workers must be at least 1".into()));
         }
         config.workers = w;
+    }
+    if let Some(path) = &config.tokens_file {
+        // A tokens file that does not parse stops the start; the service
+        // reads it again itself, and again whenever it changes.
+        let file = topple::service::tenants::TokensFile::open(path, config.api_token.as_deref())
+            .map_err(|e| (2, e.to_string()))?;
+        let tenants = file.tenants();
+        tracing::info!(
+            path = %path.display(),
+            tenants = tenants.tenant_count(),
+            tokens = tenants.len(),
+            "tokens file read"
+        );
     }
     let runtime = tokio::runtime::Runtime::new().map_err(|e| (1, e.to_string()))?;
     runtime.block_on(async move {
@@ -284,7 +363,8 @@ fn main() -> ExitCode {
     let outcome = match command {
         Command::Run { spec, plot, format } => run(&spec, plot.as_deref(), &format),
         Command::Precision { svg } => topple::precision::report(&svg).map_err(|e| (1, e)),
-        Command::Serve(args) => serve(args),
+        Command::Serve(args) => serve(*args),
+        Command::Token { name } => token(&name),
         Command::Openapi => {
             let _ = write!(std::io::stdout().lock(), "{}", topple::api::openapi_yaml());
             Ok(())

@@ -498,3 +498,111 @@ fn format_csv_prints_a_table_with_units_in_its_header() {
     let bad = run_file(VALID_NO_SERIES, &["--format", "xml"]);
     assert!(!bad.status.success());
 }
+
+// ------------------------------------------------------------ serve settings
+
+/// `topple serve` with `args` on a database of its own; it is expected to
+/// refuse them before serving.
+fn serve_refused(args: &[&str]) -> String {
+    let db = temp_path("refused.db");
+    let out = topple()
+        .args(["serve", "--addr", "127.0.0.1:0", "--database"])
+        .arg(format!("sqlite://{}", db.display()))
+        .args(args)
+        .env_remove("TOPPLE_TOKENS_FILE")
+        .env_remove("TOPPLE_API_TOKEN")
+        .output()
+        .expect("run topple serve");
+    let _ = std::fs::remove_file(&db);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+    one_line_failure(&out)
+}
+
+#[test]
+fn retention_and_per_tenant_quota_must_be_positive() {
+    for days in ["0", "-1", "NaN", "inf", "-0.5"] {
+        let line = serve_refused(&[&format!("--retention-days={days}")]);
+        assert!(line.contains("--retention-days"), "{days}: {line}");
+    }
+    let line = serve_refused(&["--max-queued-per-tenant", "0"]);
+    assert!(line.contains("--max-queued-per-tenant"), "{line}");
+}
+
+// ------------------------------------------------------------------ tenants
+
+#[test]
+fn token_prints_a_fresh_token_and_the_line_that_admits_it() {
+    let mint = || {
+        let out = topple().args(["token", "lab-2.ops"]).output().expect("run");
+        assert!(out.status.success(), "{}", stderr(&out));
+        let text = String::from_utf8(out.stdout).expect("utf-8");
+        assert_eq!(text.lines().count(), 1, "one line: {text}");
+        serde_json::from_str::<Value>(&text).expect("one JSON document")
+    };
+    let first = mint();
+    assert_eq!(first["name"], "lab-2.ops");
+    let token = first["token"].as_str().expect("token");
+    let hex = token.strip_prefix("tpl_").expect("tpl_ prefix");
+    assert_eq!(hex.len(), 64);
+    assert!(hex.bytes().all(|b| matches!(b, b'0'..=b'9' | b'a'..=b'f')));
+    let line = first["line"].as_str().expect("line");
+    assert_eq!(
+        line,
+        format!(
+            "lab-2.ops blake3:{}",
+            blake3::hash(token.as_bytes()).to_hex()
+        )
+    );
+    // The line, appended to a tokens file, admits the token as the tenant.
+    let file = format!("# tenants\nother blake3:{}\n{line}\n", "0".repeat(64));
+    let tenants = topple::service::tenants::Tenants::parse(&file).expect("parses");
+    assert_eq!(tenants.lookup(token).map(|t| &**t), Some("lab-2.ops"));
+    // Every token is new.
+    assert_ne!(mint()["token"], first["token"]);
+}
+
+#[test]
+fn token_refuses_a_bad_tenant_name_naming_it() {
+    for bad in ["-x", "a b", "a/b", &"n".repeat(65)] {
+        let out = topple().args(["token", "--", bad]).output().expect("run");
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        let line = one_line_failure(&out);
+        assert!(line.contains(bad), "{bad}: {line}");
+    }
+}
+
+#[test]
+fn serve_refuses_a_malformed_tokens_file_naming_the_file_and_line() {
+    let good = format!("alice blake3:{}", blake3::hash(b"tpl_a").to_hex());
+    let cases = [
+        (
+            format!("{good}\n\n{good}\n"),
+            "line 3",
+            "same digest as line 1",
+        ),
+        (
+            format!("# x\nbob tpl_{}\n", "ab".repeat(32)),
+            "line 2",
+            "token",
+        ),
+        (format!("{good} extra\n"), "line 1", "3 fields"),
+        ("-bob blake3:00\n".to_string(), "line 1", "tenant name"),
+    ];
+    for (text, at, says) in cases {
+        let path = temp_path("tokens");
+        std::fs::write(&path, &text).expect("write");
+        let line = serve_refused(&["--tokens-file", &path.display().to_string()]);
+        let _ = std::fs::remove_file(&path);
+        assert!(line.contains(&path.display().to_string()), "{line}");
+        assert!(line.contains(at) && line.contains(says), "{text}: {line}");
+        // Neither a digest nor a token.
+        let digest = blake3::hash(b"tpl_a").to_hex();
+        assert!(
+            !line.contains(&digest[..16]) && !line.contains(&"ab".repeat(8)),
+            "{line}"
+        );
+    }
+    let missing = temp_path("no-such-tokens");
+    let line = serve_refused(&["--tokens-file", &missing.display().to_string()]);
+    assert!(line.contains(&missing.display().to_string()), "{line}");
+}

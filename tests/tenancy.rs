@@ -432,7 +432,11 @@ async fn retention_deletes_finished_jobs_and_their_results() {
     let server = Server::start(&db, &["--retention-days", "0.00003"], None);
     let user = Client::new(&server.base, None);
     let (status, job) = user.post("/v1/jobs?wait=30", &time_history(4.0)).await;
-    assert_eq!((status, job["status"].as_str()), (200, Some("succeeded")), "{job}");
+    assert_eq!(
+        (status, job["status"].as_str()),
+        (200, Some("succeeded")),
+        "{job}"
+    );
     let id = job["id"].as_str().expect("id").to_string();
     assert_eq!(user.get(&format!("/v1/jobs/{id}/result")).await.0, 200);
     let deadline = Instant::now() + Duration::from_secs(15);

@@ -54,7 +54,8 @@ use problem::Problem;
 )]
 pub struct ApiDoc;
 
-/// The optional bearer token (`TOPPLE_API_TOKEN`) as a security scheme.
+/// Tenants' tokens (`--tokens-file`), or the single optional token
+/// (`TOPPLE_API_TOKEN`), as a security scheme.
 struct BearerScheme;
 
 impl utoipa::Modify for BearerScheme {
@@ -67,7 +68,7 @@ impl utoipa::Modify for BearerScheme {
                 HttpBuilder::new()
                     .scheme(HttpAuthScheme::Bearer)
                     .description(Some(
-                        "Needed by POST and DELETE when the service has a token (TOPPLE_API_TOKEN); by reads too with TOPPLE_AUTH_READS",
+                        "A tenant's token. With a tokens file (`--tokens-file`: one line per token, `NAME blake3:<64 hex digits of the token's blake3 hash>`; `topple token NAME` makes a token and its line), every request needs a token except reads of /healthz, /readyz, /openapi.yaml and the page at / (and of /metrics with `--metrics-open`) and CORS preflights; its tenant is the name its token maps to (a tenant may have several tokens), and a tenant sees only its own jobs (another tenant's id is a 404). Without a tokens file there is one tenant, `default`: with TOPPLE_API_TOKEN, POST and DELETE need that token, and reads too with TOPPLE_AUTH_READS; without it, everything is open. With both, TOPPLE_API_TOKEN is one more token of tenant `default`.",
                     ))
                     .build(),
             ),
@@ -234,8 +235,8 @@ pub fn with_layers(routes: Router<AppState>, state: AppState) -> Router {
             http::refuse_oversized_bodies,
         ))
         .layer(axum::middleware::from_fn_with_state(
-            state.clone(),
-            auth::require_token,
+            auth::Gate::new(state.config.clone()),
+            auth::resolve_tenant,
         ))
         .layer(TimeoutLayer::with_status_code(
             StatusCode::SERVICE_UNAVAILABLE,

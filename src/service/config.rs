@@ -1,5 +1,6 @@
 //! How a service instance is set up.
 
+use std::path::PathBuf;
 use std::time::Duration;
 
 use crate::jobs::limits::Limits;
@@ -29,11 +30,6 @@ pub struct ServeConfig {
     pub limits: Limits,
     /// Most jobs waiting in the queue; a submission beyond answers 429.
     pub max_queued: u64,
-    /// Most jobs one tenant may have queued or running; a submission beyond
-    /// answers 429 (none: no quota).
-    pub max_queued_per_tenant: Option<u64>,
-    /// Finished jobs older than this are deleted (none: kept).
-    pub retention: Option<Duration>,
     /// Longest computation of one task (a whole job, or one chunk of a
     /// spectrum); past it the job fails.
     pub job_timeout: Duration,
@@ -41,6 +37,17 @@ pub struct ServeConfig {
     pub api_token: Option<String>,
     /// Whether reads need the token too.
     pub auth_reads: bool,
+    /// The tenants and their tokens ([`super::tenants`]): with it, every request
+    /// but the probes, the API description and the page needs a token, and
+    /// belongs to the tenant the token names.
+    pub tokens_file: Option<PathBuf>,
+    /// Whether `/metrics` is open even where reads need a token.
+    pub metrics_open: bool,
+    /// How long a finished job is kept; none: forever.
+    pub retention: Option<Duration>,
+    /// Most jobs one tenant may have queued or running; a submission beyond
+    /// answers 429. None: only [`ServeConfig::max_queued`] bounds them.
+    pub max_queued_per_tenant: Option<u64>,
     /// Origins allowed by CORS (`*` for any); none: same origin only.
     pub cors_origins: Vec<String>,
     /// Longest time a client may take to send a request's headers, counted
@@ -75,11 +82,13 @@ impl Default for ServeConfig {
             instance: format!("{}-{}", hostname(), std::process::id()),
             limits: Limits::default(),
             max_queued: 10_000,
-            max_queued_per_tenant: None,
-            retention: None,
             job_timeout: Duration::from_secs(600),
             api_token: None,
             auth_reads: false,
+            tokens_file: None,
+            metrics_open: false,
+            retention: None,
+            max_queued_per_tenant: None,
             cors_origins: Vec::new(),
             header_read_timeout: Duration::from_secs(10),
             idle_timeout: Duration::from_secs(60),
@@ -91,10 +100,11 @@ impl Default for ServeConfig {
 }
 
 impl ServeConfig {
-    /// Whether reading a job needs a token (then results are cached
-    /// privately only).
+    /// Whether reading jobs needs a token (a tokens file, or the API token
+    /// with `auth_reads`): what is read is then private to whoever presented
+    /// it (`Cache-Control: private`).
     pub fn reads_need_token(&self) -> bool {
-        self.api_token.is_some() && self.auth_reads
+        self.tokens_file.is_some() || (self.api_token.is_some() && self.auth_reads)
     }
 }
 

@@ -12,6 +12,7 @@ mod conn;
 pub mod metrics;
 pub mod results;
 pub mod retention;
+pub mod tenants;
 pub mod throughput;
 pub mod worker;
 

@@ -5,6 +5,7 @@ mod bad_input;
 mod contract;
 mod guard;
 mod helpers;
+mod tenants;
 
 use std::time::{Duration, Instant};
 

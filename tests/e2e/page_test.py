@@ -14,7 +14,8 @@ clicks and typed text:
 4. a long overturning spectrum is submitted and canceled with the Cancel
    button; the service reports it canceled;
 5. against a second server that wants a token for reads too
-   (`--api-token`, `--auth-reads`): the 401 is explained, and once the token
+   (`--api-token`, `--auth-reads`): the token box opens by itself, the 401
+   of a submission without it is explained, and once the token
    is filled in the job runs and its plot loads (fetched with the token);
 6. nothing was blocked by the policy and no script error occurred.
 
@@ -423,6 +424,8 @@ def check_token(page, base):
     """Against a service that wants its token for reads too."""
     page.navigate(base + "/")
     page.wait_js("the form", "!!document.getElementById('submit')", 10)
+    page.wait_js("the token box to open by itself",
+                 "document.getElementById('token-box').open", 10)
     page.click("#submit")
     page.wait_js("the error to be shown", "!document.getElementById('problem').hidden", 10)
     text = page.js("document.getElementById('problem').innerText")
