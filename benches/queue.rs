@@ -1,4 +1,5 @@
-//! Per-task queue overhead — claim, one heartbeat, completion — on SQLite and
+//! Per-task queue overhead — claim, one heartbeat, completion (and a job's
+//! assembly after its last task) — on SQLite and
 //! on PostgreSQL (skipped with a message when no PostgreSQL answers): with a
 //! short queue (one job of 200 tasks at a time), and with a deep one (5,000
 //! single-task jobs of three tenants waiting).
@@ -58,10 +59,25 @@ async fn claim_beat_complete(store: &dyn JobStore, n: usize) -> Duration {
             .heartbeat(t.computation, t.idx, "bench", 0.5, lease)
             .await
             .expect("beats");
-        store
-            .complete(t.computation, t.idx, "bench", "{\"spectrum\":[]}")
-            .await
-            .expect("completes");
+        // As a worker: a job of one task is completed with its result in one
+        // write; the last task of a larger one is followed by its assembly.
+        if t.tasks == 1 {
+            store
+                .complete_only(t.computation, t.idx, "bench", "{}", "{}", &now_rfc3339())
+                .await
+                .expect("completes");
+        } else {
+            store
+                .complete(t.computation, t.idx, "bench", "{\"spectrum\":[]}")
+                .await
+                .expect("completes");
+            if t.idx + 1 == t.tasks {
+                store
+                    .succeed(t.computation, "{}", "{}", &now_rfc3339())
+                    .await
+                    .expect("assembles");
+            }
+        }
     }
     start.elapsed()
 }

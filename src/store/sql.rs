@@ -58,10 +58,14 @@ impl Statements {
                 "SELECT computation_id, CAST(idx AS BIGINT) AS idx FROM tasks \
                  WHERE status = 'running' AND lease_until < {now} ORDER BY lease_until LIMIT 1{skip_locked}",
             ),
+            // A scalar subquery with LIMIT 1 per tenant, which the planners
+            // run as such (stopping at the tenant's first ready computation),
+            // rather than EXISTS, which PostgreSQL flattens into a join over
+            // every live computation.
             next_tenant: fill::<DB>(
-                "SELECT n.name FROM tenants n WHERE EXISTS (SELECT 1 FROM computations c \
+                "SELECT n.name FROM tenants n WHERE (SELECT c.id FROM computations c \
                    WHERE c.tenant = n.name AND c.status IN ('queued', 'running') AND ($1 = 0 OR c.status = 'running') \
-                   AND EXISTS (SELECT 1 FROM tasks t WHERE t.computation_id = c.id AND t.status = 'queued')) \
+                   AND EXISTS (SELECT 1 FROM tasks t WHERE t.computation_id = c.id AND t.status = 'queued') LIMIT 1) IS NOT NULL \
                  ORDER BY n.served_at, n.name LIMIT 1",
             ),
             next_of_tenant: fill::<DB>(
