@@ -145,6 +145,21 @@ pub async fn refuse_oversized_bodies(
     next.run(req).await
 }
 
+/// The audit line of a write (submit, cancel, delete): one structured log
+/// line with the tenant, the job and the request's id, under target `audit`.
+pub fn audit(
+    action: &str,
+    tenant: &super::auth::Tenant,
+    job: uuid::Uuid,
+    headers: &axum::http::HeaderMap,
+) {
+    let request_id = headers
+        .get(&REQUEST_ID)
+        .and_then(|v| v.to_str().ok())
+        .unwrap_or("");
+    tracing::info!(target: "audit", action, tenant = tenant.name(), job_id = %job, request_id, "audit");
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -182,19 +197,4 @@ mod tests {
         assert_eq!(poll_interval(1e6), 30);
         assert_eq!(poll_interval(f64::NAN), 30);
     }
-}
-
-/// The audit line of a write (submit, cancel, delete): one structured log
-/// line with the tenant, the job and the request's id, under target `audit`.
-pub fn audit(
-    action: &str,
-    tenant: &super::auth::Tenant,
-    job: uuid::Uuid,
-    headers: &axum::http::HeaderMap,
-) {
-    let request_id = headers
-        .get(&REQUEST_ID)
-        .and_then(|v| v.to_str().ok())
-        .unwrap_or("");
-    tracing::info!(target: "audit", action, tenant = tenant.name(), job_id = %job, request_id, "audit");
 }

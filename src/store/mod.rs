@@ -256,7 +256,7 @@ pub enum Deleted {
     /// The tenant has no such job.
     NotFound,
     /// The job is queued or running: cancel it first.
-    NotFinished(JobRecord),
+    NotFinished(Box<JobRecord>),
 }
 
 /// What an admission decision needs to know about a submission.

@@ -491,7 +491,7 @@ where
             return Ok(Deleted::NotFound);
         };
         if !job.status.is_final() {
-            return Ok(Deleted::NotFinished(job));
+            return Ok(Deleted::NotFinished(Box::new(job)));
         }
         let computation = job.computation.to_string();
         self.lock_computation(&mut tx, &computation).await?;
@@ -684,15 +684,14 @@ where
         Ok(updated == 1)
     }
 
+    /// `done` is the result document, its numerics and the time.
     async fn complete_only_in(
         &self,
         conn: &mut DB::Connection,
         computation: Uuid,
         idx: i64,
         owner: &str,
-        body: &str,
-        numerics: &str,
-        now: &str,
+        (body, numerics, now): (&str, &str, &str),
     ) -> Result<bool, StoreError> {
         let mut tx = conn.begin().await?;
         let held = sqlx::query(
@@ -1014,9 +1013,7 @@ where
                 computation,
                 idx,
                 owner,
-                body,
-                numerics,
-                now
+                (body, numerics, now)
             ))
         })
     }
