@@ -325,7 +325,11 @@ async fn a_job_past_the_compute_time_limit_fails_saying_so() {
         c.job_timeout = Duration::from_millis(300);
     })
     .await;
-    let (_, job, _) = app.post("/v1/jobs", &spectrum(400)).await;
+    // One frequency on a fine amplitude grid: a task of a few seconds.
+    let mut long = spectrum(2);
+    long["omega_ratio"] = serde_json::json!({"from": 0.3, "to": 0.31, "steps": 2});
+    long["scan_step_alpha_g"] = serde_json::json!(0.0005);
+    let (_, job, _) = app.post("/v1/jobs", &long).await;
     let done = app
         .finish(job["id"].as_str().expect("id"), Duration::from_secs(10))
         .await;
