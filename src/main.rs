@@ -3,14 +3,22 @@
 use std::io::{Read, Write};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 use topple::jobs::Job;
+
+/// `topple --version`: the program and the engine whose numbers it gives.
+const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (engine topple-engine/",
+    env!("CARGO_PKG_VERSION"),
+    "/3)"
+);
 
 #[derive(Parser)]
 #[command(
     name = "topple",
-    version,
+    version = VERSION,
     about = "Rocking and overturning of free-standing rigid blocks under cycloidal pulses"
 )]
 struct Cli {
@@ -348,18 +356,60 @@ fn return_large_blocks() {
     }
 }
 
+/// The arguments as `topple serve` takes them when the first is not a
+/// command: bare `topple` (and `cargo run --release -- --addr …`) serves with
+/// serve's flags.
+fn with_default_command(args: Vec<std::ffi::OsString>) -> Vec<std::ffi::OsString> {
+    let first = args.get(1).and_then(|a| a.to_str()).unwrap_or("");
+    let top_level = ["-h", "--help", "-V", "--version", "help"];
+    let command = Cli::command()
+        .get_subcommands()
+        .any(|c| c.get_name() == first);
+    if command || top_level.contains(&first) {
+        return args;
+    }
+    let mut out = Vec::with_capacity(args.len() + 1);
+    out.extend(args.first().cloned());
+    out.push("serve".into());
+    out.extend(args.into_iter().skip(1));
+    out
+}
+
+/// A parse error that names the environment variable a bad value came from
+/// (clap names only the flag), exit status 2.
+fn parse_error(e: clap::Error) -> ! {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if matches!(
+        e.kind(),
+        ErrorKind::ValueValidation | ErrorKind::InvalidValue
+    ) && let Some(ContextValue::String(arg)) = e.get(ContextKind::InvalidArg)
+    {
+        let flag = arg.split_whitespace().next().unwrap_or("");
+        let from_env = Cli::command()
+            .find_subcommand("serve")
+            .into_iter()
+            .flat_map(|c| c.get_arguments().cloned().collect::<Vec<_>>())
+            .find(|a| a.get_long().is_some_and(|l| format!("--{l}") == flag))
+            .and_then(|a| a.get_env().map(|v| v.to_string_lossy().to_string()))
+            .filter(|var| std::env::var_os(var).is_some())
+            .filter(|_| !std::env::args().any(|a| a == flag || a.starts_with(&format!("{flag}="))));
+        if let Some(var) = from_env {
+            let _ = e.print();
+            eprintln!("(the value comes from the environment variable {var})");
+            std::process::exit(2);
+        }
+    }
+    e.exit()
+}
+
 fn main() -> ExitCode {
     return_large_blocks();
-    let cli = Cli::parse();
-    let command = cli.command.unwrap_or_else(|| {
-        // `topple` alone serves with the defaults (and environment).
-        match Cli::try_parse_from(["topple", "serve"]) {
-            Ok(Cli {
-                command: Some(c), ..
-            }) => c,
-            _ => Command::Openapi,
-        }
-    });
+    let args = with_default_command(std::env::args_os().collect());
+    let cli = Cli::try_parse_from(args).unwrap_or_else(|e| parse_error(e));
+    let Some(command) = cli.command else {
+        // Unreachable: a missing command is `serve`.
+        return ExitCode::from(2);
+    };
     let outcome = match command {
         Command::Run { spec, plot, format } => run(&spec, plot.as_deref(), &format),
         Command::Precision { svg } => topple::precision::report(&svg).map_err(|e| (1, e)),

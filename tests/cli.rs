@@ -606,3 +606,75 @@ fn serve_refuses_a_malformed_tokens_file_naming_the_file_and_line() {
     let line = serve_refused(&["--tokens-file", &missing.display().to_string()]);
     assert!(line.contains(&missing.display().to_string()), "{line}");
 }
+
+/// `topple` with `args` and `env`, in a fresh empty directory; returns the
+/// output and the directory's entries afterwards.
+fn in_empty_dir(args: &[&str], env: &[(&str, &str)]) -> (Output, Vec<String>) {
+    let dir = temp_path("empty");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let out = topple()
+        .args(args)
+        .envs(env.iter().copied())
+        .current_dir(&dir)
+        .stdin(Stdio::null())
+        .output()
+        .expect("topple runs");
+    let entries = std::fs::read_dir(&dir)
+        .expect("dir")
+        .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().to_string()))
+        .collect();
+    let _ = std::fs::remove_dir_all(&dir);
+    (out, entries)
+}
+
+#[test]
+fn a_bad_environment_variable_is_an_error_naming_it_never_a_fallback() {
+    for (var, value, flag) in [
+        ("TOPPLE_WORKERS", "two", "--workers"),
+        ("TOPPLE_MAX_BODY", "abc", "--max-body"),
+        ("TOPPLE_AUTH_READS", "maybe", "--auth-reads"),
+    ] {
+        let (out, created) = in_empty_dir(&[], &[(var, value)]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{var}: {stderr}");
+        assert!(
+            stderr.contains(var) && stderr.contains(flag),
+            "{var}: {stderr}"
+        );
+        // Nothing printed as if it had worked, nothing created.
+        assert!(out.stdout.is_empty(), "{var}");
+        assert!(created.is_empty(), "{var}: {created:?}");
+    }
+}
+
+#[test]
+fn bare_topple_takes_serves_flags() {
+    // A bad value of a serve flag given without `serve` is refused as serve
+    // would refuse it: the flag is known.
+    let (out, _) = in_empty_dir(&["--workers", "0"], &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("--workers"), "{stderr}");
+    let (out, _) = in_empty_dir(&["--no-such-flag"], &[]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--no-such-flag"));
+}
+
+#[test]
+fn a_taken_port_names_the_address_and_creates_nothing() {
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").expect("a port");
+    let addr = taken.local_addr().expect("addr").to_string();
+    let (out, created) = in_empty_dir(&["--addr", &addr], &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains(&addr), "{stderr}");
+    assert!(created.is_empty(), "{created:?}");
+}
+
+#[test]
+fn version_names_the_engine() {
+    let out = topple().arg("--version").output().expect("runs");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    assert!(text.contains(topple::jobs::key::ENGINE_VERSION), "{text}");
+}

@@ -130,7 +130,15 @@ pub enum ServeError {
     /// The store failed.
     #[error(transparent)]
     Store(#[from] StoreError),
-    /// Binding or serving failed.
+    /// The address could not be listened on.
+    #[error("cannot listen on {addr}: {source}")]
+    Bind {
+        /// The address.
+        addr: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Serving failed.
     #[error("io: {0}")]
     Io(#[from] std::io::Error),
     /// The compute pool could not be built.
@@ -170,6 +178,15 @@ impl Application {
         config: ServeConfig,
         engine: Engine,
     ) -> Result<Self, ServeError> {
+        // The address first: a taken port is reported before anything is
+        // created (a SQLite file, a migrated database).
+        let listener =
+            TcpListener::bind(&config.addr)
+                .await
+                .map_err(|source| ServeError::Bind {
+                    addr: config.addr.clone(),
+                    source,
+                })?;
         let store = open_store(&config.database_url, (config.workers as u32 + 4).max(8)).await?;
         let recovered = store.recover().await?;
         if recovered > 0 {
@@ -180,7 +197,6 @@ impl Application {
             .thread_name(|i| format!("topple-compute-{i}"))
             .build()
             .map_err(|e| ServeError::Pool(e.to_string()))?;
-        let listener = TcpListener::bind(&config.addr).await?;
         let (finished, _) = broadcast::channel(1024);
         let (stop, stopping) = watch::channel(false);
         let results = Arc::new(results::ResultCache::new(config.result_memory));
