@@ -147,7 +147,9 @@ async fn two_instances_share_one_spectrum_and_assemble_the_single_instance_resul
     );
     let result = get(&client, &format!("{}/v1/jobs/{id}/result", b.base)).await;
     assert_eq!(result["spectrum"], offline(&spec));
-    assert_eq!(result["numerics"]["tasks"], 40);
+    let tasks = Job::from_value(&spec).expect("valid").split().len();
+    assert!(tasks > 1, "{tasks}");
+    assert_eq!(result["numerics"]["tasks"], tasks);
     a.shutdown().await;
     b.shutdown().await;
     db.drop_now().await;

@@ -5,22 +5,29 @@ use serde_json::Value;
 
 use super::Job;
 
-/// Most tasks a spectrum is split into: one frequency a task up to this many
-/// frequencies. A task is the unit of turns (a small job waits for one task of
-/// a big one to finish, not for the big one): a frequency of a 400-frequency
-/// nonlinear spectrum is about a thousand simulations, a tenth of a second;
-/// claiming it costs about a millisecond.
+/// Most tasks a spectrum is split into.
 pub const MAX_TASKS: usize = 256;
+
+/// Simulations a task of a spectrum aims at (whole frequencies; a frequency
+/// that needs more is a task of its own): about a seventh of a second of one
+/// core. A task is the unit of turns — a small job waits for a task of a big
+/// one to finish, not for the big one — and each costs a claim, heartbeats and
+/// a write (a few milliseconds on PostgreSQL): small enough for turns, large
+/// enough that the queue costs a few per cent.
+pub const TASK_SIMULATIONS: f64 = 5_000.0;
 
 impl Job {
     /// The tasks of this job, as job specs of their own: a spectrum becomes
-    /// one task per chunk of frequencies (at most [`MAX_TASKS`]); any other job
-    /// is one task.
+    /// one task per chunk of frequencies of about [`TASK_SIMULATIONS`]
+    /// simulations (at most [`MAX_TASKS`]); any other job is one task.
     pub fn split(&self) -> Vec<Job> {
         match self {
             Job::Spectrum(job) if job.omega_ratio.len() > 1 => {
                 let n = job.omega_ratio.len();
-                let per = n.div_ceil(MAX_TASKS).max(1);
+                let per_frequency = (self.size().work / n as f64).max(1.0);
+                let per = ((TASK_SIMULATIONS / per_frequency).floor() as usize)
+                    .max(n.div_ceil(MAX_TASKS))
+                    .clamp(1, n);
                 job.omega_ratio
                     .chunks(per)
                     .map(|chunk| {
@@ -103,8 +110,9 @@ mod tests {
         )
         .expect("valid");
         let tasks = job.split();
-        // One task a frequency.
-        assert_eq!(tasks.len(), 70);
+        let per = (TASK_SIMULATIONS / (job.size().work / 70.0)).floor() as usize;
+        assert!(per >= 1);
+        assert_eq!(tasks.len(), 70usize.div_ceil(per));
         let control = Control::new();
         let parts: Vec<Value> = tasks
             .iter()
@@ -118,15 +126,18 @@ mod tests {
             assembled["numerics"]["simulations"],
             whole["numerics"]["simulations"]
         );
-        assert_eq!(assembled["numerics"]["tasks"], 70);
+        assert_eq!(assembled["numerics"]["tasks"], tasks.len());
     }
 
     #[test]
-    fn a_large_spectrum_is_split_into_at_most_max_tasks() {
+    fn a_large_spectrum_is_split_into_at_most_max_tasks_of_about_task_simulations() {
+        // A fine grid: one frequency is a task of its own, and 1,000 of them
+        // make 250 tasks of 4.
         let job = Job::parse(
-            r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":{"from":1,"to":8,"steps":1000}}"#,
+            r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":{"from":1,"to":8,"steps":1000},"scan_step_alpha_g":0.002}"#,
         )
         .expect("valid");
+        assert!(job.size().work / 1000.0 > TASK_SIMULATIONS);
         let tasks = job.split();
         assert_eq!(tasks.len(), 250);
         let per: Vec<usize> = tasks
@@ -137,6 +148,20 @@ mod tests {
             })
             .collect();
         assert!(per.iter().all(|&n| n == 4), "{per:?}");
+        // The default grid (about 1,100 simulations a frequency): tasks of 4.
+        let job = Job::parse(
+            r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"nonlinear","omega_ratio":{"from":0.25,"to":10,"steps":400},"a_max_alpha_g":20,"tolerance":1e-4}"#,
+        )
+        .expect("valid");
+        let per_frequency = job.size().work / 400.0;
+        let tasks = job.split();
+        for t in &tasks {
+            let Job::Spectrum(s) = t else {
+                panic!("a spectrum task");
+            };
+            assert!(s.omega_ratio.len() as f64 * per_frequency <= TASK_SIMULATIONS);
+        }
+        assert!(tasks.len() < 400 && tasks.len() > 50, "{}", tasks.len());
     }
 
     #[test]
