@@ -1157,7 +1157,7 @@ pub struct ListParams {
     #[param(value_type = Option<Status>)]
     pub status: Option<String>,
     /// Only jobs of this kind.
-    #[param(pattern = "^(time_history|spectrum|friction_spectrum)$")]
+    #[param(pattern = "^(time_history|spectrum|friction_spectrum|forensic)$")]
     pub kind: Option<String>,
     /// At most this many (1..=500, default 50).
     #[param(minimum = 1, maximum = 500)]
