@@ -678,3 +678,18 @@ fn version_names_the_engine() {
     assert!(out.status.success());
     assert!(text.contains(topple::jobs::key::ENGINE_VERSION), "{text}");
 }
+
+#[test]
+fn half_width_m_and_half_height_m_name_b_and_h() {
+    let by_letters = r#"{"kind":"time_history","block":{"b":0.2,"h":0.8},"pulse":{"type":"one_sine","omega_ratio":5.0,"a_p_alpha_g":4.0},"formulation":"linear"}"#;
+    let by_names = by_letters
+        .replace("\"b\"", "\"half_width_m\"")
+        .replace("\"h\"", "\"half_height_m\"");
+    let a: Value = serde_json::from_slice(&run_file(by_letters, &[]).stdout).expect("json");
+    let b: Value = serde_json::from_slice(&run_file(&by_names, &[]).stdout).expect("json");
+    assert!(
+        a["spec"]["block"]["p"].as_f64().is_some_and(|p| p > 0.0),
+        "{a}"
+    );
+    assert_eq!(a["spec"]["block"], b["spec"]["block"]);
+}

@@ -165,12 +165,12 @@ pub struct BlockSpec {
     #[serde(alias = "frequency_parameter")]
     #[schema(exclusive_minimum = 0.0)]
     pub p: Option<f64>,
-    /// Half-width b, m.
-    #[serde(alias = "half_width")]
+    /// Half-width b, m (the full width is 2b).
+    #[serde(alias = "half_width", alias = "half_width_m")]
     #[schema(exclusive_minimum = 0.0)]
     pub b: Option<f64>,
-    /// Half-height h, m.
-    #[serde(alias = "half_height")]
+    /// Half-height h, m (the full height is 2h).
+    #[serde(alias = "half_height", alias = "half_height_m")]
     #[schema(exclusive_minimum = 0.0)]
     pub h: Option<f64>,
     /// Coefficient of restitution η (default 1 − 1.5 sin²α, floored at 0).
