@@ -3,6 +3,7 @@
 //! differences live in [`dialect`].
 
 pub mod dialect;
+pub mod migrations;
 pub mod postgres;
 pub mod sql;
 pub mod sqlite;

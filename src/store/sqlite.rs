@@ -72,7 +72,7 @@ impl SqlStore<Sqlite> {
             .max_connections(connections.max(2))
             .connect_with(options)
             .await?;
-        sqlx::migrate!("./migrations/sqlite").run(&pool).await?;
+        super::migrations::sqlite().run(&pool).await?;
         let store = SqlStore::new(pool.clone(), None);
         tokio::spawn(checkpoint_loop(pool, store.writer()));
         Ok(store)

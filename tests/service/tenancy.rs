@@ -3,12 +3,10 @@
 //! turns for a small job behind big ones — on SQLite, and on two instances
 //! sharing PostgreSQL.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use common::server::{Server, sqlite_url, temp_dir};
+use crate::common::server::{Server, sqlite_url, temp_dir};
 use serde_json::{Value, json};
 use sqlx::Connection;
 
@@ -401,7 +399,7 @@ async fn one_user_small_job_is_not_stuck_behind_big_ones() {
 
 #[tokio::test]
 async fn tenants_on_two_postgres_instances() {
-    let Some(pg) = common::pg_database("tenancy").await else {
+    let Some(pg) = crate::common::pg_database("tenancy").await else {
         return;
     };
     let dir = temp_dir("tenancy-pg");

@@ -5,8 +5,6 @@
 //! shutdown, which still ends within the grace period. Limits of zero are
 //! refused at start.
 
-mod common;
-
 use std::io::{ErrorKind, Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::path::PathBuf;
@@ -14,7 +12,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use common::server::{Server, cpu_time, http, sqlite_url, temp_dir, wait_until};
+use crate::common::server::{Server, cpu_time, http, sqlite_url, temp_dir, wait_until};
 use serde_json::json;
 
 /// A server with `args`, logging to its directory.

@@ -8,13 +8,11 @@
 //! A private cluster needs root (to run initdb as the `postgres` user) and the
 //! PostgreSQL binaries; elsewhere the test says loudly that it is skipped.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use common::server::{Server, free_port, http, wait_until};
+use crate::common::server::{Server, free_port, http, wait_until};
 use serde_json::json;
 
 /// A PostgreSQL cluster of the test's own, stopped and removed on drop.

@@ -4,8 +4,6 @@
 //! every accepted job with the result of an uninterrupted computation, lists
 //! every one of them, and leaves an intact database (SQLite and PostgreSQL).
 
-mod common;
-
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::str::FromStr;
@@ -13,7 +11,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use common::server::{Server, http, list_all, sqlite_url, status, temp_dir, wait_until};
+use crate::common::server::{Server, http, list_all, sqlite_url, status, temp_dir, wait_until};
 use serde_json::{Value, json};
 use sqlx::Connection;
 use topple::jobs::Job;
@@ -290,7 +288,7 @@ async fn pg_integrity(url: &str) {
 /// Runs `test` on a PostgreSQL database of its own (or skips loudly without
 /// a server), and drops the database afterwards, even when `test` fails.
 fn with_postgres(tag: &str, test: impl FnOnce(&str)) {
-    let Some(pg) = block_on(common::pg_database(tag)) else {
+    let Some(pg) = block_on(crate::common::pg_database(tag)) else {
         return;
     };
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| test(&pg.url)));

@@ -8,8 +8,6 @@
 //! then reset (`clear_refs`) before the reads, so that each bound is measured
 //! on its own.
 
-mod common;
-
 use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::sync::Arc;
@@ -17,7 +15,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use common::server::{Server, http, sqlite_url, temp_dir, wait_status};
+use crate::common::server::{Server, http, sqlite_url, temp_dir, wait_status};
 use serde_json::{Value, json};
 
 /// The bound on the server's resident set during the reads.

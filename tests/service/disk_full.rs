@@ -8,13 +8,11 @@
 //! Mounting a tmpfs needs root (CI has it); elsewhere the test says loudly
 //! that it is skipped.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use common::server::{Server, http, wait_until};
+use crate::common::server::{Server, http, wait_until};
 use serde_json::{Value, json};
 use sqlx::Connection;
 

@@ -1,8 +1,6 @@
 //! Several instances on one PostgreSQL: they share jobs, tasks, the cache and
 //! cancellation, and one survives the other's death.
 
-mod common;
-
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -128,7 +126,7 @@ async fn finishers(db: &str, id: &str) -> Vec<String> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn two_instances_share_one_spectrum_and_assemble_the_single_instance_result() {
-    let Some(db) = common::pg_database("share").await else {
+    let Some(db) = crate::common::pg_database("share").await else {
         return;
     };
     let a = instance(&db.url, "A", 1).await;
@@ -157,7 +155,7 @@ async fn two_instances_share_one_spectrum_and_assemble_the_single_instance_resul
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_job_submitted_to_one_instance_is_visible_cancellable_and_cached_through_another() {
-    let Some(db) = common::pg_database("ab").await else {
+    let Some(db) = crate::common::pg_database("ab").await else {
         return;
     };
     let a = instance(&db.url, "A", 2).await;
@@ -257,7 +255,7 @@ async fn ready(client: &reqwest::Client, base: &str) {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn when_one_instance_is_killed_the_other_takes_over_its_tasks() {
-    let Some(db) = common::pg_database("kill").await else {
+    let Some(db) = crate::common::pg_database("kill").await else {
         return;
     };
     let client = reqwest::Client::new();

@@ -2,11 +2,9 @@
 //! same database, it loses nothing; stopped with SIGTERM, it finishes its work
 //! in flight and exits cleanly.
 
-mod common;
-
 use std::time::Duration;
 
-use common::server::{http, start, status, temp_db, wait_status, wait_until};
+use crate::common::server::{http, start, status, temp_db, wait_status, wait_until};
 use serde_json::{Value, json};
 
 fn spectrum(frequencies: usize) -> Value {

@@ -1,7 +1,5 @@
 //! One suite, run against both storage backends: SQLite and PostgreSQL.
 
-mod common;
-
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -617,7 +615,7 @@ async fn postgres_store_keeps_its_contract() {
     .into_iter()
     .enumerate()
     {
-        let Some(db) = common::pg_database(case).await else {
+        let Some(db) = crate::common::pg_database(case).await else {
             return;
         };
         let store: Arc<dyn JobStore> = Arc::new(PgStore::open(&db.url, 4).await.expect("opens"));
@@ -676,7 +674,7 @@ async fn migrations_keep_jobs_made_before_tenants() {
     let url = format!("sqlite://{}?mode=rwc", dir.join("old.db").display());
     {
         let pool = sqlx::SqlitePool::connect(&url).await.expect("opens");
-        sqlx::migrate!("./migrations/sqlite")
+        topple::store::migrations::sqlite()
             .run_to(2, &pool)
             .await
             .expect("old schema");
@@ -688,12 +686,12 @@ async fn migrations_keep_jobs_made_before_tenants() {
     let store = SqliteStore::open(&url, 4).await.expect("migrates");
     migrated_job_is_the_default_tenants(&store).await;
     let _ = std::fs::remove_dir_all(&dir);
-    let Some(db) = common::pg_database("store_migrate").await else {
+    let Some(db) = crate::common::pg_database("store_migrate").await else {
         return;
     };
     {
         let pool = sqlx::PgPool::connect(&db.url).await.expect("connects");
-        sqlx::migrate!("./migrations/postgres")
+        topple::store::migrations::postgres()
             .run_to(1, &pool)
             .await
             .expect("old schema");

@@ -2,11 +2,9 @@
 //! `topple serve` process, read from /proc, stops growing once the DELETE is
 //! answered. (The latency itself is measured by `benches/spectrum.rs`.)
 
-mod common;
-
 use std::time::{Duration, Instant};
 
-use common::server::{Server, cpu_time, http, temp_db, wait_until};
+use crate::common::server::{Server, cpu_time, http, temp_db, wait_until};
 use serde_json::json;
 
 /// Share of one core the process used over `window`.

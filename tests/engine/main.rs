@@ -1,0 +1,13 @@
+//! The engine through the library: the paper's figures and closed forms,
+//! properties, extremes, spectra, records and the forensic query. One test
+//! binary (each module was one before), so the library and its dependencies are
+//! linked once.
+
+mod exact_vs_numerical;
+mod extremes;
+mod forensic;
+mod fuzz;
+mod ground_motion;
+mod paper;
+mod properties;
+mod spectra;
