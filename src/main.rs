@@ -10,9 +10,9 @@ use topple::jobs::Job;
 /// `topple --version`: the program and the engine whose numbers it gives.
 const VERSION: &str = concat!(
     env!("CARGO_PKG_VERSION"),
-    " (engine topple-engine/",
-    env!("CARGO_PKG_VERSION"),
-    "/3)"
+    " (engine ",
+    topple::engine_version!(),
+    ")"
 );
 
 #[derive(Parser)]
@@ -155,6 +155,10 @@ enum Command {
         /// Where to write the SVG diagram.
         #[arg(long, default_value = "precision.svg")]
         svg: String,
+        /// Also rewrite the table in this README (between its `topple
+        /// precision --readme` markers).
+        #[arg(long)]
+        readme: Option<String>,
     },
 }
 
@@ -412,7 +416,9 @@ fn main() -> ExitCode {
     };
     let outcome = match command {
         Command::Run { spec, plot, format } => run(&spec, plot.as_deref(), &format),
-        Command::Precision { svg } => topple::precision::report(&svg).map_err(|e| (1, e)),
+        Command::Precision { svg, readme } => {
+            topple::precision::report(&svg, readme.as_deref()).map_err(|e| (1, e))
+        }
         Command::Serve(args) => serve(*args),
         Command::Token { name } => token(&name),
         Command::Openapi => {

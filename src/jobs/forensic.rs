@@ -498,6 +498,10 @@ pub struct ForensicResult {
     pub numerics: ForensicNumerics,
     /// The normalised spec.
     pub spec: ForensicJob,
+    /// Notes on the inputs (`implausible_size`: a block smaller than 1 cm or
+    /// larger than 100 m); absent when there are none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
 }
 
 impl ForensicJob {
@@ -597,6 +601,7 @@ impl ForensicJob {
             }
         }
         Ok(ForensicResult {
+            warnings: Vec::new(),
             kind: "forensic",
             formulation: self.formulation,
             pulse: self.pulse,

@@ -209,6 +209,10 @@ pub struct FrictionResult {
     pub numerics: SpectrumNumerics,
     /// The normalised spec.
     pub spec: FrictionJob,
+    /// Notes on the inputs (`implausible_size`: a block smaller than 1 cm or
+    /// larger than 100 m); absent when there are none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
 }
 
 impl FrictionJob {
@@ -230,6 +234,7 @@ impl FrictionJob {
         let s = friction_spectrum(&req, control)?;
         let tan = block.slenderness.tan();
         Ok(FrictionResult {
+            warnings: Vec::new(),
             kind: "friction_spectrum",
             omega_ratio: self.omega_ratio,
             omega_p: self.omega_ratio * self.block.p,

@@ -2,9 +2,18 @@
 
 use super::Job;
 
+/// The engine version as a literal (for `concat!`, e.g. `topple --version`).
+#[macro_export]
+macro_rules! engine_version {
+    () => {
+        concat!("topple-engine/", env!("CARGO_PKG_VERSION"), "/4")
+    };
+}
+
 /// Version of the engine's numerics; part of every key, so that a change in
-/// what the engine computes never serves stale results.
-pub const ENGINE_VERSION: &str = concat!("topple-engine/", env!("CARGO_PKG_VERSION"), "/3");
+/// what the engine computes (or in what its results hold) never serves stale
+/// results.
+pub const ENGINE_VERSION: &str = crate::engine_version!();
 
 /// The build's commit, when the build was told it (`TOPPLE_COMMIT` at compile
 /// time: the Dockerfile and CI set it).

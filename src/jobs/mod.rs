@@ -6,6 +6,7 @@ pub mod friction;
 pub mod key;
 pub mod limits;
 pub mod numerics;
+pub mod plausible;
 pub mod range;
 pub mod schema;
 pub mod spec;
@@ -157,6 +158,7 @@ impl Job {
             Job::FrictionSpectrum(job) => serde_json::to_value(job.run(control)?),
             Job::Forensic(job) => serde_json::to_value(job.run(control)?),
         };
-        Ok(key::with_engine(value.unwrap_or(serde_json::Value::Null)))
+        let doc = plausible::with_warnings(value.unwrap_or(serde_json::Value::Null), self);
+        Ok(key::with_engine(doc))
     }
 }

@@ -194,6 +194,9 @@ pub enum WarningKind {
     ImpactListTruncated,
     /// The state at the pulse end is within tolerance of the separatrix.
     NearSeparatrix,
+    /// The block's size R = 3g/(4p²) lies outside 1 cm – 100 m (b and h are
+    /// half-dimensions in metres; p is in rad/s).
+    ImplausibleSize,
 }
 
 /// A normalised spec (SI units, every default filled in), by `kind`: what a

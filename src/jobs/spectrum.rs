@@ -471,6 +471,10 @@ pub struct SpectrumResult {
     pub numerics: SpectrumNumerics,
     /// The normalised spec.
     pub spec: SpectrumJob,
+    /// Notes on the inputs (`implausible_size`: a block smaller than 1 cm or
+    /// larger than 100 m); absent when there are none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
 }
 
 fn intervals(d: &Derived) -> Vec<[f64; 2]> {
@@ -542,6 +546,7 @@ impl SpectrumJob {
             })
             .collect();
         Ok(SpectrumResult {
+            warnings: Vec::new(),
             kind: "spectrum",
             spectrum,
             numerics: SpectrumNumerics::new(

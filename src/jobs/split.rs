@@ -89,12 +89,13 @@ impl Job {
         numerics.insert("error_estimate".into(), error.into());
         numerics.insert("wall_time_s".into(), wall.into());
         numerics.insert("tasks".into(), parts.len().into());
-        super::key::with_engine(serde_json::json!({
+        let doc = serde_json::json!({
             "kind": "spectrum",
             "spectrum": lines,
             "numerics": numerics,
             "spec": job,
-        }))
+        });
+        super::key::with_engine(super::plausible::with_warnings(doc, self))
     }
 }
 

@@ -178,7 +178,7 @@ pub struct ImpactDoc {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct WarningDoc {
     /// "sliding" | "lift_off" | "demand_excludes_fall" | "free_rocking_truncated" |
-    /// "impact_list_truncated" | "near_separatrix".
+    /// "impact_list_truncated" | "near_separatrix" | "implausible_size".
     #[schema(value_type = crate::jobs::schema::WarningKind)]
     pub kind: String,
     /// When it happens, s.

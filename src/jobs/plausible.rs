@@ -1,0 +1,151 @@
+//! Warnings about inputs that are valid but unlikely to be meant: a block
+//! whose size R (the half-diagonal, p = √(3g/(4R)) for a rectangular block)
+//! lies outside 1 cm – 100 m — typically full width and height entered as b
+//! and h (p off by √2 is not caught; millimetres for metres are), or p in
+//! Hz for rad/s. The result is computed as asked, with the warning next to it.
+
+use serde_json::Value;
+
+use super::Job;
+use super::spec::BlockNorm;
+use super::time_history::WarningDoc;
+
+/// The smallest plausible size R, m.
+pub const R_MIN_M: f64 = 0.01;
+/// The largest plausible size R, m.
+pub const R_MAX_M: f64 = 100.0;
+
+/// The size R of a rectangular block with frequency parameter p:
+/// p² = 3g/(4R) (Makris & Zhang 2001, below eq. 1).
+pub fn size_m(block: &BlockNorm) -> f64 {
+    3.0 * block.g / (4.0 * block.p * block.p)
+}
+
+/// The warning for one block, at `pointer` in the spec.
+fn size_warning(block: &BlockNorm, pointer: &str) -> Option<WarningDoc> {
+    let r = size_m(block);
+    if (R_MIN_M..=R_MAX_M).contains(&r) {
+        return None;
+    }
+    let hint = if r > R_MAX_M {
+        "b and h are half the width and half the height, in metres (millimetres?)"
+    } else {
+        "b and h are half the width and half the height, in metres; p is in rad/s (Hz?)"
+    };
+    Some(WarningDoc {
+        kind: "implausible_size".into(),
+        t: None,
+        message: format!(
+            "{pointer}: the block's size R = sqrt(b^2 + h^2) = 3g/(4p^2) = {r:.4} m (p = {:.6} rad/s) is outside {R_MIN_M} m to {R_MAX_M} m: {hint}",
+            block.p
+        ),
+    })
+}
+
+/// The warnings about `job`'s inputs.
+pub fn warnings(job: &Job) -> Vec<WarningDoc> {
+    let blocks: Vec<(&BlockNorm, String)> = match job {
+        Job::TimeHistory(j) => vec![(&j.block, "/block".into())],
+        Job::Spectrum(j) => vec![(&j.block, "/block".into())],
+        Job::FrictionSpectrum(j) => vec![(&j.block, "/block".into())],
+        Job::Forensic(j) => j
+            .observations
+            .iter()
+            .enumerate()
+            .map(|(i, o)| (&o.block, format!("/observations/{i}/block")))
+            .collect(),
+    };
+    blocks
+        .into_iter()
+        .filter_map(|(b, at)| size_warning(b, &at))
+        .collect()
+}
+
+/// `doc` with `job`'s input warnings appended to its `warnings` (created when
+/// there is none and there are warnings).
+pub fn with_warnings(mut doc: Value, job: &Job) -> Value {
+    let found = warnings(job);
+    if found.is_empty() {
+        return doc;
+    }
+    if let Some(o) = doc.as_object_mut() {
+        let list = o
+            .entry("warnings")
+            .or_insert_with(|| Value::Array(Vec::new()));
+        if let Some(a) = list.as_array_mut() {
+            a.extend(found.iter().filter_map(|w| serde_json::to_value(w).ok()));
+        }
+    }
+    doc
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spectrum::Control;
+
+    fn run(spec: &str) -> Value {
+        Job::parse(spec)
+            .expect("valid")
+            .run(&Control::default())
+            .expect("runs")
+    }
+
+    fn kinds(doc: &Value) -> Vec<String> {
+        doc.get("warnings")
+            .and_then(Value::as_array)
+            .map(|a| {
+                a.iter()
+                    .filter_map(|w| w.get("kind").and_then(Value::as_str).map(String::from))
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
+    /// A block of 600 by 1200 entered in millimetres: computed, and warned
+    /// about (R = 1341.6 m, p = 0.074 rad/s).
+    #[test]
+    fn millimetres_for_metres_are_warned_about() {
+        let doc = run(
+            r#"{"kind":"time_history","block":{"b":600,"h":1200},"pulse":{"type":"one_sine","a_p_g":0.5,"omega_p":3}}"#,
+        );
+        assert_eq!(kinds(&doc), ["implausible_size"]);
+        let msg = doc["warnings"][0]["message"].as_str().unwrap_or("");
+        assert!(msg.starts_with("/block: "), "{msg}");
+        assert!(msg.contains("1341.6"), "{msg}");
+    }
+
+    /// The paper's locomotive (p = 2.14 rad/s: R = 1.61 m) carries none; p in
+    /// Hz by mistake for a 1 cm die (p = 27 rad/s is fine, 300 is not).
+    #[test]
+    fn plausible_blocks_carry_no_warning_and_tiny_ones_do() {
+        let ok = run(
+            r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","a_p_g":0.5,"omega_p":3}}"#,
+        );
+        assert!(
+            !kinds(&ok).iter().any(|k| k == "implausible_size"),
+            "{:?}",
+            ok.get("warnings")
+        );
+        let tiny = run(
+            r#"{"kind":"spectrum","block":{"alpha":0.25,"p":300},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":{"from":1,"to":3,"steps":3}}"#,
+        );
+        assert_eq!(kinds(&tiny), ["implausible_size"]);
+    }
+
+    /// Each observation of a forensic query is looked at, named by pointer.
+    #[test]
+    fn forensic_observations_are_each_looked_at() {
+        let job = Job::parse(
+            r#"{"kind":"forensic","pulse":{"type":"one_sine"},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false},{"name":"cabinet in mm","b":300,"h":900,"overturned":true}],"frequency_hz":{"from":0.5,"to":2,"steps":3},"a_p_g":{"from":0.05,"to":3.0}}"#,
+        )
+        .expect("valid");
+        let w = warnings(&job);
+        assert_eq!(w.len(), 1);
+        assert!(
+            w[0].message.starts_with("/observations/1/block"),
+            "{}",
+            w[0].message
+        );
+    }
+}
