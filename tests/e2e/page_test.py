@@ -18,7 +18,8 @@ clicks and typed text:
    (mode 1, after one impact), not a peak rotation; the result's warnings
    are listed;
 5. the same block under a weaker pulse survives: the page gives the result's
-   peak |θ|/α and the time it came to rest;
+   peak |θ|/α and the time it came to rest, or, with the simulation stopped
+   at 3 s, that it had not come to rest;
 6. a forensic query filled in on the form (the Point Reyes observations and a
    third one added, given by half-width and half-height) is the JSON the raw
    editor shows, runs on those observations and frequencies, shows its plot
@@ -536,6 +537,18 @@ def check_survivor(page, base):
             or abs(float(m.group(2)) - result["rest_time"]) > 5e-3):
         raise Failure(f"the outcome of a survivor (peak {result['peak_theta_over_alpha']}, "
                       f"rest at {result['rest_time']} s): {outcome!r}")
+    # Stopped at 3 s, before it came to rest: the page says so.
+    page.type_into("#f-duration", "3")
+    before = job_id
+    page.click("#submit")
+    job_id = finished_job(page, before, "time history stopped at 3 s")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    if result["rest_time"] is not None or result["end_time"] != 3.0:
+        raise Failure(f"stopped at 3 s, the block was expected still rocking: {result['rest_time']}")
+    outcome = page.js("document.getElementById('outcome').textContent")
+    if not outcome.endswith("; still rocking when the simulation ended at t = 3 s (did not come to rest)."):
+        raise Failure(f"the outcome of a block still rocking at the end: {outcome!r}")
+    page.type_into("#f-duration", "")
     page.type_into("#f-amp", "2.25")
 
 
