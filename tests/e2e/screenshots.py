@@ -81,6 +81,7 @@ def time_history(page):
 
 def spectrum(page):
     page.click("input[name=kind][value=spectrum]")
+    page.type_into("#f-mu", "")  # specs/locomotive_spectrum_nonlinear.json has no μ
     for selector, value in (("#f-sp-from", "0.25"), ("#f-sp-to", "10"), ("#f-sp-steps", "40"),
                             ("#f-sp-amax", "20"), ("#f-sp-tol", "0.0001")):
         page.type_into(selector, value)
