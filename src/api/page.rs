@@ -35,6 +35,14 @@ mod tests {
     }
 
     #[test]
+    fn the_form_offers_every_kind_of_job() {
+        for kind in crate::jobs::KINDS {
+            let radio = format!(r#"<input type="radio" name="kind" value="{kind}""#);
+            assert!(HTML.contains(&radio), "the form has no {kind}");
+        }
+    }
+
+    #[test]
     fn self_contained() {
         for external in [
             "src=\"http",

@@ -6,21 +6,35 @@ DevTools protocol, then drives the page as a user would, with real mouse
 clicks and typed text:
 
 1. the page is served as HTML with a Content-Security-Policy;
-2. an invalid slenderness is refused and the error names the field
+2. in a 1400×1000 window (with or without 140 px of toolbars), Submit is in
+   sight on first load for every kind, and stays in sight when eight
+   observations make the form outgrow the window;
+3. an invalid slenderness is refused and the error names the field
    (`/block/alpha`), marks its input invalid and focuses it;
-3. the default time history (the locomotive block) is submitted; the status
+4. the default time history (the locomotive block) is submitted; the status
    reaches "succeeded", the plot image loads (naturalWidth > 0), the CSV link
-   points at the job's `result?format=csv` and serves CSV;
-4. a long overturning spectrum is submitted and canceled with the Cancel
+   points at the job's `result?format=csv` and serves CSV; the block
+   overturns, and the page says when (the result's overturn_time) and how
+   (mode 1, after one impact), not a peak rotation; the result's warnings
+   are listed;
+5. the same block under a weaker pulse survives: the page gives the result's
+   peak |θ|/α and the time it came to rest, or, with the simulation stopped
+   at 3 s, that it had not come to rest;
+6. a forensic query filled in on the form (the Point Reyes observations and a
+   third one added, given by half-width and half-height) is the JSON the raw
+   editor shows, runs on those observations and frequencies, shows its plot
+   and the bounds of the result;
+7. a long overturning spectrum is submitted and canceled with the Cancel
    button; the service reports it canceled;
-5. against a second server that wants a token for reads too
+8. against a second server that wants a token for reads too
    (`--api-token`, `--auth-reads`): the token box opens by itself, the 401
    of a submission without it is explained, and once the token
    is filled in the job runs and its plot loads (fetched with the token);
-6. nothing was blocked by the policy and no script error occurred.
+9. nothing was blocked by the policy and no script error occurred.
 
 Screenshots go to target/e2e/ (page.png: the finished time history;
-page-error.png, page-cancel.png; failure.png when a step fails).
+page-error.png, page-forensic.png, page-cancel.png; failure.png when a step
+fails).
 
 Environment: TOPPLE_BIN (default target/debug/topple), CHROMIUM (default
 /usr/bin/chromium), E2E_OUT (default target/e2e), E2E_TIMEOUT (seconds the
@@ -50,6 +64,8 @@ BIN = os.environ.get("TOPPLE_BIN", os.path.join(ROOT, "target", "debug", "topple
 CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
 OUT = os.path.abspath(os.environ.get("E2E_OUT", os.path.join(ROOT, "target", "e2e")))
 PLOT_TIMEOUT = float(os.environ.get("E2E_TIMEOUT", "60"))
+# The window the page must fit: Submit in sight without scrolling.
+WIDTH, HEIGHT = 1400, 1000
 UUID = re.compile(r"^[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}$")
 
 
@@ -302,6 +318,26 @@ class Page:
                 " el.focus(); el.value = ''; })()")
         self.send("Input.insertText", text=text)
 
+    def choose(self, selector, value):
+        """Sets a <select> (or any input) to value, as a user's choice would:
+        the page sees input and change events."""
+        ok = self.js(
+            f"(() => {{ const el = document.querySelector({json.dumps(selector)});"
+            f" if (!el || el.disabled) return false; el.value = {json.dumps(value)};"
+            " el.dispatchEvent(new Event('input', {bubbles: true}));"
+            " el.dispatchEvent(new Event('change', {bubbles: true}));"
+            f" return el.value === {json.dumps(value)}; }})()")
+        if not ok:
+            raise Failure(f"cannot set {selector} to {value!r}")
+
+    def window_screenshot(self, path):
+        """What the window shows, scrolled to the top: the first sight of the page."""
+        self.js("window.scrollTo(0, 0)")
+        shot = self.send("Page.captureScreenshot", format="png")
+        with open(path, "wb") as f:
+            f.write(base64.b64decode(shot["data"]))
+        log(f"screenshot {os.path.relpath(path, ROOT)}")
+
     def screenshot(self, path):
         size = self.send("Page.getLayoutMetrics")["cssContentSize"]
         shot = self.send("Page.captureScreenshot", format="png", captureBeyondViewport=True,
@@ -330,6 +366,50 @@ def check_served(base):
         raise Failure("the page is not self-contained")
 
 
+def submit_in_sight(page):
+    """Whether Submit is wholly inside the window, scrolled to the top, and
+    not covered: (True, '') or (False, where it is)."""
+    return page.js(
+        "(() => { window.scrollTo(0, 0); const b = document.getElementById('submit');"
+        " const r = b.getBoundingClientRect();"
+        " const inside = r.width > 0 && r.top >= 0 && r.left >= 0"
+        "   && r.bottom <= window.innerHeight && r.right <= window.innerWidth;"
+        " const at = inside && document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2);"
+        " return [inside && at === b, `top ${r.top}, bottom ${r.bottom} of ${window.innerHeight}`]; })()")
+
+
+def check_submit_in_sight(page):
+    """At 1400×1000, Submit is in sight on first load whatever the kind, and
+    stays so when the form outgrows the window (many observations)."""
+    # The page alone, then in a 1400×1000 window whose toolbars take 140 px.
+    for height in (HEIGHT, HEIGHT - 140):
+        page.send("Emulation.setDeviceMetricsOverride", width=WIDTH, height=height,
+                  deviceScaleFactor=1, mobile=False)
+        size = page.js("[window.innerWidth, window.innerHeight]")
+        if size != [WIDTH, height]:
+            raise Failure(f"the window is {size}, not {WIDTH}×{height}")
+        for kind in ("time_history", "spectrum", "friction_spectrum", "forensic", "raw", "time_history"):
+            page.click(f"input[name=kind][value={kind}]")
+            seen, where = submit_in_sight(page)
+            if not seen:
+                raise Failure(f"with the kind {kind}, Submit is out of sight at {WIDTH}×{height}: {where}")
+    page.send("Emulation.setDeviceMetricsOverride", width=WIDTH, height=HEIGHT,
+              deviceScaleFactor=1, mobile=False)
+    page.click("input[name=kind][value=forensic]")
+    rows = page.js("document.querySelectorAll('#obs-list .obs').length")
+    for _ in range(6):
+        page.click("#obs-add")
+    tall = page.js("document.getElementById('job-form').getBoundingClientRect().bottom")
+    if tall <= HEIGHT:
+        raise Failure(f"eight observations should outgrow the window; the form ends at {tall}")
+    seen, where = submit_in_sight(page)
+    if not seen:
+        raise Failure(f"with eight observations, Submit is out of sight: {where}")
+    while page.js("document.querySelectorAll('#obs-list .obs').length") > rows:
+        page.click("#obs-list .obs:last-child .obs-remove")
+    page.click("input[name=kind][value=time_history]")
+
+
 def check_invalid_field(page):
     page.type_into("#f-alpha", "2")
     page.click("#submit")
@@ -343,6 +423,19 @@ def check_invalid_field(page):
         raise Failure("the offending input does not have the focus")
     page.screenshot(os.path.join(OUT, "page-error.png"))
     page.type_into("#f-alpha", "0.25")
+
+
+def wait_plot(page, what):
+    """Waits for the plot of the job shown to load (or an error to show)."""
+    loaded = page.wait_js(
+        f"the plot of the {what} to load",
+        "(() => { const img = document.getElementById('plot');"
+        " if (img && img.complete && img.naturalWidth > 0) return 'loaded';"
+        " const problem = document.getElementById('problem');"
+        " return !problem.hidden && problem.innerText; })()",
+        PLOT_TIMEOUT)
+    if loaded != "loaded":
+        raise Failure(f"the plot of the {what} did not load: {loaded!r}")
 
 
 def check_time_history(page, base):
@@ -360,16 +453,7 @@ def check_time_history(page, base):
         PLOT_TIMEOUT)
     if status != "succeeded":
         raise Failure(f"the time history {status}: {page.js('document.body.innerText')}")
-    started = time.monotonic()
-    loaded = page.wait_js(
-        "the plot to load",
-        "(() => { const img = document.getElementById('plot');"
-        " if (img && img.complete && img.naturalWidth > 0) return 'loaded';"
-        " const problem = document.getElementById('problem');"
-        " return !problem.hidden && problem.innerText; })()",
-        max(5.0, PLOT_TIMEOUT - (time.monotonic() - started)))
-    if loaded != "loaded":
-        raise Failure(f"the plot did not load: {loaded!r}")
+    wait_plot(page, "time history")
     src = page.js("document.getElementById('plot').getAttribute('src')")
     if src != f"/v1/jobs/{job_id}/plot.svg":
         raise Failure(f"the plot comes from {src!r}")
@@ -392,7 +476,133 @@ def check_time_history(page, base):
     problem = page.js("document.getElementById('problem').hidden ? '' : document.getElementById('problem').innerText")
     if problem:
         raise Failure(f"an error is shown beside the result: {problem!r}")
+    # An overturned block: when and how, not a peak rotation of π/(2α).
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    if not (result["overturned"] and result["mode"] == 1 and result["impact_count"] == 1):
+        raise Failure(f"the default block was expected to overturn in mode 1 after one impact: {result['mode']}")
+    outcome = page.js("document.getElementById('outcome').textContent")
+    m = re.match(r"Overturned at t = ([0-9.]+) s \(mode 1: after 1 impact\)\.$", outcome)
+    if not m or abs(float(m.group(1)) - result["overturn_time"]) > 5e-4 * result["overturn_time"]:
+        raise Failure(f"the outcome does not give the overturning time {result['overturn_time']} and mode: {outcome!r}")
+    summary = summary_of(page)
+    if summary.get("Mode") != "1 (after impacts)" or "Peak |θ|/α" in summary:
+        raise Failure(f"the summary of an overturned block: {summary}")
+    if abs(float(summary["Overturns at (s)"]) - result["overturn_time"]) > 5e-4 * result["overturn_time"]:
+        raise Failure(f"the summary's overturning time: {summary}")
+    # Its warning (the friction demand stops at the pulse end) is in sight.
+    kinds = page.js("[...document.querySelectorAll('#warnings li')].map((li) => li.dataset.kind)")
+    if kinds != [w["kind"] for w in result["warnings"]] or "demand_excludes_fall" not in kinds:
+        raise Failure(f"the warnings shown {kinds} are not the result's {result['warnings']}")
+    if page.js("document.getElementById('warnings').hidden"):
+        raise Failure("the warnings are hidden")
     page.screenshot(os.path.join(OUT, "page.png"))
+
+
+def summary_of(page):
+    """The summary shown, as {term: value}."""
+    return page.js("Object.fromEntries([...document.querySelectorAll('#summary div')]"
+                   ".map((d) => [d.querySelector('dt').textContent, d.querySelector('dd').textContent]))")
+
+
+def finished_job(page, before, what):
+    """The id of the job submitted after `before`, once it succeeded and its
+    plot and summary show."""
+    page.wait_js(f"the {what} to be accepted",
+                 f"document.getElementById('job-id').textContent !== {json.dumps(before)}", 10)
+    job_id = page.js("document.getElementById('job-id').textContent")
+    status = page.wait_js(
+        f"the {what} to finish",
+        "(() => { const s = document.getElementById('status').textContent;"
+        " return ['succeeded', 'failed', 'canceled'].includes(s) && s; })()",
+        PLOT_TIMEOUT)
+    if status != "succeeded":
+        raise Failure(f"the {what} {status}: {page.js('document.body.innerText')[:2000]}")
+    wait_plot(page, what)
+    page.wait_js("the summary", "document.querySelectorAll('#summary dd').length > 0", 10)
+    return job_id
+
+
+def check_survivor(page, base):
+    """A block that rocks and survives: its peak |θ|/α and when it came to rest."""
+    page.type_into("#f-amp", "1")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "surviving time history")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    if result["overturned"] or result["rest_time"] is None:
+        raise Failure(f"a_p = 1 g was expected to leave the block at rest: {result['rest_time']}")
+    outcome = page.js("document.getElementById('outcome').textContent")
+    m = re.match(r"Survived: peak \|θ\|/α = ([0-9.]+); came to rest at t = ([0-9.]+) s\.$", outcome)
+    if (not m or abs(float(m.group(1)) - result["peak_theta_over_alpha"]) > 5e-4
+            or abs(float(m.group(2)) - result["rest_time"]) > 5e-3):
+        raise Failure(f"the outcome of a survivor (peak {result['peak_theta_over_alpha']}, "
+                      f"rest at {result['rest_time']} s): {outcome!r}")
+    # Stopped at 3 s, before it came to rest: the page says so.
+    page.type_into("#f-duration", "3")
+    before = job_id
+    page.click("#submit")
+    job_id = finished_job(page, before, "time history stopped at 3 s")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    if result["rest_time"] is not None or result["end_time"] != 3.0:
+        raise Failure(f"stopped at 3 s, the block was expected still rocking: {result['rest_time']}")
+    outcome = page.js("document.getElementById('outcome').textContent")
+    if not outcome.endswith("; still rocking when the simulation ended at t = 3 s (did not come to rest)."):
+        raise Failure(f"the outcome of a block still rocking at the end: {outcome!r}")
+    page.type_into("#f-duration", "")
+    page.type_into("#f-amp", "2.25")
+
+
+def check_forensic(page, base):
+    """A forensic query from the form: the Point Reyes observations and a
+    third added by hand, the same JSON as the raw editor's, a plot."""
+    page.click("input[name=kind][value=forensic]")
+    page.click("#obs-add")
+    row = "#obs-list .obs:last-child"
+    page.type_into(f"{row} .obs-name", "cabinet")
+    page.type_into(f"{row} .obs-b", "0.3")
+    page.type_into(f"{row} .obs-h", "0.9")
+    page.type_into("#f-fo-steps", "6")
+    hint = page.js(f"document.querySelector('{row} .hint').textContent")
+    if "0.6 m wide × 1.8 m tall" not in hint:
+        raise Failure(f"the block's full size is not spelled out: {hint!r}")
+    expected = {
+        "kind": "forensic",
+        "pulse": {"type": "one_sine"},
+        "observations": [
+            {"name": "locomotive", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9}, "overturned": True},
+            {"name": "transformer", "block": {"b": 0.6, "h": 1.2}, "overturned": False},
+            {"name": "cabinet", "block": {"b": 0.3, "h": 0.9}, "overturned": False},
+        ],
+        "frequency_hz": {"from": 0.25, "to": 3, "steps": 6},
+        "a_p_g": {"from": 0.05, "to": 3},
+        "formulation": "nonlinear",
+    }
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    if raw != expected:
+        raise Failure(f"the form's forensic query is {raw}, not {expected}")
+    page.click("input[name=kind][value=forensic]")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "forensic query")
+    log(f"forensic query {job_id}")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    seen = [(o["name"], o["overturned"]) for o in result["observations"]]
+    if seen != [("locomotive", True), ("transformer", False), ("cabinet", False)]:
+        raise Failure(f"the query ran on {seen}")
+    if [round(f["frequency_hz"], 9) for f in result["frequencies"]] != [0.25, 0.8, 1.35, 1.9, 2.45, 3.0]:
+        raise Failure(f"the query's frequencies: {[f['frequency_hz'] for f in result['frequencies']]}")
+    src = page.js("document.getElementById('plot').getAttribute('src')")
+    if src != f"/v1/jobs/{job_id}/plot.svg":
+        raise Failure(f"the forensic plot comes from {src!r}")
+    outcome = page.js("document.getElementById('outcome').textContent")
+    bounds = result["bounds"]
+    m = re.match(r"Consistent with every observation: a_p = ([0-9.]+) – ([0-9.]+) g at ", outcome)
+    if not m or abs(float(m.group(1)) - bounds["min_g"]) > 5e-4 or abs(float(m.group(2)) - bounds["max_g"]) > 5e-4:
+        raise Failure(f"the outcome does not give the bounds {bounds}: {outcome!r}")
+    if summary_of(page).get("Observations") != "1 toppled, 2 stood":
+        raise Failure(f"the forensic summary: {summary_of(page)}")
+    page.screenshot(os.path.join(OUT, "page-forensic.png"))
 
 
 def check_cancel(page, base):
@@ -454,7 +664,7 @@ def main():
     # A TERM (a CI timeout, say) still stops the server and the browser.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     os.makedirs(OUT, exist_ok=True)
-    for name in ("page.png", "page-error.png", "page-cancel.png", "failure.png"):
+    for name in ("page.png", "page-error.png", "page-forensic.png", "page-cancel.png", "failure.png"):
         try:
             os.remove(os.path.join(OUT, name))
         except FileNotFoundError:
@@ -477,12 +687,15 @@ def main():
         page = Page(chromium.start())
         for domain in ("Page", "Runtime", "Log"):
             page.send(f"{domain}.enable")
-        page.send("Emulation.setDeviceMetricsOverride", width=1280, height=900,
+        page.send("Emulation.setDeviceMetricsOverride", width=WIDTH, height=HEIGHT,
                   deviceScaleFactor=1, mobile=False)
         page.navigate(server.base + "/")
         page.wait_js("the form", "!!document.getElementById('submit')", 10)
+        check_submit_in_sight(page)
         check_invalid_field(page)
         check_time_history(page, server.base)
+        check_survivor(page, server.base)
+        check_forensic(page, server.base)
         check_cancel(page, server.base)
         guarded.start()
         log(f"server with a token at {guarded.base}")
