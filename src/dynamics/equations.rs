@@ -111,7 +111,7 @@ impl RockingRhs {
             } else {
                 0.0
             },
-            omega: pulse.circular_frequency,
+            omega: pulse.carrier,
             phase: pulse.phase,
         }
     }

@@ -1,11 +1,20 @@
-//! Cycloidal ground-acceleration pulses (Makris & Roussos; paper eqs. 22 and 53).
+//! Ground-acceleration pulses: the cycloidal pulses of the paper (Makris &
+//! Roussos; eqs. 22 and 53) and Housner's (1963) half-sine and rectangular
+//! pulses.
 //!
-//! Every pulse is written as `ü_g(t) = a_p cos(ω_p t + φ)` on `0 ≤ t ≤ T` and zero
-//! otherwise, with time measured from the start of the ground motion:
+//! Every pulse is written as `ü_g(t) = a_p cos(ω t + φ)` on `0 ≤ t ≤ T` and zero
+//! otherwise, with time measured from the start of the ground motion and ω the
+//! carrier frequency (ω_p, or 0 for the rectangular pulse):
 //! - one-sine (Type A, eq. 22): φ = −π/2, T = 2π/ω_p;
 //! - one-cosine (Type B, eq. 53): φ = 0, T = 2π/ω_p;
 //! - Type Cn: φ = φ_n, the root of tan φ · ((2n+1)π − 2φ) = 2, and
-//!   T = ((2n+1)π − 2φ)/ω_p, so that ground velocity and displacement end at zero.
+//!   T = ((2n+1)π − 2φ)/ω_p, so that ground velocity and displacement end at zero;
+//! - half-sine (Housner): ü_g = a_p sin(ω_p t), φ = −π/2, T = π/ω_p;
+//! - rectangular (Housner): ü_g = a_p, ω = 0, φ = 0, T = t_d = π/ω_p.
+//!
+//! So the closed-form linear solution (eqs. 23–33, written for a sinusoid)
+//! holds for all of them: with ω = 0 its particular solution is the constant
+//! one.
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -18,6 +27,10 @@ pub enum PulseShape {
     OneCosine,
     /// Type Cn with `n ≥ 1` displacement cycles.
     Cn(u32),
+    /// Half a sine cycle of acceleration (Housner 1963).
+    HalfSine,
+    /// Constant acceleration for t_d = π/ω_p (Housner 1963).
+    Rectangular,
 }
 
 /// Why a pulse cannot be built.
@@ -41,9 +54,12 @@ pub struct Pulse {
     pub shape: PulseShape,
     /// Acceleration amplitude a_p, m/s², either sign.
     pub amplitude: f64,
-    /// Circular frequency ω_p, rad/s.
+    /// Circular frequency ω_p, rad/s (for the rectangular pulse, π/t_d).
     pub circular_frequency: f64,
-    /// Phase φ of `a_p cos(ω_p t + φ)`.
+    /// Carrier frequency ω of `a_p cos(ω t + φ)`, rad/s: ω_p, or 0 for the
+    /// rectangular pulse.
+    pub carrier: f64,
+    /// Phase φ of `a_p cos(ω t + φ)`.
     pub phase: f64,
     /// Duration T, s.
     pub duration: f64,
@@ -103,11 +119,19 @@ impl Pulse {
                 let phi = cn_phase(n);
                 (phi, f64::from(2 * n + 1) * PI - 2.0 * phi)
             }
+            PulseShape::HalfSine => (-FRAC_PI_2, PI),
+            PulseShape::Rectangular => (0.0, PI),
+        };
+        let carrier = if shape == PulseShape::Rectangular {
+            0.0
+        } else {
+            circular_frequency
         };
         Ok(Pulse {
             shape,
             amplitude,
             circular_frequency,
+            carrier,
             phase,
             duration: span / circular_frequency,
         })
@@ -122,16 +146,63 @@ impl Pulse {
     #[inline]
     pub fn acceleration(&self, t: f64) -> f64 {
         if (0.0..=self.duration).contains(&t) {
-            self.amplitude * (self.circular_frequency * t + self.phase).cos()
+            self.amplitude * (self.carrier * t + self.phase).cos()
         } else {
             0.0
         }
     }
 
-    /// Phase χ = ω_p t + φ at time t.
+    /// Phase χ = ω t + φ at time t.
     #[inline]
     pub fn phase_at(&self, t: f64) -> f64 {
-        self.circular_frequency * t + self.phase
+        self.carrier * t + self.phase
+    }
+
+    /// Peak ground velocity |v|, m/s, of the motion from rest.
+    pub fn peak_velocity(&self) -> f64 {
+        let (a, w, phi, t) = (self.amplitude, self.carrier, self.phase, self.duration);
+        if w == 0.0 {
+            return a.abs() * t;
+        }
+        // v(t) = (a/ω)(sin(ωt + φ) − sin φ): extreme at the ends or where cos(ωt + φ) = 0.
+        let v = |t: f64| (a / w) * ((w * t + phi).sin() - phi.sin());
+        let mut best = v(t).abs();
+        let mut k = ((phi - FRAC_PI_2) / PI).ceil();
+        while k * PI + FRAC_PI_2 <= w * t + phi {
+            let tk = (k * PI + FRAC_PI_2 - phi) / w;
+            if tk >= 0.0 {
+                best = best.max(v(tk).abs());
+            }
+            k += 1.0;
+        }
+        best
+    }
+
+    /// Peak ground displacement |u|, m, of the motion from rest (the
+    /// displacement keeps growing after the pulse when it ends with velocity;
+    /// this is the largest over the pulse).
+    pub fn peak_displacement(&self) -> f64 {
+        let (a, w, phi, t_end) = (self.amplitude, self.carrier, self.phase, self.duration);
+        if w == 0.0 {
+            return 0.5 * a.abs() * t_end * t_end;
+        }
+        // u(t) = (a/ω²)(cos φ − cos(ωt + φ)) − (a/ω) t sin φ; extreme at the
+        // ends or where v = 0, i.e. sin(ωt + φ) = sin φ.
+        let u =
+            |t: f64| (a / (w * w)) * (phi.cos() - (w * t + phi).cos()) - (a / w) * t * phi.sin();
+        let mut best = u(t_end).abs();
+        let chi_end = w * t_end + phi;
+        // sin χ = sin φ at χ = φ + 2kπ and χ = π − φ + 2kπ.
+        let mut k = 0.0;
+        while phi + 2.0 * k * PI <= chi_end || PI - phi + 2.0 * k * PI <= chi_end {
+            for chi in [phi + 2.0 * k * PI, PI - phi + 2.0 * k * PI] {
+                if chi > phi && chi <= chi_end {
+                    best = best.max(u((chi - phi) / w).abs());
+                }
+            }
+            k += 1.0;
+        }
+        best
     }
 
     /// The first exceedance of |ü_g| > `threshold` at or after `from`, located in
@@ -142,7 +213,15 @@ impl Pulse {
             return None;
         }
         let from = from.max(0.0);
-        let w = self.circular_frequency;
+        let w = self.carrier;
+        if w == 0.0 {
+            // Constant acceleration: one window, the rest of the pulse.
+            return Some(Exceedance {
+                start: from,
+                end: self.duration,
+                side: -self.amplitude.signum(),
+            });
+        }
         // |cos χ| > c  ⟺  χ lies within β = acos(c) of a multiple of π.
         let beta = (threshold / amp).acos();
         let chi0 = self.phase_at(from);

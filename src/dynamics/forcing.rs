@@ -109,11 +109,14 @@ impl Forcing for Pulse {
         if b.0 > best.0 {
             best = b;
         }
+        if self.carrier == 0.0 {
+            return best; // constant: any point is a peak
+        }
         let (chi_a, chi_b) = (self.phase_at(ta), self.phase_at(tb.min(self.duration)));
         let k = (chi_a / std::f64::consts::PI).ceil();
         let chi = k * std::f64::consts::PI;
         if chi <= chi_b {
-            let t = (chi - self.phase) / self.circular_frequency;
+            let t = (chi - self.phase) / self.carrier;
             best = (self.amplitude.abs(), t);
         }
         best

@@ -90,6 +90,10 @@ pub enum PulseTypeName {
     OneCosine,
     /// Type Cn.
     Cn,
+    /// Housner's half-sine: a_p sin(ω_p t) for π/ω_p.
+    HalfSine,
+    /// Housner's rectangular pulse: a_p for t_d = π/ω_p.
+    Rectangular,
 }
 
 /// A pulse family as a spec names it (canonical names first, then aliases).
@@ -104,6 +108,12 @@ pub enum PulseTypeInput {
     /// Type Cn (with `n`).
     #[schema(rename = "cn")]
     Cn,
+    /// Housner's half-sine: a_p sin(ω_p t) for π/ω_p.
+    #[schema(rename = "half_sine")]
+    HalfSine,
+    /// Housner's rectangular pulse: a_p for t_d = π/ω_p.
+    #[schema(rename = "rectangular")]
+    Rectangular,
     /// Alias of one_sine.
     #[schema(rename = "sine")]
     Sine,

@@ -191,7 +191,9 @@ pub struct BlockSpec {
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PulseSpec {
-    /// "one_sine" | "one_cosine" | "cn" (aliases: "sine", "type_a", "cosine", "type_b", "type_cn").
+    /// "one_sine" | "one_cosine" | "cn" | "half_sine" | "rectangular" (aliases:
+    /// "sine", "type_a", "cosine", "type_b", "type_cn"). Half-sine: a_p sin(ω_p t)
+    /// for π/ω_p; rectangular: a_p for t_d = π/ω_p (Housner 1963).
     #[serde(rename = "type", alias = "shape")]
     #[schema(required = true, value_type = crate::jobs::schema::PulseTypeInput)]
     pub kind: Option<String>,
@@ -386,17 +388,19 @@ pub fn parse_shape(spec: &PulseSpec, base: &str) -> Result<PulseShape, SpecError
     let kind = spec.kind.as_deref().ok_or_else(|| {
         SpecError::at(
             format!("{base}/type"),
-            "missing field: one_sine | one_cosine | cn",
+            format!("missing field: {PULSE_TYPES}"),
         )
     })?;
     let shape = match kind.to_ascii_lowercase().as_str() {
         "one_sine" | "sine" | "type_a" | "a" => PulseShape::OneSine,
         "one_cosine" | "cosine" | "type_b" | "b" => PulseShape::OneCosine,
         "cn" | "type_cn" | "type_c" | "c" => PulseShape::Cn(spec.n.unwrap_or(1)),
+        "half_sine" => PulseShape::HalfSine,
+        "rectangular" => PulseShape::Rectangular,
         other => {
             return Err(SpecError::at(
                 format!("{base}/type"),
-                format!("unknown pulse type {other:?}: expected one_sine | one_cosine | cn"),
+                format!("unknown pulse type {other:?}: expected {PULSE_TYPES}"),
             ));
         }
     };
@@ -416,12 +420,28 @@ pub fn parse_shape(spec: &PulseSpec, base: &str) -> Result<PulseShape, SpecError
     Ok(shape)
 }
 
+/// The pulse types a spec may name.
+pub const PULSE_TYPES: &str = "one_sine | one_cosine | cn | half_sine | rectangular";
+
 /// Name of a pulse family in normalised specs.
 pub fn shape_name(shape: PulseShape) -> &'static str {
     match shape {
         PulseShape::OneSine => "one_sine",
         PulseShape::OneCosine => "one_cosine",
         PulseShape::Cn(_) => "cn",
+        PulseShape::HalfSine => "half_sine",
+        PulseShape::Rectangular => "rectangular",
+    }
+}
+
+/// The family a normalised name ([`shape_name`]) and `n` stand for.
+pub fn shape_of(name: &str, n: Option<u32>) -> PulseShape {
+    match name {
+        "one_sine" => PulseShape::OneSine,
+        "one_cosine" => PulseShape::OneCosine,
+        "half_sine" => PulseShape::HalfSine,
+        "rectangular" => PulseShape::Rectangular,
+        _ => PulseShape::Cn(n.unwrap_or(1)),
     }
 }
 

@@ -84,11 +84,7 @@ pub struct PulseFamily {
 impl PulseFamily {
     /// The domain shape.
     pub fn shape(&self) -> PulseShape {
-        match self.kind {
-            "one_sine" => PulseShape::OneSine,
-            "one_cosine" => PulseShape::OneCosine,
-            _ => PulseShape::Cn(self.n.unwrap_or(1)),
-        }
+        super::spec::shape_of(self.kind, self.n)
     }
 }
 
@@ -367,8 +363,10 @@ pub struct FrequencyDoc {
     pub overturns_above_alpha_g: Option<f64>,
     /// Without bands narrower than the principal relative width.
     pub principal: PrincipalDoc,
-    /// Eq. 21: 1 + β ω_p/p.
-    pub eq21_alpha_g: f64,
+    /// Eq. 21: 1 + β ω_p/p (cycloidal pulses; null for the others, which it
+    /// does not describe).
+    #[schema(required = true)]
+    pub eq21_alpha_g: Option<f64>,
     /// Linear one-sine mode-2 boundary from the corrected eq. 47 (linear one-sine only).
     #[schema(required = true)]
     pub closed_form_mode2_alpha_g: Option<f64>,

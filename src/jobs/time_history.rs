@@ -341,11 +341,7 @@ impl TimeHistoryJob {
         };
         let r = match (&self.pulse, &self.ground_motion) {
             (Some(p), _) => {
-                let shape = match (p.kind, p.n) {
-                    ("one_sine", _) => crate::dynamics::PulseShape::OneSine,
-                    ("one_cosine", _) => crate::dynamics::PulseShape::OneCosine,
-                    (_, n) => crate::dynamics::PulseShape::Cn(n.unwrap_or(1)),
-                };
+                let shape = super::spec::shape_of(p.kind, p.n);
                 let pulse = crate::dynamics::Pulse::new(shape, p.a_p, p.omega_p)
                     .map_err(|_| SimError::Tolerance)?;
                 let problem = Problem {

@@ -5,13 +5,22 @@ use crate::dynamics::events::brent;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Eq. 21: a_p0/(αg) ≈ 1 + β ω_p/p, with β = 1/6 for one-sine and Type-Cn pulses
-/// and 1/4 for one-cosine (Makris & Roussos), meant for ω_p/p ≤ 3.
-pub fn eq21_minimum(shape: PulseShape, omega_ratio: f64) -> f64 {
+/// and 1/4 for one-cosine (Makris & Roussos), meant for ω_p/p ≤ 3; `None`
+/// for the pulses it was not fitted to.
+pub fn eq21_minimum(shape: PulseShape, omega_ratio: f64) -> Option<f64> {
     let beta = match shape {
         PulseShape::OneCosine => 0.25,
         PulseShape::OneSine | PulseShape::Cn(_) => 1.0 / 6.0,
+        PulseShape::HalfSine | PulseShape::Rectangular => return None,
     };
-    1.0 + beta * omega_ratio
+    Some(1.0 + beta * omega_ratio)
+}
+
+/// Housner's (1963) minimum overturning amplitude of a rectangular pulse of
+/// duration t_d = π/ω_p, linear formulation: the block overturns iff
+/// e^(p t_d) ≥ a_p/(a_p − αg), so a_p0/(αg) = 1/(1 − e^(−π/(ω_p/p))).
+pub fn housner_rectangular_minimum(omega_ratio: f64) -> f64 {
+    1.0 / -(-PI / omega_ratio).exp_m1()
 }
 
 /// The linear one-sine mode-2 boundary (overturning without impact), a_p/(αg).
@@ -57,8 +66,9 @@ mod tests {
 
     #[test]
     fn eq21_coefficients() {
-        assert_eq!(eq21_minimum(PulseShape::OneCosine, 2.0), 1.5);
-        assert!((eq21_minimum(PulseShape::OneSine, 3.0) - 1.5).abs() < 1e-15);
-        assert!((eq21_minimum(PulseShape::Cn(2), 3.0) - 1.5).abs() < 1e-15);
+        assert_eq!(eq21_minimum(PulseShape::OneCosine, 2.0), Some(1.5));
+        assert!((eq21_minimum(PulseShape::OneSine, 3.0).unwrap_or(0.0) - 1.5).abs() < 1e-15);
+        assert!((eq21_minimum(PulseShape::Cn(2), 3.0).unwrap_or(0.0) - 1.5).abs() < 1e-15);
+        assert_eq!(eq21_minimum(PulseShape::HalfSine, 1.0), None);
     }
 }

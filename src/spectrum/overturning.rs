@@ -65,8 +65,8 @@ pub struct FrequencyLine {
     pub principal_transitions: Vec<Transition>,
     /// Derived from the principal view.
     pub principal: Derived,
-    /// Eq. 21's approximation of the minimum, αg.
-    pub eq21: f64,
+    /// Eq. 21's approximation of the minimum, αg (cycloidal pulses only).
+    pub eq21: Option<f64>,
     /// Closed-form linear one-sine mode-2 boundary (corrected eq. 47), αg.
     pub mode2_closed_form: Option<f64>,
 }

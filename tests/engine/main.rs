@@ -10,4 +10,5 @@ mod fuzz;
 mod ground_motion;
 mod paper;
 mod properties;
+mod pulses;
 mod spectra;

@@ -32,6 +32,7 @@ fn still_ground() -> Pulse {
         shape: PulseShape::OneSine,
         amplitude: 0.0,
         circular_frequency: 1.0,
+        carrier: 1.0,
         phase: 0.0,
         duration: 0.0,
     }

@@ -1,0 +1,174 @@
+//! Housner's (1963) half-sine and rectangular pulses: his closed form for the
+//! linear rectangular pulse, the closed-form linear solution against dop853,
+//! and the similarity law of the dimensionless spectra.
+
+use topple::dynamics::{
+    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Solver, simulate,
+};
+use topple::spectrum::closed_form::housner_rectangular_minimum;
+use topple::spectrum::overturning::FrequencyLine;
+use topple::spectrum::{Control, SpectrumRequest, overturning_spectrum};
+
+fn dop853(rtol: f64) -> Solver {
+    Solver::RungeKutta {
+        method: Method::Dop853,
+        rtol,
+        atol: rtol / 100.0,
+    }
+}
+
+fn spectrum(
+    block: Block,
+    shape: PulseShape,
+    formulation: Formulation,
+    solver: Solver,
+    ratios: &[f64],
+    tolerance: f64,
+) -> Vec<FrequencyLine> {
+    let req = SpectrumRequest {
+        block,
+        shape,
+        formulation,
+        solver,
+        omega_ratios: ratios.to_vec(),
+        a_max: 20.0,
+        tolerance,
+        scan_step: 0.02,
+        principal_relative_width: 0.01,
+    };
+    overturning_spectrum(&req, &Control::new())
+        .expect("computes")
+        .lines
+}
+
+/// Housner: under a rectangular pulse of duration t_d the linear block
+/// overturns iff e^(p t_d) ≥ a_p/(a_p − αg); with t_d = π/ω_p the minimum is
+/// a_p0/(αg) = 1/(1 − e^(−π/(ω_p/p))): 1.045166 at ω_p/p = 1, 1.540642 at 3.
+#[test]
+fn rectangular_minimum_is_housners_closed_form() {
+    assert!((housner_rectangular_minimum(1.0) - 1.045166).abs() < 1e-6);
+    assert!((housner_rectangular_minimum(3.0) - 1.540642).abs() < 1e-6);
+    let block = Block::new(0.2, 1.7, Some(0.85), None, None).expect("valid");
+    let ratios = [0.5, 1.0, 2.0, 3.0, 6.0, 10.0];
+    let lines = spectrum(
+        block,
+        PulseShape::Rectangular,
+        Formulation::Linear,
+        Solver::Exact,
+        &ratios,
+        1e-9,
+    );
+    for (line, r) in lines.iter().zip(ratios) {
+        let got = line.derived.min_overturn.expect("overturns");
+        let want = housner_rectangular_minimum(r);
+        assert!(
+            ((got - want) / want).abs() < 1e-6,
+            "omega_p/p = {r}: {got} vs Housner {want}"
+        );
+        // Without impact (mode 2): the free motion after the pulse carries it over.
+        assert_eq!(line.derived.min_overturn_mode, Some(2), "omega_p/p = {r}");
+        // Every stronger pulse overturns it too: no safe region above.
+        assert_eq!(line.derived.overturns_above, Some(got), "omega_p/p = {r}");
+    }
+}
+
+/// The same pulses integrated by dop853 at rtol 1e-12 give the closed form's
+/// impact times and outcome (linear formulation, a few amplitudes around
+/// overturning).
+#[test]
+fn closed_form_and_dop853_agree_on_housners_pulses() {
+    let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
+    for shape in [PulseShape::HalfSine, PulseShape::Rectangular] {
+        for (ratio, level) in [(1.0, 1.3), (2.0, 1.6), (3.0, 2.2), (5.0, 4.0), (8.0, 7.5)] {
+            let pulse = Pulse::new(
+                shape,
+                level * block.slenderness * block.gravity,
+                ratio * block.frequency_parameter,
+            )
+            .expect("valid");
+            let problem = Problem {
+                block,
+                pulse,
+                formulation: Formulation::Linear,
+            };
+            let exact = simulate(&problem, &Options::history(Solver::Exact)).expect("exact");
+            let rk = simulate(&problem, &Options::history(dop853(1e-12))).expect("dop853");
+            let what = format!("{shape:?} omega_p/p = {ratio}, a_p = {level} alpha g");
+            assert!(exact.rocked, "{what}: rocks");
+            assert_eq!(exact.overturned, rk.overturned, "{what}");
+            assert_eq!(exact.mode, rk.mode, "{what}");
+            let n = exact.impacts.len().min(rk.impacts.len()).min(20);
+            assert!(
+                n > 0 || exact.overturned,
+                "{what}: an impact or overturning"
+            );
+            for (a, b) in exact.impacts.iter().zip(&rk.impacts).take(n) {
+                assert!(
+                    (a.time - b.time).abs() < 1e-8,
+                    "{what}: {} vs {}",
+                    a.time,
+                    b.time
+                );
+            }
+            if let (Some(a), Some(b)) = (exact.overturn_time, rk.overturn_time) {
+                assert!((a - b).abs() < 1e-8, "{what}: overturns at {a} vs {b}");
+            }
+        }
+    }
+}
+
+/// Similarity: blocks of the same α and η under pulses of the same ω_p/p and
+/// a_p/(αg) have the same dimensionless response, whatever their size (p).
+#[test]
+fn dimensionless_spectra_do_not_depend_on_size() {
+    for shape in [PulseShape::HalfSine, PulseShape::Rectangular] {
+        for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+            let solver = match formulation {
+                Formulation::Linear => Solver::Exact,
+                Formulation::Nonlinear => dop853(1e-10),
+            };
+            let ratios = [0.7, 1.5, 3.0, 6.0];
+            let small = Block::new(0.3, 3.1, Some(0.8), None, None).expect("valid");
+            let large = Block::new(0.3, 1.05, Some(0.8), None, None).expect("valid");
+            let a = spectrum(small, shape, formulation, solver, &ratios, 1e-7);
+            let b = spectrum(large, shape, formulation, solver, &ratios, 1e-7);
+            for (x, y) in a.iter().zip(&b) {
+                let (p, q) = (x.derived.min_overturn, y.derived.min_overturn);
+                let (Some(p), Some(q)) = (p, q) else {
+                    assert_eq!(p, q, "{shape:?} {formulation:?} at {}", x.omega_ratio);
+                    continue;
+                };
+                assert!(
+                    ((p - q) / p).abs() < 1e-5,
+                    "{shape:?} {formulation:?} at {}: {p} vs {q}",
+                    x.omega_ratio
+                );
+                assert_eq!(x.derived.min_overturn_mode, y.derived.min_overturn_mode);
+            }
+        }
+    }
+}
+
+/// Half-sine: ü_g = a_p sin(ω_p t) for π/ω_p, then nothing; rectangular: a_p
+/// for π/ω_p. Their peak ground velocity and displacement from rest.
+#[test]
+fn housners_pulses_have_the_expected_shape_and_peaks() {
+    let w = 2.0;
+    let half = Pulse::new(PulseShape::HalfSine, 3.0, w).expect("valid");
+    assert!((half.duration - std::f64::consts::PI / w).abs() < 1e-15);
+    assert!((half.acceleration(0.25) - 3.0 * (w * 0.25).sin()).abs() < 1e-14);
+    assert_eq!(half.acceleration(half.duration + 1e-9), 0.0);
+    // v(T) = 2a/ω; u(T) = aT/ω.
+    assert!((half.peak_velocity() - 2.0 * 3.0 / w).abs() < 1e-12);
+    assert!((half.peak_displacement() - 3.0 * half.duration / w).abs() < 1e-12);
+    let rect = Pulse::new(PulseShape::Rectangular, -1.5, w).expect("valid");
+    assert_eq!(rect.acceleration(0.0), -1.5);
+    assert_eq!(rect.acceleration(rect.duration), -1.5);
+    assert_eq!(rect.acceleration(rect.duration * 1.01), 0.0);
+    assert!((rect.peak_velocity() - 1.5 * rect.duration).abs() < 1e-12);
+    assert!((rect.peak_displacement() - 0.75 * rect.duration.powi(2)).abs() < 1e-12);
+    // The one-sine pulse ends at rest: v peaks at 2a/ω (mid-pulse), u at its end, 2πa/ω².
+    let sine = Pulse::new(PulseShape::OneSine, 1.0, 1.0).expect("valid");
+    assert!((sine.peak_velocity() - 2.0).abs() < 1e-12);
+    assert!((sine.peak_displacement() - 2.0 * std::f64::consts::PI).abs() < 1e-12);
+}
