@@ -11,11 +11,11 @@ use serde_json::Value;
 use super::bands::{Band, Column, simplify, tile, tiling};
 use super::style::{
     AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, OBSERVATIONS, Swatch, TICKS,
-    draw_legend, fmt_num, text, tick, tint,
+    X_LABEL_AREA, Y_LABEL_AREA, draw_legend, fmt_num, text, tick, tint,
 };
 use super::{block_note, num, pulse_name, render, text_at};
 
-const WIDTH: u32 = 1180;
+const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
 
 /// Intervals `[lo, hi]` at `key` of `v`.
@@ -271,9 +271,9 @@ pub fn svg(result: &Value) -> Result<String, String> {
         let chart = ChartBuilder::on(&chart_area)
             .margin(10)
             .margin_right(24)
-            .x_label_area_size(50)
-            .y_label_area_size(64)
-            .top_x_label_area_size(46)
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA)
+            .top_x_label_area_size(X_LABEL_AREA)
             .build_cartesian_2d(x0..x1, from..to)?;
         let tau = std::f64::consts::TAU;
         let mut chart = chart.set_secondary_coord(x0 * tau..x1 * tau, from..to);

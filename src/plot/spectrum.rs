@@ -9,11 +9,12 @@ use serde_json::Value;
 use super::bands::{Band, Column, simplify, tile, tiling};
 use super::style::{
     AXIS, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING, REFERENCE,
-    Swatch, TICKS, clip_y, draw_legend, fmt_num, marker, text, tick, tint,
+    Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, clip_y, draw_legend, fmt_num, marker, text, tick,
+    tint,
 };
 use super::{at, block_note, num, pulse_name, render, text_at};
 
-const WIDTH: u32 = 1180;
+const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
 
 /// Region classes.
@@ -299,12 +300,12 @@ pub fn svg(result: &Value) -> Result<String, String> {
         builder
             .margin(10)
             .margin_right(14)
-            .x_label_area_size(50)
-            .y_label_area_size(64);
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA);
         if alpha.is_some() && p.is_some() {
             builder
-                .top_x_label_area_size(46)
-                .right_y_label_area_size(62);
+                .top_x_label_area_size(X_LABEL_AREA)
+                .right_y_label_area_size(Y_LABEL_AREA);
         }
         let chart = builder.build_cartesian_2d(x0..x1, 0.0..a_max)?;
         let mut chart = match (alpha, p) {
