@@ -124,9 +124,53 @@ pub(crate) fn block_note(block: Option<&Value>) -> String {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use serde_json::json;
+
+    /// The result `topple run` prints for the spec `text`.
+    pub(crate) fn computed(text: &str) -> Value {
+        crate::jobs::Job::parse(text)
+            .expect("a valid spec")
+            .run(&crate::spectrum::Control::new())
+            .expect("it runs")
+    }
+
+    /// The points (px) of each `element` (`polygon`, `polyline`) of `svg`
+    /// whose tag contains `needle` (e.g. `fill="#009669"`; "" for all).
+    pub(crate) fn shapes(svg: &str, element: &str, needle: &str) -> Vec<Vec<(f64, f64)>> {
+        let open = format!("<{element} ");
+        svg.split(&open)
+            .skip(1)
+            .filter_map(|rest| rest.split('>').next())
+            .filter(|tag| tag.contains(needle))
+            .filter_map(|tag| tag.split("points=\"").nth(1)?.split('"').next())
+            .map(|points| {
+                points
+                    .split_whitespace()
+                    .filter_map(|xy| {
+                        let (x, y) = xy.split_once(',')?;
+                        Some((x.parse().ok()?, y.parse().ok()?))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// `#RRGGBB` of a colour, as the SVG writes it.
+    pub(crate) fn hex(c: RGBColor) -> String {
+        format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
+    }
+
+    /// The least and largest x of `shapes`.
+    pub(crate) fn x_extent(shapes: &[Vec<(f64, f64)>]) -> (f64, f64) {
+        shapes
+            .iter()
+            .flatten()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p.0), hi.max(p.0))
+            })
+    }
 
     #[test]
     fn unknown_kinds_are_refused_with_the_kind_named() {
