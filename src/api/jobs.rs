@@ -818,19 +818,25 @@ pub struct ResultQuery {
 }
 
 /// The representation a result request asks for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Format {
     Json,
     Csv,
-    Svg,
+    /// The figure, over a window of time or whole.
+    Svg(Option<crate::plot::Window>),
 }
 
 impl Format {
-    fn name(self) -> &'static str {
+    /// Its name in entity tags: a figure's names its drawing's revision and
+    /// its window (each window is a representation of its own).
+    fn name(self) -> String {
         match self {
-            Format::Json => "json",
-            Format::Csv => "csv",
-            Format::Svg => "svg",
+            Format::Json => "json".into(),
+            Format::Csv => "csv".into(),
+            Format::Svg(None) => format!("svg{}", crate::plot::FIGURES_REVISION),
+            Format::Svg(Some(w)) => {
+                format!("svg{}-window-{}", crate::plot::FIGURES_REVISION, w.tag())
+            }
         }
     }
 
@@ -840,7 +846,7 @@ impl Format {
         match format {
             Some("json") => return Ok(Format::Json),
             Some("csv") => return Ok(Format::Csv),
-            Some("svg") => return Ok(Format::Svg),
+            Some("svg") => return Ok(Format::Svg(None)),
             Some(other) => {
                 return Err(Problem::bad_request(
                     "invalid-parameter",
@@ -868,7 +874,7 @@ impl Format {
             match media.to_ascii_lowercase().as_str() {
                 "application/json" | "application/*" | "*/*" => return Ok(Format::Json),
                 "text/csv" => return Ok(Format::Csv),
-                "image/svg+xml" => return Ok(Format::Svg),
+                "image/svg+xml" => return Ok(Format::Svg(None)),
                 _ => {}
             }
         }
@@ -886,7 +892,7 @@ pub(crate) async fn result_response(
     headers: &HeaderMap,
 ) -> Result<Response, Problem> {
     let found = finished_result(state, tenant, id).await?;
-    let etag = super::http::result_etag(&found.key, format.name());
+    let etag = super::http::result_etag(&found.key, &format.name());
     let cache = super::http::immutable(state.config.reads_need_token());
     if super::http::if_none_match(headers, &etag) {
         return Ok(super::http::not_modified(&etag, cache));
@@ -900,8 +906,8 @@ pub(crate) async fn result_response(
         )
             .into_response(),
         Format::Csv => csv_response(state, id, body).await?,
-        Format::Svg => {
-            let figure = super::plot::render(state, body).await?;
+        Format::Svg(window) => {
+            let figure = super::plot::render(state, body, window).await?;
             ([(header::CONTENT_TYPE, "image/svg+xml")], figure).into_response()
         }
     };

@@ -6,10 +6,13 @@ use axum::extract::rejection::{PathRejection, QueryRejection};
 use axum::extract::{Extension, Path, Query, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
+use serde::Deserialize;
+use utoipa::IntoParams;
 
 use super::auth::Tenant;
 use super::jobs::{Format, parse_id, query, result_response};
 use super::problem::Problem;
+use crate::plot::{FigureError, Window};
 use crate::service::AppState;
 use crate::service::results::Document;
 
@@ -19,21 +22,24 @@ use crate::service::results::Document;
 /// panels (ü_g/g, θ/α, θ̇/p, f_x/f_z), a spectrum's overturning regions by
 /// mode, a friction spectrum's demand, a forensic map. A time history without
 /// a series draws the pulse and the impacts; submit it with
-/// `"outputs": {"series": 500}` for θ(t), θ̇(t) and f_x/f_z(t).
+/// `"outputs": {"series": 500}` for θ(t), θ̇(t) and f_x/f_z(t). A time
+/// history whose pulse takes under a quarter of it is drawn in two columns:
+/// the pulse and the first impacts, and the whole history; `?window=t0,t1`
+/// draws the span from t0 to t1 seconds instead.
 #[utoipa::path(
     get,
     path = "/v1/jobs/{id}/plot.svg",
     tag = "jobs",
     operation_id = "get_plot",
     security((), ("bearer" = [])),
-    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"),
+    params(("id" = String, Path, description = "Job id (a UUID)", format = "uuid"), PlotQuery,
         ("If-None-Match" = Option<String>, Header, description = "The ETag of the figure already held")),
     responses(
         (status = 200, description = "The figure", body = crate::jobs::schema::SvgFigure, content_type = "image/svg+xml",
-            headers(("ETag" = String, description = "Strong: the job key and the format"),
+            headers(("ETag" = String, description = "Strong: the job key, the format and the window"),
                     ("Cache-Control" = String, description = "immutable"))),
         (status = 304, description = "Unchanged (it never changes)"),
-        (status = 400, description = "Bad id, or a result with nothing to draw", body = Problem, content_type = "application/problem+json"),
+        (status = 400, description = "Bad id or window (or a window on a result without time axis), an unknown parameter, or a result with nothing to draw", body = Problem, content_type = "application/problem+json"),
         (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
         (status = 409, description = "Not finished (or failed, or canceled)", body = Problem, content_type = "application/problem+json"),
@@ -45,13 +51,30 @@ pub async fn get_plot(
     State(state): State<AppState>,
     Extension(tenant): Extension<Tenant>,
     path: Result<Path<String>, PathRejection>,
-    q: Result<Query<NoQuery>, QueryRejection>,
+    q: Result<Query<PlotQuery>, QueryRejection>,
     headers: HeaderMap,
 ) -> Result<Response, Problem> {
     let id = parse_id(path)?;
-    query(q, &[])?;
+    let q = query(q, &["window"])?;
+    let window = q
+        .window
+        .as_deref()
+        .map(Window::parse)
+        .transpose()
+        .map_err(|e| Problem::bad_request("invalid-parameter", e).param("window"))?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
-    result_response(&state, &tenant, id, Format::Svg, &headers).await
+    result_response(&state, &tenant, id, Format::Svg(window), &headers).await
+}
+
+/// Query of a figure.
+#[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+#[serde(deny_unknown_fields)]
+pub struct PlotQuery {
+    /// A time history's span to draw, `t0,t1` in seconds with t0 < t1
+    /// (e.g. `0,1.2`); without it the whole history.
+    #[param(pattern = r"^\s*[^,]+\s*,\s*[^,]+\s*$", example = "0,1.2")]
+    pub window: Option<String>,
 }
 
 /// A route that takes no query parameters.
@@ -62,16 +85,23 @@ pub struct NoQuery {}
 /// The figure of result document `body`. Parsing and drawing are CPU work:
 /// the blocking pool, not the runtime, in a rendering turn (a large document
 /// parsed is several times its text).
-pub(crate) async fn render(state: &AppState, body: Arc<Document>) -> Result<String, Problem> {
+pub(crate) async fn render(
+    state: &AppState,
+    body: Arc<Document>,
+    window: Option<Window>,
+) -> Result<String, Problem> {
     let turn = super::jobs::render_turn(state, body.as_str().len()).await?;
     tokio::task::spawn_blocking(move || {
         let _turn = turn;
         serde_json::from_str::<serde_json::Value>(body.as_str())
             .map_err(|e| e.to_string())
-            .map(|v| crate::plot::svg(&v))
+            .map(|v| crate::plot::svg_in(&v, window))
     })
     .await
     .map_err(|_| Problem::internal("figure rendering stopped"))?
     .map_err(Problem::internal)?
-    .map_err(|e| Problem::bad_request("no-plot", e).param("id"))
+    .map_err(|e| match e {
+        FigureError::Window(e) => Problem::bad_request("invalid-parameter", e).param("window"),
+        FigureError::Result(e) => Problem::bad_request("no-plot", e).param("id"),
+    })
 }

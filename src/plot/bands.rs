@@ -1,13 +1,19 @@
 //! Regions of a plane sampled along x: at each sample (a frequency) the y
 //! range (amplitudes) is tiled by bands of a class (an overturning mode, the
-//! set of observations that rule a pulse out). Between two samples whose
-//! bands come in the same order of classes every boundary is interpolated
-//! linearly, so boundaries read as the piecewise-linear curves of the paper's
-//! figures. A band present at one sample only is given a zero-width partner
-//! at the other (where its neighbours meet, or inside the band that
-//! surrounds it), so it tapers to a point between the samples; when no such
-//! pairing exists each sample's bands reach half-way, as steps. Either way
-//! the strip is tiled: no holes, no overlaps.
+//! set of observations that rule a pulse out). Two ways to draw them:
+//!
+//! - [`tiling`] (spectra): between two samples whose bands come in the same
+//!   order of classes every boundary is interpolated linearly, so boundaries
+//!   read as the piecewise-linear curves of the paper's figures. A band
+//!   present at one sample only is given a zero-width partner at the other
+//!   (where its neighbours meet, or inside the band that surrounds it), so
+//!   it tapers to a point between the samples; when no such pairing exists
+//!   each sample's bands reach half-way, as steps.
+//! - [`cells`] (forensic maps): each sample a cell of its own reaching
+//!   half-way to its neighbours and ending at the first and last samples;
+//!   nothing is interpolated.
+//!
+//! Either way the strip is tiled: no holes, no overlaps.
 
 /// One band of one sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -345,36 +351,84 @@ pub fn tiling(columns: &[Column], half_width: f64) -> Tiling {
         let mid = 0.5 * (l.x + r.x);
         steps(l, l.x, mid, &mut out);
         steps(r, mid, r.x, &mut out);
-        // Where the classes differ across the step, a vertical boundary.
-        let mut cuts: Vec<f64> = l
-            .bands
-            .iter()
-            .chain(&r.bands)
-            .flat_map(|b| [b.lo, b.hi])
-            .collect();
-        cuts.sort_by(f64::total_cmp);
-        cuts.dedup();
-        let mut open: Option<Edge> = None;
-        for w in cuts.windows(2) {
-            let y = 0.5 * (w[0] + w[1]);
-            let (a, b) = (class_at(l, y), class_at(r, y));
-            let here = match (a, b) {
-                (Some(a), Some(b)) if a != b => Some((a, b)),
-                _ => None,
-            };
-            match (&mut open, here) {
-                (Some(e), Some((a, b))) if e.a == a && e.b == b => e.segment[1].1 = w[1],
-                (_, here) => {
-                    out.edges.extend(open.take());
-                    open = here.map(|(a, b)| Edge {
-                        segment: [(mid, w[0]), (mid, w[1])],
-                        a,
-                        b,
-                    });
-                }
+        step_edges(l, r, mid, &mut out);
+    }
+    out
+}
+
+/// Where the classes of `l` and `r` differ across a step at `mid`: vertical
+/// boundaries there.
+fn step_edges(l: &Column, r: &Column, mid: f64, out: &mut Tiling) {
+    let mut cuts: Vec<f64> = l
+        .bands
+        .iter()
+        .chain(&r.bands)
+        .flat_map(|b| [b.lo, b.hi])
+        .collect();
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup();
+    let mut open: Option<Edge> = None;
+    for w in cuts.windows(2) {
+        let y = 0.5 * (w[0] + w[1]);
+        let (a, b) = (class_at(l, y), class_at(r, y));
+        let here = match (a, b) {
+            (Some(a), Some(b)) if a != b => Some((a, b)),
+            _ => None,
+        };
+        match (&mut open, here) {
+            (Some(e), Some((a, b))) if e.a == a && e.b == b => e.segment[1].1 = w[1],
+            (_, here) => {
+                out.edges.extend(open.take());
+                open = here.map(|(a, b)| Edge {
+                    segment: [(mid, w[0]), (mid, w[1])],
+                    a,
+                    b,
+                });
             }
         }
-        out.edges.extend(open);
+    }
+    out.edges.extend(open);
+}
+
+/// The x extent of the cell of each of `xs` (ascending): half-way to each
+/// neighbour, and no further than the first and last (a lone sample
+/// reaches `half_width` either side).
+pub fn cell_edges(xs: &[f64], half_width: f64) -> Vec<(f64, f64)> {
+    match xs {
+        [] => Vec::new(),
+        [only] => vec![(only - half_width, only + half_width)],
+        _ => (0..xs.len())
+            .map(|k| {
+                let lo = if k == 0 {
+                    xs[0]
+                } else {
+                    0.5 * (xs[k - 1] + xs[k])
+                };
+                let hi = if k + 1 == xs.len() {
+                    xs[k]
+                } else {
+                    0.5 * (xs[k] + xs[k + 1])
+                };
+                (lo, hi)
+            })
+            .collect(),
+    }
+}
+
+/// Each of `columns` (any order) as a cell of its own, no interpolation
+/// between samples: the extents of [`cell_edges`], the boundaries inside
+/// each cell and, where the classes differ across the edge of two cells,
+/// along that edge.
+pub fn cells(columns: &[Column], half_width: f64) -> Tiling {
+    let mut cols: Vec<&Column> = columns.iter().filter(|c| c.x.is_finite()).collect();
+    cols.sort_by(|a, b| a.x.total_cmp(&b.x));
+    let xs: Vec<f64> = cols.iter().map(|c| c.x).collect();
+    let mut out = Tiling::default();
+    for (c, (x0, x1)) in cols.iter().zip(cell_edges(&xs, half_width)) {
+        steps(c, x0, x1, &mut out);
+    }
+    for pair in cols.windows(2) {
+        step_edges(pair[0], pair[1], 0.5 * (pair[0].x + pair[1].x), &mut out);
     }
     out
 }
@@ -527,6 +581,47 @@ mod tests {
         ];
         simplify(&mut b, 0.01, |c| c == 2);
         assert_eq!(b, vec![band(0.0, 2.0, 0), band(2.0, 2.0005, 2)]);
+    }
+
+    #[test]
+    fn cells_reach_half_way_and_stop_at_the_first_and_last_samples() {
+        assert_eq!(
+            cell_edges(&[0.25, 0.5, 1.0], 0.1),
+            vec![(0.25, 0.375), (0.375, 0.75), (0.75, 1.0)]
+        );
+        let cols = [
+            col(0.0, &[band(0.0, 1.0, 0), band(1.0, 5.0, 1)]),
+            col(1.0, &[band(0.0, 2.0, 0), band(2.0, 5.0, 1)]),
+            col(2.0, &[band(0.0, 5.0, 1)]),
+        ];
+        let t = cells(&cols, 0.5);
+        // Rectangles only: each piece is level at its top and bottom.
+        assert!(
+            t.pieces
+                .iter()
+                .all(|p| p.polygon[0].1 == p.polygon[1].1 && p.polygon[2].1 == p.polygon[3].1)
+        );
+        let right = t
+            .pieces
+            .iter()
+            .flat_map(|p| p.polygon.iter().map(|q| q.0))
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(right, 2.0);
+        // Class 0 of the middle cell ends at its edge (1.5): no taper to 2.
+        let zero_right = t
+            .pieces
+            .iter()
+            .filter(|p| p.class == 0)
+            .flat_map(|p| p.polygon.iter().map(|q| q.0))
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(zero_right, 1.5);
+        // Vertical boundaries where the classes differ across an edge.
+        assert!(
+            segments(&t).contains(&([(0.5, 1.0), (0.5, 2.0)], 1, 0)),
+            "{:?}",
+            segments(&t)
+        );
+        assert!(segments(&t).contains(&([(1.5, 0.0), (1.5, 2.0)], 0, 1)));
     }
 
     #[test]

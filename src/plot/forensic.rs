@@ -2,20 +2,25 @@
 //! consistent with every observation filled; what each observation rules out
 //! tinted in its colour and its boundary drawn in that colour; the bounds of
 //! the consistent region framed.
+//!
+//! Each computed frequency is a cell of its own, reaching half-way to its
+//! neighbours; the map ends at the first and last computed frequencies.
+//! Nothing is interpolated between frequencies: a forensic query samples
+//! the frequencies it was asked for, and what lies between them is unknown.
 
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use serde_json::Value;
 
-use super::bands::{Band, Column, simplify, tile, tiling};
+use super::bands::{Band, Column, cell_edges, cells, simplify, tile};
 use super::style::{
     AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, OBSERVATIONS, Swatch, TICKS,
-    draw_legend, fmt_num, text, tick, tint,
+    X_LABEL_AREA, Y_LABEL_AREA, draw_legend, fmt_num, text, tick, tint,
 };
 use super::{block_note, num, pulse_name, render, text_at};
 
-const WIDTH: u32 = 1180;
+const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
 
 /// Intervals `[lo, hi]` at `key` of `v`.
@@ -93,6 +98,48 @@ pub fn partition(sets: &[Vec<(f64, f64)>], from: f64, to: f64) -> Vec<Band> {
     out
 }
 
+/// One column per computed frequency: its amplitudes `from`–`to` g cut into
+/// bands labelled with the observations (of `names`) that rule them out (0:
+/// consistent with all).
+fn columns(frequencies: &[&Value], names: &[String], from: f64, to: f64) -> Vec<Column> {
+    let gap = (to - from) / 900.0;
+    let mut map = Vec::new();
+    for f in frequencies {
+        let x = num(f, "frequency_hz").unwrap_or(f64::NAN);
+        let listed: Vec<&Value> = f
+            .get("per_observation")
+            .and_then(Value::as_array)
+            .map(|a| a.iter().collect())
+            .unwrap_or_default();
+        let sets: Vec<Vec<(f64, f64)>> = names
+            .iter()
+            .enumerate()
+            .map(|(k, name)| {
+                let entry = listed
+                    .iter()
+                    .find(|o| o.get("name").and_then(Value::as_str) == Some(name))
+                    .or(listed.get(k));
+                entry
+                    .map(|o| intervals(o, "consistent_g"))
+                    .unwrap_or_default()
+            })
+            .collect();
+        let mut bands = if sets.is_empty() {
+            let all: Vec<Band> = intervals(f, "consistent_g")
+                .into_iter()
+                .map(|(lo, hi)| Band { lo, hi, class: 0 })
+                .collect();
+            tile(from, to, &all, 1)
+        } else {
+            partition(&sets, from, to)
+        };
+        // Slivers of consistent pulses stay, however narrow.
+        simplify(&mut bands, gap, |class| class == 0);
+        map.push(Column { x, bands });
+    }
+    map
+}
+
 /// The figure of a `forensic` result.
 pub fn svg(result: &Value) -> Result<String, String> {
     let spec = result.get("spec").unwrap_or(&Value::Null);
@@ -131,55 +178,15 @@ pub fn svg(result: &Value) -> Result<String, String> {
     if frequencies.is_empty() {
         return Err("the forensic result has no frequencies".into());
     }
-    let gap = (to - from) / 900.0;
-    let mut map = Vec::new();
-    for f in &frequencies {
-        let x = num(f, "frequency_hz").unwrap_or(f64::NAN);
-        let listed: Vec<&Value> = f
-            .get("per_observation")
-            .and_then(Value::as_array)
-            .map(|a| a.iter().collect())
-            .unwrap_or_default();
-        let sets: Vec<Vec<(f64, f64)>> = names
-            .iter()
-            .enumerate()
-            .map(|(k, name)| {
-                let entry = listed
-                    .iter()
-                    .find(|o| o.get("name").and_then(Value::as_str) == Some(name))
-                    .or(listed.get(k));
-                entry
-                    .map(|o| intervals(o, "consistent_g"))
-                    .unwrap_or_default()
-            })
-            .collect();
-        let mut bands = if sets.is_empty() {
-            let all: Vec<Band> = intervals(f, "consistent_g")
-                .into_iter()
-                .map(|(lo, hi)| Band { lo, hi, class: 0 })
-                .collect();
-            tile(from, to, &all, 1)
-        } else {
-            partition(&sets, from, to)
-        };
-        // Slivers of consistent pulses stay, however narrow.
-        simplify(&mut bands, gap, |class| class == 0);
-        map.push(Column { x, bands });
-    }
+    let mut map = columns(&frequencies, &names, from, to);
+    map.sort_by(|a, b| a.x.total_cmp(&b.x));
     let xs: Vec<f64> = map.iter().map(|c| c.x).collect();
-    let fmin = xs.iter().copied().fold(f64::INFINITY, f64::min);
-    let fmax = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let half = if fmax > fmin {
-        0.5 * (fmax - fmin) / (xs.len() as f64 - 1.0).max(1.0)
-    } else {
-        0.1 * fmin.max(0.01)
-    };
-    let (x0, x1) = if fmax > fmin {
-        (fmin, fmax)
-    } else {
-        (fmin - 2.0 * half, fmax + 2.0 * half)
-    };
-    let drawn = tiling(&map, half);
+    let (fmin, fmax) = (xs[0], xs[xs.len() - 1]);
+    // A lone frequency is a cell a fifth of itself wide.
+    let half = 0.1 * fmin.max(0.01);
+    let edges = cell_edges(&xs, half);
+    let (x0, x1) = (edges[0].0, edges[edges.len() - 1].1);
+    let drawn = cells(&map, half);
     let mut shaded = drawn.pieces;
     // The consistent region on top: nothing hides a sliver of it.
     shaded.sort_by_key(|p| p.class == 0);
@@ -258,6 +265,15 @@ pub fn svg(result: &Value) -> Result<String, String> {
         fmt_num(from, 3),
         fmt_num(to, 3)
     ));
+    legend.note(if xs.len() > 1 {
+        format!(
+            "each computed frequency is a cell reaching half-way to its neighbours; the map spans the computed {}–{} Hz; nothing is interpolated between frequencies",
+            fmt_num(fmin, 3),
+            fmt_num(fmax, 3)
+        )
+    } else {
+        format!("one frequency computed: {} Hz", fmt_num(fmin, 3))
+    });
     if !consistent_anywhere {
         legend.note("no pulse of this family is consistent with every observation");
     }
@@ -271,9 +287,9 @@ pub fn svg(result: &Value) -> Result<String, String> {
         let chart = ChartBuilder::on(&chart_area)
             .margin(10)
             .margin_right(24)
-            .x_label_area_size(50)
-            .y_label_area_size(64)
-            .top_x_label_area_size(46)
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA)
+            .top_x_label_area_size(X_LABEL_AREA)
             .build_cartesian_2d(x0..x1, from..to)?;
         let tau = std::f64::consts::TAU;
         let mut chart = chart.set_secondary_coord(x0 * tau..x1 * tau, from..to);
@@ -302,19 +318,22 @@ pub fn svg(result: &Value) -> Result<String, String> {
             .x_label_formatter(&|v| tick(*v))
             .y_label_formatter(&|v| tick(*v))
             .draw()?;
-        for (k, edges) in boundaries.iter().enumerate() {
+        for (k, lines) in boundaries.iter().enumerate() {
             chart.draw_series(
-                edges
+                lines
                     .iter()
                     .map(|e| PathElement::new(e.to_vec(), colour(k).stroke_width(2))),
             )?;
         }
         if let (Some(lo), Some(hi), Some((fa, fb))) = (min_g, max_g, f_bounds) {
-            let (fa, fb) = if fb > fa {
-                (fa, fb)
-            } else {
-                (fa - half, fb + half)
+            // Around the cells of the bounding frequencies.
+            let cell = |f: f64| {
+                xs.iter()
+                    .position(|x| (x - f).abs() <= 1e-9 * f.abs().max(1.0))
+                    .map(|k| edges[k])
             };
+            let fa = cell(fa).map_or(fa, |c| c.0);
+            let fb = cell(fb).map_or(fb, |c| c.1);
             let frame = vec![(fa, lo), (fb, lo), (fb, hi), (fa, hi), (fa, lo)];
             chart.draw_series(std::iter::once(DashedPathElement::new(
                 frame,
@@ -402,14 +421,61 @@ pub(crate) mod tests {
         ] {
             assert!(svg.contains(needle), "missing {needle:?}");
         }
-        // Bands continue across the five gaps: one trapezoid each for the
-        // consistent region and for each observation's excluded region, plus
-        // the legend swatch.
+        // One cell per frequency (six) for the consistent region and for
+        // each observation's excluded region, plus the legend swatch.
         for mask in [0, 1, 2] {
             let c = super::fill(mask);
             let f = format!("fill=\"#{:02X}{:02X}{:02X}\"", c.0, c.1, c.2);
-            assert_eq!(svg.matches(&f).count(), 5 + 1, "mask {mask}");
+            assert_eq!(svg.matches(&f).count(), 6 + 1, "mask {mask}");
         }
+    }
+
+    #[test]
+    fn point_reyes_cells_end_at_the_last_computed_frequency() {
+        use crate::plot::bands::cells;
+        use crate::plot::tests::{computed, hex, shapes, x_extent};
+        let result = computed(include_str!("../../specs/point_reyes_forensic.json"));
+        let frequencies: Vec<&Value> = result["frequencies"]
+            .as_array()
+            .expect("frequencies")
+            .iter()
+            .collect();
+        let hz = |f: &Value| f["frequency_hz"].as_f64().expect("hz");
+        assert_eq!(frequencies.len(), 12);
+        assert_eq!(hz(frequencies[11]), 3.0);
+        // The computed result: pulses consistent with both observations up to
+        // 2.5 Hz, none at 2.75 and 3 Hz.
+        let consistent: Vec<f64> = frequencies
+            .iter()
+            .filter(|f| f["consistent_g"].as_array().is_some_and(|a| !a.is_empty()))
+            .map(|f| hz(f))
+            .collect();
+        assert_eq!(consistent.last(), Some(&2.5));
+        let names = ["locomotive".to_string(), "transformer".to_string()];
+        let tiling = cells(&super::columns(&frequencies, &names, 0.05, 3.0), 0.025);
+        let right = |class: Option<usize>| {
+            tiling
+                .pieces
+                .iter()
+                .filter(|p| class.is_none_or(|c| p.class == c))
+                .flat_map(|p| p.polygon.iter().map(|q| q.0))
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        // The map ends at the last computed frequency; the consistent region
+        // half-way from 2.5 to 2.75 Hz, no wedge towards 2.75.
+        assert_eq!(right(None), 3.0);
+        assert_eq!(right(Some(0)), 2.625);
+        // The figure: the consistent fill ends at the same fraction of the map.
+        let svg = super::svg(&result).expect("svg");
+        let (left, end) = x_extent(&shapes(&svg, "polygon", ""));
+        let (_, green) = x_extent(&shapes(
+            &svg,
+            "polygon",
+            &format!("fill=\"{}\"", hex(super::fill(0))),
+        ));
+        let expected = left + (2.625 - 0.25) / (3.0 - 0.25) * (end - left);
+        assert!((green - expected).abs() <= 1.0, "{green} vs {expected}");
+        assert!(svg.contains("interpolated"));
     }
 
     #[test]

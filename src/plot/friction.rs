@@ -8,7 +8,7 @@ use serde_json::Value;
 
 use super::style::{
     AXIS, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, REFERENCE, Swatch, TICKS,
-    clip_y, draw_legend, fmt_num, marker, text, tick,
+    X_LABEL_AREA, Y_LABEL_AREA, clip_y, draw_legend, fmt_num, marker, text, tick,
 };
 use super::{at, block_note, num, pulse_name, render, text_at};
 
@@ -186,10 +186,10 @@ pub fn svg(result: &Value) -> Result<String, String> {
         let chart = ChartBuilder::on(&chart_area)
             .margin(10)
             .margin_right(14)
-            .x_label_area_size(50)
-            .y_label_area_size(64)
-            .top_x_label_area_size(46)
-            .right_y_label_area_size(62)
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA)
+            .top_x_label_area_size(X_LABEL_AREA)
+            .right_y_label_area_size(Y_LABEL_AREA)
             .build_cartesian_2d(x0..x1, 0.0..top)?;
         let mut chart = chart.set_secondary_coord(x0 * alpha..x1 * alpha, 0.0..top * tan);
         chart

@@ -1,31 +1,73 @@
 //! SVG figures of result documents (plotters, SVG backend: no system fonts
-//! needed). [`svg`] renders any result kind to a string; [`plot_result`]
-//! writes it to a file.
+//! needed). [`svg`] renders any result kind to a string, [`svg_in`] a time
+//! history over a [`Window`] of time; [`plot_result`] writes a figure to a
+//! file.
 
 pub mod bands;
 pub mod forensic;
 pub mod friction;
+pub mod motion;
 pub mod precision;
 pub mod spectrum;
 pub mod style;
 pub mod time_history;
+pub mod time_panel;
+pub mod window;
 
 use plotters::prelude::*;
 use serde_json::Value;
 
 pub use precision::precision_diagram;
 use style::{Area, Drawn, INK, TITLE};
+pub use window::Window;
+
+/// Revision of the figures' drawing: part of a figure's entity tag, so a
+/// figure cached under an older drawing is not taken for the new one.
+pub const FIGURES_REVISION: u32 = 2;
+
+/// Why a figure cannot be drawn.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FigureError {
+    /// The result has nothing to draw, or is not a result (the text says why).
+    Result(String),
+    /// A window was asked of a result that has no time axis.
+    Window(String),
+}
+
+impl std::fmt::Display for FigureError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FigureError::Result(e) | FigureError::Window(e) => f.write_str(e),
+        }
+    }
+}
+
+impl std::error::Error for FigureError {}
 
 /// The figure of a result document, as SVG text.
 pub fn svg(result: &Value) -> Result<String, String> {
-    match result.get("kind").and_then(Value::as_str) {
-        Some("time_history") => time_history::svg(result),
+    svg_in(result, None).map_err(|e| e.to_string())
+}
+
+/// The figure of a result document over `window` (time histories only;
+/// `None`: the whole result), as SVG text.
+pub fn svg_in(result: &Value, window: Option<Window>) -> Result<String, FigureError> {
+    let kind = result.get("kind").and_then(Value::as_str);
+    if window.is_some() && kind.is_some_and(|k| k != "time_history") {
+        return Err(FigureError::Window(format!(
+            "a window is a span of time: it applies to time histories, not to a {} result",
+            kind.unwrap_or("").replace('_', " ")
+        )));
+    }
+    match kind {
+        Some("time_history") => time_history::svg(result, window),
         Some("spectrum") => spectrum::svg(result),
         Some("friction_spectrum") => friction::svg(result),
         Some("forensic") => forensic::svg(result),
         Some(other) => Err(format!("no figure for results of kind {other:?}")),
         None => Err("not a result document: it has no \"kind\"".into()),
     }
+    .map_err(FigureError::Result)
 }
 
 /// Writes the figure of a result document to `path` (SVG).
@@ -124,9 +166,67 @@ pub(crate) fn block_note(block: Option<&Value>) -> String {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use serde_json::json;
+
+    /// The result `topple run` prints for the spec `text`.
+    pub(crate) fn computed(text: &str) -> Value {
+        crate::jobs::Job::parse(text)
+            .expect("a valid spec")
+            .run(&crate::spectrum::Control::new())
+            .expect("it runs")
+    }
+
+    /// The points (px) of each `element` (`polygon`, `polyline`) of `svg`
+    /// whose tag contains `needle` (e.g. `fill="#009669"`; "" for all).
+    pub(crate) fn shapes(svg: &str, element: &str, needle: &str) -> Vec<Vec<(f64, f64)>> {
+        let open = format!("<{element} ");
+        svg.split(&open)
+            .skip(1)
+            .filter_map(|rest| rest.split('>').next())
+            .filter(|tag| tag.contains(needle))
+            .filter_map(|tag| tag.split("points=\"").nth(1)?.split('"').next())
+            .map(|points| {
+                points
+                    .split_whitespace()
+                    .filter_map(|xy| {
+                        let (x, y) = xy.split_once(',')?;
+                        Some((x.parse().ok()?, y.parse().ok()?))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// `#RRGGBB` of a colour, as the SVG writes it.
+    pub(crate) fn hex(c: RGBColor) -> String {
+        format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
+    }
+
+    /// The least and largest x of `shapes`.
+    pub(crate) fn x_extent(shapes: &[Vec<(f64, f64)>]) -> (f64, f64) {
+        shapes
+            .iter()
+            .flatten()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p.0), hi.max(p.0))
+            })
+    }
+
+    #[test]
+    fn a_window_is_for_time_histories_only() {
+        let w = Window::new(0.0, 1.0).expect("window");
+        let e = svg_in(&friction::tests::sample(), Some(w)).unwrap_err();
+        assert!(
+            matches!(&e, FigureError::Window(text) if text.contains("friction spectrum")),
+            "{e:?}"
+        );
+        assert!(matches!(
+            svg_in(&json!({"kind": "teapot"}), None),
+            Err(FigureError::Result(_))
+        ));
+    }
 
     #[test]
     fn unknown_kinds_are_refused_with_the_kind_named() {

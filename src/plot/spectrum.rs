@@ -8,13 +8,37 @@ use serde_json::Value;
 
 use super::bands::{Band, Column, simplify, tile, tiling};
 use super::style::{
-    AXIS, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING, REFERENCE,
-    Swatch, TICKS, clip_y, draw_legend, fmt_num, marker, text, tick, tint,
+    AXIS, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING,
+    REFERENCE, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, clip_y, draw_legend, fmt_num, marker,
+    text, tick, tint,
 };
 use super::{at, block_note, num, pulse_name, render, text_at};
 
-const WIDTH: u32 = 1180;
+const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
+
+/// Eq. 21 (Makris & Roussos) holds for 0 ≤ ω_p/p ≤ 3, where the minimum
+/// overturning acceleration is nearly linear; beyond, the spectrum becomes
+/// increasingly nonlinear (paper, after eq. 21).
+pub const EQ21_HOLDS_TO: f64 = 3.0;
+
+/// Eq. 21's straight line a_p0/(αg) = 1 + β ω_p/p over the part of the
+/// drawn range `[x0, x1]` where it holds (ω_p/p ≤ 3); β from the lines'
+/// own eq. 21 values. Empty when the range lies beyond 3 or the lines carry
+/// no eq. 21 value.
+pub fn eq21_line(lines: &[&Value], x0: f64, x1: f64) -> Vec<(f64, f64)> {
+    let beta = lines.iter().find_map(|l| {
+        let r = num(l, "omega_ratio").filter(|r| *r > 0.0)?;
+        Some((num(l, "eq21_alpha_g")? - 1.0) / r)
+    });
+    let (from, to) = (x0.max(0.0), x1.min(EQ21_HOLDS_TO));
+    match beta {
+        Some(b) if b.is_finite() && from < to => {
+            vec![(from, 1.0 + b * from), (to, 1.0 + b * to)]
+        }
+        _ => Vec::new(),
+    }
+}
 
 /// Region classes.
 pub const CLASS_NO_ROCKING: usize = 0;
@@ -214,14 +238,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
             _ => points,
         }
     };
-    // Eq. 21 is linear in ω_p/p: one straight line from end to end.
-    let eq21: Vec<(f64, f64)> = {
-        let all = curve("eq21_alpha_g");
-        match (all.first(), all.last()) {
-            (Some(&a), Some(&b)) if all.len() > 1 => vec![a, b],
-            _ => all,
-        }
-    };
+    let eq21 = eq21_line(&lines, x0, x1);
     let mode2_closed = curve("closed_form_mode2_alpha_g");
     let beta = match text_at(spec, "/pulse/type") {
         "one_cosine" => "1/4",
@@ -259,9 +276,18 @@ pub fn svg(result: &Value) -> Result<String, String> {
     }
     if !eq21.is_empty() {
         legend.entry(
-            Swatch::Line(REFERENCE, 2),
-            format!("eq. 21: a_p0/(αg) ≈ 1 + β ω_p/p, β = {beta} (closed form, ω_p/p ≤ 3)"),
+            Swatch::Dashed(REFERENCE, 3),
+            format!(
+                "eq. 21: a_p0/(αg) ≈ 1 + β ω_p/p, β = {beta}, drawn where it holds: ω_p/p ≤ {}",
+                fmt_num(EQ21_HOLDS_TO, 2)
+            ),
         );
+    } else if x0 > EQ21_HOLDS_TO {
+        legend.note(format!(
+            "eq. 21 not drawn: it holds for ω_p/p ≤ {}, this spectrum starts at {}",
+            fmt_num(EQ21_HOLDS_TO, 2),
+            fmt_num(x0, 3)
+        ));
     }
     if !mode2_closed.is_empty() {
         legend.entry(
@@ -299,12 +325,12 @@ pub fn svg(result: &Value) -> Result<String, String> {
         builder
             .margin(10)
             .margin_right(14)
-            .x_label_area_size(50)
-            .y_label_area_size(64);
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA);
         if alpha.is_some() && p.is_some() {
             builder
-                .top_x_label_area_size(46)
-                .right_y_label_area_size(62);
+                .top_x_label_area_size(X_LABEL_AREA)
+                .right_y_label_area_size(Y_LABEL_AREA);
         }
         let chart = builder.build_cartesian_2d(x0..x1, 0.0..a_max)?;
         let mut chart = match (alpha, p) {
@@ -342,9 +368,6 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 .y_label_formatter(&|v| tick(*v))
                 .draw()?;
         }
-        for part in clip_y(&eq21, 0.0, a_max) {
-            chart.draw_series(LineSeries::new(part, REFERENCE.stroke_width(2)))?;
-        }
         for part in clip_y(&mode2_closed, 0.0, a_max) {
             chart.draw_series(DashedLineSeries::new(
                 part,
@@ -362,6 +385,22 @@ pub fn svg(result: &Value) -> Result<String, String> {
                     .filter(|q| q.1 <= a_max)
                     .map(|&q| marker(q, Marker::Dot, 5, INK)),
             )?;
+        }
+        // Over the computed minimum, dashed so that both show where they agree;
+        // its end (ω_p/p = 3) ticked and labelled.
+        for part in clip_y(&eq21, 0.0, a_max) {
+            chart.draw_series(DashedLineSeries::new(part, 9, 5, REFERENCE.stroke_width(3)))?;
+        }
+        if let Some(&end) = eq21.last().filter(|e| e.1 < a_max) {
+            chart.draw_series(std::iter::once(marker(end, Marker::Tick, 12, REFERENCE)))?;
+            chart.draw_series(std::iter::once(
+                EmptyElement::at(end)
+                    + Text::new(
+                        format!("eq. 21 ends: ω_p/p = {}", fmt_num(end.0, 3)),
+                        (8, 10),
+                        text(LEGEND, REFERENCE),
+                    ),
+            ))?;
         }
         draw_legend(&side, &legend)
     })
@@ -410,6 +449,53 @@ pub(crate) mod tests {
         for f in fills {
             assert_eq!(svg.matches(&f).count(), 2 + 1, "{f}");
         }
+    }
+
+    #[test]
+    fn eq21_is_drawn_only_where_it_holds() {
+        use crate::plot::style::REFERENCE;
+        use crate::plot::tests::{computed, hex, shapes, x_extent};
+        let mut result = computed(include_str!(
+            "../../specs/locomotive_spectrum_nonlinear.json"
+        ));
+        let lines: Vec<&Value> = result["spectrum"]
+            .as_array()
+            .expect("lines")
+            .iter()
+            .collect();
+        assert_eq!(lines.len(), 40);
+        let eq21 = super::eq21_line(&lines, 0.25, 10.0);
+        // From the first frequency to ω_p/p = 3, β = 1/6 (one-sine).
+        assert_eq!(eq21.len(), 2);
+        assert_eq!((eq21[0].0, eq21[1].0), (0.25, 3.0));
+        assert!((eq21[1].1 - 1.5).abs() < 1e-12, "{eq21:?}");
+        // The figure: every eq. 21 dash left of ω_p/p = 3 (the no-rocking
+        // band spans 0.25–10), and its end labelled.
+        let svg = super::svg(&result).expect("svg");
+        let no_rocking = format!("fill=\"{}\"", hex(super::fill(super::CLASS_NO_ROCKING)));
+        let (left, right) = x_extent(&shapes(&svg, "polygon", &no_rocking));
+        let at_3 = left + (3.0 - 0.25) / (10.0 - 0.25) * (right - left);
+        // (The legend's swatch, right of the chart, left out.)
+        let dashes: Vec<Vec<(f64, f64)>> =
+            shapes(&svg, "polyline", &format!("stroke=\"{}\"", hex(REFERENCE)))
+                .into_iter()
+                .filter(|d| d.iter().all(|p| p.0 <= right))
+                .collect();
+        let (dashes_start, dashes_end) = x_extent(&dashes);
+        assert!(
+            (dashes_start - left).abs() <= 3.0,
+            "{dashes_start} vs {left}"
+        );
+        assert!(dashes_end <= at_3 + 1.0, "{dashes_end} > {at_3}");
+        assert!(dashes_end >= at_3 - 8.0, "{dashes_end} < {at_3}");
+        assert!(svg.contains("eq. 21 ends: ω_p/p = 3"));
+        // A spectrum that starts beyond 3 draws none, and says why.
+        if let Some(all) = result["spectrum"].as_array_mut() {
+            all.retain(|l| l["omega_ratio"].as_f64().is_some_and(|r| r > 3.0));
+        }
+        let svg = super::svg(&result).expect("svg");
+        assert!(svg.contains("eq. 21 not drawn"), "no note");
+        assert!(!svg.contains("eq. 21 ends"));
     }
 
     #[test]

@@ -14,18 +14,35 @@ pub type Drawn = Result<(), Box<dyn std::error::Error>>;
 
 /// Font family (SVG viewers substitute their sans-serif).
 pub const FONT: &str = "sans-serif";
+// Sizes are the pixels of the SVG as drawn. Figures are 1120 px wide and the
+// web page shows them in a pane of 700–900 px: the smallest text (17 px)
+// reads at 10.6–13.7 px there (12.1 px at 800).
 /// Figure title size, px.
-pub const TITLE: u32 = 22;
+pub const TITLE: u32 = 24;
 /// Axis description size, px.
-pub const AXIS: u32 = 16;
+pub const AXIS: u32 = 19;
 /// Tick label size, px.
-pub const TICKS: u32 = 13;
+pub const TICKS: u32 = 17;
 /// Legend entry size, px.
-pub const LEGEND: u32 = 14;
+pub const LEGEND: u32 = 18;
 /// Notes under the legend, px.
-pub const NOTE: u32 = 13;
-/// Width of the legend panel at the right of every figure, px.
-pub const LEGEND_WIDTH: u32 = 300;
+pub const NOTE: u32 = 17;
+/// Room for the tick labels and description of a horizontal axis, px.
+pub const X_LABEL_AREA: u32 = 60;
+/// Room for the tick labels and description of a vertical axis, px.
+pub const Y_LABEL_AREA: u32 = 78;
+/// Width of the legend panel at the right of a figure, px.
+pub const LEGEND_WIDTH: u32 = 370;
+/// Line height of legend entries, px.
+const LEGEND_LINE: i32 = 21;
+/// Line height of notes, px.
+const NOTE_LINE: i32 = 20;
+/// Average advance of a character of the sans-serif fonts SVG viewers pick,
+/// in ems (DejaVu Sans is the widest common one): how many characters a line
+/// of the legend holds.
+const EM_PER_CHAR: f64 = 0.56;
+/// plotters' SVG backend writes `font-size` as the size asked for / 1.24.
+const SVG_FONT_SCALE: f64 = 1.24;
 
 /// Text and axes.
 pub const INK: RGBColor = RGBColor(33, 33, 33);
@@ -68,9 +85,21 @@ pub fn mode_colour(mode: u8) -> RGBColor {
     if mode == 2 { MODE2 } else { MODE1 }
 }
 
-/// A text style of `size` px in `colour`.
+/// A text style of `size` px (as drawn) in `colour`.
 pub fn text(size: u32, colour: RGBColor) -> TextStyle<'static> {
-    (FONT, size).into_font().color(&colour)
+    (FONT, f64::from(size) * SVG_FONT_SCALE)
+        .into_font()
+        .color(&colour)
+}
+
+/// About how wide `s` is in text of `size` px.
+pub fn text_width(s: &str, size: u32) -> f64 {
+    s.chars().count() as f64 * f64::from(size) * EM_PER_CHAR
+}
+
+/// How many characters of `size` px fit in `width` px.
+pub fn chars_in(width: f64, size: u32) -> usize {
+    (width / (f64::from(size) * EM_PER_CHAR)).max(12.0) as usize
 }
 
 /// Marker shapes.
@@ -202,75 +231,173 @@ fn dashed(area: &Area, from: (i32, i32), to: (i32, i32), style: ShapeStyle) -> D
     Ok(())
 }
 
+/// Left edge of an entry's label: room for its swatch.
+const LABEL_X: i32 = 50;
+
+/// One block of a legend laid out: an entry, the rule above the notes, or a
+/// note, with its lines.
+enum Item {
+    Entry(Swatch, Vec<String>),
+    Rule,
+    Note(Vec<String>),
+}
+
+impl Item {
+    fn height(&self) -> i32 {
+        match self {
+            Item::Entry(_, lines) => lines.len() as i32 * LEGEND_LINE + 6,
+            Item::Rule => 16,
+            Item::Note(lines) => lines.len() as i32 * NOTE_LINE + 4,
+        }
+    }
+}
+
+/// `legend` as blocks poured into `columns` columns of `width` px, each
+/// column about as tall as the others.
+fn layout(legend: &Legend, width: u32, columns: usize) -> Vec<Vec<Item>> {
+    let columns = columns.max(1);
+    let w = f64::from(width) / columns as f64;
+    let label_chars = chars_in(w - f64::from(LABEL_X) - 12.0, LEGEND);
+    let note_chars = chars_in(w - 20.0, NOTE);
+    let mut items: Vec<Item> = legend
+        .entries
+        .iter()
+        .map(|(swatch, label)| {
+            let width = if *swatch == Swatch::Heading {
+                chars_in(w - 20.0, LEGEND)
+            } else {
+                label_chars
+            };
+            Item::Entry(*swatch, wrap(label, width))
+        })
+        .collect();
+    if !legend.notes.is_empty() {
+        items.push(Item::Rule);
+        items.extend(legend.notes.iter().map(|n| Item::Note(wrap(n, note_chars))));
+    }
+    let total: i32 = items.iter().map(Item::height).sum();
+    let target = total / columns as i32;
+    let mut out: Vec<Vec<Item>> = vec![Vec::new()];
+    let mut filled = 0;
+    for item in items {
+        let h = item.height();
+        let room = out.len() < columns;
+        if room && out.last().is_some_and(|c| !c.is_empty()) && filled + h / 2 > target {
+            out.push(Vec::new());
+            filled = 0;
+        }
+        // A rule at the top of a column says nothing.
+        if matches!(item, Item::Rule) && out.last().is_some_and(Vec::is_empty) {
+            continue;
+        }
+        filled += h;
+        if let Some(current) = out.last_mut() {
+            current.push(item);
+        }
+    }
+    out
+}
+
+/// The height `legend` takes in `columns` columns of `width` px.
+pub fn legend_height(legend: &Legend, width: u32, columns: usize) -> u32 {
+    let tallest = layout(legend, width, columns)
+        .iter()
+        .map(|c| c.iter().map(Item::height).sum::<i32>())
+        .max()
+        .unwrap_or(0);
+    (tallest + 16).max(0) as u32
+}
+
 /// Draws `legend` in `area` (the panel at the right of a figure).
 pub fn draw_legend(area: &Area, legend: &Legend) -> Drawn {
+    draw_legend_columns(area, legend, 1)
+}
+
+/// Draws `legend` in `area` in `columns` columns (under a figure).
+pub fn draw_legend_columns(area: &Area, legend: &Legend, columns: usize) -> Drawn {
     let (w, _) = area.dim_in_pixel();
-    let chars = ((f64::from(w) - 56.0) / 7.4).max(16.0) as usize;
-    let row = 20;
-    let mut y = 12;
-    for (swatch, label) in &legend.entries {
-        let mid = y + 9;
-        let (x0, x1) = (8, 40);
-        match *swatch {
-            Swatch::Fill(c) => {
-                area.draw(&Rectangle::new([(x0, mid - 7), (x1, mid + 7)], c.filled()))?;
+    let cols = layout(legend, w, columns);
+    let col_w = (w / columns.max(1) as u32) as i32;
+    for (c, items) in cols.iter().enumerate() {
+        let left = c as i32 * col_w;
+        let mut y = 12;
+        for item in items {
+            match item {
+                Item::Entry(swatch, lines) => {
+                    draw_entry(area, left, y, *swatch, lines)?;
+                }
+                Item::Rule => {
+                    let mid = y + 6;
+                    area.draw(&PathElement::new(
+                        vec![(left + 8, mid), (left + col_w - 16, mid)],
+                        MUTED.stroke_width(1),
+                    ))?;
+                }
+                Item::Note(lines) => {
+                    for (k, line) in lines.iter().enumerate() {
+                        area.draw(&Text::new(
+                            line.clone(),
+                            (left + 8, y + k as i32 * NOTE_LINE),
+                            text(NOTE, MUTED),
+                        ))?;
+                    }
+                }
             }
-            Swatch::Boxed(fill, border) => {
-                area.draw(&Rectangle::new(
-                    [(x0, mid - 7), (x1, mid + 7)],
-                    fill.filled(),
-                ))?;
-                area.draw(&Rectangle::new(
-                    [(x0, mid - 7), (x1, mid + 7)],
-                    border.stroke_width(2),
-                ))?;
-            }
-            Swatch::Line(c, width) => {
-                area.draw(&PathElement::new(
-                    vec![(x0, mid), (x1, mid)],
-                    c.stroke_width(width),
-                ))?;
-            }
-            Swatch::Dashed(c, width) => dashed(area, (x0, mid), (x1, mid), c.stroke_width(width))?,
-            Swatch::Mark(kind, c) => {
-                area.draw(&marker::<_, SVGBackend>((24, mid), kind, 9, c))?;
-            }
-            Swatch::LineMark(c, kind) => {
-                area.draw(&PathElement::new(
-                    vec![(x0, mid), (x1, mid)],
-                    c.stroke_width(2),
-                ))?;
-                area.draw(&marker::<_, SVGBackend>((24, mid), kind, 8, c))?;
-            }
-            Swatch::Heading => {}
+            y += item.height();
         }
-        let x = if *swatch == Swatch::Heading { x0 } else { 48 };
-        let lines = wrap(label, chars);
-        for (k, line) in lines.iter().enumerate() {
-            area.draw(&Text::new(
-                line.clone(),
-                (x, y + 2 + k as i32 * 17),
-                text(LEGEND, INK),
+    }
+    Ok(())
+}
+
+/// One entry: its swatch at `left`, its label lines beside it, from `y` down.
+fn draw_entry(area: &Area, left: i32, y: i32, swatch: Swatch, lines: &[String]) -> Drawn {
+    let mid = y + LEGEND_LINE / 2;
+    let (x0, x1) = (left + 8, left + 42);
+    let centre = (x0 + x1) / 2;
+    match swatch {
+        Swatch::Fill(c) => {
+            area.draw(&Rectangle::new([(x0, mid - 8), (x1, mid + 8)], c.filled()))?;
+        }
+        Swatch::Boxed(fill, border) => {
+            area.draw(&Rectangle::new(
+                [(x0, mid - 8), (x1, mid + 8)],
+                fill.filled(),
+            ))?;
+            area.draw(&Rectangle::new(
+                [(x0, mid - 8), (x1, mid + 8)],
+                border.stroke_width(2),
             ))?;
         }
-        y += 17 * (lines.len() as i32 - 1);
-        y += row + 4;
-    }
-    if !legend.notes.is_empty() {
-        y += 6;
-        area.draw(&PathElement::new(
-            vec![(8, y), (w as i32 - 12, y)],
-            MUTED.stroke_width(1),
-        ))?;
-        y += 10;
-        let chars = ((f64::from(w) - 16.0) / 6.6).max(16.0) as usize;
-        for note in &legend.notes {
-            for line in wrap(note, chars) {
-                area.draw(&Text::new(line, (8, y), text(NOTE, MUTED)))?;
-                y += 17;
-            }
-            y += 3;
+        Swatch::Line(c, width) => {
+            area.draw(&PathElement::new(
+                vec![(x0, mid), (x1, mid)],
+                c.stroke_width(width),
+            ))?;
         }
+        Swatch::Dashed(c, width) => dashed(area, (x0, mid), (x1, mid), c.stroke_width(width))?,
+        Swatch::Mark(kind, c) => {
+            area.draw(&marker::<_, SVGBackend>((centre, mid), kind, 11, c))?;
+        }
+        Swatch::LineMark(c, kind) => {
+            area.draw(&PathElement::new(
+                vec![(x0, mid), (x1, mid)],
+                c.stroke_width(2),
+            ))?;
+            area.draw(&marker::<_, SVGBackend>((centre, mid), kind, 10, c))?;
+        }
+        Swatch::Heading => {}
+    }
+    let x = if swatch == Swatch::Heading {
+        x0
+    } else {
+        left + LABEL_X
+    };
+    for (k, line) in lines.iter().enumerate() {
+        area.draw(&Text::new(
+            line.clone(),
+            (x, y + 2 + k as i32 * LEGEND_LINE),
+            text(LEGEND, INK),
+        ))?;
     }
     Ok(())
 }

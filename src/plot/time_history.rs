@@ -1,154 +1,127 @@
 //! Time histories (paper Figs. 7–8): ground acceleration ü_g/g, rotation
 //! θ/α, angular velocity θ̇/p and the friction demand f_x/f_z in stacked
-//! panels over one time axis; the pulse (or the recorded ground motion)
-//! shaded, impacts ticked, overturning or coming to rest marked.
+//! panels over time; the pulse (or the recorded ground motion) shaded,
+//! impacts ticked, overturning or coming to rest marked.
+//!
+//! A short pulse followed by a long history (the pulse under a quarter of
+//! it) gets two columns: at left the pulse and the first impacts, at right
+//! the whole history. A window draws the span asked for instead.
 
-use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use serde_json::Value;
 
+use super::motion::Motion;
 use super::style::{
-    AXIS, Area, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MUTED, Marker, PULSE, REST, Swatch,
-    TICKS, clip_y, draw_legend, fmt_num, left_top, marker, mode_colour, right_top, text, tick,
+    Area, Drawn, INK, LEGEND, Legend, MUTED, Marker, PULSE, REST, Swatch, draw_legend_columns,
+    fmt_num, legend_height, mode_colour, text,
 };
+use super::time_panel::{End, Mark, Panel, Place, Scale, Shared, Span, ZOOMED, crop, draw_panel};
+use super::window::Window;
 use super::{at, block_note, column, num, pulse_name, render, text_at};
-use crate::dynamics::{Pulse, PulseShape};
 
 const WIDTH: u32 = 1120;
-const TITLE_AREA: u32 = 40;
-const X_AXIS: u32 = 50;
-const MIN_HEIGHT: u32 = 600;
+const TITLE_AREA: u32 = 44;
+const HEADING: u32 = 34;
+const X_AXIS: u32 = 58;
+/// Height of the stacked panels together (each at least `MIN_PANEL`).
+const PANELS_HEIGHT: u32 = 600;
+const MIN_PANEL: u32 = 150;
+/// Legend columns under the panels.
+const LEGEND_COLUMNS: usize = 3;
+/// Width of the y labels of the first column (with the axis description)
+/// and of the second (ticks only), px.
+const Y_LABELS: (u32, u32) = (92, 62);
+/// Share of the width the zoomed column takes.
+const ZOOM_SHARE: f64 = 0.56;
+/// A pulse shorter than this fraction of the history gets a zoomed column.
+const ZOOM_BELOW: f64 = 0.25;
+/// The zoomed column shows at most this many impacts …
+const FIRST_IMPACTS: usize = 3;
+/// … of those within this many pulse durations.
+const IMPACT_REACH: f64 = 4.0;
+/// A zoom reaching past this fraction of the history is no zoom.
+const ZOOM_AT_MOST: f64 = 0.6;
+
+/// Colour of the friction demand.
+const RATIO: RGBColor = RGBColor(150, 80, 20);
 
 /// What the figure asks of a result without a series.
 pub const NO_SERIES: &str = "no series in this result: add \"outputs\": {\"series\": 500} to the spec for θ(t), θ̇(t) and f_x/f_z(t)";
 
-/// One panel: a quantity against time.
-struct Panel {
-    /// Axis description.
-    desc: String,
-    /// Legend label.
-    label: String,
-    colour: RGBColor,
-    /// A curve.
-    line: Vec<(f64, f64)>,
-    /// Markers (without a curve).
-    points: Vec<((f64, f64), Marker)>,
-    /// y range.
-    range: (f64, f64),
-    /// Dotted reference levels.
-    refs: Vec<f64>,
-    /// Tick the impacts on the zero line.
-    impacts: bool,
-}
-
-/// A vertical line across every panel.
-struct Mark {
-    t: f64,
-    colour: RGBColor,
-    label: String,
-}
-
-/// What every panel shares.
-struct Shared {
-    t_end: f64,
-    motion_end: Option<f64>,
-    impacts: Vec<f64>,
-    marks: Vec<Mark>,
-}
-
-fn half_range(values: impl Iterator<Item = f64>, floor: f64) -> f64 {
-    values
-        .filter(|v| v.is_finite())
-        .fold(floor, |m, v| m.max(v.abs() * 1.12))
-}
-
-/// The ground motion of a time-history spec.
-enum Motion {
-    /// A cycloidal pulse.
-    Pulse(Pulse),
-    /// A record: samples (m/s²) every `dt` s, linear in between.
-    Record { dt: f64, acc: Vec<f64> },
-}
-
-impl Motion {
-    fn of(spec: &Value) -> Option<Motion> {
-        if let Some(g) = spec.get("ground_motion") {
-            let dt = num(g, "dt").filter(|dt| *dt > 0.0)?;
-            let acc = column(g, "acc");
-            return (acc.len() >= 2).then_some(Motion::Record { dt, acc });
-        }
-        let shape = match text_at(spec, "/pulse/type") {
-            "one_sine" => PulseShape::OneSine,
-            "one_cosine" => PulseShape::OneCosine,
-            "cn" => PulseShape::Cn(
-                spec.pointer("/pulse/n")
-                    .and_then(Value::as_u64)
-                    .and_then(|n| u32::try_from(n).ok())
-                    .unwrap_or(1),
-            ),
-            _ => return None,
-        };
-        Pulse::new(shape, at(spec, "/pulse/a_p")?, at(spec, "/pulse/omega_p")?)
-            .ok()
-            .map(Motion::Pulse)
+/// The end of a span showing the pulse (lasting `duration`) and the first
+/// impacts, when the pulse takes less than a quarter of a history ending at
+/// `t_end`; `None` when the whole history reads well enough.
+pub fn zoom_end(duration: f64, impacts: &[f64], t_end: f64) -> Option<f64> {
+    if !(duration > 0.0 && t_end.is_finite() && duration < ZOOM_BELOW * t_end) {
+        return None;
     }
+    let end = impacts
+        .iter()
+        .copied()
+        .take_while(|t| *t <= IMPACT_REACH * duration)
+        .take(FIRST_IMPACTS)
+        .fold(1.5 * duration, f64::max);
+    let end = (1.1 * end).min(t_end);
+    (end < ZOOM_AT_MOST * t_end).then_some(end)
+}
 
-    /// When the ground stops moving, s.
-    fn duration(&self) -> f64 {
-        match self {
-            Motion::Pulse(p) => p.duration,
-            Motion::Record { dt, acc } => dt * (acc.len() - 1) as f64,
-        }
-    }
+/// The f_x/f_z series cut where it stops meaning anything, with that end:
+/// at lift-off (f_z = 0, where the series turns null and the demand is
+/// unbounded) or where the block is bound to overturn (its fall is not
+/// counted), whichever comes first.
+fn friction_demand(ratio: &[(f64, f64)], result: &Value) -> (Vec<(f64, f64)>, Option<End>) {
+    let lift_off = num(result, "lift_off_time");
+    let bound = num(result, "friction_demand_followed_until");
+    let stop = [lift_off, bound]
+        .into_iter()
+        .flatten()
+        .fold(f64::INFINITY, f64::min);
+    let defined: Vec<(f64, f64)> = ratio
+        .iter()
+        .copied()
+        .take_while(|p| p.1.is_finite())
+        .collect();
+    let Some(&(first, _)) = defined.first() else {
+        return (defined, None);
+    };
+    let line = crop(&defined, first, stop);
+    let cut_by_null = defined.len() < ratio.len();
+    let Some(&(t, value)) = line.last() else {
+        return (line, None);
+    };
+    let label = match (lift_off, bound) {
+        (Some(tl), _) if tl <= stop => "lift-off: f_z = 0".to_string(),
+        (_, Some(_)) => "bound to overturn".to_string(),
+        _ if cut_by_null => "f_z = 0".to_string(),
+        _ => return (line, None),
+    };
+    (line, Some(End { t, value, label }))
+}
 
-    /// ü_g/g over [0, t_end]: the pulse sampled finely; a record by its
-    /// samples, or by the least and largest sample of each of about 2000
-    /// buckets when it has more (no peak is lost).
-    fn curve(&self, t_end: f64, g: f64) -> Vec<(f64, f64)> {
-        match self {
-            Motion::Pulse(p) => (0..=1200)
-                .map(|k| {
-                    let t = t_end * f64::from(k) / 1200.0;
-                    (t, p.acceleration(t) / g)
-                })
-                .collect(),
-            Motion::Record { dt, acc } => {
-                let n = acc.len().min((t_end / dt).floor() as usize + 1).max(2);
-                let bucket = n.div_ceil(2000).max(1);
-                let mut out = Vec::with_capacity(2 * n / bucket + 2);
-                for (b, chunk) in acc[..n].chunks(bucket).enumerate() {
-                    let first = b * bucket;
-                    let (lo, hi) = chunk.iter().enumerate().fold(
-                        ((0, f64::INFINITY), (0, f64::NEG_INFINITY)),
-                        |(lo, hi), (k, &v)| {
-                            (
-                                if v < lo.1 { (k, v) } else { lo },
-                                if v > hi.1 { (k, v) } else { hi },
-                            )
-                        },
-                    );
-                    let (a, b) = if lo.0 <= hi.0 { (lo, hi) } else { (hi, lo) };
-                    for (k, v) in [a, b] {
-                        out.push(((first + k) as f64 * dt, v / g));
-                    }
-                    if bucket == 1 {
-                        out.pop();
-                    }
-                }
-                // Still ground after the record ends.
-                let end = (acc.len() - 1) as f64 * dt;
-                if t_end > end {
-                    out.push((end, 0.0));
-                    out.push((t_end, 0.0));
-                }
-                out
+/// `line` broken at each of `times` (ordered): f_x/f_z jumps at an impact,
+/// where θ and with it the rocking corner change sides, and a line drawn
+/// through the jump would be a demand that never was.
+fn broken_at(line: &[(f64, f64)], times: &[f64]) -> Vec<(f64, f64)> {
+    let mut out = Vec::with_capacity(line.len() + times.len());
+    let mut next = times.iter().peekable();
+    for &p in line {
+        while let Some(&&t) = next.peek() {
+            if t > p.0 {
+                break;
             }
+            if out.last().is_some_and(|q: &(f64, f64)| q.0 < t) {
+                out.push((t, f64::NAN));
+            }
+            next.next();
         }
+        out.push(p);
     }
+    out
 }
 
-/// The figure of a `time_history` result.
-pub fn svg(result: &Value) -> Result<String, String> {
+/// The figure of a `time_history` result, over `window` or, without one,
+/// the whole history (with a zoomed column for a short pulse).
+pub fn svg(result: &Value, window: Option<Window>) -> Result<String, String> {
     let spec = result
         .get("spec")
         .ok_or("the result has no spec: cannot scale θ by α")?;
@@ -178,61 +151,126 @@ pub fn svg(result: &Value) -> Result<String, String> {
             ))
         })
         .collect();
+    let impact_times: Vec<f64> = impacts.iter().map(|i| i.0).collect();
+
+    // The spans drawn, one column each.
+    let zoom = match window {
+        Some(_) => None,
+        None => motion
+            .as_ref()
+            .and_then(|m| zoom_end(m.duration(), &impact_times, t_end)),
+    };
+    let spans: Vec<(Span, String)> = match (window, zoom) {
+        (Some(w), _) => vec![(
+            Span {
+                t0: w.start(),
+                t1: w.end(),
+                zoomed: None,
+            },
+            format!(
+                "t = {}–{} s (the history runs 0–{} s)",
+                fmt_num(w.start(), 4),
+                fmt_num(w.end(), 4),
+                fmt_num(t_end, 4)
+            ),
+        )],
+        (None, Some(z)) => vec![
+            (
+                Span {
+                    t0: 0.0,
+                    t1: z,
+                    zoomed: None,
+                },
+                format!("the pulse and first impacts, t = 0–{} s", fmt_num(z, 3)),
+            ),
+            (
+                Span {
+                    t0: 0.0,
+                    t1: t_end,
+                    zoomed: Some((0.0, z)),
+                },
+                format!("the whole history, t = 0–{} s", fmt_num(t_end, 4)),
+            ),
+        ],
+        (None, None) => vec![(
+            Span {
+                t0: 0.0,
+                t1: t_end,
+                zoomed: None,
+            },
+            String::new(),
+        )],
+    };
+    let (from, to) = spans
+        .iter()
+        .fold((0.0f64, t_end), |(a, b), (s, _)| (a.min(s.t0), b.max(s.t1)));
+
     // Ground acceleration reaches the rocking threshold at g tan α (α g linearised).
     let threshold = if linear { alpha } else { alpha.tan() };
+    let ground_from_motion = motion.as_ref().map(|m| m.curve(from, to, g));
     let mut panels = Vec::new();
     let mut clipped_ratio = None;
+    let mut ratio_end = None;
     if let Some(s) = series.filter(|_| !t.is_empty()) {
         let zip = |v: Vec<f64>, scale: f64| -> Vec<(f64, f64)> {
             t.iter().zip(v).map(|(&t, v)| (t, v / scale)).collect()
         };
-        let ground = zip(column(s, "ground_acceleration"), g);
+        let ground = ground_from_motion
+            .clone()
+            .unwrap_or_else(|| zip(column(s, "ground_acceleration"), g));
         let theta = zip(column(s, "theta"), alpha);
         let theta_dot = zip(column(s, "theta_dot"), p);
         let ratio = zip(column(s, "fx_over_fz"), 1.0);
         if !ground.is_empty() {
-            let m = half_range(ground.iter().map(|q| q.1), threshold * 1.3);
             panels.push(Panel {
                 desc: "ü_g / g".into(),
                 label: "ground acceleration ü_g/g".into(),
                 colour: RGBColor(90, 90, 90),
                 line: ground,
                 points: Vec::new(),
-                range: (-m, m),
+                scale: Scale::Symmetric {
+                    floor: threshold * 1.3,
+                },
                 refs: vec![threshold, -threshold],
                 impacts: false,
+                end: None,
             });
         }
-        let m = half_range(theta.iter().map(|q| q.1), 1.25);
         panels.push(Panel {
             desc: "θ / α".into(),
             label: format!("rotation θ/α (α = {} rad)", fmt_num(alpha, 3)),
             colour: RGBColor(31, 78, 160),
             line: theta,
             points: Vec::new(),
-            range: (-m, m),
+            scale: Scale::Symmetric { floor: 1.25 },
             refs: vec![1.0, -1.0],
             impacts: true,
+            end: None,
         });
         if !theta_dot.is_empty() {
-            let m = half_range(theta_dot.iter().map(|q| q.1), 0.1);
             panels.push(Panel {
                 desc: "θ̇ / p".into(),
                 label: format!("angular velocity θ̇/p (p = {} rad/s)", fmt_num(p, 3)),
                 colour: RGBColor(0, 120, 120),
                 line: theta_dot,
                 points: Vec::new(),
-                range: (-m, m),
+                scale: Scale::Symmetric { floor: 0.1 },
                 refs: Vec::new(),
                 impacts: false,
+                end: None,
             });
         }
         if !ratio.is_empty() {
-            // Near lift-off and overturning f_z → 0 and the ratio grows without
-            // bound: the range follows the peak demand while rocking.
-            // After lift-off the demand is unbounded (the series stops there):
-            // the range then follows the demand when rocking starts.
-            let largest = half_range(ratio.iter().map(|q| q.1), 0.0) / 1.12;
+            let (line, end) = friction_demand(&ratio, result);
+            let line = broken_at(&line, &impact_times);
+            // Close to lift-off f_z is small and the demand large: the range
+            // follows the peak demand while rocking, or, when the block lifts
+            // off, twice the demand when rocking starts.
+            let largest = line
+                .iter()
+                .map(|q| q.1.abs())
+                .filter(|v| v.is_finite())
+                .fold(0.0, f64::max);
             let scale = num(result, "peak_friction_demand")
                 .or_else(|| {
                     num(result, "lift_off_time")
@@ -241,27 +279,27 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 })
                 .unwrap_or(largest)
                 .max(threshold.max(mu.unwrap_or(0.0)));
-            let m = (largest * 1.12).min(scale * 1.3).max(alpha.tan() * 1.3);
-            if largest > m {
+            let (floor, cap) = (alpha.tan() * 1.3, scale * 1.3);
+            if largest * 1.12 > cap.max(floor) {
                 clipped_ratio = Some(largest);
             }
             let mut refs = vec![alpha.tan(), -alpha.tan()];
             refs.extend(mu.iter().flat_map(|m| [*m, -*m]));
+            ratio_end.clone_from(&end);
             panels.push(Panel {
                 desc: "f_x / f_z".into(),
                 label: "friction demand f_x/f_z".into(),
-                colour: RGBColor(150, 80, 20),
-                line: ratio,
+                colour: RATIO,
+                line,
                 points: Vec::new(),
-                range: (-m, m),
+                scale: Scale::Capped { floor, cap },
                 refs,
                 impacts: false,
+                end,
             });
         }
     } else {
-        if let Some(motion) = &motion {
-            let ground = motion.curve(t_end, g);
-            let m = half_range(ground.iter().map(|q| q.1), threshold * 1.3);
+        if let (Some(motion), Some(ground)) = (&motion, ground_from_motion) {
             panels.push(Panel {
                 desc: "ü_g / g".into(),
                 label: match motion {
@@ -271,9 +309,12 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 colour: RGBColor(90, 90, 90),
                 line: ground,
                 points: Vec::new(),
-                range: (-m, m),
+                scale: Scale::Symmetric {
+                    floor: threshold * 1.3,
+                },
                 refs: vec![threshold, -threshold],
                 impacts: false,
+                end: None,
             });
         }
         if !impacts.is_empty() {
@@ -282,16 +323,16 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 points.push(((t, before / p), Marker::Ring));
                 points.push(((t, after / p), Marker::Dot));
             }
-            let m = half_range(points.iter().map(|q| q.0.1), 0.05);
             panels.push(Panel {
                 desc: "θ̇ / p at impacts".into(),
                 label: "θ̇/p before (○) and after (●) each impact".into(),
                 colour: RGBColor(0, 120, 120),
                 line: Vec::new(),
                 points,
-                range: (-m, m),
+                scale: Scale::Symmetric { floor: 0.05 },
                 refs: Vec::new(),
                 impacts: true,
+                end: None,
             });
         }
         if panels.is_empty() {
@@ -316,6 +357,12 @@ pub fn svg(result: &Value) -> Result<String, String> {
         ),
         None => {}
     }
+    if let Some(z) = zoom {
+        legend.entry(
+            Swatch::Fill(ZOOMED),
+            format!("0–{} s, drawn larger at left", fmt_num(z, 3)),
+        );
+    }
     for panel in &panels {
         let swatch = if panel.line.is_empty() {
             Swatch::Mark(Marker::Dot, panel.colour)
@@ -324,7 +371,22 @@ pub fn svg(result: &Value) -> Result<String, String> {
         };
         legend.entry(swatch, panel.label.clone());
     }
-    let mut refs = vec![format!("θ = ±α")];
+    if let (Some(end), Some(panel)) = (&ratio_end, panels.last()) {
+        legend.entry(
+            Swatch::Mark(Marker::Ring, panel.colour),
+            match end.label.as_str() {
+                "bound to overturn" => format!(
+                    "f_x/f_z stops at t = {} s: the block is bound to overturn (its fall is not counted)",
+                    fmt_num(end.t, 4)
+                ),
+                _ => format!(
+                    "f_x/f_z stops at t = {} s: lift-off, f_z = 0 (the demand is unbounded)",
+                    fmt_num(end.t, 4)
+                ),
+            },
+        );
+    }
+    let mut refs = vec!["θ = ±α".to_string()];
     refs.push(if linear {
         "ü_g = ±αg (rocking starts)".to_string()
     } else {
@@ -356,7 +418,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
             },
             fmt_num(to, 4)
         );
-        legend.entry(Swatch::Dashed(mode_colour(mode), 2), label.clone());
+        legend.entry(Swatch::Dashed(mode_colour(mode), 2), label);
         marks.push(Mark {
             t: to,
             colour: mode_colour(mode),
@@ -399,8 +461,8 @@ pub fn svg(result: &Value) -> Result<String, String> {
         ));
     }
     let record_peak = match &motion {
-        Some(Motion::Record { dt, acc }) => {
-            let peak = acc.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        Some(m @ Motion::Record { dt, acc }) => {
+            let peak = m.peak();
             legend.note(format!(
                 "record: {} samples every {} s, peak |ü_g| = {} g = {} αg",
                 acc.len(),
@@ -429,20 +491,15 @@ pub fn svg(result: &Value) -> Result<String, String> {
             format!("{n} impact{plural}")
         });
     }
-    if let Some(peak) = num(result, "peak_theta_over_alpha") {
+    if !overturned && let Some(peak) = num(result, "peak_theta_over_alpha") {
         legend.note(format!("peak |θ|/α = {}", fmt_num(peak, 3)));
     }
     if let Some(peak) = num(result, "peak_friction_demand") {
         legend.note(format!("peak f_x/f_z while rocking = {}", fmt_num(peak, 3)));
-    } else if let Some(tl) = num(result, "lift_off_time") {
-        legend.note(format!(
-            "f_z → 0 at t = {} s (lift-off): friction demand unbounded",
-            fmt_num(tl, 4)
-        ));
     }
     if let Some(largest) = clipped_ratio {
         legend.note(format!(
-            "f_x/f_z leaves the panel where f_z → 0 (|f_x/f_z| up to {})",
+            "f_x/f_z leaves the panel as f_z → 0 (|f_x/f_z| up to {} before it stops)",
             fmt_num(largest, 3)
         ));
     }
@@ -479,117 +536,99 @@ pub fn svg(result: &Value) -> Result<String, String> {
         _ => "Rocking time history".to_string(),
     };
     let shared = Shared {
-        t_end,
         motion_end: motion.as_ref().map(Motion::duration),
-        impacts: impacts.iter().map(|i| i.0).collect(),
+        impacts: impact_times,
         marks,
     };
-    let n = panels.len() as u32;
-    let panel_h = ((MIN_HEIGHT - TITLE_AREA - X_AXIS) / n).max(170);
-    let height = TITLE_AREA + X_AXIS + n * panel_h;
-    render((WIDTH, height), &title, |area| {
-        let (charts, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
-        let (h_charts, _) = (charts.dim_in_pixel().1, ());
-        let (upper, bottom) = charts.split_vertically(h_charts - panel_h - X_AXIS);
+    let layout = Layout::new(panels.len(), !spans[0].1.is_empty(), &legend);
+    render((WIDTH, layout.height), &title, |area| {
+        draw(area, &layout, &panels, &spans, &shared, &legend)
+    })
+}
+
+/// Heights of the parts of the figure, px.
+struct Layout {
+    /// Column headings (0: none).
+    heading: u32,
+    /// One panel (the bottom one also has the time axis).
+    panel: u32,
+    /// The panels with the time axis.
+    charts: u32,
+    /// The whole figure.
+    height: u32,
+}
+
+impl Layout {
+    fn new(panels: usize, headings: bool, legend: &Legend) -> Layout {
+        let n = panels.max(1) as u32;
+        let heading = if headings { HEADING } else { 0 };
+        let panel = (PANELS_HEIGHT / n).max(MIN_PANEL);
+        let charts = heading + n * panel + X_AXIS;
+        let height = TITLE_AREA + charts + legend_height(legend, WIDTH, LEGEND_COLUMNS) + 12;
+        Layout {
+            heading,
+            panel,
+            charts,
+            height,
+        }
+    }
+}
+
+fn draw(
+    area: &Area,
+    layout: &Layout,
+    panels: &[Panel],
+    spans: &[(Span, String)],
+    shared: &Shared,
+    legend: &Legend,
+) -> Drawn {
+    let (charts, below) = area.split_vertically(layout.charts);
+    let columns = match spans.len() {
+        1 => vec![charts],
+        _ => {
+            let (left, right) =
+                charts.split_horizontally((f64::from(WIDTH) * ZOOM_SHARE).round() as u32);
+            vec![left, right]
+        }
+    };
+    for (c, ((span, heading), column)) in spans.iter().zip(&columns).enumerate() {
+        let (head, body) = column.split_vertically(layout.heading);
+        if !heading.is_empty() {
+            let x = if c == 0 { Y_LABELS.0 } else { Y_LABELS.1 } as i32;
+            head.draw(&Text::new(
+                heading.clone(),
+                (x + 4, 8),
+                text(LEGEND + 1, INK),
+            ))?;
+        }
+        let n = panels.len();
+        let (upper, bottom) = body.split_vertically(layout.panel * (n as u32 - 1));
         let mut areas = if n > 1 {
-            upper.split_evenly((n as usize - 1, 1))
+            upper.split_evenly((n - 1, 1))
         } else {
             Vec::new()
         };
         areas.push(bottom);
         for (k, (panel, a)) in panels.iter().zip(&areas).enumerate() {
-            draw_panel(a, panel, &shared, k == 0, k + 1 == panels.len())?;
-        }
-        draw_legend(&side, &legend)
-    })
-}
-
-fn draw_panel(area: &Area, panel: &Panel, shared: &Shared, first: bool, bottom: bool) -> Drawn {
-    let (lo, hi) = panel.range;
-    let t_end = shared.t_end;
-    let mut chart = ChartBuilder::on(area)
-        .margin_top(8)
-        .margin_right(18)
-        .margin_left(6)
-        .x_label_area_size(if bottom { X_AXIS } else { 0 })
-        .y_label_area_size(80)
-        .build_cartesian_2d(0.0..t_end, lo..hi)?;
-    let mut mesh = chart.configure_mesh();
-    mesh.y_desc(panel.desc.as_str())
-        .label_style(text(TICKS, INK))
-        .axis_desc_style(text(AXIS, INK))
-        .light_line_style(RGBColor(243, 243, 243))
-        .bold_line_style(RGBColor(222, 222, 222))
-        .y_labels(5)
-        .x_labels(10)
-        .y_label_formatter(&|v| tick(*v))
-        .x_label_formatter(&|v| tick(*v));
-    if bottom {
-        mesh.x_desc("t (s)");
-    }
-    mesh.draw()?;
-    if let Some(end) = shared.motion_end {
-        chart.draw_series(std::iter::once(Rectangle::new(
-            [(0.0, lo), (end.min(t_end), hi)],
-            PULSE.mix(0.65).filled(),
-        )))?;
-    }
-    chart.draw_series(std::iter::once(PathElement::new(
-        vec![(0.0, 0.0), (t_end, 0.0)],
-        RGBColor(160, 160, 160).stroke_width(1),
-    )))?;
-    for &level in panel.refs.iter().filter(|l| **l > lo && **l < hi) {
-        chart.draw_series(std::iter::once(DashedPathElement::new(
-            vec![(0.0, level), (t_end, level)],
-            3,
-            3,
-            MUTED.stroke_width(1),
-        )))?;
-    }
-    for part in clip_y(&panel.line, lo, hi) {
-        chart.draw_series(LineSeries::new(part, panel.colour.stroke_width(2)))?;
-    }
-    chart.draw_series(
-        panel
-            .points
-            .iter()
-            .filter(|(q, _)| q.1 >= lo && q.1 <= hi && q.0 <= t_end)
-            .map(|&(q, kind)| marker(q, kind, 8, panel.colour)),
-    )?;
-    if panel.impacts {
-        chart.draw_series(
-            shared
-                .impacts
-                .iter()
-                .filter(|t| **t <= t_end)
-                .map(|&t| marker((t, 0.0), Marker::Tick, 8, INK)),
-        )?;
-    }
-    for mark in &shared.marks {
-        chart.draw_series(std::iter::once(DashedPathElement::new(
-            vec![(mark.t, lo), (mark.t, hi)],
-            7,
-            4,
-            mark.colour.stroke_width(2),
-        )))?;
-        if first {
-            let style = if mark.t > 0.35 * t_end {
-                right_top(LEGEND, mark.colour)
-            } else {
-                left_top(LEGEND, mark.colour)
+            let place = Place {
+                top: k == 0,
+                bottom: k + 1 == n,
+                desc: c == 0,
+                y_labels: if c == 0 { Y_LABELS.0 } else { Y_LABELS.1 },
+                x_axis: X_AXIS,
             };
-            let dx = if mark.t > 0.35 * t_end { -6 } else { 6 };
-            chart.draw_series(std::iter::once(
-                EmptyElement::at((mark.t, hi)) + Text::new(mark.label.clone(), (dx, 4), style),
-            ))?;
+            draw_panel(a, panel, span, shared, place)?;
         }
     }
-    Ok(())
+    draw_legend_columns(&below.margin(6, 0, 12, 12), legend, LEGEND_COLUMNS)
 }
 
 #[cfg(test)]
 pub(crate) mod tests {
     use serde_json::{Value, json};
+
+    use super::{RATIO, zoom_end};
+    use crate::plot::window::Window;
 
     pub(crate) fn sample(series: bool) -> Value {
         let n = 200;
@@ -619,7 +658,7 @@ pub(crate) mod tests {
 
     #[test]
     fn four_panels_with_labels_marks_and_legend() {
-        let svg = super::svg(&sample(true)).expect("svg");
+        let svg = super::svg(&sample(true), None).expect("svg");
         for needle in [
             "Rocking time history: one-sine pulse",
             "ü_g / g",
@@ -638,14 +677,14 @@ pub(crate) mod tests {
 
     #[test]
     fn without_series_the_pulse_and_impacts_are_drawn_with_a_hint() {
-        let svg = super::svg(&sample(false)).expect("svg");
+        let svg = super::svg(&sample(false), None).expect("svg");
         assert!(svg.contains("θ̇ / p at impacts"));
         assert!(svg.contains("ü_g / g"));
         assert!(svg.contains("outputs"));
         let mut bare = sample(false);
         bare["impacts"] = json!([]);
         bare["spec"]["pulse"] = json!({"type": "record"});
-        let e = super::svg(&bare).unwrap_err();
+        let e = super::svg(&bare, None).unwrap_err();
         assert!(e.contains("\"outputs\": {\"series\": 500}"), "{e}");
     }
 
@@ -655,7 +694,7 @@ pub(crate) mod tests {
         doc["spec"]["pulse"] = Value::Null;
         doc["spec"].as_object_mut().map(|o| o.remove("pulse"));
         doc["spec"]["ground_motion"] = json!({"dt": 0.01, "acc": (0..300).map(|k| (f64::from(k) * 0.1).sin() * 5.0).collect::<Vec<_>>(), "unit": "m/s2"});
-        let svg = super::svg(&doc).expect("svg");
+        let svg = super::svg(&doc, None).expect("svg");
         assert!(svg.contains("recorded ground motion"));
         assert!(svg.contains("ground motion: 0 ≤ t ≤ 2.99 s"));
         assert!(svg.contains("record: 300 samples"));
@@ -665,6 +704,89 @@ pub(crate) mod tests {
     fn a_result_without_spec_is_refused() {
         let mut doc = sample(true);
         doc.as_object_mut().map(|o| o.remove("spec"));
-        assert!(super::svg(&doc).unwrap_err().contains("spec"));
+        assert!(super::svg(&doc, None).unwrap_err().contains("spec"));
+    }
+
+    #[test]
+    fn zoom_on_a_short_pulse_and_its_first_impacts_only() {
+        // A 0.4 s pulse, impacts at 0.85, 2 and 7 s, a 5.2 s history: the
+        // zoom reaches the first impact (the later ones are too far).
+        let z = zoom_end(0.4, &[0.85, 2.0, 7.0], 5.24).expect("zoom");
+        assert!((z - 0.935).abs() < 1e-12, "{z}");
+        // No impact near: one and a half pulses.
+        assert!((zoom_end(0.4, &[], 5.0).expect("zoom") - 0.66).abs() < 1e-12);
+        // A pulse of a quarter of the history or more reads as it is.
+        assert_eq!(zoom_end(0.4, &[], 1.6), None);
+        assert_eq!(zoom_end(0.0, &[], 1.0), None);
+    }
+
+    /// f_x/f_z of a computed result as the figure reads it: (t, value).
+    fn ratio_of(result: &Value) -> Vec<(f64, f64)> {
+        let s = &result["series"];
+        let t = crate::plot::column(s, "t");
+        t.into_iter()
+            .zip(crate::plot::column(s, "fx_over_fz"))
+            .collect()
+    }
+
+    /// No segment of the f_x/f_z curve in `svg` is a vertical bar.
+    fn assert_no_vertical_bar(svg: &str) {
+        let colour = format!("stroke=\"{}\"", crate::plot::tests::hex(RATIO));
+        let curves = crate::plot::tests::shapes(svg, "polyline", &colour);
+        assert!(!curves.is_empty());
+        for w in curves.iter().flat_map(|c| c.windows(2)) {
+            let (dx, dy) = (w[1].0 - w[0].0, w[1].1 - w[0].1);
+            assert!(dx.abs() > 0.5 || dy.abs() < 30.0, "a bar {w:?}");
+        }
+    }
+
+    #[test]
+    fn friction_demand_stops_at_lift_off() {
+        // One-cosine, ω_p/p = 1, 6 αg: f_z reaches 0 at 0.4105 s.
+        let result = crate::plot::tests::computed(
+            r#"{"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+                "pulse": {"type": "one_cosine", "omega_ratio": 1.0, "a_p_alpha_g": 6.0},
+                "formulation": "nonlinear", "outputs": {"series": 400, "reactions": true}}"#,
+        );
+        let lift_off = result["lift_off_time"].as_f64().expect("lifts off");
+        assert!((lift_off - 0.410_511_6).abs() < 1e-6, "{lift_off}");
+        let (line, end) = super::friction_demand(&ratio_of(&result), &result);
+        let last = line.last().expect("a curve").0;
+        assert!(line.iter().all(|p| p.0 <= lift_off && p.1.is_finite()));
+        // The last sample before lift-off (400 samples over 0.765 s).
+        assert!(last > lift_off - 0.002, "{last}");
+        let end = end.expect("an end");
+        assert_eq!((end.t, end.label.as_str()), (last, "lift-off: f_z = 0"));
+        let svg = super::svg(&result, None).expect("svg");
+        assert!(svg.contains("lift-off: f_z = 0"));
+        assert_no_vertical_bar(&svg);
+    }
+
+    #[test]
+    fn friction_demand_stops_when_the_block_is_bound_to_overturn() {
+        let result =
+            crate::plot::tests::computed(include_str!("../../specs/locomotive_nonlinear.json"));
+        let bound = result["friction_demand_followed_until"]
+            .as_f64()
+            .expect("bound to overturn");
+        let (line, end) = super::friction_demand(&ratio_of(&result), &result);
+        assert_eq!(line.last().map(|p| p.0), Some(bound));
+        assert_eq!(end.map(|e| e.label), Some("bound to overturn".to_string()));
+        // Its pulse lasts 0.4 s of 5.24: the figure zooms on it and on the
+        // first impact (0.848 s) beside the whole history.
+        let svg = super::svg(&result, None).expect("svg");
+        assert!(svg.contains("the pulse and first impacts, t = 0–0.932 s"));
+        assert!(svg.contains("the whole history, t = 0–5.237 s"));
+        assert_no_vertical_bar(&svg);
+    }
+
+    #[test]
+    fn a_window_draws_the_span_asked_for() {
+        let w = Window::new(0.0, 1.2).expect("window");
+        let svg = super::svg(&sample(true), Some(w)).expect("svg");
+        assert!(svg.contains("t = 0–1.2 s (the history runs 0–5.97 s)"));
+        // Overturning at 5.9 s is outside the window: not marked.
+        assert!(!svg.contains("overturns (mode 1)"));
+        assert_ne!(svg, super::svg(&sample(true), None).expect("svg"));
     }
 }

@@ -3,6 +3,7 @@
 
 mod bad_input;
 mod contract;
+mod figures;
 mod guard;
 mod helpers;
 mod tenants;

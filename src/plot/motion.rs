@@ -1,0 +1,178 @@
+//! The ground motion of a time-history spec as a figure draws it: a
+//! cycloidal pulse evaluated in closed form (smooth at any zoom), or a
+//! recorded ground motion by its samples.
+
+use serde_json::Value;
+
+use super::{at, column, num, text_at};
+use crate::dynamics::{Pulse, PulseShape};
+
+/// Samples of a pulse across any drawn time span.
+const PULSE_SAMPLES: u32 = 1200;
+/// A record with more samples in a drawn span is drawn by the least and
+/// largest sample of about this many buckets.
+const RECORD_BUCKETS: usize = 2000;
+
+/// The ground motion of a time-history spec.
+pub enum Motion {
+    /// A cycloidal pulse.
+    Pulse(Pulse),
+    /// A record: samples (m/s²) every `dt` s, linear in between.
+    Record {
+        /// Sampling interval, s.
+        dt: f64,
+        /// Accelerations, m/s².
+        acc: Vec<f64>,
+    },
+}
+
+impl Motion {
+    /// The ground motion of `spec`, if it names one the figure can draw.
+    pub fn of(spec: &Value) -> Option<Motion> {
+        if let Some(g) = spec.get("ground_motion") {
+            let dt = num(g, "dt").filter(|dt| *dt > 0.0)?;
+            let acc = column(g, "acc");
+            return (acc.len() >= 2).then_some(Motion::Record { dt, acc });
+        }
+        let shape = match text_at(spec, "/pulse/type") {
+            "one_sine" => PulseShape::OneSine,
+            "one_cosine" => PulseShape::OneCosine,
+            "cn" => PulseShape::Cn(
+                spec.pointer("/pulse/n")
+                    .and_then(Value::as_u64)
+                    .and_then(|n| u32::try_from(n).ok())
+                    .unwrap_or(1),
+            ),
+            _ => return None,
+        };
+        Pulse::new(shape, at(spec, "/pulse/a_p")?, at(spec, "/pulse/omega_p")?)
+            .ok()
+            .map(Motion::Pulse)
+    }
+
+    /// When the ground stops moving, s.
+    pub fn duration(&self) -> f64 {
+        match self {
+            Motion::Pulse(p) => p.duration,
+            Motion::Record { dt, acc } => dt * (acc.len() - 1) as f64,
+        }
+    }
+
+    /// The largest |ü_g|, m/s² (a record's; a pulse's is its a_p).
+    pub fn peak(&self) -> f64 {
+        match self {
+            Motion::Pulse(p) => (0..=PULSE_SAMPLES)
+                .map(|k| {
+                    p.acceleration(p.duration * f64::from(k) / f64::from(PULSE_SAMPLES))
+                        .abs()
+                })
+                .fold(0.0, f64::max),
+            Motion::Record { acc, .. } => acc.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+        }
+    }
+
+    /// ü_g/g over [t0, t1]: a pulse sampled finely over its duration, a
+    /// record by its samples, or by the least and largest sample of each
+    /// bucket when it has many more than a figure shows (no peak is lost).
+    /// The ground is still outside the motion.
+    pub fn curve(&self, t0: f64, t1: f64, g: f64) -> Vec<(f64, f64)> {
+        match self {
+            Motion::Pulse(p) => {
+                let (a, b) = (t0.max(0.0), t1.min(p.duration));
+                let mut out = Vec::new();
+                if t0 < a {
+                    out.push((t0, 0.0));
+                }
+                if a < b {
+                    out.extend((0..=PULSE_SAMPLES).map(|k| {
+                        let t = a + (b - a) * f64::from(k) / f64::from(PULSE_SAMPLES);
+                        (t, p.acceleration(t) / g)
+                    }));
+                }
+                if b < t1 {
+                    out.push((b.max(t0), 0.0));
+                    out.push((t1, 0.0));
+                }
+                out
+            }
+            Motion::Record { dt, acc } => record_curve(*dt, acc, t0, t1, g),
+        }
+    }
+}
+
+/// A record's samples over [t0, t1] (the two samples around each end
+/// included, so the drawn line reaches the ends), ü_g/g.
+fn record_curve(dt: f64, acc: &[f64], t0: f64, t1: f64, g: f64) -> Vec<(f64, f64)> {
+    let last = acc.len() - 1;
+    let index = |t: f64| ((t / dt).max(0.0) as usize).min(last);
+    let first = index(t0);
+    let end = (index(t1) + 1).min(last);
+    let mut out = Vec::new();
+    if t0 < 0.0 {
+        out.push((t0, 0.0));
+        out.push((0.0, 0.0));
+    }
+    if first <= end {
+        let n = end - first + 1;
+        let bucket = n.div_ceil(RECORD_BUCKETS).max(1);
+        for (b, chunk) in acc[first..=end].chunks(bucket).enumerate() {
+            let start = first + b * bucket;
+            if bucket == 1 {
+                out.push((start as f64 * dt, chunk[0] / g));
+                continue;
+            }
+            let (lo, hi) = chunk.iter().enumerate().fold(
+                ((0, f64::INFINITY), (0, f64::NEG_INFINITY)),
+                |(lo, hi), (k, &v)| {
+                    (
+                        if v < lo.1 { (k, v) } else { lo },
+                        if v > hi.1 { (k, v) } else { hi },
+                    )
+                },
+            );
+            let (a, b) = if lo.0 <= hi.0 { (lo, hi) } else { (hi, lo) };
+            for (k, v) in [a, b] {
+                out.push(((start + k) as f64 * dt, v / g));
+            }
+        }
+    }
+    // Still ground after the record ends.
+    let stop = last as f64 * dt;
+    if t1 > stop {
+        out.push((stop.max(t0), 0.0));
+        out.push((t1, 0.0));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn a_one_sine_pulse_lasts_one_period() {
+        let spec = json!({"pulse": {"type": "one_sine", "a_p": 7.4, "omega_p": 10.7}});
+        let m = Motion::of(&spec).expect("pulse");
+        assert!((m.duration() - std::f64::consts::TAU / 10.7).abs() < 1e-12);
+        let c = m.curve(0.0, 1.0, 9.81);
+        assert_eq!(c.len(), 1203);
+        assert!(c.iter().all(|p| p.0 >= 0.0 && p.0 <= 1.0));
+        // Ground still after the pulse.
+        assert_eq!(c.last().map(|p| p.1), Some(0.0));
+        assert!((m.peak() - 7.4).abs() < 1e-3, "{}", m.peak());
+    }
+
+    #[test]
+    fn a_record_is_drawn_by_its_samples_inside_a_span() {
+        let acc: Vec<f64> = (0..300).map(|k| f64::from(k) * 0.01).collect();
+        let m = Motion::Record { dt: 0.01, acc };
+        assert!((m.duration() - 2.99).abs() < 1e-12);
+        let c = m.curve(1.0, 1.5, 1.0);
+        assert!(c.first().is_some_and(|p| p.0 <= 1.0), "{c:?}");
+        assert!(c.iter().all(|p| p.0 >= 0.99 && p.0 <= 1.52), "{c:?}");
+        // After its end the ground is still.
+        let tail = m.curve(2.5, 4.0, 1.0);
+        assert_eq!(tail.last(), Some(&(4.0, 0.0)));
+    }
+}

@@ -1,0 +1,331 @@
+//! One panel of a time history (a quantity against time) drawn over one
+//! span of time: the curve cut to the span, its y range fitted to what the
+//! span shows, the pulse shaded, impacts ticked, overturning, rest and
+//! lift-off marked, and where a curve stops on purpose an open marker.
+
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::style::{
+    AXIS, Area, Drawn, INK, LEGEND, MUTED, Marker, PULSE, TICKS, clip_y, left_top, marker,
+    right_top, text, text_width, tick,
+};
+
+/// Shade of the span a zoomed column shows, in the whole-history column.
+pub const ZOOMED: RGBColor = RGBColor(228, 233, 242);
+
+/// How a panel's y range follows the values its span shows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scale {
+    /// ± the largest |value| shown (with a margin), at least `floor`.
+    Symmetric {
+        /// Least half range.
+        floor: f64,
+    },
+    /// As `Symmetric`, at most `cap`: larger values leave the panel.
+    Capped {
+        /// Least half range.
+        floor: f64,
+        /// Largest half range.
+        cap: f64,
+    },
+}
+
+/// Where a curve stops on purpose (the quantity ceases to mean anything
+/// there, e.g. f_x/f_z at lift-off).
+#[derive(Clone, Debug, PartialEq)]
+pub struct End {
+    /// Its time, s.
+    pub t: f64,
+    /// The value there.
+    pub value: f64,
+    /// What happens there, written beside the marker.
+    pub label: String,
+}
+
+/// One quantity against time.
+pub struct Panel {
+    /// Axis description.
+    pub desc: String,
+    /// Legend label.
+    pub label: String,
+    /// Colour of its curve or markers.
+    pub colour: RGBColor,
+    /// A curve (non-finite values break it).
+    pub line: Vec<(f64, f64)>,
+    /// Markers (without a curve).
+    pub points: Vec<((f64, f64), Marker)>,
+    /// How its y range is chosen.
+    pub scale: Scale,
+    /// Dotted reference levels.
+    pub refs: Vec<f64>,
+    /// Tick the impacts on the zero line.
+    pub impacts: bool,
+    /// Where the curve stops on purpose.
+    pub end: Option<End>,
+}
+
+/// A vertical line across every panel.
+pub struct Mark {
+    /// Its time, s.
+    pub t: f64,
+    /// Its colour.
+    pub colour: RGBColor,
+    /// Its label, on the top panel.
+    pub label: String,
+}
+
+/// What every panel of a figure shares.
+pub struct Shared {
+    /// When the ground stops moving (shaded from 0), s.
+    pub motion_end: Option<f64>,
+    /// Impact times, s.
+    pub impacts: Vec<f64>,
+    /// Vertical lines.
+    pub marks: Vec<Mark>,
+}
+
+/// A span of time drawn as one column of panels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Span {
+    /// First time shown, s.
+    pub t0: f64,
+    /// Last time shown, s.
+    pub t1: f64,
+    /// A span of it shown zoomed in another column, shaded here.
+    pub zoomed: Option<(f64, f64)>,
+}
+
+/// Where a panel sits in the figure.
+#[derive(Clone, Copy, Debug)]
+pub struct Place {
+    /// Top row: marks are labelled here.
+    pub top: bool,
+    /// Bottom row: the time axis is labelled here.
+    pub bottom: bool,
+    /// Write the axis description (first column).
+    pub desc: bool,
+    /// Width of the y labels, px.
+    pub y_labels: u32,
+    /// Height of the time axis under the bottom row, px.
+    pub x_axis: u32,
+}
+
+/// The part of `points` (ordered in time) inside `[t0, t1]`, with the
+/// points where it crosses `t0` and `t1` interpolated; non-finite values
+/// are kept (they break the line) but never interpolated across.
+pub fn crop(points: &[(f64, f64)], t0: f64, t1: f64) -> Vec<(f64, f64)> {
+    let at = |a: (f64, f64), b: (f64, f64), t: f64| {
+        let s = (t - a.0) / (b.0 - a.0);
+        (t, a.1 + s * (b.1 - a.1))
+    };
+    let mut out = Vec::new();
+    for (k, &p) in points.iter().enumerate() {
+        if let Some(&q) = k.checked_sub(1).and_then(|j| points.get(j))
+            && q.1.is_finite()
+            && p.1.is_finite()
+        {
+            if q.0 < t0 && p.0 > t0 {
+                out.push(at(q, p, t0));
+            }
+            if q.0 < t1 && p.0 > t1 {
+                out.push(at(q, p, t1));
+            }
+        }
+        if p.0 >= t0 && p.0 <= t1 {
+            out.push(p);
+        }
+    }
+    out
+}
+
+impl Panel {
+    /// The y range of this panel over `span`.
+    pub fn range(&self, span: &Span) -> (f64, f64) {
+        let shown = crop(&self.line, span.t0, span.t1)
+            .into_iter()
+            .map(|p| p.1)
+            .chain(
+                self.points
+                    .iter()
+                    .filter(|(p, _)| p.0 >= span.t0 && p.0 <= span.t1)
+                    .map(|(p, _)| p.1),
+            )
+            .filter(|v| v.is_finite())
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let half = match self.scale {
+            Scale::Symmetric { floor } => (shown * 1.12).max(floor),
+            Scale::Capped { floor, cap } => (shown * 1.12).min(cap).max(floor),
+        };
+        (-half, half)
+    }
+}
+
+/// Draws `panel` over `span` in `area`.
+pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, place: Place) -> Drawn {
+    let (lo, hi) = panel.range(span);
+    let (t0, t1) = (span.t0, span.t1);
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(8)
+        .margin_right(16)
+        .margin_left(4)
+        .x_label_area_size(if place.bottom { place.x_axis } else { 0 })
+        .y_label_area_size(place.y_labels)
+        .build_cartesian_2d(t0..t1, lo..hi)?;
+    let mut mesh = chart.configure_mesh();
+    mesh.label_style(text(TICKS, INK))
+        .axis_desc_style(text(AXIS, INK))
+        .light_line_style(RGBColor(243, 243, 243))
+        .bold_line_style(RGBColor(222, 222, 222))
+        .y_labels(5)
+        .x_labels(8)
+        .y_label_formatter(&|v| tick(*v))
+        .x_label_formatter(&|v| tick(*v));
+    if place.desc {
+        mesh.y_desc(panel.desc.as_str());
+    }
+    if place.bottom {
+        mesh.x_desc("t (s)");
+    }
+    mesh.draw()?;
+    let band = |a: f64, b: f64| (a.max(t0), b.min(t1));
+    if let Some((a, b)) = span.zoomed.map(|(a, b)| band(a, b)).filter(|(a, b)| a < b) {
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(a, lo), (b, hi)],
+            ZOOMED.filled(),
+        )))?;
+    }
+    if let Some((a, b)) = shared
+        .motion_end
+        .map(|end| band(0.0, end))
+        .filter(|(a, b)| a < b)
+    {
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(a, lo), (b, hi)],
+            PULSE.mix(0.65).filled(),
+        )))?;
+    }
+    chart.draw_series(std::iter::once(PathElement::new(
+        vec![(t0, 0.0), (t1, 0.0)],
+        RGBColor(160, 160, 160).stroke_width(1),
+    )))?;
+    for &level in panel.refs.iter().filter(|l| **l > lo && **l < hi) {
+        chart.draw_series(std::iter::once(DashedPathElement::new(
+            vec![(t0, level), (t1, level)],
+            3,
+            3,
+            MUTED.stroke_width(1),
+        )))?;
+    }
+    for part in clip_y(&crop(&panel.line, t0, t1), lo, hi) {
+        chart.draw_series(LineSeries::new(part, panel.colour.stroke_width(2)))?;
+    }
+    chart.draw_series(
+        panel
+            .points
+            .iter()
+            .filter(|(q, _)| q.1 >= lo && q.1 <= hi && q.0 >= t0 && q.0 <= t1)
+            .map(|&(q, kind)| marker(q, kind, 10, panel.colour)),
+    )?;
+    if panel.impacts {
+        chart.draw_series(
+            shared
+                .impacts
+                .iter()
+                .filter(|t| **t >= t0 && **t <= t1)
+                .map(|&t| marker((t, 0.0), Marker::Tick, 9, INK)),
+        )?;
+    }
+    // Labels go to the side of a line with more room.
+    let right_half = |t: f64| t > t0 + 0.55 * (t1 - t0);
+    for mark in shared.marks.iter().filter(|m| m.t >= t0 && m.t <= t1) {
+        chart.draw_series(std::iter::once(DashedPathElement::new(
+            vec![(mark.t, lo), (mark.t, hi)],
+            7,
+            4,
+            mark.colour.stroke_width(2),
+        )))?;
+        if place.top {
+            let (style, dx) = if right_half(mark.t) {
+                (right_top(LEGEND, mark.colour), -6)
+            } else {
+                (left_top(LEGEND, mark.colour), 6)
+            };
+            chart.draw_series(std::iter::once(
+                EmptyElement::at((mark.t, hi)) + Text::new(mark.label.clone(), (dx, 4), style),
+            ))?;
+        }
+    }
+    if let Some(end) = panel.end.as_ref().filter(|e| e.t >= t0 && e.t <= t1) {
+        let at = (end.t, end.value.clamp(lo, hi));
+        chart.draw_series(std::iter::once(marker(at, Marker::Ring, 12, panel.colour)))?;
+        // After the marker when the label fits there (the curve has stopped),
+        // else before it; above it when it sits low, below when high.
+        let plot_width = f64::from(area.dim_in_pixel().0.saturating_sub(place.y_labels + 20));
+        let room_after = (t1 - end.t) / (t1 - t0) * plot_width;
+        let needed = text_width(&end.label, LEGEND) + 16.0;
+        let (h, dx) = if room_after >= needed {
+            (HPos::Left, 10)
+        } else {
+            (HPos::Right, -10)
+        };
+        let (v, dy) = if at.1 < 0.5 * (lo + hi) {
+            (VPos::Bottom, -8)
+        } else {
+            (VPos::Top, 8)
+        };
+        let style = text(LEGEND, panel.colour).pos(Pos::new(h, v));
+        chart.draw_series(std::iter::once(
+            EmptyElement::at(at) + Text::new(end.label.clone(), (dx, dy), style),
+        ))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cropping_interpolates_the_ends_and_keeps_gaps() {
+        let pts = [(0.0, 0.0), (1.0, 2.0), (2.0, f64::NAN), (3.0, 4.0)];
+        let c = crop(&pts, 0.5, 2.5);
+        assert_eq!(c[0], (0.5, 1.0));
+        assert_eq!(c[1], (1.0, 2.0));
+        assert!(c[2].1.is_nan());
+        assert_eq!(c.len(), 3);
+        // A span inside one segment.
+        assert_eq!(
+            crop(&[(0.0, 0.0), (4.0, 4.0)], 1.0, 2.0),
+            vec![(1.0, 1.0), (2.0, 2.0)]
+        );
+    }
+
+    #[test]
+    fn ranges_follow_the_span_shown() {
+        let panel = Panel {
+            desc: String::new(),
+            label: String::new(),
+            colour: INK,
+            line: vec![(0.0, 0.5), (1.0, -0.5), (2.0, 8.0)],
+            points: Vec::new(),
+            scale: Scale::Symmetric { floor: 1.25 },
+            refs: Vec::new(),
+            impacts: false,
+            end: None,
+        };
+        let early = Span {
+            t0: 0.0,
+            t1: 1.0,
+            zoomed: None,
+        };
+        assert_eq!(panel.range(&early), (-1.25, 1.25));
+        let all = Span {
+            t0: 0.0,
+            t1: 2.0,
+            zoomed: None,
+        };
+        assert!((panel.range(&all).1 - 8.96).abs() < 1e-12);
+    }
+}
