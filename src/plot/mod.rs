@@ -132,6 +132,8 @@ pub(crate) fn pulse_name(pulse: Option<&Value>) -> String {
     match kind {
         "one_sine" => "one-sine".into(),
         "one_cosine" => "one-cosine".into(),
+        "half_sine" => "half-sine".into(),
+        "rectangular" => "rectangular".into(),
         "cn" => format!(
             "Type-C{}",
             pulse

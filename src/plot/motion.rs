@@ -5,7 +5,7 @@
 use serde_json::Value;
 
 use super::{at, column, num, text_at};
-use crate::dynamics::{Pulse, PulseShape};
+use crate::dynamics::Pulse;
 
 /// Samples of a pulse across any drawn time span.
 const PULSE_SAMPLES: u32 = 1200;
@@ -34,17 +34,18 @@ impl Motion {
             let acc = column(g, "acc");
             return (acc.len() >= 2).then_some(Motion::Record { dt, acc });
         }
-        let shape = match text_at(spec, "/pulse/type") {
-            "one_sine" => PulseShape::OneSine,
-            "one_cosine" => PulseShape::OneCosine,
-            "cn" => PulseShape::Cn(
-                spec.pointer("/pulse/n")
-                    .and_then(Value::as_u64)
-                    .and_then(|n| u32::try_from(n).ok())
-                    .unwrap_or(1),
-            ),
-            _ => return None,
-        };
+        let name = text_at(spec, "/pulse/type");
+        if !crate::jobs::spec::PULSE_TYPES
+            .split(" | ")
+            .any(|t| t == name)
+        {
+            return None;
+        }
+        let n = spec
+            .pointer("/pulse/n")
+            .and_then(Value::as_u64)
+            .and_then(|n| u32::try_from(n).ok());
+        let shape = crate::jobs::spec::shape_of(name, n);
         Pulse::new(shape, at(spec, "/pulse/a_p")?, at(spec, "/pulse/omega_p")?)
             .ok()
             .map(Motion::Pulse)
