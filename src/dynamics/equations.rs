@@ -3,7 +3,7 @@
 //! overturning once no forcing remains.
 
 use super::block::Block;
-use super::excitation::Pulse;
+use super::excitation::{Pulse, Wave};
 use super::integrator::{Rhs, State};
 
 /// Which equation of motion is integrated.
@@ -90,6 +90,8 @@ pub struct RockingRhs {
     pub omega: f64,
     /// φ.
     pub phase: f64,
+    /// The waveform: the cosine of ω and φ, or a wavelet.
+    pub wave: Wave,
 }
 
 impl RockingRhs {
@@ -113,6 +115,16 @@ impl RockingRhs {
             },
             omega: pulse.carrier,
             phase: pulse.phase,
+            wave: pulse.wave,
+        }
+    }
+
+    /// A wavelet's unit waveform at t (kept out of line: the cosine is the hot path).
+    #[inline(never)]
+    fn wave_at(&self, t: f64) -> f64 {
+        match self.wave {
+            Wave::Cosine => (self.omega * t + self.phase).cos(),
+            Wave::Ricker { c, t0, symmetric } => Wave::ricker(c, t0, symmetric, t),
         }
     }
 
@@ -121,8 +133,10 @@ impl RockingRhs {
     pub fn ground(&self, t: f64) -> f64 {
         if self.amplitude_over_g == 0.0 {
             0.0
-        } else {
+        } else if let Wave::Cosine = self.wave {
             self.amplitude_over_g * (self.omega * t + self.phase).cos()
+        } else {
+            self.amplitude_over_g * self.wave_at(t)
         }
     }
 }

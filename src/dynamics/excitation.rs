@@ -31,6 +31,81 @@ pub enum PulseShape {
     HalfSine,
     /// Constant acceleration for t_d = π/ω_p (Housner 1963).
     Rectangular,
+    /// Ricker wavelet (Vassiliou & Makris 2011): symmetric, or its derivative
+    /// (antisymmetric), over 0 ≤ t ≤ 3/f_p.
+    Ricker {
+        /// The symmetric wavelet (true) or its normalised derivative.
+        symmetric: bool,
+    },
+}
+
+impl PulseShape {
+    /// Whether ü_g is a_p cos(ω t + φ), so that the closed-form linear
+    /// solution (eqs. 23–33) applies.
+    pub fn is_sinusoidal(self) -> bool {
+        !matches!(self, PulseShape::Ricker { .. })
+    }
+}
+
+/// The waveform of a pulse of unit amplitude.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Wave {
+    /// cos(ω t + φ) (the carrier and phase of the [`Pulse`]).
+    Cosine,
+    /// Ricker: with τ = t − t₀, the symmetric (1 − 2cτ²)e^(−cτ²), or
+    /// D(τ)/max|D| with D = (−6cτ + 4c²τ³)e^(−cτ²); c = (π f_p)², t₀ = 1.5/f_p.
+    Ricker {
+        /// (π f_p)², 1/s².
+        c: f64,
+        /// Centre t₀, s.
+        t0: f64,
+        /// Symmetric wavelet, or its normalised derivative.
+        symmetric: bool,
+    },
+}
+
+/// max |D(τ)| of the antisymmetric Ricker wavelet, at cτ*² = (3 − √6)/2.
+fn ricker_derivative_peak(c: f64) -> f64 {
+    let x = (3.0 - 6f64.sqrt()) / 2.0;
+    let tau = (x / c).sqrt();
+    ((-6.0 * c * tau + 4.0 * c * c * tau.powi(3)) * (-x).exp()).abs()
+}
+
+impl Wave {
+    /// The unit waveform at `t` (no support check), and the times in (0, T)
+    /// where it peaks.
+    #[inline]
+    pub(crate) fn ricker(c: f64, t0: f64, symmetric: bool, t: f64) -> f64 {
+        let tau = t - t0;
+        let x = c * tau * tau;
+        if symmetric {
+            (1.0 - 2.0 * x) * (-x).exp()
+        } else {
+            (-6.0 * c * tau + 4.0 * c * c * tau * tau * tau) * (-x).exp()
+                / ricker_derivative_peak(c)
+        }
+    }
+
+    /// The times inside the pulse where the unit waveform has an extremum
+    /// (Ricker only; empty for the cosine, handled in closed form).
+    pub fn extrema(&self) -> Vec<f64> {
+        match *self {
+            Wave::Cosine => Vec::new(),
+            Wave::Ricker { c, t0, symmetric } => {
+                let taus: Vec<f64> = if symmetric {
+                    // (1 − 2x)e^(−x)' = 0: τ = 0 and cτ² = 3/2.
+                    let r = (1.5 / c).sqrt();
+                    vec![-r, 0.0, r]
+                } else {
+                    // 8x² − 24x + 6 = 0: cτ² = (3 ∓ √6)/2.
+                    let a = ((3.0 - 6f64.sqrt()) / 2.0 / c).sqrt();
+                    let b = ((3.0 + 6f64.sqrt()) / 2.0 / c).sqrt();
+                    vec![-b, -a, a, b]
+                };
+                taus.into_iter().map(|tau| t0 + tau).collect()
+            }
+        }
+    }
 }
 
 /// Why a pulse cannot be built.
@@ -61,6 +136,8 @@ pub struct Pulse {
     pub carrier: f64,
     /// Phase φ of `a_p cos(ω t + φ)`.
     pub phase: f64,
+    /// The waveform (a cosine, or a Ricker wavelet).
+    pub wave: Wave,
     /// Duration T, s.
     pub duration: f64,
 }
@@ -121,6 +198,19 @@ impl Pulse {
             }
             PulseShape::HalfSine => (-FRAC_PI_2, PI),
             PulseShape::Rectangular => (0.0, PI),
+            // Support 0 ≤ t ≤ 2t₀ = 3/f_p = 6π/ω_p.
+            PulseShape::Ricker { .. } => (0.0, 6.0 * PI),
+        };
+        let wave = match shape {
+            PulseShape::Ricker { symmetric } => {
+                let f = circular_frequency / (2.0 * PI);
+                Wave::Ricker {
+                    c: (PI * f).powi(2),
+                    t0: 1.5 / f,
+                    symmetric,
+                }
+            }
+            _ => Wave::Cosine,
         };
         let carrier = if shape == PulseShape::Rectangular {
             0.0
@@ -133,6 +223,7 @@ impl Pulse {
             circular_frequency,
             carrier,
             phase,
+            wave,
             duration: span / circular_frequency,
         })
     }
@@ -146,9 +237,18 @@ impl Pulse {
     #[inline]
     pub fn acceleration(&self, t: f64) -> f64 {
         if (0.0..=self.duration).contains(&t) {
-            self.amplitude * (self.carrier * t + self.phase).cos()
+            self.amplitude * self.unit(t)
         } else {
             0.0
+        }
+    }
+
+    /// The waveform of unit amplitude at `t` (no support check).
+    #[inline]
+    pub fn unit(&self, t: f64) -> f64 {
+        match self.wave {
+            Wave::Cosine => (self.carrier * t + self.phase).cos(),
+            Wave::Ricker { c, t0, symmetric } => Wave::ricker(c, t0, symmetric, t),
         }
     }
 
@@ -158,8 +258,63 @@ impl Pulse {
         self.carrier * t + self.phase
     }
 
+    /// Ground velocity and displacement of a wavelet from rest at `t` (closed
+    /// form: the symmetric Ricker W = (1 − 2cτ²)e^(−cτ²) integrates to
+    /// V = τe^(−cτ²), and V to U = −e^(−cτ²)/(2c); the antisymmetric one is W′).
+    fn wavelet_motion(&self, t: f64) -> (f64, f64) {
+        let Wave::Ricker { c, t0, symmetric } = self.wave else {
+            return (0.0, 0.0);
+        };
+        let w = |tau: f64| (1.0 - 2.0 * c * tau * tau) * (-c * tau * tau).exp();
+        let v = |tau: f64| tau * (-c * tau * tau).exp();
+        let u = |tau: f64| -(-c * tau * tau).exp() / (2.0 * c);
+        let (tau, ts) = (t - t0, -t0);
+        if symmetric {
+            let a = self.amplitude;
+            (
+                a * (v(tau) - v(ts)),
+                a * (u(tau) - u(ts) - v(ts) * (tau - ts)),
+            )
+        } else {
+            let a = self.amplitude / ricker_derivative_peak(c);
+            (
+                a * (w(tau) - w(ts)),
+                a * (v(tau) - v(ts) - w(ts) * (tau - ts)),
+            )
+        }
+    }
+
+    /// (PGV, PGD) of a wavelet: the ends, and every zero of ü_g (for v) and
+    /// of v (for u) bracketed on a fine grid and located by Brent's method.
+    fn wavelet_peaks(&self) -> (f64, f64) {
+        let n = 4000;
+        let dt = self.duration / n as f64;
+        let acc = |t: f64| self.amplitude * self.unit(t);
+        let vel = |t: f64| self.wavelet_motion(t).0;
+        let (mut pgv, mut pgd) = (0.0f64, 0.0f64);
+        for k in 0..n {
+            let (ta, tb) = (k as f64 * dt, (k + 1) as f64 * dt);
+            let (va, vb) = (self.wavelet_motion(ta), self.wavelet_motion(tb));
+            pgv = pgv.max(va.0.abs()).max(vb.0.abs());
+            pgd = pgd.max(va.1.abs()).max(vb.1.abs());
+            let (aa, ab) = (acc(ta), acc(tb));
+            if aa * ab < 0.0 {
+                let t = crate::dynamics::events::brent(acc, ta, tb, aa, ab, 0.0);
+                pgv = pgv.max(vel(t).abs());
+            }
+            if va.0 * vb.0 < 0.0 {
+                let t = crate::dynamics::events::brent(vel, ta, tb, va.0, vb.0, 0.0);
+                pgd = pgd.max(self.wavelet_motion(t).1.abs());
+            }
+        }
+        (pgv, pgd)
+    }
+
     /// Peak ground velocity |v|, m/s, of the motion from rest.
     pub fn peak_velocity(&self) -> f64 {
+        if self.wave != Wave::Cosine {
+            return self.wavelet_peaks().0;
+        }
         let (a, w, phi, t) = (self.amplitude, self.carrier, self.phase, self.duration);
         if w == 0.0 {
             return a.abs() * t;
@@ -182,6 +337,9 @@ impl Pulse {
     /// displacement keeps growing after the pulse when it ends with velocity;
     /// this is the largest over the pulse).
     pub fn peak_displacement(&self) -> f64 {
+        if self.wave != Wave::Cosine {
+            return self.wavelet_peaks().1;
+        }
         let (a, w, phi, t_end) = (self.amplitude, self.carrier, self.phase, self.duration);
         if w == 0.0 {
             return 0.5 * a.abs() * t_end * t_end;
@@ -213,6 +371,9 @@ impl Pulse {
             return None;
         }
         let from = from.max(0.0);
+        if self.wave != Wave::Cosine {
+            return self.exceedance_on_monotone_pieces(from, threshold);
+        }
         let w = self.carrier;
         if w == 0.0 {
             // Constant acceleration: one window, the rest of the pulse.
@@ -261,6 +422,63 @@ impl Pulse {
             end,
             side: -accel_sign,
         })
+    }
+
+    /// The first exceedance of a wavelet, searched on the pieces between its
+    /// extrema, where ü_g is monotone: a crossing of ±threshold is bracketed
+    /// there and located by Brent's method to rounding.
+    fn exceedance_on_monotone_pieces(&self, from: f64, threshold: f64) -> Option<Exceedance> {
+        let mut cuts = vec![from];
+        cuts.extend(
+            self.wave
+                .extrema()
+                .into_iter()
+                .filter(|t| *t > from && *t < self.duration),
+        );
+        cuts.push(self.duration);
+        let a = |t: f64| self.amplitude * self.unit(t);
+        // The first time in [from, T] with |a| > threshold.
+        let mut start = None;
+        if a(from).abs() > threshold {
+            start = Some(from);
+        } else {
+            for w in cuts.windows(2) {
+                let (ta, tb) = (w[0], w[1]);
+                let end = a(tb);
+                if end.abs() > threshold {
+                    let level = end.signum() * threshold;
+                    let f = |t: f64| a(t) - level;
+                    let (fa, fb) = (f(ta), f(tb));
+                    let t = if fa * fb < 0.0 {
+                        crate::dynamics::events::brent(f, ta, tb, fa, fb, 0.0)
+                    } else {
+                        ta
+                    };
+                    start = Some(t.max(from));
+                    break;
+                }
+            }
+        }
+        let start = start?;
+        let sign = a(start).signum();
+        let side = -sign;
+        // Where |a| falls back to the threshold: a = sign·threshold after start.
+        let mut end = self.duration;
+        let mut from_piece = start;
+        for w in cuts.windows(2) {
+            let (ta, tb) = (w[0].max(from_piece), w[1]);
+            if tb <= start {
+                continue;
+            }
+            from_piece = ta;
+            let f = |t: f64| sign * a(t) - threshold;
+            let (fa, fb) = (f(ta), f(tb));
+            if fa > 0.0 && fb <= 0.0 {
+                end = crate::dynamics::events::brent(f, ta, tb, fa, fb, 0.0);
+                break;
+            }
+        }
+        (end > start).then_some(Exceedance { start, end, side })
     }
 }
 

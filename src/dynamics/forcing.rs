@@ -16,7 +16,7 @@ use std::sync::Arc;
 
 use super::block::Block;
 use super::equations::{Formulation, RockingRhs};
-use super::excitation::{Exceedance, Pulse};
+use super::excitation::{Exceedance, Pulse, Wave};
 use super::integrator::{Rhs, State};
 
 /// A ground motion acting on `0 ≤ t ≤ duration()`.
@@ -79,7 +79,7 @@ impl Forcing for Pulse {
 
     #[inline]
     fn sinusoid(rhs: &RockingRhs) -> Option<&RockingRhs> {
-        Some(rhs)
+        (rhs.wave == Wave::Cosine).then_some(rhs)
     }
 
     #[inline]
@@ -111,6 +111,17 @@ impl Forcing for Pulse {
         }
         if self.carrier == 0.0 {
             return best; // constant: any point is a peak
+        }
+        if self.wave != Wave::Cosine {
+            for t in self.wave.extrema() {
+                if t > ta && t < tb {
+                    let v = Pulse::acceleration(self, t).abs();
+                    if v > best.0 {
+                        best = (v, t);
+                    }
+                }
+            }
+            return best;
         }
         let (chi_a, chi_b) = (self.phase_at(ta), self.phase_at(tb.min(self.duration)));
         let k = (chi_a / std::f64::consts::PI).ceil();

@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    at_most_one, parse_formulation, validate_block, validate_solver,
+    at_most_one, parse_formulation, validate_block,
 };
 use super::spectrum::{PulseFamily, ScanCost, validate_family};
 use crate::dynamics::Formulation;
@@ -195,7 +195,12 @@ impl ForensicSpec {
     pub fn validate(&self) -> Result<ForensicJob, SpecError> {
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver = validate_solver(self.solver.as_ref(), formulation, "/solver")?;
+        let solver = super::spec::validate_solver_for(
+            self.solver.as_ref(),
+            formulation,
+            pulse.shape().is_sinusoidal(),
+            "/solver",
+        )?;
         let specs = self.observations.as_ref().ok_or_else(|| {
             SpecError::at(
                 "/observations",

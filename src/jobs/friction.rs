@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    in_one_unit, parse_formulation, validate_block, validate_solver,
+    in_one_unit, parse_formulation, validate_block,
 };
 use super::spectrum::{PulseFamily, SpectrumNumerics, validate_family};
 use crate::dynamics::Formulation;
@@ -84,7 +84,12 @@ impl FrictionSpec {
         let block = validate_block(block_spec, "/block")?;
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver = validate_solver(self.solver.as_ref(), formulation, "/solver")?;
+        let solver = super::spec::validate_solver_for(
+            self.solver.as_ref(),
+            formulation,
+            pulse.shape().is_sinusoidal(),
+            "/solver",
+        )?;
         // The frequency and the amplitudes in any unit, normalised to ω_p/p and αg.
         let p = block.p;
         let unit_g = block.alpha * block.g;

@@ -94,6 +94,8 @@ pub enum PulseTypeName {
     HalfSine,
     /// Housner's rectangular pulse: a_p for t_d = π/ω_p.
     Rectangular,
+    /// Ricker wavelet, symmetric or antisymmetric (`symmetric`).
+    Ricker,
 }
 
 /// A pulse family as a spec names it (canonical names first, then aliases).
@@ -114,6 +116,10 @@ pub enum PulseTypeInput {
     /// Housner's rectangular pulse: a_p for t_d = π/ω_p.
     #[schema(rename = "rectangular")]
     Rectangular,
+    /// Ricker wavelet: symmetric (default) or antisymmetric (`"symmetric": false`),
+    /// over 0 ≤ t ≤ 3/f_p.
+    #[schema(rename = "ricker")]
+    Ricker,
     /// Alias of one_sine.
     #[schema(rename = "sine")]
     Sine,
@@ -283,13 +289,17 @@ pub struct PositiveNumber(f64);
 #[derive(ToSchema, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PulseFamilyInput {
-    /// "one_sine" | "one_cosine" | "cn" (aliases: "sine", "type_a", "cosine", "type_b", "type_cn").
+    /// "one_sine" | "one_cosine" | "cn" | "half_sine" | "rectangular" | "ricker"
+    /// (aliases: "sine", "type_a", "cosine", "type_b", "type_cn").
     #[serde(rename = "type")]
     #[schema(value_type = PulseTypeInput)]
     kind: String,
     /// Displacement cycles of a Type-Cn pulse (default 1; cn only).
     #[schema(minimum = 1, maximum = 1000)]
     n: Option<u32>,
+    /// Ricker only: the symmetric wavelet (default true) or its normalised
+    /// derivative (false).
+    symmetric: Option<bool>,
 }
 
 /// The rules of a spec that span several fields (one of several units, a

@@ -191,15 +191,21 @@ pub struct BlockSpec {
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PulseSpec {
-    /// "one_sine" | "one_cosine" | "cn" | "half_sine" | "rectangular" (aliases:
-    /// "sine", "type_a", "cosine", "type_b", "type_cn"). Half-sine: a_p sin(ω_p t)
-    /// for π/ω_p; rectangular: a_p for t_d = π/ω_p (Housner 1963).
+    /// "one_sine" | "one_cosine" | "cn" | "half_sine" | "rectangular" | "ricker"
+    /// (aliases: "sine", "type_a", "cosine", "type_b", "type_cn"). Half-sine:
+    /// a_p sin(ω_p t) for π/ω_p; rectangular: a_p for t_d = π/ω_p (Housner
+    /// 1963); ricker: with f_p = ω_p/2π, c = (π f_p)², τ = t − 1.5/f_p, a_p(1 −
+    /// 2cτ²)e^(−cτ²) for 0 ≤ t ≤ 3/f_p, or (`"symmetric": false`) its derivative
+    /// scaled to peak a_p.
     #[serde(rename = "type", alias = "shape")]
     #[schema(required = true, value_type = crate::jobs::schema::PulseTypeInput)]
     pub kind: Option<String>,
     /// Displacement cycles of a Type-Cn pulse (default 1; cn only).
     #[schema(minimum = 1, maximum = 1000)]
     pub n: Option<u32>,
+    /// Ricker only: the symmetric wavelet (default true) or its normalised
+    /// derivative, the antisymmetric one (false).
+    pub symmetric: Option<bool>,
     /// Circular frequency ω_p, rad/s.
     #[schema(exclusive_minimum = 0.0)]
     pub omega_p: Option<f64>,
@@ -397,6 +403,9 @@ pub fn parse_shape(spec: &PulseSpec, base: &str) -> Result<PulseShape, SpecError
         "cn" | "type_cn" | "type_c" | "c" => PulseShape::Cn(spec.n.unwrap_or(1)),
         "half_sine" => PulseShape::HalfSine,
         "rectangular" => PulseShape::Rectangular,
+        "ricker" => PulseShape::Ricker {
+            symmetric: spec.symmetric.unwrap_or(true),
+        },
         other => {
             return Err(SpecError::at(
                 format!("{base}/type"),
@@ -417,11 +426,17 @@ pub fn parse_shape(spec: &PulseSpec, base: &str) -> Result<PulseShape, SpecError
             "n applies to cn pulses only",
         ));
     }
+    if spec.symmetric.is_some() && !matches!(shape, PulseShape::Ricker { .. }) {
+        return Err(SpecError::at(
+            format!("{base}/symmetric"),
+            "symmetric applies to ricker pulses only",
+        ));
+    }
     Ok(shape)
 }
 
 /// The pulse types a spec may name.
-pub const PULSE_TYPES: &str = "one_sine | one_cosine | cn | half_sine | rectangular";
+pub const PULSE_TYPES: &str = "one_sine | one_cosine | cn | half_sine | rectangular | ricker";
 
 /// Name of a pulse family in normalised specs.
 pub fn shape_name(shape: PulseShape) -> &'static str {
@@ -431,16 +446,29 @@ pub fn shape_name(shape: PulseShape) -> &'static str {
         PulseShape::Cn(_) => "cn",
         PulseShape::HalfSine => "half_sine",
         PulseShape::Rectangular => "rectangular",
+        PulseShape::Ricker { .. } => "ricker",
     }
 }
 
-/// The family a normalised name ([`shape_name`]) and `n` stand for.
-pub fn shape_of(name: &str, n: Option<u32>) -> PulseShape {
+/// Whether a Ricker family is the antisymmetric wavelet: `Some(symmetric)`
+/// for Ricker pulses, `None` otherwise (what normalised specs carry).
+pub fn shape_symmetric(shape: PulseShape) -> Option<bool> {
+    match shape {
+        PulseShape::Ricker { symmetric } => Some(symmetric),
+        _ => None,
+    }
+}
+
+/// The family a normalised name ([`shape_name`]), `n` and `symmetric` stand for.
+pub fn shape_of(name: &str, n: Option<u32>, symmetric: Option<bool>) -> PulseShape {
     match name {
         "one_sine" => PulseShape::OneSine,
         "one_cosine" => PulseShape::OneCosine,
         "half_sine" => PulseShape::HalfSine,
         "rectangular" => PulseShape::Rectangular,
+        "ricker" => PulseShape::Ricker {
+            symmetric: symmetric.unwrap_or(true),
+        },
         _ => PulseShape::Cn(n.unwrap_or(1)),
     }
 }
@@ -514,6 +542,9 @@ pub struct PulseNorm {
     /// Cycles (cn only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub n: Option<u32>,
+    /// Symmetric wavelet or its derivative (ricker only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub symmetric: Option<bool>,
     /// ω_p, rad/s.
     pub omega_p: f64,
     /// a_p, m/s².
@@ -584,6 +615,7 @@ pub fn validate_pulse(
                 PulseShape::Cn(n) => Some(n),
                 _ => None,
             },
+            symmetric: shape_symmetric(shape),
             omega_p: omega,
             a_p,
         },
@@ -650,7 +682,7 @@ pub fn validate_solver_for(
         if !closed_form {
             return Err(SpecError::at(
                 format!("{base}/method"),
-                "the exact solver solves pulses only: use dopri5 or dop853 (the default) for a ground-motion record",
+                "the exact solver solves sinusoidal pulses only (one_sine, one_cosine, cn, half_sine, rectangular): use dopri5 or dop853 (the default) for a ricker pulse or a ground-motion record",
             ));
         }
         if formulation != Formulation::Linear {

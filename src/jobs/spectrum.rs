@@ -5,9 +5,9 @@ use serde::{Deserialize, Serialize};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    in_one_unit, parse_formulation, parse_shape, shape_name, validate_block, validate_solver,
+    in_one_unit, parse_formulation, parse_shape, shape_name, validate_block,
 };
-use crate::dynamics::{Formulation, PulseShape};
+use crate::dynamics::{Formulation, Pulse, PulseShape};
 use crate::spectrum::overturning::Derived;
 use crate::spectrum::scan::{Direction, ModeChange, ScanStats, Transition};
 use crate::spectrum::{Control, SpectrumRequest, overturning_spectrum};
@@ -79,12 +79,15 @@ pub struct PulseFamily {
     /// Cycles (cn only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub n: Option<u32>,
+    /// Symmetric wavelet or its derivative (ricker only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub symmetric: Option<bool>,
 }
 
 impl PulseFamily {
     /// The domain shape.
     pub fn shape(&self) -> PulseShape {
-        super::spec::shape_of(self.kind, self.n)
+        super::spec::shape_of(self.kind, self.n, self.symmetric)
     }
 }
 
@@ -113,6 +116,7 @@ pub fn validate_family(spec: Option<&PulseSpec>, base: &str) -> Result<PulseFami
             PulseShape::Cn(n) => Some(n),
             _ => None,
         },
+        symmetric: super::spec::shape_symmetric(shape),
     })
 }
 
@@ -164,7 +168,12 @@ impl SpectrumSpec {
         let block = validate_block(block_spec, "/block")?;
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver = validate_solver(self.solver.as_ref(), formulation, "/solver")?;
+        let solver = super::spec::validate_solver_for(
+            self.solver.as_ref(),
+            formulation,
+            pulse.shape().is_sinusoidal(),
+            "/solver",
+        )?;
         // Frequencies in any unit, normalised to ω_p/p: one job, one cache key.
         let p = block.p;
         let unit_g = block.alpha * block.g;
@@ -335,9 +344,43 @@ pub struct PrincipalDoc {
     pub overturns_above_alpha_g: Option<f64>,
 }
 
+/// A pulse's ground velocity and displacement per unit acceleration: PGV/PGA
+/// and PGD/PGA (from rest, over the pulse; the same for any amplitude).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct PulseScalesDoc {
+    /// PGV/PGA, s.
+    pub pgv_over_pga_s: f64,
+    /// PGD/PGA, s².
+    pub pgd_over_pga_s2: f64,
+}
+
+impl PulseScalesDoc {
+    /// Of a pulse of family `shape` at circular frequency `omega_p`, rad/s.
+    pub fn of(shape: PulseShape, omega_p: f64) -> Self {
+        match Pulse::new(shape, 1.0, omega_p) {
+            Ok(p) => {
+                let peaks = crate::dynamics::peaks::of_pulse(&p);
+                PulseScalesDoc {
+                    pgv_over_pga_s: peaks.pgv,
+                    pgd_over_pga_s2: peaks.pgd,
+                }
+            }
+            Err(_) => PulseScalesDoc {
+                pgv_over_pga_s: 0.0,
+                pgd_over_pga_s2: 0.0,
+            },
+        }
+    }
+}
+
 /// One frequency of the spectrum.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct FrequencyDoc {
+    /// The pulse's velocity and displacement per unit acceleration at this
+    /// frequency (PGV/PGA, PGD/PGA), whatever its amplitude.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub ground: PulseScalesDoc,
     /// ω_p/p.
     pub omega_ratio: f64,
     /// Rocking threshold, αg.
@@ -541,6 +584,7 @@ impl SpectrumJob {
                     .derived
                     .min_overturn
                     .map(|a| a * self.block.alpha * self.block.g),
+                ground: PulseScalesDoc::of(self.pulse.shape(), l.omega_ratio * self.block.p),
             })
             .collect();
         Ok(SpectrumResult {

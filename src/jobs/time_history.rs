@@ -126,7 +126,9 @@ impl TimeHistorySpec {
         let solver = validate_solver_for(
             self.solver.as_ref(),
             formulation,
-            pulse.is_some(),
+            pulse
+                .as_ref()
+                .is_some_and(|p| super::spec::shape_of(p.kind, p.n, p.symmetric).is_sinusoidal()),
             "/solver",
         )?;
         let out = self.outputs.clone().unwrap_or_default();
@@ -172,6 +174,35 @@ pub struct ImpactDoc {
     pub theta_dot_before: f64,
     /// θ̇ after, rad/s.
     pub theta_dot_after: f64,
+}
+
+/// The peaks of a ground motion from rest, over its duration (a pulse: from
+/// its closed-form integrals; a record: exactly, linear between samples).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct GroundPeaksDoc {
+    /// Peak ground acceleration, m/s².
+    pub pga_m_s2: f64,
+    /// Peak ground acceleration, g.
+    pub pga_g: f64,
+    /// Peak ground velocity, m/s.
+    pub pgv_m_s: f64,
+    /// Peak ground displacement, m.
+    pub pgd_m: f64,
+    /// PGV/PGA, s (the pulse's duration scale, independent of its amplitude).
+    pub pgv_over_pga_s: f64,
+}
+
+impl GroundPeaksDoc {
+    /// From the peaks and gravity `g`, m/s².
+    pub fn new(p: &crate::dynamics::peaks::GroundPeaks, g: f64) -> Self {
+        GroundPeaksDoc {
+            pga_m_s2: p.pga,
+            pga_g: p.pga / g,
+            pgv_m_s: p.pgv,
+            pgd_m: p.pgd,
+            pgv_over_pga_s: if p.pga > 0.0 { p.pgv / p.pga } else { 0.0 },
+        }
+    }
 }
 
 /// A note on a result.
@@ -307,6 +338,8 @@ pub struct TimeHistoryResult {
     /// f_x/f_z when rocking starts (eq. 7 / 51).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub initiation_friction_demand: Option<f64>,
+    /// The ground motion's peak acceleration, velocity and displacement.
+    pub ground_peaks: GroundPeaksDoc,
     /// Notes.
     pub warnings: Vec<WarningDoc>,
     /// Series (when asked for).
@@ -339,36 +372,39 @@ impl TimeHistoryJob {
             horizon: self.outputs.duration,
             initial_state: None,
         };
-        let r = match (&self.pulse, &self.ground_motion) {
+        let (r, peaks) = match (&self.pulse, &self.ground_motion) {
             (Some(p), _) => {
-                let shape = super::spec::shape_of(p.kind, p.n);
+                let shape = super::spec::shape_of(p.kind, p.n, p.symmetric);
                 let pulse = crate::dynamics::Pulse::new(shape, p.a_p, p.omega_p)
                     .map_err(|_| SimError::Tolerance)?;
+                let peaks = crate::dynamics::peaks::of_pulse(&pulse);
                 let problem = Problem {
                     block,
                     pulse,
                     formulation,
                 };
-                simulate(&problem, &options)?
+                (simulate(&problem, &options)?, peaks)
             }
             (None, Some(g)) => {
                 let record = g.record().map_err(|_| SimError::Tolerance)?;
+                let peaks = crate::dynamics::peaks::of_record(&record);
                 let problem = Problem {
                     block,
                     pulse: record,
                     formulation,
                 };
-                simulate(&problem, &options)?
+                (simulate(&problem, &options)?, peaks)
             }
             (None, None) => return Err(SimError::Tolerance),
         };
-        Ok(self.document(r))
+        Ok(self.document(r, GroundPeaksDoc::new(&peaks, self.block.g)))
     }
 
     /// The result document of response `r`.
-    fn document(&self, r: Response) -> TimeHistoryResult {
+    fn document(&self, r: Response, ground_peaks: GroundPeaksDoc) -> TimeHistoryResult {
         TimeHistoryResult {
             kind: "time_history",
+            ground_peaks,
             rocked: r.rocked,
             rocking_start: r.rocking_start,
             rocking_starts: r.rocking_starts,

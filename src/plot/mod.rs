@@ -134,6 +134,17 @@ pub(crate) fn pulse_name(pulse: Option<&Value>) -> String {
         "one_cosine" => "one-cosine".into(),
         "half_sine" => "half-sine".into(),
         "rectangular" => "rectangular".into(),
+        "ricker" => {
+            if pulse
+                .and_then(|p| p.get("symmetric"))
+                .and_then(Value::as_bool)
+                == Some(false)
+            {
+                "antisymmetric Ricker".into()
+            } else {
+                "Ricker".into()
+            }
+        }
         "cn" => format!(
             "Type-C{}",
             pulse

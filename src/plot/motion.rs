@@ -45,7 +45,8 @@ impl Motion {
             .pointer("/pulse/n")
             .and_then(Value::as_u64)
             .and_then(|n| u32::try_from(n).ok());
-        let shape = crate::jobs::spec::shape_of(name, n);
+        let symmetric = spec.pointer("/pulse/symmetric").and_then(Value::as_bool);
+        let shape = crate::jobs::spec::shape_of(name, n, symmetric);
         Pulse::new(shape, at(spec, "/pulse/a_p")?, at(spec, "/pulse/omega_p")?)
             .ok()
             .map(Motion::Pulse)

@@ -34,6 +34,7 @@ fn still_ground() -> Pulse {
         circular_frequency: 1.0,
         carrier: 1.0,
         phase: 0.0,
+        wave: topple::dynamics::excitation::Wave::Cosine,
         duration: 0.0,
     }
 }

@@ -1,6 +1,8 @@
-//! Housner's (1963) half-sine and rectangular pulses: his closed form for the
-//! linear rectangular pulse, the closed-form linear solution against dop853,
-//! and the similarity law of the dimensionless spectra.
+//! Housner's (1963) half-sine and rectangular pulses and the Ricker wavelets:
+//! Housner's closed form for the linear rectangular pulse, the closed-form
+//! linear solution against dop853, the wavelets' shape, peaks and onset of
+//! rocking, dopri5 against dop853 on them, and the similarity law of the
+//! dimensionless spectra.
 
 use topple::dynamics::{
     Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Solver, simulate,
@@ -121,11 +123,16 @@ fn closed_form_and_dop853_agree_on_housners_pulses() {
 /// a_p/(αg) have the same dimensionless response, whatever their size (p).
 #[test]
 fn dimensionless_spectra_do_not_depend_on_size() {
-    for shape in [PulseShape::HalfSine, PulseShape::Rectangular] {
+    for shape in [
+        PulseShape::HalfSine,
+        PulseShape::Rectangular,
+        PulseShape::Ricker { symmetric: true },
+        PulseShape::Ricker { symmetric: false },
+    ] {
         for formulation in [Formulation::Linear, Formulation::Nonlinear] {
             let solver = match formulation {
-                Formulation::Linear => Solver::Exact,
-                Formulation::Nonlinear => dop853(1e-10),
+                Formulation::Linear if shape.is_sinusoidal() => Solver::Exact,
+                _ => dop853(1e-10),
             };
             let ratios = [0.7, 1.5, 3.0, 6.0];
             let small = Block::new(0.3, 3.1, Some(0.8), None, None).expect("valid");
@@ -171,4 +178,157 @@ fn housners_pulses_have_the_expected_shape_and_peaks() {
     let sine = Pulse::new(PulseShape::OneSine, 1.0, 1.0).expect("valid");
     assert!((sine.peak_velocity() - 2.0).abs() < 1e-12);
     assert!((sine.peak_displacement() - 2.0 * std::f64::consts::PI).abs() < 1e-12);
+}
+
+fn ricker(symmetric: bool, a_p: f64, omega_p: f64) -> Pulse {
+    Pulse::new(PulseShape::Ricker { symmetric }, a_p, omega_p).expect("valid")
+}
+
+/// The symmetric wavelet peaks at a_p at t₀ = 1.5/f_p; the antisymmetric one
+/// at ±a_p at t₀ ∓ τ*, cτ*² = (3 − √6)/2; both last 3/f_p; a dense scan
+/// finds no larger value.
+#[test]
+fn ricker_wavelets_have_their_peaks_where_the_formulas_put_them() {
+    let (w, a) = (2.0 * std::f64::consts::PI * 1.3, 2.5);
+    let f = 1.3;
+    let c = (std::f64::consts::PI * f).powi(2);
+    let t0 = 1.5 / f;
+    let sym = ricker(true, a, w);
+    assert!((sym.duration - 3.0 / f).abs() < 1e-12);
+    assert!((sym.acceleration(t0) - a).abs() < 1e-12);
+    let anti = ricker(false, a, w);
+    let tau = ((3.0 - 6f64.sqrt()) / 2.0 / c).sqrt();
+    // D(τ) = (−6cτ + 4c²τ³)e^(−cτ²) is positive before the centre.
+    assert!(
+        (anti.acceleration(t0 - tau) - a).abs() < 1e-12,
+        "{}",
+        anti.acceleration(t0 - tau)
+    );
+    assert!((anti.acceleration(t0 + tau) + a).abs() < 1e-12);
+    assert!(anti.acceleration(t0).abs() < 1e-12);
+    for p in [&sym, &anti] {
+        let n = 200_000;
+        let max = (0..=n)
+            .map(|k| p.acceleration(p.duration * k as f64 / n as f64).abs())
+            .fold(0.0f64, f64::max);
+        assert!(max <= a * (1.0 + 1e-12) && max > a * (1.0 - 1e-8), "{max}");
+        // PGV and PGD from the closed-form integrals agree with a dense
+        // trapezoidal integration of the acceleration.
+        let dt = p.duration / n as f64;
+        let (mut v, mut u, mut pgv, mut pgd) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        for k in 0..n {
+            let (a0, a1) = (
+                p.acceleration(k as f64 * dt),
+                p.acceleration((k + 1) as f64 * dt),
+            );
+            let v1 = v + 0.5 * (a0 + a1) * dt;
+            u += 0.5 * (v + v1) * dt;
+            v = v1;
+            pgv = pgv.max(v.abs());
+            pgd = pgd.max(u.abs());
+        }
+        assert!(
+            ((p.peak_velocity() - pgv) / pgv).abs() < 1e-6,
+            "{} vs {pgv}",
+            p.peak_velocity()
+        );
+        assert!(
+            ((p.peak_displacement() - pgd) / pgd).abs() < 1e-6,
+            "{} vs {pgd}",
+            p.peak_displacement()
+        );
+    }
+}
+
+/// Rocking starts exactly where |ü_g| first reaches g tan α, towards the side
+/// the ground pushes the block (θ < 0 for ü_g > 0), whichever lobe that is.
+#[test]
+fn ricker_onset_is_located_exactly_in_the_right_lobe() {
+    let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
+    let threshold = block.gravity * block.slenderness.tan();
+    for symmetric in [true, false] {
+        for level in [1.05, 1.5, 2.5, 4.0] {
+            let pulse = ricker(
+                symmetric,
+                level * threshold,
+                3.0 * block.frequency_parameter,
+            );
+            let problem = Problem {
+                block,
+                pulse,
+                formulation: Formulation::Nonlinear,
+            };
+            let r = simulate(&problem, &Options::history(dop853(1e-10))).expect("runs");
+            let start = r.rocking_start.expect("rocks");
+            let at = pulse.acceleration(start);
+            assert!(
+                ((at.abs() - threshold) / threshold).abs() < 1e-12,
+                "{symmetric} {level}: {at}"
+            );
+            // Nothing before it exceeds the threshold.
+            let n = 20_000;
+            assert!(
+                (0..n).all(|k| pulse.acceleration(start * k as f64 / n as f64).abs()
+                    <= threshold * (1.0 + 1e-12))
+            );
+            // The block leans away from the push: θ has the sign of −ü_g.
+            let series = simulate(
+                &problem,
+                &Options {
+                    series_at: Some(vec![start + 0.02]),
+                    ..Options::history(dop853(1e-10))
+                },
+            )
+            .expect("runs")
+            .series
+            .expect("series");
+            assert_eq!(
+                series.theta[0].signum(),
+                -at.signum(),
+                "{symmetric} {level}"
+            );
+        }
+    }
+}
+
+/// dopri5 and dop853 at tight tolerances agree on the wavelets' impacts and
+/// outcome (no closed form exists for them).
+#[test]
+fn dopri5_and_dop853_agree_on_ricker_wavelets() {
+    let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
+    let dopri5 = Solver::RungeKutta {
+        method: Method::Dopri5,
+        rtol: 1e-12,
+        atol: 1e-14,
+    };
+    for symmetric in [true, false] {
+        for (ratio, level) in [(1.0, 1.5), (2.0, 2.0), (4.0, 4.5), (6.0, 8.0)] {
+            let pulse = ricker(
+                symmetric,
+                level * block.slenderness * block.gravity,
+                ratio * block.frequency_parameter,
+            );
+            for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+                let problem = Problem {
+                    block,
+                    pulse,
+                    formulation,
+                };
+                let a = simulate(&problem, &Options::history(dop853(1e-12))).expect("dop853");
+                let b = simulate(&problem, &Options::history(dopri5)).expect("dopri5");
+                let what = format!(
+                    "symmetric {symmetric}, {formulation:?}, omega_p/p = {ratio}, a_p = {level} alpha g"
+                );
+                assert_eq!((a.overturned, a.mode), (b.overturned, b.mode), "{what}");
+                for (x, y) in a.impacts.iter().zip(&b.impacts).take(10) {
+                    assert!(
+                        (x.time - y.time).abs() < 1e-7,
+                        "{what}: {} vs {}",
+                        x.time,
+                        y.time
+                    );
+                }
+            }
+        }
+    }
 }
