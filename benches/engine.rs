@@ -63,5 +63,47 @@ fn engine(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, engine);
+/// Each pulse family at the same ω_p/p = 5 and a_p = 4 αg (locomotive block,
+/// nonlinear dop853 at rtol 1e-10; the sinusoidal ones also linear exact):
+/// the per-simulation cost of a spectrum's point ("outcome").
+fn pulses(c: &mut Criterion) {
+    let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
+    let mut g = c.benchmark_group("pulse");
+    for (name, shape) in [
+        ("one_sine", PulseShape::OneSine),
+        ("half_sine", PulseShape::HalfSine),
+        ("rectangular", PulseShape::Rectangular),
+        ("ricker", PulseShape::Ricker { symmetric: true }),
+        (
+            "ricker_antisymmetric",
+            PulseShape::Ricker { symmetric: false },
+        ),
+    ] {
+        let pulse = Pulse::new(shape, 4.0 * 0.25 * 9.81, 5.0 * 2.14).expect("valid");
+        for (formulation, solver, tag) in [
+            (
+                Formulation::Nonlinear,
+                rk(Method::Dop853, 1e-10),
+                "nonlinear_dop853",
+            ),
+            (Formulation::Linear, Solver::Exact, "linear_exact"),
+        ] {
+            if solver == Solver::Exact && !shape.is_sinusoidal() {
+                continue;
+            }
+            let p = Problem {
+                block,
+                pulse,
+                formulation,
+            };
+            let outcome = Options::outcome(solver);
+            g.bench_function(format!("{name}/{tag}"), |b| {
+                b.iter(|| simulate(black_box(&p), black_box(&outcome)))
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, engine, pulses);
 criterion_main!(benches);
