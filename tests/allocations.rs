@@ -39,8 +39,22 @@ fn count<F: FnOnce()>(f: F) -> usize {
 #[test]
 fn simulations_do_not_allocate_per_step() {
     let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
-    let pulse = Pulse::new(PulseShape::OneSine, 4.0 * 0.25 * 9.81, 5.0 * 2.14).expect("valid");
-    for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+    let sine = Pulse::new(PulseShape::OneSine, 4.0 * 0.25 * 9.81, 5.0 * 2.14).expect("valid");
+    let ricker = |symmetric| {
+        Pulse::new(
+            PulseShape::Ricker { symmetric },
+            4.0 * 0.25 * 9.81,
+            5.0 * 2.14,
+        )
+        .expect("valid")
+    };
+    let pulse = sine;
+    for (pulse, formulation) in [
+        (sine, Formulation::Linear),
+        (sine, Formulation::Nonlinear),
+        (ricker(true), Formulation::Nonlinear),
+        (ricker(false), Formulation::Nonlinear),
+    ] {
         let problem = Problem {
             block,
             pulse,

@@ -124,7 +124,7 @@ impl RockingRhs {
     fn wave_at(&self, t: f64) -> f64 {
         match self.wave {
             Wave::Cosine => (self.omega * t + self.phase).cos(),
-            Wave::Ricker { c, t0, symmetric } => Wave::ricker(c, t0, symmetric, t),
+            wave => wave.value(t),
         }
     }
 

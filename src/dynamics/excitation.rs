@@ -61,8 +61,13 @@ pub enum Wave {
         t0: f64,
         /// Symmetric wavelet, or its normalised derivative.
         symmetric: bool,
+        /// 1, or 1/max|D| for the derivative.
+        scale: f64,
     },
 }
+
+/// Extrema of a wavelet inside its support: at most four times, and how many.
+pub type Extrema = ([f64; 4], usize);
 
 /// max |D(τ)| of the antisymmetric Ricker wavelet, at cτ*² = (3 − √6)/2.
 fn ricker_derivative_peak(c: f64) -> f64 {
@@ -72,37 +77,65 @@ fn ricker_derivative_peak(c: f64) -> f64 {
 }
 
 impl Wave {
-    /// The unit waveform at `t` (no support check), and the times in (0, T)
-    /// where it peaks.
-    #[inline]
-    pub(crate) fn ricker(c: f64, t0: f64, symmetric: bool, t: f64) -> f64 {
-        let tau = t - t0;
-        let x = c * tau * tau;
-        if symmetric {
-            (1.0 - 2.0 * x) * (-x).exp()
-        } else {
-            (-6.0 * c * tau + 4.0 * c * c * tau * tau * tau) * (-x).exp()
-                / ricker_derivative_peak(c)
+    /// The Ricker wavelet of centre `t0` and `c` = (π f_p)², symmetric or the
+    /// derivative, at `t` (no support check).
+    pub fn ricker(c: f64, t0: f64, symmetric: bool) -> Wave {
+        Wave::Ricker {
+            c,
+            t0,
+            symmetric,
+            scale: if symmetric {
+                1.0
+            } else {
+                1.0 / ricker_derivative_peak(c)
+            },
         }
     }
 
-    /// The times inside the pulse where the unit waveform has an extremum
-    /// (Ricker only; empty for the cosine, handled in closed form).
-    pub fn extrema(&self) -> Vec<f64> {
+    /// The unit waveform at `t` (no support check); the cosine needs its
+    /// pulse's carrier and phase ([`Pulse::unit`]) and reads 0 here.
+    #[inline]
+    pub fn value(&self, t: f64) -> f64 {
         match *self {
-            Wave::Cosine => Vec::new(),
-            Wave::Ricker { c, t0, symmetric } => {
-                let taus: Vec<f64> = if symmetric {
-                    // (1 − 2x)e^(−x)' = 0: τ = 0 and cτ² = 3/2.
+            Wave::Cosine => 0.0,
+            Wave::Ricker {
+                c,
+                t0,
+                symmetric,
+                scale,
+            } => {
+                let tau = t - t0;
+                let x = c * tau * tau;
+                if symmetric {
+                    (1.0 - 2.0 * x) * (-x).exp()
+                } else {
+                    (-6.0 * c * tau + 4.0 * c * c * tau * tau * tau) * (-x).exp() * scale
+                }
+            }
+        }
+    }
+
+    /// The times where the unit waveform has an extremum (Ricker only; none
+    /// for the cosine, handled in closed form), in increasing order.
+    pub fn extrema(&self) -> Extrema {
+        let mut out = [0.0; 4];
+        match *self {
+            Wave::Cosine => (out, 0),
+            Wave::Ricker {
+                c, t0, symmetric, ..
+            } => {
+                if symmetric {
+                    // ((1 − 2x)e^(−x))' = 0: τ = 0 and cτ² = 3/2.
                     let r = (1.5 / c).sqrt();
-                    vec![-r, 0.0, r]
+                    out[..3].copy_from_slice(&[t0 - r, t0, t0 + r]);
+                    (out, 3)
                 } else {
                     // 8x² − 24x + 6 = 0: cτ² = (3 ∓ √6)/2.
                     let a = ((3.0 - 6f64.sqrt()) / 2.0 / c).sqrt();
                     let b = ((3.0 + 6f64.sqrt()) / 2.0 / c).sqrt();
-                    vec![-b, -a, a, b]
-                };
-                taus.into_iter().map(|tau| t0 + tau).collect()
+                    out = [t0 - b, t0 - a, t0 + a, t0 + b];
+                    (out, 4)
+                }
             }
         }
     }
@@ -204,11 +237,7 @@ impl Pulse {
         let wave = match shape {
             PulseShape::Ricker { symmetric } => {
                 let f = circular_frequency / (2.0 * PI);
-                Wave::Ricker {
-                    c: (PI * f).powi(2),
-                    t0: 1.5 / f,
-                    symmetric,
-                }
+                Wave::ricker((PI * f).powi(2), 1.5 / f, symmetric)
             }
             _ => Wave::Cosine,
         };
@@ -248,7 +277,7 @@ impl Pulse {
     pub fn unit(&self, t: f64) -> f64 {
         match self.wave {
             Wave::Cosine => (self.carrier * t + self.phase).cos(),
-            Wave::Ricker { c, t0, symmetric } => Wave::ricker(c, t0, symmetric, t),
+            wave => wave.value(t),
         }
     }
 
@@ -262,7 +291,13 @@ impl Pulse {
     /// form: the symmetric Ricker W = (1 − 2cτ²)e^(−cτ²) integrates to
     /// V = τe^(−cτ²), and V to U = −e^(−cτ²)/(2c); the antisymmetric one is W′).
     fn wavelet_motion(&self, t: f64) -> (f64, f64) {
-        let Wave::Ricker { c, t0, symmetric } = self.wave else {
+        let Wave::Ricker {
+            c,
+            t0,
+            symmetric,
+            scale,
+        } = self.wave
+        else {
             return (0.0, 0.0);
         };
         let w = |tau: f64| (1.0 - 2.0 * c * tau * tau) * (-c * tau * tau).exp();
@@ -276,7 +311,7 @@ impl Pulse {
                 a * (u(tau) - u(ts) - v(ts) * (tau - ts)),
             )
         } else {
-            let a = self.amplitude / ricker_derivative_peak(c);
+            let a = self.amplitude * scale;
             (
                 a * (w(tau) - w(ts)),
                 a * (v(tau) - v(ts) - w(ts) * (tau - ts)),
@@ -426,27 +461,55 @@ impl Pulse {
 
     /// The first exceedance of a wavelet, searched on the pieces between its
     /// extrema, where ü_g is monotone: a crossing of ±threshold is bracketed
-    /// there and located by Brent's method to rounding.
+    /// there and located by Brent's method to rounding. Never an empty window:
+    /// one that rounding closes where it opens (asked from the end of the
+    /// previous one) is passed over for the next.
     fn exceedance_on_monotone_pieces(&self, from: f64, threshold: f64) -> Option<Exceedance> {
-        let mut cuts = vec![from];
-        cuts.extend(
-            self.wave
-                .extrema()
-                .into_iter()
-                .filter(|t| *t > from && *t < self.duration),
-        );
-        cuts.push(self.duration);
+        let mut from = from;
+        for _ in 0..8 {
+            let (start, end, sign) = self.window_from(from, threshold)?;
+            if end > start {
+                return Some(Exceedance {
+                    start,
+                    end,
+                    side: -sign,
+                });
+            }
+            // A few ulps on, |ü_g| is below the threshold again.
+            from = end + 4.0 * f64::EPSILON * end.abs().max(1.0);
+        }
+        None
+    }
+
+    /// (start, end, sign of ü_g) of the first stretch at or after `from` where
+    /// |ü_g| > `threshold`, on a wavelet; the end may equal the start.
+    fn window_from(&self, from: f64, threshold: f64) -> Option<(f64, f64, f64)> {
+        if from >= self.duration {
+            return None;
+        }
+        // Piece boundaries after `from`: the extrema inside, then the end.
+        let (extrema, n) = self.wave.extrema();
+        let mut cuts = [0.0; 5];
+        let mut count = 0;
+        for &t in &extrema[..n] {
+            if t > from && t < self.duration {
+                cuts[count] = t;
+                count += 1;
+            }
+        }
+        cuts[count] = self.duration;
+        let cuts = &cuts[..=count];
         let a = |t: f64| self.amplitude * self.unit(t);
-        // The first time in [from, T] with |a| > threshold.
         let mut start = None;
+        let mut first_piece = 0;
         if a(from).abs() > threshold {
             start = Some(from);
         } else {
-            for w in cuts.windows(2) {
-                let (ta, tb) = (w[0], w[1]);
-                let end = a(tb);
-                if end.abs() > threshold {
-                    let level = end.signum() * threshold;
+            let mut ta = from;
+            for (k, &tb) in cuts.iter().enumerate() {
+                let at_end = a(tb);
+                if at_end.abs() > threshold {
+                    let level = at_end.signum() * threshold;
                     let f = |t: f64| a(t) - level;
                     let (fa, fb) = (f(ta), f(tb));
                     let t = if fa * fb < 0.0 {
@@ -455,30 +518,29 @@ impl Pulse {
                         ta
                     };
                     start = Some(t.max(from));
+                    first_piece = k;
                     break;
                 }
+                ta = tb;
             }
         }
         let start = start?;
         let sign = a(start).signum();
-        let side = -sign;
-        // Where |a| falls back to the threshold: a = sign·threshold after start.
-        let mut end = self.duration;
-        let mut from_piece = start;
-        for w in cuts.windows(2) {
-            let (ta, tb) = (w[0].max(from_piece), w[1]);
+        // Where |ü_g| falls back to the threshold: ü_g = sign·threshold.
+        let mut ta = start;
+        for &tb in &cuts[first_piece..] {
             if tb <= start {
                 continue;
             }
-            from_piece = ta;
             let f = |t: f64| sign * a(t) - threshold;
             let (fa, fb) = (f(ta), f(tb));
             if fa > 0.0 && fb <= 0.0 {
-                end = crate::dynamics::events::brent(f, ta, tb, fa, fb, 0.0);
-                break;
+                let end = crate::dynamics::events::brent(f, ta, tb, fa, fb, 0.0);
+                return Some((start, end, sign));
             }
+            ta = tb;
         }
-        (end > start).then_some(Exceedance { start, end, side })
+        Some((start, self.duration, sign))
     }
 }
 
@@ -528,6 +590,40 @@ mod tests {
         assert_eq!(e.start, 0.0);
         assert!((e.end - PI / 3.0).abs() < 1e-14);
         assert_eq!(e.side, 1.0);
+    }
+
+    /// The same for the Ricker wavelets, whose windows are found between
+    /// their extrema: from each window's end, the next, never an empty one,
+    /// and the opposite lobes of the antisymmetric wavelet each found.
+    #[test]
+    fn wavelet_windows_follow_each_other_never_empty() {
+        for symmetric in [true, false] {
+            let p = Pulse::new(PulseShape::Ricker { symmetric }, 1.0, 7.3).expect("valid");
+            for threshold in [0.1, 0.4, 0.999_999, 1.0 - 1e-12] {
+                let mut from = 0.0;
+                let mut sides = Vec::new();
+                while let Some(e) = p.next_exceedance(from, threshold) {
+                    assert!(e.end > e.start, "{symmetric}, c = {threshold}: {e:?}");
+                    assert!(e.start >= from);
+                    let mid = 0.5 * (e.start + e.end);
+                    assert!(p.acceleration(mid).abs() > threshold);
+                    from = e.end;
+                    sides.push(e.side);
+                    assert!(sides.len() <= 5, "windows repeat");
+                }
+                // The lobes in order (ü_g > 0 pushes to side −1): the
+                // symmetric wavelet's side lobes reach 2e^(−3/2) = 0.446 of
+                // its crest, the derivative's outer lobes 0.272 of its peaks.
+                let expected: &[f64] = match (symmetric, threshold) {
+                    (true, t) if t < 0.446 => &[1.0, -1.0, 1.0],
+                    (true, t) if t < 0.9999 => &[-1.0],
+                    (false, t) if t < 0.272 => &[1.0, -1.0, 1.0, -1.0],
+                    (false, t) if t < 0.9999 => &[-1.0, 1.0],
+                    _ => &sides,
+                };
+                assert_eq!(sides, expected, "symmetric {symmetric}, c = {threshold}");
+            }
+        }
     }
 
     #[test]

@@ -113,7 +113,8 @@ impl Forcing for Pulse {
             return best; // constant: any point is a peak
         }
         if self.wave != Wave::Cosine {
-            for t in self.wave.extrema() {
+            let (extrema, n) = self.wave.extrema();
+            for &t in &extrema[..n] {
                 if t > ta && t < tb {
                     let v = Pulse::acceleration(self, t).abs();
                     if v > best.0 {

@@ -1,8 +1,8 @@
 //! Warnings about inputs that are valid but unlikely to be meant: a block
 //! whose size R (the half-diagonal, p = √(3g/(4R)) for a rectangular block)
-//! lies outside 1 cm – 100 m — typically full width and height entered as b
-//! and h (p off by √2 is not caught; millimetres for metres are), or p in
-//! Hz for rad/s. The result is computed as asked, with the warning next to it.
+//! lies outside 1 cm – 100 m — typically b and h in millimetres, or p in Hz
+//! for rad/s (R then 4π² too large). Full width and height entered as b and
+//! h (p off by √2) is not caught. The result is computed as asked, with the warning next to it.
 
 use serde_json::Value;
 
@@ -28,9 +28,9 @@ fn size_warning(block: &BlockNorm, pointer: &str) -> Option<WarningDoc> {
         return None;
     }
     let hint = if r > R_MAX_M {
-        "b and h are half the width and half the height, in metres (millimetres?)"
+        "b and h are half the width and half the height, in metres (millimetres?); p is in rad/s (Hz?)"
     } else {
-        "b and h are half the width and half the height, in metres; p is in rad/s (Hz?)"
+        "b and h are half the width and half the height, in metres"
     };
     Some(WarningDoc {
         kind: "implausible_size".into(),
@@ -115,8 +115,8 @@ mod tests {
         assert!(msg.contains("1341.6"), "{msg}");
     }
 
-    /// The paper's locomotive (p = 2.14 rad/s: R = 1.61 m) carries none; p in
-    /// Hz by mistake for a 1 cm die (p = 27 rad/s is fine, 300 is not).
+    /// The paper's locomotive (p = 2.14 rad/s: R = 1.61 m) carries none; a
+    /// block under 1 cm (p = 300 rad/s: R = 0.08 mm) does.
     #[test]
     fn plausible_blocks_carry_no_warning_and_tiny_ones_do() {
         let ok = run(

@@ -635,15 +635,6 @@ pub fn parse_formulation(v: Option<&str>, pointer: &str) -> Result<Formulation, 
     }
 }
 
-/// Validates the solver (default: exact for linear, dop853 otherwise).
-pub fn validate_solver(
-    spec: Option<&SolverSpec>,
-    formulation: Formulation,
-    base: &str,
-) -> Result<SolverNorm, SpecError> {
-    validate_solver_for(spec, formulation, true, base)
-}
-
 /// Validates the solver for a ground motion that has (`closed_form`, a pulse)
 /// or lacks (a record) the closed-form linear solution. Default: exact for
 /// the linear formulation of a pulse, dop853 otherwise.

@@ -3,6 +3,11 @@
 
 use std::fmt;
 
+/// The largest |t| a window may name, s (about four months).
+pub const MAX_SECONDS: f64 = 1e7;
+/// The shortest span a window may draw, s.
+pub const MIN_SPAN: f64 = 1e-6;
+
 /// A span of time to draw, start < end, both finite (seconds).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Window {
@@ -21,6 +26,17 @@ impl Window {
         if start >= end {
             return Err(format!(
                 "window {start},{end}: the start must come before the end"
+            ));
+        }
+        // An axis over an infinite or vanishing span cannot be ticked.
+        if start.abs() > MAX_SECONDS || end.abs() > MAX_SECONDS {
+            return Err(format!(
+                "window {start},{end}: both ends must lie within ±{MAX_SECONDS:e} s"
+            ));
+        }
+        if end - start < MIN_SPAN {
+            return Err(format!(
+                "window {start},{end}: the span must be at least {MIN_SPAN:e} s"
             ));
         }
         // -0 and 0 are one window (and one entity tag).
@@ -84,8 +100,8 @@ mod tests {
         assert_eq!(w.tag(), "0e0_1.2e0");
         assert_eq!(Window::parse("-0,1.2000").expect("window").tag(), w.tag());
         assert_eq!(
-            Window::new(-1e300, 1e-300).expect("window").tag(),
-            "-1e300_1e-300"
+            Window::new(-1e7, 1e-300).expect("window").tag(),
+            "-1e7_1e-300"
         );
     }
 
@@ -100,6 +116,10 @@ mod tests {
             ("0,inf", "finite"),
             ("NaN,1", "finite"),
             ("", "two numbers"),
+            // Finite, but an axis could not be ticked over them.
+            ("-1e308,1e308", "within"),
+            ("0,2e7", "within"),
+            ("1,1.0000000001", "at least"),
         ] {
             let e = Window::parse(bad).expect_err(bad);
             assert!(e.contains(why), "{bad}: {e}");

@@ -55,6 +55,9 @@ async fn a_bad_window_is_400_naming_window() {
         ("0,inf", "finite"),
         ("NaN,1", "finite"),
         ("", "two numbers"),
+        // Finite but unplottable: refused at once, never a renderer spinning.
+        ("-1e308,1e308", "within"),
+        ("0,1e-9", "at least"),
     ] {
         let r = get(
             &app,

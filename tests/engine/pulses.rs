@@ -99,6 +99,7 @@ fn closed_form_and_dop853_agree_on_housners_pulses() {
             assert!(exact.rocked, "{what}: rocks");
             assert_eq!(exact.overturned, rk.overturned, "{what}");
             assert_eq!(exact.mode, rk.mode, "{what}");
+            assert_eq!(exact.impact_count, rk.impact_count, "{what}: impact counts");
             let n = exact.impacts.len().min(rk.impacts.len()).min(20);
             assert!(
                 n > 0 || exact.overturned,
@@ -320,6 +321,7 @@ fn dopri5_and_dop853_agree_on_ricker_wavelets() {
                     "symmetric {symmetric}, {formulation:?}, omega_p/p = {ratio}, a_p = {level} alpha g"
                 );
                 assert_eq!((a.overturned, a.mode), (b.overturned, b.mode), "{what}");
+                assert_eq!(a.impact_count, b.impact_count, "{what}: impact counts");
                 for (x, y) in a.impacts.iter().zip(&b.impacts).take(10) {
                     assert!(
                         (x.time - y.time).abs() < 1e-7,
