@@ -348,6 +348,12 @@ pub mod rules {
                "then": {"properties": {"n": {"type": "null"}}}})
     }
 
+    /// `symmetric` only for Ricker pulses.
+    fn symmetric_for_ricker_only() -> Value {
+        json!({"if": {"required": ["type"], "properties": {"type": {"not": {"enum": ["ricker"]}}}},
+               "then": {"properties": {"symmetric": {"type": "null"}}}})
+    }
+
     /// The rules, by schema name.
     fn table() -> Vec<(&'static str, Vec<Value>)> {
         let frequency = ["omega_ratio", "omega_p", "frequency_hz"];
@@ -374,9 +380,13 @@ pub mod rules {
                     exactly_one(&frequency),
                     exactly_one(&["a_p", "a_p_g", "a_p_alpha_g"]),
                     n_for_cn_only(),
+                    symmetric_for_ricker_only(),
                 ],
             ),
-            ("PulseFamilyInput", vec![n_for_cn_only()]),
+            (
+                "PulseFamilyInput",
+                vec![n_for_cn_only(), symmetric_for_ricker_only()],
+            ),
             (
                 "SpectrumSpec",
                 vec![
