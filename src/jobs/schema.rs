@@ -354,6 +354,12 @@ pub mod rules {
                "then": {"properties": {"symmetric": {"type": "null"}}}})
     }
 
+    /// `duration_s` only for rectangular pulses.
+    fn duration_for_rectangular_only() -> Value {
+        json!({"if": {"required": ["type"], "properties": {"type": {"not": {"enum": ["rectangular"]}}}},
+               "then": {"properties": {"duration_s": {"type": "null"}}}})
+    }
+
     /// The rules, by schema name.
     fn table() -> Vec<(&'static str, Vec<Value>)> {
         let frequency = ["omega_ratio", "omega_p", "frequency_hz"];
@@ -377,9 +383,10 @@ pub mod rules {
             (
                 "PulseSpec",
                 vec![
-                    exactly_one(&frequency),
+                    exactly_one(&["omega_ratio", "omega_p", "frequency_hz", "duration_s"]),
                     exactly_one(&["a_p", "a_p_g", "a_p_alpha_g"]),
                     n_for_cn_only(),
+                    duration_for_rectangular_only(),
                     symmetric_for_ricker_only(),
                 ],
             ),

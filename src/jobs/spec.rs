@@ -215,6 +215,10 @@ pub struct PulseSpec {
     /// ω_p/p (1e-3 to 1e4).
     #[schema(minimum = 1e-3, maximum = 1e4)]
     pub omega_ratio: Option<f64>,
+    /// Rectangular pulses only: the duration t_d, s, instead of a frequency
+    /// (ω_p = π/t_d).
+    #[schema(exclusive_minimum = 0.0)]
+    pub duration_s: Option<f64>,
     /// Amplitude, m/s² (non-zero; the sign sets the direction).
     pub a_p: Option<f64>,
     /// Amplitude in g (non-zero).
@@ -569,13 +573,27 @@ pub fn validate_pulse(
             (spec.omega_p, "omega_p"),
             (spec.frequency_hz, "frequency_hz"),
             (spec.omega_ratio, "omega_ratio"),
+            (spec.duration_s, "duration_s"),
         ],
         "frequency",
     )?;
+    if which == 3 && shape != PulseShape::Rectangular {
+        return Err(SpecError::at(
+            format!("{base}/duration_s"),
+            "duration_s applies to rectangular pulses only: give omega_p, frequency_hz or omega_ratio",
+        ));
+    }
+    if which == 3 && w <= 0.0 {
+        return Err(SpecError::at(
+            format!("{base}/duration_s"),
+            format!("must be positive (got {w})"),
+        ));
+    }
     let (field, omega) = match which {
         0 => ("omega_p", w),
         1 => ("frequency_hz", 2.0 * std::f64::consts::PI * w),
-        _ => ("omega_ratio", w * block.p),
+        2 => ("omega_ratio", w * block.p),
+        _ => ("duration_s", std::f64::consts::PI / w),
     };
     let ratio = omega / block.p;
     if omega <= 0.0 || ratio < OMEGA_RATIO_RANGE.0 || ratio > OMEGA_RATIO_RANGE.1 {

@@ -98,6 +98,7 @@ pub fn validate_family(spec: Option<&PulseSpec>, base: &str) -> Result<PulseFami
         (spec.omega_p, "omega_p"),
         (spec.frequency_hz, "frequency_hz"),
         (spec.omega_ratio, "omega_ratio"),
+        (spec.duration_s, "duration_s"),
         (spec.a_p, "a_p"),
         (spec.a_p_g, "a_p_g"),
         (spec.a_p_alpha_g, "a_p_alpha_g"),

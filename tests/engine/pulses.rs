@@ -334,3 +334,32 @@ fn dopri5_and_dop853_agree_on_ricker_wavelets() {
         }
     }
 }
+
+/// A rectangular pulse by its duration is the pulse of ω_p = π/t_d: one
+/// normalised spec, one cache key, one result; other pulses refuse it,
+/// naming the field.
+#[test]
+fn a_rectangular_pulse_may_be_given_by_its_duration() {
+    use topple::jobs::Job;
+    use topple::jobs::key::cache_key;
+    let by_duration = Job::parse(
+        r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"rectangular","duration_s":0.5,"a_p_alpha_g":1.2},"formulation":"linear"}"#,
+    )
+    .expect("valid");
+    let by_frequency = Job::parse(&format!(
+        r#"{{"kind":"time_history","block":{{"alpha":0.25,"p":2.14}},"pulse":{{"type":"rectangular","omega_p":{},"a_p_alpha_g":1.2}},"formulation":"linear"}}"#,
+        std::f64::consts::PI / 0.5
+    ))
+    .expect("valid");
+    assert_eq!(cache_key(&by_duration), cache_key(&by_frequency));
+    let err = Job::parse(
+        r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","duration_s":0.5,"a_p_alpha_g":1.2}}"#,
+    )
+    .expect_err("refused");
+    assert!(err.to_string().contains("/pulse/duration_s"), "{err}");
+    let err = Job::parse(
+        r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"rectangular","duration_s":0.5,"omega_p":3,"a_p_alpha_g":1.2}}"#,
+    )
+    .expect_err("refused");
+    assert!(err.to_string().contains("duration_s"), "{err}");
+}
