@@ -24,18 +24,8 @@ fn etag(r: &reqwest::Response) -> String {
 
 /// A 400 problem naming the query parameter `window`.
 async fn assert_window_refused(r: reqwest::Response, words: &str) {
-    assert_eq!(r.status().as_u16(), 400, "{}", r.url());
-    let ct = r
-        .headers()
-        .get("content-type")
-        .and_then(|v| v.to_str().ok())
-        .unwrap_or("")
-        .to_string();
-    assert_eq!(ct, "application/problem+json");
-    let body: Value = r.json().await.expect("problem json");
-    assert_eq!(body["status"], 400, "{body}");
+    let body = crate::assert_problem(r, 400, Some("#/window")).await;
     assert_eq!(body["parameter"], "window", "{body}");
-    assert_eq!(body["pointer"], "#/window", "{body}");
     let detail = body["detail"].as_str().unwrap_or("");
     assert!(detail.contains(words), "{words:?} not in {body}");
 }
