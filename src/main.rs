@@ -87,6 +87,9 @@ struct ServeArgs {
     /// Most simulations one job may need (estimated before it is accepted).
     #[arg(long, env = "TOPPLE_MAX_WORK", default_value_t = 2e7)]
     max_work: f64,
+    /// Most simulations × record samples one job may need (record spectra).
+    #[arg(long, env = "TOPPLE_MAX_RECORD_WORK", default_value_t = 5e9)]
+    max_record_work: f64,
     /// Most jobs waiting in the queue; beyond, submissions answer 429.
     #[arg(long, env = "TOPPLE_MAX_QUEUED", default_value_t = 10_000)]
     max_queued: u64,
@@ -291,6 +294,11 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
                 args.max_work
             } else {
                 return Err((2, "--max-work must be positive".into()));
+            },
+            record_work: if args.max_record_work > 0.0 {
+                args.max_record_work
+            } else {
+                return Err((2, "--max-record-work must be positive".into()));
             },
         },
         max_queued: args.max_queued,

@@ -50,6 +50,7 @@ pub fn to_csv(result: &Value) -> Result<String, String> {
         Some("spectrum") => spectrum(result, &mut out),
         Some("friction_spectrum") => friction(result, &mut out),
         Some("forensic") => forensic(result, &mut out),
+        Some("record_spectrum") => record_spectrum(result, &mut out),
         other => return Err(format!("no CSV form for results of kind {other:?}")),
     }
     Ok(out)
@@ -175,6 +176,59 @@ fn spectrum(result: &Value, out: &mut String) {
                 f(b.and_then(|b| b.first())),
                 f(b.and_then(|b| b.get(1))),
             ];
+            fields.extend(tail.iter().cloned());
+            row(out, &fields);
+        }
+    }
+}
+
+/// One row per transition of each block size (one empty row for a size
+/// without any), with the size's minimum and rocking threshold.
+fn record_spectrum(result: &Value, out: &mut String) {
+    row(
+        out,
+        &[
+            "p_rad_s",
+            "R_m",
+            "scale",
+            "pga_g",
+            "direction",
+            "mode",
+            "impacts",
+            "bracket_lo_scale",
+            "bracket_hi_scale",
+            "min_overturn_scale",
+            "min_overturn_pga_g",
+            "threshold_scale",
+        ]
+        .map(String::from),
+    );
+    for line in array(result, "spectrum") {
+        let head = [f(line.get("p")), f(line.get("R_m"))];
+        let tail = [
+            f(line.get("min_overturn_scale")),
+            f(line.get("min_overturn_pga_g")),
+            f(line.get("threshold_scale")),
+        ];
+        let ts = array(line, "transitions");
+        if ts.is_empty() {
+            let mut fields = head.to_vec();
+            fields.extend(std::iter::repeat_n(String::new(), 7));
+            fields.extend(tail.iter().cloned());
+            row(out, &fields);
+        }
+        for t in ts {
+            let b = t.get("bracket").and_then(Value::as_array);
+            let mut fields = head.to_vec();
+            fields.extend([
+                f(t.get("scale")),
+                f(t.get("pga_g")),
+                f(t.get("direction")),
+                f(t.get("mode")),
+                f(t.get("impacts")),
+                f(b.and_then(|b| b.first())),
+                f(b.and_then(|b| b.get(1))),
+            ]);
             fields.extend(tail.iter().cloned());
             row(out, &fields);
         }

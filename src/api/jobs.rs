@@ -20,6 +20,7 @@ use super::problem::Problem;
 use crate::jobs::forensic::ForensicSpec;
 use crate::jobs::friction::FrictionSpec;
 use crate::jobs::key::cache_key;
+use crate::jobs::record_spectrum::RecordSpectrumSpec;
 use crate::jobs::spectrum::SpectrumSpec;
 use crate::jobs::time_history::TimeHistorySpec;
 use crate::jobs::{Job, KINDS};
@@ -36,6 +37,7 @@ use crate::store::{Deleted, JobRecord, ListQuery, NewJob, Status, new_job_id, no
     ("spectrum" = "#/components/schemas/SpectrumSpec"),
     ("friction_spectrum" = "#/components/schemas/FrictionSpectrumSpec"),
     ("forensic" = "#/components/schemas/ForensicSpec"),
+    ("record_spectrum" = "#/components/schemas/RecordSpectrumSpec"),
 )))]
 pub enum JobSpec {
     /// `"kind": "time_history"`.
@@ -46,6 +48,8 @@ pub enum JobSpec {
     FrictionSpectrum(FrictionSpec),
     /// `"kind": "forensic"`.
     Forensic(ForensicSpec),
+    /// `"kind": "record_spectrum"`.
+    RecordSpectrum(RecordSpectrumSpec),
 }
 
 /// Links of a job.
@@ -1163,7 +1167,7 @@ pub struct ListParams {
     #[param(value_type = Option<Status>)]
     pub status: Option<String>,
     /// Only jobs of this kind.
-    #[param(pattern = "^(time_history|spectrum|friction_spectrum|forensic)$")]
+    #[param(pattern = "^(time_history|spectrum|friction_spectrum|forensic|record_spectrum)$")]
     pub kind: Option<String>,
     /// At most this many (1..=500, default 50).
     #[param(minimum = 1, maximum = 500)]

@@ -91,6 +91,7 @@ impl utoipa::Modify for EngineProvenance {
             "SpectrumResult",
             "FrictionSpectrumResult",
             "ForensicResult",
+            "RecordSpectrumResult",
         ] {
             if let Some(RefOr::T(Schema::Object(o))) = components.schemas.get_mut(name) {
                 o.properties.insert(

@@ -186,6 +186,14 @@ impl Record {
         self.dt
     }
 
+    /// The record with every sample multiplied by `factor`.
+    pub fn scaled(&self, factor: f64) -> Record {
+        Record {
+            samples: self.samples.iter().map(|a| a * factor).collect(),
+            ..self.clone()
+        }
+    }
+
     /// Time of sample k.
     #[inline]
     fn time(&self, k: usize) -> f64 {

@@ -16,6 +16,9 @@ pub struct Limits {
     pub grid_points: usize,
     /// Estimated simulations of one job.
     pub work: f64,
+    /// Estimated simulations × record samples of one job (a simulation of a
+    /// record costs in proportion to its samples).
+    pub record_work: f64,
 }
 
 impl Default for Limits {
@@ -24,6 +27,7 @@ impl Default for Limits {
             series_points: 200_000,
             grid_points: 4_000_000,
             work: 2e7,
+            record_work: 5e9,
         }
     }
 }
@@ -35,6 +39,7 @@ impl Limits {
             series_points: usize::MAX,
             grid_points: usize::MAX,
             work: f64::INFINITY,
+            record_work: f64::INFINITY,
         }
     }
 }
@@ -60,9 +65,10 @@ impl LimitError {
     /// amplitude axis is normalised to ω_p/p or αg, but the user may have given
     /// it as `omega_p`, `frequency_hz`, `a_p` or `a_p_g`.
     pub fn as_written(mut self, spec: &serde_json::Value) -> Self {
-        const AXES: [&[&str]; 2] = [
+        const AXES: [&[&str]; 3] = [
             &["omega_ratio", "omega_p", "frequency_hz"],
             &["a_alpha_g", "a_p", "a_p_g"],
+            &["p", "R_m"],
         ];
         let field = self.pointer.trim_start_matches('/');
         if let Some(axis) = AXES.iter().find(|axis| axis.contains(&field))
@@ -91,6 +97,8 @@ pub struct Size {
     pub grid_points: usize,
     /// Estimated simulations.
     pub work: f64,
+    /// Estimated simulations × record samples (records only, else 0).
+    pub record_work: f64,
 }
 
 impl Job {
@@ -101,6 +109,7 @@ impl Job {
                 series_points: j.outputs.series,
                 grid_points: 1,
                 work: 1.0,
+                record_work: j.ground_motion.as_ref().map_or(0.0, |g| g.acc.len() as f64),
             },
             Job::Spectrum(j) => {
                 let scan = (j.a_max_alpha_g / j.scan_step_alpha_g).ceil();
@@ -111,12 +120,14 @@ impl Job {
                     series_points: 0,
                     grid_points: (n * scan).min(usize::MAX as f64) as usize,
                     work: n * per_frequency,
+                    record_work: 0.0,
                 }
             }
             Job::FrictionSpectrum(j) => Size {
                 series_points: 0,
                 grid_points: j.a_alpha_g.len(),
                 work: j.a_alpha_g.len() as f64,
+                record_work: 0.0,
             },
             Job::Forensic(j) => {
                 let (grid, work) = j.size();
@@ -124,6 +135,20 @@ impl Job {
                     series_points: 0,
                     grid_points: grid.min(usize::MAX as f64) as usize,
                     work,
+                    record_work: 0.0,
+                }
+            }
+            Job::RecordSpectrum(j) => {
+                let scan = j.points_per_size();
+                let grid = j.grid();
+                let bisection = (grid.step / grid.tolerance).log2().ceil().max(1.0);
+                let n = j.p.len() as f64;
+                let work = n * (scan + TRANSITIONS_PER_FREQUENCY * bisection);
+                Size {
+                    series_points: 0,
+                    grid_points: (n * scan).min(usize::MAX as f64) as usize,
+                    work,
+                    record_work: work * j.ground_motion.acc.len() as f64,
                 }
             }
         }
@@ -147,6 +172,7 @@ impl Job {
         let grid_field = match self {
             Job::FrictionSpectrum(_) => "/a_alpha_g",
             Job::Forensic(_) => "/frequency_hz",
+            Job::RecordSpectrum(_) => "/p",
             _ => "/omega_ratio",
         };
         if size.grid_points > limits.grid_points {
@@ -170,6 +196,18 @@ impl Job {
                 message: format!(
                     "the job needs about {:.3e} simulations, over this service's limit of {:.3e} (max_work); split it into smaller jobs",
                     size.work, limits.work
+                ),
+            });
+        }
+        if size.record_work > limits.record_work {
+            return Err(LimitError {
+                pointer: grid_field.into(),
+                limit: "max_record_work",
+                value: size.record_work,
+                maximum: limits.record_work,
+                message: format!(
+                    "the job needs about {:.3e} simulations × record samples, over this service's limit of {:.3e} (max_record_work); use fewer block sizes, a coarser scan step, a narrower scale range or a shorter record",
+                    size.record_work, limits.record_work
                 ),
             });
         }

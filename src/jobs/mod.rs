@@ -8,6 +8,7 @@ pub mod limits;
 pub mod numerics;
 pub mod plausible;
 pub mod range;
+pub mod record_spectrum;
 pub mod schema;
 pub mod spec;
 pub mod spectrum;
@@ -33,6 +34,8 @@ pub enum Job {
     FrictionSpectrum(friction::FrictionJob),
     /// The pulses consistent with blocks seen overturned or standing.
     Forensic(forensic::ForensicJob),
+    /// The rocking spectrum of a recorded motion.
+    RecordSpectrum(record_spectrum::RecordSpectrumJob),
 }
 
 /// Why a valid job did not produce a result.
@@ -60,7 +63,13 @@ impl From<ScanError> for JobError {
 }
 
 /// The job kinds, as named in specs.
-pub const KINDS: [&str; 4] = ["time_history", "spectrum", "friction_spectrum", "forensic"];
+pub const KINDS: [&str; 5] = [
+    "time_history",
+    "spectrum",
+    "friction_spectrum",
+    "forensic",
+    "record_spectrum",
+];
 
 impl Job {
     /// Parses and validates a job spec from JSON text.
@@ -121,6 +130,10 @@ impl Job {
                 let spec: forensic::ForensicSpec = spec::from_value(value, "")?;
                 Ok(Job::Forensic(spec.validate()?))
             }
+            "record_spectrum" => {
+                let spec: record_spectrum::RecordSpectrumSpec = spec::from_value(value, "")?;
+                Ok(Job::RecordSpectrum(spec.validate()?))
+            }
             other => Err(SpecError::at(
                 "/kind",
                 format!(
@@ -138,6 +151,7 @@ impl Job {
             Job::Spectrum(_) => "spectrum",
             Job::FrictionSpectrum(_) => "friction_spectrum",
             Job::Forensic(_) => "forensic",
+            Job::RecordSpectrum(_) => "record_spectrum",
         }
     }
 
@@ -157,6 +171,7 @@ impl Job {
             Job::Spectrum(job) => serde_json::to_value(job.run(control)?),
             Job::FrictionSpectrum(job) => serde_json::to_value(job.run(control)?),
             Job::Forensic(job) => serde_json::to_value(job.run(control)?),
+            Job::RecordSpectrum(job) => serde_json::to_value(job.run(control)?),
         };
         let doc = plausible::with_warnings(value.unwrap_or(serde_json::Value::Null), self);
         Ok(key::with_engine(doc))

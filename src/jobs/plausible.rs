@@ -54,6 +54,8 @@ pub fn warnings(job: &Job) -> Vec<WarningDoc> {
             .enumerate()
             .map(|(i, o)| (&o.block, format!("/observations/{i}/block")))
             .collect(),
+        // The sizes are the axis the user chose.
+        Job::RecordSpectrum(_) => Vec::new(),
     };
     blocks
         .into_iter()

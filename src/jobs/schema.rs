@@ -40,6 +40,10 @@ literal!(
     ForensicKind = "forensic"
 );
 literal!(
+    /// `"record_spectrum"`.
+    RecordSpectrumKind = "record_spectrum"
+);
+literal!(
     /// Samples of a normalised record are in m/s².
     MetresPerSecondSquared = "m/s2"
 );
@@ -56,6 +60,8 @@ pub enum JobKind {
     FrictionSpectrum,
     /// A forensic query.
     Forensic,
+    /// The rocking spectrum of a record.
+    RecordSpectrum,
 }
 
 /// The equation of motion (eq. 12/49 or eqs. 23–24/50).
@@ -224,6 +230,7 @@ pub enum WarningKind {
     ("spectrum" = "#/components/schemas/SpectrumJob"),
     ("friction_spectrum" = "#/components/schemas/FrictionSpectrumJob"),
     ("forensic" = "#/components/schemas/ForensicJob"),
+    ("record_spectrum" = "#/components/schemas/RecordSpectrumJob"),
 )))]
 pub enum NormalizedSpec {
     /// `"kind": "time_history"`.
@@ -234,6 +241,8 @@ pub enum NormalizedSpec {
     FrictionSpectrum(super::friction::FrictionJob),
     /// `"kind": "forensic"`.
     Forensic(super::forensic::ForensicJob),
+    /// `"kind": "record_spectrum"`.
+    RecordSpectrum(super::record_spectrum::RecordSpectrumJob),
 }
 
 /// A result document, by `kind`.
@@ -244,6 +253,7 @@ pub enum NormalizedSpec {
     ("spectrum" = "#/components/schemas/SpectrumResult"),
     ("friction_spectrum" = "#/components/schemas/FrictionSpectrumResult"),
     ("forensic" = "#/components/schemas/ForensicResult"),
+    ("record_spectrum" = "#/components/schemas/RecordSpectrumResult"),
 )))]
 pub enum JobResult {
     /// `"kind": "time_history"`.
@@ -254,6 +264,8 @@ pub enum JobResult {
     FrictionSpectrum(FrictionResult),
     /// `"kind": "forensic"`.
     Forensic(ForensicResult),
+    /// `"kind": "record_spectrum"`.
+    RecordSpectrum(super::record_spectrum::RecordSpectrumResult),
 }
 
 /// A figure: an SVG document.
@@ -412,6 +424,10 @@ pub mod rules {
                 "ForensicSpec",
                 vec![exactly_one(&frequency), at_most_one(&["a_p_g", "a_p"])],
             ),
+            (
+                "RecordSpectrumSpec",
+                vec![exactly_one(&["p", "R_m"]), exactly_one(&["scale", "pga_g"])],
+            ),
         ]
     }
 
@@ -438,10 +454,12 @@ pub mod rules {
             ));
         }
         // α < π/2 (an attribute would take the constant as a literal only).
-        if let Some(RefOr::T(Schema::Object(block))) = components.schemas.get_mut("BlockSpec")
-            && let Some(RefOr::T(Schema::Object(alpha))) = block.properties.get_mut("alpha")
-        {
-            alpha.exclusive_maximum = Some(std::f64::consts::FRAC_PI_2.into());
+        for name in ["BlockSpec", "RecordBlockSpec"] {
+            if let Some(RefOr::T(Schema::Object(block))) = components.schemas.get_mut(name)
+                && let Some(RefOr::T(Schema::Object(alpha))) = block.properties.get_mut("alpha")
+            {
+                alpha.exclusive_maximum = Some(std::f64::consts::FRAC_PI_2.into());
+            }
         }
         if let Some(RefOr::T(Schema::OneOf(one_of))) = components.schemas.get_mut("RangeSpec") {
             for item in one_of.items.iter_mut() {

@@ -16,18 +16,46 @@ pub const MAX_TASKS: usize = 256;
 /// enough that the queue costs a few per cent.
 pub const TASK_SIMULATIONS: f64 = 5_000.0;
 
+/// Record samples one simulation of a pulse costs about as much as: a
+/// simulation of a record of N samples counts as N/50 in a task's budget.
+const SAMPLES_PER_PULSE_SIMULATION: f64 = 50.0;
+
+/// Record samples stored over all the tasks of a record spectrum (each task
+/// carries the record): a long record is split into fewer tasks.
+pub const MAX_TASK_SAMPLES: usize = 5_000_000;
+
+/// Chunks of `n` lines of `per_line` simulations each, at most `max_tasks`.
+fn chunk_len(n: usize, per_line: f64, max_tasks: usize) -> usize {
+    ((TASK_SIMULATIONS / per_line.max(1.0)).floor() as usize)
+        .max(n.div_ceil(max_tasks.max(1)))
+        .clamp(1, n)
+}
+
 impl Job {
     /// The tasks of this job, as job specs of their own: a spectrum becomes
     /// one task per chunk of frequencies of about [`TASK_SIMULATIONS`]
     /// simulations (at most [`MAX_TASKS`]); any other job is one task.
     pub fn split(&self) -> Vec<Job> {
         match self {
+            Job::RecordSpectrum(job) if job.p.len() > 1 => {
+                let n = job.p.len();
+                let samples = job.ground_motion.acc.len();
+                let per_size = self.size().work / n as f64
+                    * (samples as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
+                let max_tasks = MAX_TASKS.min((MAX_TASK_SAMPLES / samples).max(1));
+                job.p
+                    .chunks(chunk_len(n, per_size, max_tasks))
+                    .map(|chunk| {
+                        let mut part = job.clone();
+                        part.p = chunk.to_vec();
+                        Job::RecordSpectrum(part)
+                    })
+                    .collect()
+            }
             Job::Spectrum(job) if job.omega_ratio.len() > 1 => {
                 let n = job.omega_ratio.len();
-                let per_frequency = (self.size().work / n as f64).max(1.0);
-                let per = ((TASK_SIMULATIONS / per_frequency).floor() as usize)
-                    .max(n.div_ceil(MAX_TASKS))
-                    .clamp(1, n);
+                let per_frequency = self.size().work / n as f64;
+                let per = chunk_len(n, per_frequency, MAX_TASKS);
                 job.omega_ratio
                     .chunks(per)
                     .map(|chunk| {
@@ -48,9 +76,12 @@ impl Job {
         if parts.len() == 1 {
             return parts.pop().unwrap_or(Value::Null);
         }
-        let Job::Spectrum(job) = self else {
-            return parts.pop().unwrap_or(Value::Null);
+        let (kind, spec) = match self {
+            Job::Spectrum(job) => ("spectrum", serde_json::to_value(job)),
+            Job::RecordSpectrum(job) => ("record_spectrum", serde_json::to_value(job)),
+            _ => return parts.pop().unwrap_or(Value::Null),
         };
+        let spec = spec.unwrap_or(Value::Null);
         let mut lines = Vec::new();
         let mut numerics = serde_json::Map::new();
         let sum_keys = [
@@ -89,12 +120,15 @@ impl Job {
         numerics.insert("error_estimate".into(), error.into());
         numerics.insert("wall_time_s".into(), wall.into());
         numerics.insert("tasks".into(), parts.len().into());
-        let doc = serde_json::json!({
-            "kind": "spectrum",
+        let mut doc = serde_json::json!({
+            "kind": kind,
             "spectrum": lines,
             "numerics": numerics,
-            "spec": job,
+            "spec": spec,
         });
+        if let Some(record) = parts.first().and_then(|p| p.get("record")) {
+            doc["record"] = record.clone();
+        }
         super::key::with_engine(super::plausible::with_warnings(doc, self))
     }
 }

@@ -8,6 +8,7 @@ pub mod forensic;
 pub mod friction;
 pub mod motion;
 pub mod precision;
+pub mod record_spectrum;
 pub mod spectrum;
 pub mod style;
 pub mod time_history;
@@ -64,6 +65,7 @@ pub fn svg_in(result: &Value, window: Option<Window>) -> Result<String, FigureEr
         Some("spectrum") => spectrum::svg(result),
         Some("friction_spectrum") => friction::svg(result),
         Some("forensic") => forensic::svg(result),
+        Some("record_spectrum") => record_spectrum::svg(result),
         Some(other) => Err(format!("no figure for results of kind {other:?}")),
         None => Err("not a result document: it has no \"kind\"".into()),
     }

@@ -5,6 +5,7 @@ pub mod closed_form;
 pub mod control;
 pub mod friction;
 pub mod overturning;
+pub mod record;
 pub mod scan;
 
 pub use control::{Canceled, Control};

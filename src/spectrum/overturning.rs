@@ -9,7 +9,7 @@ use crate::dynamics::{Block, Formulation, Problem, Pulse, PulseShape, Solver};
 
 use super::closed_form::{eq21_minimum, linear_one_sine_mode2_boundary};
 use super::control::Control;
-use super::scan::{Direction, Line, ModeChange, ScanError, ScanStats, Transition};
+use super::scan::{Direction, Line, ModeChange, Scalable, ScanError, ScanStats, Transition};
 
 /// What to compute.
 #[derive(Clone, Debug, PartialEq)]
@@ -103,45 +103,67 @@ fn grid_point(threshold: f64, a_max: f64, h: f64, k: usize, len: usize) -> f64 {
     }
 }
 
-/// What one chunk of one frequency found.
+/// What one chunk of one line found.
 type ChunkResult = (usize, Vec<Transition>, Vec<ModeChange>, ScanStats);
 
-/// Largest number of scan chunks per frequency (bounds memory and task count).
+/// Largest number of scan chunks per line (bounds memory and task count).
 const MAX_CHUNKS: usize = 256;
 /// Scan points per chunk when the grid is small.
 const CHUNK_POINTS: usize = 48;
 
-/// Computes the spectrum, in parallel over frequencies and amplitude chunks.
-pub fn overturning_spectrum(
-    req: &SpectrumRequest,
+/// How each line of a spectrum is scanned, in levels of peak ground
+/// acceleration (α g).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScanGrid {
+    /// First level examined (the rocking threshold, or above it).
+    pub from: f64,
+    /// Highest level examined.
+    pub to: f64,
+    /// Scan step: every band or safe interval wider than this is found.
+    pub step: f64,
+    /// Bracket width of every transition.
+    pub tolerance: f64,
+    /// The principal view drops bands and safe intervals narrower than this
+    /// fraction of their level.
+    pub principal_relative_width: f64,
+}
+
+/// The overturning set of one line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LineScan {
+    /// Every survive ↔ overturn transition, in order (fine structure).
+    pub transitions: Vec<Transition>,
+    /// Changes of overturning mode inside overturning regions.
+    pub mode_changes: Vec<ModeChange>,
+    /// Derived from the fine structure.
+    pub derived: Derived,
+    /// Transitions without bands or safe intervals narrower than the principal width.
+    pub principal_transitions: Vec<Transition>,
+    /// Derived from the principal view.
+    pub principal: Derived,
+}
+
+/// Scans every problem (its ground motion scaled per level) over `grid`, in
+/// parallel over lines and chunks of levels; results in the order of `problems`.
+pub fn scan_lines<G: Scalable + Sync>(
+    problems: &[Problem<G>],
+    solver: Solver,
+    grid: &ScanGrid,
     control: &Control,
-) -> Result<Spectrum, ScanError> {
-    let started = Instant::now();
-    let threshold = threshold_alpha_g(req.formulation, &req.block);
-    let len = grid_len(threshold, req.a_max, req.scan_step);
+) -> Result<(Vec<LineScan>, ScanStats), ScanError> {
+    let len = grid_len(grid.from, grid.to, grid.step);
     let chunks = len.div_ceil(CHUNK_POINTS).clamp(1, MAX_CHUNKS);
     let per_chunk = (len - 1).div_ceil(chunks).max(1);
-    control.add_total((req.omega_ratios.len() * len) as u64);
-    let tasks: Vec<(usize, usize)> = (0..req.omega_ratios.len())
+    control.add_total((problems.len() * len) as u64);
+    let tasks: Vec<(usize, usize)> = (0..problems.len())
         .flat_map(|f| (0..chunks).map(move |c| (f, c)))
         .collect();
     let results: Vec<Result<ChunkResult, ScanError>> = tasks
         .par_iter()
         .map(|&(f, c)| {
-            let ratio = req.omega_ratios[f];
-            let pulse = Pulse::new(
-                req.shape,
-                req.block.slenderness * req.block.gravity,
-                ratio * req.block.frequency_parameter,
-            )
-            .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
             let line = Line {
-                problem: Problem {
-                    block: req.block,
-                    pulse,
-                    formulation: req.formulation,
-                },
-                solver: req.solver,
+                problem: problems[f].clone(),
+                solver,
                 control,
             };
             let k0 = c * per_chunk;
@@ -151,48 +173,93 @@ pub fn overturning_spectrum(
                 return Ok((f, Vec::new(), Vec::new(), stats));
             }
             // Chunks share their boundary point so that no pair is skipped.
-            let levels = (k0..=k1).map(|k| grid_point(threshold, req.a_max, req.scan_step, k, len));
-            let (t, m) = line.scan(levels, req.tolerance, &mut stats)?;
+            let levels = (k0..=k1).map(|k| grid_point(grid.from, grid.to, grid.step, k, len));
+            let (t, m) = line.scan(levels, grid.tolerance, &mut stats)?;
             Ok((f, t, m, stats))
         })
         .collect();
-    let mut per_freq: Vec<(Vec<Transition>, Vec<ModeChange>)> =
-        vec![(Vec::new(), Vec::new()); req.omega_ratios.len()];
+    let mut per_line: Vec<(Vec<Transition>, Vec<ModeChange>)> =
+        vec![(Vec::new(), Vec::new()); problems.len()];
     let mut stats = ScanStats::default();
     for r in results {
         let (f, t, m, s) = r?;
-        per_freq[f].0.extend(t);
-        per_freq[f].1.extend(m);
+        per_line[f].0.extend(t);
+        per_line[f].1.extend(m);
         stats.absorb(&s);
     }
-    let lines = req
-        .omega_ratios
-        .iter()
-        .zip(per_freq)
-        .map(|(&ratio, (mut transitions, mut mode_changes))| {
+    let lines = per_line
+        .into_iter()
+        .map(|(mut transitions, mut mode_changes)| {
             transitions.sort_by(|a, b| a.at.total_cmp(&b.at));
             mode_changes.sort_by(|a, b| a.at.total_cmp(&b.at));
-            let derived = derive(&transitions, req.a_max);
+            let derived = derive(&transitions, grid.to);
             let principal_transitions =
-                principal(&transitions, req.a_max, req.principal_relative_width);
-            let principal = derive(&principal_transitions, req.a_max);
-            FrequencyLine {
-                omega_ratio: ratio,
-                threshold,
+                principal(&transitions, grid.to, grid.principal_relative_width);
+            let principal = derive(&principal_transitions, grid.to);
+            LineScan {
                 transitions,
                 mode_changes,
                 derived,
                 principal_transitions,
                 principal,
-                eq21: eq21_minimum(req.shape, ratio),
-                mode2_closed_form: if req.shape == PulseShape::OneSine
-                    && req.formulation == Formulation::Linear
-                {
-                    linear_one_sine_mode2_boundary(ratio)
-                } else {
-                    None
-                },
             }
+        })
+        .collect();
+    Ok((lines, stats))
+}
+
+/// Computes the spectrum, in parallel over frequencies and amplitude chunks.
+pub fn overturning_spectrum(
+    req: &SpectrumRequest,
+    control: &Control,
+) -> Result<Spectrum, ScanError> {
+    let started = Instant::now();
+    let threshold = threshold_alpha_g(req.formulation, &req.block);
+    let problems = req
+        .omega_ratios
+        .iter()
+        .map(|&ratio| {
+            let pulse = Pulse::new(
+                req.shape,
+                req.block.slenderness * req.block.gravity,
+                ratio * req.block.frequency_parameter,
+            )
+            .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
+            Ok(Problem {
+                block: req.block,
+                pulse,
+                formulation: req.formulation,
+            })
+        })
+        .collect::<Result<Vec<_>, ScanError>>()?;
+    let grid = ScanGrid {
+        from: threshold,
+        to: req.a_max,
+        step: req.scan_step,
+        tolerance: req.tolerance,
+        principal_relative_width: req.principal_relative_width,
+    };
+    let (scans, stats) = scan_lines(&problems, req.solver, &grid, control)?;
+    let lines = req
+        .omega_ratios
+        .iter()
+        .zip(scans)
+        .map(|(&ratio, scan)| FrequencyLine {
+            omega_ratio: ratio,
+            threshold,
+            transitions: scan.transitions,
+            mode_changes: scan.mode_changes,
+            derived: scan.derived,
+            principal_transitions: scan.principal_transitions,
+            principal: scan.principal,
+            eq21: eq21_minimum(req.shape, ratio),
+            mode2_closed_form: if req.shape == PulseShape::OneSine
+                && req.formulation == Formulation::Linear
+            {
+                linear_one_sine_mode2_boundary(ratio)
+            } else {
+                None
+            },
         })
         .collect();
     Ok(Spectrum {

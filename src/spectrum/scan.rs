@@ -15,7 +15,9 @@
 //! A band narrower than `h` with the same impact count on both sides, at both
 //! neighbouring scan points, can be missed.
 
-use crate::dynamics::{Options, Problem, SimError, Solver, simulate};
+use crate::dynamics::{
+    Block, Forcing, Options, Problem, Pulse, Record, SimError, Solver, simulate,
+};
 
 use super::control::{Canceled, Control};
 
@@ -117,27 +119,52 @@ pub enum ScanError {
     },
 }
 
-/// One line of constant ω_p/p: the problem with a unit amplitude of α g.
-pub struct Line<'a> {
-    /// Block, pulse (amplitude replaced per point) and formulation.
-    pub problem: Problem,
+/// A ground motion that a scan sets to a level of peak acceleration.
+pub trait Scalable: Forcing {
+    /// The same motion with its peak acceleration at `level` α g (positive).
+    fn at_level(&self, level: f64, block: &Block) -> Self;
+}
+
+impl Scalable for Pulse {
+    #[inline]
+    fn at_level(&self, level: f64, block: &Block) -> Self {
+        self.with_amplitude(level * block.slenderness * block.gravity)
+    }
+}
+
+impl Scalable for Record {
+    /// The record scaled so that its PGA is `level` α g (a record without
+    /// motion stays one).
+    fn at_level(&self, level: f64, block: &Block) -> Self {
+        let pga = self.samples().iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        if pga > 0.0 {
+            self.scaled(level * block.slenderness * block.gravity / pga)
+        } else {
+            self.clone()
+        }
+    }
+}
+
+/// One line of the spectrum (constant ω_p/p for a pulse, constant p for a
+/// record): the problem whose ground motion is scaled per point.
+pub struct Line<'a, G: Scalable = Pulse> {
+    /// Block, ground motion (scaled per point) and formulation.
+    pub problem: Problem<G>,
     /// Solver.
     pub solver: Solver,
     /// Owner's control.
     pub control: &'a Control,
 }
 
-impl Line<'_> {
+impl<G: Scalable> Line<'_, G> {
     /// The outcome at amplitude `level` (a_p/(αg)).
     pub fn classify(&self, level: f64, stats: &mut ScanStats) -> Result<Signature, ScanError> {
         self.control.check()?;
         let block = self.problem.block;
         let problem = Problem {
-            pulse: self
-                .problem
-                .pulse
-                .with_amplitude(level * block.slenderness * block.gravity),
-            ..self.problem
+            pulse: self.problem.pulse.at_level(level, &block),
+            block,
+            formulation: self.problem.formulation,
         };
         let r = simulate(&problem, &Options::outcome(self.solver))
             .map_err(|source| ScanError::At { level, source })?;

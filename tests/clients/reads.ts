@@ -29,6 +29,13 @@ export function summary(view: S["JobView"]): string {
     }
     case "forensic":
       return `${r.frequencies.length}`;
+    case "record_spectrum": {
+      const size = r.spectrum[0];
+      const r_m: number = size.R_m;
+      const min: number | null = size.min_overturn_scale;
+      const pga: number = r.record.pga_g;
+      return `${r_m} ${min} ${pga} ${size.transitions[0]?.scale}`;
+    }
   }
 }
 

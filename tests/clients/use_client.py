@@ -21,6 +21,8 @@ from topple_client.models import (
     FrictionSpectrumResult,
     FrictionSpectrumSpec,
     JobView,
+    RecordSpectrumResult,
+    RecordSpectrumSpec,
     SpectrumResult,
     SpectrumSpec,
     Status,
@@ -100,6 +102,13 @@ def main() -> None:
     check(isinstance(fo, ForensicResult), f"forensic result {type(fo)}")
     assert isinstance(fo, ForensicResult)
     print(f"forensic: {len(fo.frequencies)} frequencies")
+    record = RecordSpectrumSpec.from_dict(spec("record_spectrum_one_sine.json"))
+    rjob = finished(client, submitted(create_job.sync(client=client, body=record), "record spectrum"))
+    rs = get_result.sync(rjob.id, client=client)
+    check(isinstance(rs, RecordSpectrumResult), f"record spectrum result {type(rs)}")
+    assert isinstance(rs, RecordSpectrumResult)
+    size_m: float = rs.spectrum[0].r_m
+    print(f"record spectrum: {len(rs.spectrum)} sizes from R = {size_m:.3f} m, PGA {rs.record.pga_g} g")
 
     # CSV and SVG. The result route answers JSON, CSV or SVG; the generator
     # parses its 200 as JSON, so CSV comes through the client's own httpx

@@ -40,6 +40,9 @@ FR = {"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.
 FO = {"kind": "forensic", "pulse": {"type": "one_sine"},
       "observations": [{"name": "cabinet", "b": 0.5, "h": 1.5, "overturned": True}],
       "frequency_hz": [1.0], "a_p_g": {"from": 0.1, "to": 0.5}}
+RS = {"kind": "record_spectrum", "block": {"alpha": 0.2},
+      "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.4, -0.3, 0.0]},
+      "R_m": [0.5, 1.0], "scale": {"to": 3.0}}
 
 DELETE = object()
 
@@ -156,6 +159,18 @@ BAD = [
     ("forensic amplitude range without to", edit(FO, a_p_g={"from": 0.1}), "/a_p_g"),
     ("forensic tolerance > 0.1", edit(FO, tolerance_g=0.5), "/tolerance_g"),
     ("forensic scan step > 1", edit(FO, scan_step_g=2.0), "/scan_step_g"),
+    ("record spectrum without record", edit(RS, ground_motion=DELETE), "/ground_motion"),
+    ("record spectrum without block", edit(RS, block=DELETE), "/block"),
+    ("record spectrum without sizes", edit(RS, R_m=DELETE), "/p"),
+    ("record spectrum sizes twice", edit(RS, p=[2.0]), "/R_m"),
+    ("record spectrum empty sizes", edit(RS, R_m=[]), "/R_m"),
+    ("record spectrum without scale", edit(RS, scale=DELETE), "/scale"),
+    ("record spectrum scale twice", edit(RS, pga_g={"to": 1.0}), "/pga_g"),
+    ("record spectrum scale without to", edit(RS, scale={"from": 0.5}), "/scale/to"),
+    ("record spectrum scale from < 0", edit(RS, scale={"from": -1.0, "to": 2.0}), "/scale/from"),
+    ("record spectrum with a block size", edit(RS, block={"alpha": 0.2, "p": 2.0}), "/block/p"),
+    ("record spectrum principal width > 1", edit(RS, principal_relative_width=2.0),
+     "/principal_relative_width"),
 ]
 
 # Rules JSON Schema cannot state (they depend on the block or on two values):
@@ -171,6 +186,7 @@ SERVER_ONLY = [
     ("scan step below the tolerance", edit(SP, tolerance=0.05, scan_step_alpha_g=0.01),
      "/scan_step_alpha_g"),
     ("forensic amplitude to <= from", edit(FO, a_p_g={"from": 0.5, "to": 0.5}), "/a_p_g"),
+    ("record spectrum scaled below the rocking threshold", edit(RS, scale={"to": 0.1}), "/scale/to"),
 ]
 
 # Valid variants, beyond the shipped specs: every unit, both block forms,
@@ -193,6 +209,9 @@ GOOD = [
     ("friction in rad/s and m/s2", edit(FR, omega_ratio=DELETE, omega_p=8.56, a_alpha_g=DELETE,
                                         a_p=[4.0, 5.0])),
     ("forensic", FO),
+    ("record spectrum", RS),
+    ("record spectrum in p and PGA", edit(RS, R_m=DELETE, p={"from": 2.0, "to": 4.0, "steps": 2},
+                                          scale=DELETE, pga_g={"from": 0.1, "to": 1.0})),
     ("forensic with a block and a_p", edit(FO, observations=[
         {"block": {"alpha": 0.2, "p": 2.0}, "overturned": False}], a_p_g=DELETE,
         a_p={"from": 1.0, "to": 3.0})),

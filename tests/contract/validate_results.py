@@ -63,7 +63,8 @@ def main():
     any_result = validator(description, "JobResult")
     by_kind = {k: validator(description, n) for k, n in [
         ("time_history", "TimeHistoryResult"), ("spectrum", "SpectrumResult"),
-        ("friction_spectrum", "FrictionSpectrumResult"), ("forensic", "ForensicResult")]}
+        ("friction_spectrum", "FrictionSpectrumResult"), ("forensic", "ForensicResult"),
+        ("record_spectrum", "RecordSpectrumResult")]}
     cases = [(os.path.basename(p), json.load(open(p)))
              for p in sorted(glob.glob(os.path.join(ROOT, "specs", "*.json")))] + EXTRA
     passed = failed = 0
@@ -97,6 +98,8 @@ def main():
         ("spectrum", lambda d: d["spectrum"][0].__setitem__("transitions", [{"a_alpha_g": "x"}])),
         ("friction_spectrum", lambda d: d["points"][0].__setitem__("lift_off", 1)),
         ("forensic", lambda d: d.__setitem__("frequencies", {"0": 1})),
+        ("record_spectrum", lambda d: d["spectrum"][0].__setitem__("R_m", "0.5 m")),
+        ("record_spectrum", lambda d: d["record"].__delitem__("pga_g")),
         ("time_history", lambda d: d.__delitem__("engine")),
     ]
     for kind, mutate in mutations:

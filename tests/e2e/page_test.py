@@ -388,7 +388,8 @@ def check_submit_in_sight(page):
         size = page.js("[window.innerWidth, window.innerHeight]")
         if size != [WIDTH, height]:
             raise Failure(f"the window is {size}, not {WIDTH}×{height}")
-        for kind in ("time_history", "spectrum", "friction_spectrum", "forensic", "raw", "time_history"):
+        for kind in ("time_history", "spectrum", "friction_spectrum", "forensic", "record_spectrum", "raw",
+                     "time_history"):
             page.click(f"input[name=kind][value={kind}]")
             seen, where = submit_in_sight(page)
             if not seen:
@@ -605,6 +606,50 @@ def check_forensic(page, base):
     page.screenshot(os.path.join(OUT, "page-forensic.png"))
 
 
+def check_record_spectrum(page, base):
+    """A record spectrum from the form: the example record (a one-sine pulse
+    of 0.5 g at 1 Hz, 101 samples), block sizes by R, a figure and a summary
+    that agree with the result."""
+    page.click("input[name=kind][value=record_spectrum]")
+    if not page.js("document.getElementById('fs-pulse').querySelector('#f-type').closest('[data-kinds]').hidden"):
+        raise Failure("the pulse type is offered for a record spectrum")
+    hint = page.js("document.getElementById('rs-hint').textContent")
+    if hint != "101 samples over 1 s, PGA 0.5 g.":
+        raise Failure(f"the record is not described: {hint!r}")
+    page.type_into("#f-rs-steps", "4")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    acc = raw["ground_motion"].pop("acc")
+    expected = {"kind": "record_spectrum", "ground_motion": {"dt": 0.01, "unit": "g"},
+                "block": {"alpha": 0.2}, "R_m": {"from": 0.2, "to": 2, "steps": 4},
+                "scale": {"to": 3}, "formulation": "nonlinear"}
+    if raw != expected or len(acc) != 101 or abs(max(acc) - 0.5) > 1e-9:
+        raise Failure(f"the form's record spectrum is {raw} with {len(acc)} samples, not {expected}")
+    page.click("input[name=kind][value=record_spectrum]")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "record spectrum")
+    log(f"record spectrum {job_id}")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    sizes = [round(s["R_m"], 9) for s in result["spectrum"]]
+    if sizes != [0.2, 0.8, 1.4, 2.0]:
+        raise Failure(f"the record spectrum's sizes: {sizes}")
+    toppled = [s for s in result["spectrum"] if s["min_overturn_scale"] is not None]
+    outcome = page.js("document.getElementById('outcome').textContent")
+    if toppled:
+        lowest = min(toppled, key=lambda s: s["min_overturn_scale"])
+        m = re.match(r"Lowest overturning scale ([0-9.]+) \(PGA ([0-9.]+) g\), for R = ([0-9.]+) m", outcome)
+        if not m or abs(float(m.group(1)) - lowest["min_overturn_scale"]) > 5e-4 * lowest["min_overturn_scale"]:
+            raise Failure(f"the outcome does not give the lowest scale {lowest['min_overturn_scale']}: {outcome!r}")
+    elif not outcome.startswith("No block size overturns"):
+        raise Failure(f"the outcome of a record spectrum without overturning: {outcome!r}")
+    summary = summary_of(page)
+    if summary.get("Record") != "101 samples, dt = 0.01 s":
+        raise Failure(f"the record spectrum summary: {summary}")
+    page.screenshot(os.path.join(OUT, "page-record-spectrum.png"))
+    page.click("input[name=kind][value=time_history]")
+
+
 def check_cancel(page, base):
     page.click("input[name=kind][value=spectrum]")
     page.type_into("#f-sp-steps", "2000")
@@ -696,6 +741,7 @@ def main():
         check_time_history(page, server.base)
         check_survivor(page, server.base)
         check_forensic(page, server.base)
+        check_record_spectrum(page, server.base)
         check_cancel(page, server.base)
         guarded.start()
         log(f"server with a token at {guarded.base}")

@@ -853,6 +853,7 @@ fn strict_result(job: &Job) -> Option<Result<String, serde_json::Error>> {
         Job::Spectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
         Job::FrictionSpectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
         Job::Forensic(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
+        Job::RecordSpectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
     }
 }
 

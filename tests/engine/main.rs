@@ -11,4 +11,5 @@ mod ground_motion;
 mod paper;
 mod properties;
 mod pulses;
+mod record_spectrum;
 mod spectra;

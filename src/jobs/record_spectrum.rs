@@ -1,0 +1,629 @@
+//! The `record_spectrum` job: which blocks of which size a recorded motion
+//! topples, at which scale (the rocking spectrum of Makris & Konstantinidis
+//! 2003). One line per block size p (or R = 3g/(4p²)), each the overturning
+//! set over the record's scale factor.
+//!
+//! Internally a scale factor s is the level s·PGA/(αg) of a pulse spectrum's
+//! amplitude axis, so the defaults (scan step 0.02 αg, tolerance 1e-4 αg) are
+//! the pulse spectra's, expressed in scale units: step 0.02·s_α and tolerance
+//! 1e-4·s_α, with s_α = αg/PGA the scale at which the record's PGA reaches αg.
+
+use serde::{Deserialize, Serialize};
+
+use super::range::RangeSpec;
+use super::spec::{
+    BlockSpec, GroundMotionNorm, GroundMotionSpec, SolverNorm, SolverSpec, SpecError, at_most_one,
+    in_one_unit, parse_formulation, validate_block, validate_ground_motion,
+};
+use super::spectrum::ScanCost;
+use super::time_history::GroundPeaksDoc;
+use crate::dynamics::{Block, Formulation, peaks};
+use crate::spectrum::Control;
+use crate::spectrum::overturning::{Derived, LineScan, ScanGrid, threshold_alpha_g};
+use crate::spectrum::record::{RecordSpectrumRequest, record_spectrum};
+use crate::spectrum::scan::{Direction, ModeChange, ScanError, Transition};
+
+/// Most block sizes in one record spectrum.
+pub const MAX_SIZES: usize = 2_000;
+/// Accepted block frequency parameters p, rad/s (R from about 1 µm to 7,000 km).
+pub const P_RANGE: (f64, f64) = (1e-3, 1e3);
+/// Highest level examined: the scaled PGA in α g, as for pulse spectra.
+pub const MAX_LEVEL: f64 = 1e4;
+/// Default bracket width, in units of s_α = αg/PGA.
+pub const DEFAULT_TOLERANCE: f64 = 1e-4;
+/// Default scan step, in units of s_α.
+pub const DEFAULT_SCAN_STEP: f64 = 0.02;
+/// Most scan points per block size.
+pub const MAX_SCAN_POINTS: f64 = 1e6;
+
+/// A range of scale factors (or of PGA in g).
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ScaleRangeSpec {
+    /// Lowest value (default 0: from where the block starts to rock).
+    #[schema(minimum = 0.0)]
+    pub from: Option<f64>,
+    /// Highest value.
+    #[schema(required = true, value_type = f64, exclusive_minimum = 0.0)]
+    pub to: Option<f64>,
+}
+
+/// The block of a record spectrum as users write it: everything but its
+/// size, which is the spectrum's axis (a `p`, `b` or `h` here is refused
+/// naming it).
+#[derive(Clone, Debug, Deserialize, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+#[allow(dead_code)]
+pub struct RecordBlockSpec {
+    /// Slenderness α, rad.
+    #[schema(exclusive_minimum = 0.0)]
+    alpha: f64,
+    /// Coefficient of restitution η (default 1 − 1.5 sin²α, floored at 0).
+    #[schema(minimum = 0.0, maximum = 1.0)]
+    eta: Option<f64>,
+    /// Gravity, m/s² (default 9.81).
+    #[schema(exclusive_minimum = 0.0)]
+    g: Option<f64>,
+}
+
+/// The spec as users write it.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RecordSpectrumSpec {
+    /// "record_spectrum".
+    #[schema(value_type = crate::jobs::schema::RecordSpectrumKind)]
+    pub kind: String,
+    /// The record (`dt`, `acc`, `unit`).
+    #[schema(required = true, value_type = GroundMotionSpec)]
+    pub ground_motion: Option<GroundMotionSpec>,
+    /// The block's slenderness, restitution and gravity (`alpha`, `eta`,
+    /// `g`); its size is the spectrum's axis (`p` or `R_m`).
+    #[schema(required = true, value_type = RecordBlockSpec)]
+    pub block: Option<BlockSpec>,
+    /// Block frequency parameters p, rad/s (give this or `R_m`).
+    pub p: Option<RangeSpec>,
+    /// Block sizes R = √(b² + h²), m (p = √(3g/(4R))).
+    #[serde(rename = "R_m", alias = "r_m")]
+    pub r_m: Option<RangeSpec>,
+    /// Scale factors applied to the record: `{"from", "to"}` (give this or `pga_g`).
+    pub scale: Option<ScaleRangeSpec>,
+    /// The scaled record's PGA, g: `{"from", "to"}`.
+    pub pga_g: Option<ScaleRangeSpec>,
+    /// "linear" | "nonlinear" (default).
+    #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
+    pub formulation: Option<String>,
+    /// Bracket width of each transition, in scale units (default 1e-4 αg/PGA).
+    #[schema(exclusive_minimum = 0.0)]
+    pub tolerance: Option<f64>,
+    /// Scan step, in scale units (default 0.02 αg/PGA): every band or safe
+    /// interval wider than this is found.
+    #[schema(exclusive_minimum = 0.0)]
+    pub scan_step: Option<f64>,
+    /// Principal view: drop bands narrower than this fraction of their scale (0 to 1, default 0.01).
+    #[schema(minimum = 0.0, maximum = 1.0)]
+    pub principal_relative_width: Option<f64>,
+    /// Solver.
+    pub solver: Option<SolverSpec>,
+}
+
+/// The block of a record spectrum, normalised: everything but its size.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+pub struct RecordBlockNorm {
+    /// α, rad.
+    pub alpha: f64,
+    /// η.
+    pub eta: f64,
+    /// g, m/s².
+    pub g: f64,
+}
+
+/// A range of scale factors, normalised.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+pub struct ScaleRangeNorm {
+    /// Lowest scale factor.
+    pub from: f64,
+    /// Highest scale factor.
+    pub to: f64,
+}
+
+/// A validated record spectrum; serialises to the canonical spec.
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+pub struct RecordSpectrumJob {
+    /// "record_spectrum".
+    #[schema(value_type = crate::jobs::schema::RecordSpectrumKind)]
+    pub kind: &'static str,
+    /// The record, m/s².
+    pub ground_motion: GroundMotionNorm,
+    /// Block (its size varies).
+    pub block: RecordBlockNorm,
+    /// Block frequency parameters, rad/s.
+    pub p: Vec<f64>,
+    /// Scale factors examined.
+    pub scale: ScaleRangeNorm,
+    /// "linear" | "nonlinear".
+    #[schema(value_type = crate::jobs::schema::FormulationName)]
+    pub formulation: &'static str,
+    /// Bracket width, scale units.
+    pub tolerance: f64,
+    /// Scan step, scale units.
+    pub scan_step: f64,
+    /// Principal relative width.
+    pub principal_relative_width: f64,
+    /// Solver.
+    pub solver: SolverNorm,
+}
+
+/// p of a block of size R, m, under gravity g (eq. 5: p = √(3g/(4R))).
+pub fn p_of_size(r: f64, g: f64) -> f64 {
+    (3.0 * g / (4.0 * r)).sqrt()
+}
+
+/// R of a block of frequency parameter p.
+pub fn size_of_p(p: f64, g: f64) -> f64 {
+    3.0 * g / (4.0 * p * p)
+}
+
+fn pga(acc: &[f64]) -> f64 {
+    acc.iter().fold(0.0f64, |m, a| m.max(a.abs()))
+}
+
+impl RecordSpectrumSpec {
+    /// Validates into a runnable job.
+    pub fn validate(&self) -> Result<RecordSpectrumJob, SpecError> {
+        let block_spec = self
+            .block
+            .as_ref()
+            .ok_or_else(|| SpecError::at("/block", "missing field"))?;
+        for (v, name) in [
+            (block_spec.p, "p"),
+            (block_spec.b, "b"),
+            (block_spec.h, "h"),
+        ] {
+            if v.is_some() {
+                return Err(SpecError::at(
+                    format!("/block/{name}"),
+                    "a record spectrum varies the block's size: give alpha (and eta, g) in the block and the sizes as p (rad/s) or R_m (m) at the top level",
+                ));
+            }
+        }
+        if block_spec.mu.is_some() {
+            return Err(SpecError::at(
+                "/block/mu",
+                "a record spectrum computes overturning only: mu is not used",
+            ));
+        }
+        let block = validate_block(
+            &BlockSpec {
+                p: Some(1.0),
+                ..block_spec.clone()
+            },
+            "/block",
+        )?;
+        let gm = self.ground_motion.as_ref().ok_or_else(|| {
+            SpecError::at(
+                "/ground_motion",
+                "missing field: {\"dt\", \"acc\", \"unit\"}",
+            )
+        })?;
+        let (ground_motion, _) = validate_ground_motion(gm, &block, "/ground_motion")?;
+        let peak = pga(&ground_motion.acc);
+        if peak == 0.0 {
+            return Err(SpecError::at(
+                "/ground_motion/acc",
+                "the record has no motion (every sample is 0)",
+            ));
+        }
+        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let solver =
+            super::spec::validate_solver_for(self.solver.as_ref(), formulation, false, "/solver")?;
+        let g = block.g;
+        let names = ["p", "R_m"];
+        let (sizes, which) = at_most_one(
+            "",
+            &[(self.p.as_ref(), names[0]), (self.r_m.as_ref(), names[1])],
+            "block-size axis",
+        )?
+        .ok_or_else(|| {
+            SpecError::at(
+                "/p",
+                "missing field: the block sizes as p (rad/s) or R_m (m): {\"from\", \"to\", \"steps\"} or a list",
+            )
+        })?;
+        let (name, is_r) = (names[which], which == 1);
+        let pointer = format!("/{name}");
+        let (lo, hi) = if is_r {
+            (size_of_p(P_RANGE.1, g), size_of_p(P_RANGE.0, g))
+        } else {
+            P_RANGE
+        };
+        let p: Vec<f64> = sizes
+            .values(&pointer, lo, hi, MAX_SIZES)?
+            .into_iter()
+            .map(|v| if is_r { p_of_size(v, g) } else { v })
+            .collect();
+        // Scale factors, normalised; a level is the scaled PGA in α g.
+        let unit = block.alpha * g / peak; // s_α: the scale at which PGA = αg
+        let (range, s_name, to_scale) = in_one_unit(
+            &[
+                (self.scale.as_ref(), "scale", 1.0),
+                (self.pga_g.as_ref(), "pga_g", g / peak),
+            ],
+            "scale axis",
+        )?
+        .ok_or_else(|| {
+            SpecError::at(
+                "/scale",
+                "missing field: the scale factors as scale {\"from\", \"to\"} or the PGA as pga_g {\"from\", \"to\"}",
+            )
+        })?;
+        let to = range.to.ok_or_else(|| {
+            SpecError::at(format!("/{s_name}/to"), "missing field: the highest value")
+        })?;
+        let from = range.from.unwrap_or(0.0);
+        if !(from.is_finite() && from >= 0.0) {
+            return Err(SpecError::at(
+                format!("/{s_name}/from"),
+                "must be a finite number >= 0",
+            ));
+        }
+        if !(to.is_finite() && to > from) {
+            return Err(SpecError::at(
+                format!("/{s_name}/to"),
+                "must be a finite number above from",
+            ));
+        }
+        let scale = ScaleRangeNorm {
+            from: from * to_scale,
+            to: to * to_scale,
+        };
+        let threshold = threshold_alpha_g(
+            formulation,
+            &Block {
+                slenderness: block.alpha,
+                frequency_parameter: 1.0,
+                restitution: block.eta,
+                friction: None,
+                gravity: g,
+            },
+        );
+        let level_to = scale.to / unit;
+        if level_to <= threshold {
+            return Err(SpecError::at(
+                format!("/{s_name}/to"),
+                format!(
+                    "the record scaled by {} has a PGA of {:.4} g, below the rocking threshold {:.4} g (g tan α{}): no block of this slenderness rocks; the scale must exceed {:.6}",
+                    scale.to,
+                    scale.to * peak / g,
+                    threshold * block.alpha,
+                    if formulation == Formulation::Linear {
+                        ", linear: g α"
+                    } else {
+                        ""
+                    },
+                    threshold * unit
+                ),
+            ));
+        }
+        if level_to > MAX_LEVEL {
+            return Err(SpecError::at(
+                format!("/{s_name}/to"),
+                format!(
+                    "the scaled PGA must not exceed {MAX_LEVEL:e} αg (scale {:.6e})",
+                    MAX_LEVEL * unit
+                ),
+            ));
+        }
+        let tolerance = self.tolerance.unwrap_or(DEFAULT_TOLERANCE * unit);
+        if !(tolerance.is_finite() && tolerance >= 1e-9 * unit && tolerance <= 0.1 * unit) {
+            return Err(SpecError::at(
+                "/tolerance",
+                format!(
+                    "must lie in [{:.3e}, {:.3e}] (1e-9 to 0.1 times αg/PGA = {unit:.6e}); got {tolerance}",
+                    1e-9 * unit,
+                    0.1 * unit
+                ),
+            ));
+        }
+        let scan_step = self.scan_step.unwrap_or(DEFAULT_SCAN_STEP * unit);
+        if !(scan_step.is_finite() && scan_step >= tolerance && scan_step <= unit) {
+            return Err(SpecError::at(
+                "/scan_step",
+                format!(
+                    "must lie in [tolerance, αg/PGA] = [{tolerance:.3e}, {unit:.6e}]; got {scan_step}"
+                ),
+            ));
+        }
+        if (scale.to - scale.from) / scan_step > MAX_SCAN_POINTS {
+            return Err(SpecError::at(
+                "/scan_step",
+                format!("(to − from)/scan_step must not exceed {MAX_SCAN_POINTS:e}"),
+            ));
+        }
+        let principal = self.principal_relative_width.unwrap_or(0.01);
+        if !(principal.is_finite() && (0.0..=1.0).contains(&principal)) {
+            return Err(SpecError::at(
+                "/principal_relative_width",
+                "must lie in [0, 1]",
+            ));
+        }
+        Ok(RecordSpectrumJob {
+            kind: "record_spectrum",
+            ground_motion,
+            block: RecordBlockNorm {
+                alpha: block.alpha,
+                eta: block.eta,
+                g,
+            },
+            p,
+            scale,
+            formulation: formulation.name(),
+            tolerance,
+            scan_step,
+            principal_relative_width: principal,
+            solver,
+        })
+    }
+}
+
+/// A survive ↔ overturn transition over the scale factor.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct ScaleTransitionDoc {
+    /// Scale factor (bracket midpoint).
+    pub scale: f64,
+    /// The scaled record's PGA there, g.
+    pub pga_g: f64,
+    /// "up": overturning begins as the scale grows; "down": a safe interval begins.
+    #[schema(value_type = crate::jobs::schema::TransitionDirection)]
+    pub direction: String,
+    /// Mode on the overturning side.
+    pub mode: u8,
+    /// Impacts on the overturning side.
+    pub impacts: u64,
+    /// [lo, hi] scale factors, width ≤ tolerance.
+    pub bracket: [f64; 2],
+}
+
+/// A change of overturning mode over the scale factor.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct ScaleModeChangeDoc {
+    /// Scale factor.
+    pub scale: f64,
+    /// Mode below.
+    pub from_mode: u8,
+    /// Mode above.
+    pub to_mode: u8,
+    /// Bracket, scale factors.
+    pub bracket: [f64; 2],
+}
+
+/// The principal view of one block size.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct ScalePrincipalDoc {
+    /// Transitions without narrow bands.
+    pub transitions: Vec<ScaleTransitionDoc>,
+    /// Lowest overturning scale factor.
+    #[schema(required = true)]
+    pub min_overturn_scale: Option<f64>,
+    /// Its mode.
+    #[schema(required = true)]
+    pub min_overturn_mode: Option<u8>,
+    /// Safe intervals above the minimum, [lo, hi] scale factors.
+    pub safe_intervals: Vec<[f64; 2]>,
+    /// Every scale above this overturns (up to the highest examined).
+    #[schema(required = true)]
+    pub overturns_above_scale: Option<f64>,
+}
+
+/// One block size of a record spectrum.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct SizeDoc {
+    /// Frequency parameter p, rad/s.
+    pub p: f64,
+    /// Size R = 3g/(4p²), m.
+    #[serde(rename = "R_m")]
+    pub r_m: f64,
+    /// Scale factor at which the block starts to rock (PGA = g tan α, or g α linear).
+    pub threshold_scale: f64,
+    /// Every transition (fine structure).
+    pub transitions: Vec<ScaleTransitionDoc>,
+    /// Mode changes inside overturning regions.
+    pub mode_changes: Vec<ScaleModeChangeDoc>,
+    /// Lowest overturning scale factor.
+    #[schema(required = true)]
+    pub min_overturn_scale: Option<f64>,
+    /// The scaled record's PGA there, g.
+    #[schema(required = true)]
+    pub min_overturn_pga_g: Option<f64>,
+    /// Its mode.
+    #[schema(required = true)]
+    pub min_overturn_mode: Option<u8>,
+    /// Safe intervals above the minimum, [lo, hi] scale factors.
+    pub safe_intervals: Vec<[f64; 2]>,
+    /// Every scale above this overturns (up to the highest examined).
+    #[schema(required = true)]
+    pub overturns_above_scale: Option<f64>,
+    /// Without bands narrower than the principal relative width.
+    pub principal: ScalePrincipalDoc,
+}
+
+/// The record as given: its peaks and sampling.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct RecordDoc {
+    /// PGA, PGV, PGD of the unscaled record (from rest, no baseline correction).
+    #[serde(flatten)]
+    pub peaks: GroundPeaksDoc,
+    /// Sampling interval, s.
+    pub dt_s: f64,
+    /// Samples.
+    pub samples: usize,
+    /// Duration (N − 1)·dt, s.
+    pub duration_s: f64,
+}
+
+/// Cost and accuracy of a record spectrum.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct RecordSpectrumNumerics {
+    /// Solver, cost and worst error estimate.
+    #[serde(flatten)]
+    pub cost: ScanCost,
+    /// Bracket width of transitions, scale units.
+    pub tolerance: f64,
+    /// Scan step, scale units.
+    pub scan_step: f64,
+    /// Wall time, s.
+    pub wall_time_s: f64,
+}
+
+/// The result document of a record spectrum.
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+pub struct RecordSpectrumResult {
+    /// "record_spectrum".
+    #[schema(value_type = crate::jobs::schema::RecordSpectrumKind)]
+    pub kind: &'static str,
+    /// The record's PGA, PGV, PGD and sampling.
+    pub record: RecordDoc,
+    /// One entry per block size, in the order of `spec.p`.
+    pub spectrum: Vec<SizeDoc>,
+    /// Cost and accuracy.
+    pub numerics: RecordSpectrumNumerics,
+    /// The normalised spec.
+    pub spec: RecordSpectrumJob,
+    /// Notes on the inputs; absent when there are none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
+}
+
+impl RecordSpectrumJob {
+    /// The formulation.
+    pub fn formulation(&self) -> Formulation {
+        if self.formulation == "linear" {
+            Formulation::Linear
+        } else {
+            Formulation::Nonlinear
+        }
+    }
+
+    /// The block at frequency parameter `p`.
+    pub fn block_at(&self, p: f64) -> Block {
+        Block {
+            slenderness: self.block.alpha,
+            frequency_parameter: p,
+            restitution: self.block.eta,
+            friction: None,
+            gravity: self.block.g,
+        }
+    }
+
+    /// s_α = αg/PGA: the scale factor of one level (scaled PGA of α g).
+    pub fn unit_scale(&self) -> f64 {
+        self.block.alpha * self.block.g / pga(&self.ground_motion.acc)
+    }
+
+    /// The scan grid in levels (scaled PGA in α g).
+    pub fn grid(&self) -> ScanGrid {
+        let unit = self.unit_scale();
+        let threshold = threshold_alpha_g(self.formulation(), &self.block_at(1.0));
+        ScanGrid {
+            from: (self.scale.from / unit).max(threshold),
+            to: self.scale.to / unit,
+            step: self.scan_step / unit,
+            tolerance: self.tolerance / unit,
+            principal_relative_width: self.principal_relative_width,
+        }
+    }
+
+    /// Scan points of one block size.
+    pub fn points_per_size(&self) -> f64 {
+        let grid = self.grid();
+        ((grid.to - grid.from) / grid.step).ceil().max(0.0) + 1.0
+    }
+
+    /// Runs the job under `control`.
+    pub fn run(&self, control: &Control) -> Result<RecordSpectrumResult, ScanError> {
+        let record = self
+            .ground_motion
+            .record()
+            .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
+        let unit = self.unit_scale();
+        let g = self.block.g;
+        let peak = pga(&self.ground_motion.acc);
+        let req = RecordSpectrumRequest {
+            record: record.clone(),
+            block: self.block_at(1.0),
+            ps: self.p.clone(),
+            formulation: self.formulation(),
+            solver: self.solver.solver(),
+            grid: self.grid(),
+        };
+        let s = record_spectrum(&req, control)?;
+        let threshold = threshold_alpha_g(self.formulation(), &self.block_at(1.0));
+        let to_scale = |level: f64| level * unit;
+        let transition = |t: &Transition| ScaleTransitionDoc {
+            scale: to_scale(t.at),
+            pga_g: to_scale(t.at) * peak / g,
+            direction: match t.direction {
+                Direction::Up => "up",
+                Direction::Down => "down",
+            }
+            .to_string(),
+            mode: t.mode,
+            impacts: t.impacts,
+            bracket: [to_scale(t.bracket.0), to_scale(t.bracket.1)],
+        };
+        let mode_change = |m: &ModeChange| ScaleModeChangeDoc {
+            scale: to_scale(m.at),
+            from_mode: m.from,
+            to_mode: m.to,
+            bracket: [to_scale(m.bracket.0), to_scale(m.bracket.1)],
+        };
+        let intervals = |d: &Derived| -> Vec<[f64; 2]> {
+            d.safe_intervals
+                .iter()
+                .map(|&(a, b)| [to_scale(a), to_scale(b)])
+                .collect()
+        };
+        let spectrum = self
+            .p
+            .iter()
+            .zip(&s.lines)
+            .map(|(&p, l): (&f64, &LineScan)| SizeDoc {
+                p,
+                r_m: size_of_p(p, g),
+                threshold_scale: to_scale(threshold),
+                transitions: l.transitions.iter().map(transition).collect(),
+                mode_changes: l.mode_changes.iter().map(mode_change).collect(),
+                min_overturn_scale: l.derived.min_overturn.map(to_scale),
+                min_overturn_pga_g: l.derived.min_overturn.map(|a| to_scale(a) * peak / g),
+                min_overturn_mode: l.derived.min_overturn_mode,
+                safe_intervals: intervals(&l.derived),
+                overturns_above_scale: l.derived.overturns_above.map(to_scale),
+                principal: ScalePrincipalDoc {
+                    transitions: l.principal_transitions.iter().map(transition).collect(),
+                    min_overturn_scale: l.principal.min_overturn.map(to_scale),
+                    min_overturn_mode: l.principal.min_overturn_mode,
+                    safe_intervals: intervals(&l.principal),
+                    overturns_above_scale: l.principal.overturns_above.map(to_scale),
+                },
+            })
+            .collect();
+        let n = self.ground_motion.acc.len();
+        Ok(RecordSpectrumResult {
+            kind: "record_spectrum",
+            record: RecordDoc {
+                peaks: GroundPeaksDoc::new(&peaks::of_record(&record), g),
+                dt_s: self.ground_motion.dt,
+                samples: n,
+                duration_s: (n - 1) as f64 * self.ground_motion.dt,
+            },
+            spectrum,
+            numerics: RecordSpectrumNumerics {
+                cost: ScanCost::new(&self.solver, &s.stats),
+                tolerance: self.tolerance,
+                scan_step: self.scan_step,
+                wall_time_s: s.wall_time,
+            },
+            spec: self.clone(),
+            warnings: Vec::new(),
+        })
+    }
+}
