@@ -54,10 +54,14 @@ fn read_response(s: &mut TcpStream) -> std::io::Result<(u16, String, String)> {
     let mut head = Vec::new();
     let mut byte = [0u8; 1];
     while !head.ends_with(b"\r\n\r\n") {
-        if s.read(&mut byte)? == 0 {
-            return Err(ErrorKind::UnexpectedEof.into());
+        // A signal to this process (a child server exiting) interrupts the
+        // read without ending the response: read again, as read_exact does.
+        match s.read(&mut byte) {
+            Ok(0) => return Err(ErrorKind::UnexpectedEof.into()),
+            Ok(_) => head.push(byte[0]),
+            Err(e) if e.kind() == ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
         }
-        head.push(byte[0]);
     }
     let head = String::from_utf8_lossy(&head).to_string();
     let status = head
@@ -101,6 +105,7 @@ fn closed_within(s: &mut TcpStream, limit: Duration) -> Option<Duration> {
             Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {
                 return None;
             }
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
             Err(_) => return Some(start.elapsed()),
         }
     }
