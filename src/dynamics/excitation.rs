@@ -169,6 +169,20 @@ fn ricker_derivative_peak(c: f64) -> f64 {
     ((-6.0 * c * tau + 4.0 * c * c * tau.powi(3)) * (-x).exp()).abs()
 }
 
+/// The times of the Ricker wavelet's extrema, in increasing order.
+fn ricker_extrema(c: f64, t0: f64, symmetric: bool) -> Extrema {
+    if symmetric {
+        // ((1 − 2x)e^(−x))' = 0: τ = 0 and cτ² = 3/2.
+        let r = (1.5 / c).sqrt();
+        Extrema::of(&[t0 - r, t0, t0 + r], 1.0)
+    } else {
+        // 8x² − 24x + 6 = 0: cτ² = (3 ∓ √6)/2.
+        let a = ((3.0 - 6f64.sqrt()) / 2.0 / c).sqrt();
+        let b = ((3.0 + 6f64.sqrt()) / 2.0 / c).sqrt();
+        Extrema::of(&[t0 - b, t0 - a, t0 + a, t0 + b], 1.0)
+    }
+}
+
 impl Wave {
     /// The Ricker wavelet of centre `t0` and `c` = (π f_p)², symmetric or the
     /// derivative, at `t` (no support check).
@@ -207,32 +221,6 @@ impl Wave {
             }
             Wave::MavroeidisPapageorgiou { rate, shape, scale } => {
                 scale * shape.acceleration(rate * t)
-            }
-        }
-    }
-
-    /// The times where the unit waveform has an extremum (none for the
-    /// cosine, handled in closed form), in increasing order.
-    fn extrema(&self) -> Extrema {
-        match *self {
-            Wave::Cosine => Extrema::NONE,
-            Wave::Ricker {
-                c, t0, symmetric, ..
-            } => {
-                if symmetric {
-                    // ((1 − 2x)e^(−x))' = 0: τ = 0 and cτ² = 3/2.
-                    let r = (1.5 / c).sqrt();
-                    Extrema::of(&[t0 - r, t0, t0 + r], 1.0)
-                } else {
-                    // 8x² − 24x + 6 = 0: cτ² = (3 ∓ √6)/2.
-                    let a = ((3.0 - 6f64.sqrt()) / 2.0 / c).sqrt();
-                    let b = ((3.0 + 6f64.sqrt()) / 2.0 / c).sqrt();
-                    Extrema::of(&[t0 - b, t0 - a, t0 + a, t0 + b], 1.0)
-                }
-            }
-            Wave::MavroeidisPapageorgiou { rate, shape, .. } => {
-                let (x, n) = shape.acceleration_extrema();
-                Extrema::of(&x[..n], 1.0 / rate)
             }
         }
     }
@@ -341,19 +329,28 @@ impl Pulse {
             PulseShape::MavroeidisPapageorgiou { gamma, .. } => (0.0, 2.0 * PI * gamma.get()),
         };
         let f = circular_frequency / (2.0 * PI);
-        let wave = match shape {
-            PulseShape::Ricker { symmetric } => Wave::ricker((PI * f).powi(2), 1.5 / f, symmetric),
+        let (wave, extrema) = match shape {
+            PulseShape::Ricker { symmetric } => {
+                let (c, t0) = ((PI * f).powi(2), 1.5 / f);
+                (
+                    Wave::ricker(c, t0, symmetric),
+                    ricker_extrema(c, t0, symmetric),
+                )
+            }
             PulseShape::MavroeidisPapageorgiou { gamma, nu } => {
                 let (gamma, nu) = (gamma.get(), nu.get());
                 let shape =
                     MavroeidisPapageorgiou::new(gamma, nu).ok_or(PulseError::Shape(gamma, nu))?;
-                Wave::MavroeidisPapageorgiou {
+                // Located once, in x = f_p t: they set the scale and the pieces.
+                let (x, n) = shape.acceleration_extrema();
+                let wave = Wave::MavroeidisPapageorgiou {
                     rate: f,
                     shape,
-                    scale: 1.0 / shape.peak_acceleration(),
-                }
+                    scale: 1.0 / shape.peak_acceleration(&x[..n]),
+                };
+                (wave, Extrema::of(&x[..n], 1.0 / f))
             }
-            _ => Wave::Cosine,
+            _ => (Wave::Cosine, Extrema::NONE),
         };
         let carrier = if shape == PulseShape::Rectangular {
             0.0
@@ -368,7 +365,7 @@ impl Pulse {
             phase,
             wave,
             duration: span / circular_frequency,
-            extrema: wave.extrema(),
+            extrema,
         })
     }
 

@@ -234,10 +234,10 @@ impl MavroeidisPapageorgiou {
         }
     }
 
-    /// max |dv/dx| over the support (at an extremum inside: the ends are zero).
-    pub fn peak_acceleration(&self) -> f64 {
-        let (ext, n) = self.acceleration_extrema();
-        ext[..n]
+    /// max |dv/dx| over the support, given its `extrema` inside
+    /// ([`Self::acceleration_extrema`]; the ends are zero).
+    pub fn peak_acceleration(&self, extrema: &[f64]) -> f64 {
+        extrema
             .iter()
             .fold(0.0, |m: f64, &x| m.max(self.acceleration(x).abs()))
     }
