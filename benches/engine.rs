@@ -65,10 +65,21 @@ fn engine(c: &mut Criterion) {
 
 /// Each pulse family at the same ω_p/p = 5 and a_p = 4 αg (locomotive block,
 /// nonlinear dop853 at rtol 1e-10; the sinusoidal ones also linear exact):
-/// the per-simulation cost of a spectrum's point ("outcome").
+/// the per-simulation cost of a spectrum's point ("outcome"). And the
+/// one-off cost of building a Mavroeidis–Papageorgiou pulse (its extrema
+/// located), which a spectrum pays once per frequency.
 fn pulses(c: &mut Criterion) {
     let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
+    let mp = |gamma, nu| PulseShape::mavroeidis_papageorgiou(gamma, nu).expect("valid");
     let mut g = c.benchmark_group("pulse");
+    for (name, shape) in [
+        ("mavroeidis_papageorgiou_2", mp(2.0, 0.0)),
+        ("mavroeidis_papageorgiou_20", mp(20.0, 1.0)),
+    ] {
+        g.bench_function(format!("{name}/build"), |b| {
+            b.iter(|| Pulse::new(black_box(shape), 4.0 * 0.25 * 9.81, 5.0 * 2.14))
+        });
+    }
     for (name, shape) in [
         ("one_sine", PulseShape::OneSine),
         ("half_sine", PulseShape::HalfSine),
@@ -77,6 +88,11 @@ fn pulses(c: &mut Criterion) {
         (
             "ricker_antisymmetric",
             PulseShape::Ricker { symmetric: false },
+        ),
+        ("mavroeidis_papageorgiou_2_0", mp(2.0, 0.0)),
+        (
+            "mavroeidis_papageorgiou_3_half_pi",
+            mp(3.0, std::f64::consts::FRAC_PI_2),
         ),
     ] {
         let pulse = Pulse::new(shape, 4.0 * 0.25 * 9.81, 5.0 * 2.14).expect("valid");

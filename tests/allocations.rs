@@ -48,12 +48,22 @@ fn simulations_do_not_allocate_per_step() {
         )
         .expect("valid")
     };
+    let mavroeidis_papageorgiou = |gamma, nu| {
+        Pulse::new(
+            PulseShape::mavroeidis_papageorgiou(gamma, nu).expect("valid"),
+            4.0 * 0.25 * 9.81,
+            2.0 * 2.14,
+        )
+        .expect("valid")
+    };
     let pulse = sine;
     for (pulse, formulation) in [
         (sine, Formulation::Linear),
         (sine, Formulation::Nonlinear),
         (ricker(true), Formulation::Nonlinear),
         (ricker(false), Formulation::Nonlinear),
+        (mavroeidis_papageorgiou(2.0, 0.0), Formulation::Nonlinear),
+        (mavroeidis_papageorgiou(7.5, 1.0), Formulation::Linear),
     ] {
         let problem = Problem {
             block,

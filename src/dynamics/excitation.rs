@@ -1,6 +1,7 @@
 //! Ground-acceleration pulses: the cycloidal pulses of the paper (Makris &
-//! Roussos; eqs. 22 and 53) and Housner's (1963) half-sine and rectangular
-//! pulses.
+//! Roussos; eqs. 22 and 53), Housner's (1963) half-sine and rectangular
+//! pulses, and two wavelets: Ricker's and the Mavroeidis–Papageorgiou (2003)
+//! near-fault pulse ([`super::mavroeidis_papageorgiou`]).
 //!
 //! Every pulse is written as `ü_g(t) = a_p cos(ω t + φ)` on `0 ≤ t ≤ T` and zero
 //! otherwise, with time measured from the start of the ground motion and ω the
@@ -14,9 +15,38 @@
 //!
 //! So the closed-form linear solution (eqs. 23–33, written for a sinusoid)
 //! holds for all of them: with ω = 0 its particular solution is the constant
-//! one.
+//! one. The wavelets are not sinusoids: they are integrated, and their
+//! threshold crossings are located between their extrema, found when the
+//! pulse is built ([`Extrema`]).
 
 use std::f64::consts::{FRAC_PI_2, PI};
+
+use super::mavroeidis_papageorgiou::{MAX_EXTREMA, MavroeidisPapageorgiou};
+
+/// A real parameter of a pulse family (γ, ν), finite, held by its bit
+/// pattern so that a family is `Eq` and `Hash` like the integer-parametrised
+/// ones: two values are the same parameter exactly when they are the same
+/// number (−0 is read as +0).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Real(u64);
+
+impl Real {
+    /// `x`, unless it is not finite.
+    pub fn new(x: f64) -> Option<Self> {
+        x.is_finite().then(|| Real((x + 0.0).to_bits()))
+    }
+
+    /// The number.
+    pub fn get(self) -> f64 {
+        f64::from_bits(self.0)
+    }
+}
+
+impl std::fmt::Debug for Real {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.get().fmt(f)
+    }
+}
 
 /// The pulse family.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -37,13 +67,35 @@ pub enum PulseShape {
         /// The symmetric wavelet (true) or its normalised derivative.
         symmetric: bool,
     },
+    /// Mavroeidis & Papageorgiou (2003): the ground velocity is a harmonic
+    /// of phase ν under a cosine bell γ carrier cycles long, over
+    /// 0 ≤ t ≤ γ/f_p, scaled so that max |ü_g| = |a_p|.
+    MavroeidisPapageorgiou {
+        /// γ, carrier cycles under the bell (1 < γ ≤ 20).
+        gamma: Real,
+        /// ν, phase of the carrier at the bell's centre, rad, in (−π, π].
+        nu: Real,
+    },
 }
 
 impl PulseShape {
     /// Whether ü_g is a_p cos(ω t + φ), so that the closed-form linear
     /// solution (eqs. 23–33) applies.
     pub fn is_sinusoidal(self) -> bool {
-        !matches!(self, PulseShape::Ricker { .. })
+        !matches!(
+            self,
+            PulseShape::Ricker { .. } | PulseShape::MavroeidisPapageorgiou { .. }
+        )
+    }
+
+    /// The Mavroeidis–Papageorgiou family of `gamma` and `nu` (ν taken
+    /// modulo 2π, to (−π, π]); `None` unless 1 < γ ≤ 20 and ν is finite.
+    pub fn mavroeidis_papageorgiou(gamma: f64, nu: f64) -> Option<Self> {
+        let shape = MavroeidisPapageorgiou::new(gamma, nu)?;
+        Some(PulseShape::MavroeidisPapageorgiou {
+            gamma: Real::new(shape.gamma)?,
+            nu: Real::new(shape.nu)?,
+        })
     }
 }
 
@@ -64,16 +116,71 @@ pub enum Wave {
         /// 1, or 1/max|D| for the derivative.
         scale: f64,
     },
+    /// Mavroeidis–Papageorgiou: the shape's dv/dx at x = f_p t, scaled to peak 1.
+    MavroeidisPapageorgiou {
+        /// f_p, Hz: x per second.
+        rate: f64,
+        /// γ and ν.
+        shape: MavroeidisPapageorgiou,
+        /// 1/max |dv/dx| over the support.
+        scale: f64,
+    },
 }
 
-/// Extrema of a wavelet inside its support: at most four times, and how many.
-pub type Extrema = ([f64; 4], usize);
+/// The times of the extrema of a wavelet's ü_g inside its support, in
+/// increasing order: found once when the pulse is built, and kept in a
+/// fixed-size list so that a pulse is `Copy` and a simulation allocates
+/// nothing. Between two of them ü_g is monotone.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Extrema {
+    /// The times, s; the first `count` hold.
+    times: [f64; MAX_EXTREMA],
+    /// How many.
+    count: usize,
+}
+
+impl Extrema {
+    /// None (a sinusoid's are handled in closed form).
+    pub const NONE: Extrema = Extrema {
+        times: [0.0; MAX_EXTREMA],
+        count: 0,
+    };
+
+    /// The first `count` of `times`, scaled by `factor`.
+    fn of(times: &[f64], factor: f64) -> Extrema {
+        let mut out = Extrema::NONE;
+        for (slot, &t) in out.times.iter_mut().zip(times) {
+            *slot = t * factor;
+            out.count += 1;
+        }
+        out
+    }
+
+    /// The times, s.
+    pub fn as_slice(&self) -> &[f64] {
+        &self.times[..self.count]
+    }
+}
 
 /// max |D(τ)| of the antisymmetric Ricker wavelet, at cτ*² = (3 − √6)/2.
 fn ricker_derivative_peak(c: f64) -> f64 {
     let x = (3.0 - 6f64.sqrt()) / 2.0;
     let tau = (x / c).sqrt();
     ((-6.0 * c * tau + 4.0 * c * c * tau.powi(3)) * (-x).exp()).abs()
+}
+
+/// The times of the Ricker wavelet's extrema, in increasing order.
+fn ricker_extrema(c: f64, t0: f64, symmetric: bool) -> Extrema {
+    if symmetric {
+        // ((1 − 2x)e^(−x))' = 0: τ = 0 and cτ² = 3/2.
+        let r = (1.5 / c).sqrt();
+        Extrema::of(&[t0 - r, t0, t0 + r], 1.0)
+    } else {
+        // 8x² − 24x + 6 = 0: cτ² = (3 ∓ √6)/2.
+        let a = ((3.0 - 6f64.sqrt()) / 2.0 / c).sqrt();
+        let b = ((3.0 + 6f64.sqrt()) / 2.0 / c).sqrt();
+        Extrema::of(&[t0 - b, t0 - a, t0 + a, t0 + b], 1.0)
+    }
 }
 
 impl Wave {
@@ -112,30 +219,8 @@ impl Wave {
                     (-6.0 * c * tau + 4.0 * c * c * tau * tau * tau) * (-x).exp() * scale
                 }
             }
-        }
-    }
-
-    /// The times where the unit waveform has an extremum (Ricker only; none
-    /// for the cosine, handled in closed form), in increasing order.
-    pub fn extrema(&self) -> Extrema {
-        let mut out = [0.0; 4];
-        match *self {
-            Wave::Cosine => (out, 0),
-            Wave::Ricker {
-                c, t0, symmetric, ..
-            } => {
-                if symmetric {
-                    // ((1 − 2x)e^(−x))' = 0: τ = 0 and cτ² = 3/2.
-                    let r = (1.5 / c).sqrt();
-                    out[..3].copy_from_slice(&[t0 - r, t0, t0 + r]);
-                    (out, 3)
-                } else {
-                    // 8x² − 24x + 6 = 0: cτ² = (3 ∓ √6)/2.
-                    let a = ((3.0 - 6f64.sqrt()) / 2.0 / c).sqrt();
-                    let b = ((3.0 + 6f64.sqrt()) / 2.0 / c).sqrt();
-                    out = [t0 - b, t0 - a, t0 + a, t0 + b];
-                    (out, 4)
-                }
+            Wave::MavroeidisPapageorgiou { rate, shape, scale } => {
+                scale * shape.acceleration(rate * t)
             }
         }
     }
@@ -153,6 +238,11 @@ pub enum PulseError {
     /// Cn needs n ≥ 1.
     #[error("Type-Cn pulses need n >= 1 (got {0})")]
     Cycles(u32),
+    /// γ of a Mavroeidis–Papageorgiou pulse outside (1, 20], or ν not finite.
+    #[error(
+        "Mavroeidis-Papageorgiou pulses need 1 < gamma <= 20 and a finite nu (got gamma = {0}, nu = {1})"
+    )]
+    Shape(f64, f64),
 }
 
 /// A ground-acceleration pulse.
@@ -169,10 +259,12 @@ pub struct Pulse {
     pub carrier: f64,
     /// Phase φ of `a_p cos(ω t + φ)`.
     pub phase: f64,
-    /// The waveform (a cosine, or a Ricker wavelet).
+    /// The waveform (a cosine, or a wavelet).
     pub wave: Wave,
     /// Duration T, s.
     pub duration: f64,
+    /// A wavelet's extrema of ü_g (none for a sinusoid).
+    pub extrema: Extrema,
 }
 
 /// The phase of a Type-Cn pulse: the root in (0, π/2) of
@@ -233,13 +325,32 @@ impl Pulse {
             PulseShape::Rectangular => (0.0, PI),
             // Support 0 ≤ t ≤ 2t₀ = 3/f_p = 6π/ω_p.
             PulseShape::Ricker { .. } => (0.0, 6.0 * PI),
+            // Support 0 ≤ t ≤ γ/f_p = 2πγ/ω_p.
+            PulseShape::MavroeidisPapageorgiou { gamma, .. } => (0.0, 2.0 * PI * gamma.get()),
         };
-        let wave = match shape {
+        let f = circular_frequency / (2.0 * PI);
+        let (wave, extrema) = match shape {
             PulseShape::Ricker { symmetric } => {
-                let f = circular_frequency / (2.0 * PI);
-                Wave::ricker((PI * f).powi(2), 1.5 / f, symmetric)
+                let (c, t0) = ((PI * f).powi(2), 1.5 / f);
+                (
+                    Wave::ricker(c, t0, symmetric),
+                    ricker_extrema(c, t0, symmetric),
+                )
             }
-            _ => Wave::Cosine,
+            PulseShape::MavroeidisPapageorgiou { gamma, nu } => {
+                let (gamma, nu) = (gamma.get(), nu.get());
+                let shape =
+                    MavroeidisPapageorgiou::new(gamma, nu).ok_or(PulseError::Shape(gamma, nu))?;
+                // Located once, in x = f_p t: they set the scale and the pieces.
+                let (x, n) = shape.acceleration_extrema();
+                let wave = Wave::MavroeidisPapageorgiou {
+                    rate: f,
+                    shape,
+                    scale: 1.0 / shape.peak_acceleration(&x[..n]),
+                };
+                (wave, Extrema::of(&x[..n], 1.0 / f))
+            }
+            _ => (Wave::Cosine, Extrema::NONE),
         };
         let carrier = if shape == PulseShape::Rectangular {
             0.0
@@ -254,6 +365,7 @@ impl Pulse {
             phase,
             wave,
             duration: span / circular_frequency,
+            extrema,
         })
     }
 
@@ -287,49 +399,80 @@ impl Pulse {
         self.carrier * t + self.phase
     }
 
-    /// Ground velocity and displacement of a wavelet from rest at `t` (closed
-    /// form: the symmetric Ricker W = (1 − 2cτ²)e^(−cτ²) integrates to
-    /// V = τe^(−cτ²), and V to U = −e^(−cτ²)/(2c); the antisymmetric one is W′).
-    fn wavelet_motion(&self, t: f64) -> (f64, f64) {
-        let Wave::Ricker {
-            c,
-            t0,
-            symmetric,
-            scale,
-        } = self.wave
-        else {
+    /// Ground velocity (m/s) and displacement (m) at `t` of the motion from
+    /// rest at t = 0, in closed form: the sinusoid's integrals; the
+    /// symmetric Ricker W = (1 − 2cτ²)e^(−cτ²) integrates to V = τe^(−cτ²),
+    /// and V to U = −e^(−cτ²)/(2c) (the antisymmetric one is W′); the
+    /// Mavroeidis–Papageorgiou velocity is the pulse's definition. After the
+    /// pulse the ground keeps its final velocity.
+    pub fn ground_motion(&self, t: f64) -> (f64, f64) {
+        if t <= 0.0 {
             return (0.0, 0.0);
-        };
-        let w = |tau: f64| (1.0 - 2.0 * c * tau * tau) * (-c * tau * tau).exp();
-        let v = |tau: f64| tau * (-c * tau * tau).exp();
-        let u = |tau: f64| -(-c * tau * tau).exp() / (2.0 * c);
-        let (tau, ts) = (t - t0, -t0);
-        if symmetric {
-            let a = self.amplitude;
-            (
-                a * (v(tau) - v(ts)),
-                a * (u(tau) - u(ts) - v(ts) * (tau - ts)),
-            )
-        } else {
-            let a = self.amplitude * scale;
-            (
-                a * (w(tau) - w(ts)),
-                a * (v(tau) - v(ts) - w(ts) * (tau - ts)),
-            )
+        }
+        if t > self.duration {
+            let (v, u) = self.ground_motion(self.duration);
+            return (v, u + v * (t - self.duration));
+        }
+        let a = self.amplitude;
+        match self.wave {
+            Wave::Cosine => {
+                let (w, phi) = (self.carrier, self.phase);
+                if w == 0.0 {
+                    return (a * t, 0.5 * a * t * t);
+                }
+                (
+                    (a / w) * ((w * t + phi).sin() - phi.sin()),
+                    (a / (w * w)) * (phi.cos() - (w * t + phi).cos()) - (a / w) * t * phi.sin(),
+                )
+            }
+            Wave::Ricker {
+                c,
+                t0,
+                symmetric,
+                scale,
+            } => {
+                let w = |tau: f64| (1.0 - 2.0 * c * tau * tau) * (-c * tau * tau).exp();
+                let v = |tau: f64| tau * (-c * tau * tau).exp();
+                let u = |tau: f64| -(-c * tau * tau).exp() / (2.0 * c);
+                let (tau, ts) = (t - t0, -t0);
+                if symmetric {
+                    (
+                        a * (v(tau) - v(ts)),
+                        a * (u(tau) - u(ts) - v(ts) * (tau - ts)),
+                    )
+                } else {
+                    let a = a * scale;
+                    (
+                        a * (w(tau) - w(ts)),
+                        a * (v(tau) - v(ts) - w(ts) * (tau - ts)),
+                    )
+                }
+            }
+            Wave::MavroeidisPapageorgiou { rate, shape, scale } => {
+                // ü_g(t) = a_p scale v′(f_p t) is the derivative of V v(f_p t)
+                // for V = a_p scale/f_p; and ∫ V v(f_p t) dt = (V/f_p) ∫ v dx.
+                let big_v = a * scale / rate;
+                let x = rate * t;
+                (
+                    big_v * shape.velocity(x),
+                    big_v / rate * shape.displacement(x),
+                )
+            }
         }
     }
 
-    /// (PGV, PGD) of a wavelet: the ends, and every zero of ü_g (for v) and
-    /// of v (for u) bracketed on a fine grid and located by Brent's method.
+    /// (PGV, PGD) of a Ricker wavelet: the ends, and every zero of ü_g (for
+    /// v) and of v (for u) bracketed on a fine grid and located by Brent's
+    /// method.
     fn wavelet_peaks(&self) -> (f64, f64) {
         let n = 4000;
         let dt = self.duration / n as f64;
         let acc = |t: f64| self.amplitude * self.unit(t);
-        let vel = |t: f64| self.wavelet_motion(t).0;
+        let vel = |t: f64| self.ground_motion(t).0;
         let (mut pgv, mut pgd) = (0.0f64, 0.0f64);
         for k in 0..n {
             let (ta, tb) = (k as f64 * dt, (k + 1) as f64 * dt);
-            let (va, vb) = (self.wavelet_motion(ta), self.wavelet_motion(tb));
+            let (va, vb) = (self.ground_motion(ta), self.ground_motion(tb));
             pgv = pgv.max(va.0.abs()).max(vb.0.abs());
             pgd = pgd.max(va.1.abs()).max(vb.1.abs());
             let (aa, ab) = (acc(ta), acc(tb));
@@ -339,7 +482,7 @@ impl Pulse {
             }
             if va.0 * vb.0 < 0.0 {
                 let t = crate::dynamics::events::brent(vel, ta, tb, va.0, vb.0, 0.0);
-                pgd = pgd.max(self.wavelet_motion(t).1.abs());
+                pgd = pgd.max(self.ground_motion(t).1.abs());
             }
         }
         (pgv, pgd)
@@ -347,8 +490,12 @@ impl Pulse {
 
     /// Peak ground velocity |v|, m/s, of the motion from rest.
     pub fn peak_velocity(&self) -> f64 {
-        if self.wave != Wave::Cosine {
-            return self.wavelet_peaks().0;
+        match self.wave {
+            Wave::Cosine => {}
+            Wave::Ricker { .. } => return self.wavelet_peaks().0,
+            Wave::MavroeidisPapageorgiou { rate, shape, scale } => {
+                return (self.amplitude * scale / rate).abs() * shape.peak_velocity();
+            }
         }
         let (a, w, phi, t) = (self.amplitude, self.carrier, self.phase, self.duration);
         if w == 0.0 {
@@ -372,8 +519,12 @@ impl Pulse {
     /// displacement keeps growing after the pulse when it ends with velocity;
     /// this is the largest over the pulse).
     pub fn peak_displacement(&self) -> f64 {
-        if self.wave != Wave::Cosine {
-            return self.wavelet_peaks().1;
+        match self.wave {
+            Wave::Cosine => {}
+            Wave::Ricker { .. } => return self.wavelet_peaks().1,
+            Wave::MavroeidisPapageorgiou { rate, shape, scale } => {
+                return (self.amplitude * scale / (rate * rate)).abs() * shape.peak_displacement();
+            }
         }
         let (a, w, phi, t_end) = (self.amplitude, self.carrier, self.phase, self.duration);
         if w == 0.0 {
@@ -488,17 +639,11 @@ impl Pulse {
             return None;
         }
         // Piece boundaries after `from`: the extrema inside, then the end.
-        let (extrema, n) = self.wave.extrema();
-        let mut cuts = [0.0; 5];
-        let mut count = 0;
-        for &t in &extrema[..n] {
-            if t > from && t < self.duration {
-                cuts[count] = t;
-                count += 1;
-            }
-        }
-        cuts[count] = self.duration;
-        let cuts = &cuts[..=count];
+        let extrema = self.extrema.as_slice();
+        let inside = &extrema[extrema.partition_point(|&t| t <= from)..];
+        let inside = &inside[..inside.partition_point(|&t| t < self.duration)];
+        let last = [self.duration];
+        let cuts = inside.iter().chain(&last).copied();
         let a = |t: f64| self.amplitude * self.unit(t);
         let mut start = None;
         let mut first_piece = 0;
@@ -506,7 +651,7 @@ impl Pulse {
             start = Some(from);
         } else {
             let mut ta = from;
-            for (k, &tb) in cuts.iter().enumerate() {
+            for (k, tb) in cuts.clone().enumerate() {
                 let at_end = a(tb);
                 if at_end.abs() > threshold {
                     let level = at_end.signum() * threshold;
@@ -528,7 +673,7 @@ impl Pulse {
         let sign = a(start).signum();
         // Where |ü_g| falls back to the threshold: ü_g = sign·threshold.
         let mut ta = start;
-        for &tb in &cuts[first_piece..] {
+        for tb in cuts.skip(first_piece) {
             if tb <= start {
                 continue;
             }

@@ -99,7 +99,13 @@ impl Forcing for Pulse {
 
     #[inline]
     fn resolving_frequency(&self) -> f64 {
-        self.circular_frequency
+        match self.wave {
+            // Its highest harmonic: ω_p (1 + 1/γ).
+            Wave::MavroeidisPapageorgiou { shape, .. } => {
+                self.circular_frequency * (1.0 + 1.0 / shape.gamma)
+            }
+            _ => self.circular_frequency,
+        }
     }
 
     fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64) {
@@ -113,8 +119,7 @@ impl Forcing for Pulse {
             return best; // constant: any point is a peak
         }
         if self.wave != Wave::Cosine {
-            let (extrema, n) = self.wave.extrema();
-            for &t in &extrema[..n] {
+            for &t in self.extrema.as_slice() {
                 if t > ta && t < tb {
                     let v = Pulse::acceleration(self, t).abs();
                     if v > best.0 {

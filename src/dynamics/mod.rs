@@ -11,6 +11,7 @@ pub mod exact;
 pub mod excitation;
 pub mod forcing;
 pub mod integrator;
+pub mod mavroeidis_papageorgiou;
 pub mod peaks;
 pub mod reactions;
 pub mod response;

@@ -102,6 +102,8 @@ pub enum PulseTypeName {
     Rectangular,
     /// Ricker wavelet, symmetric or antisymmetric (`symmetric`).
     Ricker,
+    /// Mavroeidis & Papageorgiou's (2003) near-fault pulse (`gamma`, `nu`).
+    MavroeidisPapageorgiou,
 }
 
 /// A pulse family as a spec names it (canonical names first, then aliases).
@@ -126,6 +128,11 @@ pub enum PulseTypeInput {
     /// over 0 ≤ t ≤ 3/f_p.
     #[schema(rename = "ricker")]
     Ricker,
+    /// Mavroeidis & Papageorgiou's (2003) near-fault pulse: ground velocity
+    /// (V/2)[1 + cos(2π f_p τ/γ)] cos(2π f_p τ + ν) over 0 ≤ t ≤ γ/f_p
+    /// (τ = t − γ/(2f_p)), scaled so that max |ü_g| = |a_p|; `gamma` required.
+    #[schema(rename = "mavroeidis_papageorgiou")]
+    MavroeidisPapageorgiou,
     /// Alias of one_sine.
     #[schema(rename = "sine")]
     Sine,
@@ -302,7 +309,8 @@ pub struct PositiveNumber(f64);
 #[serde(deny_unknown_fields)]
 pub struct PulseFamilyInput {
     /// "one_sine" | "one_cosine" | "cn" | "half_sine" | "rectangular" | "ricker"
-    /// (aliases: "sine", "type_a", "cosine", "type_b", "type_cn").
+    /// | "mavroeidis_papageorgiou" (aliases: "sine", "type_a", "cosine",
+    /// "type_b", "type_cn").
     #[serde(rename = "type")]
     #[schema(value_type = PulseTypeInput)]
     kind: String,
@@ -312,6 +320,13 @@ pub struct PulseFamilyInput {
     /// Ricker only: the symmetric wavelet (default true) or its normalised
     /// derivative (false).
     symmetric: Option<bool>,
+    /// Mavroeidis–Papageorgiou only (required there): γ, the carrier cycles
+    /// under the bell, 1 < γ ≤ 20.
+    #[schema(exclusive_minimum = 1.0, maximum = 20.0)]
+    gamma: Option<f64>,
+    /// Mavroeidis–Papageorgiou only: ν, the carrier's phase at the bell's
+    /// centre, rad (default 0; any finite value, taken modulo 2π to (−π, π]).
+    nu: Option<f64>,
 }
 
 /// The rules of a spec that span several fields (one of several units, a
@@ -366,6 +381,14 @@ pub mod rules {
                "then": {"properties": {"symmetric": {"type": "null"}}}})
     }
 
+    /// `gamma` and `nu` only for Mavroeidis–Papageorgiou pulses, and
+    /// `gamma` required for them.
+    fn gamma_and_nu_for_mavroeidis_papageorgiou_only() -> Value {
+        json!({"if": {"required": ["type"], "properties": {"type": {"not": {"enum": ["mavroeidis_papageorgiou"]}}}},
+               "then": {"properties": {"gamma": {"type": "null"}, "nu": {"type": "null"}}},
+               "else": given("gamma")})
+    }
+
     /// `duration_s` only for rectangular pulses.
     fn duration_for_rectangular_only() -> Value {
         json!({"if": {"required": ["type"], "properties": {"type": {"not": {"enum": ["rectangular"]}}}},
@@ -400,11 +423,16 @@ pub mod rules {
                     n_for_cn_only(),
                     duration_for_rectangular_only(),
                     symmetric_for_ricker_only(),
+                    gamma_and_nu_for_mavroeidis_papageorgiou_only(),
                 ],
             ),
             (
                 "PulseFamilyInput",
-                vec![n_for_cn_only(), symmetric_for_ricker_only()],
+                vec![
+                    n_for_cn_only(),
+                    symmetric_for_ricker_only(),
+                    gamma_and_nu_for_mavroeidis_papageorgiou_only(),
+                ],
             ),
             (
                 "SpectrumSpec",

@@ -192,11 +192,14 @@ pub struct BlockSpec {
 #[serde(deny_unknown_fields)]
 pub struct PulseSpec {
     /// "one_sine" | "one_cosine" | "cn" | "half_sine" | "rectangular" | "ricker"
-    /// (aliases: "sine", "type_a", "cosine", "type_b", "type_cn"). Half-sine:
-    /// a_p sin(ω_p t) for π/ω_p; rectangular: a_p for t_d = π/ω_p (Housner
-    /// 1963); ricker: with f_p = ω_p/2π, c = (π f_p)², τ = t − 1.5/f_p, a_p(1 −
-    /// 2cτ²)e^(−cτ²) for 0 ≤ t ≤ 3/f_p, or (`"symmetric": false`) its derivative
-    /// scaled to peak a_p.
+    /// | "mavroeidis_papageorgiou" (aliases: "sine", "type_a", "cosine",
+    /// "type_b", "type_cn"). Half-sine: a_p sin(ω_p t) for π/ω_p; rectangular:
+    /// a_p for t_d = π/ω_p (Housner 1963); ricker: with f_p = ω_p/2π, c = (π
+    /// f_p)², τ = t − 1.5/f_p, a_p(1 − 2cτ²)e^(−cτ²) for 0 ≤ t ≤ 3/f_p, or
+    /// (`"symmetric": false`) its derivative scaled to peak a_p;
+    /// mavroeidis_papageorgiou (2003): ground velocity (V/2)[1 + cos(2π f_p
+    /// τ/γ)] cos(2π f_p τ + ν), τ = t − γ/(2f_p), for 0 ≤ t ≤ γ/f_p, ü_g its
+    /// derivative, V such that max |ü_g| = |a_p|.
     #[serde(rename = "type", alias = "shape")]
     #[schema(required = true, value_type = crate::jobs::schema::PulseTypeInput)]
     pub kind: Option<String>,
@@ -206,6 +209,13 @@ pub struct PulseSpec {
     /// Ricker only: the symmetric wavelet (default true) or its normalised
     /// derivative, the antisymmetric one (false).
     pub symmetric: Option<bool>,
+    /// Mavroeidis–Papageorgiou only (required there): γ, the carrier cycles
+    /// under the bell, 1 < γ ≤ 20.
+    #[schema(exclusive_minimum = 1.0, maximum = 20.0)]
+    pub gamma: Option<f64>,
+    /// Mavroeidis–Papageorgiou only: ν, the carrier's phase at the bell's
+    /// centre, rad (default 0; any finite value, taken modulo 2π to (−π, π]).
+    pub nu: Option<f64>,
     /// Circular frequency ω_p, rad/s.
     #[schema(exclusive_minimum = 0.0)]
     pub omega_p: Option<f64>,
@@ -410,6 +420,7 @@ pub fn parse_shape(spec: &PulseSpec, base: &str) -> Result<PulseShape, SpecError
         "ricker" => PulseShape::Ricker {
             symmetric: spec.symmetric.unwrap_or(true),
         },
+        "mavroeidis_papageorgiou" => mavroeidis_papageorgiou(spec, base)?,
         other => {
             return Err(SpecError::at(
                 format!("{base}/type"),
@@ -436,11 +447,43 @@ pub fn parse_shape(spec: &PulseSpec, base: &str) -> Result<PulseShape, SpecError
             "symmetric applies to ricker pulses only",
         ));
     }
+    if !matches!(shape, PulseShape::MavroeidisPapageorgiou { .. }) {
+        for (v, name) in [(spec.gamma, "gamma"), (spec.nu, "nu")] {
+            if v.is_some() {
+                return Err(SpecError::at(
+                    format!("{base}/{name}"),
+                    format!("{name} applies to mavroeidis_papageorgiou pulses only"),
+                ));
+            }
+        }
+    }
     Ok(shape)
 }
 
+/// The Mavroeidis–Papageorgiou family of a spec: γ required, 1 < γ ≤ 20; ν
+/// finite, default 0, taken modulo 2π.
+fn mavroeidis_papageorgiou(spec: &PulseSpec, base: &str) -> Result<PulseShape, SpecError> {
+    use crate::dynamics::mavroeidis_papageorgiou::GAMMA_MAX;
+    let gamma = spec.gamma.ok_or_else(|| {
+        SpecError::at(
+            format!("{base}/gamma"),
+            format!("missing field: the carrier cycles under the bell, 1 < gamma <= {GAMMA_MAX}"),
+        )
+    })?;
+    if !(gamma.is_finite() && gamma > 1.0 && gamma <= GAMMA_MAX) {
+        return Err(SpecError::at(
+            format!("{base}/gamma"),
+            format!("must satisfy 1 < gamma <= {GAMMA_MAX} (got {gamma})"),
+        ));
+    }
+    let nu = spec.nu.unwrap_or(0.0);
+    PulseShape::mavroeidis_papageorgiou(gamma, nu)
+        .ok_or_else(|| SpecError::at(format!("{base}/nu"), "must be a finite number (rad)"))
+}
+
 /// The pulse types a spec may name.
-pub const PULSE_TYPES: &str = "one_sine | one_cosine | cn | half_sine | rectangular | ricker";
+pub const PULSE_TYPES: &str =
+    "one_sine | one_cosine | cn | half_sine | rectangular | ricker | mavroeidis_papageorgiou";
 
 /// Name of a pulse family in normalised specs.
 pub fn shape_name(shape: PulseShape) -> &'static str {
@@ -451,30 +494,66 @@ pub fn shape_name(shape: PulseShape) -> &'static str {
         PulseShape::HalfSine => "half_sine",
         PulseShape::Rectangular => "rectangular",
         PulseShape::Ricker { .. } => "ricker",
+        PulseShape::MavroeidisPapageorgiou { .. } => "mavroeidis_papageorgiou",
     }
 }
 
-/// Whether a Ricker family is the antisymmetric wavelet: `Some(symmetric)`
-/// for Ricker pulses, `None` otherwise (what normalised specs carry).
-pub fn shape_symmetric(shape: PulseShape) -> Option<bool> {
-    match shape {
-        PulseShape::Ricker { symmetric } => Some(symmetric),
-        _ => None,
+/// What picks a pulse within its family besides the family's name, as
+/// normalised specs write it: `n` (cn), `symmetric` (ricker), `gamma` and
+/// `nu` (mavroeidis_papageorgiou); `None` where the family has no such
+/// parameter.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShapeParams {
+    /// Cycles of a Type-Cn pulse.
+    pub n: Option<u32>,
+    /// Symmetric Ricker wavelet or its derivative.
+    pub symmetric: Option<bool>,
+    /// γ of a Mavroeidis–Papageorgiou pulse.
+    pub gamma: Option<f64>,
+    /// ν of a Mavroeidis–Papageorgiou pulse, rad, in (−π, π].
+    pub nu: Option<f64>,
+}
+
+impl ShapeParams {
+    /// The parameters of `shape`.
+    pub fn of(shape: PulseShape) -> Self {
+        match shape {
+            PulseShape::Cn(n) => ShapeParams {
+                n: Some(n),
+                ..Self::default()
+            },
+            PulseShape::Ricker { symmetric } => ShapeParams {
+                symmetric: Some(symmetric),
+                ..Self::default()
+            },
+            PulseShape::MavroeidisPapageorgiou { gamma, nu } => ShapeParams {
+                gamma: Some(gamma.get()),
+                nu: Some(nu.get()),
+                ..Self::default()
+            },
+            _ => Self::default(),
+        }
     }
 }
 
-/// The family a normalised name ([`shape_name`]), `n` and `symmetric` stand for.
-pub fn shape_of(name: &str, n: Option<u32>, symmetric: Option<bool>) -> PulseShape {
-    match name {
+/// The family a normalised name ([`shape_name`]) and its parameters stand
+/// for; `None` for an unknown name or a Mavroeidis–Papageorgiou family
+/// without a valid γ.
+pub fn shape_of(name: &str, params: ShapeParams) -> Option<PulseShape> {
+    Some(match name {
         "one_sine" => PulseShape::OneSine,
         "one_cosine" => PulseShape::OneCosine,
+        "cn" => PulseShape::Cn(params.n.unwrap_or(1)),
         "half_sine" => PulseShape::HalfSine,
         "rectangular" => PulseShape::Rectangular,
         "ricker" => PulseShape::Ricker {
-            symmetric: symmetric.unwrap_or(true),
+            symmetric: params.symmetric.unwrap_or(true),
         },
-        _ => PulseShape::Cn(n.unwrap_or(1)),
-    }
+        "mavroeidis_papageorgiou" => {
+            PulseShape::mavroeidis_papageorgiou(params.gamma?, params.nu.unwrap_or(0.0))?
+        }
+        _ => return None,
+    })
 }
 
 /// The one of `options` (a value and its field name under `base`) that is
@@ -549,10 +628,36 @@ pub struct PulseNorm {
     /// Symmetric wavelet or its derivative (ricker only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub symmetric: Option<bool>,
+    /// γ (mavroeidis_papageorgiou only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gamma: Option<f64>,
+    /// ν, rad, in (−π, π] (mavroeidis_papageorgiou only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nu: Option<f64>,
     /// ω_p, rad/s.
     pub omega_p: f64,
     /// a_p, m/s².
     pub a_p: f64,
+    /// The family these fields name.
+    #[serde(skip)]
+    pub shape: PulseShape,
+}
+
+impl PulseNorm {
+    /// The pulse of family `shape`, ω_p and a_p, as normalised specs write it.
+    pub fn of(shape: PulseShape, omega_p: f64, a_p: f64) -> Self {
+        let params = ShapeParams::of(shape);
+        PulseNorm {
+            kind: shape_name(shape),
+            n: params.n,
+            symmetric: params.symmetric,
+            gamma: params.gamma,
+            nu: params.nu,
+            omega_p,
+            a_p,
+            shape,
+        }
+    }
 }
 
 /// Range checked for ω_p/p.
@@ -626,19 +731,7 @@ pub fn validate_pulse(
         ));
     }
     let pulse = Pulse::new(shape, a_p, omega).map_err(|e| SpecError::at(base, e.to_string()))?;
-    Ok((
-        PulseNorm {
-            kind: shape_name(shape),
-            n: match shape {
-                PulseShape::Cn(n) => Some(n),
-                _ => None,
-            },
-            symmetric: shape_symmetric(shape),
-            omega_p: omega,
-            a_p,
-        },
-        pulse,
-    ))
+    Ok((PulseNorm::of(shape, omega, a_p), pulse))
 }
 
 /// Parses the formulation (default nonlinear).
@@ -691,7 +784,7 @@ pub fn validate_solver_for(
         if !closed_form {
             return Err(SpecError::at(
                 format!("{base}/method"),
-                "the exact solver solves sinusoidal pulses only (one_sine, one_cosine, cn, half_sine, rectangular): use dopri5 or dop853 (the default) for a ricker pulse or a ground-motion record",
+                "the exact solver solves sinusoidal pulses only (one_sine, one_cosine, cn, half_sine, rectangular): use dopri5 or dop853 (the default) for a ricker or mavroeidis_papageorgiou pulse or a ground-motion record",
             ));
         }
         if formulation != Formulation::Linear {

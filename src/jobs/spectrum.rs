@@ -4,8 +4,8 @@ use serde::{Deserialize, Serialize};
 
 use super::range::RangeSpec;
 use super::spec::{
-    BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    in_one_unit, parse_formulation, parse_shape, shape_name, validate_block,
+    BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, ShapeParams, SolverNorm, SolverSpec,
+    SpecError, in_one_unit, parse_formulation, parse_shape, shape_name, validate_block,
 };
 use crate::dynamics::{Formulation, Pulse, PulseShape};
 use crate::spectrum::overturning::Derived;
@@ -82,12 +82,34 @@ pub struct PulseFamily {
     /// Symmetric wavelet or its derivative (ricker only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub symmetric: Option<bool>,
+    /// γ (mavroeidis_papageorgiou only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gamma: Option<f64>,
+    /// ν, rad, in (−π, π] (mavroeidis_papageorgiou only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nu: Option<f64>,
+    /// The family these fields name.
+    #[serde(skip)]
+    shape: PulseShape,
 }
 
 impl PulseFamily {
+    /// The family of `shape`, as normalised specs write it.
+    pub fn of(shape: PulseShape) -> Self {
+        let params = ShapeParams::of(shape);
+        PulseFamily {
+            kind: shape_name(shape),
+            n: params.n,
+            symmetric: params.symmetric,
+            gamma: params.gamma,
+            nu: params.nu,
+            shape,
+        }
+    }
+
     /// The domain shape.
     pub fn shape(&self) -> PulseShape {
-        super::spec::shape_of(self.kind, self.n, self.symmetric)
+        self.shape
     }
 }
 
@@ -110,15 +132,7 @@ pub fn validate_family(spec: Option<&PulseSpec>, base: &str) -> Result<PulseFami
             ));
         }
     }
-    let shape = parse_shape(spec, base)?;
-    Ok(PulseFamily {
-        kind: shape_name(shape),
-        n: match shape {
-            PulseShape::Cn(n) => Some(n),
-            _ => None,
-        },
-        symmetric: super::spec::shape_symmetric(shape),
-    })
+    Ok(PulseFamily::of(parse_shape(spec, base)?))
 }
 
 /// A validated spectrum job; serialises to the canonical spec.

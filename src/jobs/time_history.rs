@@ -126,9 +126,7 @@ impl TimeHistorySpec {
         let solver = validate_solver_for(
             self.solver.as_ref(),
             formulation,
-            pulse
-                .as_ref()
-                .is_some_and(|p| super::spec::shape_of(p.kind, p.n, p.symmetric).is_sinusoidal()),
+            pulse.as_ref().is_some_and(|p| p.shape.is_sinusoidal()),
             "/solver",
         )?;
         let out = self.outputs.clone().unwrap_or_default();
@@ -374,8 +372,7 @@ impl TimeHistoryJob {
         };
         let (r, peaks) = match (&self.pulse, &self.ground_motion) {
             (Some(p), _) => {
-                let shape = super::spec::shape_of(p.kind, p.n, p.symmetric);
-                let pulse = crate::dynamics::Pulse::new(shape, p.a_p, p.omega_p)
+                let pulse = crate::dynamics::Pulse::new(p.shape, p.a_p, p.omega_p)
                     .map_err(|_| SimError::Tolerance)?;
                 let peaks = crate::dynamics::peaks::of_pulse(&pulse);
                 let problem = Problem {

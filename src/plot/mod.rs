@@ -147,6 +147,20 @@ pub(crate) fn pulse_name(pulse: Option<&Value>) -> String {
                 "Ricker".into()
             }
         }
+        "mavroeidis_papageorgiou" => {
+            let param = |name: &str| {
+                pulse
+                    .and_then(|p| p.get(name))
+                    .and_then(Value::as_f64)
+                    .map(|v| style::fmt_num(v, 3))
+                    .unwrap_or_else(|| "?".into())
+            };
+            format!(
+                "Mavroeidis–Papageorgiou (γ\u{a0}=\u{a0}{}, ν\u{a0}=\u{a0}{}\u{a0}rad)",
+                param("gamma"),
+                param("nu")
+            )
+        }
         "cn" => format!(
             "Type-C{}",
             pulse

@@ -15,8 +15,8 @@ const RECORD_BUCKETS: usize = 2000;
 
 /// The ground motion of a time-history spec.
 pub enum Motion {
-    /// A cycloidal pulse.
-    Pulse(Pulse),
+    /// A pulse (boxed: a wavelet carries its list of extrema).
+    Pulse(Box<Pulse>),
     /// A record: samples (m/s²) every `dt` s, linear in between.
     Record {
         /// Sampling interval, s.
@@ -34,22 +34,19 @@ impl Motion {
             let acc = column(g, "acc");
             return (acc.len() >= 2).then_some(Motion::Record { dt, acc });
         }
-        let name = text_at(spec, "/pulse/type");
-        if !crate::jobs::spec::PULSE_TYPES
-            .split(" | ")
-            .any(|t| t == name)
-        {
-            return None;
-        }
-        let n = spec
-            .pointer("/pulse/n")
-            .and_then(Value::as_u64)
-            .and_then(|n| u32::try_from(n).ok());
-        let symmetric = spec.pointer("/pulse/symmetric").and_then(Value::as_bool);
-        let shape = crate::jobs::spec::shape_of(name, n, symmetric);
+        let params = crate::jobs::spec::ShapeParams {
+            n: spec
+                .pointer("/pulse/n")
+                .and_then(Value::as_u64)
+                .and_then(|n| u32::try_from(n).ok()),
+            symmetric: spec.pointer("/pulse/symmetric").and_then(Value::as_bool),
+            gamma: at(spec, "/pulse/gamma"),
+            nu: at(spec, "/pulse/nu"),
+        };
+        let shape = crate::jobs::spec::shape_of(text_at(spec, "/pulse/type"), params)?;
         Pulse::new(shape, at(spec, "/pulse/a_p")?, at(spec, "/pulse/omega_p")?)
             .ok()
-            .map(Motion::Pulse)
+            .map(|p| Motion::Pulse(Box::new(p)))
     }
 
     /// When the ground stops moving, s.

@@ -11,7 +11,10 @@ pub fn eq21_minimum(shape: PulseShape, omega_ratio: f64) -> Option<f64> {
     let beta = match shape {
         PulseShape::OneCosine => 0.25,
         PulseShape::OneSine | PulseShape::Cn(_) => 1.0 / 6.0,
-        PulseShape::HalfSine | PulseShape::Rectangular | PulseShape::Ricker { .. } => return None,
+        PulseShape::HalfSine
+        | PulseShape::Rectangular
+        | PulseShape::Ricker { .. }
+        | PulseShape::MavroeidisPapageorgiou { .. } => return None,
     };
     Some(1.0 + beta * omega_ratio)
 }

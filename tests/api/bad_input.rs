@@ -346,6 +346,73 @@ async fn cn_pulse_with_zero_cycles_is_422_naming_n() {
 }
 
 #[tokio::test]
+async fn mavroeidis_papageorgiou_gamma_and_nu_are_422_naming_them() {
+    let app = spawn_app("bi-mp-gamma").await;
+    let mp = |gamma: Value| {
+        let mut spec = with(
+            time_history(4.0),
+            "/pulse/type",
+            json!("mavroeidis_papageorgiou"),
+        );
+        spec["formulation"] = json!("nonlinear");
+        if !gamma.is_null() {
+            spec["pulse"]["gamma"] = gamma;
+        }
+        spec
+    };
+    for gamma in [json!(1.0), json!(0.2), json!(21)] {
+        refuse_spec(
+            &app,
+            mp(gamma).to_string(),
+            422,
+            "/pulse/gamma",
+            &["1 < gamma <= 20"],
+        )
+        .await;
+    }
+    refuse_spec(
+        &app,
+        mp(Value::Null).to_string(),
+        422,
+        "/pulse/gamma",
+        &["missing"],
+    )
+    .await;
+    let mut other = time_history(4.0);
+    other["pulse"]["gamma"] = json!(2.0);
+    refuse_spec(
+        &app,
+        other.to_string(),
+        422,
+        "/pulse/gamma",
+        &["mavroeidis_papageorgiou"],
+    )
+    .await;
+    let mut other = time_history(4.0);
+    other["pulse"]["nu"] = json!(0.5);
+    refuse_spec(
+        &app,
+        other.to_string(),
+        422,
+        "/pulse/nu",
+        &["mavroeidis_papageorgiou"],
+    )
+    .await;
+    let mut exact = mp(json!(2.0));
+    exact["formulation"] = json!("linear");
+    exact["solver"] = json!({"method": "exact"});
+    refuse_spec(
+        &app,
+        exact.to_string(),
+        422,
+        "/solver/method",
+        &["sinusoidal"],
+    )
+    .await;
+    app.stop().await;
+}
+
+#[tokio::test]
 async fn missing_block_is_422_naming_block() {
     let app = spawn_app("bi-no-block").await;
     let mut spec = time_history(4.0);

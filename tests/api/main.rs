@@ -85,6 +85,58 @@ async fn spectrum_and_friction_jobs_run_to_results_and_csv() {
     app.stop().await;
 }
 
+/// A Mavroeidis–Papageorgiou pulse runs as a time history (its ground peaks
+/// reported, PGA = |a_p|) and as a spectrum (eq. 21 null), and its spec
+/// echoes γ and ν.
+#[tokio::test]
+async fn mavroeidis_papageorgiou_pulses_run_in_time_histories_and_spectra() {
+    let app = spawn_app("mp").await;
+    let pulse = json!({"type": "mavroeidis_papageorgiou", "gamma": 2.5, "nu": 1.0});
+    let mut th = time_history(3.0);
+    th["formulation"] = json!("nonlinear");
+    th["pulse"]["type"] = pulse["type"].clone();
+    th["pulse"]["gamma"] = pulse["gamma"].clone();
+    th["pulse"]["nu"] = pulse["nu"].clone();
+    th["pulse"]["omega_ratio"] = json!(2.0);
+    let (status, job, _) = app.post("/v1/jobs?wait=20", &th).await;
+    assert_eq!(status, 200, "{job}");
+    let result = &job["result"];
+    assert_eq!(result["kind"], "time_history", "{job}");
+    assert_eq!(result["spec"]["pulse"]["gamma"], 2.5);
+    assert_eq!(result["spec"]["pulse"]["nu"], 1.0);
+    assert_eq!(result["spec"]["solver"]["method"], "dop853");
+    let a_p = 3.0 * 0.25 * 9.81;
+    let pga = result["ground_peaks"]["pga_m_s2"].as_f64().unwrap_or(0.0);
+    assert!((pga - a_p).abs() < 1e-9 * a_p, "{result}");
+    assert!(result["ground_peaks"]["pgv_m_s"].as_f64().unwrap_or(0.0) > 0.0);
+    // Its figure draws the pulse and names it; its CSV has the ground acceleration.
+    let id = job["id"].as_str().expect("id");
+    let (status, _, svg) = app.get_text(&format!("/v1/jobs/{id}/plot.svg")).await;
+    assert_eq!(status, 200);
+    assert!(svg.contains("Mavroeidis–Papageorgiou"), "{svg}");
+    assert!(svg.contains("pulse: 0 ≤ t ≤"), "{svg}");
+    let (status, _, csv) = app
+        .get_text(&format!("/v1/jobs/{id}/result?format=csv"))
+        .await;
+    assert_eq!(status, 200);
+    assert!(csv.lines().count() > 2, "{csv}");
+    let mut sp = spectrum(2);
+    sp["pulse"] = pulse;
+    let (status, job, _) = app.post("/v1/jobs?wait=60", &sp).await;
+    assert_eq!(status, 200, "{job}");
+    let lines = job["result"]["spectrum"].as_array().expect("lines");
+    assert_eq!(lines.len(), 2);
+    for line in lines {
+        assert!(line["eq21_alpha_g"].is_null(), "{line}");
+        assert!(line["ground"]["pgv_over_pga_s"].as_f64().unwrap_or(0.0) > 0.0);
+    }
+    let id = job["id"].as_str().expect("id");
+    let (status, _, svg) = app.get_text(&format!("/v1/jobs/{id}/plot.svg")).await;
+    assert_eq!(status, 200);
+    assert!(svg.contains("Mavroeidis–Papageorgiou"), "{svg}");
+    app.stop().await;
+}
+
 #[tokio::test]
 async fn the_same_work_in_other_words_is_a_cache_hit() {
     let app = spawn_app("cache").await;

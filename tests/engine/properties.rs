@@ -36,6 +36,7 @@ fn still_ground() -> Pulse {
         phase: 0.0,
         wave: topple::dynamics::excitation::Wave::Cosine,
         duration: 0.0,
+        extrema: topple::dynamics::excitation::Extrema::NONE,
     }
 }
 
