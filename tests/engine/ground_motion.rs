@@ -613,7 +613,12 @@ fn a_near_fault_like_record_ends_in_a_finite_answer() {
         for key in ["end_time", "decided_at", "peak_theta_over_alpha"] {
             assert!(r[key].as_f64().is_some_and(f64::is_finite), "{key}: {r}");
         }
-        assert_eq!(r["numerics"]["method"], "dop853", "{formulation}");
+        let method = if formulation == "linear" {
+            "exact"
+        } else {
+            "dop853"
+        };
+        assert_eq!(r["numerics"]["method"], method, "{formulation}");
         assert!(
             r["numerics"]["error_estimate"]
                 .as_f64()
@@ -731,12 +736,17 @@ fn invalid_records_are_refused_at_the_field() {
     assert_eq!(pointer_of(&both), "/ground_motion");
     let neither = json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14}});
     assert_eq!(pointer_of(&neither), "/pulse");
-    // The closed form is for pulses only.
+    // The closed form is for the linear formulation only.
     let exact = history(
         ok(),
-        json!({"formulation": "linear", "solver": {"method": "exact"}}),
+        json!({"formulation": "nonlinear", "solver": {"method": "exact"}}),
     );
     assert_eq!(pointer_of(&exact), "/solver/method");
+    let exact = history(
+        ok(),
+        json!({"formulation": "linear", "solver": {"method": "exact", "rtol": 1e-9}}),
+    );
+    assert_eq!(pointer_of(&exact), "/solver/rtol");
     // Spectra keep pulses only.
     let spectrum = json!({
         "kind": "spectrum",
@@ -767,12 +777,28 @@ fn non_finite_samples_are_named_by_their_index() {
 }
 
 #[test]
-fn the_linear_formulation_of_a_record_defaults_to_dop853() {
-    let spec = history(
+fn the_linear_formulation_of_a_record_defaults_to_the_exact_solver() {
+    let spec = |formulation: &str| {
+        history(
+            json!({"dt": 0.01, "acc": near_fault(0.01), "unit": "g"}),
+            json!({"formulation": formulation}),
+        )
+    };
+    let method = |formulation| match Job::from_value(&spec(formulation)).expect("valid") {
+        Job::TimeHistory(h) => h.solver.method,
+        _ => panic!("a time history"),
+    };
+    assert_eq!(method("linear"), "exact");
+    assert_eq!(method("nonlinear"), "dop853");
+    // The normalised spec says so, and runs with it.
+    let r = run(&spec("linear"));
+    assert_eq!(r["spec"]["solver"]["method"], "exact", "{}", r["spec"]);
+    assert_eq!(r["numerics"]["method"], "exact");
+    let explicit = history(
         json!({"dt": 0.01, "acc": near_fault(0.01), "unit": "g"}),
-        json!({"formulation": "linear"}),
+        json!({"formulation": "linear", "solver": {"method": "dop853"}}),
     );
-    let Job::TimeHistory(h) = Job::from_value(&spec).expect("valid") else {
+    let Job::TimeHistory(h) = Job::from_value(&explicit).expect("valid") else {
         panic!("a time history")
     };
     assert_eq!(h.solver.method, "dop853");
