@@ -1,10 +1,11 @@
 //! Engine benchmarks: one simulation of the reference case (locomotive block,
-//! one-sine pulse, ω_p/p = 5, a_p = 4 αg).
+//! one-sine pulse, ω_p/p = 5, a_p = 4 αg), each pulse family, and a long
+//! random-like record.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use topple::dynamics::{
-    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Solver, simulate,
+    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Record, Solver, simulate,
 };
 
 fn problem(formulation: Formulation) -> Problem {
@@ -121,5 +122,77 @@ fn pulses(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, engine, pulses);
+/// A random-like record of `n` samples at `dt` (the generator of
+/// `tests/engine/ground_motion.rs`): 24 sines of random frequency
+/// (log-uniform in [f_lo, f_hi] Hz), phase and weight from a 64-bit linear
+/// congruential generator, ramped in over the first tenth, scaled to `peak`.
+fn synthetic(seed: u64, n: usize, dt: f64, peak: f64, f_lo: f64, f_hi: f64) -> Vec<f64> {
+    let mut state = seed;
+    let mut uniform = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let components: Vec<(f64, f64, f64)> = (0..24)
+        .map(|_| {
+            let f = f_lo * (f_hi / f_lo).powf(uniform());
+            let phase = std::f64::consts::TAU * uniform();
+            (std::f64::consts::TAU * f, phase, 0.5 + uniform())
+        })
+        .collect();
+    let ramp = 0.1 * n as f64 * dt;
+    let raw: Vec<f64> = (0..n)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let sum: f64 = components
+                .iter()
+                .map(|(w, phase, weight)| weight * (w * t + phase).sin())
+                .sum();
+            (t / ramp).min(1.0) * sum
+        })
+        .collect();
+    let max = raw.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    raw.iter().map(|a| peak * a / max).collect()
+}
+
+/// The linear formulation under a 20,000-sample record (200 s at dt = 0.01 s,
+/// 1–8 Hz, peak 3 αg) that keeps a slender block (α = 0.15, p = 1.5 rad/s,
+/// η = 0.9) rocking from its first seconds to its end, with some 540
+/// impacts: the exact solution piece by piece against dop853 at rtol 1e-12,
+/// whose steps also stop at every sample.
+fn record(c: &mut Criterion) {
+    let block = Block::new(0.15, 1.5, Some(0.9), None, None).expect("valid");
+    let acc = synthetic(7, 20_000, 0.01, 3.0 * 0.15 * 9.81, 1.0, 8.0);
+    let problem = Problem {
+        block,
+        pulse: Record::new(acc.into(), 0.01).expect("valid"),
+        formulation: Formulation::Linear,
+    };
+    let mut g = c.benchmark_group("record");
+    g.sample_size(20);
+    for (name, solver) in [
+        ("exact", Solver::Exact),
+        (
+            "dop853_rtol1e-12",
+            Solver::RungeKutta {
+                method: Method::Dop853,
+                rtol: 1e-12,
+                atol: 1e-14,
+            },
+        ),
+    ] {
+        let outcome = Options::outcome(solver);
+        g.bench_function(format!("{name}/outcome"), |b| {
+            b.iter(|| simulate(black_box(&problem), black_box(&outcome)))
+        });
+        let full = Options::history(solver);
+        g.bench_function(format!("{name}/full"), |b| {
+            b.iter(|| simulate(black_box(&problem), black_box(&full)))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, engine, pulses, record);
 criterion_main!(benches);

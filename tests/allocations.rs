@@ -5,7 +5,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
 use topple::dynamics::{
-    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Solver, simulate,
+    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Record, Solver, simulate,
 };
 
 struct Counting;
@@ -102,5 +102,35 @@ fn simulations_do_not_allocate_per_step() {
             simulate(&problem, &Options::outcome(Solver::Exact)).expect("simulates");
         }),
         0
+    );
+    // The same pulse as a record: the exact solution runs piece by piece,
+    // allocating nothing per piece, however many pieces.
+    let sampled = |n: usize| {
+        let dt = sine.duration / n as f64;
+        let acc: Vec<f64> = (0..=n)
+            .map(|k| sine.amplitude * (sine.circular_frequency * k as f64 * dt).sin())
+            .collect();
+        Problem {
+            block,
+            pulse: Record::new(acc.into(), dt).expect("valid record"),
+            formulation: Formulation::Linear,
+        }
+    };
+    let (coarse, fine) = (sampled(500), sampled(5000));
+    for problem in [&coarse, &fine] {
+        let outcome = count(|| {
+            simulate(problem, &Options::outcome(Solver::Exact)).expect("simulates");
+        });
+        assert_eq!(outcome, 0, "exact outcome run on a record allocated");
+    }
+    let full = |problem: &Problem<Record>| {
+        count(|| {
+            simulate(problem, &Options::history(Solver::Exact)).expect("simulates");
+        })
+    };
+    assert_eq!(
+        full(&coarse),
+        full(&fine),
+        "exact on a record: allocations grow with the pieces"
     );
 }

@@ -10,12 +10,14 @@
 //! `[t_k, t_{k+1}]` and zero outside `[0, (N−1)·dt]`. Its derivative jumps at the
 //! sample times, so the Runge–Kutta steps stop there ([`Forcing::breakpoint_after`]),
 //! and the threshold crossings |ü_g| = g tan α (or g α) are solved on each
-//! linear piece in closed form.
+//! linear piece in closed form. So is the linear equation of motion
+//! ([`Forcing::linear_segment`]): its exact solution runs piece by piece.
 
 use std::sync::Arc;
 
 use super::block::Block;
 use super::equations::{Formulation, RockingRhs};
+use super::exact::LinearSegment;
 use super::excitation::{Exceedance, Pulse, Wave};
 use super::integrator::{Rhs, State};
 
@@ -35,9 +37,11 @@ pub trait Forcing: Clone + std::fmt::Debug {
         forced: bool,
     ) -> Self::Rhs<'a>;
 
-    /// The sinusoidal right-hand side, when the closed-form linear solution
-    /// (eqs. 23–33) applies to it.
-    fn sinusoid<'r>(rhs: &'r Self::Rhs<'_>) -> Option<&'r RockingRhs>;
+    /// The closed-form linear solution (eqs. 23–33) of `rhs` from `(t0, y0)`,
+    /// and the time up to which it holds: ∞ for a pulse's cosine, the next
+    /// sample for a record (whose slope changes there). `None` when the ground
+    /// term has no closed form (a wavelet).
+    fn linear_segment(rhs: &Self::Rhs<'_>, t0: f64, y0: State) -> Option<(LinearSegment, f64)>;
 
     /// Ground acceleration ü_g(t), m/s² (zero outside the motion).
     fn acceleration(&self, t: f64) -> f64;
@@ -78,8 +82,8 @@ impl Forcing for Pulse {
     }
 
     #[inline]
-    fn sinusoid(rhs: &RockingRhs) -> Option<&RockingRhs> {
-        (rhs.wave == Wave::Cosine).then_some(rhs)
+    fn linear_segment(rhs: &RockingRhs, t0: f64, y0: State) -> Option<(LinearSegment, f64)> {
+        (rhs.wave == Wave::Cosine).then(|| (LinearSegment::new(rhs, t0, y0), f64::INFINITY))
     }
 
     #[inline]
@@ -270,6 +274,8 @@ fn interpolate(samples: &[f64], dt: f64, end: f64, t: f64) -> f64 {
 #[derive(Clone, Copy, Debug)]
 pub struct RecordRhs<'a> {
     formulation: Formulation,
+    /// p, for the closed form; p² for the equation of motion.
+    p: f64,
     p2: f64,
     alpha: f64,
     side: f64,
@@ -289,6 +295,29 @@ impl RecordRhs<'_> {
         } else {
             self.inv_g * interpolate(self.samples, self.dt, self.end, t)
         }
+    }
+
+    /// The line ü_g/g follows from `t` on: `(u0, u1, t1)` with ü_g/g =
+    /// u0 + u1 (t' − t) for t ≤ t' ≤ t1, t1 the first sample time after t.
+    /// Free vibration, and the record past its end, give `(0, 0, ∞)`.
+    #[inline]
+    pub fn piece_from(&self, t: f64) -> (f64, f64, f64) {
+        if self.inv_g == 0.0 || t >= self.end {
+            return (0.0, 0.0, f64::INFINITY);
+        }
+        let last = self.samples.len() - 2;
+        let x = t.max(0.0) / self.dt;
+        // (x ≥ 0: truncation is the floor.)
+        let mut k = (x as usize).min(last);
+        // A start on a sample time belongs to the piece that begins there.
+        if k < last && (k + 1) as f64 * self.dt <= t {
+            k += 1;
+        }
+        // On the last piece this is the record's end (the same product).
+        let t1 = (k + 1) as f64 * self.dt;
+        let (a0, a1) = (self.samples[k], self.samples[k + 1]);
+        let value = a0 + (a1 - a0) * (x - k as f64);
+        (self.inv_g * value, self.inv_g * ((a1 - a0) / self.dt), t1)
     }
 }
 
@@ -320,6 +349,7 @@ impl Forcing for Record {
     ) -> RecordRhs<'a> {
         RecordRhs {
             formulation,
+            p: block.frequency_parameter,
             p2: block.frequency_parameter.powi(2),
             alpha: block.slenderness,
             side,
@@ -330,8 +360,11 @@ impl Forcing for Record {
         }
     }
 
-    fn sinusoid<'r>(_rhs: &'r RecordRhs<'_>) -> Option<&'r RockingRhs> {
-        None
+    #[inline]
+    fn linear_segment(rhs: &RecordRhs<'_>, t0: f64, y0: State) -> Option<(LinearSegment, f64)> {
+        let (u0, u1, t1) = rhs.piece_from(t0);
+        let seg = LinearSegment::linear_ground(rhs.p, rhs.alpha, rhs.side, t0, y0, u0, u1, t1);
+        Some((seg, t1))
     }
 
     #[inline]
@@ -470,6 +503,31 @@ mod tests {
         let b = r.breakpoint_after(0.1);
         assert!((b - 0.2).abs() < 1e-15);
         assert!(r.breakpoint_after(3.0 * 0.1) > 0.3 + 1e-12);
+    }
+
+    #[test]
+    fn a_piece_starts_at_its_sample_and_follows_the_interpolant() {
+        let block = Block::new(0.25, 2.0, None, None, None).expect("valid");
+        let r = record(&[0.0, 2.0, -2.0, 1.0], 0.1);
+        let rhs = r.rhs(Formulation::Linear, &block, 1.0, true);
+        let g = block.gravity;
+        // Inside the second piece: the line through (0.1, 2) and (0.2, −2).
+        let (u0, u1, t1) = rhs.piece_from(0.125);
+        assert!((u0 - rhs.ground(0.125)).abs() < 1e-15, "{u0}");
+        assert!((u1 + 40.0 / g).abs() < 1e-12, "{u1}");
+        assert_eq!(t1, 2.0 * 0.1);
+        // On a sample time the piece that begins there.
+        for k in 1..3 {
+            let t = k as f64 * 0.1;
+            let (u0, _, t1) = rhs.piece_from(t);
+            assert!((u0 - r.samples()[k] / g).abs() < 1e-15);
+            assert_eq!(t1, (k + 1) as f64 * 0.1);
+        }
+        // The last piece ends with the record; past it, and when free, no ground.
+        assert_eq!(rhs.piece_from(0.25).2, r.duration());
+        assert_eq!(rhs.piece_from(r.duration()), (0.0, 0.0, f64::INFINITY));
+        let free = r.rhs(Formulation::Linear, &block, 1.0, false);
+        assert_eq!(free.piece_from(0.125), (0.0, 0.0, f64::INFINITY));
     }
 
     #[test]

@@ -14,15 +14,16 @@
 //! The ground motion is any [`Forcing`]: a pulse, or a sampled record whose
 //! end is the end of forcing and whose sample times (kinks of the linearly
 //! interpolated acceleration) end Runge–Kutta steps without restarting the
-//! step-size control.
+//! step-size control, and end the exact solver's closed-form segments (one
+//! per piece of the record, each re-anchored where the last one ended).
 
 use std::time::Instant;
 
 use super::block::Block;
 use super::chatter::settle;
-use super::equations::{Formulation, RockingRhs};
+use super::equations::Formulation;
 use super::events::{Poly, first_nonpositive};
-use super::exact::{LinearSegment, SegmentEnd, first_event};
+use super::exact::{SegmentEnd, first_event};
 use super::excitation::Pulse;
 use super::forcing::Forcing;
 use super::integrator::{MAX_DEGREE, Method, State, StepError, Stepper, StepperStats, single_step};
@@ -147,9 +148,12 @@ pub enum SimError {
     /// The closed form exists for the linear formulation only.
     #[error("the exact solver solves the linear formulation only")]
     ExactNeedsLinear,
-    /// The closed form exists for sinusoidal pulses only.
-    #[error("the exact solver solves pulses only; use dopri5 or dop853 for a record")]
-    ExactNeedsPulse,
+    /// The closed form exists for sinusoidal pulses and records (linear
+    /// between samples), not for wavelets.
+    #[error(
+        "the exact solver solves sinusoidal pulses and records only; use dopri5 or dop853 for a wavelet"
+    )]
+    ExactNeedsClosedForm,
     /// Tolerances must be positive and finite.
     #[error("rtol and atol must be positive and finite, rtol >= 1e-14")]
     Tolerance,
@@ -213,9 +217,9 @@ fn check<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<(), SimE
     if matches!(options.solver, Solver::Exact) {
         let probe = problem
             .pulse
-            .rhs(problem.formulation, &problem.block, 1.0, false);
-        if G::sinusoid(&probe).is_none() {
-            return Err(SimError::ExactNeedsPulse);
+            .rhs(problem.formulation, &problem.block, 1.0, true);
+        if G::linear_segment(&probe, 0.0, [0.0, 0.0]).is_none() {
+            return Err(SimError::ExactNeedsClosedForm);
         }
     }
     match options.solver {
@@ -265,8 +269,7 @@ impl Engine {
     ) -> Result<LegEnd, SimError> {
         match self.solver {
             Solver::Exact => {
-                let rhs = G::sinusoid(rhs).ok_or(SimError::ExactNeedsPulse)?;
-                Ok(self.leg_exact(rhs, t0, y0, t_stop, lift_until, forced, tracker))
+                self.leg_exact::<G>(rhs, side, t0, y0, t_stop, lift_until, forced, tracker)
             }
             Solver::RungeKutta { method, rtol, atol } => self.leg_rk(
                 forcing, rhs, side, method, rtol, atol, t0, y0, t_stop, lift_until, forced, tracker,
@@ -274,38 +277,42 @@ impl Engine {
         }
     }
 
+    /// The closed-form leg: segment after segment of the forcing's
+    /// [`linear_segment`](Forcing::linear_segment), each re-anchored at the
+    /// state where the previous one ended (a kink of the forcing, or p τ = 20).
     #[allow(clippy::too_many_arguments)]
     fn leg_exact<G: Forcing>(
         &mut self,
-        rhs: &RockingRhs,
+        rhs: &G::Rhs<'_>,
+        side: f64,
         t0: f64,
         y0: State,
         t_stop: f64,
         lift_until: f64,
         forced: bool,
         tracker: &mut Tracker<G>,
-    ) -> LegEnd {
-        let mut seg = LinearSegment::new(rhs, t0, y0);
+    ) -> Result<LegEnd, SimError> {
+        let (mut seg, mut holds_until) =
+            G::linear_segment(rhs, t0, y0).ok_or(SimError::ExactNeedsClosedForm)?;
         loop {
-            let end = first_event(&seg, t_stop, lift_until);
+            let end = first_event(&seg, t_stop.min(holds_until), lift_until);
             self.stats.accepted += 1;
             let t_end = match end {
-                SegmentEnd::Impact(t) | SegmentEnd::Overturn(t) | SegmentEnd::Reached(t) => t,
+                SegmentEnd::Impact(t) | SegmentEnd::Overturn(t) | SegmentEnd::Reached(t, _) => t,
             };
-            let tau = t_end - seg.t0;
-            self.exact_error += f64::EPSILON
-                * (rhs.p2.sqrt() * tau).cosh()
-                * (rhs.alpha
-                    + rhs.amplitude_over_g.abs()
-                    + seg.y0[0].abs()
-                    + seg.y0[1].abs() / rhs.p2.sqrt());
-            tracker.rocking(seg.t0, t_end, rhs.side, forced, |t| seg.at(t));
-            let y = seg.at(t_end);
+            self.exact_error += seg.rounding_error(t_end - seg.t0);
+            tracker.rocking(seg.t0, t_end, side, forced, |t| seg.at(t));
             match end {
-                SegmentEnd::Impact(t) => return LegEnd::Impact { t, velocity: y[1] },
-                SegmentEnd::Overturn(t) => return LegEnd::Overturn { t },
-                SegmentEnd::Reached(t) if t >= t_stop => return LegEnd::Reached { t, y },
-                SegmentEnd::Reached(t) => seg = LinearSegment::new(rhs, t, y),
+                SegmentEnd::Impact(t) => {
+                    let velocity = seg.at(t)[1];
+                    return Ok(LegEnd::Impact { t, velocity });
+                }
+                SegmentEnd::Overturn(t) => return Ok(LegEnd::Overturn { t }),
+                SegmentEnd::Reached(t, y) if t >= t_stop => return Ok(LegEnd::Reached { t, y }),
+                SegmentEnd::Reached(t, y) => {
+                    (seg, holds_until) =
+                        G::linear_segment(rhs, t, y).ok_or(SimError::ExactNeedsClosedForm)?;
+                }
             }
         }
     }

@@ -215,7 +215,7 @@ impl RecordSpectrumSpec {
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let solver =
-            super::spec::validate_solver_for(self.solver.as_ref(), formulation, false, "/solver")?;
+            super::spec::validate_solver_for(self.solver.as_ref(), formulation, true, "/solver")?;
         let g = block.g;
         let names = ["p", "R_m"];
         let (sizes, which) = at_most_one(

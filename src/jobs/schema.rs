@@ -78,7 +78,7 @@ pub enum FormulationName {
 #[derive(ToSchema)]
 #[schema(rename_all = "snake_case")]
 pub enum MethodName {
-    /// The closed form (linear formulation, pulses).
+    /// The closed form (linear formulation; sinusoidal pulses and records).
     Exact,
     /// Dormand–Prince 5(4).
     Dopri5,
@@ -165,7 +165,7 @@ pub enum PulseTypeInput {
 /// A solver as a spec names it.
 #[derive(ToSchema)]
 pub enum MethodInput {
-    /// The closed form (linear formulation, pulses).
+    /// The closed form (linear formulation; sinusoidal pulses and records).
     #[schema(rename = "exact")]
     Exact,
     /// Dormand–Prince 5(4).

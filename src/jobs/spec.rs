@@ -746,9 +746,10 @@ pub fn parse_formulation(v: Option<&str>, pointer: &str) -> Result<Formulation, 
     }
 }
 
-/// Validates the solver for a ground motion that has (`closed_form`, a pulse)
-/// or lacks (a record) the closed-form linear solution. Default: exact for
-/// the linear formulation of a pulse, dop853 otherwise.
+/// Validates the solver for a ground motion that has (`closed_form`: a
+/// sinusoidal pulse or a record) or lacks (a wavelet) the closed-form linear
+/// solution. Default: exact for the linear formulation where it exists,
+/// dop853 otherwise.
 pub fn validate_solver_for(
     spec: Option<&SolverSpec>,
     formulation: Formulation,
@@ -784,7 +785,7 @@ pub fn validate_solver_for(
         if !closed_form {
             return Err(SpecError::at(
                 format!("{base}/method"),
-                "the exact solver solves sinusoidal pulses only (one_sine, one_cosine, cn, half_sine, rectangular): use dopri5 or dop853 (the default) for a ricker or mavroeidis_papageorgiou pulse or a ground-motion record",
+                "the exact solver solves sinusoidal pulses (one_sine, one_cosine, cn, half_sine, rectangular) and ground-motion records only: use dopri5 or dop853 (the default) for a ricker or mavroeidis_papageorgiou pulse",
             ));
         }
         if formulation != Formulation::Linear {

@@ -50,7 +50,8 @@ pub struct TimeHistorySpec {
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
-    /// Solver (default: exact for a pulse with the linear formulation, dop853 otherwise).
+    /// Solver (default: exact for the linear formulation of a sinusoidal pulse
+    /// or a record, dop853 otherwise).
     pub solver: Option<SolverSpec>,
     /// Extra outputs.
     pub outputs: Option<OutputsSpec>,
@@ -123,12 +124,11 @@ impl TimeHistorySpec {
             }
         };
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver = validate_solver_for(
-            self.solver.as_ref(),
-            formulation,
-            pulse.as_ref().is_some_and(|p| p.shape.is_sinusoidal()),
-            "/solver",
-        )?;
+        // The closed form covers the sinusoidal pulses and every record
+        // (linear between samples); a wavelet has none.
+        let closed_form = pulse.as_ref().is_none_or(|p| p.shape.is_sinusoidal());
+        let solver =
+            validate_solver_for(self.solver.as_ref(), formulation, closed_form, "/solver")?;
         let out = self.outputs.clone().unwrap_or_default();
         let series = out.series.unwrap_or(0);
         if series > MAX_SERIES_POINTS {

@@ -43,6 +43,46 @@ async fn time_history_submit_poll_result_matches_topple_run() {
 }
 
 #[tokio::test]
+async fn a_linear_record_runs_in_closed_form_by_default_as_topple_run_does() {
+    let app = spawn_app("record").await;
+    // Two cycles of a sine at 2 Hz, 0.6 g, sampled every 5 ms.
+    let acc: Vec<f64> = (0..=200)
+        .map(|k| 0.6 * (std::f64::consts::TAU * 2.0 * k as f64 * 0.005).sin())
+        .collect();
+    let spec = json!({
+        "kind": "time_history",
+        "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+        "ground_motion": {"dt": 0.005, "unit": "g", "acc": acc},
+        "formulation": "linear",
+        "outputs": {"series": 20}
+    });
+    let (status, job, _) = app.post("/v1/jobs?wait=10", &spec).await;
+    assert_eq!(status, 200, "{job}");
+    assert_eq!(job["status"], "succeeded", "{job}");
+    let result = &job["result"];
+    assert_eq!(result["spec"]["solver"]["method"], "exact", "{result}");
+    assert_eq!(result["numerics"]["method"], "exact");
+    assert_eq!(result["rocked"], true);
+    assert_eq!(
+        without_times(result.clone()),
+        without_times(topple_run(&spec))
+    );
+    // The nonlinear formulation has no closed form.
+    let mut nonlinear = spec.clone();
+    nonlinear["formulation"] = json!("nonlinear");
+    nonlinear["solver"] = json!({"method": "exact"});
+    let r = app
+        .client
+        .post(app.url("/v1/jobs"))
+        .json(&nonlinear)
+        .send()
+        .await
+        .expect("r");
+    assert_problem(r, 422, Some("/solver/method")).await;
+    app.stop().await;
+}
+
+#[tokio::test]
 async fn post_with_wait_returns_the_finished_result_inline() {
     let app = spawn_app("wait").await;
     let (status, job, _) = app.post("/v1/jobs?wait=10", &time_history(3.5)).await;

@@ -215,6 +215,7 @@ GOOD = [
     ("explicit nulls", edit(TH, formulation=None, solver=None, outputs=None, block__eta=None,
                             pulse__omega_p=None, pulse__n=None)),
     ("linear, exact", edit(TH, formulation="linear", solver={"method": "exact"})),
+    ("linear record, exact", edit(GM, formulation="linear", solver={"method": "exact"})),
     ("spectrum", SP),
     ("spectrum in Hz and g", edit(SP, omega_ratio=DELETE, frequency_hz={"from": 0.5, "to": 1.0,
                                                                       "steps": 2},

@@ -2,14 +2,17 @@
 //! the analytic pulse (differences shrink as dt²), rocking starts between
 //! samples where the linear interpolant crosses the threshold, specs with a
 //! `ground_motion` are validated field by field, and a short near-fault-like
-//! record runs to a finite answer.
+//! record runs to a finite answer. The exact linear solution, piece by piece,
+//! agrees with dop853 at rtol 1e-12, is Housner's under a constant ground, and
+//! copes with long records, stiff blocks and grazing exceedances.
 
 use std::sync::Arc;
 
 use serde_json::json;
+use topple::dynamics::exact::MAX_SEGMENT_PT;
 use topple::dynamics::{
-    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Record, Response, Solver,
-    simulate,
+    Block, Formulation, Method, Options, OverturnMode, Problem, Pulse, PulseShape, Record,
+    Response, Solver, simulate,
 };
 use topple::jobs::Job;
 use topple::jobs::key::{cache_key, canonical_spec};
@@ -37,8 +40,8 @@ fn sampled(pulse: &Pulse, n: usize) -> Record {
     Record::new(acc.into(), dt).expect("valid record")
 }
 
-fn options(series_at: Vec<f64>) -> Options {
-    let mut o = Options::history(solver());
+fn options_with(solver: Solver, series_at: Vec<f64>) -> Options {
+    let mut o = Options::history(solver);
     o.max_free_impacts = 10;
     o.series_at = Some(series_at);
     o
@@ -73,6 +76,18 @@ fn difference(a: &Response, b: &Response) -> f64 {
 /// The differences between the analytic pulse and its samples at dt = T/n for
 /// each n.
 fn convergence(formulation: Formulation, ratio: f64, level: f64, ns: &[usize]) -> Vec<f64> {
+    convergence_with(solver(), formulation, ratio, level, ns)
+}
+
+/// [`convergence`] with both histories computed by `solver`.
+fn convergence_with(
+    solver: Solver,
+    formulation: Formulation,
+    ratio: f64,
+    level: f64,
+    ns: &[usize],
+) -> Vec<f64> {
+    let options = |times: Vec<f64>| options_with(solver, times);
     let b = block();
     let pulse = Pulse::new(
         PulseShape::OneSine,
@@ -101,7 +116,7 @@ fn convergence(formulation: Formulation, ratio: f64, level: f64, ns: &[usize]) -
             assert!(r.numerics.error_estimate.is_finite());
             assert!(
                 r.numerics.steps_accepted >= n as u64 / 2,
-                "steps stop at samples"
+                "steps (or closed-form segments) stop at samples"
             );
             difference(&reference, &r)
         })
@@ -158,6 +173,16 @@ fn a_sampled_one_sine_overturns_like_the_pulse_linear() {
         "linear, overturning",
         &convergence(Formulation::Linear, 3.0, 2.0, &NS),
     );
+}
+
+#[test]
+fn the_exact_solution_of_a_sampled_one_sine_converges_to_the_pulses_as_dt_squared() {
+    for (ratio, what) in [(5.0, "standing"), (3.0, "overturning")] {
+        assert_second_order(
+            &format!("linear exact, {what}"),
+            &convergence_with(Solver::Exact, Formulation::Linear, ratio, 2.0, &NS),
+        );
+    }
 }
 
 #[test]
@@ -220,17 +245,315 @@ fn below_the_threshold_a_record_leaves_the_block_at_rest() {
 }
 
 #[test]
-fn the_exact_solver_refuses_a_record() {
+fn the_exact_solver_solves_the_linear_formulation_of_a_record_only() {
     let record = Record::new(vec![0.0, 1.0, 0.0].into(), 0.1).expect("valid");
+    let problem = |formulation| Problem {
+        block: block(),
+        pulse: record.clone(),
+        formulation,
+    };
     let e = simulate(
-        &Problem {
-            block: block(),
-            pulse: record,
-            formulation: Formulation::Linear,
-        },
+        &problem(Formulation::Nonlinear),
         &Options::history(Solver::Exact),
     );
-    assert_eq!(e.err(), Some(topple::dynamics::SimError::ExactNeedsPulse));
+    assert_eq!(e.err(), Some(topple::dynamics::SimError::ExactNeedsLinear));
+    let r = simulate(
+        &problem(Formulation::Linear),
+        &Options::history(Solver::Exact),
+    )
+    .expect("simulates");
+    assert_eq!(r.numerics.method, "exact");
+    assert!(!r.rocked);
+}
+
+/// A 64-bit linear congruential generator (Knuth's MMIX constants): uniform
+/// numbers in [0, 1) reproducible from a seed, with no dependency.
+struct Lcg(u64);
+
+impl Lcg {
+    fn uniform(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A random-like record of `n` samples at `dt`: 24 sines of random frequency
+/// (log-uniform in [f_lo, f_hi] Hz), phase and weight, ramped in over the
+/// first tenth, scaled to the peak `peak` (m/s²).
+fn synthetic(seed: u64, n: usize, dt: f64, peak: f64, f_lo: f64, f_hi: f64) -> Vec<f64> {
+    let mut rng = Lcg(seed);
+    let components: Vec<(f64, f64, f64)> = (0..24)
+        .map(|_| {
+            let f = f_lo * (f_hi / f_lo).powf(rng.uniform());
+            let phase = std::f64::consts::TAU * rng.uniform();
+            (std::f64::consts::TAU * f, phase, 0.5 + rng.uniform())
+        })
+        .collect();
+    let ramp = 0.1 * n as f64 * dt;
+    let raw: Vec<f64> = (0..n)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let sum: f64 = components
+                .iter()
+                .map(|(w, phase, weight)| weight * (w * t + phase).sin())
+                .sum();
+            (t / ramp).min(1.0) * sum
+        })
+        .collect();
+    let max = raw.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    raw.iter().map(|a| peak * a / max).collect()
+}
+
+/// Runs `problem` with the exact solver and with dop853 at rtol 1e-12, checks
+/// that they tell the same story (outcome, mode, every impact within 1e-8 s)
+/// and that θ agrees to `theta_tol` rad along the history; returns the
+/// largest difference in impact (and overturning) times.
+fn exact_against_dop853(problem: &Problem<Record>, what: &str, theta_tol: f64) -> f64 {
+    let history = |solver, times: Option<Vec<f64>>| {
+        let mut o = Options::history(solver);
+        o.max_free_impacts = 20;
+        o.series_at = times;
+        simulate(problem, &o).expect("simulates")
+    };
+    let (exact, numeric) = (history(Solver::Exact, None), history(solver(), None));
+    assert_eq!(exact.numerics.method, "exact");
+    assert_eq!(exact.overturned, numeric.overturned, "{what}");
+    assert_eq!(exact.mode, numeric.mode, "{what}");
+    assert_eq!(exact.impact_count, numeric.impact_count, "{what}");
+    assert_eq!(exact.rocking_starts, numeric.rocking_starts, "{what}");
+    assert_eq!(exact.impacts.len(), numeric.impacts.len(), "{what}");
+    let mut d: f64 = 0.0;
+    for (x, y) in exact.impacts.iter().zip(&numeric.impacts) {
+        d = d.max((x.time - y.time).abs());
+    }
+    if let (Some(x), Some(y)) = (exact.overturn_time, numeric.overturn_time) {
+        d = d.max((x - y).abs());
+    }
+    assert!(d <= 1e-8, "{what}: impact times differ by {d:e} s");
+    // θ along the whole history, short of the fall of a block already bound
+    // to overturn (there any difference grows as e^{pt}, whatever the solver).
+    let end = if exact.overturned {
+        exact.decided_at.min(exact.end_time)
+    } else {
+        exact.end_time.min(numeric.end_time)
+    };
+    let times: Vec<f64> = (0..500).map(|k| end * k as f64 / 500.0).collect();
+    let a = history(Solver::Exact, Some(times.clone()));
+    let b = history(solver(), Some(times));
+    let (sa, sb) = (a.series.expect("series"), b.series.expect("series"));
+    let dtheta = sa
+        .theta
+        .iter()
+        .zip(&sb.theta)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(dtheta <= theta_tol, "{what}: θ differs by {dtheta:e} rad");
+    eprintln!(
+        "{what}: {} impacts, overturned {}, mode {:?}: impact times within {d:.1e} s, θ within {dtheta:.1e} rad",
+        exact.impact_count, exact.overturned, exact.mode
+    );
+    d
+}
+
+#[test]
+fn the_exact_solution_of_a_sampled_one_sine_agrees_with_dop853() {
+    let b = block();
+    // ω_p/p and a_p/(αg): standing (one impact during the pulse, then free
+    // rocking), overturning after one impact (mode 1), overturning without
+    // impact (mode 2).
+    for (ratio, level, overturns, impacts) in [
+        (5.0, 2.0, false, true),
+        (3.0, 2.0, true, true),
+        (1.0, 3.0, true, false),
+    ] {
+        let pulse = Pulse::new(
+            PulseShape::OneSine,
+            level * b.slenderness * G,
+            ratio * b.frequency_parameter,
+        )
+        .expect("valid pulse");
+        for n in [100, 1000, 10_000] {
+            let problem = Problem {
+                block: b,
+                pulse: sampled(&pulse, n),
+                formulation: Formulation::Linear,
+            };
+            let what = format!("one-sine ω_p/p = {ratio}, a_p = {level} αg, dt = T/{n}");
+            exact_against_dop853(&problem, &what, 1e-8);
+            let r = simulate(&problem, &Options::history(Solver::Exact)).expect("simulates");
+            assert_eq!(r.overturned, overturns, "{what}");
+            assert_eq!(
+                matches!(r.mode, Some(OverturnMode::WithoutImpact)),
+                overturns && !impacts,
+                "{what}: {:?}",
+                r.mode
+            );
+        }
+    }
+}
+
+#[test]
+fn the_exact_solution_of_a_random_record_agrees_with_dop853() {
+    // A slender block (α = 0.15, p = 1.5 rad/s) under 30 s of random-like
+    // motion: it survives after dozens of impacts, overturns after a few, or
+    // chatters to rest hundreds of times before overturning.
+    let b = Block::new(0.15, 1.5, Some(0.9), None, None).expect("valid block");
+    let mut outcomes = Vec::new();
+    for (seed, level) in [(3, 2.0), (1, 3.0), (2, 4.0)] {
+        let acc = synthetic(seed, 3000, 0.01, level * b.slenderness * G, 0.3, 5.0);
+        let problem = Problem {
+            block: b,
+            pulse: Record::new(acc.into(), 0.01).expect("valid record"),
+            formulation: Formulation::Linear,
+        };
+        exact_against_dop853(&problem, &format!("seed {seed}, peak {level} αg"), 1e-8);
+        let r = simulate(&problem, &Options::history(Solver::Exact)).expect("simulates");
+        outcomes.push((r.overturned, r.impact_count));
+    }
+    assert!(outcomes.iter().any(|&(o, n)| !o && n >= 50), "{outcomes:?}");
+    assert!(outcomes.iter().any(|&(o, n)| o && n >= 300), "{outcomes:?}");
+}
+
+/// The linear formulation under `ground`, solved exactly, with θ at `times`.
+fn linear_exact<G: topple::dynamics::Forcing>(b: Block, ground: G, times: Vec<f64>) -> Response {
+    let problem = Problem {
+        block: b,
+        pulse: ground,
+        formulation: Formulation::Linear,
+    };
+    simulate(&problem, &options_with(Solver::Exact, times)).expect("simulates")
+}
+
+#[test]
+fn a_constant_ground_acceleration_rocks_the_block_as_housners_rectangular_pulse() {
+    // Every sample equal: one line with u1 = 0 on each piece, re-anchored at
+    // each sample, against the closed form of the rectangular pulse.
+    let b = block();
+    for (level, n) in [(1.5, 400), (3.0, 1000)] {
+        let pulse = Pulse::new(
+            PulseShape::Rectangular,
+            level * b.slenderness * G,
+            2.0 * b.frequency_parameter,
+        )
+        .expect("valid pulse");
+        let dt = pulse.duration / n as f64;
+        let record = Record::new(vec![pulse.amplitude; n + 1].into(), dt).expect("valid");
+        let first = simulate(
+            &Problem {
+                block: b,
+                pulse,
+                formulation: Formulation::Linear,
+            },
+            &options_with(Solver::Exact, Vec::new()),
+        )
+        .expect("simulates");
+        let end = 0.95 * first.overturn_time.unwrap_or(first.end_time);
+        let times: Vec<f64> = (0..300).map(|k| end * k as f64 / 299.0).collect();
+        let housner = linear_exact(b, pulse, times.clone());
+        let sampled = linear_exact(b, record, times);
+        let d = difference(&housner, &sampled);
+        eprintln!("rectangular a_p = {level} αg over {n} pieces: differs by {d:.1e}");
+        assert!(d < 1e-12, "a_p = {level} αg: {d:e}");
+        assert!(sampled.numerics.steps_accepted >= n as u64);
+    }
+}
+
+#[test]
+fn a_200000_sample_record_runs_piece_by_piece_to_a_finite_answer() {
+    let b = Block::new(0.15, 1.5, Some(0.9), None, None).expect("valid block");
+    let n = 200_000;
+    let acc = synthetic(11, n, 0.005, 1.5 * b.slenderness * G, 0.3, 5.0);
+    let problem = Problem {
+        block: b,
+        pulse: Record::new(acc.into(), 0.005).expect("valid record"),
+        formulation: Formulation::Linear,
+    };
+    let mut o = Options::history(Solver::Exact);
+    o.reactions = false;
+    let r = simulate(&problem, &o).expect("simulates");
+    assert!(r.rocked && r.impact_count > 100, "{:?}", r.impact_count);
+    assert!(r.end_time.is_finite() && r.end_time >= 0.9 * (n - 1) as f64 * 0.005);
+    assert!(r.peak_theta_over_alpha.is_finite());
+    let e = r.numerics.error_estimate;
+    assert!(e.is_finite() && e > 0.0 && e < 1e-9, "{e:e}");
+}
+
+#[test]
+fn a_stiff_block_on_second_long_pieces_is_re_anchored_and_agrees_with_dop853() {
+    // p = 50 rad/s on 1-s pieces: p·dt = 50, past the closed form's reach of
+    // p τ = 20 before re-anchoring.
+    let b = Block::new(0.25, 50.0, Some(0.9), None, None).expect("valid block");
+    let c = b.slenderness * G;
+    // The slight exceedance grows by more than e^20 ≈ 5e8 before the fall:
+    // the 1e-16 to which ü_g/g is known becomes a relative 1e-8 in θ (whatever
+    // the solver), so θ is compared to 1e-7 rad there.
+    for (acc, what, theta_tol) in [
+        (
+            vec![0.0, 0.6 * c, -1.01 * c, 0.3 * c, 0.0],
+            "a brief exceedance",
+            1e-8,
+        ),
+        (vec![0.0, 1.2 * c, 0.0], "a long exceedance", 1e-8),
+        (
+            vec![0.0, -0.999 * c, 0.999 * c, 0.0],
+            "below the threshold",
+            1e-8,
+        ),
+        (
+            vec![0.0, (1.0 + 1e-8) * c, (1.0 + 1e-8) * c, 0.0],
+            "a slight exceedance",
+            1e-7,
+        ),
+    ] {
+        let problem = Problem {
+            block: b,
+            pulse: Record::new(acc.into(), 1.0).expect("valid"),
+            formulation: Formulation::Linear,
+        };
+        exact_against_dop853(&problem, what, theta_tol);
+        let r = simulate(&problem, &Options::history(Solver::Exact)).expect("simulates");
+        assert!(r.end_time.is_finite() && r.peak_theta_over_alpha.is_finite());
+        if what == "a slight exceedance" {
+            // Lifted by 1e-8 α just before the sample at t = 1, the block
+            // leaves the unstable equilibrium as e^{pt}: it falls within the
+            // next piece, more than 20/p after its start, so on a segment
+            // re-anchored on the way.
+            let start = r.rocking_start.expect("rocks");
+            let fall = r.overturn_time.expect("overturns");
+            assert!(start < 1.0 && fall < 2.0, "{start} to {fall}");
+            assert!(fall - 1.0 > MAX_SEGMENT_PT / 50.0, "{start} to {fall}");
+        }
+    }
+}
+
+#[test]
+fn a_record_grazing_the_threshold_lifts_the_block_by_a_hair() {
+    // The record exceeds g α by a relative 1e-12 over 0.1 s: the block rocks,
+    // by about 1e-12 α, and settles.
+    let b = block();
+    let c = Formulation::Linear.rocking_threshold(&b);
+    let peak = (1.0 + 1e-12) * c;
+    let record = Record::new(vec![0.0, peak, peak, 0.0, 0.0].into(), 0.1).expect("valid");
+    let problem = Problem {
+        block: b,
+        pulse: record,
+        formulation: Formulation::Linear,
+    };
+    let mut peaks = Vec::new();
+    for s in [Solver::Exact, solver()] {
+        let r = simulate(&problem, &Options::history(s)).expect("simulates");
+        assert!(r.rocked, "{}", s.name());
+        assert!(!r.overturned, "{}", s.name());
+        assert!(r.peak_theta_over_alpha > 0.0, "{}", s.name());
+        assert!(r.peak_theta_over_alpha < 1e-9, "{}", s.name());
+        peaks.push(r.peak_theta_over_alpha);
+    }
+    eprintln!(
+        "grazing record: peak θ/α exact {:e}, dop853 {:e}",
+        peaks[0], peaks[1]
+    );
 }
 
 /// Two pulses, the second longer and reversed, overlapping: a near-fault-like
@@ -290,7 +613,12 @@ fn a_near_fault_like_record_ends_in_a_finite_answer() {
         for key in ["end_time", "decided_at", "peak_theta_over_alpha"] {
             assert!(r[key].as_f64().is_some_and(f64::is_finite), "{key}: {r}");
         }
-        assert_eq!(r["numerics"]["method"], "dop853", "{formulation}");
+        let method = if formulation == "linear" {
+            "exact"
+        } else {
+            "dop853"
+        };
+        assert_eq!(r["numerics"]["method"], method, "{formulation}");
         assert!(
             r["numerics"]["error_estimate"]
                 .as_f64()
@@ -408,12 +736,17 @@ fn invalid_records_are_refused_at_the_field() {
     assert_eq!(pointer_of(&both), "/ground_motion");
     let neither = json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14}});
     assert_eq!(pointer_of(&neither), "/pulse");
-    // The closed form is for pulses only.
+    // The closed form is for the linear formulation only.
     let exact = history(
         ok(),
-        json!({"formulation": "linear", "solver": {"method": "exact"}}),
+        json!({"formulation": "nonlinear", "solver": {"method": "exact"}}),
     );
     assert_eq!(pointer_of(&exact), "/solver/method");
+    let exact = history(
+        ok(),
+        json!({"formulation": "linear", "solver": {"method": "exact", "rtol": 1e-9}}),
+    );
+    assert_eq!(pointer_of(&exact), "/solver/rtol");
     // Spectra keep pulses only.
     let spectrum = json!({
         "kind": "spectrum",
@@ -444,12 +777,28 @@ fn non_finite_samples_are_named_by_their_index() {
 }
 
 #[test]
-fn the_linear_formulation_of_a_record_defaults_to_dop853() {
-    let spec = history(
+fn the_linear_formulation_of_a_record_defaults_to_the_exact_solver() {
+    let spec = |formulation: &str| {
+        history(
+            json!({"dt": 0.01, "acc": near_fault(0.01), "unit": "g"}),
+            json!({"formulation": formulation}),
+        )
+    };
+    let method = |formulation| match Job::from_value(&spec(formulation)).expect("valid") {
+        Job::TimeHistory(h) => h.solver.method,
+        _ => panic!("a time history"),
+    };
+    assert_eq!(method("linear"), "exact");
+    assert_eq!(method("nonlinear"), "dop853");
+    // The normalised spec says so, and runs with it.
+    let r = run(&spec("linear"));
+    assert_eq!(r["spec"]["solver"]["method"], "exact", "{}", r["spec"]);
+    assert_eq!(r["numerics"]["method"], "exact");
+    let explicit = history(
         json!({"dt": 0.01, "acc": near_fault(0.01), "unit": "g"}),
-        json!({"formulation": "linear"}),
+        json!({"formulation": "linear", "solver": {"method": "dop853"}}),
     );
-    let Job::TimeHistory(h) = Job::from_value(&spec).expect("valid") else {
+    let Job::TimeHistory(h) = Job::from_value(&explicit).expect("valid") else {
         panic!("a time history")
     };
     assert_eq!(h.solver.method, "dop853");
