@@ -157,28 +157,41 @@ fn spectrum(result: &Value, out: &mut String) {
             f(line.get("threshold_alpha_g")),
             f(line.get("closed_form_mode2_alpha_g")),
         ];
-        let r = f(line.get("omega_ratio"));
-        let ts = array(line, "transitions");
-        if ts.is_empty() {
-            let mut fields = vec![r.clone(); 1];
-            fields.extend(std::iter::repeat_n(String::new(), 6));
-            fields.extend(tail.iter().cloned());
-            row(out, &fields);
-        }
-        for t in ts {
-            let b = t.get("bracket").and_then(Value::as_array);
-            let mut fields = vec![
-                r.clone(),
-                f(t.get("a_alpha_g")),
-                f(t.get("direction")),
-                f(t.get("mode")),
-                f(t.get("impacts")),
-                f(b.and_then(|b| b.first())),
-                f(b.and_then(|b| b.get(1))),
-            ];
-            fields.extend(tail.iter().cloned());
-            row(out, &fields);
-        }
+        let head = [f(line.get("omega_ratio"))];
+        transition_rows(out, line, &head, &["a_alpha_g"], &tail);
+    }
+}
+
+/// A row per transition of `line` — `head`, the transition's `levels`,
+/// direction, mode, impacts and bracket, then `tail` — or one row with those
+/// cells empty when it has none.
+fn transition_rows(
+    out: &mut String,
+    line: &Value,
+    head: &[String],
+    levels: &[&str],
+    tail: &[String],
+) {
+    let ts = array(line, "transitions");
+    if ts.is_empty() {
+        let mut fields = head.to_vec();
+        fields.extend(std::iter::repeat_n(String::new(), levels.len() + 5));
+        fields.extend(tail.iter().cloned());
+        row(out, &fields);
+    }
+    for t in ts {
+        let b = t.get("bracket").and_then(Value::as_array);
+        let mut fields = head.to_vec();
+        fields.extend(levels.iter().map(|k| f(t.get(*k))));
+        fields.extend([
+            f(t.get("direction")),
+            f(t.get("mode")),
+            f(t.get("impacts")),
+            f(b.and_then(|b| b.first())),
+            f(b.and_then(|b| b.get(1))),
+        ]);
+        fields.extend(tail.iter().cloned());
+        row(out, &fields);
     }
 }
 
@@ -210,28 +223,7 @@ fn record_spectrum(result: &Value, out: &mut String) {
             f(line.get("min_overturn_pga_g")),
             f(line.get("threshold_scale")),
         ];
-        let ts = array(line, "transitions");
-        if ts.is_empty() {
-            let mut fields = head.to_vec();
-            fields.extend(std::iter::repeat_n(String::new(), 7));
-            fields.extend(tail.iter().cloned());
-            row(out, &fields);
-        }
-        for t in ts {
-            let b = t.get("bracket").and_then(Value::as_array);
-            let mut fields = head.to_vec();
-            fields.extend([
-                f(t.get("scale")),
-                f(t.get("pga_g")),
-                f(t.get("direction")),
-                f(t.get("mode")),
-                f(t.get("impacts")),
-                f(b.and_then(|b| b.first())),
-                f(b.and_then(|b| b.get(1))),
-            ]);
-            fields.extend(tail.iter().cloned());
-            row(out, &fields);
-        }
+        transition_rows(out, line, &head, &["scale", "pga_g"], &tail);
     }
 }
 

@@ -7,10 +7,12 @@ use plotters::prelude::*;
 use serde_json::{Value, json};
 
 use super::bands::{Band, Column, simplify, tile, tiling};
-use super::spectrum::{CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, fill, regions};
+use super::spectrum::{
+    CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, fill, region_legend, regions,
+};
 use super::style::{
-    AXIS, Drawn, INK, LEGEND_WIDTH, Legend, MUTED, Marker, Swatch, TICKS, X_LABEL_AREA,
-    Y_LABEL_AREA, clip_y, draw_legend, fmt_num, marker, text, tick,
+    AXIS, Drawn, INK, LEGEND_WIDTH, Marker, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, clip_y,
+    draw_legend, fmt_num, marker, text, tick,
 };
 use super::{at, block_note, num, render, text_at};
 
@@ -111,29 +113,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
         .filter_map(|&(x, l)| Some((x, num(l, "min_overturn_scale")?)))
         .collect();
 
-    let mut legend = Legend::default();
-    if used(CLASS_MODE1) {
-        legend.entry(
-            Swatch::Fill(fill(CLASS_MODE1)),
-            "overturns, mode 1 (after one or more impacts)",
-        );
-    }
-    if used(CLASS_MODE2) {
-        legend.entry(
-            Swatch::Fill(fill(CLASS_MODE2)),
-            "overturns, mode 2 (without impact)",
-        );
-    }
-    legend.entry(
-        Swatch::Boxed(WHITE, MUTED),
-        "safe: rocks, does not overturn",
-    );
-    if used(CLASS_NO_ROCKING) {
-        legend.entry(
-            Swatch::Fill(fill(CLASS_NO_ROCKING)),
-            "no rocking (PGA below the threshold)",
-        );
-    }
+    let mut legend = region_legend(used, "no rocking (PGA below the threshold)");
     if !minimum.is_empty() {
         legend.entry(
             Swatch::LineMark(INK, Marker::Dot),

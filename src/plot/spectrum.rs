@@ -58,6 +58,32 @@ pub fn fill(class: usize) -> RGBColor {
     }
 }
 
+/// A legend opening with the region classes a figure shades (`used`), the
+/// white safe region always, the no-rocking band under `no_rocking`.
+pub fn region_legend(used: impl Fn(usize) -> bool, no_rocking: &str) -> Legend {
+    let mut legend = Legend::default();
+    if used(CLASS_MODE1) {
+        legend.entry(
+            Swatch::Fill(fill(CLASS_MODE1)),
+            "overturns, mode 1 (after one or more impacts)",
+        );
+    }
+    if used(CLASS_MODE2) {
+        legend.entry(
+            Swatch::Fill(fill(CLASS_MODE2)),
+            "overturns, mode 2 (without impact)",
+        );
+    }
+    legend.entry(
+        Swatch::Boxed(WHITE, MUTED),
+        "safe: rocks, does not overturn",
+    );
+    if used(CLASS_NO_ROCKING) {
+        legend.entry(Swatch::Fill(fill(CLASS_NO_ROCKING)), no_rocking);
+    }
+    legend
+}
+
 /// Overturning intervals (lo, hi, mode) of a list of transitions: each "up"
 /// opens one (of the mode above it), the next "down" closes it; an open one
 /// ends at `a_max`.
@@ -245,29 +271,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
         _ => "1/6",
     };
 
-    let mut legend = Legend::default();
-    if used(CLASS_MODE1) {
-        legend.entry(
-            Swatch::Fill(fill(CLASS_MODE1)),
-            "overturns, mode 1 (after one or more impacts)",
-        );
-    }
-    if used(CLASS_MODE2) {
-        legend.entry(
-            Swatch::Fill(fill(CLASS_MODE2)),
-            "overturns, mode 2 (without impact)",
-        );
-    }
-    legend.entry(
-        Swatch::Boxed(WHITE, MUTED),
-        "safe: rocks, does not overturn",
-    );
-    if used(CLASS_NO_ROCKING) {
-        legend.entry(
-            Swatch::Fill(fill(CLASS_NO_ROCKING)),
-            "no rocking (below the threshold)",
-        );
-    }
+    let mut legend = region_legend(used, "no rocking (below the threshold)");
     if !minimum.is_empty() {
         legend.entry(
             Swatch::LineMark(INK, Marker::Dot),
