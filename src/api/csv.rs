@@ -49,6 +49,11 @@ pub fn to_csv(result: &Value) -> Result<String, String> {
         Some("time_history") => time_history(result, &mut out),
         Some("spectrum") => spectrum(result, &mut out),
         Some("friction_spectrum") => friction(result, &mut out),
+        Some("forensic")
+            if result.get("excitation").and_then(Value::as_str) == Some("ground_motion") =>
+        {
+            forensic_record(result, &mut out)
+        }
         Some("forensic") => forensic(result, &mut out),
         Some("record_spectrum") => record_spectrum(result, &mut out),
         other => return Err(format!("no CSV form for results of kind {other:?}")),
@@ -321,6 +326,71 @@ fn forensic(result: &Value, out: &mut String) {
     }
 }
 
+/// A record query: a row per consistent interval, first those consistent
+/// with every observation (observation empty), then each observation's; an
+/// observation that allows nothing has one row with empty ends.
+fn forensic_record(result: &Value, out: &mut String) {
+    row(
+        out,
+        &[
+            "observation",
+            "observed",
+            "consistent_lo_scale",
+            "consistent_hi_scale",
+            "consistent_lo_pga_g",
+            "consistent_hi_pga_g",
+        ]
+        .map(String::from),
+    );
+    let mut emit = |name: &str, seen: String, scale: &[Value], pga: &[Value]| {
+        if scale.is_empty() {
+            row(
+                out,
+                &[
+                    quote(name),
+                    seen.clone(),
+                    String::new(),
+                    String::new(),
+                    String::new(),
+                    String::new(),
+                ],
+            );
+        }
+        for (s, g) in scale.iter().zip(pga) {
+            row(
+                out,
+                &[
+                    quote(name),
+                    seen.clone(),
+                    f(s.get(0)),
+                    f(s.get(1)),
+                    f(g.get(0)),
+                    f(g.get(1)),
+                ],
+            );
+        }
+    };
+    emit(
+        "",
+        String::new(),
+        array(result, "consistent_scale"),
+        array(result, "consistent_pga_g"),
+    );
+    for o in array(result, "per_observation") {
+        let seen = match o.get("overturned").and_then(Value::as_bool) {
+            Some(true) => "overturned",
+            Some(false) => "survived",
+            None => "",
+        };
+        emit(
+            o.get("name").and_then(Value::as_str).unwrap_or(""),
+            seen.into(),
+            array(o, "consistent_scale"),
+            array(o, "consistent_pga_g"),
+        );
+    }
+}
+
 /// The table of a time history's series read row by row from the stored
 /// document, without parsing it whole: the same bytes as [`to_csv`], in
 /// pieces, holding only the document and the piece at hand.
@@ -549,6 +619,30 @@ mod tests {
                 "a_alpha_g,peak_friction_demand,peak_over_tan_alpha,initiation_friction_demand,overturned,mode,lift_off,lift_off_time_s,friction_demand_followed_until_s",
                 "1.1,0.26,1.02,0.255,false,,false,,",
                 "6.0,,,0.51,true,2,true,0.41,"
+            ]
+        );
+    }
+
+    #[test]
+    fn a_record_querys_rows_per_interval_and_observation() {
+        let doc = json!({"kind": "forensic", "excitation": "ground_motion",
+            "consistent_scale": [[0.7, 1.4], [2.8, 3.2]],
+            "consistent_pga_g": [[0.35, 0.7], [1.4, 1.6]],
+            "per_observation": [
+                {"name": "locomotive", "overturned": true,
+                 "consistent_scale": [[0.7, 6.0]], "consistent_pga_g": [[0.35, 3.0]]},
+                {"name": "=cmd", "overturned": false,
+                 "consistent_scale": [], "consistent_pga_g": []}]});
+        let csv = to_csv(&doc).expect("csv");
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(
+            lines,
+            vec![
+                "observation,observed,consistent_lo_scale,consistent_hi_scale,consistent_lo_pga_g,consistent_hi_pga_g",
+                ",,0.7,1.4,0.35,0.7",
+                ",,2.8,3.2,1.4,1.6",
+                "locomotive,overturned,0.7,6.0,0.35,3.0",
+                "\"'=cmd\",survived,,,,",
             ]
         );
     }

@@ -12,17 +12,18 @@
 use serde::{Deserialize, Serialize};
 
 use super::range::RangeSpec;
+use super::record_spectrum::RecordDoc;
+use super::record_spectrum::{ScaleRangeNorm, ScaleRangeSpec};
 use super::spec::{
-    BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    at_most_one, parse_formulation, validate_block,
+    BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, OMEGA_RATIO_RANGE, PulseSpec,
+    SolverNorm, SolverSpec, SpecError, at_most_one, in_one_unit, parse_formulation, validate_block,
+    validate_ground_motion,
 };
 use super::spectrum::{PulseFamily, ScanCost, validate_family};
 use crate::dynamics::Formulation;
 use crate::spectrum::Control;
-use crate::spectrum::overturning::{
-    FrequencyLine, SpectrumRequest, overturning_spectrum, threshold_alpha_g,
-};
-use crate::spectrum::scan::{Direction, ScanError, ScanStats};
+use crate::spectrum::overturning::{SpectrumRequest, overturning_spectrum, threshold_alpha_g};
+use crate::spectrum::scan::{Direction, ScanError, ScanStats, Transition};
 
 /// Most observations in one query.
 pub const MAX_OBSERVATIONS: usize = 32;
@@ -71,9 +72,24 @@ pub struct ForensicSpec {
     /// "forensic".
     #[schema(value_type = crate::jobs::schema::ForensicKind)]
     pub kind: String,
-    /// The pulse family (`type`, `n`); frequency and amplitude vary.
-    #[schema(required = true, value_type = crate::jobs::schema::PulseFamilyInput)]
+    /// The pulse family (`type`, `n`, …); frequency and amplitude vary.
+    /// Give this or `ground_motion`.
+    #[schema(value_type = Option<crate::jobs::schema::PulseFamilyInput>)]
     pub pulse: Option<PulseSpec>,
+    /// A recorded motion (`dt`, `acc`, `unit`) whose scale is the unknown:
+    /// give this or `pulse`, and the scale axis as `scale` or `pga_g`.
+    pub ground_motion: Option<GroundMotionSpec>,
+    /// Scale factors examined (with `ground_motion`): `{"from", "to"}`.
+    pub scale: Option<ScaleRangeSpec>,
+    /// The scaled record's PGA examined, g (with `ground_motion`; or give `scale`).
+    pub pga_g: Option<ScaleRangeSpec>,
+    /// Bracket width of every interval end in scale units (with
+    /// `ground_motion`; or give `tolerance_g`, in g of PGA).
+    #[schema(exclusive_minimum = 0.0)]
+    pub tolerance: Option<f64>,
+    /// Scan step in scale units (with `ground_motion`; or give `scan_step_g`).
+    #[schema(exclusive_minimum = 0.0)]
+    pub scan_step: Option<f64>,
     /// What was seen (1 to 32 observations).
     #[schema(required = true, value_type = Vec<ObservationSpec>, min_items = 1, max_items = 32)]
     pub observations: Option<Vec<ObservationSpec>>,
@@ -117,14 +133,23 @@ pub struct ForensicJob {
     /// "forensic".
     #[schema(value_type = crate::jobs::schema::ForensicKind)]
     pub kind: &'static str,
-    /// Pulse family.
-    pub pulse: PulseFamily,
+    /// Pulse family (pulse queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pulse: Option<PulseFamily>,
+    /// The record, m/s² (record queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ground_motion: Option<GroundMotionNorm>,
     /// Observations.
     pub observations: Vec<Observation>,
-    /// Frequencies, Hz.
+    /// Frequencies, Hz (pulse queries).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub frequency_hz: Vec<f64>,
-    /// Amplitudes examined, g.
+    /// Amplitudes examined, g: the pulse's peak acceleration, or the scaled
+    /// record's PGA.
     pub a_p_g: AmplitudeRange,
+    /// Scale factors examined (record queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scale: Option<ScaleRangeNorm>,
     /// "linear" | "nonlinear".
     #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: &'static str,
@@ -193,14 +218,17 @@ impl ObservationSpec {
 impl ForensicSpec {
     /// Validates into a runnable job.
     pub fn validate(&self) -> Result<ForensicJob, SpecError> {
-        let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
-        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver = super::spec::validate_solver_for(
-            self.solver.as_ref(),
-            formulation,
-            pulse.shape().is_sinusoidal(),
-            "/solver",
-        )?;
+        match (&self.pulse, &self.ground_motion) {
+            (Some(_), Some(_)) => Err(SpecError::at(
+                "/ground_motion",
+                "give a pulse family or a ground_motion, not both",
+            )),
+            (None, Some(gm)) => self.validate_record(gm),
+            (pulse, None) => self.validate_pulse(pulse.as_ref()),
+        }
+    }
+
+    fn observations(&self) -> Result<Vec<Observation>, SpecError> {
         let specs = self.observations.as_ref().ok_or_else(|| {
             SpecError::at(
                 "/observations",
@@ -213,11 +241,42 @@ impl ForensicSpec {
                 format!("give between 1 and {MAX_OBSERVATIONS} observations"),
             ));
         }
-        let observations = specs
+        specs
             .iter()
             .enumerate()
             .map(|(i, o)| o.validate(&format!("/observations/{i}"), i))
-            .collect::<Result<Vec<_>, _>>()?;
+            .collect()
+    }
+
+    fn validate_pulse(&self, pulse: Option<&PulseSpec>) -> Result<ForensicJob, SpecError> {
+        if pulse.is_none() {
+            return Err(SpecError::at(
+                "/pulse",
+                "missing field: a pulse family {\"type\": …} whose frequency and amplitude are the unknowns, or a ground_motion {\"dt\", \"acc\", \"unit\"} whose scale is",
+            ));
+        }
+        let pulse = validate_family(pulse, "/pulse")?;
+        for (given, name) in [
+            (self.scale.is_some(), "scale"),
+            (self.pga_g.is_some(), "pga_g"),
+            (self.tolerance.is_some(), "tolerance"),
+            (self.scan_step.is_some(), "scan_step"),
+        ] {
+            if given {
+                return Err(SpecError::at(
+                    format!("/{name}"),
+                    "scales a ground_motion: a pulse query's axes are the frequency (frequency_hz, omega_p, omega_ratio) and the amplitude (a_p_g, a_p), with tolerance_g and scan_step_g",
+                ));
+            }
+        }
+        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let solver = super::spec::validate_solver_for(
+            self.solver.as_ref(),
+            formulation,
+            pulse.shape().is_sinusoidal(),
+            "/solver",
+        )?;
+        let observations = self.observations()?;
         // Frequencies in Hz, rad/s, or ω_p/p where every block shares p.
         let tau = std::f64::consts::TAU;
         let ps: Vec<f64> = observations.iter().map(|o| o.block.p).collect();
@@ -281,13 +340,12 @@ impl ForensicSpec {
         let range = match (self.a_p_g, self.a_p) {
             (Some(r), None) => r,
             (None, Some(r)) => {
-                let g = observations[0].block.g;
-                if observations.iter().any(|o| o.block.g != g) {
-                    return Err(SpecError::at(
+                let g = common_g(&observations).ok_or_else(|| {
+                    SpecError::at(
                         "/a_p",
                         "a_p in m/s² converts to g only when every block has the same g: give a_p_g",
-                    ));
-                }
+                    )
+                })?;
                 AmplitudeRange {
                     from: r.from / g,
                     to: r.to / g,
@@ -317,45 +375,132 @@ impl ForensicSpec {
         if to <= from {
             return Err(SpecError::at("/a_p_g", "to must exceed from"));
         }
-        let tolerance_g = in_range(
-            self.tolerance_g.unwrap_or(DEFAULT_TOLERANCE_G),
-            1e-9,
-            0.1,
-            "/tolerance_g",
-            "the tolerance (g)",
+        let (tolerance_g, scan_step_g) = amplitude_grid(
+            &observations,
+            to,
+            (self.tolerance_g, "/tolerance_g", 1.0),
+            (self.scan_step_g, "/scan_step_g", 1.0),
+            "/a_p_g/to",
         )?;
-        let scan_step_g = in_range(
-            self.scan_step_g.unwrap_or(DEFAULT_SCAN_STEP_G),
-            tolerance_g,
-            1.0,
-            "/scan_step_g",
-            "the scan step (g, at least the tolerance)",
-        )?;
-        for o in &observations {
-            let points = to / o.block.alpha / (scan_step_g / o.block.alpha);
-            if points > super::spectrum::MAX_SCAN_POINTS {
-                return Err(SpecError::at(
-                    "/scan_step_g",
-                    "a_p_g.to / scan_step_g must not exceed 1e6",
-                ));
-            }
-            if to / o.block.alpha > 1e4 {
-                return Err(SpecError::at(
-                    "/a_p_g/to",
-                    format!(
-                        "must not exceed 1e4 α g for {} ({} g)",
-                        o.name,
-                        1e4 * o.block.alpha
-                    ),
-                ));
-            }
-        }
         Ok(ForensicJob {
             kind: "forensic",
-            pulse,
+            pulse: Some(pulse),
+            ground_motion: None,
             observations,
             frequency_hz,
             a_p_g: AmplitudeRange { from, to },
+            scale: None,
+            formulation: formulation.name(),
+            scan_step_g,
+            tolerance_g,
+            solver,
+        })
+    }
+
+    fn validate_record(&self, gm: &GroundMotionSpec) -> Result<ForensicJob, SpecError> {
+        for (given, name) in [
+            (self.frequency_hz.is_some(), "frequency_hz"),
+            (self.omega_p.is_some(), "omega_p"),
+            (self.omega_ratio.is_some(), "omega_ratio"),
+            (self.a_p_g.is_some(), "a_p_g"),
+            (self.a_p.is_some(), "a_p"),
+        ] {
+            if given {
+                return Err(SpecError::at(
+                    format!("/{name}"),
+                    "a record query's only unknown is the record's scale: give it as scale {\"from\", \"to\"} or as the scaled PGA pga_g {\"from\", \"to\"}",
+                ));
+            }
+        }
+        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let solver =
+            super::spec::validate_solver_for(self.solver.as_ref(), formulation, true, "/solver")?;
+        let observations = self.observations()?;
+        let g = common_g(&observations).ok_or_else(|| {
+            SpecError::at(
+                "/observations",
+                "a record's PGA in g is one number only when every block has the same g",
+            )
+        })?;
+        // The most slender block bounds the samples most tightly.
+        let weakest = observations
+            .iter()
+            .map(|o| &o.block)
+            .min_by(|a, b| a.alpha.total_cmp(&b.alpha))
+            .ok_or_else(|| SpecError::at("/observations", "give at least one observation"))?;
+        let (ground_motion, _) = validate_ground_motion(gm, weakest, "/ground_motion")?;
+        let peak_g = pga(&ground_motion.acc) / g;
+        if peak_g == 0.0 {
+            return Err(SpecError::at(
+                "/ground_motion/acc",
+                "the record has no motion (every sample is 0)",
+            ));
+        }
+        let (range, s_name, to_g) = in_one_unit(
+            &[
+                (self.scale.as_ref(), "scale", peak_g),
+                (self.pga_g.as_ref(), "pga_g", 1.0),
+            ],
+            "scale axis",
+        )?
+        .ok_or_else(|| {
+            SpecError::at(
+                "/scale",
+                "missing field: the scale factors as scale {\"from\", \"to\"} or the scaled PGA as pga_g {\"from\", \"to\"}",
+            )
+        })?;
+        let to = range.to.ok_or_else(|| {
+            SpecError::at(format!("/{s_name}/to"), "missing field: the highest value")
+        })?;
+        let from = range.from.unwrap_or(0.0);
+        if !(from.is_finite() && from >= 0.0) {
+            return Err(SpecError::at(
+                format!("/{s_name}/from"),
+                "must be a finite number >= 0",
+            ));
+        }
+        if !(to.is_finite() && to > from) {
+            return Err(SpecError::at(
+                format!("/{s_name}/to"),
+                "must be a finite number above from",
+            ));
+        }
+        let (from_g, to_g) = (from * to_g, to * to_g);
+        if !(1e-3..=100.0).contains(&to_g) {
+            return Err(SpecError::at(
+                format!("/{s_name}/to"),
+                format!(
+                    "the scaled PGA must lie in [1e-3, 100] g (the record's PGA is {peak_g:.6} g; got {to_g} g)"
+                ),
+            ));
+        }
+        let (tolerance_g, scan_step_g) = amplitude_grid(
+            &observations,
+            to_g,
+            at_most_one_unit(
+                (self.tolerance_g, "/tolerance_g", 1.0),
+                (self.tolerance, "/tolerance", peak_g),
+            )?,
+            at_most_one_unit(
+                (self.scan_step_g, "/scan_step_g", 1.0),
+                (self.scan_step, "/scan_step", peak_g),
+            )?,
+            &format!("/{s_name}/to"),
+        )?;
+        Ok(ForensicJob {
+            kind: "forensic",
+            pulse: None,
+            ground_motion: Some(ground_motion),
+            observations,
+            frequency_hz: Vec::new(),
+            a_p_g: AmplitudeRange {
+                from: from_g,
+                to: to_g,
+            },
+            scale: Some(ScaleRangeNorm {
+                from: from_g / peak_g,
+                to: to_g / peak_g,
+            }),
             formulation: formulation.name(),
             scan_step_g,
             tolerance_g,
@@ -364,15 +509,85 @@ impl ForensicSpec {
     }
 }
 
+/// The gravity every block shares, if they do.
+fn common_g(observations: &[Observation]) -> Option<f64> {
+    let g = observations.first()?.block.g;
+    observations.iter().all(|o| o.block.g == g).then_some(g)
+}
+
+/// The peak ground acceleration, m/s².
+fn pga(acc: &[f64]) -> f64 {
+    acc.iter().fold(0.0f64, |m, a| m.max(a.abs()))
+}
+
+/// A value given in g or in scale units (at most one): `(value, pointer, g per unit)`.
+type InUnit = (Option<f64>, &'static str, f64);
+
+fn at_most_one_unit(in_g: InUnit, in_scale: InUnit) -> Result<InUnit, SpecError> {
+    match (in_g.0, in_scale.0) {
+        (Some(_), Some(_)) => Err(SpecError::at(
+            in_scale.1,
+            format!("give {} or {}, not both", in_g.1, in_scale.1),
+        )),
+        (None, Some(_)) => Ok(in_scale),
+        _ => Ok(in_g),
+    }
+}
+
+/// The bracket width and scan step in g (`(value, pointer, g per unit)`,
+/// defaults 1e-4 g and 0.01 g), checked against the highest amplitude `to` g
+/// of every observation's block.
+fn amplitude_grid(
+    observations: &[Observation],
+    to: f64,
+    tolerance: InUnit,
+    scan_step: InUnit,
+    to_pointer: &str,
+) -> Result<(f64, f64), SpecError> {
+    let tolerance_g = in_range(
+        tolerance.0.map_or(DEFAULT_TOLERANCE_G, |v| v * tolerance.2),
+        1e-9,
+        0.1,
+        tolerance.1,
+        "the tolerance (g)",
+    )?;
+    let scan_step_g = in_range(
+        scan_step.0.map_or(DEFAULT_SCAN_STEP_G, |v| v * scan_step.2),
+        tolerance_g,
+        1.0,
+        scan_step.1,
+        "the scan step (g, at least the tolerance)",
+    )?;
+    if to / scan_step_g > super::spectrum::MAX_SCAN_POINTS {
+        return Err(SpecError::at(
+            scan_step.1,
+            "the highest amplitude over the scan step must not exceed 1e6",
+        ));
+    }
+    for o in observations {
+        if to / o.block.alpha > 1e4 {
+            return Err(SpecError::at(
+                to_pointer,
+                format!(
+                    "must not exceed 1e4 α g for {} ({} g)",
+                    o.name,
+                    1e4 * o.block.alpha
+                ),
+            ));
+        }
+    }
+    Ok((tolerance_g, scan_step_g))
+}
+
 /// Intervals [lo, hi] of amplitude, g, sorted and disjoint.
 pub type Intervals = Vec<[f64; 2]>;
 
-/// Where `line` (of a block of slenderness `alpha`) overturns, in g, within
+/// Where a line with `transitions` (of a block of slenderness `alpha`) overturns, in g, within
 /// `[from, to]`.
-pub fn overturning_set(line: &FrequencyLine, alpha: f64, from: f64, to: f64) -> Intervals {
+pub fn overturning_set(transitions: &[Transition], alpha: f64, from: f64, to: f64) -> Intervals {
     let mut out = Vec::new();
     let mut open: Option<f64> = None;
-    for t in &line.transitions {
+    for t in transitions {
         let at = t.at * alpha;
         match t.direction {
             Direction::Up => open = Some(at),
@@ -461,9 +676,33 @@ pub struct Bounds {
     /// Highest consistent amplitude at any frequency, g.
     #[schema(required = true)]
     pub max_g: Option<f64>,
-    /// Lowest and highest frequency with a consistent amplitude, Hz.
+    /// Lowest and highest frequency with a consistent amplitude, Hz (null
+    /// for a record query).
     #[schema(required = true)]
     pub frequency_hz: Option<[f64; 2]>,
+    /// Lowest consistent scale factor (record queries).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_scale: Option<f64>,
+    /// Highest consistent scale factor (record queries).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_scale: Option<f64>,
+}
+
+/// One observation's consistent scales of a record query.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct RecordObservationSet {
+    /// The observation.
+    pub name: String,
+    /// Whether it overturned.
+    pub overturned: bool,
+    /// Scale factors consistent with it.
+    pub consistent_scale: Vec<[f64; 2]>,
+    /// The same, as the scaled record's PGA, g.
+    pub consistent_pga_g: Vec<[f64; 2]>,
+    /// Scale factors at which its block overturns (within the range examined).
+    pub overturning_scale: Vec<[f64; 2]>,
+    /// Scale factor at which its block starts to rock (PGA = g tan α, or g α linear).
+    pub threshold_scale: f64,
 }
 
 /// Cost and accuracy.
@@ -489,14 +728,35 @@ pub struct ForensicResult {
     /// "linear" | "nonlinear".
     #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: &'static str,
-    /// Pulse family.
-    pub pulse: PulseFamily,
-    /// Amplitudes examined, g.
+    /// "pulse": the unknowns are the pulse's frequency and amplitude
+    /// (`pulse`, `frequencies`); "ground_motion": the unknown is the record's
+    /// scale (`record`, `scale`, `consistent_scale`, `per_observation`).
+    #[schema(value_type = crate::jobs::schema::ForensicExcitation)]
+    pub excitation: &'static str,
+    /// Pulse family (pulse queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pulse: Option<PulseFamily>,
+    /// The record's PGA, PGV, PGD and sampling, unscaled (record queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub record: Option<RecordDoc>,
+    /// Amplitudes examined, g (a record query: the scaled PGA).
     pub a_p_g: AmplitudeRange,
+    /// Scale factors examined (record queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scale: Option<ScaleRangeNorm>,
     /// The observations.
     pub observations: Vec<Observation>,
-    /// One entry per frequency.
+    /// One entry per frequency (empty for a record query).
     pub frequencies: Vec<ForensicFrequency>,
+    /// Scale factors consistent with every observation (record queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub consistent_scale: Option<Vec<[f64; 2]>>,
+    /// The same, as the scaled record's PGA, g (record queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub consistent_pga_g: Option<Vec<[f64; 2]>>,
+    /// Each observation's consistent scales (record queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub per_observation: Option<Vec<RecordObservationSet>>,
     /// Overall bounds.
     pub bounds: Bounds,
     /// Numerics.
@@ -510,8 +770,29 @@ pub struct ForensicResult {
 }
 
 impl ForensicJob {
+    /// The formulation.
+    pub fn formulation(&self) -> Formulation {
+        if self.formulation == "linear" {
+            Formulation::Linear
+        } else {
+            Formulation::Nonlinear
+        }
+    }
+
     /// Runs the query: one overturning spectrum per observation (rayon inside).
     pub fn run(&self, control: &Control) -> Result<ForensicResult, ScanError> {
+        match (&self.ground_motion, self.pulse) {
+            (Some(gm), _) => super::forensic_record::run(self, gm, control),
+            (None, Some(pulse)) => self.run_pulse(pulse, control),
+            (None, None) => Err(ScanError::Simulation(crate::dynamics::SimError::Tolerance)),
+        }
+    }
+
+    fn run_pulse(
+        &self,
+        pulse: PulseFamily,
+        control: &Control,
+    ) -> Result<ForensicResult, ScanError> {
         let started = std::time::Instant::now();
         let formulation = if self.formulation == "linear" {
             Formulation::Linear
@@ -527,7 +808,7 @@ impl ForensicJob {
             let alpha = block.slenderness;
             let req = SpectrumRequest {
                 block,
-                shape: self.pulse.shape(),
+                shape: pulse.shape(),
                 formulation,
                 solver: self.solver.solver(),
                 omega_ratios: self
@@ -553,7 +834,7 @@ impl ForensicJob {
                 .map(|k| {
                     let over = spectrum
                         .as_ref()
-                        .map(|s| overturning_set(&s.lines[k], alpha, from, to))
+                        .map(|s| overturning_set(&s.lines[k].transitions, alpha, from, to))
                         .unwrap_or_default();
                     if o.overturned {
                         over
@@ -594,6 +875,8 @@ impl ForensicJob {
             min_g: None,
             max_g: None,
             frequency_hz: None,
+            min_scale: None,
+            max_scale: None,
         };
         for f in &frequencies {
             if let (Some(first), Some(last)) = (f.consistent_g.first(), f.consistent_g.last()) {
@@ -609,10 +892,16 @@ impl ForensicJob {
             warnings: Vec::new(),
             kind: "forensic",
             formulation: self.formulation,
-            pulse: self.pulse,
+            excitation: "pulse",
+            pulse: Some(pulse),
+            record: None,
             a_p_g: self.a_p_g,
+            scale: None,
             observations: self.observations.clone(),
             frequencies,
+            consistent_scale: None,
+            consistent_pga_g: None,
+            per_observation: None,
             bounds,
             numerics: ForensicNumerics {
                 cost: ScanCost::new(&self.solver, &stats),
@@ -627,7 +916,8 @@ impl ForensicJob {
     /// Scan points over all observations and frequencies, and the estimated
     /// simulations (scan plus bisection of a few transitions per line).
     pub fn size(&self) -> (f64, f64) {
-        let n = self.frequency_hz.len() as f64;
+        // A record query has one line per observation.
+        let n = self.frequency_hz.len().max(1) as f64;
         let scan = self.a_p_g.to / self.scan_step_g;
         let bisection = (self.scan_step_g / self.tolerance_g).log2().ceil().max(1.0);
         let lines = n * self.observations.len() as f64;

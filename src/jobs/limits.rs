@@ -65,10 +65,11 @@ impl LimitError {
     /// amplitude axis is normalised to ω_p/p or αg, but the user may have given
     /// it as `omega_p`, `frequency_hz`, `a_p` or `a_p_g`.
     pub fn as_written(mut self, spec: &serde_json::Value) -> Self {
-        const AXES: [&[&str]; 3] = [
+        const AXES: [&[&str]; 4] = [
             &["omega_ratio", "omega_p", "frequency_hz"],
             &["a_alpha_g", "a_p", "a_p_g"],
             &["p", "R_m"],
+            &["scale", "pga_g"],
         ];
         let field = self.pointer.trim_start_matches('/');
         if let Some(axis) = AXES.iter().find(|axis| axis.contains(&field))
@@ -135,7 +136,10 @@ impl Job {
                     series_points: 0,
                     grid_points: grid.min(usize::MAX as f64) as usize,
                     work,
-                    record_work: 0.0,
+                    record_work: j
+                        .ground_motion
+                        .as_ref()
+                        .map_or(0.0, |g| work * g.acc.len() as f64),
                 }
             }
             Job::RecordSpectrum(j) => {
@@ -171,6 +175,7 @@ impl Job {
         }
         let grid_field = match self {
             Job::FrictionSpectrum(_) => "/a_alpha_g",
+            Job::Forensic(j) if j.ground_motion.is_some() => "/scale",
             Job::Forensic(_) => "/frequency_hz",
             Job::RecordSpectrum(_) => "/p",
             _ => "/omega_ratio",

@@ -2,6 +2,7 @@
 //! validation into domain types, and the result documents.
 
 pub mod forensic;
+pub mod forensic_record;
 pub mod friction;
 pub mod key;
 pub mod limits;

@@ -40,7 +40,8 @@ pub const MAX_SCAN_POINTS: f64 = 1e6;
 #[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ScaleRangeSpec {
-    /// Lowest value (default 0: from where the block starts to rock).
+    /// Lowest value (default 0). A scan always starts where the block starts
+    /// to rock, so that each overturning set is located, not assumed at `from`.
     #[schema(minimum = 0.0)]
     pub from: Option<f64>,
     /// Highest value.
@@ -333,10 +334,10 @@ impl RecordSpectrumSpec {
                 ),
             ));
         }
-        if (scale.to - scale.from) / scan_step > MAX_SCAN_POINTS {
+        if scale.to / scan_step > MAX_SCAN_POINTS {
             return Err(SpecError::at(
                 "/scan_step",
-                format!("(to − from)/scan_step must not exceed {MAX_SCAN_POINTS:e}"),
+                format!("the highest scale over scan_step must not exceed {MAX_SCAN_POINTS:e}"),
             ));
         }
         let principal = self.principal_relative_width.unwrap_or(0.01);
@@ -524,7 +525,9 @@ impl RecordSpectrumJob {
         let unit = self.unit_scale();
         let threshold = threshold_alpha_g(self.formulation(), &self.block_at(1.0));
         ScanGrid {
-            from: (self.scale.from / unit).max(threshold),
+            // From the threshold whatever `scale.from` is: a line that already
+            // overturns at `from` would otherwise lose where overturning begins.
+            from: threshold,
             to: self.scale.to / unit,
             step: self.scan_step / unit,
             tolerance: self.tolerance / unit,

@@ -48,6 +48,16 @@ literal!(
     MetresPerSecondSquared = "m/s2"
 );
 
+/// What a forensic query's unknowns belong to.
+#[derive(ToSchema)]
+#[schema(rename_all = "snake_case")]
+pub enum ForensicExcitation {
+    /// A pulse family: its frequency and amplitude.
+    Pulse,
+    /// A recorded motion: its scale.
+    GroundMotion,
+}
+
 /// The kind of a job.
 #[derive(ToSchema)]
 #[schema(rename_all = "snake_case")]

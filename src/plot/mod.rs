@@ -5,6 +5,7 @@
 
 pub mod bands;
 pub mod forensic;
+pub mod forensic_record;
 pub mod friction;
 pub mod motion;
 pub mod precision;
@@ -64,6 +65,11 @@ pub fn svg_in(result: &Value, window: Option<Window>) -> Result<String, FigureEr
         Some("time_history") => time_history::svg(result, window),
         Some("spectrum") => spectrum::svg(result),
         Some("friction_spectrum") => friction::svg(result),
+        Some("forensic")
+            if result.get("excitation").and_then(Value::as_str) == Some("ground_motion") =>
+        {
+            forensic_record::svg(result)
+        }
         Some("forensic") => forensic::svg(result),
         Some("record_spectrum") => record_spectrum::svg(result),
         Some(other) => Err(format!("no figure for results of kind {other:?}")),

@@ -1,0 +1,375 @@
+//! Forensic maps of a record query: the scale factor (left axis; the scaled
+//! PGA in g on the right) against the observations. Each observation is a
+//! column of its own — the scales it allows plain, those it rules out tinted
+//! in its colour, a tick where its block starts to rock — and a last column
+//! holds the scales consistent with all of them, framed by the bounds. Only
+//! the computed columns are drawn: there is nothing between observations to
+//! interpolate.
+
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use serde_json::Value;
+
+use super::bands::{Band, simplify, tile};
+use super::forensic::{colour, fill, partition};
+use super::style::{
+    AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, Swatch, TICKS, X_LABEL_AREA,
+    Y_LABEL_AREA, draw_legend, fmt_num, text, tick, tint,
+};
+use super::{at, block_note, num, render, text_at};
+
+const WIDTH: u32 = 1120;
+const HEIGHT: u32 = 680;
+/// Half the width of a column, in column units.
+const HALF: f64 = 0.38;
+/// A scale allowed by one observation (its column only).
+const ALLOWED: usize = usize::MAX;
+
+fn intervals(v: Option<&Value>) -> Vec<(f64, f64)> {
+    v.and_then(Value::as_array)
+        .into_iter()
+        .flatten()
+        .filter_map(|i| {
+            let i = i.as_array()?;
+            let (lo, hi) = (i.first()?.as_f64()?, i.get(1)?.as_f64()?);
+            (hi >= lo).then_some((lo, hi))
+        })
+        .collect()
+}
+
+fn shade(class: usize) -> RGBColor {
+    if class == ALLOWED {
+        tint(CONSISTENT, 0.12)
+    } else {
+        fill(class)
+    }
+}
+
+/// The figure of a `forensic` result on a `ground_motion`.
+pub fn svg(result: &Value) -> Result<String, String> {
+    let spec = result.get("spec").unwrap_or(&Value::Null);
+    let range = result
+        .get("scale")
+        .or_else(|| spec.get("scale"))
+        .ok_or("the result has no scale range")?;
+    let (from, to) = (
+        num(range, "from").ok_or("scale has no from")?,
+        num(range, "to").ok_or("scale has no to")?,
+    );
+    if to.partial_cmp(&from) != Some(std::cmp::Ordering::Greater) {
+        return Err(format!("empty scale range {from}–{to}"));
+    }
+    let pga_g = at(result, "/record/pga_g");
+    let per: Vec<&Value> = result
+        .get("per_observation")
+        .and_then(Value::as_array)
+        .ok_or("the result has no per_observation")?
+        .iter()
+        .collect();
+    if per.is_empty() {
+        return Err("the forensic result has no observations".into());
+    }
+    let observations: Vec<&Value> = result
+        .get("observations")
+        .and_then(Value::as_array)
+        .map(|a| a.iter().collect())
+        .unwrap_or_default();
+    let n = per.len();
+    let names: Vec<String> = per
+        .iter()
+        .enumerate()
+        .map(|(k, o)| {
+            o.get("name")
+                .and_then(Value::as_str)
+                .map_or_else(|| format!("observation {}", k + 1), str::to_string)
+        })
+        .collect();
+    let sets: Vec<Vec<(f64, f64)>> = per
+        .iter()
+        .map(|o| intervals(o.get("consistent_scale")))
+        .collect();
+    let sliver = (to - from) / 900.0;
+    // Column k (1-based) is observation k; column n + 1 is every observation.
+    let mut columns: Vec<(f64, Vec<Band>)> = sets
+        .iter()
+        .enumerate()
+        .map(|(k, set)| {
+            let allowed: Vec<Band> = set
+                .iter()
+                .map(|&(lo, hi)| Band {
+                    lo,
+                    hi,
+                    class: ALLOWED,
+                })
+                .collect();
+            let mut bands = tile(from, to, &allowed, 1 << (k % usize::BITS as usize));
+            simplify(&mut bands, sliver, |class| class == ALLOWED);
+            ((k + 1) as f64, bands)
+        })
+        .collect();
+    let mut all = partition(&sets, from, to);
+    simplify(&mut all, sliver, |class| class == 0);
+    let consistent_anywhere = all.iter().any(|b| b.class == 0);
+    columns.push(((n + 1) as f64, all));
+    let thresholds: Vec<(f64, f64)> = per
+        .iter()
+        .enumerate()
+        .filter_map(|(k, o)| Some(((k + 1) as f64, num(o, "threshold_scale")?)))
+        .filter(|&(_, s)| s > from && s < to)
+        .collect();
+    let bounds = result.get("bounds");
+    let lo = bounds.and_then(|b| num(b, "min_scale"));
+    let hi = bounds.and_then(|b| num(b, "max_scale"));
+
+    let mut legend = Legend::default();
+    legend.entry(
+        Swatch::Fill(CONSISTENT),
+        "consistent with every observation",
+    );
+    legend.entry(
+        Swatch::Fill(tint(CONSISTENT, 0.12)),
+        "allowed by this observation",
+    );
+    legend.entry(Swatch::Heading, "ruled out by:");
+    let numbered = n > 6;
+    for (k, name) in names.iter().enumerate() {
+        let seen = per[k]
+            .get("overturned")
+            .and_then(Value::as_bool)
+            .or_else(|| {
+                observations
+                    .get(k)
+                    .and_then(|o| o.get("overturned"))
+                    .and_then(Value::as_bool)
+            });
+        let seen = if seen == Some(true) {
+            "overturned"
+        } else {
+            "survived"
+        };
+        let label = if numbered {
+            format!("{}: {name} {seen}", k + 1)
+        } else {
+            format!("{name} {seen}")
+        };
+        legend.entry(Swatch::Boxed(fill(1 << k), colour(k)), label);
+    }
+    let formulation = result
+        .get("formulation")
+        .and_then(Value::as_str)
+        .unwrap_or_else(|| text_at(spec, "/formulation"));
+    legend.entry(
+        Swatch::Line(INK, 3),
+        if formulation == "linear" {
+            "starts to rock (PGA = g α)"
+        } else {
+            "starts to rock (PGA = g tan α)"
+        },
+    );
+    if let (Some(lo), Some(hi)) = (lo, hi) {
+        legend.entry(
+            Swatch::Dashed(INK, 2),
+            format!(
+                "bounds: scale {}–{}{}",
+                fmt_num(lo, 4),
+                fmt_num(hi, 4),
+                pga_g.map_or(String::new(), |p| format!(
+                    " (PGA {}–{} g)",
+                    fmt_num(lo * p, 3),
+                    fmt_num(hi * p, 3)
+                ))
+            ),
+        );
+    }
+    for (name, o) in names.iter().zip(&observations) {
+        legend.note(format!("{name}: {}", block_note(o.get("block"))));
+    }
+    if let Some(r) = result.get("record") {
+        legend.note(format!(
+            "record: {} samples, dt = {} s; PGA {} g, PGV {} m/s (unscaled)",
+            r.get("samples").and_then(Value::as_u64).unwrap_or(0),
+            fmt_num(num(r, "dt_s").unwrap_or(f64::NAN), 4),
+            fmt_num(num(r, "pga_g").unwrap_or(f64::NAN), 4),
+            fmt_num(num(r, "pgv_m_s").unwrap_or(f64::NAN), 4),
+        ));
+    }
+    legend.note(format!(
+        "{formulation} formulation; each column is one computed observation, the last their intersection"
+    ));
+    if !consistent_anywhere {
+        legend.note("no scale of this record is consistent with every observation");
+    }
+
+    let labels: Vec<String> = (1..=n + 1)
+        .map(|k| {
+            if k == n + 1 {
+                "all".to_string()
+            } else if numbered {
+                k.to_string()
+            } else {
+                let name = &names[k - 1];
+                if name.chars().count() > 12 {
+                    format!("{}…", name.chars().take(11).collect::<String>())
+                } else {
+                    name.clone()
+                }
+            }
+        })
+        .collect();
+    let title =
+        format!("Forensic map: scales of the record consistent with what was seen ({formulation})");
+    render((WIDTH, HEIGHT), &title, |area| -> Drawn {
+        let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
+        let mut builder = ChartBuilder::on(&chart_area);
+        builder
+            .margin(10)
+            .margin_right(14)
+            .x_label_area_size(X_LABEL_AREA)
+            .y_label_area_size(Y_LABEL_AREA);
+        if pga_g.is_some() {
+            builder.right_y_label_area_size(Y_LABEL_AREA);
+        }
+        let x1 = n as f64 + 1.5;
+        let chart = builder.build_cartesian_2d(0.5..x1, from..to)?;
+        let p = pga_g.unwrap_or(1.0);
+        let mut chart = chart.set_secondary_coord(0.5..x1, from * p..to * p);
+        for (x, bands) in &columns {
+            chart.draw_series(bands.iter().map(|b| {
+                Rectangle::new(
+                    [(x - HALF, b.lo), (x + HALF, b.hi)],
+                    shade(b.class).filled(),
+                )
+            }))?;
+        }
+        let label_of = |v: &f64| -> String {
+            let k = v.round();
+            if (v - k).abs() < 1e-9 && k >= 1.0 {
+                labels.get(k as usize - 1).cloned().unwrap_or_default()
+            } else {
+                String::new()
+            }
+        };
+        chart
+            .configure_mesh()
+            .x_desc("observation")
+            .y_desc("scale factor")
+            .x_labels(n + 2)
+            .label_style(text(TICKS, INK))
+            .axis_desc_style(text(AXIS, INK))
+            .x_label_formatter(&label_of)
+            .y_label_formatter(&|v| tick(*v))
+            .disable_x_mesh()
+            .light_line_style(TRANSPARENT)
+            .bold_line_style(RGBColor(200, 200, 200).mix(0.6))
+            .draw()?;
+        if pga_g.is_some() {
+            chart
+                .configure_secondary_axes()
+                .y_desc("scaled PGA (g)")
+                .label_style(text(TICKS, INK))
+                .axis_desc_style(text(AXIS, INK))
+                .y_label_formatter(&|v| tick(*v))
+                .draw()?;
+        }
+        // Column outlines: observation k in its colour.
+        for (x, _) in &columns {
+            let k = *x as usize;
+            let c = if k <= n { colour(k - 1) } else { INK };
+            chart.draw_series(std::iter::once(Rectangle::new(
+                [(x - HALF, from), (x + HALF, to)],
+                c.stroke_width(2),
+            )))?;
+        }
+        chart.draw_series(thresholds.iter().map(|&(x, s)| {
+            PathElement::new(vec![(x - HALF, s), (x + HALF, s)], INK.stroke_width(3))
+        }))?;
+        if let (Some(lo), Some(hi)) = (lo, hi) {
+            let x = (n + 1) as f64;
+            let (a, b) = (x - HALF - 0.08, x + HALF + 0.08);
+            chart.draw_series(std::iter::once(DashedPathElement::new(
+                vec![(a, lo), (b, lo), (b, hi), (a, hi), (a, lo)],
+                8,
+                5,
+                INK.stroke_width(2),
+            )))?;
+            // Inside the intersection's column, outside the consistent span.
+            let room = 0.06 * (to - from);
+            let label = |s: String, at: (f64, f64), above: bool| {
+                let (v, dy) = if above {
+                    (VPos::Bottom, -5)
+                } else {
+                    (VPos::Top, 5)
+                };
+                EmptyElement::at(at)
+                    + Text::new(s, (0, dy), text(LEGEND, INK).pos(Pos::new(HPos::Center, v)))
+            };
+            chart.draw_series([
+                label(format!("max {}", fmt_num(hi, 4)), (x, hi), hi < to - room),
+                label(format!("min {}", fmt_num(lo, 4)), (x, lo), lo < from + room),
+            ])?;
+        }
+        draw_legend(&side, &legend)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use serde_json::json;
+
+    use crate::plot::style::{CONSISTENT, OBSERVATIONS};
+    use crate::plot::tests::hex;
+
+    fn sample() -> serde_json::Value {
+        json!({"kind": "forensic", "excitation": "ground_motion", "formulation": "nonlinear",
+               "record": {"pga_g": 0.5, "pgv_m_s": 0.4, "dt_s": 0.01, "samples": 200},
+               "scale": {"from": 0.1, "to": 6.0}, "a_p_g": {"from": 0.05, "to": 3.0},
+               "observations": [
+                   {"name": "locomotive", "overturned": true, "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9, "g": 9.81}},
+                   {"name": "transformer", "overturned": false, "block": {"alpha": 0.46, "p": 2.34, "eta": 0.7, "g": 9.81}}],
+               "frequencies": [],
+               "per_observation": [
+                   {"name": "locomotive", "overturned": true, "threshold_scale": 0.51,
+                    "consistent_scale": [[0.7, 1.76], [1.82, 6.0]]},
+                   {"name": "transformer", "overturned": false, "threshold_scale": 1.0,
+                    "consistent_scale": [[0.1, 1.42], [2.87, 3.26]]}],
+               "consistent_scale": [[0.7, 1.42], [2.87, 3.26]],
+               "bounds": {"min_g": 0.35, "max_g": 1.63, "frequency_hz": null,
+                          "min_scale": 0.7, "max_scale": 3.26},
+               "numerics": {}, "spec": {}})
+    }
+
+    #[test]
+    fn columns_per_observation_and_their_intersection() {
+        let svg = super::svg(&sample()).expect("svg");
+        for needle in [
+            "Forensic map: scales of the record consistent with what was seen (nonlinear)",
+            "scale factor",
+            "scaled PGA (g)",
+            "observation",
+            "locomotive overturned",
+            "transformer survived",
+            "all",
+            "max 3.26",
+            "min 0.7",
+            "0.35–1.63 g",
+        ] {
+            assert!(svg.contains(needle), "missing {needle:?} in {svg}");
+        }
+        // The consistent fill and each observation's outline are drawn.
+        assert!(svg.contains(&hex(CONSISTENT)), "consistent fill");
+        for c in &OBSERVATIONS[..2] {
+            assert!(svg.contains(&hex(*c)), "outline {}", hex(*c));
+        }
+    }
+
+    #[test]
+    fn nothing_consistent_is_said() {
+        let mut doc = sample();
+        doc["per_observation"][1]["consistent_scale"] = json!([[0.1, 0.5]]);
+        doc["bounds"] = json!({"min_g": null, "max_g": null, "frequency_hz": null});
+        let svg = super::svg(&doc).expect("svg");
+        assert!(svg.contains("no scale of this record"), "said");
+        assert!(!svg.contains("max 3.26"));
+    }
+}
