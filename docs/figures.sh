@@ -27,6 +27,7 @@ figures=(
   "friction_locomotive locomotive_friction"
   "friction_one_cosine one_cosine_friction"
   "forensic_point_reyes point_reyes_forensic"
+  "forensic_record_point_reyes point_reyes_forensic_record"
 )
 
 if [[ -z ${TOPPLE_BIN:-} ]]; then

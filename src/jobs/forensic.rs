@@ -144,11 +144,14 @@ pub struct ForensicJob {
     /// Frequencies, Hz (pulse queries).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub frequency_hz: Vec<f64>,
-    /// Amplitudes examined, g: the pulse's peak acceleration, or the scaled
-    /// record's PGA.
-    pub a_p_g: AmplitudeRange,
-    /// Scale factors examined (record queries).
+    /// Amplitudes examined, g (pulse queries).
     #[serde(skip_serializing_if = "Option::is_none")]
+    pub a_p_g: Option<AmplitudeRange>,
+    /// The scaled record's PGA examined, g (record queries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pga_g: Option<AmplitudeRange>,
+    /// Scale factors examined (record queries; `pga_g` over the record's PGA).
+    #[serde(skip)]
     pub scale: Option<ScaleRangeNorm>,
     /// "linear" | "nonlinear".
     #[schema(value_type = crate::jobs::schema::FormulationName)]
@@ -388,7 +391,8 @@ impl ForensicSpec {
             ground_motion: None,
             observations,
             frequency_hz,
-            a_p_g: AmplitudeRange { from, to },
+            a_p_g: Some(AmplitudeRange { from, to }),
+            pga_g: None,
             scale: None,
             formulation: formulation.name(),
             scan_step_g,
@@ -493,10 +497,11 @@ impl ForensicSpec {
             ground_motion: Some(ground_motion),
             observations,
             frequency_hz: Vec::new(),
-            a_p_g: AmplitudeRange {
+            a_p_g: None,
+            pga_g: Some(AmplitudeRange {
                 from: from_g,
                 to: to_g,
-            },
+            }),
             scale: Some(ScaleRangeNorm {
                 from: from_g / peak_g,
                 to: to_g / peak_g,
@@ -770,6 +775,13 @@ pub struct ForensicResult {
 }
 
 impl ForensicJob {
+    /// The amplitudes examined, g: a pulse's peak, or the scaled record's PGA.
+    pub fn range_g(&self) -> AmplitudeRange {
+        self.a_p_g
+            .or(self.pga_g)
+            .unwrap_or(AmplitudeRange { from: 0.0, to: 0.0 })
+    }
+
     /// The formulation.
     pub fn formulation(&self) -> Formulation {
         if self.formulation == "linear" {
@@ -800,7 +812,7 @@ impl ForensicJob {
             Formulation::Nonlinear
         };
         let two_pi = 2.0 * std::f64::consts::PI;
-        let (from, to) = (self.a_p_g.from, self.a_p_g.to);
+        let AmplitudeRange { from, to } = self.range_g();
         let mut stats = ScanStats::default();
         let mut sets: Vec<Vec<Intervals>> = Vec::with_capacity(self.observations.len());
         for o in &self.observations {
@@ -895,7 +907,7 @@ impl ForensicJob {
             excitation: "pulse",
             pulse: Some(pulse),
             record: None,
-            a_p_g: self.a_p_g,
+            a_p_g: self.range_g(),
             scale: None,
             observations: self.observations.clone(),
             frequencies,
@@ -918,7 +930,7 @@ impl ForensicJob {
     pub fn size(&self) -> (f64, f64) {
         // A record query has one line per observation.
         let n = self.frequency_hz.len().max(1) as f64;
-        let scan = self.a_p_g.to / self.scan_step_g;
+        let scan = self.range_g().to / self.scan_step_g;
         let bisection = (self.scan_step_g / self.tolerance_g).log2().ceil().max(1.0);
         let lines = n * self.observations.len() as f64;
         (lines * scan, lines * (scan + 6.0 * bisection))

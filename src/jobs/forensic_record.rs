@@ -8,8 +8,8 @@
 use rayon::prelude::*;
 
 use super::forensic::{
-    Bounds, ForensicJob, ForensicNumerics, ForensicResult, Intervals, RecordObservationSet,
-    complement, intersect, overturning_set,
+    AmplitudeRange, Bounds, ForensicJob, ForensicNumerics, ForensicResult, Intervals,
+    RecordObservationSet, complement, intersect, overturning_set,
 };
 use super::record_spectrum::RecordDoc;
 use super::spec::GroundMotionNorm;
@@ -39,7 +39,7 @@ pub fn run(
         .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
     let formulation = job.formulation();
     let solver = job.solver.solver();
-    let (from, to) = (job.a_p_g.from, job.a_p_g.to);
+    let AmplitudeRange { from, to } = job.range_g();
     let g = job.observations.first().map_or(9.81, |o| o.block.g);
     let peak_g = gm.acc.iter().fold(0.0f64, |m, a| m.max(a.abs())) / g;
     // Observations in parallel; each line's levels are the scaled PGA in its α g.
@@ -130,7 +130,7 @@ pub fn run(
             samples: n,
             duration_s: (n - 1) as f64 * gm.dt,
         }),
-        a_p_g: job.a_p_g,
+        a_p_g: job.range_g(),
         scale: job.scale,
         observations: job.observations.clone(),
         frequencies: Vec::new(),

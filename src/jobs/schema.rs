@@ -371,6 +371,36 @@ pub mod rules {
         }
     }
 
+    /// None of `names` is given (each absent or null).
+    fn none_of(names: &[&str]) -> Value {
+        let nulls: serde_json::Map<String, Value> = names
+            .iter()
+            .map(|n| (n.to_string(), json!({"type": "null"})))
+            .collect();
+        json!({ "properties": nulls })
+    }
+
+    /// A forensic query on a pulse family (its frequency axis, at most one
+    /// amplitude unit) or on a record (its scale axis, nothing of a pulse's).
+    fn forensic_on_pulse_or_record(frequency: &[&str]) -> Value {
+        let pulse_axes: Vec<&str> = frequency.iter().copied().chain(["a_p_g", "a_p"]).collect();
+        json!({"oneOf": [
+            {"allOf": [
+                given("pulse"),
+                exactly_one(frequency),
+                at_most_one(&["a_p_g", "a_p"]),
+                none_of(&["ground_motion", "scale", "pga_g", "tolerance", "scan_step"]),
+            ]},
+            {"allOf": [
+                given("ground_motion"),
+                exactly_one(&["scale", "pga_g"]),
+                at_most_one(&["tolerance", "tolerance_g"]),
+                at_most_one(&["scan_step", "scan_step_g"]),
+                none_of(&[&["pulse"][..], &pulse_axes].concat()),
+            ]},
+        ]})
+    }
+
     /// Each of `names` is given when any of them is.
     fn together(names: &[&str]) -> Value {
         json!({"anyOf": [
@@ -460,7 +490,7 @@ pub mod rules {
             ),
             (
                 "ForensicSpec",
-                vec![exactly_one(&frequency), at_most_one(&["a_p_g", "a_p"])],
+                vec![forensic_on_pulse_or_record(&frequency)],
             ),
             (
                 "RecordSpectrumSpec",

@@ -177,6 +177,61 @@ async fn mavroeidis_papageorgiou_pulses_run_in_time_histories_and_spectra() {
     app.stop().await;
 }
 
+/// A forensic query on a record through the service: its result, figure
+/// (scale against observation) and CSV; the record's limit names `/pga_g`
+/// as written.
+#[tokio::test]
+async fn a_forensic_query_on_a_record_runs_with_its_figure_and_table() {
+    let app = spawn_app("forensic-record").await;
+    let acc: Vec<f64> = (0..=200)
+        .map(|k| 0.4 * (std::f64::consts::TAU * f64::from(k) / 200.0).sin())
+        .collect();
+    let spec = json!({"kind": "forensic",
+        "ground_motion": {"dt": 0.005, "unit": "g", "acc": acc},
+        "observations": [
+            {"name": "locomotive", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9}, "overturned": true},
+            {"name": "transformer", "b": 0.6, "h": 1.2, "overturned": false}],
+        "pga_g": {"from": 0.05, "to": 3.0}});
+    let (status, job, _) = app.post("/v1/jobs?wait=30", &spec).await;
+    assert_eq!(status, 200, "{job}");
+    let result = &job["result"];
+    assert_eq!(result["excitation"], "ground_motion", "{job}");
+    assert_eq!(result["record"]["pga_g"].as_f64(), Some(0.4));
+    let scale = result["consistent_scale"].as_array().expect("intervals");
+    let pga = result["consistent_pga_g"].as_array().expect("intervals");
+    assert!(!scale.is_empty(), "{result}");
+    for (s, g) in scale.iter().zip(pga) {
+        let (s0, g0) = (s[0].as_f64().unwrap_or(0.0), g[0].as_f64().unwrap_or(1.0));
+        assert!((s0 * 0.4 - g0).abs() < 1e-12, "{s} {g}");
+    }
+    let id = job["id"].as_str().expect("id");
+    let (status, _, svg) = app.get_text(&format!("/v1/jobs/{id}/plot.svg")).await;
+    assert_eq!(status, 200);
+    assert!(svg.contains("scales of the record"), "{svg}");
+    let (status, _, csv) = app
+        .get_text(&format!("/v1/jobs/{id}/result?format=csv"))
+        .await;
+    assert_eq!(status, 200);
+    assert!(
+        csv.starts_with("observation,observed,consistent_lo_scale"),
+        "{csv}"
+    );
+    let per: usize = result["per_observation"]
+        .as_array()
+        .expect("per observation")
+        .iter()
+        .map(|o| o["consistent_scale"].as_array().map_or(0, Vec::len).max(1))
+        .sum();
+    assert_eq!(csv.lines().count(), 1 + scale.len() + per, "{csv}");
+    // A pulse axis beside the record is a 422 naming it.
+    let mut bad = spec.clone();
+    bad["frequency_hz"] = json!([1.0]);
+    let (status, problem, _) = app.post("/v1/jobs", &bad).await;
+    assert_eq!(status, 422, "{problem}");
+    assert_eq!(problem["pointer"], "/frequency_hz");
+    app.stop().await;
+}
+
 #[tokio::test]
 async fn the_same_work_in_other_words_is_a_cache_hit() {
     let app = spawn_app("cache").await;

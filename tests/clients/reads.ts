@@ -27,8 +27,17 @@ export function summary(view: S["JobView"]): string {
       const lifted: boolean | undefined = p.lift_off;
       return `${p.peak_friction_demand ?? "unbounded"} ${lifted}`;
     }
-    case "forensic":
-      return `${r.frequencies.length}`;
+    case "forensic": {
+      if (r.excitation === "ground_motion") {
+        const lowest: number | undefined = r.consistent_scale?.[0]?.[0];
+        const pga: number | undefined = r.record?.pga_g;
+        const first = r.per_observation?.[0];
+        const threshold: number | undefined = first?.threshold_scale;
+        return `${lowest} ${pga} ${threshold} ${r.bounds.min_scale}`;
+      }
+      const type: string | undefined = r.pulse?.type;
+      return `${type} ${r.frequencies.length}`;
+    }
     case "record_spectrum": {
       const size = r.spectrum[0];
       const r_m: number = size.R_m;
@@ -60,6 +69,19 @@ export const typoPulse: S["TimeHistorySpec"] = {
   // @ts-expect-error a misspelt pulse type is refused
   pulse: { type: "one_sin", omega_ratio: 5, a_p_alpha_g: 4 },
 };
+
+export const onRecord: S["ForensicSpec"] = {
+  kind: "forensic",
+  ground_motion: { dt: 0.01, unit: "g", acc: [0, 0.3, -0.2, 0] },
+  observations: [{ name: "cabinet", b: 0.3, h: 0.9, overturned: false }],
+  pga_g: { from: 0.05, to: 2 },
+};
+
+export function wrongExcitation(r: S["ForensicResult"]): void {
+  // @ts-expect-error excitation is "pulse" or "ground_motion"
+  const e: "record" = r.excitation;
+  void e;
+}
 
 export function wrongKind(r: S["TimeHistoryResult"]): void {
   // @ts-expect-error the kind of a time-history result is "time_history"

@@ -16,11 +16,13 @@ from uuid import UUID
 from topple_client import AuthenticatedClient
 from topple_client.api.jobs import cancel_job, create_job, get_job, get_plot, get_result
 from topple_client.models import (
+    ForensicExcitation,
     ForensicResult,
     ForensicSpec,
     FrictionSpectrumResult,
     FrictionSpectrumSpec,
     JobView,
+    RecordDoc,
     RecordSpectrumResult,
     RecordSpectrumSpec,
     SpectrumResult,
@@ -102,6 +104,18 @@ def main() -> None:
     check(isinstance(fo, ForensicResult), f"forensic result {type(fo)}")
     assert isinstance(fo, ForensicResult)
     print(f"forensic: {len(fo.frequencies)} frequencies")
+    on_record = ForensicSpec.from_dict(spec("point_reyes_forensic_record.json"))
+    ojob = finished(client, submitted(create_job.sync(client=client, body=on_record), "forensic on a record"))
+    fo_r = get_result.sync(ojob.id, client=client)
+    check(isinstance(fo_r, ForensicResult), f"forensic record result {type(fo_r)}")
+    assert isinstance(fo_r, ForensicResult)
+    check(fo_r.excitation == ForensicExcitation.GROUND_MOTION, f"excitation {fo_r.excitation}")
+    scales = fo_r.consistent_scale
+    check(isinstance(scales, list) and len(scales) > 0, f"consistent scales {scales}")
+    assert isinstance(scales, list)
+    lowest: float = scales[0][0]
+    check(isinstance(fo_r.record, RecordDoc), f"record {type(fo_r.record)}")
+    print(f"forensic on a record: lowest consistent scale {lowest:.4f}")
     record = RecordSpectrumSpec.from_dict(spec("record_spectrum_one_sine.json"))
     rjob = finished(client, submitted(create_job.sync(client=client, body=record), "record spectrum"))
     rs = get_result.sync(rjob.id, client=client)

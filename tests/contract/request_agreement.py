@@ -40,6 +40,9 @@ FR = {"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.
 FO = {"kind": "forensic", "pulse": {"type": "one_sine"},
       "observations": [{"name": "cabinet", "b": 0.5, "h": 1.5, "overturned": True}],
       "frequency_hz": [1.0], "a_p_g": {"from": 0.1, "to": 0.5}}
+FOR = {"kind": "forensic", "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.4, -0.3, 0.0]},
+       "observations": [{"name": "cabinet", "b": 0.5, "h": 1.5, "overturned": True}],
+       "pga_g": {"from": 0.1, "to": 1.0}}
 RS = {"kind": "record_spectrum", "block": {"alpha": 0.2},
       "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.4, -0.3, 0.0]},
       "R_m": [0.5, 1.0], "scale": {"to": 3.0}}
@@ -151,7 +154,6 @@ BAD = [
     ("spectrum gamma for one-sine", edit(SP, pulse__gamma=2.0), "/pulse/gamma"),
     ("forensic mavroeidis_papageorgiou without gamma",
      edit(FO, pulse__type="mavroeidis_papageorgiou"), "/pulse/gamma"),
-    ("forensic without pulse", edit(FO, pulse=DELETE), "/pulse"),
     ("forensic without observations", edit(FO, observations=DELETE), "/observations"),
     ("forensic no observation", edit(FO, observations=[]), "/observations"),
     ("forensic 33 observations", edit(FO, observations=FO["observations"] * 33), "/observations"),
@@ -170,6 +172,19 @@ BAD = [
     ("forensic amplitude range without to", edit(FO, a_p_g={"from": 0.1}), "/a_p_g"),
     ("forensic tolerance > 0.1", edit(FO, tolerance_g=0.5), "/tolerance_g"),
     ("forensic scan step > 1", edit(FO, scan_step_g=2.0), "/scan_step_g"),
+    ("forensic without pulse or record", edit(FO, pulse=DELETE), "/pulse"),
+    ("forensic with a pulse and a record", edit(FOR, pulse=FO["pulse"]), "/ground_motion"),
+    ("forensic record with a frequency axis", edit(FOR, frequency_hz=[1.0]), "/frequency_hz"),
+    ("forensic record with an amplitude axis", edit(FOR, a_p_g={"from": 0.1, "to": 1.0}),
+     "/a_p_g"),
+    ("forensic pulse with a scale axis", edit(FO, scale={"to": 2.0}), "/scale"),
+    ("forensic record scale twice", edit(FOR, scale={"to": 2.0}), "/pga_g"),
+    ("forensic record tolerance twice", edit(FOR, tolerance=1e-3, tolerance_g=1e-4), "/tolerance"),
+    ("forensic record PGA from < 0", edit(FOR, pga_g={"from": -0.1, "to": 1.0}), "/pga_g/from"),
+    ("forensic record scale without to", edit(FOR, pga_g=DELETE, scale={"from": 0.5}),
+     "/scale/to"),
+    ("forensic record tolerance = 0", edit(FOR, tolerance=0.0), "/tolerance"),
+    ("forensic record without unit", edit(FOR, ground_motion__unit=DELETE), "/ground_motion/unit"),
     ("record spectrum without record", edit(RS, ground_motion=DELETE), "/ground_motion"),
     ("record spectrum without block", edit(RS, block=DELETE), "/block"),
     ("record spectrum without sizes", edit(RS, R_m=DELETE), "/p"),
@@ -197,6 +212,7 @@ SERVER_ONLY = [
     ("scan step below the tolerance", edit(SP, tolerance=0.05, scan_step_alpha_g=0.01),
      "/scan_step_alpha_g"),
     ("forensic amplitude to <= from", edit(FO, a_p_g={"from": 0.5, "to": 0.5}), "/a_p_g"),
+    ("forensic record of zeros", edit(FOR, ground_motion__acc=[0.0, 0.0]), "/ground_motion/acc"),
     ("record spectrum scaled below the rocking threshold", edit(RS, scale={"to": 0.1}), "/scale/to"),
 ]
 
@@ -228,6 +244,10 @@ GOOD = [
                                         a_p=[4.0, 5.0])),
     ("forensic", FO),
     ("record spectrum", RS),
+    ("forensic on a record", FOR),
+    ("forensic on a record by scale, linear", edit(FOR, pga_g=DELETE, scale={"from": 0.5, "to": 4.0},
+                                                  formulation="linear", tolerance=1e-3,
+                                                  scan_step=0.05)),
     ("record spectrum in p and PGA", edit(RS, R_m=DELETE, p={"from": 2.0, "to": 4.0, "steps": 2},
                                           scale=DELETE, pga_g={"from": 0.1, "to": 1.0})),
     ("forensic with a block and a_p", edit(FO, observations=[

@@ -100,6 +100,9 @@ def main():
         ("forensic", lambda d: d.__setitem__("frequencies", {"0": 1})),
         ("record_spectrum", lambda d: d["spectrum"][0].__setitem__("R_m", "0.5 m")),
         ("record_spectrum", lambda d: d["record"].__delitem__("pga_g")),
+        ("forensic", lambda d: d.__setitem__("excitation", "record")),
+        ("forensic", lambda d: d.__setitem__("consistent_scale", [["0.5", 1.0]])),
+        ("forensic", lambda d: d.__setitem__("per_observation", [{"name": "x"}])),
         ("time_history", lambda d: d.__delitem__("engine")),
     ]
     for kind, mutate in mutations:

@@ -650,6 +650,74 @@ def check_record_spectrum(page, base):
     page.click("input[name=kind][value=time_history]")
 
 
+def check_forensic_record(page, base):
+    """A forensic query on a record from the form: the observations of the
+    pulse query, the record of the record spectrum (a one-sine pulse of 0.5 g
+    at 1 Hz), the scale axis as PGA; the summary and outcome agree with the
+    result; back to pulses, the pulse's fields return."""
+    page.click("input[name=kind][value=forensic]")
+    page.click("input[name=fo-by][value=record]")
+    hidden = page.js("['f-type', 'fo-pulse-axes', 'fo-record-axes', 'fs-motion'].map((id) =>"
+                     " !!document.getElementById(id).closest('[hidden]'))")
+    if hidden != [True, True, False, False]:
+        raise Failure(f"on a record the form shows the wrong fields (hidden: {hidden})")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    acc = raw["ground_motion"].pop("acc")
+    observations = raw.pop("observations")
+    expected = {"kind": "forensic", "ground_motion": {"dt": 0.01, "unit": "g"},
+                "pga_g": {"from": 0.05, "to": 3}, "formulation": "nonlinear"}
+    if raw != expected or len(acc) != 101 or [o["name"] for o in observations][:2] != ["locomotive", "transformer"]:
+        raise Failure(f"the form's record query is {raw}, not {expected}")
+    page.click("input[name=kind][value=forensic]")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "forensic query on a record")
+    log(f"forensic query on a record {job_id}")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    if result["excitation"] != "ground_motion" or result["frequencies"]:
+        raise Failure(f"not a record query: {result['excitation']}, {len(result['frequencies'])} frequencies")
+    outcome = page.js("document.getElementById('outcome').textContent")
+    bounds = result["bounds"]
+    if bounds["min_scale"] is None:
+        if not outcome.startswith("No scale of the record"):
+            raise Failure(f"the outcome of a record query without answer: {outcome!r}")
+    else:
+        m = re.match(r"Consistent with every observation: scale ([0-9.]+) – ([0-9.]+) \(PGA ([0-9.]+) – ([0-9.]+) g\)", outcome)
+        if (not m or abs(float(m.group(1)) - bounds["min_scale"]) > 5e-4 * bounds["min_scale"]
+                or abs(float(m.group(4)) - bounds["max_g"]) > 5e-4 * bounds["max_g"]):
+            raise Failure(f"the outcome does not give the bounds {bounds}: {outcome!r}")
+    summary = summary_of(page)
+    if summary.get("Record") != "101 samples, dt = 0.01 s, PGA 0.5 g":
+        raise Failure(f"the record query's summary: {summary}")
+    src = page.js("document.getElementById('plot').getAttribute('src')")
+    if src != f"/v1/jobs/{job_id}/plot.svg":
+        raise Failure(f"the record query's plot comes from {src!r}")
+    page.screenshot(os.path.join(OUT, "page-forensic-record.png"))
+    page.click("input[name=fo-by][value=pulse]")
+    if page.js("!!document.getElementById('f-type').closest('[hidden]')"):
+        raise Failure("back on pulses, the pulse type stays hidden")
+    page.click("input[name=kind][value=time_history]")
+
+
+def check_mavroeidis_papageorgiou_inputs(page):
+    """γ and ν appear for the Mavroeidis–Papageorgiou pulse only and reach the spec."""
+    page.click("input[name=kind][value=time_history]")
+    if not page.js("document.getElementById('mp-fields').hidden"):
+        raise Failure("γ and ν are offered for a one-sine pulse")
+    page.choose("#f-type", "mavroeidis_papageorgiou")
+    if page.js("document.getElementById('mp-fields').hidden"):
+        raise Failure("γ and ν are not offered for the Mavroeidis–Papageorgiou pulse")
+    page.type_into("#f-gamma", "2.5")
+    page.type_into("#f-nu", "1.2")
+    page.click("#show-json")
+    pulse = json.loads(page.js("document.getElementById('f-raw').value"))["pulse"]
+    if pulse.get("type") != "mavroeidis_papageorgiou" or pulse.get("gamma") != 2.5 or pulse.get("nu") != 1.2:
+        raise Failure(f"the form's MP pulse is {pulse}")
+    page.click("input[name=kind][value=time_history]")
+    page.choose("#f-type", "one_sine")
+
+
 def check_cancel(page, base):
     page.click("input[name=kind][value=spectrum]")
     page.type_into("#f-sp-steps", "2000")
@@ -742,6 +810,8 @@ def main():
         check_survivor(page, server.base)
         check_forensic(page, server.base)
         check_record_spectrum(page, server.base)
+        check_forensic_record(page, server.base)
+        check_mavroeidis_papageorgiou_inputs(page)
         check_cancel(page, server.base)
         guarded.start()
         log(f"server with a token at {guarded.base}")

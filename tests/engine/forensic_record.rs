@@ -197,6 +197,12 @@ fn the_scale_axis_in_either_unit_makes_one_job() {
                          "tolerance_g": 1e-4, "scan_step_g": 0.01}))
     .expect("valid");
     assert_eq!(cache_key(&a), cache_key(&b));
+    // The normalised spec, as stored and run by a worker, is the same job.
+    let Job::Forensic(stored) = &a else {
+        panic!("forensic")
+    };
+    let again = Job::from_value(&serde_json::to_value(stored).expect("json")).expect("re-reads");
+    assert_eq!(cache_key(&again), cache_key(&a));
     // Defaults in g, as for pulse queries.
     let Job::Forensic(c) = query(json!({})).expect("valid") else {
         panic!("forensic")

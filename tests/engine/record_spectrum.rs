@@ -226,8 +226,8 @@ fn a_range_starting_inside_an_overturning_band_still_locates_where_it_begins() {
     let line = &whole["spectrum"][0];
     let min = line["min_overturn_scale"].as_f64().expect("overturns");
     // From just above the lowest overturning scale, inside the band.
-    let inside = run(&record_spectrum(json!({"scale": {"from": min + 0.01, "to": 6.0}}))
-        .expect("valid"));
+    let inside =
+        run(&record_spectrum(json!({"scale": {"from": min + 0.01, "to": 6.0}})).expect("valid"));
     let same = &inside["spectrum"][0];
     assert_eq!(same["min_overturn_scale"].as_f64(), Some(min));
     assert_eq!(same["transitions"], line["transitions"]);
