@@ -28,6 +28,7 @@ figures=(
   "friction_one_cosine one_cosine_friction"
   "forensic_point_reyes point_reyes_forensic"
   "forensic_record_point_reyes point_reyes_forensic_record"
+  "survival_power_law survival_power_law"
 )
 
 if [[ -z ${TOPPLE_BIN:-} ]]; then

@@ -31,6 +31,7 @@ pub mod dynamics;
 pub mod jobs;
 pub mod plot;
 pub mod precision;
+pub mod probability;
 pub mod service;
 pub mod spectrum;
 pub mod store;

@@ -56,6 +56,7 @@ pub fn to_csv(result: &Value) -> Result<String, String> {
         }
         Some("forensic") => forensic(result, &mut out),
         Some("record_spectrum") => record_spectrum(result, &mut out),
+        Some("survival") => survival(result, &mut out),
         other => return Err(format!("no CSV form for results of kind {other:?}")),
     }
     Ok(out)
@@ -323,6 +324,66 @@ fn forensic(result: &Value, out: &mut String) {
             let name = o.get("name").and_then(Value::as_str).unwrap_or("");
             emit(freq, name, observed(name), array(o, "consistent_g"));
         }
+    }
+}
+
+/// A survival result: a row per rock and age (an uncertain age: its median,
+/// marked), then the joint probability of several rocks (rock "all").
+fn survival(result: &Value, out: &mut String) {
+    row(
+        out,
+        &[
+            "rock",
+            "annual_toppling_rate_per_yr",
+            "age_years",
+            "age_uncertain",
+            "survival_probability",
+            "rate_scale_at_5_percent",
+        ]
+        .map(String::from),
+    );
+    for r in array(result, "rocks") {
+        let name = quote(r.get("name").and_then(Value::as_str).unwrap_or(""));
+        let rate = f(r.get("annual_toppling_rate"));
+        for a in array(r, "ages") {
+            row(
+                out,
+                &[
+                    name.clone(),
+                    rate.clone(),
+                    f(a.get("age_years")),
+                    "false".into(),
+                    f(a.get("survival_probability")),
+                    f(a.get("rate_scale_at_5_percent")),
+                ],
+            );
+        }
+        if let Some(d) = r.get("age_distribution") {
+            row(
+                out,
+                &[
+                    name.clone(),
+                    rate.clone(),
+                    f(d.get("median_age_years")),
+                    "true".into(),
+                    f(d.get("survival_probability")),
+                    f(d.get("rate_scale_at_5_percent")),
+                ],
+            );
+        }
+    }
+    if let Some(j) = result.get("joint") {
+        row(
+            out,
+            &[
+                "all".into(),
+                String::new(),
+                String::new(),
+                String::new(),
+                f(j.get("survival_probability")),
+                f(j.get("rate_scale_at_5_percent")),
+            ],
+        );
     }
 }
 
@@ -619,6 +680,27 @@ mod tests {
                 "a_alpha_g,peak_friction_demand,peak_over_tan_alpha,initiation_friction_demand,overturned,mode,lift_off,lift_off_time_s,friction_demand_followed_until_s",
                 "1.1,0.26,1.02,0.255,false,,false,,",
                 "6.0,,,0.51,true,2,true,0.41,"
+            ]
+        );
+    }
+
+    #[test]
+    fn survival_rows_per_rock_and_age_then_the_joint() {
+        let doc = json!({"kind": "survival", "rocks": [
+            {"name": "Grass Valley", "annual_toppling_rate": 1.5e-4,
+             "ages": [{"age_years": 1000.0, "survival_probability": 0.86, "rate_scale_at_5_percent": 20.0}]},
+            {"name": "b", "annual_toppling_rate": 1e-4, "ages": [],
+             "age_distribution": {"median_age_years": 9000.0, "survival_probability": 0.4,
+                                  "rate_scale_at_5_percent": null}}],
+            "joint": {"survival_probability": 0.344, "rate_scale_at_5_percent": 2.5}});
+        let csv = to_csv(&doc).expect("csv");
+        assert_eq!(
+            csv.lines().collect::<Vec<_>>(),
+            vec![
+                "rock,annual_toppling_rate_per_yr,age_years,age_uncertain,survival_probability,rate_scale_at_5_percent",
+                "Grass Valley,0.00015,1000.0,false,0.86,20.0",
+                "b,0.0001,9000.0,true,0.4,",
+                "all,,,,0.344,2.5",
             ]
         );
     }

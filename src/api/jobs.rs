@@ -22,6 +22,7 @@ use crate::jobs::friction::FrictionSpec;
 use crate::jobs::key::cache_key;
 use crate::jobs::record_spectrum::RecordSpectrumSpec;
 use crate::jobs::spectrum::SpectrumSpec;
+use crate::jobs::survival::SurvivalSpec;
 use crate::jobs::time_history::TimeHistorySpec;
 use crate::jobs::{Job, KINDS};
 use crate::service::AppState;
@@ -38,6 +39,7 @@ use crate::store::{Deleted, JobRecord, ListQuery, NewJob, Status, new_job_id, no
     ("friction_spectrum" = "#/components/schemas/FrictionSpectrumSpec"),
     ("forensic" = "#/components/schemas/ForensicSpec"),
     ("record_spectrum" = "#/components/schemas/RecordSpectrumSpec"),
+    ("survival" = "#/components/schemas/SurvivalSpec"),
 )))]
 pub enum JobSpec {
     /// `"kind": "time_history"`.
@@ -50,6 +52,8 @@ pub enum JobSpec {
     Forensic(ForensicSpec),
     /// `"kind": "record_spectrum"`.
     RecordSpectrum(RecordSpectrumSpec),
+    /// `"kind": "survival"`.
+    Survival(SurvivalSpec),
 }
 
 /// Links of a job.
@@ -1167,7 +1171,9 @@ pub struct ListParams {
     #[param(value_type = Option<Status>)]
     pub status: Option<String>,
     /// Only jobs of this kind.
-    #[param(pattern = "^(time_history|spectrum|friction_spectrum|forensic|record_spectrum)$")]
+    #[param(
+        pattern = "^(time_history|spectrum|friction_spectrum|forensic|record_spectrum|survival)$"
+    )]
     pub kind: Option<String>,
     /// At most this many (1..=500, default 50).
     #[param(minimum = 1, maximum = 500)]

@@ -92,6 +92,7 @@ impl utoipa::Modify for EngineProvenance {
             "FrictionSpectrumResult",
             "ForensicResult",
             "RecordSpectrumResult",
+            "SurvivalResult",
         ] {
             if let Some(RefOr::T(Schema::Object(o))) = components.schemas.get_mut(name) {
                 o.properties.insert(

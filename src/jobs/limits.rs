@@ -142,6 +142,13 @@ impl Job {
                         .map_or(0.0, |g| work * g.acc.len() as f64),
                 }
             }
+            // Closed forms: as cheap as one simulation.
+            Job::Survival(_) => Size {
+                series_points: 0,
+                grid_points: 1,
+                work: 1.0,
+                record_work: 0.0,
+            },
             Job::RecordSpectrum(j) => {
                 let scan = j.points_per_size();
                 let grid = j.grid();

@@ -1,6 +1,7 @@
 //! Jobs: the spec JSON users send (to `topple run` or the service), its
 //! validation into domain types, and the result documents.
 
+pub mod distribution;
 pub mod forensic;
 pub mod forensic_record;
 pub mod friction;
@@ -14,6 +15,7 @@ pub mod schema;
 pub mod spec;
 pub mod spectrum;
 pub mod split;
+pub mod survival;
 pub mod time_history;
 
 pub use spec::SpecError;
@@ -37,6 +39,8 @@ pub enum Job {
     Forensic(forensic::ForensicJob),
     /// The rocking spectrum of a recorded motion.
     RecordSpectrum(record_spectrum::RecordSpectrumJob),
+    /// The survival of rocks of known age under a hazard model.
+    Survival(survival::SurvivalJob),
 }
 
 /// Why a valid job did not produce a result.
@@ -64,12 +68,13 @@ impl From<ScanError> for JobError {
 }
 
 /// The job kinds, as named in specs.
-pub const KINDS: [&str; 5] = [
+pub const KINDS: [&str; 6] = [
     "time_history",
     "spectrum",
     "friction_spectrum",
     "forensic",
     "record_spectrum",
+    "survival",
 ];
 
 impl Job {
@@ -135,6 +140,10 @@ impl Job {
                 let spec: record_spectrum::RecordSpectrumSpec = spec::from_value(value, "")?;
                 Ok(Job::RecordSpectrum(spec.validate()?))
             }
+            "survival" => {
+                let spec: survival::SurvivalSpec = spec::from_value(value, "")?;
+                Ok(Job::Survival(spec.validate()?))
+            }
             other => Err(SpecError::at(
                 "/kind",
                 format!(
@@ -153,6 +162,7 @@ impl Job {
             Job::FrictionSpectrum(_) => "friction_spectrum",
             Job::Forensic(_) => "forensic",
             Job::RecordSpectrum(_) => "record_spectrum",
+            Job::Survival(_) => "survival",
         }
     }
 
@@ -173,6 +183,15 @@ impl Job {
             Job::FrictionSpectrum(job) => serde_json::to_value(job.run(control)?),
             Job::Forensic(job) => serde_json::to_value(job.run(control)?),
             Job::RecordSpectrum(job) => serde_json::to_value(job.run(control)?),
+            Job::Survival(job) => {
+                if control.canceled() {
+                    return Err(JobError::Canceled);
+                }
+                control.add_total(1);
+                let result = job.run();
+                control.add_done(1);
+                serde_json::to_value(result)
+            }
         };
         let doc = plausible::with_warnings(value.unwrap_or(serde_json::Value::Null), self);
         Ok(key::with_engine(doc))

@@ -56,6 +56,8 @@ pub fn warnings(job: &Job) -> Vec<WarningDoc> {
             .collect(),
         // The sizes are the axis the user chose.
         Job::RecordSpectrum(_) => Vec::new(),
+        // No block: fragilities.
+        Job::Survival(_) => Vec::new(),
     };
     blocks
         .into_iter()

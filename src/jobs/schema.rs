@@ -44,6 +44,10 @@ literal!(
     RecordSpectrumKind = "record_spectrum"
 );
 literal!(
+    /// `"survival"`.
+    SurvivalKind = "survival"
+);
+literal!(
     /// Samples of a normalised record are in m/s².
     MetresPerSecondSquared = "m/s2"
 );
@@ -72,6 +76,8 @@ pub enum JobKind {
     Forensic,
     /// The rocking spectrum of a record.
     RecordSpectrum,
+    /// The survival of rocks under a hazard model.
+    Survival,
 }
 
 /// The equation of motion (eq. 12/49 or eqs. 23–24/50).
@@ -248,6 +254,7 @@ pub enum WarningKind {
     ("friction_spectrum" = "#/components/schemas/FrictionSpectrumJob"),
     ("forensic" = "#/components/schemas/ForensicJob"),
     ("record_spectrum" = "#/components/schemas/RecordSpectrumJob"),
+    ("survival" = "#/components/schemas/SurvivalJob"),
 )))]
 pub enum NormalizedSpec {
     /// `"kind": "time_history"`.
@@ -260,6 +267,8 @@ pub enum NormalizedSpec {
     Forensic(super::forensic::ForensicJob),
     /// `"kind": "record_spectrum"`.
     RecordSpectrum(super::record_spectrum::RecordSpectrumJob),
+    /// `"kind": "survival"`.
+    Survival(super::survival::SurvivalJob),
 }
 
 /// A result document, by `kind`.
@@ -271,6 +280,7 @@ pub enum NormalizedSpec {
     ("friction_spectrum" = "#/components/schemas/FrictionSpectrumResult"),
     ("forensic" = "#/components/schemas/ForensicResult"),
     ("record_spectrum" = "#/components/schemas/RecordSpectrumResult"),
+    ("survival" = "#/components/schemas/SurvivalResult"),
 )))]
 pub enum JobResult {
     /// `"kind": "time_history"`.
@@ -283,6 +293,8 @@ pub enum JobResult {
     Forensic(ForensicResult),
     /// `"kind": "record_spectrum"`.
     RecordSpectrum(super::record_spectrum::RecordSpectrumResult),
+    /// `"kind": "survival"`.
+    Survival(super::survival::SurvivalResult),
 }
 
 /// A figure: an SVG document.
@@ -492,6 +504,14 @@ pub mod rules {
                 "ForensicSpec",
                 vec![forensic_on_pulse_or_record(&frequency)],
             ),
+            (
+                "SurvivalSpec",
+                vec![json!({"oneOf": [
+                    {"allOf": [given("fragility"), given("age_years"), none_of(&["rocks"])]},
+                    {"allOf": [given("rocks"), none_of(&["fragility", "age_years"])]},
+                ]})],
+            ),
+            ("FragilityInput", vec![exactly_one(&["median_g", "median"])]),
             (
                 "RecordSpectrumSpec",
                 vec![exactly_one(&["p", "R_m"]), exactly_one(&["scale", "pga_g"])],

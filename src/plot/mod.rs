@@ -12,6 +12,7 @@ pub mod precision;
 pub mod record_spectrum;
 pub mod spectrum;
 pub mod style;
+pub mod survival;
 pub mod time_history;
 pub mod time_panel;
 pub mod window;
@@ -72,6 +73,7 @@ pub fn svg_in(result: &Value, window: Option<Window>) -> Result<String, FigureEr
         }
         Some("forensic") => forensic::svg(result),
         Some("record_spectrum") => record_spectrum::svg(result),
+        Some("survival") => survival::svg(result),
         Some(other) => Err(format!("no figure for results of kind {other:?}")),
         None => Err("not a result document: it has no \"kind\"".into()),
     }

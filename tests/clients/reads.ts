@@ -45,6 +45,13 @@ export function summary(view: S["JobView"]): string {
       const pga: number = r.record.pga_g;
       return `${r_m} ${min} ${pga} ${size.transitions[0]?.scale}`;
     }
+    case "survival": {
+      const rate: number = r.rocks[0].annual_toppling_rate;
+      const ps: number | undefined = r.ages?.[0]?.survival_probability;
+      const s: number | null | undefined = r.ages?.[0]?.rate_scale_at_5_percent;
+      const joint: number | undefined = r.joint?.survival_probability;
+      return `${rate} ${ps} ${s} ${joint}`;
+    }
   }
 }
 

@@ -64,7 +64,7 @@ def main():
     by_kind = {k: validator(description, n) for k, n in [
         ("time_history", "TimeHistoryResult"), ("spectrum", "SpectrumResult"),
         ("friction_spectrum", "FrictionSpectrumResult"), ("forensic", "ForensicResult"),
-        ("record_spectrum", "RecordSpectrumResult")]}
+        ("record_spectrum", "RecordSpectrumResult"), ("survival", "SurvivalResult")]}
     cases = [(os.path.basename(p), json.load(open(p)))
              for p in sorted(glob.glob(os.path.join(ROOT, "specs", "*.json")))] + EXTRA
     passed = failed = 0
@@ -101,6 +101,8 @@ def main():
         ("record_spectrum", lambda d: d["spectrum"][0].__setitem__("R_m", "0.5 m")),
         ("record_spectrum", lambda d: d["record"].__delitem__("pga_g")),
         ("forensic", lambda d: d.__setitem__("excitation", "record")),
+        ("survival", lambda d: d["rocks"][0].__setitem__("annual_toppling_rate", "1e-4")),
+        ("survival", lambda d: d["ages"][0].__delitem__("survival_probability")),
         ("forensic", lambda d: d.__setitem__("consistent_scale", [["0.5", 1.0]])),
         ("forensic", lambda d: d.__setitem__("per_observation", [{"name": "x"}])),
         ("time_history", lambda d: d.__delitem__("engine")),

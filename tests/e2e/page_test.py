@@ -700,6 +700,32 @@ def check_forensic_record(page, base):
     page.click("input[name=kind][value=time_history]")
 
 
+def check_survival(page, base):
+    """A survival job from the form: the example power-law hazard, a
+    lognormal fragility and three ages; the outcome gives the result's
+    probabilities."""
+    page.click("input[name=kind][value=survival]")
+    if not page.js("document.getElementById('fs-pulse').hidden"):
+        raise Failure("the pulse fieldset is offered for a survival job")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    if (raw.get("fragility") != {"beta": 0.38, "median_g": 0.38} or raw.get("age_years") != [1000, 10000, 30000]
+            or len(raw["hazard"]["points"]) != 6 or raw["hazard"]["im"] != "pga_g"):
+        raise Failure(f"the form's survival job is {raw}")
+    page.click("input[name=kind][value=survival]")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "survival")
+    log(f"survival {job_id}")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    outcome = page.js("document.getElementById('outcome').textContent")
+    first = result["ages"][0]["survival_probability"]
+    if f"P = {float(f'{first:.3g}'):g} at 1000 yr" not in outcome:
+        raise Failure(f"the survival outcome does not give P_s = {first} at 1000 yr: {outcome!r}")
+    page.screenshot(os.path.join(OUT, "page-survival.png"))
+    page.click("input[name=kind][value=time_history]")
+
+
 def check_mavroeidis_papageorgiou_inputs(page):
     """γ and ν appear for the Mavroeidis–Papageorgiou pulse only and reach the spec."""
     page.click("input[name=kind][value=time_history]")
@@ -812,6 +838,7 @@ def main():
         check_record_spectrum(page, server.base)
         check_forensic_record(page, server.base)
         check_mavroeidis_papageorgiou_inputs(page)
+        check_survival(page, server.base)
         check_cancel(page, server.base)
         guarded.start()
         log(f"server with a token at {guarded.base}")

@@ -854,6 +854,7 @@ fn strict_result(job: &Job) -> Option<Result<String, serde_json::Error>> {
         Job::FrictionSpectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
         Job::Forensic(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
         Job::RecordSpectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
+        Job::Survival(j) => Some(serde_jcs::to_string(&j.run())),
     }
 }
 
