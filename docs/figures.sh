@@ -29,6 +29,7 @@ figures=(
   "forensic_point_reyes point_reyes_forensic"
   "forensic_record_point_reyes point_reyes_forensic_record"
   "survival_power_law survival_power_law"
+  "fragility_pbr pbr_fragility"
 )
 
 if [[ -z ${TOPPLE_BIN:-} ]]; then

@@ -57,6 +57,7 @@ pub fn to_csv(result: &Value) -> Result<String, String> {
         Some("forensic") => forensic(result, &mut out),
         Some("record_spectrum") => record_spectrum(result, &mut out),
         Some("survival") => survival(result, &mut out),
+        Some("fragility") => fragility(result, &mut out),
         other => return Err(format!("no CSV form for results of kind {other:?}")),
     }
     Ok(out)
@@ -324,6 +325,44 @@ fn forensic(result: &Value, out: &mut String) {
             let name = o.get("name").and_then(Value::as_str).unwrap_or("");
             emit(freq, name, observed(name), array(o, "consistent_g"));
         }
+    }
+}
+
+/// A fragility: a row per stripe (intensity in the result's `im`).
+fn fragility(result: &Value, out: &mut String) {
+    let im = match result.get("im").and_then(Value::as_str) {
+        Some("pgv_m_s") => "pgv_m_s",
+        _ => "pga_g",
+    };
+    row(
+        out,
+        &[
+            im,
+            "n",
+            "overturned",
+            "p",
+            "p_lo_95",
+            "p_hi_95",
+            "mode_1",
+            "mode_2",
+        ]
+        .map(String::from),
+    );
+    for s in array(result, "stripes") {
+        let interval = s.get("interval_95");
+        row(
+            out,
+            &[
+                f(s.get("im")),
+                f(s.get("n")),
+                f(s.get("overturned")),
+                f(s.get("p")),
+                f(interval.and_then(|i| i.get(0))),
+                f(interval.and_then(|i| i.get(1))),
+                f(s.get("mode_1")),
+                f(s.get("mode_2")),
+            ],
+        );
     }
 }
 
@@ -680,6 +719,21 @@ mod tests {
                 "a_alpha_g,peak_friction_demand,peak_over_tan_alpha,initiation_friction_demand,overturned,mode,lift_off,lift_off_time_s,friction_demand_followed_until_s",
                 "1.1,0.26,1.02,0.255,false,,false,,",
                 "6.0,,,0.51,true,2,true,0.41,"
+            ]
+        );
+    }
+
+    #[test]
+    fn fragility_rows_per_stripe() {
+        let doc = json!({"kind": "fragility", "im": "pga_g", "stripes": [
+            {"im": 0.3, "n": 200, "overturned": 58, "p": 0.29, "interval_95": [0.23, 0.35],
+             "mode_1": 58, "mode_2": 0}]});
+        let csv = to_csv(&doc).expect("csv");
+        assert_eq!(
+            csv.lines().collect::<Vec<_>>(),
+            vec![
+                "pga_g,n,overturned,p,p_lo_95,p_hi_95,mode_1,mode_2",
+                "0.3,200,58,0.29,0.23,0.35,58,0",
             ]
         );
     }

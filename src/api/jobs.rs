@@ -18,6 +18,7 @@ use super::auth::Tenant;
 use super::csv::{SeriesRows, to_csv};
 use super::problem::Problem;
 use crate::jobs::forensic::ForensicSpec;
+use crate::jobs::fragility::FragilitySpec;
 use crate::jobs::friction::FrictionSpec;
 use crate::jobs::key::cache_key;
 use crate::jobs::record_spectrum::RecordSpectrumSpec;
@@ -32,7 +33,7 @@ use crate::store::{Deleted, JobRecord, ListQuery, NewJob, Status, new_job_id, no
 /// A job spec: exactly what `topple run` accepts.
 #[derive(ToSchema)]
 #[serde(untagged)]
-#[allow(dead_code)]
+#[allow(dead_code, clippy::large_enum_variant)]
 #[schema(discriminator(property_name = "kind", mapping(
     ("time_history" = "#/components/schemas/TimeHistorySpec"),
     ("spectrum" = "#/components/schemas/SpectrumSpec"),
@@ -40,6 +41,7 @@ use crate::store::{Deleted, JobRecord, ListQuery, NewJob, Status, new_job_id, no
     ("forensic" = "#/components/schemas/ForensicSpec"),
     ("record_spectrum" = "#/components/schemas/RecordSpectrumSpec"),
     ("survival" = "#/components/schemas/SurvivalSpec"),
+    ("fragility" = "#/components/schemas/FragilitySpec"),
 )))]
 pub enum JobSpec {
     /// `"kind": "time_history"`.
@@ -54,6 +56,8 @@ pub enum JobSpec {
     RecordSpectrum(RecordSpectrumSpec),
     /// `"kind": "survival"`.
     Survival(SurvivalSpec),
+    /// `"kind": "fragility"`.
+    Fragility(FragilitySpec),
 }
 
 /// Links of a job.

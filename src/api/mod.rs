@@ -93,6 +93,7 @@ impl utoipa::Modify for EngineProvenance {
             "ForensicResult",
             "RecordSpectrumResult",
             "SurvivalResult",
+            "FragilityResult",
         ] {
             if let Some(RefOr::T(Schema::Object(o))) = components.schemas.get_mut(name) {
                 o.properties.insert(

@@ -142,6 +142,22 @@ impl Job {
                         .map_or(0.0, |g| work * g.acc.len() as f64),
                 }
             }
+            Job::Fragility(j) => {
+                let work = j.stripes.len() as f64 * f64::from(j.samples);
+                let longest = j
+                    .ground_motions
+                    .iter()
+                    .flatten()
+                    .map(|m| m.motion.acc.len())
+                    .max()
+                    .unwrap_or(0);
+                Size {
+                    series_points: 0,
+                    grid_points: work as usize,
+                    work,
+                    record_work: work * longest as f64,
+                }
+            }
             // Closed forms: as cheap as one simulation.
             Job::Survival(_) => Size {
                 series_points: 0,
@@ -183,6 +199,7 @@ impl Job {
         let grid_field = match self {
             Job::FrictionSpectrum(_) => "/a_alpha_g",
             Job::Forensic(j) if j.ground_motion.is_some() => "/scale",
+            Job::Fragility(_) => "/samples",
             Job::Forensic(_) => "/frequency_hz",
             Job::RecordSpectrum(_) => "/p",
             _ => "/omega_ratio",

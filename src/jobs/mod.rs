@@ -4,6 +4,7 @@
 pub mod distribution;
 pub mod forensic;
 pub mod forensic_record;
+pub mod fragility;
 pub mod friction;
 pub mod key;
 pub mod limits;
@@ -41,6 +42,9 @@ pub enum Job {
     RecordSpectrum(record_spectrum::RecordSpectrumJob),
     /// The survival of rocks of known age under a hazard model.
     Survival(survival::SurvivalJob),
+    /// Fragility by Monte Carlo (boxed: its uncertain inputs make it the
+    /// largest spec).
+    Fragility(Box<fragility::FragilityJob>),
 }
 
 /// Why a valid job did not produce a result.
@@ -68,13 +72,14 @@ impl From<ScanError> for JobError {
 }
 
 /// The job kinds, as named in specs.
-pub const KINDS: [&str; 6] = [
+pub const KINDS: [&str; 7] = [
     "time_history",
     "spectrum",
     "friction_spectrum",
     "forensic",
     "record_spectrum",
     "survival",
+    "fragility",
 ];
 
 impl Job {
@@ -144,6 +149,10 @@ impl Job {
                 let spec: survival::SurvivalSpec = spec::from_value(value, "")?;
                 Ok(Job::Survival(spec.validate()?))
             }
+            "fragility" => {
+                let spec: fragility::FragilitySpec = spec::from_value(value, "")?;
+                Ok(Job::Fragility(Box::new(spec.validate()?)))
+            }
             other => Err(SpecError::at(
                 "/kind",
                 format!(
@@ -163,6 +172,7 @@ impl Job {
             Job::Forensic(_) => "forensic",
             Job::RecordSpectrum(_) => "record_spectrum",
             Job::Survival(_) => "survival",
+            Job::Fragility(_) => "fragility",
         }
     }
 
@@ -183,6 +193,7 @@ impl Job {
             Job::FrictionSpectrum(job) => serde_json::to_value(job.run(control)?),
             Job::Forensic(job) => serde_json::to_value(job.run(control)?),
             Job::RecordSpectrum(job) => serde_json::to_value(job.run(control)?),
+            Job::Fragility(job) => serde_json::to_value(job.run(control)?),
             Job::Survival(job) => {
                 if control.canceled() {
                     return Err(JobError::Canceled);

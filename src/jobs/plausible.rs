@@ -58,6 +58,8 @@ pub fn warnings(job: &Job) -> Vec<WarningDoc> {
         Job::RecordSpectrum(_) => Vec::new(),
         // No block: fragilities.
         Job::Survival(_) => Vec::new(),
+        // Sampled blocks: their distributions were checked.
+        Job::Fragility(_) => Vec::new(),
     };
     blocks
         .into_iter()

@@ -44,6 +44,10 @@ literal!(
     RecordSpectrumKind = "record_spectrum"
 );
 literal!(
+    /// `"fragility"`.
+    FragilityKind = "fragility"
+);
+literal!(
     /// `"survival"`.
     SurvivalKind = "survival"
 );
@@ -78,6 +82,8 @@ pub enum JobKind {
     RecordSpectrum,
     /// The survival of rocks under a hazard model.
     Survival,
+    /// Fragility by Monte Carlo.
+    Fragility,
 }
 
 /// The equation of motion (eq. 12/49 or eqs. 23–24/50).
@@ -255,6 +261,7 @@ pub enum WarningKind {
     ("forensic" = "#/components/schemas/ForensicJob"),
     ("record_spectrum" = "#/components/schemas/RecordSpectrumJob"),
     ("survival" = "#/components/schemas/SurvivalJob"),
+    ("fragility" = "#/components/schemas/FragilityJob"),
 )))]
 pub enum NormalizedSpec {
     /// `"kind": "time_history"`.
@@ -269,6 +276,8 @@ pub enum NormalizedSpec {
     RecordSpectrum(super::record_spectrum::RecordSpectrumJob),
     /// `"kind": "survival"`.
     Survival(super::survival::SurvivalJob),
+    /// `"kind": "fragility"`.
+    Fragility(super::fragility::FragilityJob),
 }
 
 /// A result document, by `kind`.
@@ -281,6 +290,7 @@ pub enum NormalizedSpec {
     ("forensic" = "#/components/schemas/ForensicResult"),
     ("record_spectrum" = "#/components/schemas/RecordSpectrumResult"),
     ("survival" = "#/components/schemas/SurvivalResult"),
+    ("fragility" = "#/components/schemas/FragilityResult"),
 )))]
 pub enum JobResult {
     /// `"kind": "time_history"`.
@@ -295,6 +305,8 @@ pub enum JobResult {
     RecordSpectrum(super::record_spectrum::RecordSpectrumResult),
     /// `"kind": "survival"`.
     Survival(super::survival::SurvivalResult),
+    /// `"kind": "fragility"`.
+    Fragility(super::fragility::FragilityResult),
 }
 
 /// A figure: an SVG document.
@@ -512,6 +524,27 @@ pub mod rules {
                 ]})],
             ),
             ("FragilityInput", vec![exactly_one(&["median_g", "median"])]),
+            (
+                "FragilitySpec",
+                vec![exactly_one(&["pulse", "ground_motions"])],
+            ),
+            (
+                "UncertainBlockSpec",
+                vec![
+                    together(&["alpha", "p"]),
+                    together(&["b", "h"]),
+                    exactly_one(&["alpha", "b"]),
+                ],
+            ),
+            (
+                "UncertainPulseSpec",
+                vec![
+                    exactly_one(&frequency),
+                    n_for_cn_only(),
+                    symmetric_for_ricker_only(),
+                    gamma_and_nu_for_mavroeidis_papageorgiou_only(),
+                ],
+            ),
             (
                 "RecordSpectrumSpec",
                 vec![exactly_one(&["p", "R_m"]), exactly_one(&["scale", "pga_g"])],

@@ -6,6 +6,7 @@
 pub mod bands;
 pub mod forensic;
 pub mod forensic_record;
+pub mod fragility;
 pub mod friction;
 pub mod motion;
 pub mod precision;
@@ -74,6 +75,7 @@ pub fn svg_in(result: &Value, window: Option<Window>) -> Result<String, FigureEr
         Some("forensic") => forensic::svg(result),
         Some("record_spectrum") => record_spectrum::svg(result),
         Some("survival") => survival::svg(result),
+        Some("fragility") => fragility::svg(result),
         Some(other) => Err(format!("no figure for results of kind {other:?}")),
         None => Err("not a result document: it has no \"kind\"".into()),
     }

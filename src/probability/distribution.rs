@@ -82,6 +82,28 @@ impl Distribution {
         }
     }
 
+    /// The value at probability `u` ∈ (0, 1) of the law (its inverse CDF):
+    /// a uniform `u` gives a sample.
+    pub fn sample(&self, u: f64) -> f64 {
+        match *self {
+            Distribution::Normal { mean, sd, min, max } => {
+                let (a, b) = ((min - mean) / sd, (max - mean) / sd);
+                // On the side of the lighter tail, so that deep truncations
+                // keep their precision.
+                let z = if a > 0.0 {
+                    let (sa, sb) = (normal::sf(a), normal::sf(b));
+                    -normal::quantile(sa - u * (sa - sb))
+                } else {
+                    let (ca, cb) = (normal::cdf(a), normal::cdf(b));
+                    normal::quantile(ca + u * (cb - ca))
+                };
+                (mean + sd * z).clamp(min, max)
+            }
+            Distribution::LogNormal { median, beta } => median * (beta * normal::quantile(u)).exp(),
+            Distribution::Uniform { min, max } => min + u * (max - min),
+        }
+    }
+
     /// E[f(X)].
     pub fn expect<F: Fn(f64) -> f64>(&self, f: F) -> f64 {
         match *self {
@@ -108,6 +130,38 @@ impl Distribution {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn samples_follow_the_law_and_stay_inside() {
+        let t = Distribution::Normal {
+            mean: 0.2,
+            sd: 0.05,
+            min: 0.15,
+            max: 0.3,
+        };
+        let n = 20_000;
+        let xs: Vec<f64> = (0..n)
+            .map(|k| t.sample((k as f64 + 0.5) / n as f64))
+            .collect();
+        assert!(xs.iter().all(|x| (0.15..=0.3).contains(x)));
+        let mean = xs.iter().sum::<f64>() / n as f64;
+        assert!((mean - t.expect(|x| x)).abs() < 1e-6, "{mean}");
+        let ln = Distribution::LogNormal {
+            median: 3.0,
+            beta: 0.4,
+        };
+        assert!((ln.sample(0.5) - 3.0).abs() < 1e-14);
+        assert!((ln.sample(normal::cdf(1.0)) - 3.0 * 0.4f64.exp()).abs() < 1e-12);
+        // A truncation deep in the upper tail.
+        let deep = Distribution::Normal {
+            mean: 0.0,
+            sd: 1.0,
+            min: 9.0,
+            max: 10.0,
+        };
+        let x = deep.sample(0.5);
+        assert!(x > 9.0 && x < 9.2, "{x}");
+    }
 
     #[test]
     fn expectations_match_closed_forms() {

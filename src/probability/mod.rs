@@ -3,6 +3,7 @@
 //! Pure functions, no I/O.
 
 pub mod distribution;
+pub mod fragility;
 pub mod hazard;
 pub mod normal;
 pub mod survival;

@@ -27,9 +27,53 @@ pub fn pdf(z: f64) -> f64 {
     (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt()
 }
 
+/// Φ⁻¹(p) for 0 < p < 1: Newton (Halley) steps on Φ from a tail-aware
+/// start, on the side of the smaller tail, to full precision.
+pub fn quantile(p: f64) -> f64 {
+    if p <= 0.0 {
+        return f64::NEG_INFINITY;
+    }
+    if p >= 1.0 {
+        return f64::INFINITY;
+    }
+    // Solve on the lower tail: q = min(p, 1 − p), z ≤ 0, then mirror.
+    let (q, sign) = if p < 0.5 { (p, -1.0) } else { (1.0 - p, 1.0) };
+    // Start: the tail's asymptote (Abramowitz & Stegun 26.2.23).
+    let t = (-2.0 * q.ln()).sqrt();
+    let mut z = -(t
+        - (2.515_517 + 0.802_853 * t + 0.010_328 * t * t)
+            / (1.0 + 1.432_788 * t + 0.189_269 * t * t + 0.001_308 * t * t * t));
+    for _ in 0..6 {
+        let f = cdf(z) - q;
+        let d = pdf(z);
+        if d == 0.0 {
+            break;
+        }
+        // Halley: Φ'' = −zφ.
+        let step = f / d;
+        let dz = step / (1.0 + 0.5 * z * step);
+        z -= dz;
+        if dz.abs() <= 1e-15 * z.abs().max(1e-300) {
+            break;
+        }
+    }
+    sign * -z
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_quantile_inverts_the_cdf() {
+        assert!((quantile(0.975) - 1.959_963_984_540_054).abs() < 1e-14);
+        assert!(quantile(0.5).abs() < 1e-15);
+        for p in [1e-300, 1e-20, 1e-8, 0.01, 0.3, 0.7, 0.99, 1.0 - 1e-12] {
+            let z = quantile(p);
+            let back = if p < 0.5 { cdf(z) } else { 1.0 - sf(z) };
+            assert!((back / p - 1.0).abs() < 1e-12, "{p}: {z} → {back}");
+        }
+    }
 
     #[test]
     fn known_values_and_tails() {

@@ -45,6 +45,13 @@ export function summary(view: S["JobView"]): string {
       const pga: number = r.record.pga_g;
       return `${r_m} ${min} ${pga} ${size.transitions[0]?.scale}`;
     }
+    case "fragility": {
+      const stripe = r.stripes[0];
+      const p: number = stripe.p;
+      const lo: number = stripe.interval_95[0];
+      const median: number | undefined = r.lognormal?.median;
+      return `${p} ${lo} ${median} ${r.monotone}`;
+    }
     case "survival": {
       const rate: number = r.rocks[0].annual_toppling_rate;
       const ps: number | undefined = r.ages?.[0]?.survival_probability;

@@ -45,6 +45,8 @@ FOR = {"kind": "forensic", "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.
        "pga_g": {"from": 0.1, "to": 1.0}}
 SU = {"kind": "survival", "hazard": {"im": "pga_g", "points": [[0.1, 1e-2], [1.0, 1e-5]]},
       "fragility": {"median_g": 0.4, "beta": 0.3}, "age_years": [1000, 10000]}
+FG = {"kind": "fragility", "block": {"alpha": {"dist": "uniform", "min": 0.15, "max": 0.25}, "p": 2.0},
+      "pulse": {"type": "one_sine", "frequency_hz": 0.8}, "stripes": [0.2, 0.3], "samples": 20, "seed": 3}
 RS = {"kind": "record_spectrum", "block": {"alpha": 0.2},
       "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.4, -0.3, 0.0]},
       "R_m": [0.5, 1.0], "scale": {"to": 3.0}}
@@ -187,6 +189,14 @@ BAD = [
      "/scale/to"),
     ("forensic record tolerance = 0", edit(FOR, tolerance=0.0), "/tolerance"),
     ("forensic record without unit", edit(FOR, ground_motion__unit=DELETE), "/ground_motion/unit"),
+    ("fragility without block", edit(FG, block=DELETE), "/block"),
+    ("fragility a pulse and records", edit(FG, ground_motions=[{"dt": 0.01, "acc": [0.0, 0.1], "unit": "g"}]),
+     "/ground_motions"),
+    ("fragility two frequencies", edit(FG, pulse__omega_p=5.0), "/pulse/frequency_hz"),
+    ("fragility without stripes", edit(FG, stripes=DELETE), "/stripes"),
+    ("fragility samples = 0", edit(FG, samples=0), "/samples"),
+    ("fragility unknown distribution", edit(FG, block__p={"dist": "gamma"}), "/block/p/dist"),
+    ("fragility unknown im", edit(FG, im="sa_g"), "/im"),
     ("survival without hazard", edit(SU, hazard=DELETE), "/hazard"),
     ("survival with a fragility and rocks", edit(SU, rocks=[{"fragility": {"median_g": 0.4, "beta": 0.3},
                                                              "age_years": 1000}]), "/fragility"),
@@ -224,6 +234,8 @@ SERVER_ONLY = [
     ("scan step below the tolerance", edit(SP, tolerance=0.05, scan_step_alpha_g=0.01),
      "/scan_step_alpha_g"),
     ("forensic amplitude to <= from", edit(FO, a_p_g={"from": 0.5, "to": 0.5}), "/a_p_g"),
+    ("fragility normal alpha without truncation",
+     edit(FG, block__alpha={"dist": "normal", "mean": 0.2, "sd": 0.05}), "/block/alpha/min"),
     ("survival rates rising", edit(SU, hazard__points=[[0.1, 1e-3], [1.0, 1e-2]]),
      "/hazard/points/1"),
     ("forensic record of zeros", edit(FOR, ground_motion__acc=[0.0, 0.0]), "/ground_motion/acc"),
@@ -260,6 +272,12 @@ GOOD = [
     ("record spectrum", RS),
     ("forensic on a record", FOR),
     ("survival", SU),
+    ("fragility", FG),
+    ("fragility by geometry on records, in PGV", edit(FG, block={"b": {"dist": "lognormal", "median": 0.5, "beta": 0.1},
+                                                                 "h": 1.5, "eta": 0.9},
+                                                       pulse=DELETE, im="pgv_m_s",
+                                                       ground_motions=[{"name": "a", "dt": 0.01, "unit": "g",
+                                                                        "acc": [0.0, 0.3, -0.2, 0.0]}])),
     ("survival of two rocks, an uncertain age", edit(SU, fragility=DELETE, age_years=DELETE, rocks=[
         {"name": "a", "fragility": {"median_g": 0.4, "beta": 0.3}, "age_years": 1000},
         {"fragility": {"median": 0.5, "beta": 0.0},

@@ -64,7 +64,8 @@ def main():
     by_kind = {k: validator(description, n) for k, n in [
         ("time_history", "TimeHistoryResult"), ("spectrum", "SpectrumResult"),
         ("friction_spectrum", "FrictionSpectrumResult"), ("forensic", "ForensicResult"),
-        ("record_spectrum", "RecordSpectrumResult"), ("survival", "SurvivalResult")]}
+        ("record_spectrum", "RecordSpectrumResult"), ("survival", "SurvivalResult"),
+        ("fragility", "FragilityResult")]}
     cases = [(os.path.basename(p), json.load(open(p)))
              for p in sorted(glob.glob(os.path.join(ROOT, "specs", "*.json")))] + EXTRA
     passed = failed = 0
@@ -102,6 +103,8 @@ def main():
         ("record_spectrum", lambda d: d["record"].__delitem__("pga_g")),
         ("forensic", lambda d: d.__setitem__("excitation", "record")),
         ("survival", lambda d: d["rocks"][0].__setitem__("annual_toppling_rate", "1e-4")),
+        ("fragility", lambda d: d["stripes"][0].__setitem__("overturned", -1.5)),
+        ("fragility", lambda d: d.__setitem__("monotone", "no")),
         ("survival", lambda d: d["ages"][0].__delitem__("survival_probability")),
         ("forensic", lambda d: d.__setitem__("consistent_scale", [["0.5", 1.0]])),
         ("forensic", lambda d: d.__setitem__("per_observation", [{"name": "x"}])),

@@ -855,6 +855,7 @@ fn strict_result(job: &Job) -> Option<Result<String, serde_json::Error>> {
         Job::Forensic(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
         Job::RecordSpectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
         Job::Survival(j) => Some(serde_jcs::to_string(&j.run())),
+        Job::Fragility(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
     }
 }
 

@@ -7,6 +7,7 @@ mod exact_vs_numerical;
 mod extremes;
 mod forensic;
 mod forensic_record;
+mod fragility;
 mod fuzz;
 mod ground_motion;
 mod paper;

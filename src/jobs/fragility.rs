@@ -1,0 +1,930 @@
+//! The `fragility` job: the probability that a block topples at each of
+//! several intensity levels (stripes), by Monte Carlo over uncertain geometry
+//! and pulse frequency (or over a suite of records), each simulation decided
+//! exactly (events located, overturning from the separatrix); then the
+//! lognormal fragility fitted to the stripes by maximum likelihood (Baker
+//! 2015), with a bootstrap band.
+//!
+//! Reproducible whatever the split: stripe k's samples come in chunks of
+//! [`CHUNK`], chunk c drawing from its own ChaCha8 stream seeded by (seed, k,
+//! c); sample j of a chunk always takes the same four uniforms (α or b, p or
+//! h, η, frequency), so a result depends on the spec only.
+
+use rand_chacha::ChaCha8Rng;
+use rand_chacha::rand_core::{Rng, SeedableRng};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+use super::JobError;
+use super::distribution::{DistributionNorm, DistributionSpec};
+use super::range::RangeSpec;
+use super::spec::{
+    BlockNorm, GroundMotionNorm, GroundMotionSpec, PulseSpec, SolverNorm, SolverSpec, SpecError,
+    parse_formulation, parse_shape, validate_ground_motion,
+};
+use super::spectrum::PulseFamily;
+use crate::dynamics::block::housner_restitution;
+use crate::dynamics::{Block, Formulation, Options, Problem, Pulse, Record, simulate};
+use crate::probability::fragility::{Stripe, fit_lognormal, log_likelihood, wilson};
+use crate::probability::normal;
+use crate::spectrum::Control;
+
+/// Samples per chunk: the unit of seeding (and of a task's work).
+pub const CHUNK: usize = 64;
+/// Most samples per stripe.
+pub const MAX_SAMPLES: u32 = 100_000;
+/// Most stripes.
+pub const MAX_STRIPES: usize = 200;
+/// Most records in a suite.
+pub const MAX_MOTIONS: usize = 100;
+/// Bootstrap replicates of the fit.
+pub const BOOTSTRAP: usize = 200;
+/// The 95 % normal quantile.
+const Z95: f64 = 1.959_963_984_540_054;
+
+/// A number, or a distribution of it.
+#[derive(Deserialize, utoipa::ToSchema)]
+#[serde(untagged)]
+#[allow(dead_code)]
+pub enum UncertainInput {
+    /// A fixed value.
+    Fixed(f64),
+    /// A distribution.
+    Distribution(DistributionSpec),
+}
+
+/// A value, or its distribution, normalised.
+#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(untagged)]
+pub enum UncertainNorm {
+    /// Fixed.
+    Fixed(f64),
+    /// Distributed.
+    Distribution(DistributionNorm),
+}
+
+impl UncertainNorm {
+    /// The value at probability `u`.
+    fn at(&self, u: f64) -> f64 {
+        match self {
+            UncertainNorm::Fixed(x) => *x,
+            UncertainNorm::Distribution(d) => d.distribution().sample(u),
+        }
+    }
+}
+
+/// The block as users write it: each of α, p, η (or b, h, η) a number or a distribution.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct UncertainBlockSpec {
+    /// Slenderness α, rad.
+    #[schema(value_type = Option<UncertainInput>)]
+    pub alpha: Option<Value>,
+    /// Frequency parameter p, rad/s.
+    #[schema(value_type = Option<UncertainInput>)]
+    pub p: Option<Value>,
+    /// Half-width b, m (with h, instead of α and p).
+    #[schema(value_type = Option<UncertainInput>)]
+    pub b: Option<Value>,
+    /// Half-height h, m.
+    #[schema(value_type = Option<UncertainInput>)]
+    pub h: Option<Value>,
+    /// Restitution η (default 1 − 1.5 sin²α of each sample).
+    #[schema(value_type = Option<UncertainInput>)]
+    pub eta: Option<Value>,
+    /// Gravity, m/s² (default 9.81).
+    #[schema(exclusive_minimum = 0.0)]
+    pub g: Option<f64>,
+}
+
+/// The pulse family as users write it: its type and parameters, the frequency
+/// a number or a distribution; the amplitude is the stripe's.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct UncertainPulseSpec {
+    /// Pulse type, as for time histories.
+    #[serde(rename = "type")]
+    #[schema(required = true, value_type = crate::jobs::schema::PulseTypeInput)]
+    pub kind: Option<String>,
+    /// Cycles (cn).
+    pub n: Option<u32>,
+    /// Ricker: symmetric (default) or antisymmetric.
+    pub symmetric: Option<bool>,
+    /// Mavroeidis–Papageorgiou γ.
+    pub gamma: Option<f64>,
+    /// Mavroeidis–Papageorgiou ν, rad.
+    pub nu: Option<f64>,
+    /// ω_p, rad/s.
+    #[schema(value_type = Option<UncertainInput>)]
+    pub omega_p: Option<Value>,
+    /// f_p, Hz.
+    #[schema(value_type = Option<UncertainInput>)]
+    pub frequency_hz: Option<Value>,
+    /// ω_p/p (of each sample's block).
+    #[schema(value_type = Option<UncertainInput>)]
+    pub omega_ratio: Option<Value>,
+}
+
+/// A record of a suite.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NamedMotionSpec {
+    /// Its name.
+    pub name: Option<String>,
+    /// Sampling interval, s.
+    #[schema(required = true, value_type = f64)]
+    pub dt: Option<f64>,
+    /// Accelerations.
+    #[schema(required = true, value_type = Vec<f64>)]
+    pub acc: Option<Vec<f64>>,
+    /// "g" | "m/s2".
+    #[schema(required = true, value_type = crate::jobs::schema::UnitInput)]
+    pub unit: Option<String>,
+}
+
+/// The spec as users write it.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FragilitySpec {
+    /// "fragility".
+    #[schema(value_type = crate::jobs::schema::FragilityKind)]
+    pub kind: String,
+    /// The block (uncertain).
+    #[schema(required = true, value_type = UncertainBlockSpec)]
+    pub block: Option<UncertainBlockSpec>,
+    /// A pulse family with its (uncertain) frequency; or give `ground_motions`.
+    pub pulse: Option<UncertainPulseSpec>,
+    /// A suite of records, each scaled to the stripe's intensity; sample j
+    /// of a stripe takes record j mod N.
+    #[schema(max_items = 100)]
+    pub ground_motions: Option<Vec<NamedMotionSpec>>,
+    /// "linear" | "nonlinear" (default).
+    #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
+    pub formulation: Option<String>,
+    /// The intensity measure: "pga_g" (default) or "pgv_m_s".
+    #[schema(value_type = Option<crate::jobs::survival::ImName>)]
+    pub im: Option<String>,
+    /// Intensity levels: a list or `{"from", "to", "steps"}` (at most 200).
+    #[schema(required = true, value_type = RangeSpec)]
+    pub stripes: Option<RangeSpec>,
+    /// Simulations per stripe (default 200, at most 100,000).
+    #[schema(minimum = 1, maximum = 100000)]
+    pub samples: Option<u32>,
+    /// Seed of the random streams (default 1; part of the cache key).
+    pub seed: Option<u64>,
+    /// Solver.
+    pub solver: Option<SolverSpec>,
+}
+
+/// The block, normalised.
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+pub struct UncertainBlockNorm {
+    /// α (with p), rad.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<UncertainNorm>,
+    /// p, rad/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p: Option<UncertainNorm>,
+    /// b (with h), m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub b: Option<UncertainNorm>,
+    /// h, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h: Option<UncertainNorm>,
+    /// η (absent: each sample's 1 − 1.5 sin²α).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub eta: Option<UncertainNorm>,
+    /// g, m/s².
+    pub g: f64,
+}
+
+/// The pulse, normalised.
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+pub struct UncertainPulseNorm {
+    /// The family.
+    #[serde(flatten)]
+    pub family: PulseFamily,
+    /// ω_p, rad/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub omega_p: Option<UncertainNorm>,
+    /// ω_p/p.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub omega_ratio: Option<UncertainNorm>,
+}
+
+/// A record of the suite, normalised.
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+pub struct NamedMotionNorm {
+    /// Its name.
+    pub name: String,
+    /// The record.
+    #[serde(flatten)]
+    pub motion: GroundMotionNorm,
+}
+
+/// A validated fragility job; serialises to the canonical spec.
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+pub struct FragilityJob {
+    /// "fragility".
+    #[schema(value_type = crate::jobs::schema::FragilityKind)]
+    pub kind: &'static str,
+    /// The block.
+    pub block: UncertainBlockNorm,
+    /// The pulse family.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pulse: Option<UncertainPulseNorm>,
+    /// The suite.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ground_motions: Option<Vec<NamedMotionNorm>>,
+    /// "linear" | "nonlinear".
+    #[schema(value_type = crate::jobs::schema::FormulationName)]
+    pub formulation: &'static str,
+    /// "pga_g" | "pgv_m_s".
+    #[schema(value_type = crate::jobs::survival::ImName)]
+    pub im: &'static str,
+    /// Intensity levels.
+    pub stripes: Vec<f64>,
+    /// Simulations per stripe.
+    pub samples: u32,
+    /// Seed.
+    pub seed: u64,
+    /// Solver.
+    pub solver: SolverNorm,
+}
+
+fn uncertain(
+    v: Option<&Value>,
+    at: &str,
+    range: (f64, f64),
+    open_lo: bool,
+    what: &str,
+) -> Result<Option<UncertainNorm>, SpecError> {
+    match v {
+        None | Some(Value::Null) => Ok(None),
+        Some(Value::Number(n)) => {
+            let x = n.as_f64().unwrap_or(f64::NAN);
+            let inside = (if open_lo { x > range.0 } else { x >= range.0 }) && x <= range.1;
+            if x.is_finite() && inside {
+                Ok(Some(UncertainNorm::Fixed(x)))
+            } else {
+                Err(SpecError::at(
+                    at,
+                    format!(
+                        "{what} must lie in {}{}, {}] (got {x})",
+                        if open_lo { "(" } else { "[" },
+                        range.0,
+                        range.1
+                    ),
+                ))
+            }
+        }
+        Some(obj @ Value::Object(_)) => {
+            let d: DistributionSpec = super::spec::from_value(obj, at)?;
+            Ok(Some(UncertainNorm::Distribution(
+                d.validate(at, range, open_lo, what)?,
+            )))
+        }
+        Some(_) => Err(SpecError::at(
+            at,
+            "must be a number or a distribution {\"dist\", …}",
+        )),
+    }
+}
+
+impl FragilitySpec {
+    /// Validates into a runnable job.
+    pub fn validate(&self) -> Result<FragilityJob, SpecError> {
+        let b = self
+            .block
+            .as_ref()
+            .ok_or_else(|| SpecError::at("/block", "missing field"))?;
+        let g = b.g.unwrap_or(9.81);
+        if !(g.is_finite() && g > 0.0) {
+            return Err(SpecError::at("/block/g", "must be a finite number > 0"));
+        }
+        let block = UncertainBlockNorm {
+            alpha: uncertain(
+                b.alpha.as_ref(),
+                "/block/alpha",
+                (0.0, std::f64::consts::FRAC_PI_2 - 1e-9),
+                true,
+                "α (rad)",
+            )?,
+            p: uncertain(
+                b.p.as_ref(),
+                "/block/p",
+                (0.0, f64::INFINITY),
+                true,
+                "p (rad/s)",
+            )?,
+            b: uncertain(
+                b.b.as_ref(),
+                "/block/b",
+                (0.0, f64::INFINITY),
+                true,
+                "b (m)",
+            )?,
+            h: uncertain(
+                b.h.as_ref(),
+                "/block/h",
+                (0.0, f64::INFINITY),
+                true,
+                "h (m)",
+            )?,
+            eta: uncertain(b.eta.as_ref(), "/block/eta", (0.0, 1.0), false, "η")?,
+            g,
+        };
+        match (&block.alpha, &block.p, &block.b, &block.h) {
+            (Some(_), Some(_), None, None) | (None, None, Some(_), Some(_)) => {}
+            (Some(_), _, Some(_), _) | (Some(_), _, _, Some(_)) | (_, Some(_), Some(_), _) => {
+                return Err(SpecError::at(
+                    "/block",
+                    "give α and p, or b and h, not both",
+                ));
+            }
+            (Some(_), None, _, _) => return Err(SpecError::at("/block/p", "missing field")),
+            (None, Some(_), _, _) => return Err(SpecError::at("/block/alpha", "missing field")),
+            (_, _, Some(_), None) => return Err(SpecError::at("/block/h", "missing field")),
+            (_, _, None, Some(_)) => return Err(SpecError::at("/block/b", "missing field")),
+            _ => {
+                return Err(SpecError::at(
+                    "/block",
+                    "missing field: α and p, or b and h (each a number or a distribution)",
+                ));
+            }
+        }
+        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let (pulse, ground_motions, closed_form) = match (&self.pulse, &self.ground_motions) {
+            (Some(_), Some(_)) => {
+                return Err(SpecError::at(
+                    "/ground_motions",
+                    "give a pulse family or ground_motions, not both",
+                ));
+            }
+            (None, None) => {
+                return Err(SpecError::at(
+                    "/pulse",
+                    "missing field: a pulse family {\"type\", \"omega_p\" | \"frequency_hz\" | \"omega_ratio\"} or ground_motions [{\"dt\", \"acc\", \"unit\"}, …]",
+                ));
+            }
+            (Some(p), None) => {
+                let shape = parse_shape(
+                    &PulseSpec {
+                        kind: p.kind.clone(),
+                        n: p.n,
+                        symmetric: p.symmetric,
+                        gamma: p.gamma,
+                        nu: p.nu,
+                        ..PulseSpec::default()
+                    },
+                    "/pulse",
+                )?;
+                let given: Vec<(&str, &Value)> = [
+                    ("omega_p", p.omega_p.as_ref()),
+                    ("frequency_hz", p.frequency_hz.as_ref()),
+                    ("omega_ratio", p.omega_ratio.as_ref()),
+                ]
+                .into_iter()
+                .filter_map(|(n, v)| v.filter(|v| !v.is_null()).map(|v| (n, v)))
+                .collect();
+                let (name, value) = match given.as_slice() {
+                    [one] => *one,
+                    [] => {
+                        return Err(SpecError::at(
+                            "/pulse/omega_p",
+                            "missing field: the pulse frequency as omega_p (rad/s), frequency_hz or omega_ratio, a number or a distribution",
+                        ));
+                    }
+                    [_, second, ..] => {
+                        return Err(SpecError::at(
+                            format!("/pulse/{}", second.0),
+                            "give exactly one frequency (omega_p, frequency_hz, omega_ratio), not several",
+                        ));
+                    }
+                };
+                let at = format!("/pulse/{name}");
+                let v = uncertain(Some(value), &at, (0.0, f64::INFINITY), true, name)?;
+                let scale = if name == "frequency_hz" {
+                    std::f64::consts::TAU
+                } else {
+                    1.0
+                };
+                let v = v.map(|u| match u {
+                    UncertainNorm::Fixed(x) => UncertainNorm::Fixed(x * scale),
+                    UncertainNorm::Distribution(d) if scale == 1.0 => {
+                        UncertainNorm::Distribution(d)
+                    }
+                    UncertainNorm::Distribution(d) => UncertainNorm::Distribution(scaled(d, scale)),
+                });
+                let (omega_p, omega_ratio) = if name == "omega_ratio" {
+                    (None, v)
+                } else {
+                    (v, None)
+                };
+                (
+                    Some(UncertainPulseNorm {
+                        family: PulseFamily::of(shape),
+                        omega_p,
+                        omega_ratio,
+                    }),
+                    None,
+                    shape.is_sinusoidal(),
+                )
+            }
+            (None, Some(list)) => {
+                if list.is_empty() || list.len() > MAX_MOTIONS {
+                    return Err(SpecError::at(
+                        "/ground_motions",
+                        format!("give 1 to {MAX_MOTIONS} records"),
+                    ));
+                }
+                let nominal = BlockNorm {
+                    alpha: 1.0,
+                    p: 1.0,
+                    eta: 0.0,
+                    mu: None,
+                    g,
+                };
+                let motions = list
+                    .iter()
+                    .enumerate()
+                    .map(|(i, m)| {
+                        let at = format!("/ground_motions/{i}");
+                        let (motion, _) = validate_ground_motion(
+                            &GroundMotionSpec {
+                                dt: m.dt,
+                                acc: m.acc.clone(),
+                                unit: m.unit.clone(),
+                            },
+                            &nominal,
+                            &at,
+                        )?;
+                        if motion.acc.iter().all(|a| *a == 0.0) {
+                            return Err(SpecError::at(
+                                format!("{at}/acc"),
+                                "the record has no motion (every sample is 0)",
+                            ));
+                        }
+                        Ok(NamedMotionNorm {
+                            name: m
+                                .name
+                                .clone()
+                                .filter(|n| !n.trim().is_empty())
+                                .unwrap_or_else(|| format!("record {}", i + 1)),
+                            motion,
+                        })
+                    })
+                    .collect::<Result<Vec<_>, SpecError>>()?;
+                (None, Some(motions), true)
+            }
+        };
+        let solver = super::spec::validate_solver_for(
+            self.solver.as_ref(),
+            formulation,
+            closed_form,
+            "/solver",
+        )?;
+        let im = match self.im.as_deref() {
+            None | Some("pga_g") => "pga_g",
+            Some("pgv_m_s") => "pgv_m_s",
+            Some(other) => {
+                return Err(SpecError::at(
+                    "/im",
+                    format!("unknown intensity measure {other:?}: expected pga_g | pgv_m_s"),
+                ));
+            }
+        };
+        let stripes = self
+            .stripes
+            .as_ref()
+            .ok_or_else(|| {
+                SpecError::at(
+                    "/stripes",
+                    "missing field: the intensity levels, a list or {\"from\", \"to\", \"steps\"}",
+                )
+            })?
+            .values("/stripes", 0.0, 100.0, MAX_STRIPES)?;
+        if let Some((k, bad)) = stripes
+            .iter()
+            .enumerate()
+            .find(|(_, x)| x.partial_cmp(&&0.0) != Some(std::cmp::Ordering::Greater))
+        {
+            return Err(SpecError::at(
+                format!("/stripes/{k}"),
+                format!("an intensity must be > 0 (got {bad})"),
+            ));
+        }
+        let samples = self.samples.unwrap_or(200);
+        if !(1..=MAX_SAMPLES).contains(&samples) {
+            return Err(SpecError::at(
+                "/samples",
+                format!("must lie in [1, {MAX_SAMPLES}]"),
+            ));
+        }
+        Ok(FragilityJob {
+            kind: "fragility",
+            block,
+            pulse,
+            ground_motions,
+            formulation: formulation.name(),
+            im,
+            stripes,
+            samples,
+            seed: self.seed.unwrap_or(1),
+            solver,
+        })
+    }
+}
+
+/// `d` with its values multiplied by `s` > 0.
+fn scaled(d: DistributionNorm, s: f64) -> DistributionNorm {
+    match d {
+        DistributionNorm::Normal { mean, sd, min, max } => DistributionNorm::Normal {
+            mean: mean * s,
+            sd: sd * s,
+            min: min.map(|m| m * s),
+            max: max.map(|m| m * s),
+        },
+        DistributionNorm::Lognormal { median, beta } => DistributionNorm::Lognormal {
+            median: median * s,
+            beta,
+        },
+        DistributionNorm::Uniform { min, max } => DistributionNorm::Uniform {
+            min: min * s,
+            max: max * s,
+        },
+    }
+}
+
+/// One stripe's counts.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct StripeResult {
+    /// Intensity (g or m/s).
+    pub im: f64,
+    /// Simulations.
+    pub n: u64,
+    /// How many toppled.
+    pub overturned: u64,
+    /// overturned / n.
+    pub p: f64,
+    /// 95 % Wilson score interval of p.
+    pub interval_95: [f64; 2],
+    /// Topplings after at least one impact (mode 1).
+    pub mode_1: u64,
+    /// Topplings without impact (mode 2).
+    pub mode_2: u64,
+}
+
+/// A point of the fitted curve and its bootstrap band.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct CurvePoint {
+    /// Intensity.
+    pub im: f64,
+    /// Φ(ln(im/θ)/β).
+    pub p: f64,
+    /// 2.5 % of the bootstrap curves there.
+    pub lo: f64,
+    /// 97.5 % of the bootstrap curves there.
+    pub hi: f64,
+}
+
+/// The lognormal fragility fitted to the stripes.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct LognormalFit {
+    /// Median θ (g or m/s).
+    pub median: f64,
+    /// Dispersion β.
+    pub beta: f64,
+    /// 95 % bootstrap interval of θ.
+    pub median_interval_95: [f64; 2],
+    /// 95 % bootstrap interval of β.
+    pub beta_interval_95: [f64; 2],
+    /// ln L at the fit.
+    pub log_likelihood: f64,
+    /// The fitted curve with its 95 % bootstrap band.
+    pub curve: Vec<CurvePoint>,
+}
+
+/// Cost.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct FragilityNumerics {
+    /// Solver method.
+    pub method: String,
+    /// Simulations run.
+    pub simulations: u64,
+    /// Simulations per second (all cores).
+    pub simulations_per_second: f64,
+    /// Wall time, s.
+    pub wall_time_s: f64,
+    /// Bootstrap replicates of the fit.
+    pub bootstrap: usize,
+}
+
+/// The result document.
+#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+pub struct FragilityResult {
+    /// "fragility".
+    #[schema(value_type = crate::jobs::schema::FragilityKind)]
+    pub kind: &'static str,
+    /// The intensity measure.
+    #[schema(value_type = crate::jobs::survival::ImName)]
+    pub im: &'static str,
+    /// One entry per stripe, in the order of `spec.stripes`: the empirical
+    /// fragility, the primary answer.
+    pub stripes: Vec<StripeResult>,
+    /// "wilson": the score interval at 95 %.
+    pub interval_method: String,
+    /// Whether the empirical probabilities never fall as the intensity rises
+    /// (safe regions make a fall real).
+    pub monotone: bool,
+    /// Intensities whose probability is below the previous stripe's.
+    pub falls_at: Vec<f64>,
+    /// The maximum-likelihood lognormal fragility (null when the counts do
+    /// not bound it: every stripe all standing or all toppled, or a step
+    /// without spread).
+    #[schema(required = true)]
+    pub lognormal: Option<LognormalFit>,
+    /// Cost.
+    pub numerics: FragilityNumerics,
+    /// The normalised spec.
+    pub spec: FragilityJob,
+}
+
+/// The ChaCha8 stream of stripe `k`, chunk `c`.
+fn stream(seed: u64, k: usize, c: usize) -> ChaCha8Rng {
+    // SplitMix64 of the three, so that neighbouring chunks get unrelated seeds.
+    let mut x = seed
+        ^ (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (c as u64).wrapping_mul(0xD1B5_4A32_D192_ED03);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    ChaCha8Rng::seed_from_u64(x ^ (x >> 31))
+}
+
+/// A uniform in (0, 1).
+fn uniform(rng: &mut ChaCha8Rng) -> f64 {
+    ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+}
+
+/// What one chunk counted: (toppled, mode 1, mode 2).
+type Counts = (u64, u64, u64);
+
+impl FragilityJob {
+    fn formulation(&self) -> Formulation {
+        if self.formulation == "linear" {
+            Formulation::Linear
+        } else {
+            Formulation::Nonlinear
+        }
+    }
+
+    /// The block of one sample from its uniforms.
+    fn block_at(&self, u: [f64; 3]) -> Result<Block, String> {
+        let b = &self.block;
+        let (alpha, p) = match (&b.alpha, &b.p, &b.b, &b.h) {
+            (Some(a), Some(p), _, _) => (a.at(u[0]), p.at(u[1])),
+            (_, _, Some(bb), Some(hh)) => {
+                let (half_b, half_h) = (bb.at(u[0]), hh.at(u[1]));
+                let r = half_b.hypot(half_h);
+                ((half_b / half_h).atan(), (3.0 * b.g / (4.0 * r)).sqrt())
+            }
+            _ => return Err("the block has neither α and p nor b and h".into()),
+        };
+        let eta = b
+            .eta
+            .map_or_else(|| housner_restitution(alpha), |e| e.at(u[2]));
+        Block::new(alpha, p, Some(eta), None, Some(b.g)).map_err(|e| e.to_string())
+    }
+
+    /// Whether one sample topples, and its mode.
+    fn sample(
+        &self,
+        im: f64,
+        j: usize,
+        u: [f64; 4],
+        records: &[(Record, f64)],
+    ) -> Result<Option<u8>, String> {
+        let block = self.block_at([u[0], u[1], u[2]])?;
+        let options = Options::outcome(self.solver.solver());
+        let formulation = self.formulation();
+        let r = if let Some(pulse) = &self.pulse {
+            let omega = match (&pulse.omega_p, &pulse.omega_ratio) {
+                (Some(w), _) => w.at(u[3]),
+                (_, Some(ratio)) => ratio.at(u[3]) * block.frequency_parameter,
+                _ => return Err("the pulse has no frequency".into()),
+            };
+            let unit = Pulse::new(pulse.family.shape(), 1.0, omega).map_err(|e| e.to_string())?;
+            let a_p = if self.im == "pga_g" {
+                im * block.gravity
+            } else {
+                im / unit.peak_velocity()
+            };
+            let problem = Problem {
+                block,
+                pulse: unit.with_amplitude(a_p),
+                formulation,
+            };
+            simulate(&problem, &options).map_err(|e| e.to_string())?
+        } else {
+            let (record, per_unit) = &records[j % records.len()];
+            let factor = if self.im == "pga_g" {
+                im * block.gravity / per_unit
+            } else {
+                im / per_unit
+            };
+            let problem = Problem {
+                block,
+                pulse: record.scaled(factor),
+                formulation,
+            };
+            simulate(&problem, &options).map_err(|e| e.to_string())?
+        };
+        Ok(r.overturned.then(|| r.mode.map_or(0, |m| m.number())))
+    }
+
+    /// Runs the Monte Carlo and the fit (rayon over chunks).
+    pub fn run(&self, control: &Control) -> Result<FragilityResult, JobError> {
+        let started = std::time::Instant::now();
+        let samples = self.samples as usize;
+        let chunks = samples.div_ceil(CHUNK);
+        // Each record with its PGA (m/s²) or PGV (m/s): what one unit of scale gives.
+        let records: Vec<(Record, f64)> = self
+            .ground_motions
+            .iter()
+            .flatten()
+            .filter_map(|m| {
+                let record = m.motion.record().ok()?;
+                let peaks = crate::dynamics::peaks::of_record(&record);
+                let per_unit = if self.im == "pga_g" {
+                    peaks.pga
+                } else {
+                    peaks.pgv
+                };
+                (per_unit > 0.0).then_some((record, per_unit))
+            })
+            .collect();
+        control.add_total((self.stripes.len() * samples) as u64);
+        let tasks: Vec<(usize, usize)> = (0..self.stripes.len())
+            .flat_map(|k| (0..chunks).map(move |c| (k, c)))
+            .collect();
+        let counted: Vec<Result<(usize, Counts), JobError>> = tasks
+            .par_iter()
+            .map(|&(k, c)| {
+                let mut rng = stream(self.seed, k, c);
+                let mut counts = (0, 0, 0);
+                for j in c * CHUNK..((c + 1) * CHUNK).min(samples) {
+                    control.check().map_err(|_| JobError::Canceled)?;
+                    let u = [
+                        uniform(&mut rng),
+                        uniform(&mut rng),
+                        uniform(&mut rng),
+                        uniform(&mut rng),
+                    ];
+                    let outcome = self.sample(self.stripes[k], j, u, &records).map_err(|e| {
+                        JobError::Point(format!(
+                            "stripe {k} ({} {}), sample {j}: {e}",
+                            self.stripes[k], self.im
+                        ))
+                    })?;
+                    if let Some(mode) = outcome {
+                        counts.0 += 1;
+                        if mode == 2 {
+                            counts.2 += 1;
+                        } else {
+                            counts.1 += 1;
+                        }
+                    }
+                    control.add_done(1);
+                }
+                Ok((k, counts))
+            })
+            .collect();
+        let mut per_stripe = vec![(0u64, 0u64, 0u64); self.stripes.len()];
+        for r in counted {
+            let (k, (t, m1, m2)) = r?;
+            per_stripe[k].0 += t;
+            per_stripe[k].1 += m1;
+            per_stripe[k].2 += m2;
+        }
+        let n = samples as u64;
+        let stripes: Vec<StripeResult> = self
+            .stripes
+            .iter()
+            .zip(&per_stripe)
+            .map(|(&im, &(k, m1, m2))| {
+                let (lo, hi) = wilson(k, n, Z95);
+                StripeResult {
+                    im,
+                    n,
+                    overturned: k,
+                    p: k as f64 / n as f64,
+                    interval_95: [lo, hi],
+                    mode_1: m1,
+                    mode_2: m2,
+                }
+            })
+            .collect();
+        // Monotone in rising intensity.
+        let mut order: Vec<&StripeResult> = stripes.iter().collect();
+        order.sort_by(|a, b| a.im.total_cmp(&b.im));
+        let falls_at: Vec<f64> = order
+            .windows(2)
+            .filter(|w| w[1].p < w[0].p)
+            .map(|w| w[1].im)
+            .collect();
+        let counts: Vec<Stripe> = stripes
+            .iter()
+            .map(|s| Stripe {
+                im: s.im,
+                n: s.n,
+                k: s.overturned,
+            })
+            .collect();
+        let lognormal = fit_lognormal(&counts).map(|(theta, beta)| self.band(theta, beta, &counts));
+        let wall = started.elapsed().as_secs_f64();
+        let simulations = n * self.stripes.len() as u64;
+        Ok(FragilityResult {
+            kind: "fragility",
+            im: self.im,
+            stripes,
+            interval_method: "wilson".into(),
+            monotone: falls_at.is_empty(),
+            falls_at,
+            lognormal,
+            numerics: FragilityNumerics {
+                method: self.solver.method.to_string(),
+                simulations,
+                simulations_per_second: simulations as f64 / wall.max(1e-9),
+                wall_time_s: wall,
+                bootstrap: BOOTSTRAP,
+            },
+            spec: self.clone(),
+        })
+    }
+
+    /// The fit with its parametric bootstrap: each replicate redraws every
+    /// stripe's count from Binomial(n, p̂) (p̂ the fitted curve there) with
+    /// its own seeded stream, and is refitted.
+    fn band(&self, theta: f64, beta: f64, counts: &[Stripe]) -> LognormalFit {
+        let fitted = |x: f64, t: f64, b: f64| normal::cdf((x / t).ln() / b);
+        let fits: Vec<(f64, f64)> = (0..BOOTSTRAP)
+            .into_par_iter()
+            .filter_map(|r| {
+                let mut rng = stream(self.seed ^ 0xB007_57A9, usize::MAX, r);
+                let redrawn: Vec<Stripe> = counts
+                    .iter()
+                    .map(|s| {
+                        let p = fitted(s.im, theta, beta);
+                        let k = if s.n <= 2_000 {
+                            (0..s.n).filter(|_| uniform(&mut rng) < p).count() as u64
+                        } else {
+                            let z = normal::quantile(uniform(&mut rng));
+                            let mean = s.n as f64 * p;
+                            (mean + z * (mean * (1.0 - p)).sqrt())
+                                .round()
+                                .clamp(0.0, s.n as f64) as u64
+                        };
+                        Stripe { k, ..*s }
+                    })
+                    .collect();
+                fit_lognormal(&redrawn)
+            })
+            .collect();
+        let quantiles = |mut v: Vec<f64>| -> [f64; 2] {
+            v.sort_by(f64::total_cmp);
+            if v.is_empty() {
+                return [f64::NAN, f64::NAN];
+            }
+            let at = |q: f64| v[((q * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
+            [at(0.025), at(0.975)]
+        };
+        let (lo, hi) = counts.iter().fold((f64::INFINITY, 0.0f64), |(a, b), s| {
+            (a.min(s.im), b.max(s.im))
+        });
+        let (lo, hi) = (
+            lo.min(theta * (-2.5 * beta).exp()),
+            hi.max(theta * (2.5 * beta).exp()),
+        );
+        let curve = (0..=60)
+            .map(|i| {
+                let x = lo * (hi / lo).powf(f64::from(i) / 60.0);
+                let [a, b] = quantiles(fits.iter().map(|&(t, b)| fitted(x, t, b)).collect());
+                CurvePoint {
+                    im: x,
+                    p: fitted(x, theta, beta),
+                    lo: if a.is_finite() { a } else { 0.0 },
+                    hi: if b.is_finite() { b } else { 1.0 },
+                }
+            })
+            .collect();
+        LognormalFit {
+            median: theta,
+            beta,
+            median_interval_95: quantiles(fits.iter().map(|f| f.0).collect()),
+            beta_interval_95: quantiles(fits.iter().map(|f| f.1).collect()),
+            log_likelihood: log_likelihood(theta, beta, counts),
+            curve,
+        }
+    }
+}
