@@ -490,6 +490,99 @@ pub(crate) async fn finished_result(
     }
 }
 
+/// A survival spec whose fragilities name finished `fragility` jobs
+/// (`{"job": "<id>"}`), rewritten with their lognormal fits (`median`,
+/// `beta`); `None` when the spec names none (or is not a survival spec: its
+/// validation will say what is wrong).
+async fn resolve_fragility_jobs(
+    state: &AppState,
+    tenant: &Tenant,
+    text: &str,
+) -> Result<Option<String>, Problem> {
+    let Ok(mut spec) = serde_json::from_str::<serde_json::Value>(text) else {
+        return Ok(None);
+    };
+    if spec.get("kind").and_then(|k| k.as_str()) != Some("survival") {
+        return Ok(None);
+    }
+    let hazard_im = spec
+        .pointer("/hazard/im")
+        .and_then(|v| v.as_str())
+        .map(str::to_string);
+    let mut pointers = vec!["/fragility".to_string()];
+    let rocks = spec
+        .get("rocks")
+        .and_then(|r| r.as_array())
+        .map_or(0, Vec::len);
+    pointers.extend((0..rocks).map(|i| format!("/rocks/{i}/fragility")));
+    let invalid = |pointer: String, message: String| {
+        Problem::new(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "invalid-spec",
+            "Invalid job spec",
+            format!("{pointer}: {message}"),
+        )
+        .at(pointer)
+    };
+    let mut changed = false;
+    for at in pointers {
+        let Some(id) = spec
+            .pointer(&format!("{at}/job"))
+            .and_then(|v| v.as_str())
+            .map(str::to_string)
+        else {
+            continue;
+        };
+        let pointer = format!("{at}/job");
+        let uuid = Uuid::parse_str(&id)
+            .map_err(|_| invalid(pointer.clone(), format!("{id:?} is not a job id")))?;
+        let found = finished_result(state, tenant, uuid).await.map_err(|p| {
+            invalid(
+                pointer.clone(),
+                format!("job {id} cannot be read: {}", p.detail),
+            )
+        })?;
+        let doc: serde_json::Value = serde_json::from_str(found.body.as_str())
+            .map_err(|e| Problem::internal(e.to_string()))?;
+        if doc.get("kind").and_then(|k| k.as_str()) != Some("fragility") {
+            return Err(invalid(pointer, format!("job {id} is not a fragility job")));
+        }
+        let im = doc.get("im").and_then(|v| v.as_str()).unwrap_or("pga_g");
+        if hazard_im.as_deref().is_some_and(|h| h != im) {
+            return Err(invalid(
+                pointer,
+                format!(
+                    "job {id}'s fragility is in {im}, the hazard in {}",
+                    hazard_im.unwrap_or_default()
+                ),
+            ));
+        }
+        let fit = doc.get("lognormal").filter(|v| !v.is_null()).ok_or_else(|| {
+            invalid(
+                pointer.clone(),
+                format!("job {id} has no lognormal fit (its counts do not bound one): give median and beta"),
+            )
+        })?;
+        let (Some(median), Some(beta)) = (
+            fit.get("median").and_then(|v| v.as_f64()),
+            fit.get("beta").and_then(|v| v.as_f64()),
+        ) else {
+            return Err(Problem::internal(format!(
+                "job {id}'s fit has no median or beta"
+            )));
+        };
+        if let Some(slot) = spec.pointer_mut(&at) {
+            *slot = serde_json::json!({"median": median, "beta": beta});
+            changed = true;
+        }
+    }
+    Ok(if changed {
+        Some(spec.to_string())
+    } else {
+        None
+    })
+}
+
 /// Waits until the tenant's job `id` reaches a final status or `limit` passes.
 async fn wait_for(
     state: &AppState,
@@ -618,6 +711,9 @@ pub async fn create_job(
     let wait = wait_duration(&state, query.wait)?;
     let text = std::str::from_utf8(&body)
         .map_err(|_| Problem::bad_request("invalid-body", "the body is not UTF-8"))?;
+    // A survival spec may name finished fragility jobs: read their fits.
+    let resolved = resolve_fragility_jobs(&state, &tenant, text).await?;
+    let text = resolved.as_deref().unwrap_or(text);
     let job = Job::parse(text).map_err(|e| {
         let status = if e.message.starts_with("not valid JSON") {
             StatusCode::BAD_REQUEST

@@ -523,7 +523,13 @@ pub mod rules {
                     {"allOf": [given("rocks"), none_of(&["fragility", "age_years"])]},
                 ]})],
             ),
-            ("FragilityInput", vec![exactly_one(&["median_g", "median"])]),
+            (
+                "FragilityInput",
+                vec![json!({"oneOf": [
+                    {"allOf": [exactly_one(&["median_g", "median"]), given("beta"), none_of(&["job"])]},
+                    {"allOf": [given("job"), none_of(&["median_g", "median", "beta"])]},
+                ]})],
+            ),
             (
                 "FragilitySpec",
                 vec![exactly_one(&["pulse", "ground_motions"])],

@@ -60,8 +60,13 @@ pub struct FragilityInput {
     #[schema(exclusive_minimum = 0.0)]
     pub median: Option<f64>,
     /// Dispersion β (0 to 3; 0: a sharp threshold).
-    #[schema(required = true, value_type = f64, minimum = 0.0, maximum = 3.0)]
+    #[schema(minimum = 0.0, maximum = 3.0)]
     pub beta: Option<f64>,
+    /// Instead of median and beta: the id of a finished `fragility` job of
+    /// the same tenant, whose lognormal fit the service reads (and writes
+    /// into the normalised spec as median and beta).
+    #[schema(format = "uuid")]
+    pub job: Option<String>,
 }
 
 /// One rock as users write it.
@@ -175,6 +180,12 @@ fn validate_fragility(
             "missing field: {\"median_g\" (or \"median\"), \"beta\"}",
         )
     })?;
+    if f.job.is_some() {
+        return Err(SpecError::at(
+            format!("{at}/job"),
+            "a fragility job is read by the service when the spec is submitted; here give median_g (or median) and beta",
+        ));
+    }
     let median = match (f.median_g, f.median) {
         (Some(_), Some(_)) => {
             return Err(SpecError::at(

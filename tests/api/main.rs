@@ -232,6 +232,47 @@ async fn a_forensic_query_on_a_record_runs_with_its_figure_and_table() {
     app.stop().await;
 }
 
+/// A survival job reads a finished fragility job's lognormal fit by its id;
+/// an id that is not a fragility job, or no job, is a 422 at `/fragility/job`.
+#[tokio::test]
+async fn a_survival_job_reads_a_fragility_jobs_fit() {
+    let app = spawn_app("survival-of-fragility").await;
+    let fragility = json!({"kind": "fragility",
+        "block": {"alpha": {"dist": "uniform", "min": 0.15, "max": 0.25}, "p": 2.0},
+        "pulse": {"type": "one_sine", "frequency_hz": {"dist": "lognormal", "median": 1.0, "beta": 0.3}},
+        "stripes": {"from": 0.1, "to": 0.9, "steps": 9}, "samples": 100, "seed": 5});
+    let (status, job, _) = app.post("/v1/jobs?wait=60", &fragility).await;
+    assert_eq!(status, 200, "{job}");
+    let fit = &job["result"]["lognormal"];
+    let (median, beta) = (
+        fit["median"].as_f64().expect("θ"),
+        fit["beta"].as_f64().expect("β"),
+    );
+    let id = job["id"].as_str().expect("id");
+    let hazard = json!({"im": "pga_g", "points": [[0.05, 2e-2], [0.4, 1e-4], [1.6, 3e-6]]});
+    let survival = json!({"kind": "survival", "hazard": hazard, "fragility": {"job": id},
+                          "age_years": [10000]});
+    let (status, done, _) = app.post("/v1/jobs?wait=20", &survival).await;
+    assert_eq!(status, 200, "{done}");
+    let spec = &done["result"]["spec"]["rocks"][0]["fragility"];
+    assert_eq!(spec["median"].as_f64(), Some(median));
+    assert_eq!(spec["beta"].as_f64(), Some(beta));
+    // The same fit given by hand is the same job.
+    let by_hand = json!({"kind": "survival", "hazard": hazard,
+                         "fragility": {"median_g": median, "beta": beta}, "age_years": [10000]});
+    let (_, again, _) = app.post("/v1/jobs", &by_hand).await;
+    assert_eq!(again["key"], done["key"]);
+    let not_fragility = done["id"].as_str().expect("id");
+    for bad in [not_fragility, "01a20c35-0ff0-7eab-bb8e-86d14f37f92a", "x"] {
+        let mut spec = survival.clone();
+        spec["fragility"]["job"] = json!(bad);
+        let (status, problem, _) = app.post("/v1/jobs", &spec).await;
+        assert_eq!(status, 422, "{problem}");
+        assert_eq!(problem["pointer"], "/fragility/job", "{problem}");
+    }
+    app.stop().await;
+}
+
 #[tokio::test]
 async fn the_same_work_in_other_words_is_a_cache_hit() {
     let app = spawn_app("cache").await;

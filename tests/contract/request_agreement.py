@@ -236,6 +236,8 @@ SERVER_ONLY = [
     ("forensic amplitude to <= from", edit(FO, a_p_g={"from": 0.5, "to": 0.5}), "/a_p_g"),
     ("fragility normal alpha without truncation",
      edit(FG, block__alpha={"dist": "normal", "mean": 0.2, "sd": 0.05}), "/block/alpha/min"),
+    ("survival with an unknown fragility job",
+     edit(SU, fragility={"job": "01a20c35-0ff0-7eab-bb8e-86d14f37f92a"}), "/fragility/job"),
     ("survival rates rising", edit(SU, hazard__points=[[0.1, 1e-3], [1.0, 1e-2]]),
      "/hazard/points/1"),
     ("forensic record of zeros", edit(FOR, ground_motion__acc=[0.0, 0.0]), "/ground_motion/acc"),

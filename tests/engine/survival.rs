@@ -147,6 +147,13 @@ fn a_bad_survival_spec_names_its_field() {
             "/fragility/median_g",
         ),
         (with("/fragility/median", json!(0.4)), "/fragility/median"),
+        (
+            with(
+                "/fragility",
+                json!({"job": "01a20c35-0ff0-7eab-bb8e-86d14f37f92a"}),
+            ),
+            "/fragility/job",
+        ),
         (with("/age_years", json!(-5)), "/age_years"),
         (with("/age_years", json!([1000, 0])), "/age_years/1"),
         (
