@@ -158,3 +158,42 @@ fn a_bad_fragility_spec_names_its_field() {
         assert_eq!(e.pointer, pointer, "{extra}: {}", e.message);
     }
 }
+
+#[test]
+fn the_monte_carlo_error_falls_as_one_over_root_n() {
+    // One stripe of α uniform on [0.15, 0.25] at 0.25 g (P ≈ 0.4): the
+    // spread of p over 24 seeds at N and 16N samples shrinks four times, and
+    // each matches the binomial √(p(1 − p)/N).
+    let spread = |n: u32| -> (f64, f64) {
+        let ps: Vec<f64> = (0..24u64)
+            .map(|seed| {
+                run(&json!({"kind": "fragility",
+                    "block": {"alpha": {"dist": "uniform", "min": 0.15, "max": 0.25}, "p": 2.0},
+                    "pulse": {"type": "one_sine", "frequency_hz": 0.8},
+                    "stripes": [0.25], "samples": n, "seed": seed}))["stripes"][0]["p"]
+                    .as_f64()
+                    .expect("p")
+            })
+            .collect();
+        let mean = ps.iter().sum::<f64>() / ps.len() as f64;
+        let var = ps.iter().map(|p| (p - mean).powi(2)).sum::<f64>() / (ps.len() - 1) as f64;
+        (mean, var.sqrt())
+    };
+    let (p_small, sd_small) = spread(100);
+    let (p_large, sd_large) = spread(1_600);
+    let binomial = |p: f64, n: f64| (p * (1.0 - p) / n).sqrt();
+    // 24 seeds estimate a deviation to about ±15 % (1σ): allow ±45 %.
+    assert!(
+        (sd_small / binomial(p_small, 100.0) - 1.0).abs() < 0.45,
+        "{sd_small}"
+    );
+    assert!(
+        (sd_large / binomial(p_large, 1600.0) - 1.0).abs() < 0.45,
+        "{sd_large}"
+    );
+    let ratio = sd_small / sd_large;
+    assert!(
+        (2.4..=6.6).contains(&ratio),
+        "σ(100)/σ(1600) = {ratio}, expected 4"
+    );
+}
