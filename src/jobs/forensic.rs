@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use super::range::RangeSpec;
 use super::record_spectrum::RecordDoc;
-use super::record_spectrum::{ScaleRangeNorm, ScaleRangeSpec};
+use super::record_spectrum::{ScaleRangeNorm, ScaleRangeSpec, pga};
 use super::spec::{
     BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, OMEGA_RATIO_RANGE, PulseSpec,
     SolverNorm, SolverSpec, SpecError, at_most_one, in_one_unit, parse_formulation, validate_block,
@@ -453,22 +453,7 @@ impl ForensicSpec {
                 "missing field: the scale factors as scale {\"from\", \"to\"} or the scaled PGA as pga_g {\"from\", \"to\"}",
             )
         })?;
-        let to = range.to.ok_or_else(|| {
-            SpecError::at(format!("/{s_name}/to"), "missing field: the highest value")
-        })?;
-        let from = range.from.unwrap_or(0.0);
-        if !(from.is_finite() && from >= 0.0) {
-            return Err(SpecError::at(
-                format!("/{s_name}/from"),
-                "must be a finite number >= 0",
-            ));
-        }
-        if !(to.is_finite() && to > from) {
-            return Err(SpecError::at(
-                format!("/{s_name}/to"),
-                "must be a finite number above from",
-            ));
-        }
+        let (from, to) = range.ends(s_name)?;
         let (from_g, to_g) = (from * to_g, to * to_g);
         if !(1e-3..=100.0).contains(&to_g) {
             return Err(SpecError::at(
@@ -518,11 +503,6 @@ impl ForensicSpec {
 fn common_g(observations: &[Observation]) -> Option<f64> {
     let g = observations.first()?.block.g;
     observations.iter().all(|o| o.block.g == g).then_some(g)
-}
-
-/// The peak ground acceleration, m/s².
-fn pga(acc: &[f64]) -> f64 {
-    acc.iter().fold(0.0f64, |m, a| m.max(a.abs()))
 }
 
 /// A value given in g or in scale units (at most one): `(value, pointer, g per unit)`.

@@ -41,7 +41,7 @@ pub fn run(
     let solver = job.solver.solver();
     let AmplitudeRange { from, to } = job.range_g();
     let g = job.observations.first().map_or(9.81, |o| o.block.g);
-    let peak_g = gm.acc.iter().fold(0.0f64, |m, a| m.max(a.abs())) / g;
+    let peak_g = super::record_spectrum::pga(&gm.acc) / g;
     // Observations in parallel; each line's levels are the scaled PGA in its α g.
     let scanned = job
         .observations

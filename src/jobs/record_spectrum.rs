@@ -49,6 +49,30 @@ pub struct ScaleRangeSpec {
     pub to: Option<f64>,
 }
 
+impl ScaleRangeSpec {
+    /// `(from, to)` of the axis named `name`: `from` defaults to 0; both
+    /// finite, `from` ≥ 0 and `to` above it, or the field is named.
+    pub fn ends(&self, name: &str) -> Result<(f64, f64), SpecError> {
+        let to = self.to.ok_or_else(|| {
+            SpecError::at(format!("/{name}/to"), "missing field: the highest value")
+        })?;
+        let from = self.from.unwrap_or(0.0);
+        if !(from.is_finite() && from >= 0.0) {
+            return Err(SpecError::at(
+                format!("/{name}/from"),
+                "must be a finite number >= 0",
+            ));
+        }
+        if !(to.is_finite() && to > from) {
+            return Err(SpecError::at(
+                format!("/{name}/to"),
+                "must be a finite number above from",
+            ));
+        }
+        Ok((from, to))
+    }
+}
+
 /// The block of a record spectrum as users write it: everything but its
 /// size, which is the spectrum's axis (a `p`, `b` or `h` here is refused
 /// naming it).
@@ -164,7 +188,8 @@ pub fn size_of_p(p: f64, g: f64) -> f64 {
     3.0 * g / (4.0 * p * p)
 }
 
-fn pga(acc: &[f64]) -> f64 {
+/// The peak ground acceleration of `acc` (its largest magnitude).
+pub fn pga(acc: &[f64]) -> f64 {
     acc.iter().fold(0.0f64, |m, a| m.max(a.abs()))
 }
 
@@ -257,22 +282,7 @@ impl RecordSpectrumSpec {
                 "missing field: the scale factors as scale {\"from\", \"to\"} or the PGA as pga_g {\"from\", \"to\"}",
             )
         })?;
-        let to = range.to.ok_or_else(|| {
-            SpecError::at(format!("/{s_name}/to"), "missing field: the highest value")
-        })?;
-        let from = range.from.unwrap_or(0.0);
-        if !(from.is_finite() && from >= 0.0) {
-            return Err(SpecError::at(
-                format!("/{s_name}/from"),
-                "must be a finite number >= 0",
-            ));
-        }
-        if !(to.is_finite() && to > from) {
-            return Err(SpecError::at(
-                format!("/{s_name}/to"),
-                "must be a finite number above from",
-            ));
-        }
+        let (from, to) = range.ends(s_name)?;
         let scale = ScaleRangeNorm {
             from: from * to_scale,
             to: to * to_scale,

@@ -24,7 +24,7 @@ const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
 
 /// Intervals `[lo, hi]` at `key` of `v`.
-fn intervals(v: &Value, key: &str) -> Vec<(f64, f64)> {
+pub(crate) fn intervals(v: &Value, key: &str) -> Vec<(f64, f64)> {
     v.get(key)
         .and_then(Value::as_array)
         .into_iter()

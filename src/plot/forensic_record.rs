@@ -12,7 +12,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use serde_json::Value;
 
 use super::bands::{Band, simplify, tile};
-use super::forensic::{colour, fill, partition};
+use super::forensic::{colour, fill, intervals, partition};
 use super::style::{
     AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, Swatch, TICKS, X_LABEL_AREA,
     Y_LABEL_AREA, draw_legend, fmt_num, text, tick, tint,
@@ -25,18 +25,6 @@ const HEIGHT: u32 = 680;
 const HALF: f64 = 0.38;
 /// A scale allowed by one observation (its column only).
 const ALLOWED: usize = usize::MAX;
-
-fn intervals(v: Option<&Value>) -> Vec<(f64, f64)> {
-    v.and_then(Value::as_array)
-        .into_iter()
-        .flatten()
-        .filter_map(|i| {
-            let i = i.as_array()?;
-            let (lo, hi) = (i.first()?.as_f64()?, i.get(1)?.as_f64()?);
-            (hi >= lo).then_some((lo, hi))
-        })
-        .collect()
-}
 
 fn shade(class: usize) -> RGBColor {
     if class == ALLOWED {
@@ -87,7 +75,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
         .collect();
     let sets: Vec<Vec<(f64, f64)>> = per
         .iter()
-        .map(|o| intervals(o.get("consistent_scale")))
+        .map(|o| intervals(o, "consistent_scale"))
         .collect();
     let sliver = (to - from) / 900.0;
     // Column k (1-based) is observation k; column n + 1 is every observation.
