@@ -1,15 +1,25 @@
 //! Quantities followed along a history: peak rotation, friction demand, series.
 //!
 //! The propagators hand every piece of motion to a [`Tracker`] as a function of
-//! time (a closed-form segment or a step's dense output); the tracker samples
-//! it densely enough for the forcing and the block's own time scale and refines
-//! the maxima by golden-section search. Nothing here runs unless asked for.
+//! time (a closed-form segment or a step's dense output) with its end states.
+//! Nothing here runs unless asked for.
+//!
+//! Where the ground acceleration is linear over the piece (a record's piece
+//! inside one sample interval, free rocking), the forcing has no time scale of
+//! its own: the piece is sampled for the block's time scale only (pτ ≤ 1/2
+//! between samples, a single interval for a record's 0.01-s piece), and at
+//! every sample |θ| and the demand |f_x/f_z| come with their exact time
+//! derivatives (θ̇, and [`reaction_rates`]). A maximum inside an interval
+//! between samples is looked for only where one can be (see
+//! [`interior_max`]) and then located as a root of the derivative. Elsewhere
+//! (a pulse) the piece is sampled densely enough for the forcing and the block
+//! and the maxima refined by golden-section search around the best sample.
 
 use super::block::Block;
 use super::equations::Formulation;
 use super::forcing::Forcing;
 use super::integrator::State;
-use super::reactions::reactions_per_mass;
+use super::reactions::{ReactionModel, ReactionRates, reactions_per_mass};
 use super::response::Series;
 
 /// What to follow.
@@ -45,6 +55,11 @@ pub struct Tracker<'a, G: Forcing> {
     pub reactions_stopped_at: Option<f64>,
     /// Whether the demand is still followed (off once the block is doomed).
     reactions_on: bool,
+    /// The block's reactions, for the pieces under linear ground motion.
+    model: ReactionModel,
+    /// The reactions at the end of the last such piece, (t, state, side,
+    /// forced, reactions): the next piece mostly starts from there.
+    last_end: Option<(f64, State, f64, bool, ReactionRates)>,
 }
 
 impl<'a, G: Forcing> Tracker<'a, G> {
@@ -76,6 +91,8 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             first_lift_off: None,
             reactions_stopped_at: None,
             reactions_on: true,
+            model: ReactionModel::new(formulation, block),
+            last_end: None,
         }
     }
 
@@ -119,15 +136,17 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         (d, fx / fz, fz)
     }
 
-    /// A piece of rocking motion on `side` over `[ta, tb]`.
+    /// A piece of rocking motion on `side` from `start` = (ta, state at ta)
+    /// to `end` = (tb, state at tb), `eval` giving the state in between.
     pub fn rocking<E: Fn(f64) -> State>(
         &mut self,
-        ta: f64,
-        tb: f64,
+        start: (f64, State),
+        end: (f64, State),
         side: f64,
         forced: bool,
         eval: E,
     ) {
+        let (ta, tb) = (start.0, end.0);
         if !self.active() || tb < ta {
             return;
         }
@@ -143,6 +162,16 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             self.next_sample += 1;
         }
         if !(self.req.peak || self.req.reactions) {
+            return;
+        }
+        // Free rocking feels no ground at all.
+        let linear = if forced {
+            self.pulse.linear_over(ta, tb)
+        } else {
+            Some(0.0)
+        };
+        if let Some(jerk) = linear {
+            self.rocking_linear(start, end, side, forced, jerk, &eval);
             return;
         }
         let span = tb - ta;
@@ -218,6 +247,171 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             if v > self.peak_demand.0 {
                 self.peak_demand = (v, t);
             }
+        }
+    }
+
+    /// The reactions and their rates at `(t, y)` on `side`.
+    #[inline]
+    fn rates(&self, t: f64, y: State, side: f64, forced: bool) -> ReactionRates {
+        self.model.rates(side, y[0], y[1], self.ground(t, forced))
+    }
+
+    /// |θ| (as sθ) and the demand with their rates at `(t, y)`, the ground's
+    /// jerk being `jerk`; the demand only when `demand` (NaN otherwise).
+    #[inline]
+    fn probe(&self, t: f64, y: State, side: f64, forced: bool, jerk: f64, demand: bool) -> Probe {
+        let rates = demand.then(|| self.rates(t, y, side, forced));
+        Probe::new(t, y, side, jerk, rates.as_ref())
+    }
+
+    /// A piece over which the ground acceleration is linear (slope `jerk`).
+    ///
+    /// Samples: both ends (their states given) and, for a piece longer than
+    /// 1/(2p), enough interior points for the block's time scale (pτ ≤ 1/2
+    /// between samples). Peak |θ| and peak demand: the samples, and between
+    /// consecutive samples the interior maximum where [`interior_max`] finds
+    /// one. The first sliding and lift-off are the first crossings, refined
+    /// between the last sample (or interior point) below and the first above.
+    fn rocking_linear<E: Fn(f64) -> State>(
+        &mut self,
+        start: (f64, State),
+        end: (f64, State),
+        side: f64,
+        forced: bool,
+        jerk: f64,
+        eval: &E,
+    ) {
+        let (ta, tb) = (start.0, end.0);
+        let span = tb - ta;
+        let p = self.block.frequency_parameter;
+        let reach = 2.0 * p * span;
+        let n = if reach <= 1.0 {
+            1
+        } else {
+            reach.ceil().min(400.0) as usize
+        };
+        // Pure rocking (and so the demand) is meaningful only while f_z > 0.
+        let mut following =
+            self.req.reactions && self.reactions_on && self.first_lift_off.is_none();
+        let mut prev = if following {
+            // The start is mostly where the last piece ended: same state and
+            // reactions, only the jerk differs.
+            let rates = match self.last_end {
+                Some((t, y, s, f, r)) if t == ta && y == start.1 && s == side && f == forced => r,
+                _ => self.rates(ta, start.1, side, forced),
+            };
+            Probe::new(ta, start.1, side, jerk, Some(&rates))
+        } else {
+            self.probe(ta, start.1, side, forced, jerk, false)
+        };
+        self.peak_theta = self.peak_theta.max(start.1[0].abs());
+        if following {
+            if prev.demand[0].is_finite() {
+                self.demand_sample(ta, prev.demand[0]);
+                if let Some(mu) = self.block.friction
+                    && self.first_sliding.is_none()
+                    && prev.demand[0] > mu
+                {
+                    self.first_sliding = Some(ta);
+                }
+            } else {
+                self.first_lift_off = Some(ta);
+                following = false;
+            }
+        }
+        for k in 1..=n {
+            let (t, y) = if k == n {
+                end
+            } else {
+                let t = ta + span * (k as f64) / (n as f64);
+                (t, eval(t))
+            };
+            let cur = if following && k == n {
+                let rates = self.rates(t, y, side, forced);
+                self.last_end = Some((t, y, side, forced, rates));
+                Probe::new(t, y, side, jerk, Some(&rates))
+            } else {
+                self.probe(t, y, side, forced, jerk, following)
+            };
+            self.peak_theta = self.peak_theta.max(y[0].abs());
+            let lean = |t: f64| {
+                let y = eval(t);
+                [side * y[0], side * y[1]]
+            };
+            if let Some((_, v)) = interior_max((prev.t, prev.lean), (cur.t, cur.lean), lean) {
+                self.peak_theta = self.peak_theta.max(v);
+            }
+            if following {
+                following = self.demand_between(&prev, &cur, side, forced, jerk, eval);
+            }
+            prev = cur;
+        }
+    }
+
+    /// The demand between consecutive samples `a` (followed, f_z > 0) and `b`
+    /// of a piece under linear ground motion; whether it is still followed
+    /// after `b` (not once the block lifts off).
+    fn demand_between<E: Fn(f64) -> State>(
+        &mut self,
+        a: &Probe,
+        b: &Probe,
+        side: f64,
+        forced: bool,
+        jerk: f64,
+        eval: &E,
+    ) -> bool {
+        let demand = |t: f64| self.probe(t, eval(t), side, forced, jerk, true).demand;
+        // A lift-off inside shows as an interior maximum of the demand (it
+        // grows without bound as f_z → 0⁺); the search stops on it.
+        let interior = if b.demand[0].is_finite() {
+            interior_max((a.t, a.demand), (b.t, b.demand), demand)
+        } else {
+            None
+        };
+        let lift = match interior {
+            Some((t, v)) if !v.is_finite() => Some(t),
+            _ if !b.demand[0].is_finite() => Some(b.t),
+            _ => None,
+        };
+        // The first time the demand exceeds μ, from below at `a`.
+        let mu = self
+            .block
+            .friction
+            .filter(|&mu| self.first_sliding.is_none() && a.demand[0] <= mu);
+        if let Some(t_above) = lift {
+            let tl = self.refine_crossing(a.t, t_above, side, forced, eval, |_, fz| -fz);
+            if let Some(mu) = mu {
+                self.first_sliding =
+                    Some(self.refine_crossing(a.t, tl, side, forced, eval, |d, _| d - mu));
+            }
+            self.first_lift_off = Some(tl);
+            return false;
+        }
+        if let Some((t, v)) = interior {
+            self.demand_sample(t, v);
+            if let Some(mu) = mu
+                && v > mu
+            {
+                self.first_sliding =
+                    Some(self.refine_crossing(a.t, t, side, forced, eval, |d, _| d - mu));
+            }
+        }
+        if let Some(mu) = mu
+            && self.first_sliding.is_none()
+            && b.demand[0] > mu
+        {
+            self.first_sliding =
+                Some(self.refine_crossing(a.t, b.t, side, forced, eval, |d, _| d - mu));
+        }
+        self.demand_sample(b.t, b.demand[0]);
+        true
+    }
+
+    /// A demand reached at `t`: the peak so far if above it.
+    #[inline]
+    fn demand_sample(&mut self, t: f64, d: f64) {
+        if d > self.peak_demand.0 {
+            self.peak_demand = (d, t);
         }
     }
 
@@ -326,6 +520,168 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             self.next_sample += 1;
         }
     }
+}
+
+/// A sample on a piece under linear ground motion: values and time
+/// derivatives of the followed quantities.
+#[derive(Clone, Copy, Debug)]
+struct Probe {
+    t: f64,
+    /// [sθ, sθ̇]: |θ| on side s and its rate.
+    lean: [f64; 2],
+    /// [|f_x/f_z|, its rate]; [∞, 0] once f_z ≤ 0; NaN when not followed.
+    demand: [f64; 2],
+}
+
+impl Probe {
+    /// The probe at `(t, y)` on `side` with the reactions `rates` there (the
+    /// demand NaN without them), the ground's jerk being `jerk`.
+    #[inline]
+    fn new(t: f64, y: State, side: f64, jerk: f64, rates: Option<&ReactionRates>) -> Self {
+        let lean = [side * y[0], side * y[1]];
+        let demand = match rates {
+            None => [f64::NAN; 2],
+            Some(r) if r.fz > 0.0 => {
+                let (q, dq) = r.ratio(jerk);
+                [q.abs(), if q < 0.0 { -dq } else { dq }]
+            }
+            // Lift-off: no friction sustains pure rocking.
+            Some(_) => [f64::INFINITY, 0.0],
+        };
+        Probe { t, lean, demand }
+    }
+}
+
+/// The largest value found inside `(a.0, b.0)` of a smooth `f` (`f(t)` =
+/// [value, derivative]) given value and derivative at both ends, or `None`
+/// where no interior local maximum is to be looked for.
+///
+/// The criterion, on the derivative at the ends (f′ₐ, f′ᵦ):
+/// - f′ₐ > 0 > f′ᵦ: a maximum is inside for certain; it is located as the
+///   root of f′ ([`maximise`]).
+/// - f′ₐ ≤ 0 ≤ f′ᵦ: none. A maximum would need f′ to change sign at least
+///   three times in between (− + − +), f″ twice: the cubic Hermite
+///   interpolant of the end values and rates, accurate to O(h⁴ f⁗) on an
+///   interval short against f's time scales (which the sampling ensures),
+///   has at most a minimum there.
+/// - f′ of one sign at both ends: a maximum needs two interior critical
+///   points. Where the Hermite cubic has them, f′ is evaluated at the
+///   cubic's extreme slope, and a sign change found there brackets the
+///   maximum; otherwise there is none, the interval being too short for f′
+///   to change sign twice unseen by the cubic.
+///
+/// Every value returned is a value of f itself, never of a model: the
+/// result never overstates a maximum.
+fn interior_max<F: FnMut(f64) -> [f64; 2]>(
+    a: (f64, [f64; 2]),
+    b: (f64, [f64; 2]),
+    mut f: F,
+) -> Option<(f64, f64)> {
+    let (da, db) = (a.1[1], b.1[1]);
+    if da > 0.0 && db < 0.0 {
+        return Some(maximise(a, b, &mut f));
+    }
+    let rising = da > 0.0;
+    if !(rising || db < 0.0) {
+        return None;
+    }
+    // The Hermite cubic's slope, in s = (t − tₐ)/h ∈ [0, 1]:
+    // D(s) = m₀ + qb s + qa s², with D(1) = m₁ and ∫₀¹ D = fᵦ − fₐ.
+    let h = b.0 - a.0;
+    let (m0, m1, rise) = (h * da, h * db, b.1[0] - a.1[0]);
+    let qa = 3.0 * (m0 + m1) - 6.0 * rise;
+    let qb = 6.0 * rise - 4.0 * m0 - 2.0 * m1;
+    // The extreme slope at s = −qb/(2 qa) must be inside (0, 1) (tested
+    // without dividing: the common case ends here).
+    let (num, den) = if qa < 0.0 {
+        (qb, -2.0 * qa)
+    } else {
+        (-qb, 2.0 * qa)
+    };
+    if !(num > 0.0 && num < den) {
+        return None;
+    }
+    let s = num / den;
+    let extreme = m0 + s * (qb + qa * s);
+    let turns = if rising { extreme < 0.0 } else { extreme > 0.0 };
+    if !turns {
+        return None;
+    }
+    let tv = a.0 + s * h;
+    let v = f(tv);
+    let probe = (tv, v[0]);
+    if !v[0].is_finite() {
+        return Some(probe);
+    }
+    let inner = if rising && v[1] < 0.0 {
+        Some(maximise(a, (tv, v), &mut f))
+    } else if !rising && v[1] > 0.0 {
+        Some(maximise((tv, v), b, &mut f))
+    } else {
+        None
+    };
+    Some(match inner {
+        Some(m) if m.1 > probe.1 || !m.1.is_finite() => m,
+        _ => probe,
+    })
+}
+
+/// Most evaluations [`maximise`] spends.
+const MAX_REFINE: usize = 60;
+
+/// The maximum of a smooth `f` inside `(a.0, b.0)`, where f′(a) > 0 > f′(b):
+/// the root of f′ by regula falsi (Illinois), stopping once the gain still
+/// to be had, f′²/(2|f″|) with f″ the bracket's secant slope of f′, is below
+/// the rounding of f, or the bracket cannot shrink. Returns the best
+/// (t, f(t)) evaluated; stops at once on a non-finite value (a lift-off).
+fn maximise<F: FnMut(f64) -> [f64; 2]>(
+    mut a: (f64, [f64; 2]),
+    mut b: (f64, [f64; 2]),
+    f: &mut F,
+) -> (f64, f64) {
+    let mut best = (0.5 * (a.0 + b.0), f64::NEG_INFINITY);
+    // The slopes used for the secant (Illinois halves a stale end's).
+    let (mut sa, mut sb) = (a.1[1], b.1[1]);
+    let mut kept = 0i8;
+    for _ in 0..MAX_REFINE {
+        let w = b.0 - a.0;
+        let mut t = a.0 + w * (sa / (sa - sb));
+        if !(t > a.0 && t < b.0) {
+            t = a.0 + 0.5 * w;
+            if !(t > a.0 && t < b.0) {
+                break;
+            }
+        }
+        let v = f(t);
+        if v[0] > best.1 || !v[0].is_finite() {
+            best = (t, v[0]);
+        }
+        if !v[0].is_finite() {
+            break;
+        }
+        if v[1] > 0.0 {
+            a = (t, v);
+            sa = v[1];
+            if kept > 0 {
+                sb *= 0.5;
+            }
+            kept = 1;
+        } else if v[1] < 0.0 {
+            b = (t, v);
+            sb = v[1];
+            if kept < 0 {
+                sa *= 0.5;
+            }
+            kept = -1;
+        } else {
+            break;
+        }
+        let curvature = (a.1[1] - b.1[1]) / (b.0 - a.0);
+        if v[1] * v[1] <= 2.0 * f64::EPSILON * curvature * v[0].abs() {
+            break;
+        }
+    }
+    best
 }
 
 /// Golden-section search for the maximum of `f` on `[lo, hi]`.
