@@ -14,3 +14,4 @@ mod properties;
 mod pulses;
 mod record_spectrum;
 mod spectra;
+mod tracking;
