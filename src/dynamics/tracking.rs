@@ -57,9 +57,9 @@ pub struct Tracker<'a, G: Forcing> {
     reactions_on: bool,
     /// The block's reactions, for the pieces under linear ground motion.
     model: ReactionModel,
-    /// The reactions at the end of the last such piece, (t, state, side,
-    /// forced, reactions): the next piece mostly starts from there.
-    last_end: Option<(f64, State, f64, bool, ReactionRates)>,
+    /// The demand at the end of the last such piece, (t, state, side,
+    /// forced, demand; t NaN before any): the next one mostly starts there.
+    last_end: (f64, State, f64, bool, Demand),
 }
 
 impl<'a, G: Forcing> Tracker<'a, G> {
@@ -92,7 +92,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             reactions_stopped_at: None,
             reactions_on: true,
             model: ReactionModel::new(formulation, block),
-            last_end: None,
+            last_end: (f64::NAN, [0.0; 2], 0.0, false, Demand::LIFTED),
         }
     }
 
@@ -250,18 +250,18 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         }
     }
 
-    /// The reactions and their rates at `(t, y)` on `side`.
+    /// The demand and its rate at `(t, y)` on `side`.
     #[inline]
-    fn rates(&self, t: f64, y: State, side: f64, forced: bool) -> ReactionRates {
-        self.model.rates(side, y[0], y[1], self.ground(t, forced))
+    fn demand_at(&self, t: f64, y: State, side: f64, forced: bool) -> Demand {
+        Demand::new(&self.model.rates(side, y[0], y[1], self.ground(t, forced)))
     }
 
     /// |θ| (as sθ) and the demand with their rates at `(t, y)`, the ground's
     /// jerk being `jerk`; the demand only when `demand` (NaN otherwise).
-    #[inline]
+    #[inline(always)]
     fn probe(&self, t: f64, y: State, side: f64, forced: bool, jerk: f64, demand: bool) -> Probe {
-        let rates = demand.then(|| self.rates(t, y, side, forced));
-        Probe::new(t, y, side, jerk, rates.as_ref())
+        let d = demand.then(|| self.demand_at(t, y, side, forced));
+        Probe::new(t, y, side, jerk, d.as_ref())
     }
 
     /// A piece over which the ground acceleration is linear (slope `jerk`).
@@ -272,6 +272,14 @@ impl<'a, G: Forcing> Tracker<'a, G> {
     /// consecutive samples the interior maximum where [`interior_max`] finds
     /// one. The first sliding and lift-off are the first crossings, refined
     /// between the last sample (or interior point) below and the first above.
+    ///
+    /// The demand at the end is evaluated on every piece, even one that
+    /// looks unable to beat the running peak: a bound good enough to skip it
+    /// would have to cover the jumps of its rate at every sample (the
+    /// record's slope changes there), and under a record the demand moves by
+    /// several hundredths per 0.01-s piece, so such a bound reaches the peak
+    /// within a piece or two. The end's demand, reactions and all, is kept
+    /// for the next piece, which starts there: one evaluation per piece.
     fn rocking_linear<E: Fn(f64) -> State>(
         &mut self,
         start: (f64, State),
@@ -293,30 +301,28 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         // Pure rocking (and so the demand) is meaningful only while f_z > 0.
         let mut following =
             self.req.reactions && self.reactions_on && self.first_lift_off.is_none();
-        let mut prev = if following {
-            // The start is mostly where the last piece ended: same state and
-            // reactions, only the jerk differs.
-            let rates = match self.last_end {
-                Some((t, y, s, f, r)) if t == ta && y == start.1 && s == side && f == forced => r,
-                _ => self.rates(ta, start.1, side, forced),
-            };
-            Probe::new(ta, start.1, side, jerk, Some(&rates))
-        } else {
-            self.probe(ta, start.1, side, forced, jerk, false)
-        };
+        let mut prev = self.probe(ta, start.1, side, forced, jerk, false);
         self.peak_theta = self.peak_theta.max(start.1[0].abs());
         if following {
-            if prev.demand[0].is_finite() {
-                self.demand_sample(ta, prev.demand[0]);
-                if let Some(mu) = self.block.friction
-                    && self.first_sliding.is_none()
-                    && prev.demand[0] > mu
-                {
-                    self.first_sliding = Some(ta);
-                }
+            // The start is mostly where the last piece ended: same state and
+            // demand (already counted), only the jerk differs.
+            let (t, y, s, f, d) = self.last_end;
+            if t == ta && y == start.1 && s == side && f == forced {
+                prev.demand = d.with_jerk(jerk);
             } else {
-                self.first_lift_off = Some(ta);
-                following = false;
+                prev.demand = self.demand_at(ta, start.1, side, forced).with_jerk(jerk);
+                if prev.demand[0].is_finite() {
+                    self.demand_sample(ta, prev.demand[0]);
+                    if let Some(mu) = self.block.friction
+                        && self.first_sliding.is_none()
+                        && prev.demand[0] > mu
+                    {
+                        self.first_sliding = Some(ta);
+                    }
+                } else {
+                    self.first_lift_off = Some(ta);
+                    following = false;
+                }
             }
         }
         for k in 1..=n {
@@ -327,9 +333,9 @@ impl<'a, G: Forcing> Tracker<'a, G> {
                 (t, eval(t))
             };
             let cur = if following && k == n {
-                let rates = self.rates(t, y, side, forced);
-                self.last_end = Some((t, y, side, forced, rates));
-                Probe::new(t, y, side, jerk, Some(&rates))
+                let d = self.demand_at(t, y, side, forced);
+                self.last_end = (t, y, side, forced, d);
+                Probe::new(t, y, side, jerk, Some(&d))
             } else {
                 self.probe(t, y, side, forced, jerk, following)
             };
@@ -534,21 +540,59 @@ struct Probe {
 }
 
 impl Probe {
-    /// The probe at `(t, y)` on `side` with the reactions `rates` there (the
-    /// demand NaN without them), the ground's jerk being `jerk`.
+    /// The probe at `(t, y)` on `side` with the demand `demand` there (NaN
+    /// without it), the ground's jerk being `jerk`.
     #[inline]
-    fn new(t: f64, y: State, side: f64, jerk: f64, rates: Option<&ReactionRates>) -> Self {
+    fn new(t: f64, y: State, side: f64, jerk: f64, demand: Option<&Demand>) -> Self {
         let lean = [side * y[0], side * y[1]];
-        let demand = match rates {
+        let demand = match demand {
             None => [f64::NAN; 2],
-            Some(r) if r.fz > 0.0 => {
-                let (q, dq) = r.ratio(jerk);
-                [q.abs(), if q < 0.0 { -dq } else { dq }]
-            }
-            // Lift-off: no friction sustains pure rocking.
-            Some(_) => [f64::INFINITY, 0.0],
+            Some(d) => d.with_jerk(jerk),
         };
         Probe { t, lean, demand }
+    }
+}
+
+/// f_x/f_z at a state and its rate less the jerk's part: all a sample needs,
+/// the same on both sides of a record's sample.
+#[derive(Clone, Copy, Debug)]
+struct Demand {
+    ratio: f64,
+    /// d(f_x/f_z)/dt = rate[0] + rate[1] · jerk.
+    rate: [f64; 2],
+    /// f_z ≤ 0.
+    lifted: bool,
+}
+
+impl Demand {
+    /// The state of a block lifted off.
+    const LIFTED: Demand = Demand {
+        ratio: f64::INFINITY,
+        rate: [0.0; 2],
+        lifted: true,
+    };
+
+    #[inline]
+    fn new(r: &ReactionRates) -> Self {
+        Demand {
+            ratio: r.ratio,
+            rate: r.ratio_rate,
+            lifted: r.fz <= 0.0 || r.fz.is_nan(),
+        }
+    }
+
+    /// [|f_x/f_z|, its rate] under the jerk `jerk`; [∞, 0] once lifted off.
+    #[inline]
+    fn with_jerk(&self, jerk: f64) -> [f64; 2] {
+        if self.lifted {
+            // Lift-off: no friction sustains pure rocking.
+            return [f64::INFINITY, 0.0];
+        }
+        let rate = self.rate[0] + self.rate[1] * jerk;
+        [
+            self.ratio.abs(),
+            if self.ratio < 0.0 { -rate } else { rate },
+        ]
     }
 }
 
@@ -578,35 +622,30 @@ fn interior_max<F: FnMut(f64) -> [f64; 2]>(
     mut f: F,
 ) -> Option<(f64, f64)> {
     let (da, db) = (a.1[1], b.1[1]);
-    if da > 0.0 && db < 0.0 {
-        return Some(maximise(a, b, &mut f));
-    }
-    let rising = da > 0.0;
-    if !(rising || db < 0.0) {
-        return None;
-    }
+    let (rising, falling) = (da > 0.0, db < 0.0);
     // The Hermite cubic's slope, in s = (t − tₐ)/h ∈ [0, 1]:
     // D(s) = m₀ + qb s + qa s², with D(1) = m₁ and ∫₀¹ D = fᵦ − fₐ.
     let h = b.0 - a.0;
     let (m0, m1, rise) = (h * da, h * db, b.1[0] - a.1[0]);
     let qa = 3.0 * (m0 + m1) - 6.0 * rise;
     let qb = 6.0 * rise - 4.0 * m0 - 2.0 * m1;
-    // The extreme slope at s = −qb/(2 qa) must be inside (0, 1) (tested
-    // without dividing: the common case ends here).
-    let (num, den) = if qa < 0.0 {
-        (qb, -2.0 * qa)
-    } else {
-        (-qb, 2.0 * qa)
-    };
-    if !(num > 0.0 && num < den) {
+    // Its extreme at s = num/den (den > 0) must lie inside (0, 1), and its
+    // value there, times den², have the sign that turns f back. All of it
+    // is worked out without a division or a branch: nearly every interval
+    // ends at the one test below.
+    let flip = if qa < 0.0 { -1.0 } else { 1.0 };
+    let (num, den) = (-qb * flip, 2.0 * qa * flip);
+    let extreme = m0 * den * den + num * (qb * den + qa * num);
+    let turns = if rising { -extreme } else { extreme } > 0.0;
+    let certain = rising & falling;
+    let inside = (num > 0.0) & (num < den);
+    if !(certain | ((rising | falling) & inside & turns)) {
         return None;
+    }
+    if certain {
+        return Some(maximise(a, b, &mut f));
     }
     let s = num / den;
-    let extreme = m0 + s * (qb + qa * s);
-    let turns = if rising { extreme < 0.0 } else { extreme > 0.0 };
-    if !turns {
-        return None;
-    }
     let tv = a.0 + s * h;
     let v = f(tv);
     let probe = (tv, v[0]);
@@ -709,4 +748,97 @@ fn golden_max<F: Fn(f64) -> f64>(mut lo: f64, mut hi: f64, f: F) -> (f64, f64) {
         }
     }
     if f1 > f2 { (x1, f1) } else { (x2, f2) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [f, f′] of the cubic t³ − 1.5 t² + 0.6 t, scaled by `sign`: rising at
+    /// both ends of [0, 1] (sign +1) with a maximum at (3 − √1.8)/6 and a
+    /// minimum at (3 + √1.8)/6 inside; falling at both ends when negated.
+    fn cubic(sign: f64) -> impl Fn(f64) -> [f64; 2] {
+        move |t: f64| {
+            [
+                sign * (t * t * t - 1.5 * t * t + 0.6 * t),
+                sign * (3.0 * t * t - 3.0 * t + 0.6),
+            ]
+        }
+    }
+
+    fn ends<F: Fn(f64) -> [f64; 2]>(f: &F, a: f64, b: f64) -> ((f64, [f64; 2]), (f64, [f64; 2])) {
+        ((a, f(a)), (b, f(b)))
+    }
+
+    #[test]
+    fn a_sign_change_of_the_derivative_is_located_to_rounding() {
+        // f = cos(t) on [−1, 2]: the maximum 1 at t = 0, found in a few steps.
+        let f = |t: f64| [t.cos(), -t.sin()];
+        let calls = std::cell::Cell::new(0);
+        let counted = |t: f64| {
+            calls.set(calls.get() + 1);
+            f(t)
+        };
+        let (a, b) = ends(&f, -1.0, 2.0);
+        let (t, v) = interior_max(a, b, counted).expect("a maximum inside");
+        assert!(t.abs() < 1e-7 && v == 1.0, "{t} {v}");
+        assert!(calls.get() <= 12, "{} evaluations", calls.get());
+    }
+
+    #[test]
+    fn a_maximum_between_two_rising_ends_is_found_where_the_cubic_turns() {
+        let top = (3.0 - 1.8f64.sqrt()) / 6.0;
+        let f = cubic(1.0);
+        let (a, b) = ends(&f, 0.0, 1.0);
+        let (t, v) = interior_max(a, b, &f).expect("a maximum inside");
+        assert!(
+            (t - top).abs() < 1e-7 && (v - f(top)[0]).abs() < 1e-15,
+            "{t} {v}"
+        );
+        // Falling at both ends: the maximum is the later critical point.
+        let f = cubic(-1.0);
+        let (a, b) = ends(&f, 0.0, 1.0);
+        let (t, v) = interior_max(a, b, &f).expect("a maximum inside");
+        let top = 1.0 - top;
+        assert!(
+            (t - top).abs() < 1e-7 && (v - f(top)[0]).abs() < 1e-15,
+            "{t} {v}"
+        );
+    }
+
+    #[test]
+    fn no_search_where_no_maximum_can_be_inside() {
+        let never = |_: f64| -> [f64; 2] { panic!("no evaluation expected") };
+        // Monotone, either way.
+        let f = |t: f64| [t, 1.0];
+        let (a, b) = ends(&f, 0.0, 1.0);
+        assert_eq!(interior_max(a, b, never), None);
+        let f = |t: f64| [-t * t, -2.0 * t];
+        let (a, b) = ends(&f, 0.5, 1.0);
+        assert_eq!(interior_max(a, b, never), None);
+        // Falling then rising: a minimum only.
+        let f = |t: f64| [t * t, 2.0 * t];
+        let (a, b) = ends(&f, -1.0, 2.0);
+        assert_eq!(interior_max(a, b, never), None);
+        // The cubic on [0.5, 1]: falling, then rising past its minimum.
+        let f = cubic(1.0);
+        let (a, b) = ends(&f, 0.5, 1.0);
+        assert_eq!(interior_max(a, b, never), None);
+    }
+
+    #[test]
+    fn the_search_stops_on_a_non_finite_value() {
+        // f_z reaching zero at t = 0.3: the demand is infinite from there on.
+        let f = |t: f64| {
+            if t >= 0.3 {
+                [f64::INFINITY, 0.0]
+            } else {
+                [1.0 / (0.3 - t), 1.0 / (0.3 - t).powi(2)]
+            }
+        };
+        let a = (0.0, f(0.0));
+        let b = (1.0, [1.0, -1.0]);
+        let (t, v) = interior_max(a, b, f).expect("lift-off inside");
+        assert!(v.is_infinite() && (0.3..1.0).contains(&t), "{t} {v}");
+    }
 }
