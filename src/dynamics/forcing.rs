@@ -69,6 +69,19 @@ pub trait Forcing: Clone + std::fmt::Debug {
     /// sample tracked quantities densely enough).
     fn resolving_frequency(&self) -> f64;
 
+    /// The slope d ü_g/dt (m/s³) when ü_g is linear in time over all of
+    /// `[ta, tb]`, `None` otherwise (or when it is not known to be).
+    ///
+    /// On such a piece the forcing has no time scale of its own: the tracked
+    /// quantities vary only as fast as the block moves, and the tracker
+    /// samples them for the block alone (a record's piece inside one sample
+    /// interval). A pulse answers `None`: its pieces are sampled for its
+    /// [`resolving_frequency`](Forcing::resolving_frequency).
+    #[inline]
+    fn linear_over(&self, _ta: f64, _tb: f64) -> Option<f64> {
+        None
+    }
+
     /// max |ü_g| over `[ta, tb]` and where it is reached.
     fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64);
 }
@@ -435,6 +448,26 @@ impl Forcing for Record {
         std::f64::consts::PI / self.dt
     }
 
+    /// The slope of the sample interval holding `[ta, tb]` (a start on a
+    /// sample time belongs to the interval that begins there, as for
+    /// [`RecordRhs::piece_from`]); zero past the record's end.
+    #[inline]
+    fn linear_over(&self, ta: f64, tb: f64) -> Option<f64> {
+        if ta >= self.end {
+            return Some(0.0);
+        }
+        if !(ta >= 0.0 && tb >= ta) {
+            return None;
+        }
+        let last = self.samples.len() - 2;
+        // (ta ≥ 0: truncation is the floor.)
+        let mut k = ((ta / self.dt) as usize).min(last);
+        if k < last && self.time(k + 1) <= ta {
+            k += 1;
+        }
+        (tb <= self.time(k + 1)).then(|| (self.samples[k + 1] - self.samples[k]) / self.dt)
+    }
+
     fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64) {
         let mut best = (self.acceleration(ta).abs(), ta);
         let b = (self.acceleration(tb).abs(), tb);
@@ -528,6 +561,25 @@ mod tests {
         assert_eq!(rhs.piece_from(r.duration()), (0.0, 0.0, f64::INFINITY));
         let free = r.rhs(Formulation::Linear, &block, 1.0, false);
         assert_eq!(free.piece_from(0.125), (0.0, 0.0, f64::INFINITY));
+    }
+
+    #[test]
+    fn linear_over_one_sample_interval_only() {
+        let r = record(&[0.0, 2.0, -2.0, 1.0], 0.1);
+        assert_eq!(r.linear_over(0.0, 0.1), Some(20.0));
+        assert_eq!(r.linear_over(0.02, 0.07), Some(20.0));
+        // A start on a sample time belongs to the interval beginning there.
+        let s = r.linear_over(0.1, 0.2).expect("one interval");
+        assert!((s + 40.0).abs() < 1e-12, "{s}");
+        assert_eq!(r.linear_over(0.05, 0.15), None);
+        let s = r.linear_over(0.25, r.duration()).expect("last interval");
+        assert!((s - 30.0).abs() < 1e-12, "{s}");
+        // Past the end the ground is at rest.
+        assert_eq!(r.linear_over(r.duration(), 5.0), Some(0.0));
+        assert_eq!(r.linear_over(0.25, 5.0), None);
+        // A pulse is never treated as linear.
+        let pulse = Pulse::new(crate::dynamics::PulseShape::OneSine, 1.0, 2.0).expect("valid");
+        assert_eq!(pulse.linear_over(0.0, 1e-9), None);
     }
 
     #[test]

@@ -29,6 +29,120 @@ pub fn reactions_per_mass(
     )
 }
 
+/// The base reactions per unit mass at a rocking state and their rates of
+/// change along the motion, the rates written as affine functions of the
+/// ground's jerk (d ü_g/dt, m/s³): a record's jerk jumps at every sample while
+/// the state does not, so one evaluation serves both sides of a sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReactionRates {
+    /// f_x/m, m/s².
+    pub fx: f64,
+    /// f_z/m, m/s².
+    pub fz: f64,
+    /// d(f_x/m)/dt = `fx_rate[0] + fx_rate[1] · jerk`.
+    pub fx_rate: [f64; 2],
+    /// d(f_z/m)/dt = `fz_rate[0] + fz_rate[1] · jerk`.
+    pub fz_rate: [f64; 2],
+    /// f_x/f_z (meaningful while f_z > 0).
+    pub ratio: f64,
+    /// d(f_x/f_z)/dt = `ratio_rate[0] + ratio_rate[1] · jerk` (while f_z > 0).
+    pub ratio_rate: [f64; 2],
+}
+
+impl ReactionRates {
+    /// The reactions `fx`, `fz` with their rates, and the ratio's.
+    #[inline]
+    fn new(fx: f64, fz: f64, fx_rate: [f64; 2], fz_rate: [f64; 2]) -> Self {
+        // The quotient rule, its two coefficients over one division.
+        let inv_fz2 = 1.0 / (fz * fz);
+        ReactionRates {
+            fx,
+            fz,
+            fx_rate,
+            fz_rate,
+            ratio: fx / fz,
+            ratio_rate: [
+                (fx_rate[0] * fz - fx * fz_rate[0]) * inv_fz2,
+                (fx_rate[1] * fz - fx * fz_rate[1]) * inv_fz2,
+            ],
+        }
+    }
+
+    /// (f_x/f_z, its time derivative) under the ground jerk `jerk`, m/s³
+    /// (meaningful while f_z > 0).
+    #[inline]
+    pub fn ratio(&self, jerk: f64) -> (f64, f64) {
+        (self.ratio, self.ratio_rate[0] + self.ratio_rate[1] * jerk)
+    }
+}
+
+/// [`reactions_per_mass`] with the rates of change of both reactions, for
+/// one block and formulation (the constants worked out once).
+///
+/// Differentiating eqs. 16–19 along the motion, with ϕ̇ = −θ̇ and
+/// θ⃛ = dθ̈/dt from the formulation (linear: p²(θ̇ − u̇); nonlinear:
+/// p²(θ̇ cos ϕ − u̇ cos ϕ − u θ̇ sin ϕ), u = ü_g/g):
+///
+/// ```text
+/// ḟ_x/m = d ü_g/dt + R (θ⃛ cos ϕ + 3 θ̈ θ̇ sin ϕ − θ̇³ cos ϕ),
+/// ḟ_z/m =            R (θ⃛ sin ϕ − 3 θ̈ θ̇ cos ϕ − θ̇³ sin ϕ).
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct ReactionModel {
+    formulation: Formulation,
+    alpha: f64,
+    g: f64,
+    p2: f64,
+    /// R, the half-diagonal.
+    r: f64,
+    /// −p²/g: the part of θ⃛ per unit jerk (times cos ϕ when nonlinear).
+    jerk_gain: f64,
+}
+
+impl ReactionModel {
+    /// The model of `block` under `formulation`.
+    pub fn new(formulation: Formulation, block: &Block) -> Self {
+        let p2 = block.frequency_parameter.powi(2);
+        ReactionModel {
+            formulation,
+            alpha: block.slenderness,
+            g: block.gravity,
+            p2,
+            r: block.half_diagonal(),
+            jerk_gain: -p2 / block.gravity,
+        }
+    }
+
+    /// The reactions and their rates at a rocking state on `side`, the ground
+    /// acceleration being `ground` (m/s²). The values are those of
+    /// [`reactions_per_mass`], to the last bit.
+    #[inline]
+    pub fn rates(&self, side: f64, theta: f64, theta_dot: f64, ground: f64) -> ReactionRates {
+        let (g, p2, r) = (self.g, self.p2, self.r);
+        let u = ground / g;
+        let (sp, cp) = (self.alpha * side - theta).sin_cos();
+        let w = theta_dot;
+        let w2 = w * w;
+        // θ̈, and θ⃛ = jerk_0 + jerk_1 · (d ü_g/dt).
+        let (acc, jerk_0, jerk_1) = match self.formulation {
+            Formulation::Linear => (p2 * (theta - self.alpha * side - u), p2 * w, self.jerk_gain),
+            Formulation::Nonlinear => (
+                -p2 * (sp + u * cp),
+                p2 * w * (cp - u * sp),
+                self.jerk_gain * cp,
+            ),
+        };
+        let rest_x = 3.0 * acc * w * sp - w2 * w * cp;
+        let rest_z = -3.0 * acc * w * cp - w2 * w * sp;
+        ReactionRates::new(
+            ground + r * (acc * cp + w2 * sp),
+            g + r * (acc * sp - w2 * cp),
+            [r * (jerk_0 * cp + rest_x), 1.0 + r * jerk_1 * cp],
+            [r * (jerk_0 * sp + rest_z), r * jerk_1 * sp],
+        )
+    }
+}
+
 /// Eq. 20 as printed: f_x/f_z of a rocking block (nonlinear formulation).
 pub fn eq20_ratio(block: &Block, side: f64, theta: f64, theta_dot: f64, ground: f64) -> f64 {
     let u = ground / block.gravity;
@@ -58,6 +172,57 @@ mod tests {
 
     fn block() -> Block {
         Block::new(0.25, 2.14, Some(0.9), Some(0.7), None).expect("valid")
+    }
+
+    #[test]
+    fn reaction_rates_are_the_derivatives_along_the_motion() {
+        // Central differences along the local Taylor expansion of the motion
+        // (θ⃛ from the rates' own θ̈ and the formulation), the ground linear.
+        let b = block();
+        for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+            for &(side, th, w, ug, jerk) in &[
+                (-1.0, -0.1, -0.3, 5.0, 40.0),
+                (1.0, 0.2, 0.4, -3.0, -250.0),
+                (1.0, 0.05, -0.9, 2.0, 0.0),
+            ] {
+                let r = ReactionModel::new(formulation, &b).rates(side, th, w, ug);
+                let (fx, fz) = reactions_per_mass(formulation, &b, side, th, w, ug);
+                assert_eq!((r.fx, r.fz), (fx, fz));
+                let p2 = b.frequency_parameter.powi(2);
+                let g = b.gravity;
+                let acc = |th: f64, ug: f64| {
+                    formulation.angular_acceleration(p2, b.slenderness, side, th, ug / g)
+                };
+                // θ⃛ by differentiating θ̈(θ(t), ü_g(t)) numerically.
+                let e = 1e-6;
+                let a0 = acc(th, ug);
+                let a3 =
+                    (acc(th + w * e, ug + jerk * e) - acc(th - w * e, ug - jerk * e)) / (2.0 * e);
+                let at = |t: f64| {
+                    let th_t = th + w * t + a0 * t * t / 2.0 + a3 * t * t * t / 6.0;
+                    let w_t = w + a0 * t + a3 * t * t / 2.0;
+                    reactions_per_mass(formulation, &b, side, th_t, w_t, ug + jerk * t)
+                };
+                let h = 1e-5;
+                let (xp, zp) = at(h);
+                let (xm, zm) = at(-h);
+                let dfx = r.fx_rate[0] + r.fx_rate[1] * jerk;
+                let dfz = r.fz_rate[0] + r.fz_rate[1] * jerk;
+                let scale = 1.0 + jerk.abs();
+                assert!(
+                    ((xp - xm) / (2.0 * h) - dfx).abs() < 1e-6 * scale,
+                    "{formulation:?}"
+                );
+                assert!(
+                    ((zp - zm) / (2.0 * h) - dfz).abs() < 1e-6 * scale,
+                    "{formulation:?}"
+                );
+                let (q, dq) = r.ratio(jerk);
+                assert_eq!(q, fx / fz);
+                let fd = (xp / zp - xm / zm) / (2.0 * h);
+                assert!((fd - dq).abs() < 1e-6 * scale, "{formulation:?} {fd} {dq}");
+            }
+        }
     }
 
     #[test]

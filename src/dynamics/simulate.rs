@@ -297,15 +297,20 @@ impl Engine {
         loop {
             let end = first_event(&seg, t_stop.min(holds_until), lift_until);
             self.stats.accepted += 1;
-            let t_end = match end {
-                SegmentEnd::Impact(t) | SegmentEnd::Overturn(t) | SegmentEnd::Reached(t, _) => t,
+            let (t_end, y_end) = match end {
+                SegmentEnd::Impact(t) | SegmentEnd::Overturn(t) => (t, seg.at(t)),
+                SegmentEnd::Reached(t, y) => (t, y),
             };
             self.exact_error += seg.rounding_error(t_end - seg.t0);
-            tracker.rocking(seg.t0, t_end, side, forced, |t| seg.at(t));
+            tracker.rocking((seg.t0, seg.y0), (t_end, y_end), side, forced, |t| {
+                seg.at(t)
+            });
             match end {
                 SegmentEnd::Impact(t) => {
-                    let velocity = seg.at(t)[1];
-                    return Ok(LegEnd::Impact { t, velocity });
+                    return Ok(LegEnd::Impact {
+                        t,
+                        velocity: y_end[1],
+                    });
                 }
                 SegmentEnd::Overturn(t) => return Ok(LegEnd::Overturn { t }),
                 SegmentEnd::Reached(t, y) if t >= t_stop => return Ok(LegEnd::Reached { t, y }),
@@ -405,14 +410,18 @@ impl Engine {
                     }
                     t = t_new;
                 }
-                tracker.rocking(step.t0, t, s, forced, |t| step.at(t));
+                tracker.rocking((step.t0, step.y0), (t, step.at(t)), s, forced, |t| {
+                    step.at(t)
+                });
                 break if is_impact {
                     LegEnd::Impact { t, velocity: y[1] }
                 } else {
                     LegEnd::Overturn { t }
                 };
             }
-            tracker.rocking(step.t0, step.t1(), s, forced, |t| step.at(t));
+            tracker.rocking((step.t0, step.y0), (step.t1(), step.y1), s, forced, |t| {
+                step.at(t)
+            });
         };
         self.h_hint = stepper.next_step_size();
         self.stats.absorb(&stepper.stats);

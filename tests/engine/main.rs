@@ -16,3 +16,4 @@ mod pulses;
 mod record_spectrum;
 mod spectra;
 mod survival;
+mod tracking;
