@@ -8,6 +8,10 @@ use topple::dynamics::{
     Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Record, Solver, simulate,
 };
 
+#[path = "../tests/common/synthetic.rs"]
+mod synthetic;
+use synthetic::synthetic;
+
 fn problem(formulation: Formulation) -> Problem {
     let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
     let pulse = Pulse::new(PulseShape::OneSine, 4.0 * 0.25 * 9.81, 5.0 * 2.14).expect("valid");
@@ -120,40 +124,6 @@ fn pulses(c: &mut Criterion) {
         }
     }
     g.finish();
-}
-
-/// A random-like record of `n` samples at `dt` (the generator of
-/// `tests/engine/ground_motion.rs`): 24 sines of random frequency
-/// (log-uniform in [f_lo, f_hi] Hz), phase and weight from a 64-bit linear
-/// congruential generator, ramped in over the first tenth, scaled to `peak`.
-fn synthetic(seed: u64, n: usize, dt: f64, peak: f64, f_lo: f64, f_hi: f64) -> Vec<f64> {
-    let mut state = seed;
-    let mut uniform = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let components: Vec<(f64, f64, f64)> = (0..24)
-        .map(|_| {
-            let f = f_lo * (f_hi / f_lo).powf(uniform());
-            let phase = std::f64::consts::TAU * uniform();
-            (std::f64::consts::TAU * f, phase, 0.5 + uniform())
-        })
-        .collect();
-    let ramp = 0.1 * n as f64 * dt;
-    let raw: Vec<f64> = (0..n)
-        .map(|k| {
-            let t = k as f64 * dt;
-            let sum: f64 = components
-                .iter()
-                .map(|(w, phase, weight)| weight * (w * t + phase).sin())
-                .sum();
-            (t / ramp).min(1.0) * sum
-        })
-        .collect();
-    let max = raw.iter().fold(0.0f64, |m, a| m.max(a.abs()));
-    raw.iter().map(|a| peak * a / max).collect()
 }
 
 /// The linear formulation under a 20,000-sample record (200 s at dt = 0.01 s,

@@ -175,6 +175,11 @@ pub struct FragilitySpec {
     pub seed: Option<u64>,
     /// Solver.
     pub solver: Option<SolverSpec>,
+    /// The units `[from, to)` of the job's (stripe, chunk) list this task
+    /// computes: set by the service when it splits a job into tasks, refused
+    /// in a submitted spec.
+    #[schema(ignore)]
+    pub part: Option<[usize; 2]>,
 }
 
 /// The block, normalised.
@@ -251,6 +256,11 @@ pub struct FragilityJob {
     pub seed: u64,
     /// Solver.
     pub solver: SolverNorm,
+    /// A task's units `[from, to)` of [`FragilityJob::units`] (absent: the
+    /// whole job).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub part: Option<[usize; 2]>,
 }
 
 fn uncertain(
@@ -522,7 +532,7 @@ impl FragilitySpec {
                 format!("must lie in [1, {MAX_SAMPLES}]"),
             ));
         }
-        Ok(FragilityJob {
+        let job = FragilityJob {
             kind: "fragility",
             block,
             pulse,
@@ -533,7 +543,22 @@ impl FragilitySpec {
             samples,
             seed: self.seed.unwrap_or(1),
             solver,
-        })
+            part: None,
+        };
+        if let Some([from, to]) = self.part {
+            let units = job.units();
+            if !(from < to && to <= units) {
+                return Err(SpecError::at(
+                    "/part",
+                    format!("must be [from, to) with from < to ≤ {units} (the job's units)"),
+                ));
+            }
+            return Ok(FragilityJob {
+                part: Some([from, to]),
+                ..job
+            });
+        }
+        Ok(job)
     }
 }
 
@@ -619,6 +644,9 @@ pub struct FragilityNumerics {
     pub wall_time_s: f64,
     /// Bootstrap replicates of the fit.
     pub bootstrap: usize,
+    /// Tasks the job was computed as (several: `wall_time_s` is their wall
+    /// times summed, wherever they ran, plus the assembly's).
+    pub tasks: usize,
 }
 
 /// The result document.
@@ -667,8 +695,49 @@ fn uniform(rng: &mut ChaCha8Rng) -> f64 {
     ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
 }
 
-/// What one chunk counted: (toppled, mode 1, mode 2).
-type Counts = (u64, u64, u64);
+/// What some units of a stripe counted.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct StripeCounts {
+    /// Simulations.
+    pub n: u64,
+    /// Toppled.
+    pub overturned: u64,
+    /// Toppled after an impact.
+    pub mode_1: u64,
+    /// Toppled without one.
+    pub mode_2: u64,
+}
+
+impl StripeCounts {
+    fn add(&mut self, other: &StripeCounts) {
+        self.n += other.n;
+        self.overturned += other.overturned;
+        self.mode_1 += other.mode_1;
+        self.mode_2 += other.mode_2;
+    }
+}
+
+/// A task's result: its units' counts per stripe (not a job's result: the
+/// service assembles the parts into one).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct FragilityPart {
+    /// "fragility".
+    pub kind: String,
+    /// The units `[from, to)` it counted.
+    pub part: [usize; 2],
+    /// Per stripe, in the job's order.
+    pub counts: Vec<StripeCounts>,
+    /// Simulations run.
+    pub simulations: u64,
+    /// Its compute time, s.
+    pub wall_time_s: f64,
+}
+
+/// The tasks a result was assembled from.
+struct Tasks {
+    count: usize,
+    compute_s: f64,
+}
 
 impl FragilityJob {
     fn formulation(&self) -> Formulation {
@@ -743,14 +812,21 @@ impl FragilityJob {
         Ok(r.overturned.then(|| r.mode.map_or(0, |m| m.number())))
     }
 
-    /// Runs the Monte Carlo and the fit (rayon over chunks).
-    pub fn run(&self, control: &Control) -> Result<FragilityResult, JobError> {
-        let started = std::time::Instant::now();
-        let samples = self.samples as usize;
-        let chunks = samples.div_ceil(CHUNK);
-        // Each record with its PGA (m/s²) or PGV (m/s): what one unit of scale gives.
-        let records: Vec<(Record, f64)> = self
-            .ground_motions
+    /// Chunks of [`CHUNK`] samples per stripe.
+    pub fn chunks(&self) -> usize {
+        (self.samples as usize).div_ceil(CHUNK)
+    }
+
+    /// The job's units of work and of seeding: (stripe k, chunk c) in the
+    /// order unit `k · chunks + c`. A task computes a range of them.
+    pub fn units(&self) -> usize {
+        self.stripes.len() * self.chunks()
+    }
+
+    /// Each record of the suite with its PGA (m/s²) or PGV (m/s): what one
+    /// unit of scale gives.
+    fn records(&self) -> Vec<(Record, f64)> {
+        self.ground_motions
             .iter()
             .flatten()
             .filter_map(|m| {
@@ -763,16 +839,43 @@ impl FragilityJob {
                 };
                 (per_unit > 0.0).then_some((record, per_unit))
             })
-            .collect();
-        control.add_total((self.stripes.len() * samples) as u64);
-        let tasks: Vec<(usize, usize)> = (0..self.stripes.len())
-            .flat_map(|k| (0..chunks).map(move |c| (k, c)))
-            .collect();
-        let counted: Vec<Result<(usize, Counts), JobError>> = tasks
-            .par_iter()
-            .map(|&(k, c)| {
+            .collect()
+    }
+
+    /// Simulations this job (or task) runs.
+    pub fn simulations(&self) -> u64 {
+        let [from, to] = self.part.unwrap_or([0, self.units()]);
+        self.samples_in(from, to)
+    }
+
+    /// Samples in units `from..to`.
+    fn samples_in(&self, from: usize, to: usize) -> u64 {
+        let (chunks, samples) = (self.chunks(), self.samples as usize);
+        (from..to)
+            .map(|i| {
+                let c = i % chunks;
+                ((c + 1) * CHUNK).min(samples) - c * CHUNK
+            })
+            .sum::<usize>() as u64
+    }
+
+    /// Simulates units `from..to` (rayon over them) and counts per stripe
+    /// (stripes outside the range count zero).
+    fn count(
+        &self,
+        from: usize,
+        to: usize,
+        control: &Control,
+    ) -> Result<Vec<StripeCounts>, JobError> {
+        let (chunks, samples) = (self.chunks(), self.samples as usize);
+        let records = self.records();
+        control.add_total(self.samples_in(from, to));
+        let counted: Vec<Result<(usize, StripeCounts), JobError>> = (from..to)
+            .into_par_iter()
+            .map(|i| {
+                let (k, c) = (i / chunks, i % chunks);
                 let mut rng = stream(self.seed, k, c);
-                let mut counts = (0, 0, 0);
+                let mut counts = StripeCounts::default();
                 for j in c * CHUNK..((c + 1) * CHUNK).min(samples) {
                     control.check().map_err(|_| JobError::Canceled)?;
                     let u = [
@@ -787,12 +890,13 @@ impl FragilityJob {
                             self.stripes[k], self.im
                         ))
                     })?;
+                    counts.n += 1;
                     if let Some(mode) = outcome {
-                        counts.0 += 1;
+                        counts.overturned += 1;
                         if mode == 2 {
-                            counts.2 += 1;
+                            counts.mode_2 += 1;
                         } else {
-                            counts.1 += 1;
+                            counts.mode_1 += 1;
                         }
                     }
                     control.add_done(1);
@@ -800,28 +904,116 @@ impl FragilityJob {
                 Ok((k, counts))
             })
             .collect();
-        let mut per_stripe = vec![(0u64, 0u64, 0u64); self.stripes.len()];
+        let mut per_stripe = vec![StripeCounts::default(); self.stripes.len()];
         for r in counted {
-            let (k, (t, m1, m2)) = r?;
-            per_stripe[k].0 += t;
-            per_stripe[k].1 += m1;
-            per_stripe[k].2 += m2;
+            let (k, counts) = r?;
+            per_stripe[k].add(&counts);
         }
-        let n = samples as u64;
+        Ok(per_stripe)
+    }
+
+    /// Runs the Monte Carlo and the fit (rayon over chunks): the whole job,
+    /// whatever its `part`.
+    pub fn run(&self, control: &Control) -> Result<FragilityResult, JobError> {
+        let started = std::time::Instant::now();
+        let whole = FragilityJob {
+            part: None,
+            ..self.clone()
+        };
+        let counts = whole.count(0, whole.units(), control)?;
+        whole.finish(&counts, None, started)
+    }
+
+    /// Runs this task's units: their counts per stripe, for
+    /// [`FragilityJob::assemble`].
+    pub fn run_part(&self, control: &Control) -> Result<FragilityPart, JobError> {
+        let started = std::time::Instant::now();
+        let [from, to] = self.part.unwrap_or([0, self.units()]);
+        let counts = self.count(from, to, control)?;
+        let wall = started.elapsed().as_secs_f64();
+        Ok(FragilityPart {
+            kind: "fragility".into(),
+            part: [from, to],
+            simulations: counts.iter().map(|c| c.n).sum(),
+            wall_time_s: wall,
+            counts,
+        })
+    }
+
+    /// The whole job's result from its tasks' parts (in any order): each
+    /// unit counted exactly once, else an error naming the first gap or
+    /// overlap.
+    pub fn assemble(&self, parts: &[FragilityPart]) -> Result<FragilityResult, JobError> {
+        let started = std::time::Instant::now();
+        let mut ranges: Vec<[usize; 2]> = parts.iter().map(|p| p.part).collect();
+        ranges.sort_unstable();
+        let mut next = 0;
+        for [from, to] in &ranges {
+            if *from != next {
+                return Err(JobError::Point(if *from > next {
+                    format!("the tasks' parts do not tile the job: unit {next} is missing")
+                } else {
+                    format!("the tasks' parts do not tile the job: unit {from} is counted twice")
+                }));
+            }
+            next = *to;
+        }
+        if next != self.units() {
+            return Err(JobError::Point(format!(
+                "the tasks' parts do not tile the job: units {next}..{} are missing",
+                self.units()
+            )));
+        }
+        let mut counts = vec![StripeCounts::default(); self.stripes.len()];
+        for part in parts {
+            if part.counts.len() != counts.len() {
+                return Err(JobError::Point(
+                    "a task's counts do not match the job's stripes".into(),
+                ));
+            }
+            for (total, c) in counts.iter_mut().zip(&part.counts) {
+                total.add(c);
+            }
+        }
+        let tasks = Tasks {
+            count: parts.len(),
+            compute_s: parts.iter().map(|p| p.wall_time_s).sum(),
+        };
+        self.finish(&counts, Some(tasks), started)
+    }
+
+    /// The result from the counts per stripe: the Wilson intervals, the
+    /// monotonicity flag, the fit and its band.
+    fn finish(
+        &self,
+        per_stripe: &[StripeCounts],
+        tasks: Option<Tasks>,
+        started: std::time::Instant,
+    ) -> Result<FragilityResult, JobError> {
+        if let Some((k, c)) = per_stripe
+            .iter()
+            .enumerate()
+            .find(|(_, c)| c.n != u64::from(self.samples))
+        {
+            return Err(JobError::Point(format!(
+                "stripe {k} counted {} simulations, not {}",
+                c.n, self.samples
+            )));
+        }
         let stripes: Vec<StripeResult> = self
             .stripes
             .iter()
-            .zip(&per_stripe)
-            .map(|(&im, &(k, m1, m2))| {
-                let (lo, hi) = wilson(k, n, Z95);
+            .zip(per_stripe)
+            .map(|(&im, c)| {
+                let (lo, hi) = wilson(c.overturned, c.n, Z95);
                 StripeResult {
                     im,
-                    n,
-                    overturned: k,
-                    p: k as f64 / n as f64,
+                    n: c.n,
+                    overturned: c.overturned,
+                    p: c.overturned as f64 / c.n as f64,
                     interval_95: [lo, hi],
-                    mode_1: m1,
-                    mode_2: m2,
+                    mode_1: c.mode_1,
+                    mode_2: c.mode_2,
                 }
             })
             .collect();
@@ -842,8 +1034,10 @@ impl FragilityJob {
             })
             .collect();
         let lognormal = fit_lognormal(&counts).map(|(theta, beta)| self.band(theta, beta, &counts));
-        let wall = started.elapsed().as_secs_f64();
-        let simulations = n * self.stripes.len() as u64;
+        let simulations: u64 = per_stripe.iter().map(|c| c.n).sum();
+        // One task: its wall time; several: the tasks' compute time summed
+        // (wherever they ran) plus the assembly's.
+        let wall = started.elapsed().as_secs_f64() + tasks.as_ref().map_or(0.0, |t| t.compute_s);
         Ok(FragilityResult {
             kind: "fragility",
             im: self.im,
@@ -858,8 +1052,12 @@ impl FragilityJob {
                 simulations_per_second: simulations as f64 / wall.max(1e-9),
                 wall_time_s: wall,
                 bootstrap: BOOTSTRAP,
+                tasks: tasks.map_or(1, |t| t.count),
             },
-            spec: self.clone(),
+            spec: FragilityJob {
+                part: None,
+                ..self.clone()
+            },
         })
     }
 

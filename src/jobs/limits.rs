@@ -143,7 +143,7 @@ impl Job {
                 }
             }
             Job::Fragility(j) => {
-                let work = j.stripes.len() as f64 * f64::from(j.samples);
+                let work = j.simulations() as f64;
                 let longest = j
                     .ground_motions
                     .iter()

@@ -89,8 +89,24 @@ impl Job {
         Job::from_value(&value)
     }
 
-    /// Validates a job spec given as a JSON value.
+    /// Validates a job spec given as a JSON value: a whole job, as users
+    /// submit it (a task's `part` is refused).
     pub fn from_value(value: &serde_json::Value) -> Result<Job, SpecError> {
+        let job = Job::from_task(value)?;
+        if let Job::Fragility(f) = &job
+            && f.part.is_some()
+        {
+            return Err(SpecError::at(
+                "/part",
+                "unknown field `part`: the service sets a task's part when it splits a job",
+            ));
+        }
+        Ok(job)
+    }
+
+    /// Validates a task's spec as the service stored it ([`Job::split`]):
+    /// a job, or a part of one.
+    pub fn from_task(value: &serde_json::Value) -> Result<Job, SpecError> {
         let obj = value
             .as_object()
             .ok_or_else(|| SpecError::at("", "a job spec is a JSON object"))?;
@@ -193,6 +209,11 @@ impl Job {
             Job::FrictionSpectrum(job) => serde_json::to_value(job.run(control)?),
             Job::Forensic(job) => serde_json::to_value(job.run(control)?),
             Job::RecordSpectrum(job) => serde_json::to_value(job.run(control)?),
+            Job::Fragility(job) if job.part.is_some() => {
+                // A task's counts, assembled by the service: no warnings.
+                return serde_json::to_value(job.run_part(control)?)
+                    .map_err(|e| JobError::Point(e.to_string()));
+            }
             Job::Fragility(job) => serde_json::to_value(job.run(control)?),
             Job::Survival(job) => {
                 if control.canceled() {

@@ -3,7 +3,8 @@
 
 use serde_json::Value;
 
-use super::Job;
+use super::fragility::FragilityPart;
+use super::{Job, JobError};
 
 /// Most tasks a spectrum is split into.
 pub const MAX_TASKS: usize = 256;
@@ -65,21 +66,69 @@ impl Job {
                     })
                     .collect()
             }
+            Job::Fragility(job) if job.part.is_none() => {
+                let units = job.units();
+                // Every task carries the suite: a long suite makes fewer tasks.
+                let suite: usize = job
+                    .ground_motions
+                    .iter()
+                    .flatten()
+                    .map(|m| m.motion.acc.len())
+                    .sum();
+                let longest = job
+                    .ground_motions
+                    .iter()
+                    .flatten()
+                    .map(|m| m.motion.acc.len())
+                    .max()
+                    .unwrap_or(0);
+                let per_unit = super::fragility::CHUNK as f64
+                    * (longest as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
+                let max_tasks = MAX_TASKS.min((MAX_TASK_SAMPLES / suite.max(1)).max(1));
+                let per = chunk_len(units, per_unit, max_tasks);
+                if per >= units {
+                    return vec![self.clone()];
+                }
+                (0..units)
+                    .step_by(per)
+                    .map(|from| {
+                        let mut part = (**job).clone();
+                        part.part = Some([from, (from + per).min(units)]);
+                        Job::Fragility(Box::new(part))
+                    })
+                    .collect()
+            }
             other => vec![other.clone()],
         }
     }
 
     /// The job's result from its tasks' results (in task order). For a
     /// spectrum the frequencies are concatenated and the numerics summed
-    /// (`wall_time_s` is then the tasks' total compute time).
-    pub fn assemble(&self, mut parts: Vec<Value>) -> Value {
+    /// (`wall_time_s` is then the tasks' total compute time); a fragility
+    /// job's counts are summed per stripe and the fit made on the sums.
+    pub fn assemble(&self, mut parts: Vec<Value>) -> Result<Value, JobError> {
+        // A fragility job's tasks return parts (one task is the whole job).
+        if let Job::Fragility(job) = self
+            && parts.iter().any(|p| p.get("part").is_some())
+        {
+            let parts: Vec<FragilityPart> = parts
+                .into_iter()
+                .map(serde_json::from_value)
+                .collect::<Result<_, _>>()
+                .map_err(|e| JobError::Point(format!("a task's result does not read: {e}")))?;
+            let doc = serde_json::to_value(job.assemble(&parts)?)
+                .map_err(|e| JobError::Point(e.to_string()))?;
+            return Ok(super::key::with_engine(super::plausible::with_warnings(
+                doc, self,
+            )));
+        }
         if parts.len() == 1 {
-            return parts.pop().unwrap_or(Value::Null);
+            return Ok(parts.pop().unwrap_or(Value::Null));
         }
         let (kind, spec) = match self {
             Job::Spectrum(job) => ("spectrum", serde_json::to_value(job)),
             Job::RecordSpectrum(job) => ("record_spectrum", serde_json::to_value(job)),
-            _ => return parts.pop().unwrap_or(Value::Null),
+            _ => return Ok(parts.pop().unwrap_or(Value::Null)),
         };
         let spec = spec.unwrap_or(Value::Null);
         let mut lines = Vec::new();
@@ -129,7 +178,9 @@ impl Job {
         if let Some(record) = parts.first().and_then(|p| p.get("record")) {
             doc["record"] = record.clone();
         }
-        super::key::with_engine(super::plausible::with_warnings(doc, self))
+        Ok(super::key::with_engine(super::plausible::with_warnings(
+            doc, self,
+        )))
     }
 }
 
@@ -153,7 +204,7 @@ mod tests {
             .iter()
             .map(|t| t.run(&control).expect("runs"))
             .collect();
-        let assembled = job.assemble(parts);
+        let assembled = job.assemble(parts).expect("assembles");
         let whole = job.run(&control).expect("runs");
         assert_eq!(assembled["spectrum"], whole["spectrum"]);
         assert_eq!(assembled["spec"], whole["spec"]);

@@ -81,7 +81,7 @@ enum Outcome {
 fn parse(spec: &str) -> Result<Job, String> {
     serde_json::from_str::<Value>(spec)
         .map_err(|e| e.to_string())
-        .and_then(|v| Job::from_value(&v).map_err(|e| e.to_string()))
+        .and_then(|v| Job::from_task(&v).map_err(|e| e.to_string()))
 }
 
 async fn execute(
@@ -329,15 +329,24 @@ async fn finish_job(state: &AppState, id: Uuid) {
             .iter()
             .filter_map(|p| serde_json::from_str(p).ok())
             .collect();
-        let result = job.assemble(values);
-        let numerics = result
-            .get("numerics")
-            .map(|n| n.to_string())
-            .unwrap_or_else(|| "null".into());
-        let _ = tx.send((result.to_string(), numerics));
+        let assembled = job.assemble(values).map(|result| {
+            let numerics = result
+                .get("numerics")
+                .map(|n| n.to_string())
+                .unwrap_or_else(|| "null".into());
+            (result.to_string(), numerics)
+        });
+        let _ = tx.send(assembled);
     });
-    let Ok((body, numerics)) = rx.await else {
-        return;
+    let (body, numerics) = match rx.await {
+        Ok(Ok(done)) => done,
+        Ok(Err(e)) => {
+            warn!(error = %e, "assembling failed");
+            let _ = state.store.fail(id, &e.to_string(), &now_rfc3339()).await;
+            state.announce(id);
+            return;
+        }
+        Err(_) => return,
     };
     match state
         .store

@@ -197,3 +197,146 @@ fn the_monte_carlo_error_falls_as_one_over_root_n() {
         "σ(100)/σ(1600) = {ratio}, expected 4"
     );
 }
+
+/// The result of `spec` computed as tasks of `sizes` units each (cycled),
+/// run in reverse order and assembled.
+fn split_run(spec: &Value, sizes: &[usize]) -> Value {
+    let whole = Job::from_value(spec).expect("valid");
+    let Job::Fragility(f) = &whole else {
+        panic!("a fragility job");
+    };
+    let units = f.units();
+    let mut ranges = Vec::new();
+    let (mut from, mut i) = (0, 0);
+    while from < units {
+        let to = (from + sizes[i % sizes.len()]).min(units);
+        ranges.push([from, to]);
+        (from, i) = (to, i + 1);
+    }
+    let parts: Vec<Value> = ranges
+        .iter()
+        .rev()
+        .map(|r| {
+            let mut task = spec.clone();
+            task["part"] = json!(r);
+            Job::from_task(&task)
+                .expect("a task")
+                .run(&Control::new())
+                .expect("runs")
+        })
+        .collect();
+    let doc = whole.assemble(parts).expect("assembles");
+    assert_eq!(doc["numerics"]["tasks"].as_u64(), Some(ranges.len() as u64));
+    doc
+}
+
+#[test]
+fn the_result_is_identical_whatever_the_split() {
+    // 150 samples: chunks of 64, 64 and 22 per stripe, 4 stripes, 12 units.
+    let spec = json!({"kind": "fragility",
+        "block": {"alpha": {"dist": "normal", "mean": 0.2, "sd": 0.03, "min": 0.1, "max": 0.3}, "p": 2.0},
+        "pulse": {"type": "one_sine", "frequency_hz": {"dist": "lognormal", "median": 0.8, "beta": 0.3}},
+        "stripes": [0.2, 0.3, 0.45, 0.7], "samples": 150, "seed": 11});
+    let whole = run(&spec);
+    assert_eq!(whole["numerics"]["tasks"].as_u64(), Some(1));
+    assert!(whole["lognormal"].is_object(), "{}", whole["lognormal"]);
+    for sizes in [&[1][..], &[2], &[5], &[3, 1, 7], &[11], &[12]] {
+        let split = split_run(&spec, sizes);
+        for field in ["stripes", "lognormal", "monotone", "falls_at", "spec", "im"] {
+            assert_eq!(split[field], whole[field], "{field} split as {sizes:?}");
+        }
+        assert_eq!(
+            split["numerics"]["simulations"],
+            whole["numerics"]["simulations"]
+        );
+    }
+    // The service's own split of a big job tiles its units.
+    let mut big = spec.clone();
+    big["samples"] = json!(100_000);
+    let job = Job::from_value(&big).expect("valid");
+    let tasks = job.split();
+    assert!(tasks.len() > 50 && tasks.len() <= 256, "{}", tasks.len());
+    let mut next = 0;
+    for t in &tasks {
+        let Job::Fragility(f) = t else {
+            panic!("a fragility task");
+        };
+        let [from, to] = f.part.expect("a part");
+        assert_eq!(from, next);
+        next = to;
+    }
+    let Job::Fragility(f) = &job else {
+        panic!("a fragility job");
+    };
+    assert_eq!(next, f.units());
+    // A small job is one task: the job itself.
+    assert_eq!(Job::from_value(&spec).expect("valid").split().len(), 1);
+}
+
+#[test]
+fn a_record_suite_is_identical_whatever_the_split() {
+    let dt = 0.01;
+    let motion = |f: f64| -> Vec<f64> {
+        (0..300)
+            .map(|i| {
+                let t = i as f64 * dt;
+                (std::f64::consts::TAU * f * t).sin() * (-0.3 * t).exp()
+            })
+            .collect()
+    };
+    let spec = json!({"kind": "fragility",
+        "block": {"b": {"dist": "uniform", "min": 0.15, "max": 0.25}, "h": 1.0},
+        "ground_motions": [
+            {"name": "a", "dt": dt, "unit": "g", "acc": motion(1.0)},
+            {"name": "b", "dt": dt, "unit": "g", "acc": motion(1.7)}],
+        "stripes": [0.25, 0.4, 0.6], "samples": 70, "seed": 5});
+    let whole = run(&spec);
+    let split = split_run(&spec, &[1, 2]);
+    assert_eq!(split["stripes"], whole["stripes"]);
+    assert_eq!(split["lognormal"], whole["lognormal"]);
+}
+
+#[test]
+fn parts_that_do_not_tile_the_job_are_an_error_and_a_part_is_not_submitted() {
+    let spec = json!({"kind": "fragility", "block": {"alpha": 0.2, "p": 2.0},
+        "pulse": {"type": "one_sine", "frequency_hz": 0.8},
+        "stripes": [0.3, 0.5], "samples": 100, "seed": 1});
+    let job = Job::from_value(&spec).expect("valid");
+    let part = |r: [usize; 2]| {
+        let mut task = spec.clone();
+        task["part"] = json!(r);
+        Job::from_task(&task)
+            .expect("a task")
+            .run(&Control::new())
+            .expect("runs")
+    };
+    let gap = job.assemble(vec![part([0, 1]), part([2, 4])]);
+    assert!(
+        gap.as_ref()
+            .is_err_and(|e| e.to_string().contains("unit 1 is missing")),
+        "{gap:?}"
+    );
+    let twice = job.assemble(vec![part([0, 3]), part([2, 4])]);
+    assert!(
+        twice
+            .as_ref()
+            .is_err_and(|e| e.to_string().contains("counted twice")),
+        "{twice:?}"
+    );
+    let short = job.assemble(vec![part([0, 1]), part([1, 3])]);
+    assert!(
+        short
+            .as_ref()
+            .is_err_and(|e| e.to_string().contains("3..4 are missing")),
+        "{short:?}"
+    );
+    // Submitted with a part, a spec is refused naming it; a task's part
+    // out of range too.
+    let mut task = spec.clone();
+    task["part"] = json!([0, 1]);
+    let e = Job::from_value(&task).expect_err("a part is the service's");
+    assert_eq!(e.pointer, "/part");
+    task["part"] = json!([2, 9]);
+    let e = Job::from_task(&task).expect_err("out of range");
+    assert_eq!(e.pointer, "/part");
+}

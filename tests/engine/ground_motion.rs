@@ -8,6 +8,7 @@
 
 use std::sync::Arc;
 
+use crate::synthetic::synthetic;
 use serde_json::json;
 use topple::dynamics::exact::MAX_SEGMENT_PT;
 use topple::dynamics::{
@@ -264,47 +265,6 @@ fn the_exact_solver_solves_the_linear_formulation_of_a_record_only() {
     .expect("simulates");
     assert_eq!(r.numerics.method, "exact");
     assert!(!r.rocked);
-}
-
-/// A 64-bit linear congruential generator (Knuth's MMIX constants): uniform
-/// numbers in [0, 1) reproducible from a seed, with no dependency.
-struct Lcg(u64);
-
-impl Lcg {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-/// A random-like record of `n` samples at `dt`: 24 sines of random frequency
-/// (log-uniform in [f_lo, f_hi] Hz), phase and weight, ramped in over the
-/// first tenth, scaled to the peak `peak` (m/s²).
-fn synthetic(seed: u64, n: usize, dt: f64, peak: f64, f_lo: f64, f_hi: f64) -> Vec<f64> {
-    let mut rng = Lcg(seed);
-    let components: Vec<(f64, f64, f64)> = (0..24)
-        .map(|_| {
-            let f = f_lo * (f_hi / f_lo).powf(rng.uniform());
-            let phase = std::f64::consts::TAU * rng.uniform();
-            (std::f64::consts::TAU * f, phase, 0.5 + rng.uniform())
-        })
-        .collect();
-    let ramp = 0.1 * n as f64 * dt;
-    let raw: Vec<f64> = (0..n)
-        .map(|k| {
-            let t = k as f64 * dt;
-            let sum: f64 = components
-                .iter()
-                .map(|(w, phase, weight)| weight * (w * t + phase).sin())
-                .sum();
-            (t / ramp).min(1.0) * sum
-        })
-        .collect();
-    let max = raw.iter().fold(0.0f64, |m, a| m.max(a.abs()));
-    raw.iter().map(|a| peak * a / max).collect()
 }
 
 /// Runs `problem` with the exact solver and with dop853 at rtol 1e-12, checks

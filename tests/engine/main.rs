@@ -16,4 +16,6 @@ mod pulses;
 mod record_spectrum;
 mod spectra;
 mod survival;
+#[path = "../common/synthetic.rs"]
+mod synthetic;
 mod tracking;

@@ -186,7 +186,7 @@ fn a_split_record_spectrum_assembles_to_the_whole() {
         .iter()
         .map(|t| t.run(&control).expect("runs"))
         .collect();
-    let assembled = job.assemble(parts);
+    let assembled = job.assemble(parts).expect("assembles");
     let whole = run(&job);
     assert_eq!(assembled["spectrum"], whole["spectrum"]);
     assert_eq!(assembled["record"], whole["record"]);

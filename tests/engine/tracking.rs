@@ -11,6 +11,7 @@
 //! First sliding and lift-off are checked the same way against the series
 //! (the demand and f_z recomputed from the series' states).
 
+use crate::synthetic::synthetic;
 use topple::dynamics::reactions::reactions_per_mass;
 use topple::dynamics::{
     Block, Forcing, Formulation, Method, Options, Problem, Pulse, PulseShape, Record, Response,
@@ -165,39 +166,6 @@ fn check_peaks<G: Forcing>(problem: &Problem<G>, solver: Solver, what: &str, ext
         "{what}: peak demand at {peak_time} s, reference {ref_time} s"
     );
     peak_demand
-}
-
-/// A random-like record (the generator of `ground_motion.rs`): 24 sines of
-/// log-uniform frequency in [f_lo, f_hi] Hz, ramped in over the first tenth,
-/// scaled to the peak `peak`, m/s².
-fn synthetic(seed: u64, n: usize, dt: f64, peak: f64, f_lo: f64, f_hi: f64) -> Vec<f64> {
-    let mut state = seed;
-    let mut uniform = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let components: Vec<(f64, f64, f64)> = (0..24)
-        .map(|_| {
-            let f = f_lo * (f_hi / f_lo).powf(uniform());
-            let phase = std::f64::consts::TAU * uniform();
-            (std::f64::consts::TAU * f, phase, 0.5 + uniform())
-        })
-        .collect();
-    let ramp = 0.1 * n as f64 * dt;
-    let raw: Vec<f64> = (0..n)
-        .map(|k| {
-            let t = k as f64 * dt;
-            let sum: f64 = components
-                .iter()
-                .map(|(w, phase, weight)| weight * (w * t + phase).sin())
-                .sum();
-            (t / ramp).min(1.0) * sum
-        })
-        .collect();
-    let max = raw.iter().fold(0.0f64, |m, a| m.max(a.abs()));
-    raw.iter().map(|a| peak * a / max).collect()
 }
 
 /// The record's sample times (kinks of the demand, where it often peaks).

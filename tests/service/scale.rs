@@ -154,6 +154,45 @@ async fn two_instances_share_one_spectrum_and_assemble_the_single_instance_resul
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn two_instances_share_one_fragility_campaign_and_assemble_the_single_instance_result() {
+    let Some(db) = crate::common::pg_database("fragility").await else {
+        return;
+    };
+    let a = instance(&db.url, "A", 1).await;
+    let b = instance(&db.url, "B", 1).await;
+    let client = reqwest::Client::new();
+    let spec = json!({"kind": "fragility",
+        "block": {"alpha": {"dist": "normal", "mean": 0.2, "sd": 0.03, "min": 0.1, "max": 0.3}, "p": 2.0},
+        "pulse": {"type": "one_sine", "frequency_hz": {"dist": "lognormal", "median": 0.8, "beta": 0.3}},
+        "stripes": [0.25, 0.5], "samples": 12_000, "seed": 3});
+    let (status, job) = post(&client, &a.base, &spec).await;
+    assert_eq!(status, 202, "{job}");
+    let id = job["id"].as_str().expect("id").to_string();
+    let done = wait_for(&client, &b.base, &id, "succeeded", Duration::from_secs(300)).await;
+    assert_eq!(done["status"], "succeeded", "{done}");
+    assert_eq!(
+        finishers(&db.url, &id).await,
+        vec!["A", "B"],
+        "both instances computed tasks"
+    );
+    let result = get(&client, &format!("{}/v1/jobs/{id}/result", b.base)).await;
+    let whole = Job::from_value(&spec)
+        .expect("valid")
+        .run(&Control::new())
+        .expect("runs");
+    for field in ["stripes", "lognormal", "monotone", "spec"] {
+        assert_eq!(result[field], whole[field], "{field}");
+    }
+    let tasks = Job::from_value(&spec).expect("valid").split().len();
+    assert!(tasks > 2, "{tasks}");
+    assert_eq!(result["numerics"]["tasks"], tasks);
+    assert_eq!(result["numerics"]["simulations"], 24_000);
+    a.shutdown().await;
+    b.shutdown().await;
+    db.drop_now().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_job_submitted_to_one_instance_is_visible_cancellable_and_cached_through_another() {
     let Some(db) = crate::common::pg_database("ab").await else {
         return;
