@@ -497,13 +497,10 @@ pub(crate) async fn finished_result(
 async fn resolve_fragility_jobs(
     state: &AppState,
     tenant: &Tenant,
-    text: &str,
-) -> Result<Option<String>, Problem> {
-    let Ok(mut spec) = serde_json::from_str::<serde_json::Value>(text) else {
-        return Ok(None);
-    };
+    mut spec: serde_json::Value,
+) -> Result<serde_json::Value, Problem> {
     if spec.get("kind").and_then(|k| k.as_str()) != Some("survival") {
-        return Ok(None);
+        return Ok(spec);
     }
     let hazard_im = spec
         .pointer("/hazard/im")
@@ -524,7 +521,6 @@ async fn resolve_fragility_jobs(
         )
         .at(pointer)
     };
-    let mut changed = false;
     for at in pointers {
         let Some(id) = spec
             .pointer(&format!("{at}/job"))
@@ -542,7 +538,9 @@ async fn resolve_fragility_jobs(
                 format!("job {id} cannot be read: {}", p.detail),
             )
         })?;
-        let doc: serde_json::Value = serde_json::from_str(found.body.as_str())
+        let body = found.body.clone();
+        let doc: serde_json::Value = off_runtime(move || serde_json::from_str(body.as_str()))
+            .await?
             .map_err(|e| Problem::internal(e.to_string()))?;
         if doc.get("kind").and_then(|k| k.as_str()) != Some("fragility") {
             return Err(invalid(pointer, format!("job {id} is not a fragility job")));
@@ -573,14 +571,41 @@ async fn resolve_fragility_jobs(
         };
         if let Some(slot) = spec.pointer_mut(&at) {
             *slot = serde_json::json!({"median": median, "beta": beta});
-            changed = true;
         }
     }
-    Ok(if changed {
-        Some(spec.to_string())
+    Ok(spec)
+}
+
+/// Runs `f` on the blocking pool (parsing and validating documents: not
+/// work for the runtime, and not compute to queue behind jobs).
+async fn off_runtime<T: Send + 'static>(
+    f: impl FnOnce() -> T + Send + 'static,
+) -> Result<T, Problem> {
+    tokio::task::spawn_blocking(f)
+        .await
+        .map_err(|e| Problem::internal(format!("reading the spec stopped: {e}")))
+}
+
+/// A spec that does not validate: 400 when it is not JSON, else 422 naming
+/// the field.
+fn invalid_spec(e: crate::jobs::spec::SpecError) -> Problem {
+    let status = if e.message.starts_with("not valid JSON") {
+        StatusCode::BAD_REQUEST
     } else {
-        None
-    })
+        StatusCode::UNPROCESSABLE_ENTITY
+    };
+    let pointer = e.pointer.clone();
+    Problem::new(
+        status,
+        "invalid-spec",
+        "Invalid job spec",
+        format!(
+            "{}: {}",
+            if pointer.is_empty() { "/" } else { &pointer },
+            e.message
+        ),
+    )
+    .at(pointer)
 }
 
 /// Waits until the tenant's job `id` reaches a final status or `limit` passes.
@@ -709,42 +734,31 @@ pub async fn create_job(
         Err(e) => return Err(body_problem(&state, &e)),
     };
     let wait = wait_duration(&state, query.wait)?;
-    let text = std::str::from_utf8(&body)
-        .map_err(|_| Problem::bad_request("invalid-body", "the body is not UTF-8"))?;
+    // Reading a spec (it may hold long records) is no work for the runtime:
+    // the blocking pool parses and validates it.
+    let value = off_runtime(move || {
+        let text = std::str::from_utf8(&body)
+            .map_err(|_| Problem::bad_request("invalid-body", "the body is not UTF-8"))?;
+        crate::jobs::spec::parse_json(text).map_err(invalid_spec)
+    })
+    .await??;
     // A survival spec may name finished fragility jobs: read their fits.
-    let resolved = resolve_fragility_jobs(&state, &tenant, text).await?;
-    let text = resolved.as_deref().unwrap_or(text);
-    let job = Job::parse(text).map_err(|e| {
-        let status = if e.message.starts_with("not valid JSON") {
-            StatusCode::BAD_REQUEST
-        } else {
-            StatusCode::UNPROCESSABLE_ENTITY
-        };
-        let pointer = e.pointer.clone();
-        Problem::new(
-            status,
-            "invalid-spec",
-            "Invalid job spec",
-            format!(
-                "{}: {}",
-                if pointer.is_empty() { "/" } else { &pointer },
-                e.message
-            ),
-        )
-        .at(pointer)
-    })?;
-    let size = job.check_limits(&state.config.limits).map_err(|e| {
-        let written = serde_json::from_str(text).unwrap_or_default();
-        Problem::over_limit(&e.as_written(&written))
-    })?;
-    let key = cache_key(&job);
+    let value = resolve_fragility_jobs(&state, &tenant, value).await?;
+    let (job, value) = off_runtime(move || (Job::from_value(&value), value)).await?;
+    let job = job.map_err(invalid_spec)?;
+    let size = job
+        .check_limits(&state.config.limits)
+        .map_err(|e| Problem::over_limit(&e.as_written(&value)))?;
+    // Its key, canonical text and tasks: serialising a long record too.
+    let (job, key, spec, tasks) = off_runtime(move || {
+        let key = cache_key(&job);
+        let spec = serde_json::to_string(&job);
+        let tasks: Vec<String> = job.split().iter().map(Job::task_payload).collect();
+        (job, key, spec, tasks)
+    })
+    .await?;
+    let spec = spec.map_err(|e| Problem::internal(e.to_string()))?;
     admit(&state, &tenant, &key).await?;
-    let spec = serde_json::to_string(&job).map_err(|e| Problem::internal(e.to_string()))?;
-    let tasks: Vec<String> = job
-        .split()
-        .iter()
-        .map(|t| serde_json::to_string(t).unwrap_or_default())
-        .collect();
     let submitted = state
         .store
         .submit(NewJob {

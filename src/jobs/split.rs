@@ -68,13 +68,8 @@ impl Job {
             }
             Job::Fragility(job) if job.part.is_none() => {
                 let units = job.units();
-                // Every task carries the suite: a long suite makes fewer tasks.
-                let suite: usize = job
-                    .ground_motions
-                    .iter()
-                    .flatten()
-                    .map(|m| m.motion.acc.len())
-                    .sum();
+                // A task's payload names its units only: the suite is stored
+                // once, with the job.
                 let longest = job
                     .ground_motions
                     .iter()
@@ -84,8 +79,11 @@ impl Job {
                     .unwrap_or(0);
                 let per_unit = super::fragility::CHUNK as f64
                     * (longest as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
-                let max_tasks = MAX_TASKS.min((MAX_TASK_SAMPLES / suite.max(1)).max(1));
-                let per = chunk_len(units, per_unit, max_tasks);
+                // Whole units, rounded up: a unit of long records is already
+                // most of a task, and a task costs a claim and two writes.
+                let per = ((TASK_SIMULATIONS / per_unit).ceil() as usize)
+                    .max(units.div_ceil(MAX_TASKS))
+                    .clamp(1, units);
                 if per >= units {
                     return vec![self.clone()];
                 }
@@ -100,6 +98,41 @@ impl Job {
             }
             other => vec![other.clone()],
         }
+    }
+
+    /// A task's stored payload: its own job spec, or — for a part of a
+    /// fragility job, whose spec may hold a record suite — only
+    /// `{"part": [from, to]}`, read with [`Job::part_of`] against the
+    /// computation's spec (stored once, not once per task).
+    pub fn task_payload(&self) -> String {
+        match self {
+            Job::Fragility(job) if job.part.is_some() => {
+                serde_json::json!({ "part": job.part }).to_string()
+            }
+            other => serde_json::to_string(other).unwrap_or_default(),
+        }
+    }
+
+    /// The task a payload of [`Job::task_payload`] names: a part of `whole`,
+    /// or `None` when the payload is a job spec of its own.
+    pub fn part_of(whole: &Job, payload: &Value) -> Option<Result<Job, JobError>> {
+        let part = payload.get("part")?;
+        if payload.get("kind").is_some() {
+            return None;
+        }
+        Some(
+            match (whole, serde_json::from_value::<[usize; 2]>(part.clone())) {
+                (Job::Fragility(job), Ok([from, to])) if from < to && to <= job.units() => {
+                    let mut task = (**job).clone();
+                    task.part = Some([from, to]);
+                    Ok(Job::Fragility(Box::new(task)))
+                }
+                _ => Err(JobError::Point(format!(
+                    "a task's part {part} does not fit its {} job",
+                    whole.kind()
+                ))),
+            },
+        )
     }
 
     /// The job's result from its tasks' results (in task order). For a

@@ -25,6 +25,7 @@ pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>)
     // only tasks of jobs already running (a split spectrum is finished, not
     // left half done), until the grace period ends or none is left.
     let mut stopping_since: Option<Instant> = None;
+    let mut whole: Whole = None;
     loop {
         if *shutdown.borrow() {
             let since = *stopping_since.get_or_insert_with(Instant::now);
@@ -40,9 +41,16 @@ pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>)
         match claimed {
             Ok(Some(task)) => {
                 let span = info_span!("task", computation = %task.computation, task = task.idx, kind = %task.kind);
-                execute(&state, &owner, task, &mut shutdown, &mut stopping_since)
-                    .instrument(span)
-                    .await;
+                execute(
+                    &state,
+                    &owner,
+                    task,
+                    &mut whole,
+                    &mut shutdown,
+                    &mut stopping_since,
+                )
+                .instrument(span)
+                .await;
             }
             Ok(None) | Err(_) if stopping => break,
             Ok(None) => {
@@ -84,16 +92,72 @@ fn parse(spec: &str) -> Result<Job, String> {
         .and_then(|v| Job::from_task(&v).map_err(|e| e.to_string()))
 }
 
+/// The computation whose spec a worker read last, parsed: the parts of a
+/// fragility job name their units only, and consecutive tasks of one job
+/// read its spec (which may hold a record suite) once.
+type Whole = Option<(Uuid, Arc<Job>)>;
+
+/// The job task `task` computes, read on the blocking pool: its payload, or
+/// the part it names of its computation's spec.
+async fn task_job(state: &AppState, task: &TaskClaim, whole: &mut Whole) -> Result<Job, String> {
+    let off = |f: Box<dyn FnOnce() -> Result<Job, String> + Send>| async move {
+        tokio::task::spawn_blocking(f)
+            .await
+            .map_err(|e| format!("reading the spec stopped: {e}"))?
+    };
+    let payload: Value = {
+        let text = task.payload.clone();
+        tokio::task::spawn_blocking(move || serde_json::from_str::<Value>(&text))
+            .await
+            .map_err(|e| format!("reading the spec stopped: {e}"))?
+            .map_err(|e| e.to_string())?
+    };
+    let cached = whole
+        .as_ref()
+        .filter(|(id, _)| *id == task.computation)
+        .map(|(_, job)| job.clone());
+    let job = match cached {
+        Some(job) => job,
+        None if payload.get("part").is_some() && payload.get("kind").is_none() => {
+            let record = state
+                .store
+                .computation(task.computation)
+                .await
+                .map_err(|e| e.to_string())?
+                .ok_or("its job is gone")?;
+            let job = Arc::new(off(Box::new(move || parse(&record.spec))).await?);
+            *whole = Some((task.computation, job.clone()));
+            job
+        }
+        None => {
+            return off(Box::new(move || {
+                Job::from_task(&payload).map_err(|e| e.to_string())
+            }))
+            .await;
+        }
+    };
+    match Job::part_of(&job, &payload) {
+        Some(part) => part.map_err(|e| e.to_string()),
+        None => {
+            off(Box::new(move || {
+                Job::from_task(&payload).map_err(|e| e.to_string())
+            }))
+            .await
+        }
+    }
+}
+
 async fn execute(
     state: &AppState,
     owner: &str,
     task: TaskClaim,
+    whole: &mut Whole,
     shutdown: &mut watch::Receiver<bool>,
     stopping_since: &mut Option<Instant>,
 ) {
     let (id, idx) = (task.computation, task.idx);
     info!(attempt = task.attempts, "task started");
-    let job = match parse(&task.payload) {
+    let job = match task_job(state, &task, whole).await {
         Ok(job) => job,
         Err(e) => {
             warn!(error = %e, "stored spec no longer validates");
@@ -312,37 +376,34 @@ async fn finish_job(state: &AppState, id: Uuid) {
     let Ok(Some(record)) = state.store.computation(id).await else {
         return;
     };
-    let job = match parse(&record.spec) {
-        Ok(job) => job,
-        Err(e) => {
-            let _ = state
-                .store
-                .fail(id, &format!("invalid spec: {e}"), &now_rfc3339())
-                .await;
-            return;
-        }
-    };
-    // Assembly of a large spectrum is not trivial: keep it off the runtime.
+    // Reading the spec and assembling a large spectrum are not trivial:
+    // keep them off the runtime.
     let (tx, rx) = oneshot::channel();
+    let spec = record.spec.clone();
     state.pool.spawn(move || {
-        let values: Vec<Value> = parts
-            .iter()
-            .filter_map(|p| serde_json::from_str(p).ok())
-            .collect();
-        let assembled = job.assemble(values).map(|result| {
-            let numerics = result
-                .get("numerics")
-                .map(|n| n.to_string())
-                .unwrap_or_else(|| "null".into());
-            (result.to_string(), numerics)
-        });
+        let assembled = parse(&spec)
+            .map_err(|e| format!("invalid spec: {e}"))
+            .and_then(|job| {
+                let values: Vec<Value> = parts
+                    .iter()
+                    .filter_map(|p| serde_json::from_str(p).ok())
+                    .collect();
+                job.assemble(values).map_err(|e| e.to_string())
+            })
+            .map(|result| {
+                let numerics = result
+                    .get("numerics")
+                    .map(|n| n.to_string())
+                    .unwrap_or_else(|| "null".into());
+                (result.to_string(), numerics)
+            });
         let _ = tx.send(assembled);
     });
     let (body, numerics) = match rx.await {
         Ok(Ok(done)) => done,
         Ok(Err(e)) => {
             warn!(error = %e, "assembling failed");
-            let _ = state.store.fail(id, &e.to_string(), &now_rfc3339()).await;
+            let _ = state.store.fail(id, &e, &now_rfc3339()).await;
             state.announce(id);
             return;
         }

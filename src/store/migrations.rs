@@ -14,7 +14,7 @@ use sqlx::migrate::{Migration, MigrationType, Migrator};
 /// name's words) and SQL.
 type File = (i64, &'static str, &'static str);
 
-const SQLITE: [File; 3] = [
+const SQLITE: [File; 4] = [
     (
         1,
         "jobs",
@@ -30,9 +30,14 @@ const SQLITE: [File; 3] = [
         "tenants",
         include_str!("../../migrations/sqlite/0003_tenants.sql"),
     ),
+    (
+        4,
+        "task state",
+        include_str!("../../migrations/sqlite/0004_task_state.sql"),
+    ),
 ];
 
-const POSTGRES: [File; 2] = [
+const POSTGRES: [File; 3] = [
     (
         1,
         "jobs",
@@ -42,6 +47,11 @@ const POSTGRES: [File; 2] = [
         2,
         "tenants",
         include_str!("../../migrations/postgres/0002_tenants.sql"),
+    ),
+    (
+        3,
+        "task state",
+        include_str!("../../migrations/postgres/0003_task_state.sql"),
     ),
 ];
 

@@ -1020,6 +1020,17 @@ where
 
     fn parts(&self, computation: Uuid) -> BoxFuture<'_, Result<Option<Vec<String>>, StoreError>> {
         Box::pin(async move {
+            // Whether all are done, from the index (not the rows, whose
+            // payloads may be long); the results are read once.
+            let undone: i64 = sqlx::query_scalar(
+                "SELECT COUNT(*) FROM tasks WHERE computation_id = $1 AND status <> 'done'",
+            )
+            .bind(computation.to_string())
+            .fetch_one(&self.pool)
+            .await?;
+            if undone > 0 {
+                return Ok(None);
+            }
             let rows = sqlx::query(
                 "SELECT status, result FROM tasks WHERE computation_id = $1 ORDER BY idx",
             )

@@ -344,6 +344,50 @@ async fn cancel_stops_a_running_spectrum_within_100_ms() {
 }
 
 #[tokio::test]
+async fn a_fragility_campaign_runs_as_tasks_reports_progress_and_cancels() {
+    let app = spawn_app("fragility-cancel").await;
+    // Two million simulations: 255 tasks of 123 units of 64 samples.
+    let spec = json!({"kind": "fragility",
+        "block": {"alpha": {"dist": "uniform", "min": 0.15, "max": 0.25}, "p": 2.0},
+        "pulse": {"type": "one_sine", "frequency_hz": 0.8},
+        "stripes": {"from": 0.1, "to": 2.0, "steps": 20}, "samples": 100_000});
+    let tasks = topple::jobs::Job::from_value(&spec)
+        .expect("valid")
+        .split()
+        .len();
+    assert!(tasks > 200 && tasks <= 256, "{tasks}");
+    let (status, job, _) = app.post("/v1/jobs", &spec).await;
+    assert_eq!(status, 202, "{job}");
+    let id = job["id"].as_str().expect("id").to_string();
+    let uuid = uuid::Uuid::parse_str(&id).expect("uuid");
+    let deadline = Instant::now() + Duration::from_secs(30);
+    loop {
+        let (_, now) = app.get(&format!("/v1/jobs/{id}")).await;
+        let progress = now["progress"].as_f64().unwrap_or(0.0);
+        if progress > 0.0 {
+            assert!(progress < 0.5, "{now}");
+            break;
+        }
+        assert!(Instant::now() < deadline, "no progress: {now}");
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    let asked = Instant::now();
+    let r = app.delete(&format!("/v1/jobs/{id}")).await;
+    assert_eq!(r.status().as_u16(), 200);
+    while app.state.computing(uuid) {
+        tokio::time::sleep(Duration::from_millis(1)).await;
+    }
+    let stopped = asked.elapsed();
+    assert!(
+        stopped < Duration::from_millis(500),
+        "stopped after {stopped:?}"
+    );
+    let done = app.finish(&id, Duration::from_secs(1)).await;
+    assert_eq!(done["status"], "canceled");
+    app.stop().await;
+}
+
+#[tokio::test]
 async fn listing_is_newest_first_with_cursor_pagination_and_filters() {
     let app = spawn_app("list").await;
     let mut ids = Vec::new();
