@@ -64,7 +64,8 @@ fn fragility(c: &mut Criterion) {
         .collect();
     let mut g = c.benchmark_group("fragility");
     g.sample_size(10);
-    for (name, (job, simulations)) in [("pulse", pulse_task(64)), ("record_2000", record_task(64))] {
+    for (name, (job, simulations)) in [("pulse", pulse_task(64)), ("record_2000", record_task(64))]
+    {
         g.throughput(Throughput::Elements(simulations));
         for (threads, pool) in &pools {
             g.bench_function(format!("{name}/{threads}_thread"), |b| {
