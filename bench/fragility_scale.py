@@ -21,33 +21,19 @@ import json
 import math
 import os
 import shutil
-import socket
 import subprocess
-import sys
 import tempfile
 import time
-import urllib.request
+
+from scale_out import http, start
 
 ADMIN = os.environ.get("TOPPLE_TEST_POSTGRES", "postgres://postgres@127.0.0.1:5432/postgres")
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def psql(sql, db=ADMIN):
     out = subprocess.run(["psql", db, "-qAt", "-c", sql], check=True, capture_output=True, text=True)
     return out.stdout
-
-
-def http(method, url, body=None):
-    data = json.dumps(body).encode() if body is not None else None
-    req = urllib.request.Request(url, data=data, method=method, headers={"content-type": "application/json"})
-    with urllib.request.urlopen(req, timeout=120) as r:
-        return json.loads(r.read())
 
 
 def synthetic(seed, n, dt, peak, f_lo, f_hi):
@@ -93,25 +79,6 @@ def record_spec():
     return spec
 
 
-def start(binary, env, name, workers):
-    port = free_port()
-    p = subprocess.Popen(
-        [binary, "serve", "--addr", f"127.0.0.1:{port}", "--workers", str(workers), "--instance", name],
-        env={**os.environ, **env},
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    base = f"http://127.0.0.1:{port}"
-    for _ in range(400):
-        try:
-            http("GET", f"{base}/readyz")
-            return p, base
-        except Exception:
-            time.sleep(0.05)
-    p.kill()
-    sys.exit(f"{name} never became ready")
-
-
 def campaign(base, spec):
     t0 = time.perf_counter()
     job = http("POST", f"{base}/v1/jobs", spec)
@@ -129,13 +96,13 @@ def run(binary, config, specs):
     try:
         if config == "sqlite":
             tmp = tempfile.mkdtemp(prefix="topple-fragility-")
-            procs.append(start(binary, {"DATABASE_URL": f"sqlite://{tmp}/topple.db"}, "A", 2))
+            procs.append(start(binary, f"sqlite://{tmp}/topple.db", "A", workers=2))
         else:
             name = f"topple_fragility_{os.getpid()}_{config}"
             psql(f"CREATE DATABASE {name}")
             db = ADMIN.rsplit("/", 1)[0] + "/" + name
             for i in range(2 if config == "pg2" else 1):
-                procs.append(start(binary, {"DATABASE_URL": db}, chr(ord("A") + i), 1))
+                procs.append(start(binary, db, chr(ord("A") + i)))
         out = []
         for spec in specs:
             id_, wall, result = campaign(procs[0][1], spec)

@@ -36,16 +36,17 @@ def http(method, url, body=None):
         return json.loads(r.read())
 
 
-def start(binary, db, name):
+def start(binary, db, name, workers=1):
+    """An instance on database `db` with `workers` worker threads: (process, base URL)."""
     port = free_port()
     p = subprocess.Popen(
-        [binary, "serve", "--addr", f"127.0.0.1:{port}", "--workers", "1", "--instance", name],
+        [binary, "serve", "--addr", f"127.0.0.1:{port}", "--workers", str(workers), "--instance", name],
         env={**os.environ, "DATABASE_URL": db},
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )
     base = f"http://127.0.0.1:{port}"
-    for _ in range(200):
+    for _ in range(400):
         try:
             http("GET", f"{base}/readyz")
             return p, base

@@ -248,12 +248,18 @@ fn wait_duration(state: &AppState, wait: Option<f64>) -> Result<Option<Duration>
     }
 }
 
+/// Longest spec, in bytes, [`poll_after`] parses for its work estimate.
+const SMALL_SPEC: usize = 16 * 1024;
+
 /// Seconds a poller of job `r` should wait: from its estimated remaining work
 /// at this instance's measured rate.
 fn poll_after(state: &AppState, r: &JobRecord) -> u64 {
-    // A time history is one simulation (and its spec may hold a long record,
-    // not worth parsing here); the other kinds' specs are small.
-    let work = if r.kind == "time_history" {
+    // A time history is one simulation; a spec holding records (a record
+    // spectrum's, a forensic query's on a record, a fragility campaign's
+    // suite) is not worth parsing on the runtime for each poll: its work is
+    // taken as one simulation too, and the client polls at the shortest
+    // interval. The other specs are small.
+    let work = if r.kind == "time_history" || r.spec.len() > SMALL_SPEC {
         1.0
     } else {
         serde_json::from_str::<serde_json::Value>(&r.spec)

@@ -842,6 +842,16 @@ impl FragilityJob {
             .collect()
     }
 
+    /// Samples of the suite's longest record (0 for a pulse family).
+    pub fn longest_record(&self) -> usize {
+        self.ground_motions
+            .iter()
+            .flatten()
+            .map(|m| m.motion.acc.len())
+            .max()
+            .unwrap_or(0)
+    }
+
     /// Simulations this job (or task) runs.
     pub fn simulations(&self) -> u64 {
         let [from, to] = self.part.unwrap_or([0, self.units()]);

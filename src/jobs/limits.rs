@@ -144,18 +144,11 @@ impl Job {
             }
             Job::Fragility(j) => {
                 let work = j.simulations() as f64;
-                let longest = j
-                    .ground_motions
-                    .iter()
-                    .flatten()
-                    .map(|m| m.motion.acc.len())
-                    .max()
-                    .unwrap_or(0);
                 Size {
                     series_points: 0,
                     grid_points: work as usize,
                     work,
-                    record_work: work * longest as f64,
+                    record_work: work * j.longest_record() as f64,
                 }
             }
             // Closed forms: as cheap as one simulation.

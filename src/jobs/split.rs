@@ -70,15 +70,8 @@ impl Job {
                 let units = job.units();
                 // A task's payload names its units only: the suite is stored
                 // once, with the job.
-                let longest = job
-                    .ground_motions
-                    .iter()
-                    .flatten()
-                    .map(|m| m.motion.acc.len())
-                    .max()
-                    .unwrap_or(0);
                 let per_unit = super::fragility::CHUNK as f64
-                    * (longest as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
+                    * (job.longest_record() as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
                 // Whole units, rounded up: a unit of long records is already
                 // most of a task, and a task costs a claim and two writes.
                 let per = ((TASK_SIMULATIONS / per_unit).ceil() as usize)

@@ -15,7 +15,7 @@ use super::bands::{Band, simplify, tile};
 use super::forensic::{colour, fill, intervals, partition};
 use super::style::{
     AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, Swatch, TICKS, X_LABEL_AREA,
-    Y_LABEL_AREA, draw_legend, fmt_num, text, tick, tint,
+    Y_LABEL_AREA, draw_legend, fmt_num, mesh, text, tick, tint,
 };
 use super::{at, block_note, num, render, text_at};
 
@@ -238,18 +238,10 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 String::new()
             }
         };
-        chart
-            .configure_mesh()
-            .x_desc("observation")
-            .y_desc("scale factor")
+        mesh(&mut chart, "observation", "scale factor")
             .x_labels(n + 2)
-            .label_style(text(TICKS, INK))
-            .axis_desc_style(text(AXIS, INK))
             .x_label_formatter(&label_of)
-            .y_label_formatter(&|v| tick(*v))
             .disable_x_mesh()
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(200, 200, 200).mix(0.6))
             .draw()?;
         if pga_g.is_some() {
             chart

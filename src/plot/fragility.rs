@@ -7,8 +7,8 @@ use plotters::prelude::*;
 use serde_json::Value;
 
 use super::style::{
-    AXIS, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, Marker, Swatch, TICKS, X_LABEL_AREA,
-    Y_LABEL_AREA, draw_legend, fmt_num, marker, text, tick, tint,
+    Drawn, INK, LEGEND_WIDTH, Legend, MODE1, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA,
+    draw_legend, fmt_num, marker, mesh, tint,
 };
 use super::{num, render};
 
@@ -104,17 +104,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 .x_label_area_size(X_LABEL_AREA)
                 .y_label_area_size(Y_LABEL_AREA)
                 .build_cartesian_2d(0.0..x_max, 0.0..1.0)?;
-            chart
-                .configure_mesh()
-                .x_desc(x_desc)
-                .y_desc("P(topple)")
-                .label_style(text(TICKS, INK))
-                .axis_desc_style(text(AXIS, INK))
-                .x_label_formatter(&|v| tick(*v))
-                .y_label_formatter(&|v| tick(*v))
-                .light_line_style(TRANSPARENT)
-                .bold_line_style(RGBColor(200, 200, 200).mix(0.6))
-                .draw()?;
+            mesh(&mut chart, x_desc, "P(topple)").draw()?;
             if curve.len() > 1 {
                 let mut band: Vec<(f64, f64)> = curve.iter().map(|c| (c.0, c.3)).collect();
                 band.extend(curve.iter().rev().map(|c| (c.0, c.2)));

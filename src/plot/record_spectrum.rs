@@ -12,7 +12,7 @@ use super::spectrum::{
 };
 use super::style::{
     AXIS, Drawn, INK, LEGEND_WIDTH, Marker, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, clip_y,
-    draw_legend, fmt_num, marker, text, tick,
+    draw_legend, fmt_num, marker, mesh, text, tick,
 };
 use super::{at, block_note, num, render, text_at};
 
@@ -166,17 +166,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 fill(piece.class).filled(),
             )))?;
         }
-        chart
-            .configure_mesh()
-            .x_desc("block size R (m)")
-            .y_desc("scale factor")
-            .label_style(text(TICKS, INK))
-            .axis_desc_style(text(AXIS, INK))
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(200, 200, 200).mix(0.6))
-            .draw()?;
+        mesh(&mut chart, "block size R (m)", "scale factor").draw()?;
         if pga_g.is_some() {
             chart
                 .configure_secondary_axes()

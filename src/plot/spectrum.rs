@@ -10,7 +10,7 @@ use super::bands::{Band, Column, simplify, tile, tiling};
 use super::style::{
     AXIS, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING,
     REFERENCE, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, clip_y, draw_legend, fmt_num, marker,
-    text, tick, tint,
+    mesh, text, tick, tint,
 };
 use super::{at, block_note, num, pulse_name, render, text_at};
 
@@ -350,17 +350,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 fill(piece.class).filled(),
             )))?;
         }
-        chart
-            .configure_mesh()
-            .x_desc("ω_p / p")
-            .y_desc("a_p / (α g)")
-            .label_style(text(TICKS, INK))
-            .axis_desc_style(text(AXIS, INK))
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(200, 200, 200).mix(0.6))
-            .draw()?;
+        mesh(&mut chart, "ω_p / p", "a_p / (α g)").draw()?;
         if alpha.is_some() && p.is_some() {
             chart
                 .configure_secondary_axes()

@@ -1,7 +1,9 @@
 //! The shared look of every figure: fonts, colours, markers, the legend
 //! panel beside the chart, and clipping of curves to a chart's range.
 
+use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::element::ComposedElement;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -527,4 +529,34 @@ mod tests {
         assert_eq!(nice_step(10.0, 5.0), 2.0);
         assert_eq!(tint(RGBColor(0, 0, 0), 0.0), RGBColor(255, 255, 255));
     }
+}
+
+/// A tick label in [`tick`]'s format.
+fn tick_label(v: &f64) -> String {
+    tick(*v)
+}
+
+/// The mesh every chart shares: its axis descriptions, tick labels in
+/// [`tick`]'s format, faint major lines and no minor ones. The caller may add
+/// to it (its own labels, no vertical lines) before `.draw()`.
+pub fn mesh<'a, 'b, DB, X, Y>(
+    chart: &'b mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    x_desc: &str,
+    y_desc: &str,
+) -> MeshStyle<'a, 'b, X, Y, DB>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(x_desc)
+        .y_desc(y_desc)
+        .label_style(text(TICKS, INK))
+        .axis_desc_style(text(AXIS, INK))
+        .x_label_formatter(&tick_label)
+        .y_label_formatter(&tick_label)
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(200, 200, 200).mix(0.6));
+    mesh
 }

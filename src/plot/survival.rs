@@ -8,8 +8,8 @@ use serde_json::Value;
 
 use super::forensic::colour;
 use super::style::{
-    AXIS, Drawn, INK, LEGEND_WIDTH, Legend, Marker, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA,
-    draw_legend, fmt_num, marker, text, tick,
+    Drawn, INK, LEGEND_WIDTH, Legend, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA, draw_legend,
+    fmt_num, marker, mesh,
 };
 use super::{num, render};
 
@@ -118,17 +118,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 .x_label_area_size(X_LABEL_AREA)
                 .y_label_area_size(Y_LABEL_AREA)
                 .build_cartesian_2d((lo..hi).log_scale(), 0.0..1.0)?;
-            chart
-                .configure_mesh()
-                .x_desc("age T (years)")
-                .y_desc("P(still standing)")
-                .label_style(text(TICKS, INK))
-                .axis_desc_style(text(AXIS, INK))
-                .x_label_formatter(&|v| tick(*v))
-                .y_label_formatter(&|v| tick(*v))
-                .light_line_style(TRANSPARENT)
-                .bold_line_style(RGBColor(200, 200, 200).mix(0.6))
-                .draw()?;
+            mesh(&mut chart, "age T (years)", "P(still standing)").draw()?;
             for (k, c) in curves.iter().enumerate() {
                 chart.draw_series(LineSeries::new(c.clone(), colour(k).stroke_width(3)))?;
             }

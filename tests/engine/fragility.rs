@@ -310,26 +310,19 @@ fn parts_that_do_not_tile_the_job_are_an_error_and_a_part_is_not_submitted() {
             .run(&Control::new())
             .expect("runs")
     };
-    let gap = job.assemble(vec![part([0, 1]), part([2, 4])]);
-    assert!(
-        gap.as_ref()
-            .is_err_and(|e| e.to_string().contains("unit 1 is missing")),
-        "{gap:?}"
-    );
-    let twice = job.assemble(vec![part([0, 3]), part([2, 4])]);
-    assert!(
-        twice
-            .as_ref()
-            .is_err_and(|e| e.to_string().contains("counted twice")),
-        "{twice:?}"
-    );
-    let short = job.assemble(vec![part([0, 1]), part([1, 3])]);
-    assert!(
-        short
-            .as_ref()
-            .is_err_and(|e| e.to_string().contains("3..4 are missing")),
-        "{short:?}"
-    );
+    for (parts, says) in [
+        (vec![[0, 1], [2, 4]], "unit 1 is missing"),
+        (vec![[0, 3], [2, 4]], "unit 2 is counted twice"),
+        (vec![[0, 1], [1, 3]], "units 3..4 are missing"),
+    ] {
+        let assembled = job.assemble(parts.iter().map(|&r| part(r)).collect());
+        assert!(
+            assembled
+                .as_ref()
+                .is_err_and(|e| e.to_string().contains(says)),
+            "{parts:?}: {assembled:?}"
+        );
+    }
     // Submitted with a part, a spec is refused naming it; a task's part
     // out of range too.
     let mut task = spec.clone();
