@@ -504,33 +504,6 @@ pub fn fmt_num(v: f64, digits: usize) -> String {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn clipping_cuts_at_the_limits() {
-        let pts = [(0.0, 0.0), (1.0, 2.0), (2.0, 0.0)];
-        let parts = clip_y(&pts, -1.0, 1.0);
-        assert_eq!(parts.len(), 2);
-        assert_eq!(parts[0], vec![(0.0, 0.0), (0.5, 1.0)]);
-        assert_eq!(parts[1], vec![(1.5, 1.0), (2.0, 0.0)]);
-        let through = clip_y(&[(0.0, 5.0), (1.0, -5.0)], -1.0, 1.0);
-        assert_eq!(through, vec![vec![(0.4, 1.0), (0.6, -1.0)]]);
-        assert!(clip_y(&[(0.0, f64::NAN), (1.0, 9.0)], 0.0, 1.0).is_empty());
-    }
-
-    #[test]
-    fn wrapping_and_numbers() {
-        assert_eq!(wrap("a bb ccc", 4), vec!["a bb", "ccc"]);
-        assert_eq!(fmt_num(0.25, 3), "0.25");
-        assert_eq!(fmt_num(2.140001, 3), "2.14");
-        assert_eq!(fmt_num(15.94125, 4), "15.94");
-        assert_eq!(nice_step(10.0, 5.0), 2.0);
-        assert_eq!(tint(RGBColor(0, 0, 0), 0.0), RGBColor(255, 255, 255));
-    }
-}
-
 /// A tick label in [`tick`]'s format.
 fn tick_label(v: &f64) -> String {
     tick(*v)
@@ -559,4 +532,31 @@ where
         .light_line_style(TRANSPARENT)
         .bold_line_style(RGBColor(200, 200, 200).mix(0.6));
     mesh
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clipping_cuts_at_the_limits() {
+        let pts = [(0.0, 0.0), (1.0, 2.0), (2.0, 0.0)];
+        let parts = clip_y(&pts, -1.0, 1.0);
+        assert_eq!(parts.len(), 2);
+        assert_eq!(parts[0], vec![(0.0, 0.0), (0.5, 1.0)]);
+        assert_eq!(parts[1], vec![(1.5, 1.0), (2.0, 0.0)]);
+        let through = clip_y(&[(0.0, 5.0), (1.0, -5.0)], -1.0, 1.0);
+        assert_eq!(through, vec![vec![(0.4, 1.0), (0.6, -1.0)]]);
+        assert!(clip_y(&[(0.0, f64::NAN), (1.0, 9.0)], 0.0, 1.0).is_empty());
+    }
+
+    #[test]
+    fn wrapping_and_numbers() {
+        assert_eq!(wrap("a bb ccc", 4), vec!["a bb", "ccc"]);
+        assert_eq!(fmt_num(0.25, 3), "0.25");
+        assert_eq!(fmt_num(2.140001, 3), "2.14");
+        assert_eq!(fmt_num(15.94125, 4), "15.94");
+        assert_eq!(nice_step(10.0, 5.0), 2.0);
+        assert_eq!(tint(RGBColor(0, 0, 0), 0.0), RGBColor(255, 255, 255));
+    }
 }
