@@ -10,16 +10,9 @@ The model, written from the paper and the wavelet definitions:
 * f_p = w_p / 2 pi, c = (pi f_p)^2, t0 = 1.5 / f_p, tau = t - t0, 0 <= t <= 2 t0:
     symmetric:      ug = a_p (1 - 2 c tau^2) exp(-c tau^2)
     antisymmetric:  ug = a_p D(tau) / max|D|, D = (-6 c tau + 4 c^2 tau^3) exp(-c tau^2)
-* at rest until |ug| first exceeds g tan(alpha) (found by a dense scan and
-  brentq), then rocking on side s = -sign(ug):
-    theta'' = -p^2 ( sin(alpha s - theta) + (ug/g) cos(alpha s - theta) )
-* impact at theta = 0: theta_dot <- eta theta_dot; the block comes to rest
-  when an impact leaves |theta_dot| < 1e-9 (it may start again later in the
-  pulse); overturning when |theta| reaches pi/2;
-* after the pulse: the free motion's energy E = theta_dot^2/(2 p^2) +
-  cos(alpha - |theta|) decides: moving outward with E > 1 overturns; otherwise
-  the block returns to theta = 0, and after the impact the same test applies
-  with the reduced energy;
+* the block (bench/rocking_scipy.py): rocking from the first exceedance of
+  g tan(alpha) (a scan of 20,000 points and brentq), impacts, overturning
+  during the pulse or, after it, from the energy;
 * the minimum: scan a_p/(alpha g) upward from tan(alpha)/alpha in steps of
   0.02 to the first overturning amplitude, then bisect that bracket to 1e-7.
 
@@ -31,18 +24,14 @@ differs by more than 1e-4 relative.
 from __future__ import annotations
 
 import argparse
-import json
 import math
-import subprocess
 import sys
 
-import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
+import rocking_scipy as rocking
+from rocking_scipy import ALPHA, G, P
 
-ALPHA, P, ETA, G = 0.25, 2.14, 0.9, 9.81
-RTOL, ATOL = 1e-11, 1e-13
 RATIOS = [1.0, 2.0, 4.0, 6.0]
+SCAN_STEP = 0.02
 
 
 def wavelet(symmetric: bool, a_p: float, w_p: float):
@@ -60,117 +49,10 @@ def wavelet(symmetric: bool, a_p: float, w_p: float):
     return (lambda t: a_p * unit(t - t0) / norm if 0 <= t <= T else 0.0), T
 
 
-def first_exceedance(ug, t_from, T, thr):
-    n = 20000
-    ts = np.linspace(t_from, T, n + 1)
-    vals = [abs(ug(t)) - thr for t in ts]
-    if vals[0] > 0:
-        return t_from
-    for k in range(n):
-        if vals[k + 1] > 0:
-            return brentq(lambda t: abs(ug(t)) - thr, ts[k], ts[k + 1], xtol=1e-15, rtol=1e-15)
-    return None
-
-
-def energy(theta, theta_dot):
-    return theta_dot**2 / (2 * P**2) + math.cos(ALPHA - abs(theta))
-
-
 def outcome(symmetric: bool, level: float, ratio: float):
     """(overturned, mode) of the block under the wavelet a_p = level alpha g."""
     ug, T = wavelet(symmetric, level * ALPHA * G, ratio * P)
-    thr = G * math.tan(ALPHA)
-    t = first_exceedance(ug, 0.0, T, thr)
-    impacts = 0
-    if t is None:
-        return False, None
-    side = -math.copysign(1.0, ug(t))
-    y = [0.0, 0.0]
-    while True:
-        if t >= T:
-            break
-        s = side
-
-        def rhs(tt, yy):
-            a = ug(tt) / G
-            return [yy[1], -P**2 * (math.sin(ALPHA * s - yy[0]) + a * math.cos(ALPHA * s - yy[0]))]
-
-        def hit_zero(tt, yy):
-            return yy[0]
-
-        hit_zero.terminal = True
-        hit_zero.direction = -s  # theta returns through zero from side s
-
-        def topple(tt, yy):
-            return abs(yy[0]) - math.pi / 2
-
-        topple.terminal = True
-        sol = solve_ivp(rhs, (t, T), y, method="DOP853", rtol=RTOL, atol=ATOL,
-                        events=[hit_zero, topple])
-        if sol.t_events[1].size:
-            return True, (1 if impacts else 2)
-        if sol.t_events[0].size:
-            t = float(sol.t_events[0][0])
-            v = float(sol.y_events[0][0][1]) * ETA
-            impacts += 1
-            if abs(v) < 1e-9:
-                nxt = first_exceedance(ug, t + 1e-12, T, thr)
-                if nxt is None:
-                    return False, None
-                t, y, side = nxt, [0.0, 0.0], -math.copysign(1.0, ug(nxt))
-                continue
-            y, side = [0.0, v], math.copysign(1.0, v)
-            continue
-        t, y = T, [float(sol.y[0][-1]), float(sol.y[1][-1])]
-    # Free motion after the pulse, decided by the energy.
-    theta, theta_dot = y
-    while True:
-        outward = theta * theta_dot > 0 or (theta == 0 and theta_dot != 0)
-        if outward and energy(theta, theta_dot) > 1:
-            return True, (1 if impacts else 2)
-        # Returns to theta = 0 with the same energy: |theta_dot| there.
-        e = energy(theta, theta_dot)
-        v0 = math.sqrt(max(0.0, 2 * P**2 * (e - math.cos(ALPHA))))
-        v = ETA * v0
-        impacts += 1
-        if energy(0.0, v) <= 1 or v < 1e-12:
-            return False, None
-        theta, theta_dot = 0.0, v
-
-
-def minimum(symmetric: bool, ratio: float, a_max: float = 20.0):
-    level = math.tan(ALPHA) / ALPHA
-    prev = level
-    while level <= a_max:
-        if outcome(symmetric, level, ratio)[0]:
-            lo, hi = prev, level
-            while hi - lo > 1e-7:
-                mid = 0.5 * (lo + hi)
-                if outcome(symmetric, mid, ratio)[0]:
-                    hi = mid
-                else:
-                    lo = mid
-            return hi, outcome(symmetric, hi, ratio)[1]
-        prev = level
-        level = round(level + 0.02, 12)
-    return None, None
-
-
-def topple_minima(binary: str, symmetric: bool):
-    spec = {
-        "kind": "spectrum",
-        "block": {"alpha": ALPHA, "p": P, "eta": ETA},
-        "pulse": {"type": "ricker", "symmetric": symmetric},
-        "formulation": "nonlinear",
-        "omega_ratio": RATIOS,
-        "a_max_alpha_g": 20,
-        "tolerance": 1e-7,
-        "solver": {"method": "dop853", "rtol": 1e-11, "atol": 1e-13},
-    }
-    out = subprocess.run([binary, "run", "-"], input=json.dumps(spec), capture_output=True,
-                         text=True, check=True).stdout
-    lines = json.loads(out)["spectrum"]
-    return [(l["min_overturn_alpha_g"], l["min_overturn_mode"]) for l in lines]
+    return rocking.outcome(ug, T, lambda t_from: 20000)
 
 
 def main():
@@ -180,16 +62,14 @@ def main():
     worst = 0.0
     print(f"{'wavelet':<14} {'w_p/p':>6} {'scipy a_p0/(ag)':>16} {'topple':>16} {'rel diff':>10} modes")
     for symmetric in (True, False):
-        theirs = topple_minima(args.topple, symmetric)
+        theirs = rocking.topple_minima(args.topple, {"type": "ricker", "symmetric": symmetric}, RATIOS)
         for ratio, (t_min, t_mode) in zip(RATIOS, theirs):
-            s_min, s_mode = minimum(symmetric, ratio)
+            s_min, s_mode = rocking.minimum(lambda level: outcome(symmetric, level, ratio), SCAN_STEP)
             name = "symmetric" if symmetric else "antisymmetric"
+            rel = rocking.relative_difference(s_min, t_min)
             if s_min is None or t_min is None:
-                # Neither overturns below a_max, or they disagree on whether.
-                rel = 0.0 if s_min is None and t_min is None else math.inf
                 print(f"{name:<14} {ratio:>6} {'none <= 20':>16} {str(t_min):>16} {rel:>10.2e}")
             else:
-                rel = abs(s_min - t_min) / s_min
                 print(f"{name:<14} {ratio:>6} {s_min:>16.8f} {t_min:>16.8f} {rel:>10.2e} {s_mode}/{t_mode}")
             worst = max(worst, rel)
     print(f"largest relative difference: {worst:.2e}")
