@@ -97,54 +97,41 @@ fn parse(spec: &str) -> Result<Job, String> {
 /// read its spec (which may hold a record suite) once.
 type Whole = Option<(Uuid, Arc<Job>)>;
 
+/// `f` on the blocking pool (reading specs: not work for the runtime).
+async fn blocking<T: Send + 'static>(
+    f: impl FnOnce() -> Result<T, String> + Send + 'static,
+) -> Result<T, String> {
+    tokio::task::spawn_blocking(f)
+        .await
+        .map_err(|e| format!("reading the spec stopped: {e}"))?
+}
+
 /// The job task `task` computes, read on the blocking pool: its payload, or
-/// the part it names of its computation's spec.
+/// the part it names ([`Job::task_payload`]) of its computation's spec.
 async fn task_job(state: &AppState, task: &TaskClaim, whole: &mut Whole) -> Result<Job, String> {
-    let off = |f: Box<dyn FnOnce() -> Result<Job, String> + Send>| async move {
-        tokio::task::spawn_blocking(f)
-            .await
-            .map_err(|e| format!("reading the spec stopped: {e}"))?
-    };
-    let payload: Value = {
-        let text = task.payload.clone();
-        tokio::task::spawn_blocking(move || serde_json::from_str::<Value>(&text))
-            .await
-            .map_err(|e| format!("reading the spec stopped: {e}"))?
-            .map_err(|e| e.to_string())?
-    };
-    let cached = whole
-        .as_ref()
-        .filter(|(id, _)| *id == task.computation)
-        .map(|(_, job)| job.clone());
-    let job = match cached {
-        Some(job) => job,
-        None if payload.get("part").is_some() && payload.get("kind").is_none() => {
+    let text = task.payload.clone();
+    let payload: Value =
+        blocking(move || serde_json::from_str(&text).map_err(|e| e.to_string())).await?;
+    if payload.get("kind").is_some() || payload.get("part").is_none() {
+        return blocking(move || Job::from_task(&payload).map_err(|e| e.to_string())).await;
+    }
+    let job = match whole {
+        Some((id, job)) if *id == task.computation => job.clone(),
+        _ => {
             let record = state
                 .store
                 .computation(task.computation)
                 .await
                 .map_err(|e| e.to_string())?
                 .ok_or("its job is gone")?;
-            let job = Arc::new(off(Box::new(move || parse(&record.spec))).await?);
+            let job = Arc::new(blocking(move || parse(&record.spec)).await?);
             *whole = Some((task.computation, job.clone()));
             job
         }
-        None => {
-            return off(Box::new(move || {
-                Job::from_task(&payload).map_err(|e| e.to_string())
-            }))
-            .await;
-        }
     };
-    match Job::part_of(&job, &payload) {
-        Some(part) => part.map_err(|e| e.to_string()),
-        None => {
-            off(Box::new(move || {
-                Job::from_task(&payload).map_err(|e| e.to_string())
-            }))
-            .await
-        }
-    }
+    Job::part_of(&job, &payload)
+        .unwrap_or_else(|| Err(crate::jobs::JobError::Point("not a part".into())))
+        .map_err(|e| e.to_string())
 }
 
 async fn execute(
