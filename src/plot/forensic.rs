@@ -16,7 +16,7 @@ use serde_json::Value;
 use super::bands::{Band, Column, cell_edges, cells, simplify, tile};
 use super::style::{
     AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, OBSERVATIONS, Swatch, TICKS,
-    X_LABEL_AREA, Y_LABEL_AREA, draw_legend, fmt_num, text, tick, tint,
+    X_LABEL_AREA, chart_on, draw_legend, fmt_num, text, tick, tint,
 };
 use super::{block_note, num, pulse_name, render, text_at};
 
@@ -284,11 +284,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
     );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
-        let chart = ChartBuilder::on(&chart_area)
-            .margin(10)
-            .margin_right(24)
-            .x_label_area_size(X_LABEL_AREA)
-            .y_label_area_size(Y_LABEL_AREA)
+        let chart = chart_on(&chart_area)
             .top_x_label_area_size(X_LABEL_AREA)
             .build_cartesian_2d(x0..x1, from..to)?;
         let tau = std::f64::consts::TAU;

@@ -534,6 +534,20 @@ where
     mesh
 }
 
+/// The chart of a figure with its legend beside it: margins and the room
+/// for both axes' labels; the caller adds its own (a top axis) and builds.
+pub fn chart_on<'a, 'b, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .margin(10)
+        .margin_right(24)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA);
+    builder
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

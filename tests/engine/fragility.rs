@@ -198,6 +198,16 @@ fn the_monte_carlo_error_falls_as_one_over_root_n() {
     );
 }
 
+/// Task `part` of the fragility job `spec`, run: its counts per stripe.
+fn run_part(spec: &Value, part: [usize; 2]) -> Value {
+    let mut task = spec.clone();
+    task["part"] = json!(part);
+    Job::from_task(&task)
+        .expect("a task")
+        .run(&Control::new())
+        .expect("runs")
+}
+
 /// The result of `spec` computed as tasks of `sizes` units each (cycled),
 /// run in reverse order and assembled.
 fn split_run(spec: &Value, sizes: &[usize]) -> Value {
@@ -213,18 +223,7 @@ fn split_run(spec: &Value, sizes: &[usize]) -> Value {
         ranges.push([from, to]);
         (from, i) = (to, i + 1);
     }
-    let parts: Vec<Value> = ranges
-        .iter()
-        .rev()
-        .map(|r| {
-            let mut task = spec.clone();
-            task["part"] = json!(r);
-            Job::from_task(&task)
-                .expect("a task")
-                .run(&Control::new())
-                .expect("runs")
-        })
-        .collect();
+    let parts: Vec<Value> = ranges.iter().rev().map(|&r| run_part(spec, r)).collect();
     let doc = whole.assemble(parts).expect("assembles");
     assert_eq!(doc["numerics"]["tasks"].as_u64(), Some(ranges.len() as u64));
     doc
@@ -302,14 +301,7 @@ fn parts_that_do_not_tile_the_job_are_an_error_and_a_part_is_not_submitted() {
         "pulse": {"type": "one_sine", "frequency_hz": 0.8},
         "stripes": [0.3, 0.5], "samples": 100, "seed": 1});
     let job = Job::from_value(&spec).expect("valid");
-    let part = |r: [usize; 2]| {
-        let mut task = spec.clone();
-        task["part"] = json!(r);
-        Job::from_task(&task)
-            .expect("a task")
-            .run(&Control::new())
-            .expect("runs")
-    };
+    let part = |r: [usize; 2]| run_part(&spec, r);
     for (parts, says) in [
         (vec![[0, 1], [2, 4]], "unit 1 is missing"),
         (vec![[0, 3], [2, 4]], "unit 2 is counted twice"),

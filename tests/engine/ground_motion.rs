@@ -33,7 +33,7 @@ fn solver() -> Solver {
 }
 
 /// The one-sine pulse a_p sin(ω_p t) sampled at t_k = k T/n, k = 0..n.
-fn sampled(pulse: &Pulse, n: usize) -> Record {
+pub(crate) fn sampled(pulse: &Pulse, n: usize) -> Record {
     let dt = pulse.duration / n as f64;
     let acc: Vec<f64> = (0..=n)
         .map(|k| pulse.amplitude * (pulse.circular_frequency * k as f64 * dt).sin())

@@ -11,6 +11,7 @@
 //! First sliding and lift-off are checked the same way against the series
 //! (the demand and f_z recomputed from the series' states).
 
+use crate::ground_motion::sampled;
 use crate::synthetic::synthetic;
 use topple::dynamics::reactions::reactions_per_mass;
 use topple::dynamics::{
@@ -185,15 +186,6 @@ fn record_problem(formulation: Formulation, friction: Option<f64>) -> Problem<Re
         pulse: Record::new(acc.into(), 0.01).expect("valid record"),
         formulation,
     }
-}
-
-/// The one-sine pulse a_p sin(ω_p t) sampled at t_k = k T/n, k = 0..n.
-fn sampled(pulse: &Pulse, n: usize) -> Record {
-    let dt = pulse.duration / n as f64;
-    let acc: Vec<f64> = (0..=n)
-        .map(|k| pulse.amplitude * (pulse.circular_frequency * k as f64 * dt).sin())
-        .collect();
-    Record::new(acc.into(), dt).expect("valid record")
 }
 
 #[test]
