@@ -24,17 +24,36 @@ clicks and typed text:
    third one added, given by half-width and half-height) is the JSON the raw
    editor shows, runs on those observations and frequencies, shows its plot
    and the bounds of the result;
-7. a long overturning spectrum is submitted and canceled with the Cancel
+7. records, read by the service (`POST /v1/records`), never by the page: a
+   two-column CSV with a comment line and a header row (`time_s,acc_g`, 250
+   samples, PGA about 0.5 g) chosen in the file input is previewed before
+   anything is submitted — its samples, dt and PGA are the file's, its
+   motion is drawn (every sample, labelled axes), it is stored and picked
+   in the list; a record spectrum, a forensic query and a time history
+   name it by its id (`"ground_motion": {"record": id}`, no samples, no
+   pulse) and their results are on its samples; back on pulses, no record
+   is sent;
+8. a file with a typo: the error box names the file and the line; a
+   one-column file stating neither unit nor dt: the page asks (the
+   service's hint beside a unit picker, a dt field), sends it again, and
+   previews it, the old error box gone; the first record, picked again from
+   the stored list, is the one sent; a fragility on a suite of both (ticked
+   in the list) sends `ground_motions` by id and runs;
+9. a long overturning spectrum is submitted and canceled with the Cancel
    button; the service reports it canceled;
-8. against a second server that wants a token for reads too
+10. against a second server that wants a token for reads too
    (`--api-token`, `--auth-reads`): the token box opens by itself, the 401
    of a submission without it is explained, and once the token
    is filled in the job runs and its plot loads (fetched with the token);
-9. nothing was blocked by the policy and no script error occurred.
+11. nothing was blocked by the policy and no script error occurred.
 
 Screenshots go to target/e2e/ (page.png: the finished time history;
-page-error.png, page-forensic.png, page-cancel.png; failure.png when a step
-fails).
+page-error.png, page-forensic.png, page-cancel.png; page-record-preview.png
+and page-record-ask.png: the record fieldset, twice its size, with a
+preview and with the unit question; page-record-spectrum.png and
+page-record-spectrum-figure.png; page-record-error.png,
+page-forensic-record.png, page-time-history-record.png,
+page-fragility-suite.png; failure.png when a step fails).
 
 Environment: TOPPLE_BIN (default target/debug/topple), CHROMIUM (default
 /usr/bin/chromium), E2E_OUT (default target/e2e), E2E_TIMEOUT (seconds the
@@ -45,6 +64,7 @@ Exit status 0 when every check passes, 1 otherwise.
 
 import base64
 import json
+import math
 import os
 import re
 import shutil
@@ -330,6 +350,30 @@ class Page:
         if not ok:
             raise Failure(f"cannot set {selector} to {value!r}")
 
+    def set_files(self, selector, paths):
+        """Chooses files in a file input, as the file dialog would: the page
+        sees a change event."""
+        found = self.send("Runtime.evaluate", expression=f"document.querySelector({json.dumps(selector)})")
+        object_id = found.get("result", {}).get("objectId")
+        if not object_id:
+            raise Failure(f"{selector} is not on the page")
+        self.send("DOM.setFileInputFiles", files=list(paths), objectId=object_id)
+
+    def element_screenshot(self, selector, path, scale=1):
+        """The element alone (scrolled into view), at `scale` times its size."""
+        rect = self.js(
+            f"(() => {{ const el = document.querySelector({json.dumps(selector)});"
+            " if (!el) return null; el.scrollIntoView({block: 'center'});"
+            " const r = el.getBoundingClientRect();"
+            " return {x: r.left + window.scrollX, y: r.top + window.scrollY, width: r.width, height: r.height}; })()")
+        if not rect or rect["width"] <= 0:
+            raise Failure(f"{selector} is not on the page (or not visible)")
+        shot = self.send("Page.captureScreenshot", format="png", captureBeyondViewport=True,
+                         clip=dict(rect, scale=scale))
+        with open(path, "wb") as f:
+            f.write(base64.b64decode(shot["data"]))
+        log(f"screenshot {os.path.relpath(path, ROOT)}")
+
     def window_screenshot(self, path):
         """What the window shows, scrolled to the top: the first sight of the page."""
         self.js("window.scrollTo(0, 0)")
@@ -606,25 +650,107 @@ def check_forensic(page, base):
     page.screenshot(os.path.join(OUT, "page-forensic.png"))
 
 
-def check_record_spectrum(page, base):
-    """A record spectrum from the form: the example record (a one-sine pulse
-    of 0.5 g at 1 Hz, 101 samples), block sizes by R, a figure and a summary
-    that agree with the result."""
+# --- records ---------------------------------------------------------------------
+
+HEX32 = re.compile(r"^[0-9a-f]{32}$")
+
+
+def js_fmt(x):
+    """A number as the page writes it: four significant digits."""
+    return f"{float(f'{x:.4g}'):g}"
+
+
+def write_csv_record(work):
+    """A two-column CSV as a logger writes it: a comment line (with a year in
+    it), a header row naming the columns (the acceleration in g), then 250
+    samples every 0.01 s of a 2 Hz sine under a trapezoidal envelope, PGA
+    about 0.5 g. Returns (path, samples, PGA in g)."""
+    dt, n = 0.01, 250
+    t_end = (n - 1) * dt
+    acc = [round(0.5 * min(1.0, k * dt / 0.6, (t_end - k * dt) / 0.6) * math.sin(2 * math.pi * 2 * k * dt), 5)
+           for k in range(n)]
+    path = os.path.join(work, "sine_burst_1995.csv")
+    with open(path, "w") as f:
+        f.write("# synthetic burst for the page test, station HOL, 1995-03-02\n")
+        f.write("time_s,acc_g\n")
+        for k, a in enumerate(acc):
+            f.write(f"{k * dt:.2f},{a:.5f}\n")
+    return path, n, max(abs(a) for a in acc)
+
+
+def preview_facts(page):
+    """The record's numbers the preview shows, as {term: value}."""
+    return page.js("Object.fromEntries([...document.querySelectorAll('#rec-facts div')]"
+                   ".map((d) => [d.querySelector('dt').textContent, d.querySelector('dd').textContent]))")
+
+
+def wait_preview(page, what, name):
+    """Waits for the preview of the record called `name`, its motion drawn."""
+    state = page.wait_js(
+        f"the preview of {what}",
+        "(() => { const svg = document.querySelector('#rec-plot svg');"
+        " if (!document.getElementById('rec-preview').hidden && svg"
+        f"   && document.getElementById('rec-name').textContent === {json.dumps(name)}) return 'shown';"
+        " if (!document.getElementById('rec-ask').hidden) return 'asked: ' + document.getElementById('rec-ask-text').textContent;"
+        " const problem = document.getElementById('problem');"
+        " return !problem.hidden && 'error: ' + problem.innerText; })()",
+        20)
+    if state != "shown":
+        raise Failure(f"no preview of {what}: {state}")
+
+
+def check_preview_numbers(page, what, samples, dt, pga):
+    """The preview gives the file's samples, dt and PGA (g), and draws them."""
+    facts = preview_facts(page)
+    m = re.fullmatch(r"([0-9.]+) g", facts.get("PGA", ""))
+    if (facts.get("Samples") != str(samples) or facts.get("dt") != f"{js_fmt(dt)} s"
+            or not m or abs(float(m.group(1)) - pga) > 5e-4 * pga):
+        raise Failure(f"the preview of {what} says {facts}, not {samples} samples, dt = {dt} s, PGA {pga} g")
+    drawn = page.js(
+        "(() => { const svg = document.querySelector('#rec-plot svg');"
+        " return {peak: Number(svg.dataset.peakG), samples: Number(svg.dataset.samples),"
+        " points: svg.querySelector('polyline').getAttribute('points').trim().split(/\\s+/).length,"
+        " labels: [...svg.querySelectorAll('text')].map((t) => t.textContent)}; })()")
+    if drawn["samples"] != samples or drawn["points"] != samples or abs(drawn["peak"] - pga) > 2e-3 * pga:
+        raise Failure(f"the motion drawn for {what} is not the file's ({samples} samples, PGA {pga} g): {drawn}")
+    if "t (s)" not in drawn["labels"] or "ü_g/g" not in drawn["labels"]:
+        raise Failure(f"the motion's axes are not labelled: {drawn['labels']}")
+
+
+def check_record_spectrum(page, base, work):
+    """A CSV file chosen on the form is read by the service: before anything
+    is submitted, its name, samples, dt and PGA show, its motion is drawn,
+    it is stored and listed; the record spectrum names it by its id; its
+    figure and summary agree with the file. Returns the stored record."""
+    path, samples, pga = write_csv_record(work)
+    name = os.path.basename(path)
     page.click("input[name=kind][value=record_spectrum]")
-    if not page.js("document.getElementById('fs-pulse').querySelector('#f-type').closest('[data-kinds]').hidden"):
+    if page.js("document.getElementById('fs-motion').hidden"):
+        raise Failure("the record spectrum offers no record")
+    if page.js("!!document.getElementById('fs-pulse').querySelector('#f-type').closest('[hidden]')") is not True:
         raise Failure("the pulse type is offered for a record spectrum")
-    hint = page.js("document.getElementById('rs-hint').textContent")
-    if hint != "101 samples over 1 s, PGA 0.5 g.":
-        raise Failure(f"the record is not described: {hint!r}")
-    page.type_into("#f-rs-steps", "4")
+    page.set_files("#f-rec-file", [path])
+    wait_preview(page, "the CSV file", name)
+    check_preview_numbers(page, "the CSV file", samples, 0.01, pga)
+    status, _, body = http_get(base + "/v1/records?limit=50")
+    listed = json.loads(body)["records"] if status == 200 else []
+    rec = listed[0] if listed else {}
+    if rec.get("name") != name or rec.get("samples") != samples or not HEX32.match(rec.get("id", "")):
+        raise Failure(f"the file is not the newest stored record: {status} {body[:300]!r}")
+    picked = page.js("(() => { const r = document.querySelector('#rec-stored input:checked'); return r && r.value; })()")
+    if picked != rec["id"]:
+        raise Failure(f"the stored list does not show the record as picked: {picked!r}")
+    if not page.js("document.getElementById('problem').hidden"):
+        raise Failure("an error box is shown beside the loaded record")
+    page.element_screenshot("#fs-motion", os.path.join(OUT, "page-record-preview.png"), scale=2)
+    page.type_into("#f-rs-steps", "3")
     page.click("#show-json")
     raw = json.loads(page.js("document.getElementById('f-raw').value"))
-    acc = raw["ground_motion"].pop("acc")
-    expected = {"kind": "record_spectrum", "ground_motion": {"dt": 0.01, "unit": "g"},
-                "block": {"alpha": 0.2}, "R_m": {"from": 0.2, "to": 2, "steps": 4},
+    expected = {"kind": "record_spectrum", "ground_motion": {"record": rec["id"]},
+                "block": {"alpha": 0.2}, "R_m": {"from": 0.2, "to": 2, "steps": 3},
                 "scale": {"to": 3}, "formulation": "nonlinear"}
-    if raw != expected or len(acc) != 101 or abs(max(acc) - 0.5) > 1e-9:
-        raise Failure(f"the form's record spectrum is {raw} with {len(acc)} samples, not {expected}")
+    if raw != expected:
+        raise Failure(f"the form's record spectrum is {raw}, not {expected}")
     page.click("input[name=kind][value=record_spectrum]")
     before = page.js("document.getElementById('job-id').textContent")
     page.click("#submit")
@@ -632,8 +758,10 @@ def check_record_spectrum(page, base):
     log(f"record spectrum {job_id}")
     result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
     sizes = [round(s["R_m"], 9) for s in result["spectrum"]]
-    if sizes != [0.2, 0.8, 1.4, 2.0]:
+    if sizes != [0.2, 1.1, 2.0]:
         raise Failure(f"the record spectrum's sizes: {sizes}")
+    if result["record"]["samples"] != samples or abs(result["record"]["pga_g"] - pga) > 5e-4 * pga:
+        raise Failure(f"the record spectrum ran on another record: {result['record']}")
     toppled = [s for s in result["spectrum"] if s["min_overturn_scale"] is not None]
     outcome = page.js("document.getElementById('outcome').textContent")
     if toppled:
@@ -644,30 +772,32 @@ def check_record_spectrum(page, base):
     elif not outcome.startswith("No block size overturns"):
         raise Failure(f"the outcome of a record spectrum without overturning: {outcome!r}")
     summary = summary_of(page)
-    if summary.get("Record") != "101 samples, dt = 0.01 s":
+    if summary.get("Record") != f"{samples} samples, dt = 0.01 s":
         raise Failure(f"the record spectrum summary: {summary}")
     page.screenshot(os.path.join(OUT, "page-record-spectrum.png"))
-    page.click("input[name=kind][value=time_history]")
+    page.element_screenshot("#plot-box", os.path.join(OUT, "page-record-spectrum-figure.png"))
+    return rec
 
 
-def check_forensic_record(page, base):
-    """A forensic query on a record from the form: the observations of the
-    pulse query, the record of the record spectrum (a one-sine pulse of 0.5 g
-    at 1 Hz), the scale axis as PGA; the summary and outcome agree with the
-    result; back to pulses, the pulse's fields return."""
+def check_forensic_record(page, base, rec):
+    """A forensic query on the record loaded: the observations of the pulse
+    query, the record by its id, the scale axis as PGA; the summary and
+    outcome agree with the result; back to pulses, the pulse's fields
+    return and the record is not sent."""
     page.click("input[name=kind][value=forensic]")
     page.click("input[name=fo-by][value=record]")
     hidden = page.js("['f-type', 'fo-pulse-axes', 'fo-record-axes', 'fs-motion'].map((id) =>"
                      " !!document.getElementById(id).closest('[hidden]'))")
     if hidden != [True, True, False, False]:
         raise Failure(f"on a record the form shows the wrong fields (hidden: {hidden})")
+    if page.js("document.getElementById('rec-name').textContent") != rec["name"]:
+        raise Failure("the forensic form does not show the record loaded")
     page.click("#show-json")
     raw = json.loads(page.js("document.getElementById('f-raw').value"))
-    acc = raw["ground_motion"].pop("acc")
     observations = raw.pop("observations")
-    expected = {"kind": "forensic", "ground_motion": {"dt": 0.01, "unit": "g"},
+    expected = {"kind": "forensic", "ground_motion": {"record": rec["id"]},
                 "pga_g": {"from": 0.05, "to": 3}, "formulation": "nonlinear"}
-    if raw != expected or len(acc) != 101 or [o["name"] for o in observations][:2] != ["locomotive", "transformer"]:
+    if raw != expected or [o["name"] for o in observations][:2] != ["locomotive", "transformer"]:
         raise Failure(f"the form's record query is {raw}, not {expected}")
     page.click("input[name=kind][value=forensic]")
     before = page.js("document.getElementById('job-id').textContent")
@@ -688,8 +818,9 @@ def check_forensic_record(page, base):
                 or abs(float(m.group(4)) - bounds["max_g"]) > 5e-4 * bounds["max_g"]):
             raise Failure(f"the outcome does not give the bounds {bounds}: {outcome!r}")
     summary = summary_of(page)
-    if summary.get("Record") != "101 samples, dt = 0.01 s, PGA 0.5 g":
-        raise Failure(f"the record query's summary: {summary}")
+    want = f"{rec['samples']} samples, dt = {js_fmt(rec['dt'])} s, PGA {js_fmt(result['record']['pga_g'])} g"
+    if summary.get("Record") != want:
+        raise Failure(f"the record query's summary: {summary}, not {want!r}")
     src = page.js("document.getElementById('plot').getAttribute('src')")
     if src != f"/v1/jobs/{job_id}/plot.svg":
         raise Failure(f"the record query's plot comes from {src!r}")
@@ -697,6 +828,167 @@ def check_forensic_record(page, base):
     page.click("input[name=fo-by][value=pulse]")
     if page.js("!!document.getElementById('f-type').closest('[hidden]')"):
         raise Failure("back on pulses, the pulse type stays hidden")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    if "ground_motion" in raw or raw.get("pulse") != {"type": "one_sine"}:
+        raise Failure(f"back on pulses, the query is {raw}")
+    page.click("input[name=kind][value=time_history]")
+
+
+def check_time_history_record(page, base, rec):
+    """A time history on the record loaded: the pulse's fields give way to
+    the record, the spec names it and sends no pulse; the result's ground
+    motion is the record's; back to a pulse, no record is sent."""
+    page.click("input[name=kind][value=time_history]")
+    page.click("input[name=th-by][value=record]")
+    hidden = page.js("['f-type', 'pulse-axes', 'fs-motion', 'fs-block'].map((id) =>"
+                     " !!document.getElementById(id).closest('[hidden]'))")
+    if hidden != [True, True, False, False]:
+        raise Failure(f"a time history on a record shows the wrong fields (hidden: {hidden})")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    if raw.get("ground_motion") != {"record": rec["id"]} or "pulse" in raw or raw.get("block", {}).get("alpha") != 0.25:
+        raise Failure(f"the form's time history on a record is {raw}")
+    page.click("input[name=kind][value=time_history]")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "time history on a record")
+    log(f"time history on a record {job_id}")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    peaks = result.get("ground_peaks") or {}
+    if abs(peaks.get("pga_g", 0) - rec["pga_g"]) > 5e-4 * rec["pga_g"]:
+        raise Failure(f"the time history's ground motion is not the record's: {peaks}")
+    outcome = page.js("document.getElementById('outcome').textContent")
+    if not re.match(r"(Overturned at t = |Survived: |Did not rock)", outcome):
+        raise Failure(f"the time history on a record says {outcome!r}")
+    page.screenshot(os.path.join(OUT, "page-time-history-record.png"))
+    page.click("input[name=th-by][value=pulse]")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    if "ground_motion" in raw or raw.get("pulse", {}).get("type") != "one_sine":
+        raise Failure(f"back on a pulse, the time history is {raw}")
+    page.click("input[name=kind][value=time_history]")
+
+
+def check_record_questions(page, base, work, first):
+    """A file the service cannot read: the error box names it and its line.
+    A one-column file that states neither unit nor dt: the page asks (with
+    the service's hint) and sends it again; the preview is the file's and
+    the error box is gone. Then the first record, picked from the stored
+    list, is previewed again. Returns the one-column record's id."""
+    page.click("input[name=kind][value=record_spectrum]")
+    bad = os.path.join(work, "typo.csv")
+    with open(bad, "w") as f:
+        f.write("time_s,acc_g\n0.00,0.0\n0.01,0.12\n0.02,0..3\n0.03,0.1\n")
+    page.set_files("#f-rec-file", [bad])
+    page.wait_js("the file's error", "!document.getElementById('problem').hidden", 10)
+    text = page.js("document.getElementById('problem').innerText")
+    if "typo.csv" not in text or not re.search(r"line\s*\d", text, re.I):
+        raise Failure(f"the error does not name the file and its line: {text!r}")
+    if not page.js("document.getElementById('rec-preview').hidden"):
+        raise Failure("a preview is shown beside the error")
+    page.screenshot(os.path.join(OUT, "page-record-error.png"))
+
+    samples, dt, peak = 300, 0.02, 2.0  # m/s²
+    one = os.path.join(work, "one_column.txt")
+    with open(one, "w") as f:
+        for k in range(samples):
+            f.write(f"{peak * math.sin(math.pi * k / (samples - 1)) * math.sin(2 * math.pi * 2 * k * dt):.6f}\n")
+    with open(one) as f:
+        pga = max(abs(float(v)) for v in f.read().split()) / 9.81
+    page.set_files("#f-rec-file", [one])
+    asked_all, seen = [], 0
+    for _ in range(4):
+        state = page.wait_js(
+            "the service's question or the preview",
+            "(() => { if (!document.getElementById('rec-preview').hidden) return 'shown';"
+            " const ask = document.getElementById('rec-ask');"
+            f" if (!ask.hidden && Number(ask.dataset.round) > {seen}) return 'asked';"
+            " const problem = document.getElementById('problem');"
+            " return !problem.hidden && 'error: ' + problem.innerText; })()",
+            15)
+        if state == "shown":
+            break
+        if state != "asked":
+            raise Failure(f"the one-column file: {state}")
+        seen = page.js("Number(document.getElementById('rec-ask').dataset.round)")
+        asked = page.js("[...document.querySelectorAll('#rec-ask [data-param]')]"
+                        ".filter((el) => !el.hidden && el.matches('.field')).map((el) => el.dataset.param)")
+        hint = page.js("document.getElementById('rec-ask-text').textContent")
+        if len(hint) < 20 or "one_column.txt" not in hint:
+            raise Failure(f"the question gives no hint of the service's: {hint!r}")
+        if seen == 1:
+            page.element_screenshot("#fs-motion", os.path.join(OUT, "page-record-ask.png"), scale=2)
+        for param in asked:
+            if param == "unit":
+                page.choose("#f-rec-unit", "m/s2")
+            elif param == "dt":
+                page.type_into("#f-rec-dt", str(dt))
+            else:
+                raise Failure(f"the service asks for {param} of a one-column file")
+        asked_all += [p for p in asked if p not in asked_all]
+        page.click("#rec-resend")
+    if "unit" not in asked_all:
+        raise Failure(f"the unit of the one-column file was never asked for (asked: {asked_all})")
+    wait_preview(page, "the one-column file", "one_column.txt")
+    check_preview_numbers(page, "the one-column file", samples, dt, pga)
+    if not page.js("document.getElementById('rec-ask').hidden"):
+        raise Failure("the question stays after the file was read")
+    if not page.js("document.getElementById('problem').hidden"):
+        raise Failure("the old error box stays on screen after the file was read")
+    other = page.js("(() => { const r = document.querySelector('#rec-stored input:checked'); return r && r.value; })()")
+    if not HEX32.match(other or "") or other == first["id"]:
+        raise Failure(f"the one-column record is not the one picked: {other!r}")
+    # The first record again, from the stored list.
+    page.click(f"#rec-stored input[value='{first['id']}']")
+    wait_preview(page, "the stored record picked", first["name"])
+    if preview_facts(page).get("Samples") != str(first["samples"]):
+        raise Failure(f"the stored record picked shows {preview_facts(page)}")
+    page.click("#show-json")
+    if json.loads(page.js("document.getElementById('f-raw').value"))["ground_motion"] != {"record": first["id"]}:
+        raise Failure("the stored record picked is not the one sent")
+    page.click("input[name=kind][value=time_history]")
+    return other
+
+
+def check_fragility_suite(page, base, ids):
+    """A fragility on a suite of stored records: ticked in the list, sent as
+    ground_motions by id with no pulse; the job runs; back to pulses, no
+    record is sent."""
+    page.click("input[name=kind][value=fragility]")
+    page.click("input[name=fg-by][value=records]")
+    hidden = page.js("['f-type', 'fg-pulse-axes', 'fs-motion'].map((id) =>"
+                     " !!document.getElementById(id).closest('[hidden]'))")
+    if hidden != [True, True, False]:
+        raise Failure(f"a fragility on records shows the wrong fields (hidden: {hidden})")
+    kinds = page.js("[...document.querySelectorAll('#rec-stored input')].map((i) => i.type)")
+    if not kinds or set(kinds) != {"checkbox"}:
+        raise Failure(f"the suite is not chosen with checkboxes: {kinds}")
+    for rid in ids:
+        page.click(f"#rec-stored input[value='{rid}']")
+    page.type_into("#f-fg-from", "0.3")
+    page.type_into("#f-fg-to", "1.5")
+    page.type_into("#f-fg-steps", "3")
+    page.type_into("#f-fg-samples", "8")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    if (raw.get("ground_motions") != [{"record": rid} for rid in ids] or "pulse" in raw
+            or raw.get("stripes") != {"from": 0.3, "to": 1.5, "steps": 3} or raw.get("samples") != 8):
+        raise Failure(f"the form's fragility on a suite is {raw}")
+    page.click("input[name=kind][value=fragility]")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "fragility on a suite")
+    log(f"fragility on a suite {job_id}")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    if [s["n"] for s in result["stripes"]] != [8, 8, 8]:
+        raise Failure(f"the fragility's stripes: {result['stripes']}")
+    page.screenshot(os.path.join(OUT, "page-fragility-suite.png"))
+    page.click("input[name=fg-by][value=pulse]")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    if "ground_motions" in raw or raw.get("pulse", {}).get("type") != "one_sine":
+        raise Failure(f"back on pulses, the fragility is {raw}")
     page.click("input[name=kind][value=time_history]")
 
 
@@ -803,7 +1095,10 @@ def main():
     # A TERM (a CI timeout, say) still stops the server and the browser.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     os.makedirs(OUT, exist_ok=True)
-    for name in ("page.png", "page-error.png", "page-forensic.png", "page-cancel.png", "failure.png"):
+    for name in ("page.png", "page-error.png", "page-forensic.png", "page-cancel.png", "failure.png",
+                 "page-record-preview.png", "page-record-ask.png", "page-record-error.png",
+                 "page-record-spectrum.png", "page-record-spectrum-figure.png", "page-forensic-record.png",
+                 "page-time-history-record.png", "page-fragility-suite.png"):
         try:
             os.remove(os.path.join(OUT, name))
         except FileNotFoundError:
@@ -835,8 +1130,11 @@ def main():
         check_time_history(page, server.base)
         check_survivor(page, server.base)
         check_forensic(page, server.base)
-        check_record_spectrum(page, server.base)
-        check_forensic_record(page, server.base)
+        record = check_record_spectrum(page, server.base, work)
+        check_forensic_record(page, server.base, record)
+        check_time_history_record(page, server.base, record)
+        other = check_record_questions(page, server.base, work, record)
+        check_fragility_suite(page, server.base, [record["id"], other])
         check_mavroeidis_papageorgiou_inputs(page)
         check_survival(page, server.base)
         check_cancel(page, server.base)
