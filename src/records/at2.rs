@@ -64,24 +64,40 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
             ended_at = Some(n);
             continue;
         }
+        let mut take = |piece: &str| {
+            let a = number::acceleration(piece, unit, &mut buffer).ok_or_else(|| {
+                ReadError::body(
+                    Some(n),
+                    format!("{} is not a number, in {}", quote(piece), quote(line)),
+                )
+            })?;
+            if !a.is_finite() {
+                return Err(ReadError::body(
+                    Some(n),
+                    format!("{} is too large to be an acceleration", quote(piece)),
+                ));
+            }
+            if acc.len() == MAX_RECORD_SAMPLES {
+                return Err(super::too_many().at_line(n));
+            }
+            acc.push(a);
+            Ok(())
+        };
         for token in line.split_whitespace() {
-            for piece in touching(token).map_err(|m| ReadError::body(Some(n), m))? {
-                let a = number::acceleration(piece, unit, &mut buffer).ok_or_else(|| {
-                    ReadError::body(
-                        Some(n),
-                        format!("{piece:?} is not a number, in {}", quote(line)),
-                    )
-                })?;
-                if !a.is_finite() {
+            match touching(token) {
+                Touching::One => take(token)?,
+                Touching::Many(pieces) => pieces.into_iter().try_for_each(&mut take)?,
+                Touching::Unclear => {
                     return Err(ReadError::body(
                         Some(n),
-                        format!("{piece:?} is too large to be an acceleration"),
+                        format!(
+                            "{} cannot be split into numbers (numbers that touch need decimal \
+                             points), in {}",
+                            quote(token),
+                            quote(line)
+                        ),
                     ));
                 }
-                if acc.len() == MAX_RECORD_SAMPLES {
-                    return Err(super::too_many().at_line(n));
-                }
-                acc.push(a);
             }
         }
     }
@@ -278,7 +294,8 @@ fn counts_and_step(line: &str, opts: &ReadOptions) -> Result<(Option<usize>, f64
 
     let npts = match npts_text {
         None => None,
-        Some(text) => Some(text.parse::<usize>().map_err(|_| {
+        // A whole number, possibly written with a point (`3930.`).
+        Some(text) => Some(whole(text).ok_or_else(|| {
             ReadError::body(
                 Some(4),
                 format!(
@@ -318,32 +335,52 @@ fn counts_and_step(line: &str, opts: &ReadOptions) -> Result<(Option<usize>, f64
     Ok((npts, dt))
 }
 
+/// The whole number written `text` (`3930`, `3930.`, `3.93E+03`).
+fn whole(text: &str) -> Option<usize> {
+    text.parse::<usize>().ok().or_else(|| {
+        let x = number::parse(text)?;
+        (x >= 0.0 && x.fract() == 0.0 && x <= MAX_RECORD_SAMPLES as f64 * 1e3).then_some(x as usize)
+    })
+}
+
+/// How one whitespace-free token of values splits into numbers.
+#[derive(Debug, PartialEq)]
+enum Touching<'a> {
+    /// It is one number (or not a number at all).
+    One,
+    /// Numbers whose signs touch the number before them.
+    Many(Vec<&'a str>),
+    /// A sign inside it, but pieces without a decimal point (`12-3`).
+    Unclear,
+}
+
 /// The numbers in one whitespace-free `token`: fixed-width files let a sign
 /// touch the number before it (`-.1234E-02-.5678E-03`), so a `+` or `-`
 /// that neither starts the token nor follows an exponent letter starts a
 /// new number. Each number of a token so split must have a decimal point:
 /// `12-3` is refused rather than read as 12 and −3.
-fn touching(token: &str) -> Result<impl Iterator<Item = &str>, String> {
+fn touching(token: &str) -> Touching<'_> {
     let bytes = token.as_bytes();
-    let mut starts = vec![0];
-    for i in 1..bytes.len() {
-        if matches!(bytes[i], b'+' | b'-') && !matches!(bytes[i - 1], b'e' | b'E' | b'd' | b'D') {
-            starts.push(i);
-        }
+    let splits_at = |i: usize| {
+        i > 0
+            && matches!(bytes[i], b'+' | b'-')
+            && !matches!(bytes[i - 1], b'e' | b'E' | b'd' | b'D')
+    };
+    if !(1..bytes.len()).any(splits_at) {
+        return Touching::One;
     }
-    let mut ends = starts[1..].to_vec();
-    ends.push(bytes.len());
-    let pieces: Vec<&str> = starts
-        .iter()
-        .zip(&ends)
-        .map(|(&s, &e)| &token[s..e])
-        .collect();
-    if pieces.len() > 1 && pieces.iter().any(|p| !p.contains('.')) {
-        return Err(format!(
-            "{token:?} cannot be split into numbers (touching numbers need decimal points)"
-        ));
+    let mut pieces = Vec::new();
+    let mut start = 0;
+    for i in (1..bytes.len()).filter(|&i| splits_at(i)) {
+        pieces.push(&token[start..i]);
+        start = i;
     }
-    Ok(pieces.into_iter())
+    pieces.push(&token[start..]);
+    if pieces.iter().all(|p| p.contains('.')) {
+        Touching::Many(pieces)
+    } else {
+        Touching::Unclear
+    }
 }
 
 #[cfg(test)]
@@ -383,6 +420,7 @@ mod tests {
             "   .0100     6    DT, NPTS",
             "6 .01",
             "NPTS=     6, DT=   1.0D-02 SEC",
+            "NPTS=    6., DT=   .0100 SEC",
         ] {
             let text = at2("ACCELERATION TIME SERIES IN UNITS OF G", counts, VALUES);
             let r =
@@ -432,10 +470,10 @@ mod tests {
             "ACCELERATION TIME SERIES IN UNITS OF CM/S^2",
             "ACCELERATION (CM/S2)",
         ] {
-            let text = at2(units, "NPTS= 3, DT= .005", "12.5 -30.25 7\n");
+            let text = at2(units, "NPTS= 3, DT= .005", "12.5 -30.25 0.7\n");
             let r = read(&text, &ReadOptions::default()).unwrap_or_else(|e| panic!("{units}: {e}"));
             assert_eq!(r.unit, Unit::CentimetresPerSecondSquared, "{units}");
-            assert_eq!(r.acc, vec![0.125, -0.3025, 0.07], "{units}");
+            assert_eq!(r.acc, vec![0.125, -0.3025, 0.007], "{units}");
         }
     }
 
@@ -456,12 +494,11 @@ mod tests {
 
     #[test]
     fn touching_numbers_without_decimal_points_are_refused() {
-        assert!(touching("12-3").is_err());
+        assert_eq!(touching("12-3"), Touching::Unclear);
+        assert_eq!(touching("-.1E-02"), Touching::One);
         assert_eq!(
-            touching("1.5E-02+2.5E+01")
-                .expect("splits")
-                .collect::<Vec<_>>(),
-            vec!["1.5E-02", "+2.5E+01"]
+            touching("1.5E-02+2.5E+01"),
+            Touching::Many(vec!["1.5E-02", "+2.5E+01"])
         );
         let text = at2("IN UNITS OF G", "NPTS= 2, DT= .01", "0.1 12-3\n");
         let e = read(&text, &ReadOptions::default()).expect_err("refused");

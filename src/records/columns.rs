@@ -86,6 +86,9 @@ impl Delimiter {
         match self {
             Delimiter::Blanks => row.split_whitespace().map(Cow::Borrowed).collect(),
             Delimiter::Char(d) => {
+                // Blanks around the row are not fields (a tab-separated row
+                // indented with a tab).
+                let row = row.trim();
                 let mut fields = if row.contains('"') {
                     quoted_fields(row, d)
                 } else {
@@ -471,7 +474,13 @@ fn choose_columns(
         }
         Some(t) => Some(t),
         None if count == 1 => None,
-        None if count == 2 => Some(1 - acc),
+        // Two columns are time and acceleration, unless the header names the
+        // other one as something else and dt is given (two components).
+        None if count == 2 => {
+            let other = 1 - acc;
+            let named_otherwise = layout.name(other).is_some_and(|n| !is_time_name(n));
+            (!(named_otherwise && opts.dt.is_some())).then_some(other)
+        }
         None => {
             let named: Vec<usize> = (0..count)
                 .filter(|&i| i != acc && layout.name(i).is_some_and(is_time_name))
@@ -840,6 +849,27 @@ mod tests {
             ..opts()
         };
         assert_eq!(read(text, &o).expect("reads").acc[2], 0.03 * 9.81);
+    }
+
+    #[test]
+    fn two_named_components_with_dt_take_no_time_column() {
+        let text = "acc_x_g,acc_y_g\n0.01,0.02\n-0.02,0.01\n0.03,-0.01\n";
+        let o = ReadOptions {
+            dt: Some(0.02),
+            ..opts()
+        };
+        let r = read(text, &o).expect("reads");
+        assert_eq!((r.dt, r.acc[1]), (0.02, 0.01 * 9.81));
+        // Without dt the first column is taken as time, and does not increase.
+        let e = read(text, &opts()).expect_err("refused");
+        assert_eq!((e.field.as_str(), e.line), ("body", Some(3)));
+    }
+
+    #[test]
+    fn a_tab_separated_row_may_start_with_a_tab() {
+        let text = "\tt\tacc_g\n\t0\t0.01\n\t0.01\t-0.02\n\t0.02\t0.03\n";
+        let r = read(text, &opts()).expect("reads");
+        assert_eq!((r.dt, r.acc[2]), (0.01, 0.03 * 9.81));
     }
 
     #[test]

@@ -218,8 +218,8 @@ fn finish(parsed: Parsed, format: Format, opts: &ReadOptions) -> Result<RecordFi
     let name = opts
         .name
         .clone()
-        .or(name)
         .filter(|n| !n.trim().is_empty())
+        .or(name.filter(|n| !n.is_empty()))
         .unwrap_or_else(|| "record".into());
     Ok(RecordFile {
         name,
