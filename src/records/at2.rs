@@ -104,12 +104,16 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
 
     let mut warnings = Vec::new();
     if let Some(npts) = npts.filter(|&npts| npts != acc.len()) {
+        let advice = if npts > acc.len() {
+            "the file may have been cut short: download it again"
+        } else {
+            "check that the file holds a single record"
+        };
         warnings.push(RecordWarning {
             kind: "npts_mismatch",
             message: format!(
-                "line 4 says NPTS = {npts}, but the file holds {} values: the {} values read are \
-                 used; if the file was cut short, download it again",
-                acc.len(),
+                "line 4 says NPTS = {npts}, but the file holds {} values, which are used as \
+                 read; {advice}",
                 acc.len()
             ),
         });

@@ -235,7 +235,7 @@ impl Layout {
 
 /// Reads a column file.
 pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> {
-    let mut lines = numbered_lines(text).peekable();
+    let mut lines = numbered_lines(text);
     // Comments, blank lines and up to two header rows, to the first data row.
     let mut comment_name = None;
     let mut header = Header {
@@ -345,18 +345,18 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
             found
         }
         None => opts.dt.ok_or_else(|| {
-            let why = if count == 1 {
-                "a file of one column holds accelerations only".to_string()
+            let message = if count == 1 {
+                "a file of one column holds accelerations only: give dt, the time step in \
+                 seconds"
+                    .to_string()
             } else {
                 format!(
-                    "no column of this file is taken as time (columns {})",
+                    "no column of this file is taken as time (its columns are {}): give dt, the \
+                     time step in seconds, or time_column",
                     layout.describe()
                 )
             };
-            ReadError::new(
-                "dt",
-                format!("{why}: give dt, the time step in seconds, or time_column"),
-            )
+            ReadError::new("dt", message)
         })?,
     };
     Ok(Parsed {
@@ -568,7 +568,7 @@ impl TimeColumn {
             })?;
         if self.count > 0 {
             let step = t - self.previous;
-            if !(step > 0.0) {
+            if step <= 0.0 {
                 return Err(ReadError::body(
                     Some(n),
                     format!(

@@ -82,6 +82,11 @@ fn kind(value: &RawValue) -> &'static str {
     }
 }
 
+/// Whether `value` is a JSON number (serde_json has checked its grammar).
+fn is_number(value: &RawValue) -> bool {
+    matches!(value.get().as_bytes().first(), Some(b'-' | b'0'..=b'9'))
+}
+
 /// Reads a JSON record.
 pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> {
     let Members(members) = serde_json::from_str(text).map_err(|e| {
@@ -126,7 +131,7 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
 
     let dt = match (dt, opts.dt) {
         (Some(v), option) => {
-            let dt = (kind(v) == "a number")
+            let dt = is_number(v)
                 .then(|| number::parse(v.get()))
                 .flatten()
                 .ok_or_else(|| {
@@ -190,7 +195,7 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
     let mut buffer = String::new();
     let mut samples = Vec::with_capacity(elements.items.len());
     for (k, v) in elements.items.iter().enumerate() {
-        let a = (kind(v) == "a number")
+        let a = is_number(v)
             .then(|| number::acceleration(v.get(), unit, &mut buffer))
             .flatten()
             .ok_or_else(|| {

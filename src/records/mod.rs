@@ -11,7 +11,7 @@
 //!
 //! Two uploads of the same motion get the same [`record_id`] whichever
 //! format and unit they came in: cm/s² are converted exactly in the text
-//! ([`number`]), g by the same product as a job spec's `"unit": "g"`.
+//! (`number.rs`), g by the same product as a job spec's `"unit": "g"`.
 
 mod at2;
 mod columns;
