@@ -649,7 +649,11 @@ mod tests {
         let text = at2("IN UNITS OF G", "NPTS= 1, DT= .01", &values);
         let e = read(&text, &ReadOptions::default()).expect_err("refused");
         assert_eq!(e.field, "body");
-        assert!(e.message.contains("200000"), "{}", e.message);
+        assert!(
+            e.message.contains(&MAX_RECORD_SAMPLES.to_string()),
+            "{}",
+            e.message
+        );
     }
 
     /// Parsing time of 200,000 samples (run with `--release -- --ignored

@@ -15,19 +15,23 @@
 
 mod at2;
 mod columns;
+mod embed;
 mod format;
 mod guards;
 mod json;
+mod meta;
 mod number;
 mod text;
 mod unit;
 
 pub use columns::Column;
+pub use embed::embed_files;
 pub use format::Format;
 pub use guards::{
     PGA_IMPLAUSIBLE_G, PGA_LARGE_G, PgaCheck, baseline_drift, check_pga, looks_interleaved,
     looks_like_time,
 };
+pub use meta::{RecordMeta, RecordWarningDoc};
 pub use unit::{ACCEPTED_UNITS, Unit};
 
 use crate::jobs::spec::{MAX_RECORD_SAMPLES, RECORD_DT_RANGE};
