@@ -40,6 +40,7 @@ async fn submit(store: &dyn JobStore, tenant: &str, key: &str, payloads: &[Strin
             spec: "{}",
             now: &now_rfc3339(),
             tasks: payloads,
+            records: &[],
         })
         .await
         .expect("submits");

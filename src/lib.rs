@@ -10,6 +10,10 @@
 //!   chattering and rest, the exact overturning decision, base reactions.
 //! - [`spectrum`]: overturning and friction-demand spectra over many
 //!   simulations (rayon), with progress and cancellation.
+//! - [`records`]: accelerogram files (PEER `.AT2`, CSV or whitespace
+//!   columns, JSON) read into samples in m/s², pure: units converted exactly,
+//!   content-addressed ids, and guards against a silent misread (time taken
+//!   for acceleration, a unit off by 100 or g, an uncorrected baseline).
 //! - [`jobs`]: the job-spec JSON, its validation into domain types, service
 //!   limits, canonical cache keys, splitting into tasks, and the result
 //!   documents (time histories, spectra, friction spectra, forensic queries).
@@ -32,6 +36,7 @@ pub mod jobs;
 pub mod plot;
 pub mod precision;
 pub mod probability;
+pub mod records;
 pub mod service;
 pub mod spectrum;
 pub mod store;

@@ -45,6 +45,12 @@ struct ServeArgs {
     /// Largest request body, bytes.
     #[arg(long, env = "TOPPLE_MAX_BODY", default_value_t = 1 << 20)]
     max_body: usize,
+    /// Largest record file uploaded to /v1/records, bytes.
+    #[arg(long, env = "TOPPLE_MAX_RECORD_BYTES", default_value_t = 64 << 20)]
+    max_record_bytes: usize,
+    /// Most samples of an uploaded record (at most 1,000,000).
+    #[arg(long, env = "TOPPLE_MAX_RECORD_SAMPLES", default_value_t = topple::jobs::spec::MAX_RECORD_SAMPLES)]
+    max_record_samples: usize,
     /// Longest ?wait= honoured, seconds.
     #[arg(long, env = "TOPPLE_MAX_WAIT", default_value_t = 60.0)]
     max_wait: f64,
@@ -146,6 +152,34 @@ enum Command {
         #[arg(long, default_value = "json", value_parser = ["json", "csv"])]
         format: String,
     },
+    /// Read a record file (PEER AT2, CSV or whitespace columns, JSON) and
+    /// print it as a job spec's `ground_motion` (`dt`, `acc` in m/s², `unit`)
+    /// on stdout; its metadata (one line of JSON) and warnings on stderr.
+    Record {
+        /// The file, or - for standard input.
+        file: String,
+        /// at2 | csv | json (detected from the content when absent).
+        #[arg(long)]
+        format: Option<String>,
+        /// g | m/s2 | cm/s2 (gal): required unless the file states it.
+        #[arg(long)]
+        unit: Option<String>,
+        /// Sampling interval, s: required for one column without times.
+        #[arg(long)]
+        dt: Option<f64>,
+        /// The time column: a 1-based number or a header name.
+        #[arg(long)]
+        time_column: Option<String>,
+        /// The acceleration column: a 1-based number or a header name.
+        #[arg(long)]
+        acc_column: Option<String>,
+        /// The record's name (default: from the file).
+        #[arg(long)]
+        name: Option<String>,
+        /// A PGA above 5 g in the stated unit is intended.
+        #[arg(long)]
+        allow_large_pga: bool,
+    },
     /// Make a random token for tenant NAME and print, as one line of JSON,
     /// the token and the line to append to the tokens file.
     Token {
@@ -177,16 +211,35 @@ fn read_spec(path: &str) -> Result<String, String> {
     }
 }
 
+/// An invalid spec: status 2 and the field.
+fn invalid(e: topple::jobs::SpecError) -> (u8, String) {
+    let field = if e.pointer.is_empty() {
+        "/".to_string()
+    } else {
+        e.pointer.clone()
+    };
+    (2, format!("invalid spec: {field}: {}", e.message))
+}
+
 fn run(spec_path: &str, plot: Option<&str>, format: &str) -> Result<(), (u8, String)> {
     let text = read_spec(spec_path).map_err(|e| (2, e))?;
-    let job = Job::parse(&text).map_err(|e| {
-        let field = if e.pointer.is_empty() {
-            "/".to_string()
-        } else {
-            e.pointer.clone()
-        };
-        (2, format!("invalid spec: {field}: {}", e.message))
-    })?;
+    let mut value = topple::jobs::spec::parse_json(&text).map_err(invalid)?;
+    // Record files named by the spec, relative to its folder (stdin: here).
+    let folder = match spec_path {
+        "-" => std::path::PathBuf::from("."),
+        path => std::path::Path::new(path)
+            .parent()
+            .map(std::path::Path::to_path_buf)
+            .unwrap_or_default(),
+    };
+    let warnings = topple::records::embed_files(&mut value, |file| {
+        std::fs::read_to_string(folder.join(file)).map_err(|e| e.to_string())
+    })
+    .map_err(invalid)?;
+    for (at, w) in warnings {
+        eprintln!("topple: warning: {at}: {} ({})", w.message, w.kind);
+    }
+    let job = Job::from_value(&value).map_err(invalid)?;
     let control = topple::spectrum::Control::new();
     let result = job
         .run(&control)
@@ -202,6 +255,64 @@ fn run(spec_path: &str, plot: Option<&str>, format: &str) -> Result<(), (u8, Str
     };
     // A closed pipe (`topple run spec | head`) is not an error worth a panic.
     let _ = writeln!(std::io::stdout().lock(), "{out}");
+    Ok(())
+}
+
+/// `topple record`: the file as a job spec's `ground_motion`.
+#[allow(clippy::too_many_arguments)]
+fn record(
+    file: &str,
+    format: Option<&str>,
+    unit: Option<&str>,
+    dt: Option<f64>,
+    time_column: Option<&str>,
+    acc_column: Option<&str>,
+    name: Option<String>,
+    allow_large_pga: bool,
+) -> Result<(), (u8, String)> {
+    use topple::records::{Column, Format, ReadOptions, RecordMeta, Unit};
+    let text = read_spec(file).map_err(|e| (2, e))?;
+    let opts = ReadOptions {
+        format: match format {
+            None => None,
+            Some(f) => Some(
+                Format::parse(f)
+                    .ok_or_else(|| (2, format!("--format {f:?}: expected at2, csv or json")))?,
+            ),
+        },
+        unit: match unit {
+            None => None,
+            Some(u) => Some(
+                Unit::parse(u)
+                    .ok_or_else(|| (2, format!("--unit {u:?}: expected g, m/s2 or cm/s2 (gal)")))?,
+            ),
+        },
+        dt,
+        time_column: time_column.map(Column::parse),
+        acc_column: acc_column.map(Column::parse),
+        name,
+        allow_large_pga,
+    };
+    let record = topple::records::read(&text, &opts).map_err(|e| {
+        let at = match (e.field.as_str(), e.line) {
+            ("body", Some(line)) => format!("{file}: line {line}"),
+            ("body", None) => file.to_string(),
+            (f, _) if f.starts_with('/') => format!("{file}: {f}"),
+            (f, _) => format!("--{}", f.replace('_', "-")),
+        };
+        (2, format!("cannot read the record: {at}: {}", e.message))
+    })?;
+    let meta = RecordMeta::of(&record).map_err(|e| (1, e))?;
+    let meta_line = serde_json::to_string(&meta).map_err(|e| (1, e.to_string()))?;
+    let mut motion = serde_json::json!({"dt": record.dt, "acc": record.acc, "unit": "m/s2"});
+    if allow_large_pga {
+        motion["allow_large_pga"] = serde_json::Value::Bool(true);
+    }
+    eprintln!("{meta_line}");
+    for w in &record.warnings {
+        eprintln!("topple: warning: {} ({})", w.message, w.kind);
+    }
+    let _ = writeln!(std::io::stdout().lock(), "{motion}");
     Ok(())
 }
 
@@ -284,6 +395,20 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
         addr: args.addr,
         database_url: args.database,
         max_body_bytes: args.max_body,
+        max_record_bytes: args.max_record_bytes,
+        max_record_samples: if (2..=topple::jobs::spec::MAX_RECORD_SAMPLES)
+            .contains(&args.max_record_samples)
+        {
+            args.max_record_samples
+        } else {
+            return Err((
+                2,
+                format!(
+                    "--max-record-samples must be 2 to {}",
+                    topple::jobs::spec::MAX_RECORD_SAMPLES
+                ),
+            ));
+        },
         max_wait: seconds(args.max_wait, "max-wait")?,
         shutdown_grace: seconds(args.shutdown_grace, "shutdown-grace")?,
         lease: seconds(args.lease, "lease")?.max(std::time::Duration::from_millis(300)),
@@ -429,6 +554,25 @@ fn main() -> ExitCode {
         }
         Command::Serve(args) => serve(*args),
         Command::Token { name } => token(&name),
+        Command::Record {
+            file,
+            format,
+            unit,
+            dt,
+            time_column,
+            acc_column,
+            name,
+            allow_large_pga,
+        } => record(
+            &file,
+            format.as_deref(),
+            unit.as_deref(),
+            dt,
+            time_column.as_deref(),
+            acc_column.as_deref(),
+            name,
+            allow_large_pga,
+        ),
         Command::Openapi => {
             let _ = write!(std::io::stdout().lock(), "{}", topple::api::openapi_yaml());
             Ok(())

@@ -49,9 +49,10 @@ pub async fn problem_instance(request: Request, next: Next) -> Response {
         return response;
     };
     let (mut parts, body) = response.into_parts();
-    // Problem bodies are a few hundred bytes.
+    // Problem bodies are a few hundred bytes (their texts are bounded).
     let Ok(bytes) = axum::body::to_bytes(body, 64 * 1024).await else {
-        return (StatusCode::INTERNAL_SERVER_ERROR, "").into_response();
+        return super::problem::Problem::internal("the error could not be described")
+            .into_response();
     };
     let mut doc: serde_json::Value = match serde_json::from_slice(&bytes) {
         Ok(v) => v,
@@ -133,14 +134,19 @@ pub async fn refuse_oversized_bodies(
     req: Request,
     next: Next,
 ) -> Response {
-    let max = state.config.max_body_bytes;
+    // A record file has a limit of its own.
+    let (max, limit) = if req.uri().path() == "/v1/records" {
+        (state.config.max_record_bytes, "max_record_bytes")
+    } else {
+        (state.config.max_body_bytes, "max_body_bytes")
+    };
     let declared = req
         .headers()
         .get(header::CONTENT_LENGTH)
         .and_then(|v| v.to_str().ok())
         .and_then(|v| v.trim().parse::<u64>().ok());
     if declared.is_some_and(|n| n > max as u64) {
-        return super::problem::Problem::body_too_large(max).into_response();
+        return super::problem::Problem::body_too_large_for(max, limit).into_response();
     }
     next.run(req).await
 }

@@ -648,7 +648,7 @@ async fn wait_for(
 }
 
 /// Whether the body was cut off by the body read deadline.
-fn body_timed_out(e: &BytesRejection) -> bool {
+pub(crate) fn body_timed_out(e: &BytesRejection) -> bool {
     let mut cause: Option<&(dyn std::error::Error + 'static)> = Some(e);
     while let Some(err) = cause {
         if err.is::<tower_http::timeout::TimeoutError>() {
@@ -661,7 +661,7 @@ fn body_timed_out(e: &BytesRejection) -> bool {
 
 /// 408 for a body that came too slowly; the connection closes after it (the
 /// rest of the body is never read).
-fn body_timeout(state: &AppState) -> Response {
+pub(crate) fn body_timeout(state: &AppState) -> Response {
     state.metrics.body_timeouts.increment(1);
     let limit = state.config.body_read_timeout.as_secs_f64();
     let mut p = Problem::new(
@@ -683,7 +683,7 @@ fn body_timeout(state: &AppState) -> Response {
 }
 
 /// The problem with an unreadable body: too large (413), or otherwise broken.
-fn body_problem(state: &AppState, e: &BytesRejection) -> Problem {
+pub(crate) fn body_problem(state: &AppState, e: &BytesRejection) -> Problem {
     let status = e.status();
     if status == StatusCode::PAYLOAD_TOO_LARGE {
         Problem::body_too_large(state.config.max_body_bytes)
@@ -750,6 +750,13 @@ pub async fn create_job(
     .await??;
     // A survival spec may name finished fragility jobs: read their fits.
     let value = resolve_fragility_jobs(&state, &tenant, value).await?;
+    // A spec may name stored records: read their samples into it.
+    let (value, records) = crate::service::records::resolve(&*state.store, tenant.name(), value)
+        .await
+        .map_err(|e| match e {
+            crate::service::records::ResolveError::Invalid(e) => invalid_spec(e),
+            crate::service::records::ResolveError::Store(e) => e.into(),
+        })?;
     let (job, value) = off_runtime(move || (Job::from_value(&value), value)).await?;
     let job = job.map_err(invalid_spec)?;
     let size = job
@@ -775,6 +782,7 @@ pub async fn create_job(
             spec: &spec,
             now: &now_rfc3339(),
             tasks: &tasks,
+            records: &records,
         })
         .await?;
     let id = submitted.job.id;
@@ -1292,7 +1300,7 @@ pub struct ListParams {
     pub status: Option<String>,
     /// Only jobs of this kind.
     #[param(
-        pattern = "^(time_history|spectrum|friction_spectrum|forensic|record_spectrum|survival)$"
+        pattern = "^(time_history|spectrum|friction_spectrum|forensic|record_spectrum|survival|fragility)$"
     )]
     pub kind: Option<String>,
     /// At most this many (1..=500, default 50).

@@ -13,6 +13,7 @@ pub mod jobs;
 pub mod page;
 pub mod plot;
 pub mod problem;
+pub mod records;
 
 use std::time::Duration;
 
@@ -49,6 +50,7 @@ use problem::Problem;
     modifiers(&BearerScheme),
     tags(
         (name = "jobs", description = "Time histories, overturning spectra, friction-demand spectra"),
+        (name = "records", description = "Accelerograms uploaded as files (PEER AT2, CSV, JSON), named by jobs"),
         (name = "operations", description = "Health, readiness, metrics")
     )
 )]
@@ -117,6 +119,8 @@ pub fn routes() -> (Router<AppState>, utoipa::openapi::OpenApi) {
         .routes(routes!(jobs::cancel_only))
         .routes(routes!(events::job_events))
         .routes(routes!(plot::get_plot))
+        .routes(routes!(records::create_record, records::list_records))
+        .routes(routes!(records::get_record, records::delete_record))
         .routes(routes!(health::healthz))
         .routes(routes!(health::readyz))
         .routes(routes!(health::metrics))

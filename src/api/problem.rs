@@ -106,15 +106,20 @@ impl Problem {
 
     /// 413: a body over `max` bytes (`max_body_bytes`).
     pub fn body_too_large(max: usize) -> Self {
+        Problem::body_too_large_for(max, "max_body_bytes")
+    }
+
+    /// 413: a body over `max` bytes, the limit set by `limit`.
+    pub fn body_too_large_for(max: usize, limit: &str) -> Self {
         let mut p = Problem::new(
             StatusCode::PAYLOAD_TOO_LARGE,
             "body-too-large",
             "Body too large",
-            format!("the body is larger than this service's limit of {max} bytes (max_body_bytes)"),
+            format!("the body is larger than this service's limit of {max} bytes ({limit})"),
         )
         .at("")
         .header_name("content-length");
-        p.limit = Some("max_body_bytes".into());
+        p.limit = Some(limit.into());
         p.maximum = Some(max as f64);
         p
     }
@@ -180,8 +185,30 @@ impl From<crate::store::StoreError> for Problem {
     }
 }
 
+/// Longest `detail` a problem carries, characters: it may quote the input,
+/// which is never echoed at length.
+const MAX_DETAIL: usize = 1000;
+/// Longest `pointer`, `parameter` or `header`, characters (a pointer may hold
+/// a key the client sent).
+const MAX_NAME: usize = 200;
+
+/// `text` cut to `max` characters, the cut marked.
+fn bounded(text: &mut String, max: usize) {
+    if let Some((at, _)) = text.char_indices().nth(max) {
+        text.truncate(at);
+        text.push('…');
+    }
+}
+
 impl IntoResponse for Problem {
-    fn into_response(self) -> Response {
+    fn into_response(mut self) -> Response {
+        bounded(&mut self.detail, MAX_DETAIL);
+        for name in [&mut self.pointer, &mut self.parameter, &mut self.header]
+            .into_iter()
+            .flatten()
+        {
+            bounded(name, MAX_NAME);
+        }
         let status = StatusCode::from_u16(self.status).unwrap_or(StatusCode::INTERNAL_SERVER_ERROR);
         let body = serde_json::to_string(&self).unwrap_or_default();
         let mut r = (status, body).into_response();

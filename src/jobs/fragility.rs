@@ -133,14 +133,19 @@ pub struct NamedMotionSpec {
     /// Its name.
     pub name: Option<String>,
     /// Sampling interval, s.
-    #[schema(required = true, value_type = f64)]
     pub dt: Option<f64>,
     /// Accelerations.
-    #[schema(required = true, value_type = Vec<f64>)]
     pub acc: Option<Vec<f64>>,
-    /// "g" | "m/s2".
-    #[schema(required = true, value_type = crate::jobs::schema::UnitInput)]
+    /// "g" | "m/s2" | "cm/s2".
+    #[schema(value_type = Option<crate::jobs::schema::UnitInput>)]
     pub unit: Option<String>,
+    /// A stored record, by id, instead of the samples (as a `ground_motion`'s).
+    #[schema(pattern = "^[0-9a-f]{32}$")]
+    pub record: Option<String>,
+    /// A record file (`topple run` only, as a `ground_motion`'s).
+    pub file: Option<String>,
+    /// A PGA above 5 g in the samples' unit is intended.
+    pub allow_large_pga: Option<bool>,
 }
 
 /// The spec as users write it.
@@ -466,6 +471,9 @@ impl FragilitySpec {
                                 dt: m.dt,
                                 acc: m.acc.clone(),
                                 unit: m.unit.clone(),
+                                record: m.record.clone(),
+                                file: m.file.clone(),
+                                allow_large_pga: m.allow_large_pga,
                             },
                             &nominal,
                             &at,

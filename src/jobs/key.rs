@@ -6,7 +6,7 @@ use super::Job;
 #[macro_export]
 macro_rules! engine_version {
     () => {
-        concat!("topple-engine/", env!("CARGO_PKG_VERSION"), "/6")
+        concat!("topple-engine/", env!("CARGO_PKG_VERSION"), "/7")
     };
 }
 

@@ -2,12 +2,15 @@
 //! whose size R (the half-diagonal, p = √(3g/(4R)) for a rectangular block)
 //! lies outside 1 cm – 100 m — typically b and h in millimetres, or p in Hz
 //! for rad/s (R then 4π² too large). Full width and height entered as b and
-//! h (p off by √2) is not caught. The result is computed as asked, with the warning next to it.
+//! h (p off by √2) is not caught. And a record that is strong enough to be a
+//! unit read wrongly, whose baseline drifts, that is sampled too coarsely
+//! for the block, or that never rocks it. The result is computed as asked,
+//! with the warning next to it.
 
 use serde_json::Value;
 
 use super::Job;
-use super::spec::BlockNorm;
+use super::spec::{BlockNorm, GroundMotionNorm};
 use super::time_history::WarningDoc;
 
 /// The smallest plausible size R, m.
@@ -67,10 +70,111 @@ pub fn warnings(job: &Job) -> Vec<WarningDoc> {
         .collect()
 }
 
+/// The PGA past which a record carries a `large_pga` warning, g.
+const LARGE_PGA_G: f64 = crate::records::PGA_LARGE_G;
+
+/// Samples per period the record should have at least, for the shortest
+/// ground period that still matters to a block of frequency parameter p:
+/// 2π/(10p) (beyond ω = 10p the overturning acceleration grows as ω², and
+/// the spectra stop there).
+fn coarse_dt_warning(dt: f64, p: f64, at: &str) -> Option<WarningDoc> {
+    let shortest = 2.0 * std::f64::consts::PI / (10.0 * p);
+    (dt > shortest / 2.0).then(|| WarningDoc {
+        kind: "coarse_dt".into(),
+        t: None,
+        message: format!(
+            "{at}: dt = {dt} s gives fewer than 2 samples per {shortest:.4} s, the shortest ground period that matters to a block with p = {p:.4} rad/s (2π/(10p)): the record cannot carry the motion such a block responds to; use a record sampled at dt <= {:.4} s",
+            shortest / 2.0
+        ),
+    })
+}
+
+/// Warnings about a record as it reaches a job (whichever way it came: its
+/// samples in the spec, a stored record, a file): a large PGA, a baseline
+/// that drifts.
+fn record_warnings(motion: &GroundMotionNorm, at: &str) -> Vec<WarningDoc> {
+    let mut found = Vec::new();
+    let pga_g = motion.acc.iter().fold(0.0f64, |m, a| m.max(a.abs())) / crate::records::G_M_S2;
+    if pga_g > LARGE_PGA_G {
+        found.push(WarningDoc {
+            kind: "large_pga".into(),
+            t: None,
+            message: format!(
+                "{at}: the record's PGA is {pga_g:.3} g: a strong record, or a unit read wrongly (cm/s² as m/s², m/s² as g)?"
+            ),
+        });
+    }
+    if let Some(w) = crate::records::baseline_drift(motion.dt, &motion.acc) {
+        found.push(WarningDoc {
+            kind: w.kind.into(),
+            t: None,
+            message: format!("{at}: {}", w.message),
+        });
+    }
+    found
+}
+
+/// The warnings about `job`'s records.
+pub fn motion_warnings(job: &Job) -> Vec<WarningDoc> {
+    let mut found = Vec::new();
+    match job {
+        Job::TimeHistory(j) => {
+            if let Some(m) = &j.ground_motion {
+                found.extend(record_warnings(m, "/ground_motion"));
+                found.extend(coarse_dt_warning(m.dt, j.block.p, "/ground_motion"));
+                // Rocking starts once |ü_g| exceeds g·tan α (g·α linear).
+                let threshold = if j.formulation == "linear" {
+                    j.block.g * j.block.alpha
+                } else {
+                    j.block.g * j.block.alpha.tan()
+                };
+                let pga = m.acc.iter().fold(0.0f64, |x, a| x.max(a.abs()));
+                if pga <= threshold {
+                    found.push(WarningDoc {
+                        kind: "never_rocks".into(),
+                        t: None,
+                        message: format!(
+                            "/ground_motion: the record's PGA ({:.4} g) never exceeds the block's rocking threshold ({:.4} g, {}): the block stays at rest; scale the record (a record spectrum or a forensic query) to see where it would rock",
+                            pga / j.block.g,
+                            threshold / j.block.g,
+                            if j.formulation == "linear" { "g·α" } else { "g·tan α" }
+                        ),
+                    });
+                }
+            }
+        }
+        Job::RecordSpectrum(j) => {
+            found.extend(record_warnings(&j.ground_motion, "/ground_motion"));
+            if let Some(p) = j.p.iter().copied().reduce(f64::max) {
+                found.extend(coarse_dt_warning(j.ground_motion.dt, p, "/ground_motion"));
+            }
+        }
+        Job::Forensic(j) => {
+            if let Some(m) = &j.ground_motion {
+                found.extend(record_warnings(m, "/ground_motion"));
+                if let Some(p) = j.observations.iter().map(|o| o.block.p).reduce(f64::max) {
+                    found.extend(coarse_dt_warning(m.dt, p, "/ground_motion"));
+                }
+            }
+        }
+        Job::Fragility(j) => {
+            for (i, m) in j.ground_motions.iter().flatten().enumerate() {
+                found.extend(record_warnings(&m.motion, &format!("/ground_motions/{i}")));
+            }
+        }
+        Job::Spectrum(_) | Job::FrictionSpectrum(_) | Job::Survival(_) => {}
+    }
+    found
+}
+
 /// `doc` with `job`'s input warnings appended to its `warnings` (created when
 /// there is none and there are warnings).
 pub fn with_warnings(mut doc: Value, job: &Job) -> Value {
-    let found = warnings(job);
+    let mut found = warnings(job);
+    // A fragility task's counts carry none: the assembled result does.
+    if !matches!(job, Job::Fragility(f) if f.part.is_some()) {
+        found.extend(motion_warnings(job));
+    }
     if found.is_empty() {
         return doc;
     }

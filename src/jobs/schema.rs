@@ -216,6 +216,12 @@ pub enum UnitInput {
     /// Alias of m/s2.
     #[schema(rename = "m/s²")]
     Superscript,
+    /// cm/s².
+    #[schema(rename = "cm/s2")]
+    CentimetresPerSecondSquared,
+    /// Alias of cm/s2.
+    #[schema(rename = "gal")]
+    Gal,
 }
 
 /// Direction of a transition: "up" where overturning begins as the amplitude
@@ -248,6 +254,16 @@ pub enum WarningKind {
     /// The block's size R = 3g/(4p²) lies outside 1 cm – 100 m (b and h are
     /// half-dimensions in metres; p is in rad/s).
     ImplausibleSize,
+    /// The record's PGA exceeds 2 g: a strong record, or a unit read wrongly.
+    LargePga,
+    /// The record's final ground velocity is far from zero: its baseline
+    /// drifts (an uncorrected record?).
+    BaselineDrift,
+    /// The record has fewer than 2 samples per 2π/(10p), the shortest ground
+    /// period that matters to the block.
+    CoarseDt,
+    /// The record's PGA never exceeds the block's rocking threshold.
+    NeverRocks,
 }
 
 /// A normalised spec (SI units, every default filled in), by `kind`: what a
@@ -459,6 +475,15 @@ pub mod rules {
                "then": {"properties": {"duration_s": {"type": "null"}}}})
     }
 
+    /// A record given by its samples, or a stored record named by id (a
+    /// file is for `topple run` only: the service refuses it).
+    fn samples_or_stored_record() -> Value {
+        json!({"oneOf": [
+            {"allOf": [given("dt"), given("acc"), given("unit"), none_of(&["record", "file"])]},
+            {"allOf": [given("record"), none_of(&["dt", "acc", "unit", "file", "allow_large_pga"])]},
+        ]})
+    }
+
     /// The rules, by schema name.
     fn table() -> Vec<(&'static str, Vec<Value>)> {
         let frequency = ["omega_ratio", "omega_p", "frequency_hz"];
@@ -551,6 +576,8 @@ pub mod rules {
                     gamma_and_nu_for_mavroeidis_papageorgiou_only(),
                 ],
             ),
+            ("GroundMotionSpec", vec![samples_or_stored_record()]),
+            ("NamedMotionSpec", vec![samples_or_stored_record()]),
             (
                 "RecordSpectrumSpec",
                 vec![exactly_one(&["p", "R_m"]), exactly_one(&["scale", "pga_g"])],

@@ -125,6 +125,42 @@ fn number_at(text: &str, line: usize, column: usize) -> Option<std::ops::Range<u
     (start < end).then_some(start..end)
 }
 
+/// Longest quotation of the input an error message keeps, characters.
+const MAX_ECHO: usize = 40;
+
+/// `message` with every quoted part (between `"…"` or `` `…` ``) longer
+/// than [`MAX_ECHO`] characters cut, saying how long it was: serde's
+/// messages quote the offending value, which may be a megabyte of text.
+pub fn shorten_echoes(message: &str) -> String {
+    let mut out = String::with_capacity(message.len().min(512));
+    let mut rest = message;
+    while let Some(open) = rest.find(['"', '`']) {
+        let quote = rest[open..].chars().next().unwrap_or('"');
+        out.push_str(&rest[..=open]);
+        let inner = &rest[open + 1..];
+        let Some(close) = inner.find(quote) else {
+            rest = inner;
+            break;
+        };
+        let quoted = &inner[..close];
+        let n = quoted.chars().count();
+        if n > MAX_ECHO {
+            out.extend(quoted.chars().take(MAX_ECHO));
+            out.push_str(&format!("… ({n} characters)"));
+        } else {
+            out.push_str(quoted);
+        }
+        out.push(quote);
+        rest = &inner[close + 1..];
+    }
+    let tail: String = rest.chars().take(10 * MAX_ECHO).collect();
+    out.push_str(&tail);
+    if tail.len() < rest.len() {
+        out.push('…');
+    }
+    out
+}
+
 /// Deserialises `value` into `T`, reporting the failing field as a JSON pointer
 /// below `base`.
 pub fn from_value<T: for<'de> Deserialize<'de>>(
@@ -144,7 +180,7 @@ pub fn from_value<T: for<'de> Deserialize<'de>>(
                 Segment::Unknown => {}
             }
         }
-        let mut message = e.into_inner().to_string();
+        let mut message = shorten_echoes(&e.into_inner().to_string());
         if message.contains(NON_FINITE_MARK) {
             message = "must be a finite number (NaN, Infinity and numbers beyond ±1.8e308 are not accepted)"
                 .to_string();
@@ -828,23 +864,37 @@ pub fn validate_solver_for(
     })
 }
 
-/// A sampled ground-acceleration record.
+/// A sampled ground-acceleration record: its samples (`dt`, `acc`, `unit`),
+/// or a stored record named by id (`record`; the service reads it), or a file
+/// (`file`; `topple run` reads it).
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GroundMotionSpec {
     /// Sampling interval, s (1e-5 <= dt <= 1).
-    #[schema(required = true, value_type = f64, minimum = 1e-5, maximum = 1.0)]
+    #[schema(minimum = 1e-5, maximum = 1.0)]
     pub dt: Option<f64>,
-    /// Accelerations at t_k = k·dt, k = 0..N−1 (2 <= N <= 200000), linear in between.
-    #[schema(required = true, value_type = Vec<f64>, min_items = 2, max_items = 200_000)]
+    /// Accelerations at t_k = k·dt, k = 0..N−1 (2 <= N <= 1000000), linear in between.
+    #[schema(min_items = 2, max_items = 1_000_000)]
     pub acc: Option<Vec<f64>>,
-    /// Unit of `acc`: "g" | "m/s2".
-    #[schema(required = true, value_type = crate::jobs::schema::UnitInput)]
+    /// Unit of `acc`: "g" (the block's g) | "m/s2" | "cm/s2" (also "gal").
+    #[schema(value_type = Option<crate::jobs::schema::UnitInput>)]
     pub unit: Option<String>,
+    /// A stored record (`POST /v1/records`), by id, instead of the samples:
+    /// the same computation as the spec holding its samples.
+    #[schema(pattern = "^[0-9a-f]{32}$")]
+    pub record: Option<String>,
+    /// A record file read by `topple run` (offline only; the service refuses
+    /// it): `{"file": "path", "format"?, "unit"?, "dt"?, "time_column"?,
+    /// "acc_column"?}` as for `topple record`.
+    pub file: Option<String>,
+    /// The samples' PGA above 5 g in their unit is intended (without it such a
+    /// record is refused as a likely unit mistake). Not part of the
+    /// computation: it does not change the cache key.
+    pub allow_large_pga: Option<bool>,
 }
 
 /// Most samples in a record.
-pub const MAX_RECORD_SAMPLES: usize = 200_000;
+pub const MAX_RECORD_SAMPLES: usize = 1_000_000;
 /// Range of a record's sampling interval, s.
 pub const RECORD_DT_RANGE: (f64, f64) = (1e-5, 1.0);
 
@@ -879,6 +929,18 @@ pub fn validate_ground_motion(
     block: &BlockNorm,
     base: &str,
 ) -> Result<(GroundMotionNorm, Record), SpecError> {
+    if spec.record.is_some() {
+        return Err(SpecError::at(
+            format!("{base}/record"),
+            "names a stored record, which only the service reads (POST /v1/records): offline, give the samples or a file",
+        ));
+    }
+    if spec.file.is_some() {
+        return Err(SpecError::at(
+            format!("{base}/file"),
+            "a file is read by `topple run` only: upload it (POST /v1/records) and name it with {\"record\": id}",
+        ));
+    }
     let dt = spec
         .dt
         .ok_or_else(|| SpecError::at(format!("{base}/dt"), "missing field (s)"))?;
@@ -891,20 +953,16 @@ pub fn validate_ground_motion(
             ),
         ));
     }
-    let unit = spec
+    let unit_text = spec
         .unit
         .as_deref()
-        .ok_or_else(|| SpecError::at(format!("{base}/unit"), "missing field: g | m/s2"))?;
-    let scale = match unit.to_ascii_lowercase().as_str() {
-        "g" => block.g,
-        "m/s2" | "m/s^2" | "m/s²" => 1.0,
-        other => {
-            return Err(SpecError::at(
-                format!("{base}/unit"),
-                format!("unknown unit {other:?}: expected g | m/s2"),
-            ));
-        }
-    };
+        .ok_or_else(|| SpecError::at(format!("{base}/unit"), "missing field: g | m/s2 | cm/s2"))?;
+    let unit = crate::records::Unit::parse(unit_text).ok_or_else(|| {
+        SpecError::at(
+            format!("{base}/unit"),
+            format!("unknown unit {unit_text:?}: expected g | m/s2 | cm/s2 (gal)"),
+        )
+    })?;
     let acc = spec
         .acc
         .as_ref()
@@ -918,10 +976,22 @@ pub fn validate_ground_motion(
             ),
         ));
     }
+    if crate::records::looks_interleaved(acc) {
+        return Err(SpecError::at(
+            format!("{base}/acc"),
+            "every other value rises by a constant step: these look like (time, acceleration) pairs read as one series; give the accelerations alone with dt, or upload the file (POST /v1/records) as two columns",
+        ));
+    }
+    // A record in g is in the block's g (as a pulse's a_p_g is).
+    let to_m_s2 = |a: f64| match unit {
+        crate::records::Unit::G => a * block.g,
+        crate::records::Unit::MetresPerSecondSquared => a,
+        crate::records::Unit::CentimetresPerSecondSquared => a / 100.0,
+    };
     let bound = MAX_AMPLITUDE_ALPHA_G * block.alpha * block.g;
     let mut samples = Vec::with_capacity(acc.len());
     for (k, &a) in acc.iter().enumerate() {
-        let a = a * scale;
+        let a = to_m_s2(a);
         if !(a.is_finite() && a.abs() <= bound) {
             return Err(SpecError::at(
                 format!("{base}/acc/{k}"),
@@ -931,6 +1001,15 @@ pub fn validate_ground_motion(
             ));
         }
         samples.push(a);
+    }
+    let pga_g = samples.iter().fold(0.0f64, |m, a| m.max(a.abs())) / crate::records::G_M_S2;
+    if let crate::records::PgaCheck::Implausible(hint) = crate::records::check_pga(pga_g, unit)
+        && spec.allow_large_pga != Some(true)
+    {
+        return Err(SpecError::at(
+            format!("{base}/unit"),
+            format!("{hint} (set \"allow_large_pga\": true if this PGA is intended)"),
+        ));
     }
     let samples: Arc<[f64]> = samples.into();
     let record =

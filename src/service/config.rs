@@ -16,6 +16,10 @@ pub struct ServeConfig {
     pub workers: usize,
     /// Largest request body, bytes.
     pub max_body_bytes: usize,
+    /// Largest record file uploaded (`POST /v1/records`), bytes.
+    pub max_record_bytes: usize,
+    /// Most samples of an uploaded record.
+    pub max_record_samples: usize,
     /// Longest `?wait=` honoured, s.
     pub max_wait: Duration,
     /// How long shutdown waits for running jobs before requeuing them.
@@ -75,6 +79,8 @@ impl Default for ServeConfig {
             database_url: "sqlite://topple.db".into(),
             workers,
             max_body_bytes: 1 << 20,
+            max_record_bytes: 64 << 20,
+            max_record_samples: crate::jobs::spec::MAX_RECORD_SAMPLES,
             max_wait: Duration::from_secs(60),
             shutdown_grace: Duration::from_secs(20),
             lease: Duration::from_secs(10),

@@ -10,6 +10,7 @@
 pub mod config;
 mod conn;
 pub mod metrics;
+pub mod records;
 pub mod results;
 pub mod retention;
 pub mod tenants;

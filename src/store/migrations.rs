@@ -14,7 +14,7 @@ use sqlx::migrate::{Migration, MigrationType, Migrator};
 /// name's words) and SQL.
 type File = (i64, &'static str, &'static str);
 
-const SQLITE: [File; 4] = [
+const SQLITE: [File; 5] = [
     (
         1,
         "jobs",
@@ -35,9 +35,14 @@ const SQLITE: [File; 4] = [
         "task state",
         include_str!("../../migrations/sqlite/0004_task_state.sql"),
     ),
+    (
+        5,
+        "records",
+        include_str!("../../migrations/sqlite/0005_records.sql"),
+    ),
 ];
 
-const POSTGRES: [File; 3] = [
+const POSTGRES: [File; 4] = [
     (
         1,
         "jobs",
@@ -52,6 +57,11 @@ const POSTGRES: [File; 3] = [
         3,
         "task state",
         include_str!("../../migrations/postgres/0003_task_state.sql"),
+    ),
+    (
+        4,
+        "records",
+        include_str!("../../migrations/postgres/0004_records.sql"),
     ),
 ];
 

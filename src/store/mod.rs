@@ -2,9 +2,26 @@
 //! implementation over both SQL dialects ([`sql::SqlStore`]), whose
 //! differences live in [`dialect`].
 
+/// Runs `$body` (an `async` block over `conn: &mut DB::Connection`) in this
+/// process's write turn on a connection of its own, settling it afterwards.
+macro_rules! in_write_turn {
+    ($store:expr, |$conn:ident| $body:expr) => {{
+        let store = $store;
+        let _turn = store.turn().await;
+        let mut pooled = store.pool().acquire().await?;
+        let result = {
+            let $conn: &mut DB::Connection = &mut *pooled;
+            $body.await
+        };
+        store.settle(&mut pooled, &result);
+        result
+    }};
+}
+
 pub mod dialect;
 pub mod migrations;
 pub mod postgres;
+pub mod records;
 pub mod sql;
 pub mod sqlite;
 
@@ -225,6 +242,8 @@ pub struct NewJob<'a> {
     pub now: &'a str,
     /// The task specs, should the computation be queued.
     pub tasks: &'a [String],
+    /// The stored records the spec named (their samples are in the spec).
+    pub records: &'a [String],
 }
 
 /// What a submission found.
@@ -291,7 +310,7 @@ pub struct ListQuery {
 /// Every write that a worker makes is conditional on holding the task's
 /// lease, so a task that ran twice after a takeover is written once. Reads
 /// and writes of jobs name their tenant: another tenant's job does not exist.
-pub trait JobStore: Send + Sync {
+pub trait JobStore: records::RecordStore + Send + Sync {
     /// The tenant's job for `key`: its existing one (a failed or canceled job
     /// is queued again), or a new job over the computation with that key
     /// (shared with other tenants' jobs), which is created and queued with

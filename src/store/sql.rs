@@ -167,7 +167,7 @@ impl<DB: Dialect> SqlStore<DB> {
     }
 
     /// Waits for this process's turn to write, where writes are serialised.
-    async fn turn(&self) -> Option<tokio::sync::MutexGuard<'_, ()>> {
+    pub(super) async fn turn(&self) -> Option<tokio::sync::MutexGuard<'_, ()>> {
         match &self.writer {
             Some(w) => Some(w.lock().await),
             None => None,
@@ -179,7 +179,7 @@ impl<DB: Dialect> SqlStore<DB> {
     /// pool: whatever state the failure left it in (a transaction rolled back
     /// by the database, or one still open and holding a lock after a full
     /// disk or an I/O error), no later request inherits it.
-    fn settle<T>(&self, conn: &mut PoolConnection<DB>, result: &Result<T, StoreError>) {
+    pub(super) fn settle<T>(&self, conn: &mut PoolConnection<DB>, result: &Result<T, StoreError>) {
         if result.is_err() {
             conn.close_on_drop();
         }
@@ -389,6 +389,16 @@ where
                 (new.id.to_string(), !queued)
             }
         };
+        // The records it names: while it is live, they are not deleted.
+        for record in new.records {
+            sqlx::query(
+                "INSERT INTO job_records (job_id, record_id) VALUES ($1, $2) ON CONFLICT (job_id, record_id) DO NOTHING",
+            )
+            .bind(job_id.clone())
+            .bind(record.clone())
+            .execute(&mut *tx)
+            .await?;
+        }
         // The answer is read inside the transaction and returned only once it
         // committed: a 2xx always stands for a stored job.
         let job = self
@@ -798,22 +808,6 @@ impl RowsAffected for sqlx::postgres::PgQueryResult {
     }
 }
 
-/// Runs `$body` (an `async` block over `conn: &mut DB::Connection`) in this
-/// process's write turn on a connection of its own, settling it afterwards.
-macro_rules! in_write_turn {
-    ($store:expr, |$conn:ident| $body:expr) => {{
-        let store = $store;
-        let _turn = store.turn().await;
-        let mut pooled = store.pool.acquire().await?;
-        let result = {
-            let $conn: &mut DB::Connection = &mut *pooled;
-            $body.await
-        };
-        store.settle(&mut pooled, &result);
-        result
-    }};
-}
-
 impl<DB> JobStore for SqlStore<DB>
 where
     DB: Dialect,
@@ -822,6 +816,7 @@ where
     DB::Arguments: IntoArguments<DB>,
     String: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
     Option<String>: for<'q> Encode<'q, DB>,
+    Vec<u8>: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
     i64: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
     f64: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
     for<'n> &'n str: ColumnIndex<DB::Row>,

@@ -6,6 +6,7 @@ mod contract;
 mod figures;
 mod guard;
 mod helpers;
+mod records;
 mod tenants;
 
 use std::time::{Duration, Instant};

@@ -672,7 +672,10 @@ fn invalid_records_are_refused_at_the_field() {
     );
     assert_eq!(pointer_of(&with("acc", json!([0.1]))), "/ground_motion/acc");
     assert_eq!(
-        pointer_of(&with("acc", json!(vec![0.0; 200_001]))),
+        pointer_of(&with(
+            "acc",
+            json!(vec![0.0; topple::jobs::spec::MAX_RECORD_SAMPLES + 1])
+        )),
         "/ground_motion/acc"
     );
     assert_eq!(

@@ -49,6 +49,7 @@ async fn submit_as(
             spec: "{}",
             now: &now_rfc3339(),
             tasks: &tasks(n),
+            records: &[],
         })
         .await
         .expect("submits")

@@ -1,0 +1,140 @@
+//! Records named by file in a spec run offline (`topple run`):
+//! `"ground_motion": {"file": "path", "unit"?, "dt"?, …}` read as
+//! `topple record` reads it and replaced by its samples, so the spec is the
+//! same computation as one holding them. The reading of files is the
+//! caller's (this module does no I/O).
+
+use serde_json::{Value, json};
+
+use super::{Column, Format, ReadOptions, RecordWarning, Unit, read};
+use crate::jobs::SpecError;
+
+/// The options a `file` object may carry beside it, as `topple record`'s flags.
+const FILE_OPTIONS: [&str; 9] = [
+    "file",
+    "format",
+    "unit",
+    "dt",
+    "time_column",
+    "acc_column",
+    "name",
+    "allow_large_pga",
+    "record_name",
+];
+
+/// Reads every `{"file": …}` of `spec`'s `ground_motion` and
+/// `ground_motions` with `read_file` and puts its samples (m/s²) in its
+/// place; returns the records' warnings, each prefixed with where it was.
+pub fn embed_files(
+    spec: &mut Value,
+    read_file: impl Fn(&str) -> Result<String, String>,
+) -> Result<Vec<(String, RecordWarning)>, SpecError> {
+    let mut slots = Vec::new();
+    if spec.get("ground_motion").is_some_and(Value::is_object) {
+        slots.push("/ground_motion".to_string());
+    }
+    if let Some(list) = spec.get("ground_motions").and_then(Value::as_array) {
+        slots.extend((0..list.len()).map(|i| format!("/ground_motions/{i}")));
+    }
+    let mut warnings = Vec::new();
+    for at in slots {
+        let Some(slot) = spec.pointer(&at).and_then(Value::as_object) else {
+            continue;
+        };
+        let Some(path) = slot.get("file") else {
+            continue;
+        };
+        let path = path
+            .as_str()
+            .ok_or_else(|| SpecError::at(format!("{at}/file"), "must be a path (a string)"))?;
+        if let Some(other) = slot.keys().find(|k| !FILE_OPTIONS.contains(&k.as_str())) {
+            return Err(SpecError::at(
+                format!("{at}/{other}"),
+                format!(
+                    "a file brings its own samples: beside `file` give only {}",
+                    FILE_OPTIONS[1..8].join(", ")
+                ),
+            ));
+        }
+        let text_of = |k: &str| -> Result<Option<&str>, SpecError> {
+            match slot.get(k) {
+                None | Some(Value::Null) => Ok(None),
+                Some(Value::String(s)) => Ok(Some(s.as_str())),
+                Some(_) => Err(SpecError::at(format!("{at}/{k}"), "must be a string")),
+            }
+        };
+        let format = match text_of("format")? {
+            None => None,
+            Some(f) => Some(Format::parse(f).ok_or_else(|| {
+                SpecError::at(format!("{at}/format"), "expected at2, csv or json")
+            })?),
+        };
+        let unit = match text_of("unit")? {
+            None => None,
+            Some(u) => Some(Unit::parse(u).ok_or_else(|| {
+                SpecError::at(format!("{at}/unit"), "expected g, m/s2 or cm/s2 (gal)")
+            })?),
+        };
+        let dt = match slot.get("dt") {
+            None | Some(Value::Null) => None,
+            Some(v) => Some(
+                v.as_f64()
+                    .ok_or_else(|| SpecError::at(format!("{at}/dt"), "must be a number (s)"))?,
+            ),
+        };
+        let column = |k: &str| -> Result<Option<Column>, SpecError> {
+            match slot.get(k) {
+                None | Some(Value::Null) => Ok(None),
+                Some(Value::String(s)) => Ok(Some(Column::parse(s))),
+                Some(Value::Number(n)) => Ok(Some(Column::parse(&n.to_string()))),
+                Some(_) => Err(SpecError::at(
+                    format!("{at}/{k}"),
+                    "a 1-based column number or a header name",
+                )),
+            }
+        };
+        let allow_large_pga = slot
+            .get("allow_large_pga")
+            .and_then(Value::as_bool)
+            .unwrap_or(false);
+        let opts = ReadOptions {
+            format,
+            unit,
+            dt,
+            time_column: column("time_column")?,
+            acc_column: column("acc_column")?,
+            name: None,
+            allow_large_pga,
+        };
+        let text = read_file(path).map_err(|e| {
+            SpecError::at(format!("{at}/file"), format!("cannot read {path:?}: {e}"))
+        })?;
+        let file = read(&text, &opts).map_err(|e| {
+            let field = if e.field == "body" {
+                "file".to_string()
+            } else {
+                e.field.trim_start_matches('/').to_string()
+            };
+            let line = e.line.map(|l| format!("line {l}: ")).unwrap_or_default();
+            SpecError::at(
+                format!("{at}/{field}"),
+                format!("{path}: {line}{}", e.message),
+            )
+        })?;
+        let mut motion = json!({"dt": file.dt, "acc": file.acc, "unit": "m/s2"});
+        if allow_large_pga {
+            motion["allow_large_pga"] = Value::Bool(true);
+        }
+        if at.starts_with("/ground_motions/") {
+            motion["name"] = slot
+                .get("name")
+                .cloned()
+                .unwrap_or_else(|| Value::String(file.name.clone()));
+        }
+        warnings.extend(file.warnings.into_iter().map(|w| (at.clone(), w)));
+        if let Some(s) = spec.pointer_mut(&at) {
+            *s = motion;
+        }
+    }
+    Ok(warnings)
+}
