@@ -50,7 +50,7 @@ pub fn of_record(record: &Record) -> GroundPeaks {
             peaks.pgv = peaks.pgv.max(vel(s).abs());
         }
         // Displacement peaks where v = 0 inside the piece.
-        for s in quadratic_roots(0.5 * slope, a0, v) {
+        for s in quadratic_roots(0.5 * slope, a0, v).into_iter().flatten() {
             if s > 0.0 && s < dt {
                 peaks.pgd = peaks.pgd.max(disp(s).abs());
             }
@@ -64,21 +64,22 @@ pub fn of_record(record: &Record) -> GroundPeaks {
     peaks
 }
 
-/// Real roots of c2 s² + c1 s + c0 (none, one or two).
-fn quadratic_roots(c2: f64, c1: f64, c0: f64) -> Vec<f64> {
+/// Real roots of c2 s² + c1 s + c0 (none, one or two), without allocating:
+/// a record's peaks look at every sample interval.
+fn quadratic_roots(c2: f64, c1: f64, c0: f64) -> [Option<f64>; 2] {
     if c2 == 0.0 {
-        return if c1 == 0.0 { vec![] } else { vec![-c0 / c1] };
+        return [(c1 != 0.0).then(|| -c0 / c1), None];
     }
     let disc = c1 * c1 - 4.0 * c2 * c0;
     if disc < 0.0 {
-        return vec![];
+        return [None, None];
     }
     // The stable pair: q = −(c1 + sign(c1)√disc)/2, roots q/c2 and c0/q.
     let q = -0.5 * (c1 + c1.signum() * disc.sqrt());
     if q == 0.0 {
-        return vec![0.0];
+        return [Some(0.0), None];
     }
-    vec![q / c2, c0 / q]
+    [Some(q / c2), Some(c0 / q)]
 }
 
 #[cfg(test)]

@@ -655,27 +655,4 @@ mod tests {
             e.message
         );
     }
-
-    /// Parsing time of 200,000 samples (run with `--release -- --ignored
-    /// --nocapture`).
-    #[test]
-    #[ignore]
-    fn time_to_parse_200000_samples() {
-        let n = 200_000;
-        let mut values = String::new();
-        for k in 0..n {
-            values.push_str(&format!("{:11.4E}", 0.3 * (0.01 * k as f64).sin()));
-            if k % 5 == 4 {
-                values.push('\n');
-            }
-        }
-        let text = at2("IN UNITS OF G", &format!("NPTS={n}, DT= .005"), &values);
-        let start = std::time::Instant::now();
-        let runs = 10;
-        for _ in 0..runs {
-            let r = read(&text, &ReadOptions::default()).expect("reads");
-            assert_eq!(r.acc.len(), n);
-        }
-        println!("AT2, 200000 samples: {:?} per read", start.elapsed() / runs);
-    }
 }

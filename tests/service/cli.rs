@@ -693,3 +693,81 @@ fn half_width_m_and_half_height_m_name_b_and_h() {
     );
     assert_eq!(a["spec"]["block"], b["spec"]["block"]);
 }
+
+/// `topple record` prints a file as a `ground_motion`; `topple run` reads the
+/// same file named in a spec (`{"file": …}`, relative to the spec's folder)
+/// as the same computation as the samples written out.
+#[test]
+fn a_record_file_read_offline_is_the_same_computation_as_its_samples() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let at2 = root.join("specs/records/ridge_station_090.at2");
+    let out = topple().arg("record").arg(&at2).output().expect("runs");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let motion: Value = serde_json::from_slice(&out.stdout).expect("a ground_motion");
+    assert_eq!(motion["unit"], "m/s2");
+    assert_eq!(motion["dt"], 0.01);
+    assert_eq!(motion["acc"].as_array().map(Vec::len), Some(3000));
+    // Its metadata on stderr, as one line of JSON.
+    let meta: Value =
+        serde_json::from_str(stderr(&out).lines().next().unwrap_or("")).expect("metadata line");
+    assert_eq!(meta["samples"], 3000);
+    assert_eq!(meta["unit"], "g");
+    assert_eq!(meta["pga_g"], 0.342797);
+
+    let named = root.join("specs/records/record_spectrum_ridge.json");
+    let by_file = topple().arg("run").arg(&named).output().expect("runs");
+    assert!(by_file.status.success(), "{}", stderr(&by_file));
+    let mut spec: Value =
+        serde_json::from_str(&std::fs::read_to_string(&named).expect("spec")).expect("json");
+    spec["ground_motion"] = motion;
+    let by_samples = run_file(&spec.to_string(), &[]);
+    assert!(by_samples.status.success(), "{}", stderr(&by_samples));
+    let strip = |mut v: Value| {
+        v["numerics"]["wall_time_s"] = Value::Null;
+        v
+    };
+    assert_eq!(
+        strip(result_json(&by_file)),
+        strip(result_json(&by_samples))
+    );
+}
+
+/// What `topple record` cannot read is named as the flag to give or the
+/// file's line; a spec naming a stored record is refused offline.
+#[test]
+fn a_record_file_that_cannot_be_read_names_the_flag_or_the_line() {
+    let path = temp_path("one-column.txt");
+    std::fs::write(&path, "0.01\n0.02\n-0.01\n0.03\n").expect("write");
+    let out = topple()
+        .arg("record")
+        .arg(&path)
+        .args(["--dt", "0.01"])
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        one_line_failure(&out).contains("--unit"),
+        "{}",
+        stderr(&out)
+    );
+    let out = topple()
+        .arg("record")
+        .arg(&path)
+        .args(["--unit", "g", "--dt", "0.01"])
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", stderr(&out));
+    std::fs::write(&path, "t,acc_g\n0,0.1\n0.01,0.2\n0.03,0.1\n0.04,0.0\n").expect("write");
+    let out = topple().arg("record").arg(&path).output().expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        one_line_failure(&out).contains("line 4"),
+        "{}",
+        stderr(&out)
+    );
+    let _ = std::fs::remove_file(&path);
+    assert_rejected_at(
+        r#"{"kind":"time_history","block":{"alpha":0.2,"p":2.0},"ground_motion":{"record":"0123456789abcdef0123456789abcdef"}}"#,
+        "/ground_motion/record",
+    );
+}
