@@ -270,29 +270,19 @@ fn record(
     name: Option<String>,
     allow_large_pga: bool,
 ) -> Result<(), (u8, String)> {
-    use topple::records::{Column, Format, ReadOptions, RecordMeta, Unit};
+    use topple::records::{OptionTexts, RecordMeta};
     let text = read_spec(file).map_err(|e| (2, e))?;
-    let opts = ReadOptions {
-        format: match format {
-            None => None,
-            Some(f) => Some(
-                Format::parse(f)
-                    .ok_or_else(|| (2, format!("--format {f:?}: expected at2, csv or json")))?,
-            ),
-        },
-        unit: match unit {
-            None => None,
-            Some(u) => Some(
-                Unit::parse(u)
-                    .ok_or_else(|| (2, format!("--unit {u:?}: expected g, m/s2 or cm/s2 (gal)")))?,
-            ),
-        },
+    let opts = OptionTexts {
+        format,
+        unit,
         dt,
-        time_column: time_column.map(Column::parse),
-        acc_column: acc_column.map(Column::parse),
-        name,
+        time_column,
+        acc_column,
+        name: name.as_deref(),
         allow_large_pga,
-    };
+    }
+    .read()
+    .map_err(|e| (2, format!("--{}: {}", e.field.replace('_', "-"), e.message)))?;
     let record = topple::records::read(&text, &opts).map_err(|e| {
         let at = match (e.field.as_str(), e.line) {
             ("body", Some(line)) => format!("{file}: line {line}"),

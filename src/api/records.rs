@@ -14,7 +14,7 @@ use uuid::Uuid;
 use super::auth::Tenant;
 use super::jobs::query;
 use super::problem::Problem;
-use crate::records::{Column, Format, ReadOptions, RecordMeta, Unit};
+use crate::records::{OptionTexts, ReadOptions, RecordMeta};
 use crate::service::AppState;
 use crate::service::records::is_record_id;
 use crate::store::now_rfc3339;
@@ -122,62 +122,20 @@ fn bad_param(name: &str, detail: String) -> Problem {
     Problem::bad_request("invalid-parameter", detail).param(name)
 }
 
-/// The upload's options, from its query.
-fn options(q: UploadQuery) -> Result<ReadOptions, Problem> {
-    let format = match q.format.as_deref() {
-        None => None,
-        Some(f) => Some(Format::parse(f).ok_or_else(|| {
-            bad_param(
-                "format",
-                format!("format {f:?}: expected at2, csv (or txt) or json"),
-            )
-        })?),
-    };
-    let unit = match q.unit.as_deref() {
-        None => None,
-        Some(u) => Some(Unit::parse(u).ok_or_else(|| {
-            bad_param(
-                "unit",
-                format!(
-                    "unit {:?}: expected g, m/s2 or cm/s2 (gal)",
-                    u.chars().take(40).collect::<String>()
-                ),
-            )
-        })?),
-    };
-    if let Some(dt) = q.dt
-        && !(dt.is_finite() && (1e-5..=1.0).contains(&dt))
-    {
-        return Err(bad_param(
-            "dt",
-            "dt must satisfy 1e-5 <= dt <= 1 (s)".into(),
-        ));
-    }
-    let column = |name: &str, v: Option<String>| -> Result<Option<Column>, Problem> {
-        match v {
-            None => Ok(None),
-            Some(c) if c.trim().is_empty() || c.len() > 200 => Err(bad_param(
-                name,
-                format!("{name} must be a 1-based column number or a header name"),
-            )),
-            Some(c) => Ok(Some(Column::parse(&c))),
-        }
-    };
-    if q.name.as_deref().is_some_and(|n| n.chars().count() > 200) {
-        return Err(bad_param(
-            "name",
-            "name must be at most 200 characters".into(),
-        ));
-    }
-    Ok(ReadOptions {
-        format,
-        unit,
+/// The upload's options, from its query: a value that cannot be read is a
+/// 400 naming its parameter.
+fn options(q: &UploadQuery) -> Result<ReadOptions, Problem> {
+    OptionTexts {
+        format: q.format.as_deref(),
+        unit: q.unit.as_deref(),
         dt: q.dt,
-        time_column: column("time_column", q.time_column)?,
-        acc_column: column("acc_column", q.acc_column)?,
-        name: q.name.filter(|n| !n.trim().is_empty()),
+        time_column: q.time_column.as_deref(),
+        acc_column: q.acc_column.as_deref(),
+        name: q.name.as_deref(),
         allow_large_pga: q.allow_large_pga.unwrap_or(false),
-    })
+    }
+    .read()
+    .map_err(|e| bad_param(&e.field, e.message))
 }
 
 /// 422 for a file that cannot be read as asked: naming the query parameter
@@ -272,7 +230,7 @@ pub async fn create_record(
             "allow_large_pga",
         ],
     )?;
-    let opts = options(q)?;
+    let opts = options(&q)?;
     // The file has a limit of its own (max_record_bytes), not the JSON
     // body limit; a declared length over it was refused before any byte.
     let body = match axum::body::to_bytes(body, state.config.max_record_bytes).await {

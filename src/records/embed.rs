@@ -6,7 +6,7 @@
 
 use serde_json::{Value, json};
 
-use super::{Column, Format, ReadOptions, RecordWarning, Unit, read};
+use super::{OptionTexts, RecordWarning, read};
 use crate::jobs::SpecError;
 
 /// The options a `file` object may carry beside it, as `topple record`'s flags.
@@ -63,18 +63,6 @@ pub fn embed_files(
                 Some(_) => Err(SpecError::at(format!("{at}/{k}"), "must be a string")),
             }
         };
-        let format = match text_of("format")? {
-            None => None,
-            Some(f) => Some(Format::parse(f).ok_or_else(|| {
-                SpecError::at(format!("{at}/format"), "expected at2, csv or json")
-            })?),
-        };
-        let unit = match text_of("unit")? {
-            None => None,
-            Some(u) => Some(Unit::parse(u).ok_or_else(|| {
-                SpecError::at(format!("{at}/unit"), "expected g, m/s2 or cm/s2 (gal)")
-            })?),
-        };
         let dt = match slot.get("dt") {
             None | Some(Value::Null) => None,
             Some(v) => Some(
@@ -82,30 +70,33 @@ pub fn embed_files(
                     .ok_or_else(|| SpecError::at(format!("{at}/dt"), "must be a number (s)"))?,
             ),
         };
-        let column = |k: &str| -> Result<Option<Column>, SpecError> {
+        let column = |k: &str| -> Result<Option<String>, SpecError> {
             match slot.get(k) {
                 None | Some(Value::Null) => Ok(None),
-                Some(Value::String(s)) => Ok(Some(Column::parse(s))),
-                Some(Value::Number(n)) => Ok(Some(Column::parse(&n.to_string()))),
+                Some(Value::String(s)) => Ok(Some(s.clone())),
+                Some(Value::Number(n)) => Ok(Some(n.to_string())),
                 Some(_) => Err(SpecError::at(
                     format!("{at}/{k}"),
-                    "a 1-based column number or a header name",
+                    "a column number from 1 or a header name",
                 )),
             }
         };
+        let (time_column, acc_column) = (column("time_column")?, column("acc_column")?);
         let allow_large_pga = slot
             .get("allow_large_pga")
             .and_then(Value::as_bool)
             .unwrap_or(false);
-        let opts = ReadOptions {
-            format,
-            unit,
+        let opts = OptionTexts {
+            format: text_of("format")?,
+            unit: text_of("unit")?,
             dt,
-            time_column: column("time_column")?,
-            acc_column: column("acc_column")?,
+            time_column: time_column.as_deref(),
+            acc_column: acc_column.as_deref(),
             name: None,
             allow_large_pga,
-        };
+        }
+        .read()
+        .map_err(|e| SpecError::at(format!("{at}/{}", e.field), e.message))?;
         let text = read_file(path).map_err(|e| {
             SpecError::at(format!("{at}/file"), format!("cannot read {path:?}: {e}"))
         })?;

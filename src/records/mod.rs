@@ -21,6 +21,7 @@ mod guards;
 mod json;
 mod meta;
 mod number;
+mod options;
 mod text;
 mod unit;
 
@@ -32,6 +33,7 @@ pub use guards::{
     looks_like_time,
 };
 pub use meta::{RecordMeta, RecordWarningDoc};
+pub use options::OptionTexts;
 pub use unit::{ACCEPTED_UNITS, Unit};
 
 use crate::jobs::spec::{MAX_RECORD_SAMPLES, RECORD_DT_RANGE};
