@@ -6,7 +6,12 @@
 # checks: no server errors; status codes, content types, headers and bodies of
 # the responses as documented; schema-valid requests accepted and
 # schema-violating ones (negative data) rejected; unsupported methods answered
-# 405; stateful sequences through the links between operations.
+# 405; stateful sequences through the links between operations. The hooks of
+# tests/schemathesis_hooks.py put strings of a megabyte, arrays of 10^7
+# numbers and JSON nested 10,000 deep into a share of the job specs and record
+# files sent, and check their refusals (4xx problem+json of at most 2,000
+# bytes naming what is wrong). Records uploaded before the run (the files of
+# specs/records/) give the record operations ids that exist.
 #
 # Usage:
 #   tests/schemathesis.sh [extra `schemathesis run` options...]
@@ -22,6 +27,10 @@
 #                                 (default 900; exit status 124 past it)
 #   SCHEMATHESIS_CONFIG           a schemathesis.toml to apply (default:
 #                                 tests/schemathesis.toml; `none` for none)
+#   SCHEMATHESIS_HOOKS            a hooks module (default:
+#                                 tests/schemathesis_hooks.py; `none` for none)
+#   TOPPLE_MUTATE_EVERY           the hooks change one job spec or record file
+#                                 in this many (default 4; 0 for none)
 #   SCHEMATHESIS_REPORT_DIR       where junit.xml, events.ndjson (every request and
 #                                 response) and server.log go (default
 #                                 target/schemathesis-report)
@@ -164,6 +173,22 @@ EOF
   log "note: the server's /openapi.yaml differs from openapi.yaml (the committed one is tested)"
 fi
 
+# Records that exist: the record operations are tested on ids of records as
+# well as on ids of none.
+"$py" - "$base" "$root"/specs/records/*.at2 <<'EOF' || die "the records of specs/records/ were not stored"
+import sys, urllib.request
+base = sys.argv[1]
+files = [open(path, "rb").read() for path in sys.argv[2:]]
+# And a short one of its own.
+files.append(b"time_s,acc_g\n" + b"".join(b"%.2f,%.4f\n" % (k * 0.01, 0.2 * (-1) ** k * (1 - k / 50))
+                                          for k in range(50)))
+for body in files:
+    request = urllib.request.Request(f"{base}/v1/records", data=body, method="POST",
+                                     headers={"Content-Type": "text/plain"})
+    with urllib.request.urlopen(request, timeout=30) as response:
+        assert response.status in (200, 201), response.status
+EOF
+
 # --- schemathesis ----------------------------------------------------------
 config=${SCHEMATHESIS_CONFIG:-tests/schemathesis.toml}
 if [[ $config == none ]]; then
@@ -175,6 +200,8 @@ else
 fi
 seed_args=()
 [[ $seed == random ]] || seed_args=(--seed "$seed")
+hooks=${SCHEMATHESIS_HOOKS:-$root/tests/schemathesis_hooks.py}
+[[ $hooks == none ]] && hooks=
 mkdir -p "$report_dir"
 report_dir=$(cd "$report_dir" && pwd)
 
@@ -184,7 +211,7 @@ report_dir=$(cd "$report_dir" && pwd)
 rc=0
 (
   cd "$work"
-  exec env NO_COLOR=1 timeout -k 10 "$time_limit" "$venv/bin/schemathesis" --no-color \
+  exec env NO_COLOR=1 SCHEMATHESIS_HOOKS="$hooks" timeout -k 10 "$time_limit" "$venv/bin/schemathesis" --no-color \
     --config-file "$config" \
     run "$spec" \
     --url "$base" \

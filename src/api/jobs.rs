@@ -206,12 +206,26 @@ pub(crate) fn status_etag(r: &JobRecord) -> String {
 pub(crate) fn query<T>(q: Result<Query<T>, QueryRejection>, known: &[&str]) -> Result<T, Problem> {
     q.map(|Query(t)| t).map_err(|e| {
         let text = e.body_text();
-        let name = text
+        // "Failed to deserialize query string: <parameter>: <what is wrong>"
+        // for a value that does not read, "…: unknown field `x`, …" for a
+        // parameter the endpoint does not take.
+        let rest = text
+            .split_once("query string: ")
+            .map_or(text.as_str(), |(_, r)| r);
+        if let Some(name) = known.iter().find(|k| rest.starts_with(&format!("{k}: "))) {
+            let what = &rest[name.len() + 2..];
+            return Problem::bad_request(
+                "invalid-parameter",
+                format!("{name}: {}", crate::jobs::spec::shorten_echoes(what)),
+            )
+            .param(name);
+        }
+        let name = rest
             .split('`')
             .nth(1)
             .filter(|n| !n.is_empty())
             .map(str::to_owned);
-        let unknown = text.contains("unknown field");
+        let unknown = rest.contains("unknown field");
         let detail = match (&name, unknown) {
             (Some(n), true) => format!(
                 "unknown query parameter {n:?}: this endpoint takes {}",
@@ -221,10 +235,13 @@ pub(crate) fn query<T>(q: Result<Query<T>, QueryRejection>, known: &[&str]) -> R
                     known.join(", ")
                 }
             ),
-            _ => text.clone(),
+            _ => crate::jobs::spec::shorten_echoes(&text),
         };
         let p = Problem::bad_request("invalid-parameter", detail);
-        match name.or_else(|| (known.len() == 1).then(|| known[0].to_string())) {
+        match name
+            .filter(|_| unknown)
+            .or_else(|| (known.len() == 1).then(|| known[0].to_string()))
+        {
             Some(n) => p.param(&n),
             None => p,
         }
@@ -601,15 +618,27 @@ fn invalid_spec(e: crate::jobs::spec::SpecError) -> Problem {
         StatusCode::UNPROCESSABLE_ENTITY
     };
     let pointer = e.pointer.clone();
+    // A pointer may hold a key the client sent, of any length.
+    let shown: String = if pointer.is_empty() {
+        "/".into()
+    } else {
+        pointer
+            .split('/')
+            .map(|segment| {
+                if segment.chars().count() > 40 {
+                    segment.chars().take(40).chain(['…']).collect()
+                } else {
+                    segment.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("/")
+    };
     Problem::new(
         status,
         "invalid-spec",
         "Invalid job spec",
-        format!(
-            "{}: {}",
-            if pointer.is_empty() { "/" } else { &pointer },
-            e.message
-        ),
+        format!("{shown}: {}", e.message),
     )
     .at(pointer)
 }

@@ -185,16 +185,28 @@ impl From<crate::store::StoreError> for Problem {
     }
 }
 
-/// Longest `detail` a problem carries, characters: it may quote the input,
-/// which is never echoed at length.
+/// Longest `detail` a problem carries, bytes: it may quote the input, which
+/// is never echoed at length.
 const MAX_DETAIL: usize = 1000;
-/// Longest `pointer`, `parameter` or `header`, characters (a pointer may hold
-/// a key the client sent).
+/// Longest `pointer`, `parameter` or `header`, bytes (a pointer may hold a
+/// key the client sent).
 const MAX_NAME: usize = 200;
 
-/// `text` cut to `max` characters, the cut marked.
+/// `text` with control characters (which JSON would write six bytes long)
+/// made visible as `?`, cut to at most `max` bytes at a character boundary,
+/// the cut marked.
 fn bounded(text: &mut String, max: usize) {
-    if let Some((at, _)) = text.char_indices().nth(max) {
+    if text.chars().any(char::is_control) {
+        *text = text
+            .chars()
+            .map(|c| if c.is_control() { '?' } else { c })
+            .collect();
+    }
+    if text.len() > max {
+        let mut at = max;
+        while !text.is_char_boundary(at) {
+            at -= 1;
+        }
         text.truncate(at);
         text.push('…');
     }
@@ -202,6 +214,8 @@ fn bounded(text: &mut String, max: usize) {
 
 impl IntoResponse for Problem {
     fn into_response(mut self) -> Response {
+        // Whatever made it: a quotation of the input is cut to a few words.
+        self.detail = crate::jobs::spec::shorten_echoes(&self.detail);
         bounded(&mut self.detail, MAX_DETAIL);
         for name in [&mut self.pointer, &mut self.parameter, &mut self.header]
             .into_iter()

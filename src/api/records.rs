@@ -37,8 +37,10 @@ pub struct UploadQuery {
     #[param(minimum = 1e-5, maximum = 1.0)]
     pub dt: Option<f64>,
     /// The time column: a 1-based index or a header name.
+    #[param(min_length = 1, max_length = 200)]
     pub time_column: Option<String>,
     /// The acceleration column: a 1-based index or a header name.
+    #[param(min_length = 1, max_length = 200)]
     pub acc_column: Option<String>,
     /// The record's name (default: from the file).
     #[param(max_length = 200)]
@@ -140,6 +142,25 @@ fn options(q: &UploadQuery) -> Result<ReadOptions, Problem> {
 
 /// 422 for a file that cannot be read as asked: naming the query parameter
 /// to change, or the file's line, or (JSON) the field.
+/// 422: a record over max_record_samples (`value` its count, or the
+/// count at which reading stopped).
+fn too_many_samples(samples: usize, max_samples: usize, at_least: bool) -> Problem {
+    let mut p = Problem::new(
+        StatusCode::UNPROCESSABLE_ENTITY,
+        "limit-exceeded",
+        "Record exceeds a service limit",
+        format!(
+            "the record has {}{samples} samples, more than this service's limit of {max_samples} (max_record_samples): shorten it or resample it to a longer time step",
+            if at_least { "over " } else { "" }
+        ),
+    )
+    .at("");
+    p.limit = Some("max_record_samples".into());
+    p.maximum = Some(max_samples as f64);
+    p.value = Some(samples as f64 + if at_least { 1.0 } else { 0.0 });
+    p
+}
+
 fn unreadable(e: crate::records::ReadError) -> Problem {
     let detail = match e.line {
         Some(line) => format!("line {line}: {}", e.message),
@@ -252,26 +273,17 @@ pub async fn create_record(
             )
             .at("")
         })?;
-        let file = crate::records::read(text, &opts).map_err(unreadable)?;
+        let file = crate::records::read(text, &opts).map_err(|e| match e.more_samples_than {
+            Some(n) => too_many_samples(n, max_samples, true),
+            None => unreadable(e),
+        })?;
         if file.acc.len() > max_samples {
-            let mut p = Problem::new(
-                StatusCode::UNPROCESSABLE_ENTITY,
-                "limit-exceeded",
-                "Record exceeds a service limit",
-                format!(
-                    "the record has {} samples, more than this service's limit of {max_samples} (max_record_samples)",
-                    file.acc.len()
-                ),
-            )
-            .at("");
-            p.limit = Some("max_record_samples".into());
-            p.maximum = Some(max_samples as f64);
-            p.value = Some(file.acc.len() as f64);
-            return Err(p);
+            return Err(too_many_samples(file.acc.len(), max_samples, false));
         }
         let id = crate::records::record_id(file.dt, &file.acc);
         let meta = RecordMeta::of(&file).map_err(Problem::internal)?;
-        let meta_text = serde_json::to_string(&meta).map_err(|e| Problem::internal(e.to_string()))?;
+        let meta_text =
+            serde_json::to_string(&meta).map_err(|e| Problem::internal(e.to_string()))?;
         Ok((file, id, meta, meta_text))
     })
     .await
@@ -328,6 +340,18 @@ pub struct RecordSamples {
     pub acc: Vec<f64>,
 }
 
+/// What `GET /v1/records/{id}` answers as JSON: the metadata, or with
+/// `?format=json` the samples.
+#[derive(ToSchema)]
+#[serde(untagged)]
+#[allow(dead_code)]
+pub enum RecordRead {
+    /// The metadata (no `format`).
+    Meta(RecordView),
+    /// The samples (`?format=json`).
+    Samples(RecordSamples),
+}
+
 /// A record: its metadata, or its samples.
 #[utoipa::path(
     get,
@@ -337,9 +361,9 @@ pub struct RecordSamples {
     security((), ("bearer" = [])),
     params(("id" = String, Path, description = "Record id", pattern = "^[0-9a-f]{32}$"), ReadQuery),
     responses(
-        (status = 200, description = "The record's metadata; with `?format=json` its samples; with `?format=csv` a table", body = RecordView,
+        (status = 200, description = "The record's metadata; with `?format=json` its samples; with `?format=csv` a table",
             content(
-                (RecordView = "application/json"),
+                (RecordRead = "application/json"),
                 (String = "text/csv"),
             )),
         (status = 400, description = "Bad id or parameter", body = Problem, content_type = "application/problem+json"),

@@ -38,6 +38,8 @@ pub const MAX_SAMPLES: u32 = 100_000;
 pub const MAX_STRIPES: usize = 200;
 /// Most records in a suite.
 pub const MAX_MOTIONS: usize = 100;
+/// Longest name of a suite's record, characters (as an uploaded record's).
+const MAX_NAME_CHARS: usize = crate::records::MAX_NAME_CHARS;
 /// Bootstrap replicates of the fit.
 pub const BOOTSTRAP: usize = 200;
 /// The 95 % normal quantile.
@@ -130,11 +132,14 @@ pub struct UncertainPulseSpec {
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NamedMotionSpec {
-    /// Its name.
+    /// Its name (at most 200 characters).
+    #[schema(max_length = 200)]
     pub name: Option<String>,
-    /// Sampling interval, s.
+    /// Sampling interval, s (1e-5 <= dt <= 1).
+    #[schema(minimum = 1e-5, maximum = 1.0)]
     pub dt: Option<f64>,
-    /// Accelerations.
+    /// Accelerations (2 to 1000000 samples).
+    #[schema(min_items = 2, max_items = 1_000_000)]
     pub acc: Option<Vec<f64>>,
     /// "g" | "m/s2" | "cm/s2".
     #[schema(value_type = Option<crate::jobs::schema::UnitInput>)]
@@ -162,7 +167,7 @@ pub struct FragilitySpec {
     pub pulse: Option<UncertainPulseSpec>,
     /// A suite of records, each scaled to the stripe's intensity; sample j
     /// of a stripe takes record j mod N.
-    #[schema(max_items = 100)]
+    #[schema(min_items = 1, max_items = 100)]
     pub ground_motions: Option<Vec<NamedMotionSpec>>,
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
@@ -482,6 +487,15 @@ impl FragilitySpec {
                             return Err(SpecError::at(
                                 format!("{at}/acc"),
                                 "the record has no motion (every sample is 0)",
+                            ));
+                        }
+                        if m.name
+                            .as_ref()
+                            .is_some_and(|n| n.chars().count() > MAX_NAME_CHARS)
+                        {
+                            return Err(SpecError::at(
+                                format!("{at}/name"),
+                                format!("a record's name is at most {MAX_NAME_CHARS} characters"),
                             ));
                         }
                         Ok(NamedMotionNorm {

@@ -31,7 +31,7 @@ impl Window {
         // An axis over an infinite or vanishing span cannot be ticked.
         if start.abs() > MAX_SECONDS || end.abs() > MAX_SECONDS {
             return Err(format!(
-                "window {start},{end}: both ends must lie within ±{MAX_SECONDS:e} s"
+                "window {start:e},{end:e}: both ends must lie within ±{MAX_SECONDS:e} s"
             ));
         }
         if end - start < MIN_SPAN {

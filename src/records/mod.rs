@@ -118,6 +118,8 @@ pub struct ReadError {
     pub line: Option<usize>,
     /// What is wrong, and what would be right.
     pub message: String,
+    /// The file holds more samples than this (the reader stopped there).
+    pub more_samples_than: Option<usize>,
 }
 
 impl ReadError {
@@ -127,6 +129,7 @@ impl ReadError {
             field: field.into(),
             line: None,
             message: message.into(),
+            more_samples_than: None,
         }
     }
 
@@ -136,6 +139,7 @@ impl ReadError {
             field: "body".into(),
             line,
             message: message.into(),
+            more_samples_than: None,
         }
     }
 
@@ -289,13 +293,16 @@ fn check_count(n: usize) -> Result<(), ReadError> {
 /// The error for a file past [`MAX_RECORD_SAMPLES`] (raised as soon as the
 /// count is passed, before the rest is read).
 fn too_many() -> ReadError {
-    ReadError::body(
-        None,
-        format!(
-            "the file holds more than {MAX_RECORD_SAMPLES} samples: shorten the record or \
-             resample it to a longer time step"
-        ),
-    )
+    ReadError {
+        more_samples_than: Some(MAX_RECORD_SAMPLES),
+        ..ReadError::body(
+            None,
+            format!(
+                "the file holds more than {MAX_RECORD_SAMPLES} samples: shorten the record or \
+                 resample it to a longer time step"
+            ),
+        )
+    }
 }
 
 /// Checks the option `dt` against the file's `found` step, s (1e-6

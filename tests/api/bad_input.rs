@@ -4,7 +4,10 @@
 //! whose `status`, `title` and `detail` are set, whose `pointer` (a JSON
 //! pointer into the body, or `#/name` for a path or query parameter) or
 //! `header` names what is wrong, and whose text reveals nothing of the
-//! server's insides. After each refusal the server still answers `/healthz`.
+//! server's insides, in a body of at most [`MAX_PROBLEM_BYTES`] however long
+//! the input: a string of a megabyte, an array of ten million numbers, JSON
+//! nested ten thousand deep. After each refusal the server still answers
+//! `/healthz`.
 
 use serde_json::{Value, json};
 
@@ -12,6 +15,12 @@ use crate::helpers::{TestApp, spawn_app, spawn_app_with, spectrum, time_history}
 
 /// The default largest request body, bytes.
 const MAX_BODY: usize = 1 << 20;
+
+/// Longest problem body, bytes: a refusal quotes little of its input.
+const MAX_PROBLEM_BYTES: usize = 2000;
+
+/// A megabyte, the length of the long strings below.
+const MB: usize = 1_000_000;
 
 /// Text that must never reach a client: source paths, panic messages,
 /// backtraces, SQL and driver names, Rust type descriptions.
@@ -43,21 +52,48 @@ enum Names<'a> {
     Nothing,
 }
 
-/// Checks the status, the content type, the body's `status`, `title` and
-/// `detail`, and that nothing internal shows; returns the body.
+/// Checks the status, the content type, the body's length, its `status`,
+/// `title` and `detail`, and that nothing internal shows; returns the body.
 async fn assert_problem(r: reqwest::Response, status: u16, title: &str) -> Value {
-    assert_eq!(r.status().as_u16(), status, "status of {}", r.url());
+    let what = r.url().to_string();
+    let got = r.status().as_u16();
     let ct = r
         .headers()
         .get("content-type")
         .and_then(|v| v.to_str().ok())
         .unwrap_or("")
         .to_string();
-    assert_eq!(ct, "application/problem+json");
     let text = r.text().await.expect("problem body");
-    let body: Value = serde_json::from_str(&text).expect("problem json");
+    check_problem(&what, got, &ct, &text, status, Some(title))
+}
+
+/// [`assert_problem`] of an answer already read (`what` says which): `got`
+/// with content type `ct` and body `text`; any title when `title` is `None`.
+fn check_problem(
+    what: &str,
+    got: u16,
+    ct: &str,
+    text: &str,
+    status: u16,
+    title: Option<&str>,
+) -> Value {
+    assert_eq!(got, status, "status of {what}: {}", excerpt(text));
+    assert_eq!(ct, "application/problem+json", "{what}: {}", excerpt(text));
+    assert!(
+        text.len() <= MAX_PROBLEM_BYTES,
+        "a problem of {} bytes: {}",
+        text.len(),
+        excerpt(text)
+    );
+    let body: Value = serde_json::from_str(text).expect("problem json");
     assert_eq!(body["status"], status, "{body}");
-    assert_eq!(body["title"], title, "{body}");
+    match title {
+        Some(title) => assert_eq!(body["title"], title, "{body}"),
+        None => assert!(
+            body["title"].as_str().is_some_and(|t| !t.is_empty()),
+            "{body}"
+        ),
+    }
     assert!(
         body["type"]
             .as_str()
@@ -76,6 +112,15 @@ async fn assert_problem(r: reqwest::Response, status: u16, title: &str) -> Value
         assert!(!found, "{needle:?} leaks into {body}");
     }
     body
+}
+
+/// The start of `text`, for a failure message.
+fn excerpt(text: &str) -> String {
+    let mut cut: String = text.chars().take(300).collect();
+    if cut.len() < text.len() {
+        cut.push_str(&format!("… ({} bytes)", text.len()));
+    }
+    cut
 }
 
 /// Checks which field the problem names.
@@ -746,6 +791,739 @@ async fn spectrum_over_the_grid_limit_is_422_naming_the_limit() {
         "{problem}"
     );
     assert_detail_mentions(&problem, &["/omega_ratio: ", "max_grid_points"]);
+    assert_still_up(&app).await;
+    app.stop().await;
+}
+
+// Long strings, long arrays, deep nesting: of job specs and of record files.
+
+/// A time history on a short record of samples.
+fn on_record() -> Value {
+    json!({"kind": "time_history", "block": {"alpha": 0.15, "p": 2.0},
+           "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, -0.2, 0.1, 0.0]}})
+}
+
+/// A fragility campaign on a suite of one record of samples.
+fn suite() -> Value {
+    json!({"kind": "fragility", "block": {"alpha": 0.2, "p": 2.0},
+           "ground_motions": [{"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, -0.2, 0.1, 0.0]}],
+           "stripes": [0.3, 0.6], "samples": 64, "seed": 7})
+}
+
+/// `n` numbers as a JSON array, `[0,1,0,1,…]`: two bytes a number.
+fn json_numbers(n: usize) -> String {
+    let mut text = String::with_capacity(2 * n + 1);
+    text.push('[');
+    for k in 0..n {
+        text.push(if k % 2 == 0 { '0' } else { '1' });
+        text.push(',');
+    }
+    text.pop();
+    text.push(']');
+    text
+}
+
+/// `n` samples (g), one a line, 0 and 1 in turn: two bytes a sample.
+fn sample_lines(n: usize) -> String {
+    let mut text = "0\n1\n".repeat(n / 2);
+    if n % 2 == 1 {
+        text.push_str("0\n");
+    }
+    text
+}
+
+/// JSON nested `depth` deep: arrays around nothing, or objects around 1.
+fn nested(depth: usize, objects: bool) -> String {
+    if objects {
+        format!("{}1{}", "{\"a\":".repeat(depth), "}".repeat(depth))
+    } else {
+        format!("{}{}", "[".repeat(depth), "]".repeat(depth))
+    }
+}
+
+/// An answer read off the wire.
+struct Answer {
+    status: u16,
+    content_type: String,
+    body: String,
+}
+
+impl Answer {
+    /// Checks the answer is a problem as [`assert_problem`] does.
+    fn problem(&self, status: u16, title: Option<&str>) -> Value {
+        check_problem(
+            "the answer",
+            self.status,
+            &self.content_type,
+            &self.body,
+            status,
+            title,
+        )
+    }
+}
+
+/// The answer in `raw` when it is all there: its head and, by its
+/// Content-Length or its chunks, its whole body.
+fn whole_answer(raw: &[u8]) -> Option<Answer> {
+    let end = raw.windows(4).position(|w| w == b"\r\n\r\n")?;
+    let head = String::from_utf8_lossy(&raw[..end]).to_string();
+    let rest = &raw[end + 4..];
+    let status = head.split_whitespace().nth(1)?.parse().ok()?;
+    let header = |name: &str| {
+        head.lines().skip(1).find_map(|l| {
+            let (k, v) = l.split_once(':')?;
+            k.trim()
+                .eq_ignore_ascii_case(name)
+                .then(|| v.trim().to_string())
+        })
+    };
+    let body = if header("transfer-encoding").is_some_and(|v| v.contains("chunked")) {
+        let mut body = Vec::new();
+        let mut at = rest;
+        loop {
+            let line = at.windows(2).position(|w| w == b"\r\n")?;
+            let size = std::str::from_utf8(&at[..line]).ok()?.split(';').next()?;
+            let size = usize::from_str_radix(size.trim(), 16).ok()?;
+            at = &at[line + 2..];
+            if size == 0 {
+                break body;
+            }
+            if at.len() < size + 2 {
+                return None;
+            }
+            body.extend_from_slice(&at[..size]);
+            at = &at[size + 2..];
+        }
+    } else {
+        let length: usize = header("content-length")?.parse().ok()?;
+        if rest.len() < length {
+            return None;
+        }
+        rest[..length].to_vec()
+    };
+    Some(Answer {
+        status,
+        content_type: header("content-type").unwrap_or_default(),
+        body: String::from_utf8(body).expect("a UTF-8 answer"),
+    })
+}
+
+/// POSTs `body` to `path` over a connection of its own, with its
+/// Content-Length, or without one in chunks of 64 KiB when `chunked`, reading
+/// the answer while it sends: an answer that comes before the body is all
+/// sent (a 413 for the declared length) is read all the same.
+async fn post_wire(
+    app: &TestApp,
+    path: &str,
+    content_type: &str,
+    body: Vec<u8>,
+    chunked: bool,
+) -> Answer {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let addr = app.base.trim_start_matches("http://").to_string();
+    let socket = tokio::net::TcpStream::connect(&addr)
+        .await
+        .expect("connects");
+    let (mut reader, mut writer) = socket.into_split();
+    let length = if chunked {
+        "Transfer-Encoding: chunked\r\n".to_string()
+    } else {
+        format!("Content-Length: {}\r\n", body.len())
+    };
+    let head = format!(
+        "POST {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: {content_type}\r\n{length}Connection: close\r\n\r\n"
+    );
+    let sender = tokio::spawn(async move {
+        writer.write_all(head.as_bytes()).await?;
+        for piece in body.chunks(64 * 1024) {
+            if chunked {
+                writer
+                    .write_all(format!("{:x}\r\n", piece.len()).as_bytes())
+                    .await?;
+                writer.write_all(piece).await?;
+                writer.write_all(b"\r\n").await?;
+            } else {
+                writer.write_all(piece).await?;
+            }
+        }
+        if chunked {
+            writer.write_all(b"0\r\n\r\n").await?;
+        }
+        writer.flush().await?;
+        // Kept open until the answer is read: a closed write side ends the
+        // request.
+        Ok::<_, std::io::Error>(writer)
+    });
+    let mut raw = Vec::new();
+    let mut buffer = vec![0u8; 64 * 1024];
+    let answer = tokio::time::timeout(std::time::Duration::from_secs(60), async {
+        loop {
+            if let Some(answer) = whole_answer(&raw) {
+                return answer;
+            }
+            let n = reader.read(&mut buffer).await.expect("reads the answer");
+            assert!(
+                n > 0,
+                "the connection closed before a whole answer: {}",
+                excerpt(&String::from_utf8_lossy(&raw))
+            );
+            raw.extend_from_slice(&buffer[..n]);
+        }
+    })
+    .await
+    .expect("an answer within 60 s");
+    sender.abort();
+    answer
+}
+
+/// POSTs `body` to /v1/records`query` as text.
+async fn upload(app: &TestApp, query: &str, body: impl Into<reqwest::Body>) -> reqwest::Response {
+    app.client
+        .post(app.url(&format!("/v1/records{query}")))
+        .header("content-type", "text/plain")
+        .body(body)
+        .send()
+        .await
+        .expect("request")
+}
+
+/// Uploads `body` and expects a record problem with `status` naming
+/// `names`, whose detail mentions `words`.
+async fn refuse_record(
+    app: &TestApp,
+    query: &str,
+    body: impl Into<reqwest::Body>,
+    status: u16,
+    names: Names<'_>,
+    words: &[&str],
+) -> Value {
+    let r = upload(app, query, body).await;
+    let problem = assert_problem(r, status, "Record not readable as given").await;
+    assert_kind(&problem, "invalid-record");
+    assert_names(&problem, names);
+    assert_detail_mentions(&problem, words);
+    assert_still_up(app).await;
+    problem
+}
+
+/// Uploads `body` and expects it stored: returns the record.
+async fn store_record(app: &TestApp, query: &str, body: impl Into<reqwest::Body>) -> Value {
+    let r = upload(app, query, body).await;
+    let status = r.status().as_u16();
+    let text = r.text().await.expect("body");
+    assert_eq!(status, 201, "{}", excerpt(&text));
+    serde_json::from_str(&text).expect("a record")
+}
+
+#[tokio::test]
+async fn a_megabyte_string_in_a_string_field_is_422_naming_the_field() {
+    let app = spawn_app("bi-mb-string").await;
+    let x = json!("x".repeat(MB));
+    let mut with_solver = time_history(4.0);
+    with_solver["solver"] = json!({"method": "dop853"});
+    let named = |mut spec: Value, at: &str, slot: Value| {
+        *spec.pointer_mut(at).expect("slot") = slot;
+        spec
+    };
+    let cases = [
+        (time_history(4.0), "/kind", "unknown kind"),
+        (time_history(4.0), "/pulse/type", "unknown pulse type"),
+        (time_history(4.0), "/formulation", "unknown formulation"),
+        (with_solver, "/solver/method", "unknown method"),
+        (on_record(), "/ground_motion/unit", "unknown unit"),
+        (
+            named(on_record(), "/ground_motion", json!({"record": "r"})),
+            "/ground_motion/record",
+            "record id",
+        ),
+        (
+            named(on_record(), "/ground_motion", json!({"file": "f"})),
+            "/ground_motion/file",
+            "POST /v1/records",
+        ),
+        (
+            named(suite(), "/ground_motions/0", json!({"record": "r"})),
+            "/ground_motions/0/record",
+            "record id",
+        ),
+        (
+            named(suite(), "/ground_motions/0", json!({"file": "f"})),
+            "/ground_motions/0/file",
+            "POST /v1/records",
+        ),
+    ];
+    for (spec, pointer, words) in cases {
+        let body = with(spec, pointer, x.clone()).to_string();
+        assert!(body.len() < MAX_BODY, "{} bytes", body.len());
+        refuse_spec(&app, body, 422, pointer, &[words]).await;
+    }
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn a_megabyte_string_for_a_number_an_array_or_the_spec_is_422_naming_it() {
+    let app = spawn_app("bi-mb-type").await;
+    let x = json!("x".repeat(MB));
+    for (spec, pointer) in [
+        (time_history(4.0), "/block/p"),
+        (on_record(), "/ground_motion/dt"),
+        (on_record(), "/ground_motion/acc"),
+        (suite(), "/ground_motions"),
+    ] {
+        let body = with(spec, pointer, x.clone()).to_string();
+        refuse_spec(&app, body, 422, pointer, &["invalid type", "string"]).await;
+    }
+    let body = with(on_record(), "/ground_motion", x.clone()).to_string();
+    refuse_spec(&app, body, 422, "/ground_motion", &["JSON object"]).await;
+    refuse_spec(&app, x.to_string(), 422, "", &["JSON object"]).await;
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn a_megabyte_key_is_422_naming_it_in_a_bounded_pointer() {
+    let app = spawn_app("bi-mb-key").await;
+    let key = "k".repeat(MB);
+    let by_id = with(
+        on_record(),
+        "/ground_motion",
+        json!({"record": "0".repeat(32)}),
+    );
+    for (mut spec, at) in [
+        (time_history(4.0), ""),
+        (time_history(4.0), "/block"),
+        (on_record(), "/ground_motion"),
+        (by_id, "/ground_motion"),
+        (suite(), "/ground_motions/0"),
+    ] {
+        spec.pointer_mut(at)
+            .and_then(Value::as_object_mut)
+            .expect("an object")
+            .insert(key.clone(), json!(1));
+        let r = post_raw(&app, spec.to_string()).await;
+        let problem = assert_problem(r, 422, "Invalid job spec").await;
+        assert_kind(&problem, "invalid-spec");
+        let start = format!("{at}/kkkk");
+        let pointer = problem["pointer"].as_str().unwrap_or("");
+        assert!(pointer.starts_with(&start), "{problem}");
+        assert!(pointer.chars().count() <= 201, "{problem}");
+        let detail = problem["detail"].as_str().unwrap_or("");
+        assert!(detail.starts_with(&start), "{problem}");
+        assert_still_up(&app).await;
+    }
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn ten_million_numbers_in_a_job_spec_are_413_naming_max_body_bytes() {
+    let app = spawn_app("bi-1e7-numbers").await;
+    let numbers = json_numbers(10_000_000);
+    for (spec, pointer) in [(on_record(), "/ground_motion/acc"), (suite(), "/stripes")] {
+        let body = with_raw(spec, pointer, &numbers).into_bytes();
+        assert!(body.len() > 20 * MB);
+        // With a Content-Length, and in chunks without one.
+        for chunked in [false, true] {
+            let answer =
+                post_wire(&app, "/v1/jobs", "application/json", body.clone(), chunked).await;
+            let problem = answer.problem(413, Some("Body too large"));
+            assert_kind(&problem, "body-too-large");
+            assert_eq!(problem["limit"], "max_body_bytes", "{problem}");
+            assert_eq!(problem["maximum"], MAX_BODY as f64, "{problem}");
+            assert_names_the_body(&problem);
+            assert_still_up(&app).await;
+        }
+    }
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn json_nested_ten_thousand_deep_is_400_wherever_it_is() {
+    let app = spawn_app("bi-deep-anywhere").await;
+    let by_id = with(on_record(), "/ground_motion", json!({"record": "r"}));
+    for objects in [false, true] {
+        let deep = nested(10_000, objects);
+        for body in [
+            deep.clone(),
+            with_raw(time_history(4.0), "/block", &deep),
+            with_raw(time_history(4.0), "/pulse/type", &deep),
+            with_raw(on_record(), "/ground_motion", &deep),
+            with_raw(on_record(), "/ground_motion/acc", &deep),
+            with_raw(on_record(), "/ground_motion/acc/2", &deep),
+            with_raw(by_id.clone(), "/ground_motion/record", &deep),
+            with_raw(suite(), "/ground_motions/0", &deep),
+        ] {
+            refuse_spec(&app, body, 400, "", &["not valid JSON", "recursion limit"]).await;
+        }
+    }
+    app.stop().await;
+}
+
+/// Nesting within the parser's limit is read, and refused where it is.
+#[tokio::test]
+async fn json_nested_a_hundred_deep_is_422_naming_the_field() {
+    let app = spawn_app("bi-deep-100").await;
+    let by_id = with(on_record(), "/ground_motion", json!({"record": "r"}));
+    for objects in [false, true] {
+        let deep = nested(100, objects);
+        let acc = if objects {
+            "/ground_motion/acc"
+        } else {
+            "/ground_motion/acc/0"
+        };
+        for (spec, at, named) in [
+            (on_record(), "/ground_motion/acc", acc),
+            (on_record(), "/ground_motion/acc/2", "/ground_motion/acc/2"),
+            (on_record(), "/ground_motion/unit", "/ground_motion/unit"),
+            (
+                by_id.clone(),
+                "/ground_motion/record",
+                "/ground_motion/record",
+            ),
+            (time_history(4.0), "/block/alpha", "/block/alpha"),
+        ] {
+            let body = with_raw(spec, at, &deep);
+            refuse_spec(&app, body, 422, named, &[]).await;
+        }
+    }
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn a_megabyte_record_file_of_letters_or_of_one_line_is_422_naming_what_to_change() {
+    let app = spawn_app("bi-rec-mb").await;
+    let query = "?unit=g&dt=0.01";
+    refuse_record(
+        &app,
+        query,
+        "x".repeat(MB),
+        422,
+        Names::Pointer(""),
+        &["no rows of numbers"],
+    )
+    .await;
+    // One line of 250,000 numbers: which column holds the acceleration?
+    refuse_record(
+        &app,
+        query,
+        "0.1 ".repeat(MB / 4),
+        422,
+        Names::Parameter("acc_column"),
+        &["250000 columns"],
+    )
+    .await;
+    // One number of a million digits.
+    let digits = format!("{}\n0.1\n-0.2\n", "1".repeat(MB));
+    refuse_record(&app, query, digits, 422, Names::Pointer(""), &["line 1"]).await;
+    // A header row naming its acceleration column with a megabyte.
+    let header = format!("time_s,{}\n0,0.1\n0.01,-0.2\n0.02,0.05\n", "h".repeat(MB));
+    refuse_record(&app, "", header, 422, Names::Parameter("unit"), &["unit"]).await;
+    let (status, list) = app.get("/v1/records").await;
+    assert_eq!((status, &list["records"]), (200, &json!([])), "{list}");
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn a_megabyte_header_line_is_read_past_and_names_are_cut_to_200_characters() {
+    let app = spawn_app("bi-rec-header").await;
+    let short = |rec: &Value| {
+        let name = rec["name"].as_str().expect("a name");
+        assert!(!name.is_empty() && name.chars().count() <= 200, "{rec}");
+    };
+    // A comment line of a megabyte above the samples.
+    let text = format!("# {}\n0.1\n-0.2\n0.05\n-0.01\n", "c".repeat(MB));
+    let rec = store_record(&app, "?unit=g&dt=0.01", text).await;
+    assert_eq!(rec["samples"], 4, "{rec}");
+    short(&rec);
+    // A PEER AT2 file whose title line is a megabyte.
+    let at2 = format!(
+        "PEER NGA STRONG MOTION DATABASE RECORD\n{}\nACCELERATION TIME SERIES IN UNITS OF G\n\
+         NPTS=    4, DT=   0.0100 SEC\n  0.1000000E+00 -0.3000000E+00  0.5000000E-01 -0.2000000E-01\n",
+        "t".repeat(MB)
+    );
+    let rec = store_record(&app, "", at2).await;
+    assert_eq!(
+        (rec["format"].as_str(), rec["samples"].as_u64()),
+        (Some("at2"), Some(4))
+    );
+    short(&rec);
+    // A JSON record whose name is a megabyte.
+    let body =
+        json!({"name": "n".repeat(MB), "dt": 0.01, "unit": "g", "acc": [0.2, -0.1, 0.3, -0.05]});
+    let rec = store_record(&app, "", body.to_string()).await;
+    short(&rec);
+    let (status, _, list) = app.get_text("/v1/records").await;
+    assert_eq!(status, 200);
+    assert!(list.len() < 10_000, "{} bytes", list.len());
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn a_json_record_with_a_megabyte_string_is_422_naming_the_field() {
+    let app = spawn_app("bi-rec-json-mb").await;
+    let x = json!("x".repeat(MB));
+    let base = json!({"dt": 0.01, "unit": "g", "acc": [0.2, -0.1, 0.3, -0.05]});
+    for (pointer, words) in [
+        ("/unit", "unknown unit"),
+        ("/dt", "must be a number"),
+        ("/acc", "array of numbers"),
+        ("/acc/1", "must be a number"),
+    ] {
+        let body = with(base.clone(), pointer, x.clone()).to_string();
+        refuse_record(&app, "", body, 422, Names::Pointer(pointer), &[words]).await;
+    }
+    let mut body = base.clone();
+    body["k".repeat(MB)] = json!(1);
+    let r = upload(&app, "", body.to_string()).await;
+    let problem = assert_problem(r, 422, "Record not readable as given").await;
+    let pointer = problem["pointer"].as_str().unwrap_or("");
+    assert!(pointer.starts_with("/kkkk"), "{problem}");
+    assert!(pointer.chars().count() <= 201, "{problem}");
+    assert_detail_mentions(&problem, &["unknown field"]);
+    assert_still_up(&app).await;
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn a_json_record_nested_ten_thousand_deep_is_422_naming_the_field() {
+    let app = spawn_app("bi-rec-deep").await;
+    for objects in [false, true] {
+        let deep = nested(10_000, objects);
+        let acc = if objects { "/acc" } else { "/acc/0" };
+        for (body, names) in [
+            (format!(r#"{{"dt":0.01,"unit":"g","acc":{deep}}}"#), acc),
+            (
+                format!(r#"{{"dt":0.01,"unit":"g","acc":[0.1,{deep}]}}"#),
+                "/acc/1",
+            ),
+            (
+                format!(r#"{{"dt":{deep},"unit":"g","acc":[0.1,-0.2]}}"#),
+                "/dt",
+            ),
+            (
+                format!(r#"{{"dt":0.01,"unit":{deep},"acc":[0.1,-0.2]}}"#),
+                "/unit",
+            ),
+            (
+                format!(r#"{{"name":{deep},"dt":0.01,"unit":"g","acc":[0.1,-0.2]}}"#),
+                "/name",
+            ),
+        ] {
+            refuse_record(&app, "", body, 422, Names::Pointer(names), &[]).await;
+        }
+        // The nesting as the whole file.
+        let whole = if objects { "/a" } else { "" };
+        refuse_record(&app, "", deep, 422, Names::Pointer(whole), &[]).await;
+    }
+    app.stop().await;
+}
+
+/// Ten million samples, one a line (20 MB, within max_record_bytes): refused
+/// by their count, with or without a Content-Length, and nothing stored.
+#[tokio::test]
+async fn ten_million_samples_within_max_record_bytes_are_422() {
+    let app = spawn_app("bi-rec-1e7").await;
+    let body = sample_lines(10_000_000).into_bytes();
+    assert_eq!(body.len(), 20 * MB);
+    for chunked in [false, true] {
+        let answer = post_wire(
+            &app,
+            "/v1/records?unit=g&dt=0.01",
+            "text/plain",
+            body.clone(),
+            chunked,
+        )
+        .await;
+        let problem = answer.problem(422, None);
+        assert_names(&problem, Names::Pointer(""));
+        assert_detail_mentions(&problem, &["1000000"]);
+        assert_still_up(&app).await;
+    }
+    let (status, list) = app.get("/v1/records").await;
+    assert_eq!((status, &list["records"]), (200, &json!([])), "{list}");
+    app.stop().await;
+}
+
+/// The same, refused naming the limit exceeded as a smaller count is.
+#[tokio::test]
+async fn ten_million_samples_are_422_naming_max_record_samples() {
+    for samples_limit in [None, Some(5000)] {
+        let app = spawn_app_with("bi-rec-1e7-limit", |c| {
+            if let Some(n) = samples_limit {
+                c.max_record_samples = n;
+            }
+        })
+        .await;
+        let maximum = samples_limit.unwrap_or(1_000_000);
+        let r = upload(&app, "?unit=g&dt=0.01", sample_lines(10_000_000)).await;
+        let problem = assert_problem(r, 422, "Record exceeds a service limit").await;
+        assert_kind(&problem, "limit-exceeded");
+        assert_eq!(problem["limit"], "max_record_samples", "{problem}");
+        assert_eq!(problem["maximum"], maximum as f64, "{problem}");
+        assert_still_up(&app).await;
+        app.stop().await;
+    }
+}
+
+#[tokio::test]
+async fn a_record_of_max_record_samples_is_stored_and_one_more_is_422_naming_the_limit() {
+    let app = spawn_app_with("bi-rec-5000", |c| c.max_record_samples = 5000).await;
+    let rec = store_record(&app, "?unit=g&dt=0.01", sample_lines(5000)).await;
+    assert_eq!(rec["samples"], 5000, "{rec}");
+    let acc: Vec<f64> = (0..5001).map(|k| (k % 3) as f64 * 0.1).collect();
+    for (query, body) in [
+        ("?unit=g&dt=0.01", sample_lines(5001)),
+        ("", json!({"dt": 0.01, "unit": "g", "acc": acc}).to_string()),
+    ] {
+        let r = upload(&app, query, body).await;
+        let problem = assert_problem(r, 422, "Record exceeds a service limit").await;
+        assert_kind(&problem, "limit-exceeded");
+        assert_names(&problem, Names::Pointer(""));
+        assert_eq!(problem["limit"], "max_record_samples", "{problem}");
+        assert_eq!(problem["maximum"], 5000.0, "{problem}");
+        assert_eq!(problem["value"], 5001.0, "{problem}");
+        assert_detail_mentions(&problem, &["max_record_samples"]);
+        assert_still_up(&app).await;
+    }
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn a_record_over_max_record_bytes_is_413_naming_the_limit_with_or_without_a_length() {
+    let app = spawn_app_with("bi-rec-bytes", |c| c.max_record_bytes = MB).await;
+    let one_over = format!("{}1", "0\n".repeat(MB / 2));
+    assert_eq!(one_over.len(), MB + 1);
+    for body in [sample_lines(10_000_000), one_over] {
+        for chunked in [false, true] {
+            let answer = post_wire(
+                &app,
+                "/v1/records?unit=g&dt=0.01",
+                "text/plain",
+                body.clone().into_bytes(),
+                chunked,
+            )
+            .await;
+            let problem = answer.problem(413, Some("Body too large"));
+            assert_kind(&problem, "body-too-large");
+            assert_eq!(problem["limit"], "max_record_bytes", "{problem}");
+            assert_eq!(problem["maximum"], MB as f64, "{problem}");
+            assert_detail_mentions(&problem, &["max_record_bytes"]);
+            assert_names_the_body(&problem);
+            assert_still_up(&app).await;
+        }
+    }
+    // A file of exactly max_record_bytes is read.
+    let rec = store_record(&app, "?unit=g&dt=0.01", sample_lines(MB / 2)).await;
+    assert_eq!(rec["samples"], MB / 2, "{rec}");
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn long_record_query_values_and_ids_are_400_naming_them() {
+    let app = spawn_app("bi-rec-query").await;
+    let long = "q".repeat(60_000);
+    for (query, name) in [
+        (format!("?name={}", "n".repeat(201)), "name"),
+        (format!("?unit={long}"), "unit"),
+        (format!("?format={long}"), "format"),
+        (format!("?time_column={long}"), "time_column"),
+        (format!("?acc_column={long}"), "acc_column"),
+        (format!("?dt={}", "1".repeat(60_000)), "dt"),
+    ] {
+        let r = upload(&app, &query, "0.1\n-0.2\n0.05\n").await;
+        let problem = assert_problem(r, 400, "Bad request").await;
+        assert_kind(&problem, "invalid-parameter");
+        assert_names(&problem, Names::Parameter(name));
+        assert_still_up(&app).await;
+    }
+    let r = upload(&app, &format!("?{long}=1"), "0.1\n-0.2\n0.05\n").await;
+    let problem = assert_problem(r, 400, "Bad request").await;
+    assert!(
+        problem["parameter"]
+            .as_str()
+            .is_some_and(|p| p.starts_with("qqqq")),
+        "{problem}"
+    );
+    for method in [reqwest::Method::GET, reqwest::Method::DELETE] {
+        let r = app
+            .client
+            .request(method, app.url(&format!("/v1/records/{long}")))
+            .send()
+            .await
+            .expect("request");
+        let problem = assert_problem(r, 400, "Bad request").await;
+        assert_names(&problem, Names::Parameter("id"));
+        assert_detail_mentions(&problem, &["record id"]);
+    }
+    let r = app
+        .client
+        .get(app.url(&format!("/v1/records?cursor={long}")))
+        .send()
+        .await
+        .expect("request");
+    let problem = assert_problem(r, 400, "Bad request").await;
+    assert_names(&problem, Names::Parameter("cursor"));
+    assert_still_up(&app).await;
+    app.stop().await;
+}
+
+/// A query value that is not a boolean is named as the parameter it is.
+#[tokio::test]
+async fn a_bad_boolean_in_the_query_is_400_naming_its_parameter() {
+    let app = spawn_app("bi-rec-bool").await;
+    let r = upload(&app, "?allow_large_pga=maybe", "0.1\n-0.2\n0.05\n").await;
+    let problem = assert_problem(r, 400, "Bad request").await;
+    assert_names(&problem, Names::Parameter("allow_large_pga"));
+    app.stop().await;
+}
+
+/// A refusal quotes at most 40 characters of a value it is about, and says
+/// what is wrong however long the value or the key.
+#[tokio::test]
+async fn refusals_quote_at_most_40_characters_of_the_input() {
+    let app = spawn_app("bi-quote-40").await;
+    let x = "x".repeat(MB);
+    let quotes_little = |problem: &Value| {
+        let detail = problem["detail"].as_str().unwrap_or("");
+        assert!(!detail.contains(&"x".repeat(41)), "{problem}");
+    };
+    for (spec, pointer) in [
+        (time_history(4.0), "/kind"),
+        (time_history(4.0), "/pulse/type"),
+        (time_history(4.0), "/formulation"),
+        (on_record(), "/ground_motion/unit"),
+    ] {
+        let r = post_raw(&app, with(spec, pointer, json!(x)).to_string()).await;
+        quotes_little(&assert_problem(r, 422, "Invalid job spec").await);
+    }
+    let mut spec = time_history(4.0);
+    spec["block"][x.as_str()] = json!(1);
+    let r = post_raw(&app, spec.to_string()).await;
+    let problem = assert_problem(r, 422, "Invalid job spec").await;
+    quotes_little(&problem);
+    assert_detail_mentions(&problem, &["unknown field"]);
+    let base = json!({"dt": 0.01, "unit": "g", "acc": [0.2, -0.1, 0.3, -0.05]});
+    for body in [
+        with(base.clone(), "/unit", json!(x)).to_string(),
+        with(base.clone(), "/acc", json!(x)).to_string(),
+        format!("time_s,{x}\n0,0.1\n0.01,-0.2\n"),
+        format!("x{x}1\n0.1\n-0.2\n"),
+    ] {
+        let r = upload(&app, "?dt=0.01", body).await;
+        quotes_little(&assert_problem(r, 422, "Record not readable as given").await);
+    }
+    let r = upload(&app, &format!("?format={}", "x".repeat(60_000)), "0.1\n").await;
+    quotes_little(&assert_problem(r, 400, "Bad request").await);
+    app.stop().await;
+}
+
+/// A request line over 64 KiB is refused by the HTTP layer before any route
+/// (hyper answers 414 with an empty body, not a problem), and the server
+/// stays up.
+#[tokio::test]
+async fn a_request_line_over_64_kib_is_414_and_the_server_stays_up() {
+    let app = spawn_app("bi-long-uri").await;
+    let path = format!("/v1/records?unit={}", "g".repeat(70_000));
+    let answer = post_wire(&app, &path, "text/plain", b"0.1\n-0.2\n".to_vec(), false).await;
+    assert_eq!(answer.status, 414);
     assert_still_up(&app).await;
     app.stop().await;
 }

@@ -110,3 +110,30 @@ export type Csv = paths["/v1/jobs/{id}/result"]["get"]["responses"][200]["conten
 export type Svg = paths["/v1/jobs/{id}/plot.svg"]["get"]["responses"][200]["content"]["image/svg+xml"];
 export const csv: Csv = "t_s,theta_rad\n";
 export const svg: Svg = "<svg/>";
+
+export function record(view: S["RecordView"]): string {
+  const samples: number = view.samples;
+  const pga: number = view.pga_g;
+  const kinds: string[] = view.warnings.map((w) => w.kind);
+  return `${view.id} ${view.format} ${samples} ${view.dt} ${pga} ${kinds} ${view.links.csv}`;
+}
+
+export function wrongRecord(view: S["RecordView"]): void {
+  // @ts-expect-error samples is a number
+  const n: string = view.samples;
+  // @ts-expect-error a record has no `acc` in its metadata
+  const acc: number[] = view.acc;
+  void n;
+  void acc;
+}
+
+export const onStoredRecord: S["TimeHistorySpec"] = {
+  kind: "time_history",
+  block: { alpha: 0.15, p: 2 },
+  ground_motion: { record: "0dc0d39595ca573e58ba7a9d57de74b0" },
+};
+
+export type RecordFile = paths["/v1/records"]["post"]["requestBody"]["content"]["text/plain"];
+export const recordFile: RecordFile = "time_s,acc_g\n0.00,0.0\n0.01,0.1\n";
+export type Uploaded = paths["/v1/records"]["post"]["responses"][201]["content"]["application/json"];
+export const uploadedSamples = (u: Uploaded): number => u.samples;

@@ -2,7 +2,8 @@
 generates from openapi.yaml; type-checked with `mypy --strict` first.
 
 Submits every kind, waits or polls, reads typed fields of each result,
-downloads CSV and SVG, cancels a job. Exits non-zero on the first surprise.
+downloads CSV and SVG, cancels a job; uploads a record file and computes a
+time history naming it. Exits non-zero on the first surprise.
 
     python use_client.py BASE_URL SPECS_DIR
 """
@@ -15,6 +16,7 @@ from uuid import UUID
 
 from topple_client import AuthenticatedClient
 from topple_client.api.jobs import cancel_job, create_job, get_job, get_plot, get_result
+from topple_client.api.records import get_record, list_records
 from topple_client.models import (
     ForensicExcitation,
     ForensicResult,
@@ -23,8 +25,10 @@ from topple_client.models import (
     FrictionSpectrumSpec,
     JobView,
     RecordDoc,
+    RecordPage,
     RecordSpectrumResult,
     RecordSpectrumSpec,
+    RecordView,
     SpectrumResult,
     SpectrumSpec,
     Status,
@@ -145,6 +149,44 @@ def main() -> None:
     canceled = submitted(cancel_job.sync(job_id, client=client), "cancel")
     check(canceled.status == Status.CANCELED, f"cancel: {canceled.status}")
     print("canceled a 1500-frequency spectrum")
+
+    # A record file as it is (CSV), then a time history naming the stored
+    # record. The generator sends no text/plain body (it types the file as
+    # str, then reads `.payload` of it): the upload goes through the client's
+    # own httpx session, its answer read through the generated RecordView.
+    csv_file = specs / "records" / "ridge_station_090.csv"
+    answer = client.get_httpx_client().post(
+        "/v1/records", content=csv_file.read_bytes(), headers={"Content-Type": "text/plain"}
+    )
+    check(answer.status_code in (200, 201), f"upload: {answer.status_code} {answer.text[:300]}")
+    uploaded = RecordView.from_dict(answer.json())
+    samples: int = uploaded.samples
+    pga: float = uploaded.pga_g
+    check(samples == 3000 and abs(uploaded.dt - 0.01) < 1e-12, f"samples {samples}, dt {uploaded.dt}")
+    check(uploaded.format_ == "csv" and uploaded.unit == "g", f"{uploaded.format_} in {uploaded.unit}")
+    check(pga > 0 and abs(uploaded.pga_m_s2 - 9.81 * pga) < 1e-9 * uploaded.pga_m_s2, f"PGA {pga} g")
+    stored = get_record.sync(uploaded.id, client=client)
+    check(isinstance(stored, RecordView), f"record {type(stored)}")
+    assert isinstance(stored, RecordView)
+    check(stored.id == uploaded.id and stored.samples == samples, f"stored {stored.id}")
+    page = list_records.sync(client=client)
+    check(isinstance(page, RecordPage), f"records {type(page)}")
+    assert isinstance(page, RecordPage)
+    check(uploaded.id in [r.id for r in page.records], "the record is listed")
+    on_file = TimeHistorySpec.from_dict({
+        "kind": "time_history", "block": {"alpha": 0.15, "p": 2.0, "eta": 0.9},
+        "ground_motion": {"record": uploaded.id}, "outputs": {"series": 50}})
+    hjob = finished(client, submitted(create_job.sync(client=client, body=on_file, wait=30.0),
+                                      "time history on a record"))
+    read_back = get_result.sync(hjob.id, client=client)
+    check(isinstance(read_back, TimeHistoryResult), f"time history on a record {type(read_back)}")
+    assert isinstance(read_back, TimeHistoryResult)
+    toppled: bool = read_back.overturned
+    spec_motion = read_back.spec.ground_motion
+    check(not isinstance(spec_motion, Unset) and spec_motion is not None
+          and len(spec_motion.acc) == samples, "the result's spec holds the record's samples")
+    print(f"record {uploaded.id}: {samples} samples, PGA {pga:.3f} g; "
+          f"time history on it: overturned={toppled}")
 
 
 if __name__ == "__main__":

@@ -8,6 +8,9 @@ spec the repository ships, and a set of valid variants, passes the schema
 accepts the variants. Rules the schema cannot express (bounds that depend on
 the block, `to` above `from`) are listed too: the server refuses them, the
 schema lets them through, so a client learns of them from the server's 422.
+Specs naming a stored record (`{"record": id}`, uploaded first from
+specs/records/) are held to the same: the schema and the server accept the
+id alone, and refuse a bad id, an id beside samples, and a file.
 
     request_agreement.py BASE_URL
 
@@ -295,6 +298,76 @@ GOOD = [
 ]
 
 
+def record_cases(record):
+    """Specs naming the stored record `record`: (bad, server only, good)."""
+    named = {"kind": "time_history", "block": {"alpha": 0.15, "p": 2.0},
+             "ground_motion": {"record": record}}
+    suite = edit(FG, pulse=DELETE, ground_motions=[{"record": record}])
+    bad = [
+        ("a record id of three letters", edit(named, ground_motion__record="xyz"),
+         "/ground_motion/record"),
+        ("a record id in capitals", edit(named, ground_motion__record=record.upper()),
+         "/ground_motion/record"),
+        ("a record id that is a number", edit(named, ground_motion__record=7),
+         "/ground_motion/record"),
+        ("a record and its dt", edit(named, ground_motion__dt=0.01), "/ground_motion/dt"),
+        ("a record and a unit", edit(named, ground_motion__unit="g"), "/ground_motion/unit"),
+        ("a record and samples", edit(named, ground_motion__acc=[0.0, 0.1]),
+         "/ground_motion/acc"),
+        ("a record and allow_large_pga", edit(named, ground_motion__allow_large_pga=True),
+         "/ground_motion/allow_large_pga"),
+        ("a record and a name", edit(named, ground_motion__name="ridge"), "/ground_motion/name"),
+        ("a file", edit(named, ground_motion={"file": "x.at2"}), "/ground_motion/file"),
+        ("a file and a record", edit(named, ground_motion__file="x.at2"), "/ground_motion/file"),
+        ("a file beside samples", edit(GM, ground_motion__file="x.at2"), "/ground_motion/file"),
+        ("a record spectrum on a record id of three letters",
+         edit(RS, ground_motion={"record": "xyz"}), "/ground_motion/record"),
+        ("a forensic query on a record and its unit",
+         edit(FOR, ground_motion={"record": record, "unit": "g"}), "/ground_motion/unit"),
+        ("a suite member's record id of three letters",
+         edit(suite, ground_motions=[{"record": "xyz"}]), "/ground_motions/0/record"),
+        ("a suite member's record and its dt",
+         edit(suite, ground_motions=[{"record": record, "dt": 0.01}]), "/ground_motions/0/dt"),
+        ("a suite member's file", edit(suite, ground_motions=[{"file": "x.at2"}]),
+         "/ground_motions/0/file"),
+        ("a suite member's dt = 2 s",
+         edit(suite, ground_motions=[{"dt": 2.0, "unit": "g", "acc": [0.0, 0.3, -0.2]}]),
+         "/ground_motions/0/dt"),
+        ("a suite member of one sample",
+         edit(suite, ground_motions=[{"dt": 0.01, "unit": "g", "acc": [0.3]}]),
+         "/ground_motions/0/acc"),
+        ("an empty suite", edit(suite, ground_motions=[]), "/ground_motions"),
+    ]
+    server_only = [
+        ("an unknown record", edit(named, ground_motion__record="0" * 32),
+         "/ground_motion/record"),
+        ("a suite member's unknown record",
+         edit(suite, ground_motions=[{"record": "0" * 32}]), "/ground_motions/0/record"),
+    ]
+    good = [
+        ("time history on a stored record", named),
+        ("time history on a stored record, explicit nulls",
+         edit(named, ground_motion={"record": record, "dt": None, "acc": None, "unit": None,
+                                    "file": None, "allow_large_pga": None})),
+        ("samples with an explicit null record and file",
+         edit(GM, ground_motion__record=None, ground_motion__file=None)),
+        ("record spectrum on a stored record", edit(RS, ground_motion={"record": record})),
+        ("forensic query on a stored record", edit(FOR, ground_motion={"record": record})),
+        ("fragility on stored records", edit(suite, ground_motions=[
+            {"record": record}, {"record": record, "name": "ridge again"}])),
+    ]
+    return bad, server_only, good
+
+
+def upload(base, path):
+    """The id of the record file at `path` (POST /v1/records)."""
+    request = urllib.request.Request(
+        f"{base}/v1/records", data=open(path, "rb").read(), method="POST",
+        headers={"Content-Type": "text/plain", "Accept": "application/json"})
+    with urllib.request.urlopen(request, timeout=60) as response:
+        return json.loads(response.read())["id"]
+
+
 def post(base, spec):
     request = urllib.request.Request(
         f"{base}/v1/jobs", data=json.dumps(spec).encode(), method="POST",
@@ -322,7 +395,9 @@ def main():
         else:
             failed += 1
 
-    for what, spec, pointer in BAD:
+    record = upload(base, os.path.join(ROOT, "specs", "records", "ridge_station_090.csv"))
+    bad, server_only, good = record_cases(record)
+    for what, spec, pointer in BAD + bad:
         refused = not schema.is_valid(spec)
         status, problem = post(base, spec)
         named = problem.get("pointer")
@@ -330,7 +405,7 @@ def main():
               refused and status in (400, 422) and named == pointer,
               f"schema {'refuses' if refused else 'ACCEPTS'}; server {status} "
               f"{problem.get('pointer')!r} (want {pointer!r}): {problem.get('detail')}")
-    for what, spec, pointer in SERVER_ONLY:
+    for what, spec, pointer in SERVER_ONLY + server_only:
         accepted = schema.is_valid(spec)
         status, problem = post(base, spec)
         named = problem.get("pointer")
@@ -343,7 +418,7 @@ def main():
     for what, spec in shipped:
         errors = [f"{e.instance_path}: {e.message}" for e in schema.iter_errors(spec)]
         check(f"shipped spec {what}: schema accepts", not errors, "; ".join(errors)[:400])
-    for what, spec in GOOD:
+    for what, spec in GOOD + good:
         errors = [f"{e.instance_path}: {e.message}" for e in schema.iter_errors(spec)]
         status, problem = post(base, spec)
         check(f"good: {what}: schema accepts, server {status}",

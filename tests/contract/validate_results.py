@@ -38,6 +38,17 @@ EXTRA = [
         "kind": "spectrum", "block": {"alpha": 0.2, "p": 2.0, "eta": 0.85},
         "pulse": {"type": "cn", "n": 2}, "formulation": "linear",
         "omega_ratio": [1.0, 4.0], "a_max_alpha_g": 8}),
+    ("time history on a record file", {
+        "kind": "time_history", "block": {"alpha": 0.15, "p": 2.0, "eta": 0.9},
+        "ground_motion": {"file": os.path.join(ROOT, "specs", "records", "ridge_station_090.at2")},
+        "outputs": {"series": 20}}),
+    ("fragility on a suite of record files", {
+        "kind": "fragility", "block": {"alpha": 0.2, "p": 2.0},
+        "ground_motions": [
+            {"file": os.path.join(ROOT, "specs", "records", "ridge_station_090.csv")},
+            {"file": os.path.join(ROOT, "specs", "records", "ridge_station_090.at2"),
+             "name": "the same as AT2"}],
+        "stripes": [0.2, 0.4], "samples": 16, "seed": 1}),
     ("time history without reactions", {
         "kind": "time_history", "block": {"alpha": 0.25, "p": 2.14},
         "pulse": {"type": "one_sine", "omega_ratio": 3.0, "a_p_alpha_g": 2.0},
