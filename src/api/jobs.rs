@@ -220,12 +220,13 @@ pub(crate) fn query<T>(q: Result<Query<T>, QueryRejection>, known: &[&str]) -> R
             )
             .param(name);
         }
+        let unknown = rest.contains("unknown field");
+        // An unknown parameter is named even when its name is empty (`?=1`).
         let name = rest
             .split('`')
             .nth(1)
-            .filter(|n| !n.is_empty())
+            .filter(|n| unknown || !n.is_empty())
             .map(str::to_owned);
-        let unknown = rest.contains("unknown field");
         let detail = match (&name, unknown) {
             (Some(n), true) => format!(
                 "unknown query parameter {n:?}: this endpoint takes {}",

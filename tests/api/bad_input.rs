@@ -1527,3 +1527,15 @@ async fn a_request_line_over_64_kib_is_414_and_the_server_stays_up() {
     assert_still_up(&app).await;
     app.stop().await;
 }
+
+/// A query parameter without a name (`?=true`) is unknown, and named so.
+#[tokio::test]
+async fn a_query_parameter_with_no_name_is_400_naming_it() {
+    let app = spawn_app("bi-empty-param").await;
+    let r = upload(&app, "?=true", "0.1\n-0.2\n0.05\n").await;
+    let problem = assert_problem(r, 400, "Bad request").await;
+    assert_eq!(problem["parameter"], "", "{problem}");
+    assert_detail_mentions(&problem, &["unknown query parameter"]);
+    assert_still_up(&app).await;
+    app.stop().await;
+}
