@@ -586,12 +586,110 @@ async fn claims_take_turns_across_tenants_and_computations(store: &dyn JobStore)
     );
 }
 
+/// Records: the samples stored once and read back bit for bit, a row per
+/// tenant, paged newest first, kept while a live job names them.
+async fn records_are_stored_once_per_content_and_kept_while_in_use(store: &dyn JobStore) {
+    use topple::store::records::{NewRecord, RecordDeleted};
+    let acc = [0.0, -0.0, 1.0 / 3.0, -2.5e-7, 9.81];
+    let put = |tenant: &'static str, id: &'static str| NewRecord {
+        tenant,
+        id,
+        entry: Uuid::now_v7(),
+        dt: 0.01,
+        acc: &acc,
+        name: "test record",
+        meta: "{}",
+        now: "2026-01-01T00:00:00.000000Z",
+    };
+    let (first, created) = store.put_record(put("alice", "a1")).await.expect("puts");
+    assert!(created);
+    let (again, created) = store.put_record(put("alice", "a1")).await.expect("puts");
+    assert!(!created);
+    assert_eq!(again, first);
+    let (_, created) = store.put_record(put("bob", "a1")).await.expect("puts");
+    assert!(created, "bob's own row over the same samples");
+    store.put_record(put("alice", "a2")).await.expect("puts");
+    let (dt, back) = store
+        .record_samples("bob", "a1")
+        .await
+        .expect("reads")
+        .expect("bob has it");
+    assert_eq!(dt, 0.01);
+    assert_eq!(
+        back.iter().map(|a| a.to_bits()).collect::<Vec<_>>(),
+        acc.map(f64::to_bits).to_vec()
+    );
+    assert!(
+        store
+            .get_record("carol", "a1")
+            .await
+            .expect("reads")
+            .is_none()
+    );
+    let page = store.list_records("alice", 1, None).await.expect("lists");
+    assert_eq!(
+        page.iter().map(|r| r.id.as_str()).collect::<Vec<_>>(),
+        ["a2"]
+    );
+    let next = store
+        .list_records("alice", 1, Some(page[0].entry))
+        .await
+        .expect("lists");
+    assert_eq!(
+        next.iter().map(|r| r.id.as_str()).collect::<Vec<_>>(),
+        ["a1"]
+    );
+    // A live job naming it keeps it; once canceled, it may go.
+    let submitted = store
+        .submit(NewJob {
+            tenant: "alice",
+            id: Uuid::now_v7(),
+            key: "uses-a1",
+            kind: "time_history",
+            spec: "{}",
+            now: &now_rfc3339(),
+            tasks: &tasks(1),
+            records: &["a1".to_string()],
+        })
+        .await
+        .expect("submits");
+    assert_eq!(
+        store.delete_record("alice", "a1").await.expect("deletes"),
+        RecordDeleted::InUse(vec![submitted.job.id])
+    );
+    assert_eq!(
+        store.delete_record("bob", "a1").await.expect("deletes"),
+        RecordDeleted::Gone,
+        "bob's job list is empty"
+    );
+    store
+        .cancel("alice", submitted.job.id, &now_rfc3339())
+        .await
+        .expect("cancels");
+    assert_eq!(
+        store.delete_record("alice", "a1").await.expect("deletes"),
+        RecordDeleted::Gone
+    );
+    assert!(
+        store
+            .record_samples("alice", "a1")
+            .await
+            .expect("reads")
+            .is_none()
+    );
+    assert_eq!(
+        store.delete_record("alice", "a1").await.expect("deletes"),
+        RecordDeleted::NotFound
+    );
+}
+
 async fn suite(store: Arc<dyn JobStore>) {
     a_single_task_job_completes_in_one_write(store.as_ref()).await;
     the_same_key_is_one_job(store.as_ref()).await;
     tasks_are_claimed_once_completed_and_assembled(store.as_ref()).await;
     a_lapsed_lease_is_taken_over_and_the_old_owner_writes_nothing(store.as_ref()).await;
     cancel_stops_every_task_and_resubmission_requeues(store.as_ref()).await;
+    records_are_stored_once_per_content_and_kept_while_in_use(store.as_ref()).await;
 }
 
 #[tokio::test]
