@@ -10,15 +10,19 @@
 //!   chattering and rest, the exact overturning decision, base reactions.
 //! - [`spectrum`]: overturning and friction-demand spectra over many
 //!   simulations (rayon), with progress and cancellation.
+//! - [`probability`]: the normal distribution's functions, the laws of
+//!   uncertain inputs, fragility fits (lognormal by maximum likelihood) and
+//!   survival under a hazard curve, in closed form where one exists.
 //! - [`records`]: accelerogram files (PEER `.AT2`, CSV or whitespace
 //!   columns, JSON) read into samples in m/s², pure: units converted exactly,
 //!   content-addressed ids, and guards against a silent misread (time taken
 //!   for acceleration, a unit off by 100 or g, an uncorrected baseline).
 //! - [`jobs`]: the job-spec JSON, its validation into domain types, service
 //!   limits, canonical cache keys, splitting into tasks, and the result
-//!   documents (time histories, spectra, friction spectra, forensic queries).
-//! - [`store`]: one storage trait for jobs, tasks and results; SQLite and
-//!   PostgreSQL implementations.
+//!   documents (time histories, spectra, friction spectra, forensic queries,
+//!   record spectra, fragility, survival).
+//! - [`store`]: one storage trait for jobs, tasks, results and records;
+//!   SQLite and PostgreSQL implementations.
 //! - [`service`]: the server: workers that claim tasks and compute them on the
 //!   rayon pool, startup, graceful shutdown, metrics.
 //! - [`api`]: axum routes, problem+json errors, authentication (the tenant of

@@ -1329,9 +1329,7 @@ pub struct ListParams {
     #[param(value_type = Option<Status>)]
     pub status: Option<String>,
     /// Only jobs of this kind.
-    #[param(
-        pattern = "^(time_history|spectrum|friction_spectrum|forensic|record_spectrum|survival|fragility)$"
-    )]
+    #[param(value_type = Option<crate::jobs::schema::JobKind>)]
     pub kind: Option<String>,
     /// At most this many (1..=500, default 50).
     #[param(minimum = 1, maximum = 500)]

@@ -405,6 +405,29 @@ impl Predicate for KnownSizeAtMost {
 mod tests {
     use super::portable_floats;
 
+    /// The kinds a client may list by (`GET /v1/jobs?kind=`) are an enum in
+    /// the description, and exactly the kinds the server takes.
+    #[test]
+    fn the_kind_parameter_lists_every_kind() {
+        let (_, api) = super::routes();
+        let doc = serde_json::to_value(&api).expect("the description serialises");
+        let kind = doc["paths"]["/v1/jobs"]["get"]["parameters"]
+            .as_array()
+            .and_then(|p| p.iter().find(|p| p["name"] == "kind"))
+            .expect("a kind parameter");
+        let reference = kind["schema"]["oneOf"]
+            .as_array()
+            .and_then(|o| o.iter().find_map(|s| s["$ref"].as_str()))
+            .or_else(|| kind["schema"]["$ref"].as_str())
+            .expect("the kind parameter refers to the kind enum");
+        let name = reference.rsplit('/').next().unwrap_or("");
+        let listed: Vec<&str> = doc["components"]["schemas"][name]["enum"]
+            .as_array()
+            .map(|e| e.iter().filter_map(|v| v.as_str()).collect())
+            .unwrap_or_default();
+        assert_eq!(listed, crate::jobs::KINDS);
+    }
+
     #[test]
     fn exponent_numbers_get_a_decimal_point() {
         let yaml = "a:\n  minimum: 1e-9\n  maximum: -1e8\n  x: 1.5e-3\n  d: Width 1e-4 to 2\n  - 1e4\n  s: 'x: 1e4'\n";
