@@ -390,8 +390,15 @@ fn a_large_spectrum_stops_soon_after_cancellation() {
     };
     let control = Control::new();
     let (stopped_at, outcome) = std::thread::scope(|s| {
-        let worker = s.spawn(|| {
-            let r = overturning_spectrum(&req, &control);
+        // A pool of its own: the other tests' work on the global pool would
+        // hold the join, which is not the cancellation being measured.
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .expect("a pool");
+        let (req, control) = (&req, &control);
+        let worker = s.spawn(move || {
+            let r = pool.install(|| overturning_spectrum(req, control));
             (Instant::now(), r)
         });
         std::thread::sleep(Duration::from_millis(50));
