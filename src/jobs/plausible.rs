@@ -7,6 +7,7 @@
 //! for the block, or that never rocks it. The result is computed as asked,
 //! with the warning next to it.
 
+use crate::plot::style::fmt_num;
 use serde_json::Value;
 
 use super::Job;
@@ -39,8 +40,9 @@ fn size_warning(block: &BlockNorm, pointer: &str) -> Option<WarningDoc> {
         kind: "implausible_size".into(),
         t: None,
         message: format!(
-            "{pointer}: the block's size R = sqrt(b^2 + h^2) = 3g/(4p^2) = {r:.4} m (p = {:.6} rad/s) is outside {R_MIN_M} m to {R_MAX_M} m: {hint}",
-            block.p
+            "{pointer}: the block's size R = sqrt(b^2 + h^2) = 3g/(4p^2) = {} m (p = {} rad/s) is outside {R_MIN_M} m to {R_MAX_M} m: {hint}",
+            fmt_num(r, 4),
+            fmt_num(block.p, 6)
         ),
     })
 }

@@ -16,7 +16,7 @@ use serde_json::Value;
 use super::bands::{Band, Column, cell_edges, cells, simplify, tile};
 use super::style::{
     AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, OBSERVATIONS, Swatch, TICKS,
-    X_LABEL_AREA, chart_on, draw_legend, fmt_num, text, tick, tint,
+    X_LABEL_AREA, axis_range, chart_on, draw_legend, fmt_num, text, tick, tint,
 };
 use super::{block_note, num, pulse_name, render, text_at};
 
@@ -286,9 +286,9 @@ pub fn svg(result: &Value) -> Result<String, String> {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
         let chart = chart_on(&chart_area)
             .top_x_label_area_size(X_LABEL_AREA)
-            .build_cartesian_2d(x0..x1, from..to)?;
+            .build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", from, to)?)?;
         let tau = std::f64::consts::TAU;
-        let mut chart = chart.set_secondary_coord(x0 * tau..x1 * tau, from..to);
+        let mut chart = chart.set_secondary_coord(axis_range("top", x0 * tau, x1 * tau)?, from..to);
         for piece in &shaded {
             chart.draw_series(std::iter::once(Polygon::new(
                 piece.polygon.clone(),

@@ -15,7 +15,7 @@ use super::bands::{Band, simplify, tile};
 use super::forensic::{colour, fill, intervals, partition};
 use super::style::{
     AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, Swatch, TICKS, X_LABEL_AREA,
-    Y_LABEL_AREA, draw_legend, fmt_num, mesh, text, tick, tint,
+    Y_LABEL_AREA, axis_range, draw_legend, fmt_num, mesh, text, tick, tint,
 };
 use super::{at, block_note, num, render, text_at};
 
@@ -219,9 +219,9 @@ pub fn svg(result: &Value) -> Result<String, String> {
             builder.right_y_label_area_size(Y_LABEL_AREA);
         }
         let x1 = n as f64 + 1.5;
-        let chart = builder.build_cartesian_2d(0.5..x1, from..to)?;
+        let chart = builder.build_cartesian_2d(0.5..x1, axis_range("y", from, to)?)?;
         let p = pga_g.unwrap_or(1.0);
-        let mut chart = chart.set_secondary_coord(0.5..x1, from * p..to * p);
+        let mut chart = chart.set_secondary_coord(0.5..x1, axis_range("right", from * p, to * p)?);
         for (x, bands) in &columns {
             chart.draw_series(bands.iter().map(|b| {
                 Rectangle::new(

@@ -7,8 +7,8 @@ use plotters::prelude::*;
 use serde_json::Value;
 
 use super::style::{
-    Drawn, INK, LEGEND_WIDTH, Legend, MODE1, Marker, Swatch, chart_on, draw_legend, fmt_num,
-    marker, mesh, tint,
+    Drawn, INK, LEGEND_WIDTH, Legend, MODE1, Marker, Swatch, axis_range, chart_on, draw_legend,
+    fmt_num, marker, mesh, tint,
 };
 use super::{num, render};
 
@@ -98,7 +98,8 @@ pub fn svg(result: &Value) -> Result<String, String> {
         "Fragility: probability of toppling",
         |area| -> Drawn {
             let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
-            let mut chart = chart_on(&chart_area).build_cartesian_2d(0.0..x_max, 0.0..1.0)?;
+            let mut chart =
+                chart_on(&chart_area).build_cartesian_2d(axis_range("x", 0.0, x_max)?, 0.0..1.0)?;
             mesh(&mut chart, x_desc, "P(topple)").draw()?;
             if curve.len() > 1 {
                 let mut band: Vec<(f64, f64)> = curve.iter().map(|c| (c.0, c.3)).collect();

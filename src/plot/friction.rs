@@ -8,7 +8,7 @@ use serde_json::Value;
 
 use super::style::{
     AXIS, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, REFERENCE, Swatch, TICKS,
-    X_LABEL_AREA, Y_LABEL_AREA, clip_y, draw_legend, fmt_num, marker, text, tick,
+    X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num, marker, text, tick,
 };
 use super::{at, block_note, num, pulse_name, render, text_at};
 
@@ -61,7 +61,32 @@ pub fn svg(result: &Value) -> Result<String, String> {
     if points.is_empty() {
         return Err("the friction spectrum has no points".into());
     }
-    let mu = at(spec, "/block/mu").map(|m| m / tan);
+    // μ of the block over tan α; μ can be any size (1e308 for "never
+    // slides"), so it sets the scale only when it is near the demand.
+    let mu_of_block = at(spec, "/block/mu");
+    let mu = mu_of_block.map(|m| m / tan);
+    // Lift-off makes the demand unbounded: the range follows the others, and
+    // lift-off amplitudes are marked on the top edge.
+    // Near lift-off f_z is small and the demand very large though bounded: the
+    // range stops at a few times the demand when rocking starts, and points
+    // above it sit on the top edge (their values are in the JSON and CSV).
+    let demand_scale = |extra: Option<f64>| {
+        let start_demand = points
+            .iter()
+            .filter_map(|p| p.initiation)
+            .chain(extra)
+            .filter(|d| d.is_finite())
+            .fold(1.0f64, f64::max);
+        let cap = (4.0 * start_demand).max(6.0);
+        let highest = points
+            .iter()
+            .filter_map(|p| p.peak)
+            .chain(points.iter().filter_map(|p| p.initiation))
+            .chain(extra)
+            .filter(|d| d.is_finite())
+            .fold(1.2f64, f64::max);
+        highest.min(cap) * 1.12
+    };
     let xmin = points.iter().map(|p| p.a).fold(f64::INFINITY, f64::min);
     let xmax = points.iter().map(|p| p.a).fold(f64::NEG_INFINITY, f64::max);
     let (x0, x1) = if xmax > xmin {
@@ -72,24 +97,9 @@ pub fn svg(result: &Value) -> Result<String, String> {
     } else {
         (xmin * 0.9, xmax * 1.1 + 0.1)
     };
-    // Lift-off makes the demand unbounded: the range follows the others, and
-    // lift-off amplitudes are marked on the top edge.
-    // Near lift-off f_z is small and the demand very large though bounded: the
-    // range stops at a few times the demand when rocking starts, and points
-    // above it sit on the top edge (their values are in the JSON and CSV).
-    let start_demand = points
-        .iter()
-        .filter_map(|p| p.initiation)
-        .chain(mu)
-        .fold(1.0f64, f64::max);
-    let cap = (4.0 * start_demand).max(6.0);
-    let highest = points
-        .iter()
-        .filter_map(|p| p.peak)
-        .chain(points.iter().filter_map(|p| p.initiation))
-        .chain(mu)
-        .fold(1.2f64, f64::max);
-    let top = highest.min(cap) * 1.12;
+    let without_mu = demand_scale(None);
+    let mu_on_scale = mu.filter(|m| m.is_finite() && *m <= 2.0 * without_mu);
+    let top = demand_scale(mu_on_scale);
     let off_scale: Vec<f64> = points
         .iter()
         .filter_map(|p| p.peak)
@@ -151,11 +161,16 @@ pub fn svg(result: &Value) -> Result<String, String> {
         );
     }
     legend.entry(Swatch::Dashed(MUTED, 1), "μ = tan α");
-    if let Some(m) = mu {
-        legend.entry(
+    match (mu_of_block, mu_on_scale) {
+        (_, Some(m)) => legend.entry(
             Swatch::Dashed(REFERENCE, 2),
             format!("μ of the block = {} (slides above)", fmt_num(m * tan, 3)),
-        );
+        ),
+        (Some(m), None) => legend.note(format!(
+            "μ of the block = {}: far above the demand drawn (no sliding here)",
+            fmt_num(m, 3)
+        )),
+        (None, None) => {}
     }
     legend.note(block_note(spec.get("block")));
     let ratio = num(result, "omega_ratio").or_else(|| at(spec, "/omega_ratio"));
@@ -190,8 +205,11 @@ pub fn svg(result: &Value) -> Result<String, String> {
             .y_label_area_size(Y_LABEL_AREA)
             .top_x_label_area_size(X_LABEL_AREA)
             .right_y_label_area_size(Y_LABEL_AREA)
-            .build_cartesian_2d(x0..x1, 0.0..top)?;
-        let mut chart = chart.set_secondary_coord(x0 * alpha..x1 * alpha, 0.0..top * tan);
+            .build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", 0.0, top)?)?;
+        let mut chart = chart.set_secondary_coord(
+            axis_range("top", x0 * alpha, x1 * alpha)?,
+            axis_range("right", 0.0, top * tan)?,
+        );
         chart
             .configure_mesh()
             .x_desc("a_p / (α g)")
@@ -216,7 +234,7 @@ pub fn svg(result: &Value) -> Result<String, String> {
             DashedPathElement::new(vec![(x0, y), (x1, y)], dash, dash, style)
         };
         chart.draw_series(std::iter::once(level(1.0, MUTED.stroke_width(1), 4)))?;
-        if let Some(m) = mu.filter(|m| *m < top) {
+        if let Some(m) = mu_on_scale.filter(|m| *m < top) {
             chart.draw_series(std::iter::once(level(m, REFERENCE.stroke_width(2), 7)))?;
         }
         for part in clip_y(&initiation, 0.0, top) {
@@ -290,6 +308,21 @@ pub(crate) mod tests {
         ] {
             assert!(svg.contains(needle), "missing {needle:?}");
         }
+    }
+
+    /// μ of any size (1e308 stands for "never slides") is drawn as a line
+    /// only near the demand; far above it is a note, and the scale follows
+    /// the demand (an infinite μ/tan α once made plotters' tick search spin).
+    #[test]
+    fn a_huge_mu_leaves_the_scale_to_the_demand() {
+        let mut doc = sample();
+        doc["spec"]["block"]["mu"] = json!(1.1962447537642911e308);
+        let svg = super::svg(&doc).expect("svg");
+        assert!(svg.contains("μ of the block = 1.2e308: far above"), "{svg}");
+        assert!(!svg.contains("(slides above)"));
+        doc["spec"]["block"]["mu"] = json!(0.4);
+        let svg = super::svg(&doc).expect("svg");
+        assert!(svg.contains("μ of the block = 0.4 (slides"), "{svg}");
     }
 
     #[test]

@@ -11,8 +11,8 @@ use super::spectrum::{
     CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, fill, region_legend, regions,
 };
 use super::style::{
-    AXIS, Drawn, INK, LEGEND_WIDTH, Marker, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, clip_y,
-    draw_legend, fmt_num, marker, mesh, text, tick,
+    AXIS, Drawn, INK, LEGEND_WIDTH, Marker, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, axis_range,
+    clip_y, draw_legend, fmt_num, marker, mesh, text, tick,
 };
 use super::{at, block_note, num, render, text_at};
 
@@ -158,8 +158,12 @@ pub fn svg(result: &Value) -> Result<String, String> {
         if pga_g.is_some() {
             builder.right_y_label_area_size(Y_LABEL_AREA);
         }
-        let chart = builder.build_cartesian_2d(x0..x1, 0.0..s_max)?;
-        let mut chart = chart.set_secondary_coord(x0..x1, 0.0..s_max * pga_g.unwrap_or(1.0));
+        let chart =
+            builder.build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", 0.0, s_max)?)?;
+        let mut chart = chart.set_secondary_coord(
+            x0..x1,
+            axis_range("right", 0.0, s_max * pga_g.unwrap_or(1.0))?,
+        );
         for piece in &shaded {
             chart.draw_series(std::iter::once(Polygon::new(
                 piece.polygon.clone(),

@@ -9,8 +9,8 @@ use serde_json::Value;
 use super::bands::{Band, Column, simplify, tile, tiling};
 use super::style::{
     AXIS, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING,
-    REFERENCE, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, clip_y, draw_legend, fmt_num, marker,
-    mesh, text, tick, tint,
+    REFERENCE, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num,
+    marker, mesh, text, tick, tint,
 };
 use super::{at, block_note, num, pulse_name, render, text_at};
 
@@ -336,11 +336,15 @@ pub fn svg(result: &Value) -> Result<String, String> {
                 .top_x_label_area_size(X_LABEL_AREA)
                 .right_y_label_area_size(Y_LABEL_AREA);
         }
-        let chart = builder.build_cartesian_2d(x0..x1, 0.0..a_max)?;
+        let chart =
+            builder.build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", 0.0, a_max)?)?;
         let mut chart = match (alpha, p) {
             (Some(alpha), Some(p)) => {
                 let hz = |r: f64| r * p / std::f64::consts::TAU;
-                chart.set_secondary_coord(hz(x0)..hz(x1), 0.0..a_max * alpha)
+                chart.set_secondary_coord(
+                    axis_range("top", hz(x0), hz(x1))?,
+                    axis_range("right", 0.0, a_max * alpha)?,
+                )
             }
             _ => chart.set_secondary_coord(x0..x1, 0.0..a_max),
         };

@@ -480,6 +480,25 @@ pub fn nice_step(span: f64, n: f64) -> f64 {
     nice * mag
 }
 
+/// An axis range for plotters, `lo..hi`: both ends within ±10^300 and `hi`
+/// above `lo` by more than their rounding, else an error naming the axis. Plotters' search for ticks does not end on an
+/// infinite range, so every chart builds its axes through this.
+pub fn axis_range(
+    axis: &str,
+    lo: f64,
+    hi: f64,
+) -> Result<std::ops::Range<f64>, Box<dyn std::error::Error>> {
+    // Plotters steps from tick to tick, by powers of ten of the width: the
+    // range must be wider than the rounding of its ends, and its width and
+    // ten times it finite.
+    let end = lo.abs().max(hi.abs());
+    if end <= 1e300 && hi - lo > 1e-12 * end {
+        Ok(lo..hi)
+    } else {
+        Err(format!("the {axis} axis would run from {lo} to {hi}").into())
+    }
+}
+
 /// A tick label: `v` to at most 4 significant digits, never "-0".
 pub fn tick(v: f64) -> String {
     if v.abs() < 1e-12 {
@@ -489,12 +508,24 @@ pub fn tick(v: f64) -> String {
     }
 }
 
-/// A number for a label: at most `digits` significant digits, no trailing zeros.
+/// A number for a label: at most `digits` significant digits, no trailing
+/// zeros; beyond 10^9 or below 10^-6 in scientific notation (`1.27e307`), never
+/// a row of hundreds of digits.
 pub fn fmt_num(v: f64, digits: usize) -> String {
     if v == 0.0 || !v.is_finite() {
         return format!("{v}");
     }
     let mag = v.abs().log10().floor() as i32;
+    if !(-6..=9).contains(&mag) {
+        let s = format!("{v:.prec$e}", prec = digits.saturating_sub(1));
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = if mantissa.contains('.') {
+            mantissa.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            mantissa
+        };
+        return format!("{mantissa}e{exponent}");
+    }
     let decimals = (digits as i32 - 1 - mag).max(0) as usize;
     let s = format!("{v:.decimals$}");
     if s.contains('.') {
@@ -565,11 +596,54 @@ mod tests {
     }
 
     #[test]
+    fn axes_are_finite_and_not_empty() {
+        assert_eq!(axis_range("x", 0.0, 2.0).ok(), Some(0.0..2.0));
+        for (lo, hi) in [
+            (0.0, f64::INFINITY),
+            (f64::NAN, 1.0),
+            (1.0, 1.0),
+            (2.0, 1.0),
+            (1e300, 1e300 * (1.0 + 1e-15)),
+        ] {
+            let e = axis_range("y", lo, hi).err().map(|e| e.to_string());
+            assert!(e.is_some_and(|e| e.starts_with("the y axis would run")));
+        }
+    }
+
+    /// Every range the guard lets through is drawn, with its ticks, in a
+    /// bounded time: extreme ends, narrow and wide.
+    #[test]
+    fn extreme_ranges_draw() {
+        for (lo, hi) in [
+            (0.0, f64::MAX),
+            (-f64::MAX, f64::MAX),
+            (-1e300, 1e300),
+            (1e300, 1e300 * (1.0 + 1e-11)),
+            (1e-300, 2e-300),
+            (0.0, 5e-324),
+            (1e15, 1e15 + 1.0),
+        ] {
+            let Ok(range) = axis_range("x", lo, hi) else {
+                continue;
+            };
+            let mut out = String::new();
+            let root = SVGBackend::with_string(&mut out, (400, 300)).into_drawing_area();
+            let mut chart = chart_on(&root)
+                .build_cartesian_2d(range.clone(), range)
+                .expect("chart");
+            chart.configure_mesh().draw().expect("mesh");
+        }
+    }
+
+    #[test]
     fn wrapping_and_numbers() {
         assert_eq!(wrap("a bb ccc", 4), vec!["a bb", "ccc"]);
         assert_eq!(fmt_num(0.25, 3), "0.25");
         assert_eq!(fmt_num(2.140001, 3), "2.14");
         assert_eq!(fmt_num(15.94125, 4), "15.94");
+        assert_eq!(fmt_num(1.2663572206001402e307, 3), "1.27e307");
+        assert_eq!(fmt_num(-2.5e-9, 4), "-2.5e-9");
+        assert_eq!(fmt_num(3.0e12, 4), "3e12");
         assert_eq!(nice_step(10.0, 5.0), 2.0);
         assert_eq!(tint(RGBColor(0, 0, 0), 0.0), RGBColor(255, 255, 255));
     }

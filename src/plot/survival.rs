@@ -8,7 +8,8 @@ use serde_json::Value;
 
 use super::forensic::colour;
 use super::style::{
-    Drawn, INK, LEGEND_WIDTH, Legend, Marker, Swatch, chart_on, draw_legend, fmt_num, marker, mesh,
+    Drawn, INK, LEGEND_WIDTH, Legend, Marker, Swatch, axis_range, chart_on, draw_legend, fmt_num,
+    marker, mesh,
 };
 use super::{num, render};
 
@@ -111,8 +112,8 @@ pub fn svg(result: &Value) -> Result<String, String> {
         "Survival under the hazard model",
         |area| -> Drawn {
             let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
-            let mut chart =
-                chart_on(&chart_area).build_cartesian_2d((lo..hi).log_scale(), 0.0..1.0)?;
+            let mut chart = chart_on(&chart_area)
+                .build_cartesian_2d(axis_range("x", lo, hi)?.log_scale(), 0.0..1.0)?;
             mesh(&mut chart, "age T (years)", "P(still standing)").draw()?;
             for (k, c) in curves.iter().enumerate() {
                 chart.draw_series(LineSeries::new(c.clone(), colour(k).stroke_width(3)))?;

@@ -8,8 +8,8 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::style::{
-    AXIS, Area, Drawn, INK, LEGEND, MUTED, Marker, PULSE, TICKS, clip_y, left_top, marker,
-    right_top, text, text_width, tick,
+    AXIS, Area, Drawn, INK, LEGEND, MUTED, Marker, PULSE, TICKS, axis_range, clip_y, left_top,
+    marker, right_top, text, text_width, tick,
 };
 
 /// Shade of the span a zoomed column shows, in the whole-history column.
@@ -172,7 +172,7 @@ pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, plac
         .margin_left(4)
         .x_label_area_size(if place.bottom { place.x_axis } else { 0 })
         .y_label_area_size(place.y_labels)
-        .build_cartesian_2d(t0..t1, lo..hi)?;
+        .build_cartesian_2d(axis_range("time", t0, t1)?, axis_range("y", lo, hi)?)?;
     let mut mesh = chart.configure_mesh();
     mesh.label_style(text(TICKS, INK))
         .axis_desc_style(text(AXIS, INK))
