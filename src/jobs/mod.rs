@@ -2,6 +2,7 @@
 //! validation into domain types, and the result documents.
 
 pub mod distribution;
+pub mod error;
 pub mod forensic;
 pub mod forensic_record;
 pub mod fragility;
@@ -19,12 +20,11 @@ pub mod split;
 pub mod survival;
 pub mod time_history;
 
-pub use spec::SpecError;
+pub use error::{JobError, SpecError};
 
 use serde::Serialize;
 
 use crate::spectrum::Control;
-use crate::spectrum::scan::ScanError;
 
 /// A validated job of any kind; serialises to its canonical (normalised) spec.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -45,30 +45,6 @@ pub enum Job {
     /// Fragility by Monte Carlo (boxed: its uncertain inputs make it the
     /// largest spec).
     Fragility(Box<fragility::FragilityJob>),
-}
-
-/// Why a valid job did not produce a result.
-#[derive(Debug, thiserror::Error)]
-pub enum JobError {
-    /// The engine refused.
-    #[error(transparent)]
-    Simulation(#[from] crate::dynamics::SimError),
-    /// The engine refused at one point of a spectrum.
-    #[error("{0}")]
-    Point(String),
-    /// The job was canceled.
-    #[error("canceled")]
-    Canceled,
-}
-
-impl From<ScanError> for JobError {
-    fn from(e: ScanError) -> Self {
-        match e {
-            ScanError::Canceled(_) => JobError::Canceled,
-            ScanError::Simulation(s) => JobError::Simulation(s),
-            e @ ScanError::At { .. } => JobError::Point(e.to_string()),
-        }
-    }
 }
 
 /// The job kinds, as named in specs.

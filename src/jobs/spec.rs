@@ -10,25 +10,7 @@ use std::sync::Arc;
 
 use crate::dynamics::{Block, Formulation, Method, Pulse, PulseShape, Record, Solver};
 
-/// A spec that cannot be run, with the field at fault.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{pointer}: {message}")]
-pub struct SpecError {
-    /// JSON pointer to the offending field ("" for the document itself).
-    pub pointer: String,
-    /// What is wrong with it.
-    pub message: String,
-}
-
-impl SpecError {
-    /// An error at `pointer`.
-    pub fn at(pointer: impl Into<String>, message: impl Into<String>) -> Self {
-        SpecError {
-            pointer: pointer.into(),
-            message: message.into(),
-        }
-    }
-}
+pub use super::error::SpecError;
 
 /// Stands in for the non-JSON tokens NaN / Infinity so that the error can name
 /// the field that holds them.
