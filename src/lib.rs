@@ -17,10 +17,11 @@
 //!   columns, JSON) read into samples in m/s², pure: units converted exactly,
 //!   content-addressed ids, and guards against a silent misread (time taken
 //!   for acceleration, a unit off by 100 or g, an uncorrected baseline).
-//! - [`jobs`]: the job-spec JSON, its validation into domain types, service
-//!   limits, canonical cache keys, splitting into tasks, and the result
-//!   documents (time histories, spectra, friction spectra, forensic queries,
-//!   record spectra, fragility, survival).
+//! - [`jobs`]: the job kinds (time histories, spectra, friction spectra,
+//!   forensic queries, record spectra, fragility, survival), each one module
+//!   and one line of the registry: the job-spec JSON, its validation into
+//!   domain types, service limits, canonical cache keys, splitting into
+//!   tasks, and the result documents.
 //! - [`store`]: one storage trait for jobs, tasks, results and records;
 //!   SQLite and PostgreSQL implementations.
 //! - [`service`]: the server: workers that claim tasks and compute them on the
@@ -29,7 +30,7 @@
 //!   every request, from its token), CSV, the OpenAPI description, the page
 //!   at `/`.
 //! - [`plot`]: SVG figures of every result kind; [`precision`]: the
-//!   work-precision study.
+//!   work-precision study; [`numbers`]: numbers as people read them.
 //!
 //! Data flows one way: HTTP → spec → domain types → engine → result → store →
 //! HTTP. The engine never knows it is in a service; the API does no physics.
@@ -37,6 +38,7 @@
 pub mod api;
 pub mod dynamics;
 pub mod jobs;
+pub mod numbers;
 pub mod plot;
 pub mod precision;
 pub mod probability;

@@ -7,6 +7,8 @@ use std::fmt::Write;
 
 use serde_json::Value;
 
+use crate::jobs::JobKind;
+
 /// One CSV field: numbers as JSON writes them, text quoted when it needs to be.
 fn f(v: Option<&Value>) -> String {
     match v {
@@ -45,20 +47,24 @@ fn array<'a>(v: &'a Value, key: &str) -> &'a [Value] {
 /// The CSV table of a result, or why there is none.
 pub fn to_csv(result: &Value) -> Result<String, String> {
     let mut out = String::new();
-    match result.get("kind").and_then(Value::as_str) {
-        Some("time_history") => time_history(result, &mut out),
-        Some("spectrum") => spectrum(result, &mut out),
-        Some("friction_spectrum") => friction(result, &mut out),
-        Some("forensic")
+    let name = result.get("kind").and_then(Value::as_str);
+    let Some(kind) = name.and_then(JobKind::from_name) else {
+        return Err(format!("no CSV form for results of kind {name:?}"));
+    };
+    // Every kind has a table: the match is exhaustive.
+    match kind {
+        JobKind::TimeHistory => time_history(result, &mut out),
+        JobKind::Spectrum => spectrum(result, &mut out),
+        JobKind::FrictionSpectrum => friction(result, &mut out),
+        JobKind::Forensic
             if result.get("excitation").and_then(Value::as_str) == Some("ground_motion") =>
         {
             forensic_record(result, &mut out)
         }
-        Some("forensic") => forensic(result, &mut out),
-        Some("record_spectrum") => record_spectrum(result, &mut out),
-        Some("survival") => survival(result, &mut out),
-        Some("fragility") => fragility(result, &mut out),
-        other => return Err(format!("no CSV form for results of kind {other:?}")),
+        JobKind::Forensic => forensic(result, &mut out),
+        JobKind::RecordSpectrum => record_spectrum(result, &mut out),
+        JobKind::Survival => survival(result, &mut out),
+        JobKind::Fragility => fragility(result, &mut out),
     }
     Ok(out)
 }

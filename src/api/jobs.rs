@@ -17,48 +17,11 @@ use uuid::Uuid;
 use super::auth::Tenant;
 use super::csv::{SeriesRows, to_csv};
 use super::problem::Problem;
-use crate::jobs::forensic::ForensicSpec;
-use crate::jobs::fragility::FragilitySpec;
-use crate::jobs::friction::FrictionSpec;
 use crate::jobs::key::cache_key;
-use crate::jobs::record_spectrum::RecordSpectrumSpec;
-use crate::jobs::spectrum::SpectrumSpec;
-use crate::jobs::survival::SurvivalSpec;
-use crate::jobs::time_history::TimeHistorySpec;
-use crate::jobs::{Job, KINDS};
+use crate::jobs::{Job, JobSpec, KINDS};
 use crate::service::AppState;
 use crate::service::results::{Cached, Document, LoadError, MAX_BODY, SharedText};
 use crate::store::{Deleted, JobRecord, ListQuery, NewJob, Status, new_job_id, now_rfc3339};
-
-/// A job spec: exactly what `topple run` accepts.
-#[derive(ToSchema)]
-#[serde(untagged)]
-#[allow(dead_code, clippy::large_enum_variant)]
-#[schema(discriminator(property_name = "kind", mapping(
-    ("time_history" = "#/components/schemas/TimeHistorySpec"),
-    ("spectrum" = "#/components/schemas/SpectrumSpec"),
-    ("friction_spectrum" = "#/components/schemas/FrictionSpectrumSpec"),
-    ("forensic" = "#/components/schemas/ForensicSpec"),
-    ("record_spectrum" = "#/components/schemas/RecordSpectrumSpec"),
-    ("survival" = "#/components/schemas/SurvivalSpec"),
-    ("fragility" = "#/components/schemas/FragilitySpec"),
-)))]
-pub enum JobSpec {
-    /// `"kind": "time_history"`.
-    TimeHistory(TimeHistorySpec),
-    /// `"kind": "spectrum"`.
-    Spectrum(SpectrumSpec),
-    /// `"kind": "friction_spectrum"`.
-    FrictionSpectrum(FrictionSpec),
-    /// `"kind": "forensic"`.
-    Forensic(ForensicSpec),
-    /// `"kind": "record_spectrum"`.
-    RecordSpectrum(RecordSpectrumSpec),
-    /// `"kind": "survival"`.
-    Survival(SurvivalSpec),
-    /// `"kind": "fragility"`.
-    Fragility(FragilitySpec),
-}
 
 /// Links of a job.
 #[derive(Clone, Debug, Serialize, ToSchema)]
@@ -112,7 +75,7 @@ pub struct JobView {
     #[schema(format = "uuid")]
     pub id: String,
     /// The job's kind.
-    #[schema(value_type = crate::jobs::schema::JobKind)]
+    #[schema(value_type = crate::jobs::JobKind)]
     pub kind: String,
     /// queued | running | succeeded | failed | canceled.
     pub status: Status,
@@ -140,7 +103,7 @@ pub struct JobView {
     pub numerics: Option<serde_json::Value>,
     /// The normalised spec (in listings only with `?include=spec`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<crate::jobs::schema::NormalizedSpec>)]
+    #[schema(value_type = Option<crate::jobs::NormalizedSpec>)]
     pub spec: Option<Box<serde_json::value::RawValue>>,
     /// Links.
     pub links: Links,
@@ -150,7 +113,7 @@ pub struct JobView {
     /// The result, inline, when `?wait=` saw the job finish (or a submission
     /// found it done).
     #[serde(skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<crate::jobs::schema::JobResult>)]
+    #[schema(value_type = Option<crate::jobs::JobResult>)]
     pub result: Option<Box<serde_json::value::RawValue>>,
 }
 
@@ -1171,7 +1134,7 @@ fn kind_of(v: &serde_json::Value) -> String {
         ("If-None-Match" = Option<String>, Header, description = "The ETag of the representation already held")),
     responses(
         (status = 200, description = "The result document (JSON), or CSV or SVG by ?format= or Accept", content(
-            (crate::jobs::schema::JobResult = "application/json"),
+            (crate::jobs::JobResult = "application/json"),
             (crate::jobs::schema::CsvTable = "text/csv"),
             (crate::jobs::schema::SvgFigure = "image/svg+xml")
         ), headers(("ETag" = String, description = "Strong: the job key and the format"),
@@ -1329,7 +1292,7 @@ pub struct ListParams {
     #[param(value_type = Option<Status>)]
     pub status: Option<String>,
     /// Only jobs of this kind.
-    #[param(value_type = Option<crate::jobs::schema::JobKind>)]
+    #[param(value_type = Option<crate::jobs::JobKind>)]
     pub kind: Option<String>,
     /// At most this many (1..=500, default 50).
     #[param(minimum = 1, maximum = 500)]

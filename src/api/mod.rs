@@ -46,7 +46,7 @@ use problem::Problem;
         license(name = "MIT", identifier = "MIT")
     ),
     servers((url = "/", description = "This service (relative to where this description was fetched)")),
-    components(schemas(crate::jobs::schema::JobResult, crate::jobs::schema::Engine)),
+    components(schemas(crate::jobs::JobResult, crate::jobs::schema::Engine)),
     modifiers(&BearerScheme),
     tags(
         (name = "jobs", description = "Time histories, overturning spectra, friction-demand spectra"),

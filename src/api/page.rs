@@ -1,11 +1,36 @@
 //! The web page at `/`: a form that submits jobs, follows them and shows
 //! their plots. One self-contained HTML document (inline style and script).
 
+use std::sync::LazyLock;
+
 use axum::http::header;
 use axum::response::IntoResponse;
 
-/// The page, as served.
-pub const HTML: &str = include_str!("page.html");
+use crate::jobs::JobKind;
+
+/// The page's source: [`KINDS_MARK`] stands where the kinds are listed.
+const TEMPLATE: &str = include_str!("page.html");
+
+/// The line of [`TEMPLATE`] that the kinds' radio buttons replace.
+const KINDS_MARK: &str = "<!-- job kinds -->\n";
+
+/// The page, as served: its kind list is the registry's
+/// ([`crate::jobs::registry`]), the first kind checked.
+pub static HTML: LazyLock<String> = LazyLock::new(|| {
+    let radios: String = JobKind::ALL
+        .iter()
+        .enumerate()
+        .map(|(i, kind)| {
+            format!(
+                "      <label><input type=\"radio\" name=\"kind\" value=\"{}\"{}> {}</label>\n",
+                kind.name(),
+                if i == 0 { " checked" } else { "" },
+                kind.label()
+            )
+        })
+        .collect();
+    TEMPLATE.replacen(KINDS_MARK, &radios, 1)
+});
 
 /// The policy the page runs under: its own inline style and script, requests
 /// to this origin only, images from here or `data:` URLs.
@@ -18,7 +43,7 @@ pub async fn index() -> impl IntoResponse {
             (header::CONTENT_TYPE, "text/html; charset=utf-8"),
             (header::CONTENT_SECURITY_POLICY, CSP),
         ],
-        HTML,
+        HTML.as_str(),
     )
 }
 
@@ -34,11 +59,20 @@ mod tests {
         assert_eq!(headers[header::CONTENT_SECURITY_POLICY], CSP);
     }
 
+    /// Every kind of the registry is offered, and has a part of the form
+    /// of its own (`data-kinds` naming it, a fieldset or a field).
     #[test]
     fn the_form_offers_every_kind_of_job() {
+        assert!(TEMPLATE.contains(KINDS_MARK));
         for kind in crate::jobs::KINDS {
             let radio = format!(r#"<input type="radio" name="kind" value="{kind}""#);
             assert!(HTML.contains(&radio), "the form has no {kind}");
+            let form = HTML.split("data-kinds=\"").skip(1).any(|rest| {
+                rest.split('"')
+                    .next()
+                    .is_some_and(|list| list.split(' ').any(|k| k == *kind))
+            });
+            assert!(form, "no part of the form is for {kind}");
         }
     }
 

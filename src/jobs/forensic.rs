@@ -917,6 +917,80 @@ impl ForensicJob {
     }
 }
 
+/// The `forensic` kind: the pulses, or the scales of a record, consistent
+/// with blocks seen overturned or standing.
+pub struct Forensic;
+
+impl crate::jobs::kind::Kind for Forensic {
+    const NAME: &'static str = "forensic";
+    const LABEL: &'static str = "Forensic query";
+    type Spec = ForensicSpec;
+    type Job = ForensicJob;
+    type Result = ForensicResult;
+
+    fn parse(value: &serde_json::Value) -> Result<ForensicJob, SpecError> {
+        // Serde would also read a block from an array, by position.
+        if let Some(list) = value.get("observations").and_then(|v| v.as_array()) {
+            for (i, o) in list.iter().enumerate() {
+                if let Some(b) = o.get("block")
+                    && !(b.is_object() || b.is_null())
+                {
+                    return Err(SpecError::at(
+                        format!("/observations/{i}/block"),
+                        "must be a JSON object",
+                    ));
+                }
+            }
+        }
+        super::spec::from_value::<ForensicSpec>(value, "")?.validate()
+    }
+
+    fn run(
+        job: &ForensicJob,
+        control: &Control,
+    ) -> Result<serde_json::Value, crate::jobs::JobError> {
+        crate::jobs::kind::document(&job.run(control)?)
+    }
+
+    fn size(job: &ForensicJob) -> crate::jobs::kind::Size {
+        let (grid, work) = job.size();
+        crate::jobs::kind::Size {
+            series_points: 0,
+            grid_points: grid.min(usize::MAX as f64) as usize,
+            work,
+            record_work: job
+                .ground_motion
+                .as_ref()
+                .map_or(0.0, |g| work * g.acc.len() as f64),
+        }
+    }
+
+    fn grid_field(job: &ForensicJob) -> &'static str {
+        if job.ground_motion.is_some() {
+            "/scale"
+        } else {
+            "/frequency_hz"
+        }
+    }
+
+    fn warnings(job: &ForensicJob) -> Vec<super::warning::WarningDoc> {
+        use super::plausible::{coarse_dt_warning, record_warnings, size_warnings};
+        let mut found = size_warnings(
+            job.observations
+                .iter()
+                .enumerate()
+                .map(|(i, o)| (&o.block, format!("/observations/{i}/block"))),
+        );
+        if let Some(m) = &job.ground_motion {
+            found.extend(record_warnings(m, "/ground_motion"));
+            if let Some(p) = job.observations.iter().map(|o| o.block.p).reduce(f64::max) {
+                found.extend(coarse_dt_warning(m.dt, p, "/ground_motion"));
+            }
+        }
+        found
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1158,3 +1158,108 @@ impl FragilityJob {
         }
     }
 }
+
+/// The `fragility` kind: the probability of overturning against an
+/// intensity measure, by Monte Carlo; split into parts of whole units.
+pub struct Fragility;
+
+impl crate::jobs::kind::Kind for Fragility {
+    const NAME: &'static str = "fragility";
+    const LABEL: &'static str = "Fragility";
+    type Spec = FragilitySpec;
+    type Job = FragilityJob;
+    type Result = FragilityResult;
+
+    fn parse(value: &Value) -> Result<FragilityJob, SpecError> {
+        super::spec::from_value::<FragilitySpec>(value, "")?.validate()
+    }
+
+    fn run(job: &FragilityJob, control: &Control) -> Result<Value, JobError> {
+        if job.part.is_some() {
+            // A task's counts, assembled by the service.
+            return crate::jobs::kind::document(&job.run_part(control)?);
+        }
+        crate::jobs::kind::document(&job.run(control)?)
+    }
+
+    fn size(job: &FragilityJob) -> crate::jobs::kind::Size {
+        let work = job.simulations() as f64;
+        crate::jobs::kind::Size {
+            series_points: 0,
+            grid_points: work as usize,
+            work,
+            record_work: work * job.longest_record() as f64,
+        }
+    }
+
+    fn grid_field(_job: &FragilityJob) -> &'static str {
+        "/samples"
+    }
+
+    fn warnings(job: &FragilityJob) -> Vec<super::warning::WarningDoc> {
+        job.ground_motions
+            .iter()
+            .flatten()
+            .enumerate()
+            .flat_map(|(i, m)| {
+                super::plausible::record_warnings(&m.motion, &format!("/ground_motions/{i}"))
+            })
+            .collect()
+    }
+
+    fn is_part(job: &FragilityJob) -> bool {
+        job.part.is_some()
+    }
+
+    /// Parts of whole units; a task's payload names its units only (the
+    /// suite is stored once, with the job).
+    fn split(job: &FragilityJob, _size: &crate::jobs::kind::Size) -> Vec<FragilityJob> {
+        if job.part.is_some() {
+            return vec![job.clone()];
+        }
+        let units = job.units();
+        let per = super::split::units_per_task(units, CHUNK as f64, job.longest_record());
+        if per >= units {
+            return vec![job.clone()];
+        }
+        (0..units)
+            .step_by(per)
+            .map(|from| FragilityJob {
+                part: Some([from, (from + per).min(units)]),
+                ..job.clone()
+            })
+            .collect()
+    }
+
+    fn task_payload(job: &FragilityJob) -> Option<String> {
+        job.part
+            .map(|part| serde_json::json!({ "part": part }).to_string())
+    }
+
+    fn part_of(whole: &FragilityJob, payload: &Value) -> Option<Result<FragilityJob, JobError>> {
+        let part = payload.get("part")?;
+        if payload.get("kind").is_some() {
+            return None;
+        }
+        Some(match serde_json::from_value::<[usize; 2]>(part.clone()) {
+            Ok([from, to]) if from < to && to <= whole.units() => Ok(FragilityJob {
+                part: Some([from, to]),
+                ..whole.clone()
+            }),
+            _ => Err(JobError::Point(format!(
+                "a task's part {part} does not fit its {} job",
+                Self::NAME
+            ))),
+        })
+    }
+
+    /// The parts' counts summed per stripe, and the fit made on the sums.
+    fn assemble(job: &FragilityJob, parts: Vec<Value>) -> Result<Value, JobError> {
+        let parts: Vec<FragilityPart> = parts
+            .into_iter()
+            .map(serde_json::from_value)
+            .collect::<Result<_, _>>()
+            .map_err(|e| JobError::Point(format!("a task's result does not read: {e}")))?;
+        crate::jobs::kind::document(&job.assemble(&parts)?)
+    }
+}

@@ -266,6 +266,48 @@ impl FrictionJob {
     }
 }
 
+/// The `friction_spectrum` kind: the friction pure rocking needs, over a
+/// pulse's amplitudes.
+pub struct FrictionSpectrum;
+
+impl crate::jobs::kind::Kind for FrictionSpectrum {
+    const NAME: &'static str = "friction_spectrum";
+    const LABEL: &'static str = "Friction spectrum";
+    type Spec = FrictionSpec;
+    type Job = FrictionJob;
+    type Result = FrictionResult;
+
+    fn parse(value: &serde_json::Value) -> Result<FrictionJob, SpecError> {
+        super::spec::from_value::<FrictionSpec>(value, "")?.validate()
+    }
+
+    fn run(
+        job: &FrictionJob,
+        control: &Control,
+    ) -> Result<serde_json::Value, crate::jobs::JobError> {
+        crate::jobs::kind::document(&job.run(control)?)
+    }
+
+    fn size(job: &FrictionJob) -> crate::jobs::kind::Size {
+        crate::jobs::kind::Size {
+            series_points: 0,
+            grid_points: job.a_alpha_g.len(),
+            work: job.a_alpha_g.len() as f64,
+            record_work: 0.0,
+        }
+    }
+
+    fn grid_field(_job: &FrictionJob) -> &'static str {
+        "/a_alpha_g"
+    }
+
+    fn warnings(job: &FrictionJob) -> Vec<super::warning::WarningDoc> {
+        super::plausible::size_warning(&job.block, "/block")
+            .into_iter()
+            .collect()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use serde_json::{Value, json};
@@ -337,31 +379,5 @@ mod tests {
         assert!((doc["omega_p"].as_f64().expect("omega_p") - 6.0).abs() < 1e-12);
         assert!((doc["points"][0]["a_p_g"].as_f64().expect("a_p_g") - 0.5).abs() < 1e-12);
         assert!((doc["points"][0]["a_alpha_g"].as_f64().expect("αg") - 2.0).abs() < 1e-12);
-    }
-
-    #[test]
-    fn a_lift_off_point_is_null_flagged_and_marked_in_csv_and_svg() {
-        let doc = run(json!({"kind": "friction_spectrum",
-            "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
-            "pulse": {"type": "one_cosine"}, "omega_ratio": 1.0,
-            "a_alpha_g": [2.0, 6.0]}));
-        let lifted = &doc["points"][1];
-        assert_eq!(lifted["peak_friction_demand"], Value::Null, "{lifted}");
-        assert_eq!(lifted["peak_over_tan_alpha"], Value::Null);
-        assert_eq!(lifted["lift_off"], json!(true));
-        let tl = lifted["lift_off_time"].as_f64().expect("time");
-        assert!((tl - 0.410_511_6).abs() < 1e-6, "{tl}");
-        let csv = crate::api::csv::to_csv(&doc).expect("csv");
-        let header: Vec<&str> = csv.lines().next().expect("header").split(',').collect();
-        let row: Vec<&str> = csv.lines().nth(2).expect("row").split(',').collect();
-        let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
-        assert_eq!(row[col("peak_friction_demand")], "");
-        assert_eq!(row[col("lift_off")], "true");
-        let svg = crate::plot::svg(&doc).expect("svg");
-        assert!(svg.contains("lift-off (f_z → 0)"), "legend");
-        assert!(
-            !svg.contains("e9"),
-            "a lift-off point drawn at its huge value"
-        );
     }
 }

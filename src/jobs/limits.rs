@@ -83,97 +83,9 @@ impl LimitError {
     }
 }
 
-/// Bisection steps assumed per transition, and transitions per frequency, in
-/// the work estimate of a spectrum: a bracket of one scan step narrowed to the
-/// tolerance takes log2(step/tolerance) steps; a frequency has a handful of
-/// transitions (Figs. 6, 10, 11 show at most four).
-const TRANSITIONS_PER_FREQUENCY: f64 = 6.0;
-
-/// Size of a job: its grid and its estimated simulations.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Size {
-    /// Series samples (time histories).
-    pub series_points: usize,
-    /// Grid points (spectra).
-    pub grid_points: usize,
-    /// Estimated simulations.
-    pub work: f64,
-    /// Estimated simulations × record samples (records only, else 0).
-    pub record_work: f64,
-}
+pub use super::kind::Size;
 
 impl Job {
-    /// How big the job is.
-    pub fn size(&self) -> Size {
-        match self {
-            Job::TimeHistory(j) => Size {
-                series_points: j.outputs.series,
-                grid_points: 1,
-                work: 1.0,
-                record_work: j.ground_motion.as_ref().map_or(0.0, |g| g.acc.len() as f64),
-            },
-            Job::Spectrum(j) => {
-                let scan = (j.a_max_alpha_g / j.scan_step_alpha_g).ceil();
-                let bisection = (j.scan_step_alpha_g / j.tolerance).log2().ceil().max(1.0);
-                let per_frequency = scan + TRANSITIONS_PER_FREQUENCY * bisection;
-                let n = j.omega_ratio.len() as f64;
-                Size {
-                    series_points: 0,
-                    grid_points: (n * scan).min(usize::MAX as f64) as usize,
-                    work: n * per_frequency,
-                    record_work: 0.0,
-                }
-            }
-            Job::FrictionSpectrum(j) => Size {
-                series_points: 0,
-                grid_points: j.a_alpha_g.len(),
-                work: j.a_alpha_g.len() as f64,
-                record_work: 0.0,
-            },
-            Job::Forensic(j) => {
-                let (grid, work) = j.size();
-                Size {
-                    series_points: 0,
-                    grid_points: grid.min(usize::MAX as f64) as usize,
-                    work,
-                    record_work: j
-                        .ground_motion
-                        .as_ref()
-                        .map_or(0.0, |g| work * g.acc.len() as f64),
-                }
-            }
-            Job::Fragility(j) => {
-                let work = j.simulations() as f64;
-                Size {
-                    series_points: 0,
-                    grid_points: work as usize,
-                    work,
-                    record_work: work * j.longest_record() as f64,
-                }
-            }
-            // Closed forms: as cheap as one simulation.
-            Job::Survival(_) => Size {
-                series_points: 0,
-                grid_points: 1,
-                work: 1.0,
-                record_work: 0.0,
-            },
-            Job::RecordSpectrum(j) => {
-                let scan = j.points_per_size();
-                let grid = j.grid();
-                let bisection = (grid.step / grid.tolerance).log2().ceil().max(1.0);
-                let n = j.p.len() as f64;
-                let work = n * (scan + TRANSITIONS_PER_FREQUENCY * bisection);
-                Size {
-                    series_points: 0,
-                    grid_points: (n * scan).min(usize::MAX as f64) as usize,
-                    work,
-                    record_work: work * j.ground_motion.acc.len() as f64,
-                }
-            }
-        }
-    }
-
     /// `Ok` when the job is within `limits`, else the first limit it exceeds.
     pub fn check_limits(&self, limits: &Limits) -> Result<Size, LimitError> {
         let size = self.size();
@@ -189,14 +101,7 @@ impl Job {
                 ),
             });
         }
-        let grid_field = match self {
-            Job::FrictionSpectrum(_) => "/a_alpha_g",
-            Job::Forensic(j) if j.ground_motion.is_some() => "/scale",
-            Job::Fragility(_) => "/samples",
-            Job::Forensic(_) => "/frequency_hz",
-            Job::RecordSpectrum(_) => "/p",
-            _ => "/omega_ratio",
-        };
+        let grid_field = self.grid_field();
         if size.grid_points > limits.grid_points {
             return Err(LimitError {
                 pointer: grid_field.into(),

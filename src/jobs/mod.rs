@@ -2,61 +2,35 @@
 //! validation into domain types, and the result documents.
 
 pub mod distribution;
+pub mod engine;
 pub mod error;
 pub mod forensic;
 pub mod forensic_record;
 pub mod fragility;
 pub mod friction;
 pub mod key;
+pub mod kind;
 pub mod limits;
 pub mod numerics;
 pub mod plausible;
 pub mod range;
 pub mod record_spectrum;
+pub mod registry;
 pub mod schema;
 pub mod spec;
 pub mod spectrum;
 pub mod split;
 pub mod survival;
 pub mod time_history;
+pub mod warning;
 
 pub use error::{JobError, SpecError};
 
-use serde::Serialize;
+use serde_json::Value;
 
 use crate::spectrum::Control;
 
-/// A validated job of any kind; serialises to its canonical (normalised) spec.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(untagged)]
-pub enum Job {
-    /// One time history.
-    TimeHistory(time_history::TimeHistoryJob),
-    /// An overturning spectrum.
-    Spectrum(spectrum::SpectrumJob),
-    /// A friction-demand spectrum.
-    FrictionSpectrum(friction::FrictionJob),
-    /// The pulses consistent with blocks seen overturned or standing.
-    Forensic(forensic::ForensicJob),
-    /// The rocking spectrum of a recorded motion.
-    RecordSpectrum(record_spectrum::RecordSpectrumJob),
-    /// The survival of rocks of known age under a hazard model.
-    Survival(survival::SurvivalJob),
-    /// Fragility by Monte Carlo (boxed: its uncertain inputs make it the
-    /// largest spec).
-    Fragility(Box<fragility::FragilityJob>),
-}
-
-/// The job kinds, as named in specs.
-pub const KINDS: [&str; 7] = [
-    "time_history",
-    "spectrum",
-    "friction_spectrum",
-    "forensic",
-    "record_spectrum",
-    "survival",
-    "fragility",
-];
+pub use registry::{Job, JobKind, JobResult, JobSpec, KINDS, NormalizedSpec};
 
 impl Job {
     /// Parses and validates a job spec from JSON text.
@@ -69,9 +43,7 @@ impl Job {
     /// submit it (a task's `part` is refused).
     pub fn from_value(value: &serde_json::Value) -> Result<Job, SpecError> {
         let job = Job::from_task(value)?;
-        if let Job::Fragility(f) = &job
-            && f.part.is_some()
-        {
+        if job.is_part() {
             return Err(SpecError::at(
                 "/part",
                 "unknown field `part`: the service sets a task's part when it splits a job",
@@ -104,104 +76,44 @@ impl Job {
             })?
             .as_str()
             .ok_or_else(|| SpecError::at("/kind", "must be a string"))?;
-        match kind {
-            "time_history" => {
-                let spec: time_history::TimeHistorySpec = spec::from_value(value, "")?;
-                Ok(Job::TimeHistory(spec.validate()?))
-            }
-            "spectrum" => {
-                let spec: spectrum::SpectrumSpec = spec::from_value(value, "")?;
-                Ok(Job::Spectrum(spec.validate()?))
-            }
-            "friction_spectrum" => {
-                let spec: friction::FrictionSpec = spec::from_value(value, "")?;
-                Ok(Job::FrictionSpectrum(spec.validate()?))
-            }
-            "forensic" => {
-                if let Some(list) = obj.get("observations").and_then(|v| v.as_array()) {
-                    for (i, o) in list.iter().enumerate() {
-                        if let Some(b) = o.get("block")
-                            && !(b.is_object() || b.is_null())
-                        {
-                            return Err(SpecError::at(
-                                format!("/observations/{i}/block"),
-                                "must be a JSON object",
-                            ));
-                        }
-                    }
-                }
-                let spec: forensic::ForensicSpec = spec::from_value(value, "")?;
-                Ok(Job::Forensic(spec.validate()?))
-            }
-            "record_spectrum" => {
-                let spec: record_spectrum::RecordSpectrumSpec = spec::from_value(value, "")?;
-                Ok(Job::RecordSpectrum(spec.validate()?))
-            }
-            "survival" => {
-                let spec: survival::SurvivalSpec = spec::from_value(value, "")?;
-                Ok(Job::Survival(spec.validate()?))
-            }
-            "fragility" => {
-                let spec: fragility::FragilitySpec = spec::from_value(value, "")?;
-                Ok(Job::Fragility(Box::new(spec.validate()?)))
-            }
-            other => Err(SpecError::at(
+        let kind = JobKind::from_name(kind).ok_or_else(|| {
+            SpecError::at(
                 "/kind",
                 format!(
-                    "unknown kind {other:?}: expected one of {}",
+                    "unknown kind {kind:?}: expected one of {}",
                     KINDS.join(", ")
                 ),
-            )),
-        }
-    }
-
-    /// The kind name.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Job::TimeHistory(_) => "time_history",
-            Job::Spectrum(_) => "spectrum",
-            Job::FrictionSpectrum(_) => "friction_spectrum",
-            Job::Forensic(_) => "forensic",
-            Job::RecordSpectrum(_) => "record_spectrum",
-            Job::Survival(_) => "survival",
-            Job::Fragility(_) => "fragility",
-        }
+            )
+        })?;
+        Job::of_kind(kind, value)
     }
 
     /// Runs the job under `control` (progress, cancellation) and returns its
-    /// result document.
+    /// result document: the kind's document, its input warnings (a task's
+    /// part carries none: the assembled result does) and the engine.
     pub fn run(&self, control: &Control) -> Result<serde_json::Value, JobError> {
-        let value = match self {
-            Job::TimeHistory(job) => {
-                if control.canceled() {
-                    return Err(JobError::Canceled);
-                }
-                control.add_total(1);
-                let result = job.run()?;
-                control.add_done(1);
-                serde_json::to_value(result)
-            }
-            Job::Spectrum(job) => serde_json::to_value(job.run(control)?),
-            Job::FrictionSpectrum(job) => serde_json::to_value(job.run(control)?),
-            Job::Forensic(job) => serde_json::to_value(job.run(control)?),
-            Job::RecordSpectrum(job) => serde_json::to_value(job.run(control)?),
-            Job::Fragility(job) if job.part.is_some() => {
-                // A task's counts, assembled by the service: no warnings.
-                return serde_json::to_value(job.run_part(control)?)
-                    .map_err(|e| JobError::Point(e.to_string()));
-            }
-            Job::Fragility(job) => serde_json::to_value(job.run(control)?),
-            Job::Survival(job) => {
-                if control.canceled() {
-                    return Err(JobError::Canceled);
-                }
-                control.add_total(1);
-                let result = job.run();
-                control.add_done(1);
-                serde_json::to_value(result)
-            }
-        };
-        let doc = plausible::with_warnings(value.unwrap_or(serde_json::Value::Null), self);
-        Ok(key::with_engine(doc))
+        let doc = self.run_document(control)?;
+        if self.is_part() {
+            return Ok(doc);
+        }
+        Ok(engine::with_engine(plausible::with_warnings(
+            doc,
+            self.input_warnings(),
+        )))
+    }
+
+    /// The job's result from its tasks' results (in task order): one task's
+    /// document is the result; several (or a part's) are assembled by the
+    /// kind ([`crate::jobs::kind::Kind::assemble`]), then given the job's
+    /// warnings and the engine.
+    pub fn assemble(&self, mut parts: Vec<Value>) -> Result<Value, JobError> {
+        if parts.len() == 1 && parts[0].get("part").is_none() {
+            return Ok(parts.pop().unwrap_or(Value::Null));
+        }
+        let doc = self.assemble_documents(parts)?;
+        Ok(engine::with_engine(plausible::with_warnings(
+            doc,
+            self.input_warnings(),
+        )))
     }
 }

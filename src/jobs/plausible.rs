@@ -7,12 +7,11 @@
 //! for the block, or that never rocks it. The result is computed as asked,
 //! with the warning next to it.
 
-use crate::plot::style::fmt_num;
+use crate::numbers::fmt_num;
 use serde_json::Value;
 
-use super::Job;
 use super::spec::{BlockNorm, GroundMotionNorm};
-use super::time_history::WarningDoc;
+use super::warning::WarningDoc;
 
 /// The smallest plausible size R, m.
 pub const R_MIN_M: f64 = 0.01;
@@ -26,7 +25,7 @@ pub fn size_m(block: &BlockNorm) -> f64 {
 }
 
 /// The warning for one block, at `pointer` in the spec.
-fn size_warning(block: &BlockNorm, pointer: &str) -> Option<WarningDoc> {
+pub fn size_warning(block: &BlockNorm, pointer: &str) -> Option<WarningDoc> {
     let r = size_m(block);
     if (R_MIN_M..=R_MAX_M).contains(&r) {
         return None;
@@ -41,31 +40,16 @@ fn size_warning(block: &BlockNorm, pointer: &str) -> Option<WarningDoc> {
         t: None,
         message: format!(
             "{pointer}: the block's size R = sqrt(b^2 + h^2) = 3g/(4p^2) = {} m (p = {} rad/s) is outside {R_MIN_M} m to {R_MAX_M} m: {hint}",
-            fmt_num(r, 4),
+            fmt_num(r, 6),
             fmt_num(block.p, 6)
         ),
     })
 }
 
-/// The warnings about `job`'s inputs.
-pub fn warnings(job: &Job) -> Vec<WarningDoc> {
-    let blocks: Vec<(&BlockNorm, String)> = match job {
-        Job::TimeHistory(j) => vec![(&j.block, "/block".into())],
-        Job::Spectrum(j) => vec![(&j.block, "/block".into())],
-        Job::FrictionSpectrum(j) => vec![(&j.block, "/block".into())],
-        Job::Forensic(j) => j
-            .observations
-            .iter()
-            .enumerate()
-            .map(|(i, o)| (&o.block, format!("/observations/{i}/block")))
-            .collect(),
-        // The sizes are the axis the user chose.
-        Job::RecordSpectrum(_) => Vec::new(),
-        // No block: fragilities.
-        Job::Survival(_) => Vec::new(),
-        // Sampled blocks: their distributions were checked.
-        Job::Fragility(_) => Vec::new(),
-    };
+/// The warnings about blocks `(block, pointer)`.
+pub fn size_warnings<'a>(
+    blocks: impl IntoIterator<Item = (&'a BlockNorm, String)>,
+) -> Vec<WarningDoc> {
     blocks
         .into_iter()
         .filter_map(|(b, at)| size_warning(b, &at))
@@ -79,7 +63,7 @@ const LARGE_PGA_G: f64 = crate::records::PGA_LARGE_G;
 /// ground period that still matters to a block of frequency parameter p:
 /// 2π/(10p) (beyond ω = 10p the overturning acceleration grows as ω², and
 /// the spectra stop there).
-fn coarse_dt_warning(dt: f64, p: f64, at: &str) -> Option<WarningDoc> {
+pub fn coarse_dt_warning(dt: f64, p: f64, at: &str) -> Option<WarningDoc> {
     let shortest = 2.0 * std::f64::consts::PI / (10.0 * p);
     (dt > shortest / 2.0).then(|| WarningDoc {
         kind: "coarse_dt".into(),
@@ -94,7 +78,7 @@ fn coarse_dt_warning(dt: f64, p: f64, at: &str) -> Option<WarningDoc> {
 /// Warnings about a record as it reaches a job (whichever way it came: its
 /// samples in the spec, a stored record, a file): a large PGA, a baseline
 /// that drifts.
-fn record_warnings(motion: &GroundMotionNorm, at: &str) -> Vec<WarningDoc> {
+pub fn record_warnings(motion: &GroundMotionNorm, at: &str) -> Vec<WarningDoc> {
     let mut found = Vec::new();
     let pga_g = motion.acc.iter().fold(0.0f64, |m, a| m.max(a.abs())) / crate::records::G_M_S2;
     if pga_g > LARGE_PGA_G {
@@ -116,67 +100,35 @@ fn record_warnings(motion: &GroundMotionNorm, at: &str) -> Vec<WarningDoc> {
     found
 }
 
-/// The warnings about `job`'s records.
-pub fn motion_warnings(job: &Job) -> Vec<WarningDoc> {
-    let mut found = Vec::new();
-    match job {
-        Job::TimeHistory(j) => {
-            if let Some(m) = &j.ground_motion {
-                found.extend(record_warnings(m, "/ground_motion"));
-                found.extend(coarse_dt_warning(m.dt, j.block.p, "/ground_motion"));
-                // Rocking starts once |ü_g| exceeds g·tan α (g·α linear).
-                let threshold = if j.formulation == "linear" {
-                    j.block.g * j.block.alpha
-                } else {
-                    j.block.g * j.block.alpha.tan()
-                };
-                let pga = m.acc.iter().fold(0.0f64, |x, a| x.max(a.abs()));
-                if pga <= threshold {
-                    found.push(WarningDoc {
-                        kind: "never_rocks".into(),
-                        t: None,
-                        message: format!(
-                            "/ground_motion: the record's PGA ({:.4} g) never exceeds the block's rocking threshold ({:.4} g, {}): the block stays at rest; scale the record (a record spectrum or a forensic query) to see where it would rock",
-                            pga / j.block.g,
-                            threshold / j.block.g,
-                            if j.formulation == "linear" { "g·α" } else { "g·tan α" }
-                        ),
-                    });
-                }
-            }
-        }
-        Job::RecordSpectrum(j) => {
-            found.extend(record_warnings(&j.ground_motion, "/ground_motion"));
-            if let Some(p) = j.p.iter().copied().reduce(f64::max) {
-                found.extend(coarse_dt_warning(j.ground_motion.dt, p, "/ground_motion"));
-            }
-        }
-        Job::Forensic(j) => {
-            if let Some(m) = &j.ground_motion {
-                found.extend(record_warnings(m, "/ground_motion"));
-                if let Some(p) = j.observations.iter().map(|o| o.block.p).reduce(f64::max) {
-                    found.extend(coarse_dt_warning(m.dt, p, "/ground_motion"));
-                }
-            }
-        }
-        Job::Fragility(j) => {
-            for (i, m) in j.ground_motions.iter().flatten().enumerate() {
-                found.extend(record_warnings(&m.motion, &format!("/ground_motions/{i}")));
-            }
-        }
-        Job::Spectrum(_) | Job::FrictionSpectrum(_) | Job::Survival(_) => {}
-    }
-    found
+/// The warning that a record at `/ground_motion` never rocks a block of
+/// slenderness α under gravity g: rocking starts once |ü_g| exceeds g·tan α
+/// (g·α linear).
+pub fn never_rocks_warning(
+    motion: &GroundMotionNorm,
+    block: &BlockNorm,
+    linear: bool,
+) -> Option<WarningDoc> {
+    let threshold = if linear {
+        block.g * block.alpha
+    } else {
+        block.g * block.alpha.tan()
+    };
+    let pga = motion.acc.iter().fold(0.0f64, |x, a| x.max(a.abs()));
+    (pga <= threshold).then(|| WarningDoc {
+        kind: "never_rocks".into(),
+        t: None,
+        message: format!(
+            "/ground_motion: the record's PGA ({:.4} g) never exceeds the block's rocking threshold ({:.4} g, {}): the block stays at rest; scale the record (a record spectrum or a forensic query) to see where it would rock",
+            pga / block.g,
+            threshold / block.g,
+            if linear { "g·α" } else { "g·tan α" }
+        ),
+    })
 }
 
-/// `doc` with `job`'s input warnings appended to its `warnings` (created when
+/// `doc` with the warnings `found` appended to its `warnings` (created when
 /// there is none and there are warnings).
-pub fn with_warnings(mut doc: Value, job: &Job) -> Value {
-    let mut found = warnings(job);
-    // A fragility task's counts carry none: the assembled result does.
-    if !matches!(job, Job::Fragility(f) if f.part.is_some()) {
-        found.extend(motion_warnings(job));
-    }
+pub fn with_warnings(mut doc: Value, found: Vec<WarningDoc>) -> Value {
     if found.is_empty() {
         return doc;
     }
@@ -194,6 +146,7 @@ pub fn with_warnings(mut doc: Value, job: &Job) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::jobs::Job;
     use crate::spectrum::Control;
 
     fn run(spec: &str) -> Value {
@@ -252,7 +205,7 @@ mod tests {
             r#"{"kind":"forensic","pulse":{"type":"one_sine"},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false},{"name":"cabinet in mm","b":300,"h":900,"overturned":true}],"frequency_hz":{"from":0.5,"to":2,"steps":3},"a_p_g":{"from":0.05,"to":3.0}}"#,
         )
         .expect("valid");
-        let w = warnings(&job);
+        let w = job.input_warnings();
         assert_eq!(w.len(), 1);
         assert!(
             w[0].message.starts_with("/observations/1/block"),

@@ -640,3 +640,78 @@ impl RecordSpectrumJob {
         })
     }
 }
+
+/// The `record_spectrum` kind: the rocking spectrum of a recorded motion.
+pub struct RecordSpectrum;
+
+impl crate::jobs::kind::Kind for RecordSpectrum {
+    const NAME: &'static str = "record_spectrum";
+    const LABEL: &'static str = "Record spectrum";
+    type Spec = RecordSpectrumSpec;
+    type Job = RecordSpectrumJob;
+    type Result = RecordSpectrumResult;
+
+    fn parse(value: &serde_json::Value) -> Result<RecordSpectrumJob, SpecError> {
+        super::spec::from_value::<RecordSpectrumSpec>(value, "")?.validate()
+    }
+
+    fn run(
+        job: &RecordSpectrumJob,
+        control: &Control,
+    ) -> Result<serde_json::Value, crate::jobs::JobError> {
+        crate::jobs::kind::document(&job.run(control)?)
+    }
+
+    fn size(job: &RecordSpectrumJob) -> crate::jobs::kind::Size {
+        let scan = job.points_per_size();
+        let grid = job.grid();
+        let bisection = (grid.step / grid.tolerance).log2().ceil().max(1.0);
+        let n = job.p.len() as f64;
+        let work = n * (scan + crate::jobs::kind::TRANSITIONS_PER_FREQUENCY * bisection);
+        crate::jobs::kind::Size {
+            series_points: 0,
+            grid_points: (n * scan).min(usize::MAX as f64) as usize,
+            work,
+            record_work: work * job.ground_motion.acc.len() as f64,
+        }
+    }
+
+    fn grid_field(_job: &RecordSpectrumJob) -> &'static str {
+        "/p"
+    }
+
+    fn warnings(job: &RecordSpectrumJob) -> Vec<super::warning::WarningDoc> {
+        use super::plausible::{coarse_dt_warning, record_warnings};
+        let mut found = record_warnings(&job.ground_motion, "/ground_motion");
+        if let Some(p) = job.p.iter().copied().reduce(f64::max) {
+            found.extend(coarse_dt_warning(job.ground_motion.dt, p, "/ground_motion"));
+        }
+        found
+    }
+
+    /// One task per chunk of block sizes; a long record (stored with each
+    /// task) in fewer tasks.
+    fn split(job: &RecordSpectrumJob, size: &crate::jobs::kind::Size) -> Vec<RecordSpectrumJob> {
+        let n = job.p.len();
+        if n <= 1 {
+            return vec![job.clone()];
+        }
+        let per =
+            super::split::line_chunk(n, size.work / n as f64, Some(job.ground_motion.acc.len()));
+        job.p
+            .chunks(per)
+            .map(|chunk| RecordSpectrumJob {
+                p: chunk.to_vec(),
+                ..job.clone()
+            })
+            .collect()
+    }
+
+    fn assemble(
+        job: &RecordSpectrumJob,
+        parts: Vec<serde_json::Value>,
+    ) -> Result<serde_json::Value, crate::jobs::JobError> {
+        let spec = crate::jobs::kind::document(job)?;
+        Ok(super::split::concatenate(Self::NAME, spec, parts))
+    }
+}

@@ -6,11 +6,6 @@
 
 use utoipa::ToSchema;
 
-use super::forensic::ForensicResult;
-use super::friction::FrictionResult;
-use super::spectrum::SpectrumResult;
-use super::time_history::TimeHistoryResult;
-
 /// A one-value enum: the `kind` of a spec or result.
 macro_rules! literal {
     ($(#[$doc:meta])* $name:ident = $value:literal) => {
@@ -64,26 +59,6 @@ pub enum ForensicExcitation {
     Pulse,
     /// A recorded motion: its scale.
     GroundMotion,
-}
-
-/// The kind of a job.
-#[derive(ToSchema)]
-#[schema(rename_all = "snake_case")]
-pub enum JobKind {
-    /// A time history.
-    TimeHistory,
-    /// An overturning spectrum.
-    Spectrum,
-    /// A friction-demand spectrum.
-    FrictionSpectrum,
-    /// A forensic query.
-    Forensic,
-    /// The rocking spectrum of a record.
-    RecordSpectrum,
-    /// The survival of rocks under a hazard model.
-    Survival,
-    /// Fragility by Monte Carlo.
-    Fragility,
 }
 
 /// The equation of motion (eq. 12/49 or eqs. 23–24/50).
@@ -264,65 +239,6 @@ pub enum WarningKind {
     CoarseDt,
     /// The record's PGA never exceeds the block's rocking threshold.
     NeverRocks,
-}
-
-/// A normalised spec (SI units, every default filled in), by `kind`: what a
-/// job view and a result document echo.
-#[derive(ToSchema)]
-#[serde(untagged)]
-#[schema(discriminator(property_name = "kind", mapping(
-    ("time_history" = "#/components/schemas/TimeHistoryJob"),
-    ("spectrum" = "#/components/schemas/SpectrumJob"),
-    ("friction_spectrum" = "#/components/schemas/FrictionSpectrumJob"),
-    ("forensic" = "#/components/schemas/ForensicJob"),
-    ("record_spectrum" = "#/components/schemas/RecordSpectrumJob"),
-    ("survival" = "#/components/schemas/SurvivalJob"),
-    ("fragility" = "#/components/schemas/FragilityJob"),
-)))]
-pub enum NormalizedSpec {
-    /// `"kind": "time_history"`.
-    TimeHistory(super::time_history::TimeHistoryJob),
-    /// `"kind": "spectrum"`.
-    Spectrum(super::spectrum::SpectrumJob),
-    /// `"kind": "friction_spectrum"`.
-    FrictionSpectrum(super::friction::FrictionJob),
-    /// `"kind": "forensic"`.
-    Forensic(super::forensic::ForensicJob),
-    /// `"kind": "record_spectrum"`.
-    RecordSpectrum(super::record_spectrum::RecordSpectrumJob),
-    /// `"kind": "survival"`.
-    Survival(super::survival::SurvivalJob),
-    /// `"kind": "fragility"`.
-    Fragility(super::fragility::FragilityJob),
-}
-
-/// A result document, by `kind`.
-#[derive(ToSchema)]
-#[serde(untagged)]
-#[schema(discriminator(property_name = "kind", mapping(
-    ("time_history" = "#/components/schemas/TimeHistoryResult"),
-    ("spectrum" = "#/components/schemas/SpectrumResult"),
-    ("friction_spectrum" = "#/components/schemas/FrictionSpectrumResult"),
-    ("forensic" = "#/components/schemas/ForensicResult"),
-    ("record_spectrum" = "#/components/schemas/RecordSpectrumResult"),
-    ("survival" = "#/components/schemas/SurvivalResult"),
-    ("fragility" = "#/components/schemas/FragilityResult"),
-)))]
-pub enum JobResult {
-    /// `"kind": "time_history"`.
-    TimeHistory(TimeHistoryResult),
-    /// `"kind": "spectrum"`.
-    Spectrum(SpectrumResult),
-    /// `"kind": "friction_spectrum"`.
-    FrictionSpectrum(FrictionResult),
-    /// `"kind": "forensic"`.
-    Forensic(ForensicResult),
-    /// `"kind": "record_spectrum"`.
-    RecordSpectrum(super::record_spectrum::RecordSpectrumResult),
-    /// `"kind": "survival"`.
-    Survival(super::survival::SurvivalResult),
-    /// `"kind": "fragility"`.
-    Fragility(super::fragility::FragilityResult),
 }
 
 /// A figure: an SVG document.

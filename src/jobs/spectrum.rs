@@ -618,6 +618,80 @@ impl SpectrumJob {
     }
 }
 
+/// The `spectrum` kind: the overturning spectrum of a block under a pulse
+/// family.
+pub struct Spectrum;
+
+impl crate::jobs::kind::Kind for Spectrum {
+    const NAME: &'static str = "spectrum";
+    const LABEL: &'static str = "Overturning spectrum";
+    type Spec = SpectrumSpec;
+    type Job = SpectrumJob;
+    type Result = SpectrumResult;
+
+    fn parse(value: &serde_json::Value) -> Result<SpectrumJob, SpecError> {
+        super::spec::from_value::<SpectrumSpec>(value, "")?.validate()
+    }
+
+    fn run(
+        job: &SpectrumJob,
+        control: &Control,
+    ) -> Result<serde_json::Value, crate::jobs::JobError> {
+        crate::jobs::kind::document(&job.run(control)?)
+    }
+
+    fn size(job: &SpectrumJob) -> crate::jobs::kind::Size {
+        let scan = (job.a_max_alpha_g / job.scan_step_alpha_g).ceil();
+        let bisection = (job.scan_step_alpha_g / job.tolerance)
+            .log2()
+            .ceil()
+            .max(1.0);
+        let per_frequency = scan + crate::jobs::kind::TRANSITIONS_PER_FREQUENCY * bisection;
+        let n = job.omega_ratio.len() as f64;
+        crate::jobs::kind::Size {
+            series_points: 0,
+            grid_points: (n * scan).min(usize::MAX as f64) as usize,
+            work: n * per_frequency,
+            record_work: 0.0,
+        }
+    }
+
+    fn grid_field(_job: &SpectrumJob) -> &'static str {
+        "/omega_ratio"
+    }
+
+    fn warnings(job: &SpectrumJob) -> Vec<super::warning::WarningDoc> {
+        super::plausible::size_warning(&job.block, "/block")
+            .into_iter()
+            .collect()
+    }
+
+    /// One task per chunk of frequencies of about
+    /// [`super::split::TASK_SIMULATIONS`] simulations.
+    fn split(job: &SpectrumJob, size: &crate::jobs::kind::Size) -> Vec<SpectrumJob> {
+        let n = job.omega_ratio.len();
+        if n <= 1 {
+            return vec![job.clone()];
+        }
+        let per = super::split::line_chunk(n, size.work / n as f64, None);
+        job.omega_ratio
+            .chunks(per)
+            .map(|chunk| SpectrumJob {
+                omega_ratio: chunk.to_vec(),
+                ..job.clone()
+            })
+            .collect()
+    }
+
+    fn assemble(
+        job: &SpectrumJob,
+        parts: Vec<serde_json::Value>,
+    ) -> Result<serde_json::Value, crate::jobs::JobError> {
+        let spec = crate::jobs::kind::document(job)?;
+        Ok(super::split::concatenate(Self::NAME, spec, parts))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use serde_json::{Value, json};

@@ -3,9 +3,6 @@
 
 use serde_json::Value;
 
-use super::fragility::FragilityPart;
-use super::{Job, JobError};
-
 /// Most tasks a spectrum is split into.
 pub const MAX_TASKS: usize = 256;
 
@@ -32,187 +29,92 @@ fn chunk_len(n: usize, per_line: f64, max_tasks: usize) -> usize {
         .clamp(1, n)
 }
 
-impl Job {
-    /// The tasks of this job, as job specs of their own: a spectrum becomes
-    /// one task per chunk of frequencies of about [`TASK_SIMULATIONS`]
-    /// simulations (at most [`MAX_TASKS`]); any other job is one task.
-    pub fn split(&self) -> Vec<Job> {
-        match self {
-            Job::RecordSpectrum(job) if job.p.len() > 1 => {
-                let n = job.p.len();
-                let samples = job.ground_motion.acc.len();
-                let per_size = self.size().work / n as f64
-                    * (samples as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
-                let max_tasks = MAX_TASKS.min((MAX_TASK_SAMPLES / samples).max(1));
-                job.p
-                    .chunks(chunk_len(n, per_size, max_tasks))
-                    .map(|chunk| {
-                        let mut part = job.clone();
-                        part.p = chunk.to_vec();
-                        Job::RecordSpectrum(part)
-                    })
-                    .collect()
-            }
-            Job::Spectrum(job) if job.omega_ratio.len() > 1 => {
-                let n = job.omega_ratio.len();
-                let per_frequency = self.size().work / n as f64;
-                let per = chunk_len(n, per_frequency, MAX_TASKS);
-                job.omega_ratio
-                    .chunks(per)
-                    .map(|chunk| {
-                        let mut part = job.clone();
-                        part.omega_ratio = chunk.to_vec();
-                        Job::Spectrum(part)
-                    })
-                    .collect()
-            }
-            Job::Fragility(job) if job.part.is_none() => {
-                let units = job.units();
-                // A task's payload names its units only: the suite is stored
-                // once, with the job.
-                let per_unit = super::fragility::CHUNK as f64
-                    * (job.longest_record() as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
-                // Whole units, rounded up: a unit of long records is already
-                // most of a task, and a task costs a claim and two writes.
-                let per = ((TASK_SIMULATIONS / per_unit).ceil() as usize)
-                    .max(units.div_ceil(MAX_TASKS))
-                    .clamp(1, units);
-                if per >= units {
-                    return vec![self.clone()];
-                }
-                (0..units)
-                    .step_by(per)
-                    .map(|from| {
-                        let mut part = (**job).clone();
-                        part.part = Some([from, (from + per).min(units)]);
-                        Job::Fragility(Box::new(part))
-                    })
-                    .collect()
-            }
-            other => vec![other.clone()],
+/// Frequency chunks of a spectrum's `n` lines of `per_line` simulations
+/// each, each record sample costing 1/[`SAMPLES_PER_PULSE_SIMULATION`] of a
+/// simulation when the spectrum is of a record of `samples` samples (stored
+/// with every task: their total is bounded by [`MAX_TASK_SAMPLES`]).
+pub fn line_chunk(n: usize, per_line: f64, samples: Option<usize>) -> usize {
+    match samples {
+        Some(samples) => {
+            let per_line = per_line * (samples as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
+            let max_tasks = MAX_TASKS.min((MAX_TASK_SAMPLES / samples.max(1)).max(1));
+            chunk_len(n, per_line, max_tasks)
         }
+        None => chunk_len(n, per_line, MAX_TASKS),
     }
+}
 
-    /// A task's stored payload: its own job spec, or — for a part of a
-    /// fragility job, whose spec may hold a record suite — only
-    /// `{"part": [from, to]}`, read with [`Job::part_of`] against the
-    /// computation's spec (stored once, not once per task).
-    pub fn task_payload(&self) -> String {
-        match self {
-            Job::Fragility(job) if job.part.is_some() => {
-                serde_json::json!({ "part": job.part }).to_string()
-            }
-            other => serde_json::to_string(other).unwrap_or_default(),
-        }
-    }
+/// Units of a job split by units of `per_unit_simulations` simulations each
+/// (records of `longest_record` samples at most) per task.
+pub fn units_per_task(units: usize, per_unit_simulations: f64, longest_record: usize) -> usize {
+    let per_unit =
+        per_unit_simulations * (longest_record as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
+    // Whole units, rounded up: a unit of long records is already most of a
+    // task, and a task costs a claim and two writes.
+    ((TASK_SIMULATIONS / per_unit).ceil() as usize)
+        .max(units.div_ceil(MAX_TASKS))
+        .clamp(1, units.max(1))
+}
 
-    /// The task a payload of [`Job::task_payload`] names: a part of `whole`,
-    /// or `None` when the payload is a job spec of its own.
-    pub fn part_of(whole: &Job, payload: &Value) -> Option<Result<Job, JobError>> {
-        let part = payload.get("part")?;
-        if payload.get("kind").is_some() {
-            return None;
+/// The result document of a spectrum (`kind`, normalised spec `spec`) from
+/// its tasks' documents: the lines (`spectrum`) concatenated in task order,
+/// the numerics summed (`wall_time_s` is then the tasks' total compute time;
+/// `error_estimate` their largest), the first task's `record` kept.
+pub fn concatenate(kind: &str, spec: Value, parts: Vec<Value>) -> Value {
+    let mut lines = Vec::new();
+    let mut numerics = serde_json::Map::new();
+    let sum_keys = [
+        "simulations",
+        "steps_accepted",
+        "steps_rejected",
+        "rhs_evaluations",
+        "events",
+    ];
+    let mut sums = [0u64; 5];
+    let (mut error, mut wall) = (0.0f64, 0.0f64);
+    for part in &parts {
+        if let Some(s) = part.get("spectrum").and_then(|s| s.as_array()) {
+            lines.extend(s.iter().cloned());
         }
-        Some(
-            match (whole, serde_json::from_value::<[usize; 2]>(part.clone())) {
-                (Job::Fragility(job), Ok([from, to])) if from < to && to <= job.units() => {
-                    let mut task = (**job).clone();
-                    task.part = Some([from, to]);
-                    Ok(Job::Fragility(Box::new(task)))
-                }
-                _ => Err(JobError::Point(format!(
-                    "a task's part {part} does not fit its {} job",
-                    whole.kind()
-                ))),
-            },
-        )
-    }
-
-    /// The job's result from its tasks' results (in task order). For a
-    /// spectrum the frequencies are concatenated and the numerics summed
-    /// (`wall_time_s` is then the tasks' total compute time); a fragility
-    /// job's counts are summed per stripe and the fit made on the sums.
-    pub fn assemble(&self, mut parts: Vec<Value>) -> Result<Value, JobError> {
-        // A fragility job's tasks return parts (one task is the whole job).
-        if let Job::Fragility(job) = self
-            && parts.iter().any(|p| p.get("part").is_some())
-        {
-            let parts: Vec<FragilityPart> = parts
-                .into_iter()
-                .map(serde_json::from_value)
-                .collect::<Result<_, _>>()
-                .map_err(|e| JobError::Point(format!("a task's result does not read: {e}")))?;
-            let doc = serde_json::to_value(job.assemble(&parts)?)
-                .map_err(|e| JobError::Point(e.to_string()))?;
-            return Ok(super::key::with_engine(super::plausible::with_warnings(
-                doc, self,
-            )));
-        }
-        if parts.len() == 1 {
-            return Ok(parts.pop().unwrap_or(Value::Null));
-        }
-        let (kind, spec) = match self {
-            Job::Spectrum(job) => ("spectrum", serde_json::to_value(job)),
-            Job::RecordSpectrum(job) => ("record_spectrum", serde_json::to_value(job)),
-            _ => return Ok(parts.pop().unwrap_or(Value::Null)),
-        };
-        let spec = spec.unwrap_or(Value::Null);
-        let mut lines = Vec::new();
-        let mut numerics = serde_json::Map::new();
-        let sum_keys = [
-            "simulations",
-            "steps_accepted",
-            "steps_rejected",
-            "rhs_evaluations",
-            "events",
-        ];
-        let mut sums = [0u64; 5];
-        let (mut error, mut wall) = (0.0f64, 0.0f64);
-        for part in &parts {
-            if let Some(s) = part.get("spectrum").and_then(|s| s.as_array()) {
-                lines.extend(s.iter().cloned());
+        if let Some(n) = part.get("numerics") {
+            if numerics.is_empty()
+                && let Some(o) = n.as_object()
+            {
+                numerics = o.clone();
             }
-            if let Some(n) = part.get("numerics") {
-                if numerics.is_empty()
-                    && let Some(o) = n.as_object()
-                {
-                    numerics = o.clone();
-                }
-                for (k, key) in sum_keys.iter().enumerate() {
-                    sums[k] += n.get(*key).and_then(|v| v.as_u64()).unwrap_or(0);
-                }
-                error = error.max(
-                    n.get("error_estimate")
-                        .and_then(|v| v.as_f64())
-                        .unwrap_or(0.0),
-                );
-                wall += n.get("wall_time_s").and_then(|v| v.as_f64()).unwrap_or(0.0);
+            for (k, key) in sum_keys.iter().enumerate() {
+                sums[k] += n.get(*key).and_then(|v| v.as_u64()).unwrap_or(0);
             }
+            error = error.max(
+                n.get("error_estimate")
+                    .and_then(|v| v.as_f64())
+                    .unwrap_or(0.0),
+            );
+            wall += n.get("wall_time_s").and_then(|v| v.as_f64()).unwrap_or(0.0);
         }
-        for (k, key) in sum_keys.iter().enumerate() {
-            numerics.insert((*key).into(), sums[k].into());
-        }
-        numerics.insert("error_estimate".into(), error.into());
-        numerics.insert("wall_time_s".into(), wall.into());
-        numerics.insert("tasks".into(), parts.len().into());
-        let mut doc = serde_json::json!({
-            "kind": kind,
-            "spectrum": lines,
-            "numerics": numerics,
-            "spec": spec,
-        });
-        if let Some(record) = parts.first().and_then(|p| p.get("record")) {
-            doc["record"] = record.clone();
-        }
-        Ok(super::key::with_engine(super::plausible::with_warnings(
-            doc, self,
-        )))
     }
+    for (k, key) in sum_keys.iter().enumerate() {
+        numerics.insert((*key).into(), sums[k].into());
+    }
+    numerics.insert("error_estimate".into(), error.into());
+    numerics.insert("wall_time_s".into(), wall.into());
+    numerics.insert("tasks".into(), parts.len().into());
+    let mut doc = serde_json::json!({
+        "kind": kind,
+        "spectrum": lines,
+        "numerics": numerics,
+        "spec": spec,
+    });
+    if let Some(record) = parts.first().and_then(|p| p.get("record")) {
+        doc["record"] = record.clone();
+    }
+    doc
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::jobs::Job;
     use crate::spectrum::Control;
 
     #[test]

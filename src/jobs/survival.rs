@@ -560,3 +560,35 @@ impl SurvivalJob {
         }
     }
 }
+
+/// The `survival` kind: the probability that rocks of known age still
+/// stand under a hazard model (closed forms).
+pub struct Survival;
+
+impl crate::jobs::kind::Kind for Survival {
+    const NAME: &'static str = "survival";
+    const LABEL: &'static str = "Survival";
+    type Spec = SurvivalSpec;
+    type Job = SurvivalJob;
+    type Result = SurvivalResult;
+
+    fn parse(value: &Value) -> Result<SurvivalJob, SpecError> {
+        super::spec::from_value::<SurvivalSpec>(value, "")?.validate()
+    }
+
+    fn run(
+        job: &SurvivalJob,
+        control: &crate::spectrum::Control,
+    ) -> Result<Value, crate::jobs::JobError> {
+        crate::jobs::kind::run_one(control, || Ok(job.run()))
+    }
+
+    /// Closed forms: as cheap as one simulation.
+    fn size(_job: &SurvivalJob) -> crate::jobs::kind::Size {
+        crate::jobs::kind::Size::ONE
+    }
+
+    fn grid_field(_job: &SurvivalJob) -> &'static str {
+        "/omega_ratio"
+    }
+}

@@ -9,6 +9,7 @@ use super::spec::{
     SolverSpec, SpecError, parse_formulation, validate_block, validate_ground_motion,
     validate_pulse, validate_solver_for,
 };
+pub use super::warning::WarningDoc;
 use crate::dynamics::response::{Response, Warning};
 use crate::dynamics::{Options, Problem, SimError, simulate};
 
@@ -201,20 +202,6 @@ impl GroundPeaksDoc {
             pgv_over_pga_s: if p.pga > 0.0 { p.pgv / p.pga } else { 0.0 },
         }
     }
-}
-
-/// A note on a result.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
-pub struct WarningDoc {
-    /// "sliding" | "lift_off" | "demand_excludes_fall" | "free_rocking_truncated" |
-    /// "impact_list_truncated" | "near_separatrix" | "implausible_size".
-    #[schema(value_type = crate::jobs::schema::WarningKind)]
-    pub kind: String,
-    /// When it happens, s.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub t: Option<f64>,
-    /// Explanation.
-    pub message: String,
 }
 
 impl WarningDoc {
@@ -444,5 +431,61 @@ impl TimeHistoryJob {
             numerics: NumericsDoc::from(&r.numerics),
             spec: self.clone(),
         }
+    }
+}
+
+/// The `time_history` kind: one simulation of a block under a pulse or a
+/// record.
+pub struct TimeHistory;
+
+impl crate::jobs::kind::Kind for TimeHistory {
+    const NAME: &'static str = "time_history";
+    const LABEL: &'static str = "Time history";
+    type Spec = TimeHistorySpec;
+    type Job = TimeHistoryJob;
+    type Result = TimeHistoryResult;
+
+    fn parse(value: &serde_json::Value) -> Result<TimeHistoryJob, SpecError> {
+        super::spec::from_value::<TimeHistorySpec>(value, "")?.validate()
+    }
+
+    fn run(
+        job: &TimeHistoryJob,
+        control: &crate::spectrum::Control,
+    ) -> Result<serde_json::Value, crate::jobs::JobError> {
+        crate::jobs::kind::run_one(control, || Ok(job.run()?))
+    }
+
+    fn size(job: &TimeHistoryJob) -> crate::jobs::kind::Size {
+        crate::jobs::kind::Size {
+            series_points: job.outputs.series,
+            grid_points: 1,
+            work: 1.0,
+            record_work: job
+                .ground_motion
+                .as_ref()
+                .map_or(0.0, |g| g.acc.len() as f64),
+        }
+    }
+
+    fn grid_field(_job: &TimeHistoryJob) -> &'static str {
+        "/omega_ratio"
+    }
+
+    fn warnings(job: &TimeHistoryJob) -> Vec<WarningDoc> {
+        use super::plausible::{
+            coarse_dt_warning, never_rocks_warning, record_warnings, size_warning,
+        };
+        let mut found: Vec<WarningDoc> = size_warning(&job.block, "/block").into_iter().collect();
+        if let Some(m) = &job.ground_motion {
+            found.extend(record_warnings(m, "/ground_motion"));
+            found.extend(coarse_dt_warning(m.dt, job.block.p, "/ground_motion"));
+            found.extend(never_rocks_warning(
+                m,
+                &job.block,
+                job.formulation == "linear",
+            ));
+        }
+        found
     }
 }

@@ -21,6 +21,8 @@ pub mod window;
 use plotters::prelude::*;
 use serde_json::Value;
 
+use crate::jobs::JobKind;
+
 pub use precision::precision_diagram;
 use style::{Area, Drawn, INK, TITLE};
 pub use window::Window;
@@ -63,21 +65,30 @@ pub fn svg_in(result: &Value, window: Option<Window>) -> Result<String, FigureEr
             kind.unwrap_or("").replace('_', " ")
         )));
     }
+    let Some(kind) = kind else {
+        return Err(FigureError::Result(
+            "not a result document: it has no \"kind\"".into(),
+        ));
+    };
+    let Some(kind) = JobKind::from_name(kind) else {
+        return Err(FigureError::Result(format!(
+            "no figure for results of kind {kind:?}"
+        )));
+    };
+    // Every kind has a figure: the match is exhaustive.
     match kind {
-        Some("time_history") => time_history::svg(result, window),
-        Some("spectrum") => spectrum::svg(result),
-        Some("friction_spectrum") => friction::svg(result),
-        Some("forensic")
+        JobKind::TimeHistory => time_history::svg(result, window),
+        JobKind::Spectrum => spectrum::svg(result),
+        JobKind::FrictionSpectrum => friction::svg(result),
+        JobKind::Forensic
             if result.get("excitation").and_then(Value::as_str) == Some("ground_motion") =>
         {
             forensic_record::svg(result)
         }
-        Some("forensic") => forensic::svg(result),
-        Some("record_spectrum") => record_spectrum::svg(result),
-        Some("survival") => survival::svg(result),
-        Some("fragility") => fragility::svg(result),
-        Some(other) => Err(format!("no figure for results of kind {other:?}")),
-        None => Err("not a result document: it has no \"kind\"".into()),
+        JobKind::Forensic => forensic::svg(result),
+        JobKind::RecordSpectrum => record_spectrum::svg(result),
+        JobKind::Survival => survival::svg(result),
+        JobKind::Fragility => fragility::svg(result),
     }
     .map_err(FigureError::Result)
 }

@@ -508,32 +508,7 @@ pub fn tick(v: f64) -> String {
     }
 }
 
-/// A number for a label: at most `digits` significant digits, no trailing
-/// zeros; beyond 10^9 or below 10^-6 in scientific notation (`1.27e307`), never
-/// a row of hundreds of digits.
-pub fn fmt_num(v: f64, digits: usize) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{v}");
-    }
-    let mag = v.abs().log10().floor() as i32;
-    if !(-6..=9).contains(&mag) {
-        let s = format!("{v:.prec$e}", prec = digits.saturating_sub(1));
-        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
-        let mantissa = if mantissa.contains('.') {
-            mantissa.trim_end_matches('0').trim_end_matches('.')
-        } else {
-            mantissa
-        };
-        return format!("{mantissa}e{exponent}");
-    }
-    let decimals = (digits as i32 - 1 - mag).max(0) as usize;
-    let s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
+pub use crate::numbers::fmt_num;
 
 /// A tick label in [`tick`]'s format.
 fn tick_label(v: &f64) -> String {

@@ -10,6 +10,7 @@ mod forensic_record;
 mod fragility;
 mod fuzz;
 mod ground_motion;
+mod kinds;
 mod paper;
 mod properties;
 mod pulses;

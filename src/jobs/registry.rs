@@ -1,0 +1,282 @@
+//! The registry of job kinds: one line per kind (the [`kinds!`] call at the
+//! end), from which the job enum [`Job`], the kind enum [`JobKind`] (the
+//! `?kind=` parameter), the kind list [`KINDS`], every dispatch over kinds and
+//! the API description's unions of specs, normalised specs and results are
+//! generated. The order of the lines is the order of the lists.
+
+use std::borrow::Cow;
+
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use utoipa::openapi::schema::{Discriminator, OneOfBuilder, Schema};
+use utoipa::openapi::{Ref, RefOr};
+use utoipa::{PartialSchema, ToSchema};
+
+use super::error::{JobError, SpecError};
+use super::kind::{Kind, Size};
+use super::warning::WarningDoc;
+use crate::spectrum::Control;
+
+/// A `oneOf` of the kinds' schemas `(kind, schema name)`, discriminated by
+/// `kind`.
+fn union(description: &str, items: &[(&str, Cow<'static, str>)]) -> RefOr<Schema> {
+    let mut one_of = OneOfBuilder::new().description(Some(description));
+    for (kind, name) in items {
+        let mut item = Ref::from_schema_name(name.as_ref());
+        item.description = format!("`\"kind\": \"{kind}\"`.");
+        one_of = one_of.item(RefOr::Ref(item));
+    }
+    let mapping = items
+        .iter()
+        .map(|(kind, name)| (kind.to_string(), format!("#/components/schemas/{name}")));
+    one_of
+        .discriminator(Some(Discriminator::with_mapping("kind", mapping)))
+        .into()
+}
+
+/// Generates, from `Variant => kind type` lines, the job enum, the kind enum
+/// and list, the dispatch and the unions.
+macro_rules! kinds {
+    ($( $(#[doc = $doc:literal])* $variant:ident => $kind:ty ),* $(,)?) => {
+        /// A validated job of any kind; serialises to its canonical
+        /// (normalised) spec.
+        #[derive(Clone, Debug, PartialEq, Serialize)]
+        #[serde(untagged)]
+        pub enum Job {
+            $( $(#[doc = $doc])* $variant(Box<<$kind as Kind>::Job>), )*
+        }
+
+        /// The kind of a job.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, ToSchema)]
+        #[serde(rename_all = "snake_case")]
+        pub enum JobKind {
+            $( $(#[doc = $doc])* $variant, )*
+        }
+
+        impl JobKind {
+            /// Every kind, in the registry's order.
+            pub const ALL: &'static [JobKind] = &[$(JobKind::$variant),*];
+
+            /// The kind's name (`"time_history"`).
+            pub fn name(self) -> &'static str {
+                match self {
+                    $( JobKind::$variant => <$kind as Kind>::NAME, )*
+                }
+            }
+
+            /// The kind's name for people ("Time history").
+            pub fn label(self) -> &'static str {
+                match self {
+                    $( JobKind::$variant => <$kind as Kind>::LABEL, )*
+                }
+            }
+
+            /// The kind named `name`.
+            pub fn from_name(name: &str) -> Option<JobKind> {
+                JobKind::ALL.iter().copied().find(|k| k.name() == name)
+            }
+        }
+
+        /// The job kinds, as named in specs.
+        pub const KINDS: &[&str] = &[$(<$kind as Kind>::NAME),*];
+
+        impl Job {
+            /// Validates a spec of kind `kind`.
+            pub(crate) fn of_kind(kind: JobKind, value: &Value) -> Result<Job, SpecError> {
+                Ok(match kind {
+                    $( JobKind::$variant => Job::$variant(Box::new(<$kind as Kind>::parse(value)?)), )*
+                })
+            }
+
+            /// The job's kind.
+            pub fn job_kind(&self) -> JobKind {
+                match self {
+                    $( Job::$variant(_) => JobKind::$variant, )*
+                }
+            }
+
+            /// The kind name.
+            pub fn kind(&self) -> &'static str {
+                self.job_kind().name()
+            }
+
+            /// The document the job computes (see [`Kind::run`]).
+            pub(crate) fn run_document(&self, control: &Control) -> Result<Value, JobError> {
+                match self {
+                    $( Job::$variant(j) => <$kind as Kind>::run(j, control), )*
+                }
+            }
+
+            /// How big the job is.
+            pub fn size(&self) -> Size {
+                match self {
+                    $( Job::$variant(j) => <$kind as Kind>::size(j), )*
+                }
+            }
+
+            /// The field that sets the job's grid and work.
+            pub fn grid_field(&self) -> &'static str {
+                match self {
+                    $( Job::$variant(j) => <$kind as Kind>::grid_field(j), )*
+                }
+            }
+
+            /// Warnings about the job's inputs.
+            pub fn input_warnings(&self) -> Vec<WarningDoc> {
+                match self {
+                    $( Job::$variant(j) => <$kind as Kind>::warnings(j), )*
+                }
+            }
+
+            /// Whether the job is a task's part.
+            pub fn is_part(&self) -> bool {
+                match self {
+                    $( Job::$variant(j) => <$kind as Kind>::is_part(j), )*
+                }
+            }
+
+            /// The tasks of this job, as jobs of their own.
+            pub fn split(&self) -> Vec<Job> {
+                let size = self.size();
+                match self {
+                    $( Job::$variant(j) => <$kind as Kind>::split(j, &size)
+                        .into_iter()
+                        .map(|t| Job::$variant(Box::new(t)))
+                        .collect(), )*
+                }
+            }
+
+            /// A task's stored payload: its own job spec, or what the kind
+            /// stores instead (a part's bounds).
+            pub fn task_payload(&self) -> String {
+                let own = match self {
+                    $( Job::$variant(j) => <$kind as Kind>::task_payload(j), )*
+                };
+                own.unwrap_or_else(|| serde_json::to_string(self).unwrap_or_default())
+            }
+
+            /// The task a payload of [`Job::task_payload`] names: a part of
+            /// `whole`, or `None` when the payload is a job spec of its own.
+            pub fn part_of(whole: &Job, payload: &Value) -> Option<Result<Job, JobError>> {
+                match whole {
+                    $( Job::$variant(j) => <$kind as Kind>::part_of(j, payload)
+                        .map(|r| r.map(|t| Job::$variant(Box::new(t)))), )*
+                }
+            }
+
+            /// The kind's assembly of several tasks' documents.
+            pub(crate) fn assemble_documents(&self, parts: Vec<Value>) -> Result<Value, JobError> {
+                match self {
+                    $( Job::$variant(j) => <$kind as Kind>::assemble(j, parts), )*
+                }
+            }
+        }
+
+        /// A job spec: exactly what `topple run` accepts.
+        pub struct JobSpec;
+
+        impl PartialSchema for JobSpec {
+            fn schema() -> RefOr<Schema> {
+                union(
+                    "A job spec: exactly what `topple run` accepts.",
+                    &[$( (<$kind as Kind>::NAME, <<$kind as Kind>::Spec as ToSchema>::name()) ),*],
+                )
+            }
+        }
+
+        impl ToSchema for JobSpec {
+            fn schemas(schemas: &mut Vec<(String, RefOr<Schema>)>) {
+                $(
+                    schemas.push((
+                        <<$kind as Kind>::Spec as ToSchema>::name().into(),
+                        <<$kind as Kind>::Spec as PartialSchema>::schema(),
+                    ));
+                    <<$kind as Kind>::Spec as ToSchema>::schemas(schemas);
+                )*
+            }
+        }
+
+        /// A normalised spec (SI units, every default filled in), by
+        /// `kind`: what a job view and a result document echo.
+        pub struct NormalizedSpec;
+
+        impl PartialSchema for NormalizedSpec {
+            fn schema() -> RefOr<Schema> {
+                union(
+                    "A normalised spec (SI units, every default filled in), by `kind`: what a\njob view and a result document echo.",
+                    &[$( (<$kind as Kind>::NAME, <<$kind as Kind>::Job as ToSchema>::name()) ),*],
+                )
+            }
+        }
+
+        impl ToSchema for NormalizedSpec {
+            fn schemas(schemas: &mut Vec<(String, RefOr<Schema>)>) {
+                $(
+                    schemas.push((
+                        <<$kind as Kind>::Job as ToSchema>::name().into(),
+                        <<$kind as Kind>::Job as PartialSchema>::schema(),
+                    ));
+                    <<$kind as Kind>::Job as ToSchema>::schemas(schemas);
+                )*
+            }
+        }
+
+        /// A result document, by `kind`.
+        pub struct JobResult;
+
+        impl PartialSchema for JobResult {
+            fn schema() -> RefOr<Schema> {
+                union(
+                    "A result document, by `kind`.",
+                    &[$( (<$kind as Kind>::NAME, <<$kind as Kind>::Result as ToSchema>::name()) ),*],
+                )
+            }
+        }
+
+        impl ToSchema for JobResult {
+            fn schemas(schemas: &mut Vec<(String, RefOr<Schema>)>) {
+                $(
+                    schemas.push((
+                        <<$kind as Kind>::Result as ToSchema>::name().into(),
+                        <<$kind as Kind>::Result as PartialSchema>::schema(),
+                    ));
+                    <<$kind as Kind>::Result as ToSchema>::schemas(schemas);
+                )*
+            }
+        }
+    };
+}
+
+kinds! {
+    /// One time history.
+    TimeHistory => super::time_history::TimeHistory,
+    /// An overturning spectrum.
+    Spectrum => super::spectrum::Spectrum,
+    /// A friction-demand spectrum.
+    FrictionSpectrum => super::friction::FrictionSpectrum,
+    /// The pulses or record scales consistent with blocks seen overturned or
+    /// standing.
+    Forensic => super::forensic::Forensic,
+    /// The rocking spectrum of a recorded motion.
+    RecordSpectrum => super::record_spectrum::RecordSpectrum,
+    /// The survival of rocks of known age under a hazard model.
+    Survival => super::survival::Survival,
+    /// Fragility by Monte Carlo.
+    Fragility => super::fragility::Fragility,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `?kind=` (serde) and specs (`Kind::NAME`) name every kind alike.
+    #[test]
+    fn the_kind_enum_names_kinds_as_specs_do() {
+        for kind in JobKind::ALL {
+            let named = serde_json::to_value(kind).expect("a name");
+            assert_eq!(named, kind.name(), "{kind:?}");
+            assert_eq!(JobKind::from_name(kind.name()), Some(*kind));
+        }
+        assert_eq!(KINDS.len(), JobKind::ALL.len());
+    }
+}
