@@ -9,10 +9,13 @@ pub mod fragility;
 pub mod friction;
 pub mod key;
 pub mod limits;
+pub mod names;
 pub mod numerics;
 pub mod plausible;
 pub mod range;
 pub mod record_spectrum;
+#[cfg(test)]
+mod roundtrip;
 pub mod schema;
 pub mod spec;
 pub mod spectrum;

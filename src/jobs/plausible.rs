@@ -125,7 +125,7 @@ pub fn motion_warnings(job: &Job) -> Vec<WarningDoc> {
                 found.extend(record_warnings(m, "/ground_motion"));
                 found.extend(coarse_dt_warning(m.dt, j.block.p, "/ground_motion"));
                 // Rocking starts once |ü_g| exceeds g·tan α (g·α linear).
-                let threshold = if j.formulation == "linear" {
+                let threshold = if j.formulation == crate::dynamics::Formulation::Linear {
                     j.block.g * j.block.alpha
                 } else {
                     j.block.g * j.block.alpha.tan()
@@ -139,7 +139,7 @@ pub fn motion_warnings(job: &Job) -> Vec<WarningDoc> {
                             "/ground_motion: the record's PGA ({:.4} g) never exceeds the block's rocking threshold ({:.4} g, {}): the block stays at rest; scale the record (a record spectrum or a forensic query) to see where it would rock",
                             pga / j.block.g,
                             threshold / j.block.g,
-                            if j.formulation == "linear" { "g·α" } else { "g·tan α" }
+                            if j.formulation == crate::dynamics::Formulation::Linear { "g·α" } else { "g·tan α" }
                         ),
                     });
                 }

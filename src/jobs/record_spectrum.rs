@@ -10,6 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::names::{EngineDoc, tag};
 use super::range::RangeSpec;
 use super::spec::{
     BlockSpec, GroundMotionNorm, GroundMotionSpec, SolverNorm, SolverSpec, SpecError, at_most_one,
@@ -132,7 +133,7 @@ pub struct RecordSpectrumSpec {
 }
 
 /// The block of a record spectrum, normalised: everything but its size.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct RecordBlockNorm {
     /// α, rad.
     pub alpha: f64,
@@ -143,7 +144,7 @@ pub struct RecordBlockNorm {
 }
 
 /// A range of scale factors, normalised.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ScaleRangeNorm {
     /// Lowest scale factor.
     pub from: f64,
@@ -152,11 +153,11 @@ pub struct ScaleRangeNorm {
 }
 
 /// A validated record spectrum; serialises to the canonical spec.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct RecordSpectrumJob {
     /// "record_spectrum".
     #[schema(value_type = crate::jobs::schema::RecordSpectrumKind)]
-    pub kind: &'static str,
+    pub kind: tag::RecordSpectrum,
     /// The record, m/s².
     pub ground_motion: GroundMotionNorm,
     /// Block (its size varies).
@@ -166,8 +167,9 @@ pub struct RecordSpectrumJob {
     /// Scale factors examined.
     pub scale: ScaleRangeNorm,
     /// "linear" | "nonlinear".
+    #[serde(with = "super::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
-    pub formulation: &'static str,
+    pub formulation: Formulation,
     /// Bracket width, scale units.
     pub tolerance: f64,
     /// Scan step, scale units.
@@ -358,7 +360,7 @@ impl RecordSpectrumSpec {
             ));
         }
         Ok(RecordSpectrumJob {
-            kind: "record_spectrum",
+            kind: tag::RecordSpectrum,
             ground_motion,
             block: RecordBlockNorm {
                 alpha: block.alpha,
@@ -367,7 +369,7 @@ impl RecordSpectrumSpec {
             },
             p,
             scale,
-            formulation: formulation.name(),
+            formulation,
             tolerance,
             scan_step,
             principal_relative_width: principal,
@@ -486,11 +488,11 @@ pub struct RecordSpectrumNumerics {
 }
 
 /// The result document of a record spectrum.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct RecordSpectrumResult {
     /// "record_spectrum".
     #[schema(value_type = crate::jobs::schema::RecordSpectrumKind)]
-    pub kind: &'static str,
+    pub kind: tag::RecordSpectrum,
     /// The record's PGA, PGV, PGD and sampling.
     pub record: RecordDoc,
     /// One entry per block size, in the order of `spec.p`.
@@ -502,16 +504,16 @@ pub struct RecordSpectrumResult {
     /// Notes on the inputs; absent when there are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub engine: Option<EngineDoc>,
 }
 
 impl RecordSpectrumJob {
     /// The formulation.
     pub fn formulation(&self) -> Formulation {
-        if self.formulation == "linear" {
-            Formulation::Linear
-        } else {
-            Formulation::Nonlinear
-        }
+        self.formulation
     }
 
     /// The block at frequency parameter `p`.
@@ -621,7 +623,7 @@ impl RecordSpectrumJob {
             .collect();
         let n = self.ground_motion.acc.len();
         Ok(RecordSpectrumResult {
-            kind: "record_spectrum",
+            kind: tag::RecordSpectrum,
             record: RecordDoc {
                 peaks: GroundPeaksDoc::new(&peaks::of_record(&record), g),
                 dt_s: self.ground_motion.dt,
@@ -637,6 +639,7 @@ impl RecordSpectrumJob {
             },
             spec: self.clone(),
             warnings: Vec::new(),
+            engine: None,
         })
     }
 }
