@@ -783,10 +783,6 @@ struct Tasks {
 }
 
 impl FragilityJob {
-    fn formulation(&self) -> Formulation {
-        self.formulation
-    }
-
     /// The block of one sample from its uniforms.
     fn block_at(&self, u: [f64; 3]) -> Result<Block, String> {
         let b = &self.block;
@@ -815,7 +811,7 @@ impl FragilityJob {
     ) -> Result<Option<u8>, String> {
         let block = self.block_at([u[0], u[1], u[2]])?;
         let options = Options::outcome(self.solver.solver());
-        let formulation = self.formulation();
+        let formulation = self.formulation;
         let r = if let Some(pulse) = &self.pulse {
             let omega = match (&pulse.omega_p, &pulse.omega_ratio) {
                 (Some(w), _) => w.at(u[3]),

@@ -511,11 +511,6 @@ pub struct RecordSpectrumResult {
 }
 
 impl RecordSpectrumJob {
-    /// The formulation.
-    pub fn formulation(&self) -> Formulation {
-        self.formulation
-    }
-
     /// The block at frequency parameter `p`.
     pub fn block_at(&self, p: f64) -> Block {
         Block {
@@ -535,7 +530,7 @@ impl RecordSpectrumJob {
     /// The scan grid in levels (scaled PGA in α g).
     pub fn grid(&self) -> ScanGrid {
         let unit = self.unit_scale();
-        let threshold = threshold_alpha_g(self.formulation(), &self.block_at(1.0));
+        let threshold = threshold_alpha_g(self.formulation, &self.block_at(1.0));
         ScanGrid {
             // From the threshold whatever `scale.from` is: a line that already
             // overturns at `from` would otherwise lose where overturning begins.
@@ -566,12 +561,12 @@ impl RecordSpectrumJob {
             record: record.clone(),
             block: self.block_at(1.0),
             ps: self.p.clone(),
-            formulation: self.formulation(),
+            formulation: self.formulation,
             solver: self.solver.solver(),
             grid: self.grid(),
         };
         let s = record_spectrum(&req, control)?;
-        let threshold = threshold_alpha_g(self.formulation(), &self.block_at(1.0));
+        let threshold = threshold_alpha_g(self.formulation, &self.block_at(1.0));
         let to_scale = |level: f64| level * unit;
         let transition = |t: &Transition| ScaleTransitionDoc {
             scale: to_scale(t.at),

@@ -788,14 +788,15 @@ pub fn validate_pulse(
 
 /// Parses the formulation (default nonlinear).
 pub fn parse_formulation(v: Option<&str>, pointer: &str) -> Result<Formulation, SpecError> {
-    match v.map(|s| s.to_ascii_lowercase()).as_deref() {
-        None | Some("nonlinear") => Ok(Formulation::Nonlinear),
-        Some("linear") => Ok(Formulation::Linear),
-        Some(other) => Err(SpecError::at(
+    let Some(name) = v.map(|s| s.to_ascii_lowercase()) else {
+        return Ok(Formulation::Nonlinear);
+    };
+    super::names::formulation::from_name(&name).ok_or_else(|| {
+        SpecError::at(
             pointer,
-            format!("unknown formulation {other:?}: expected linear | nonlinear"),
-        )),
-    }
+            format!("unknown formulation {name:?}: expected linear | nonlinear"),
+        )
+    })
 }
 
 /// Validates the solver for a ground motion that has (`closed_form`: a
