@@ -21,7 +21,7 @@ use super::spec::{
     validate_ground_motion,
 };
 use super::spectrum::{PulseFamily, ScanCost, validate_family};
-use crate::dynamics::Formulation;
+use crate::dynamics::{Formulation, SimError};
 use crate::spectrum::Control;
 use crate::spectrum::overturning::{SpectrumRequest, overturning_spectrum, threshold_alpha_g};
 use crate::spectrum::scan::{Direction, ScanError, ScanStats, Transition};
@@ -794,8 +794,8 @@ impl ForensicJob {
         let mut stats = ScanStats::default();
         let mut sets: Vec<Vec<Intervals>> = Vec::with_capacity(self.observations.len());
         for o in &self.observations {
-            let block = o.block.block();
-            let alpha = block.slenderness;
+            let block = o.block.block().map_err(SimError::from)?;
+            let alpha = block.slenderness();
             let req = SpectrumRequest {
                 block,
                 shape: pulse.shape(),
@@ -804,7 +804,7 @@ impl ForensicJob {
                 omega_ratios: self
                     .frequency_hz
                     .iter()
-                    .map(|f| two_pi * f / block.frequency_parameter)
+                    .map(|f| two_pi * f / block.frequency_parameter())
                     .collect(),
                 a_max: to / alpha,
                 tolerance: self.tolerance_g / alpha,

@@ -16,7 +16,7 @@ use super::record_spectrum::RecordDoc;
 use super::spec::GroundMotionNorm;
 use super::spectrum::ScanCost;
 use super::time_history::GroundPeaksDoc;
-use crate::dynamics::{Problem, peaks};
+use crate::dynamics::{Problem, SimError, peaks};
 use crate::spectrum::Control;
 use crate::spectrum::overturning::{ScanGrid, scan_lines, threshold_alpha_g};
 use crate::spectrum::scan::{ScanError, ScanStats};
@@ -48,8 +48,8 @@ pub fn run(
         .observations
         .par_iter()
         .map(|o| {
-            let block = o.block.block();
-            let alpha = block.slenderness;
+            let block = o.block.block().map_err(SimError::from)?;
+            let alpha = block.slenderness();
             let threshold = threshold_alpha_g(formulation, &block);
             let mut stats = ScanStats::default();
             let overturning_g = if to / alpha <= threshold {

@@ -815,12 +815,12 @@ impl FragilityJob {
         let r = if let Some(pulse) = &self.pulse {
             let omega = match (&pulse.omega_p, &pulse.omega_ratio) {
                 (Some(w), _) => w.at(u[3]),
-                (_, Some(ratio)) => ratio.at(u[3]) * block.frequency_parameter,
+                (_, Some(ratio)) => ratio.at(u[3]) * block.frequency_parameter(),
                 _ => return Err("the pulse has no frequency".into()),
             };
             let unit = Pulse::new(pulse.family.shape(), 1.0, omega).map_err(|e| e.to_string())?;
             let a_p = if self.im == Im::PgaG {
-                im * block.gravity
+                im * block.gravity()
             } else {
                 im / unit.peak_velocity()
             };
@@ -833,7 +833,7 @@ impl FragilityJob {
         } else {
             let (record, per_unit) = &records[j % records.len()];
             let factor = if self.im == Im::PgaG {
-                im * block.gravity / per_unit
+                im * block.gravity() / per_unit
             } else {
                 im / per_unit
             };

@@ -9,7 +9,7 @@ use super::spec::{
     in_one_unit, parse_formulation, validate_block,
 };
 use super::spectrum::{PulseFamily, SpectrumNumerics, validate_family};
-use crate::dynamics::Formulation;
+use crate::dynamics::{Formulation, SimError};
 use crate::spectrum::Control;
 use crate::spectrum::friction::{FrictionRequest, friction_spectrum};
 use crate::spectrum::scan::ScanError;
@@ -229,7 +229,7 @@ pub struct FrictionResult {
 impl FrictionJob {
     /// Runs the job under `control`.
     pub fn run(&self, control: &Control) -> Result<FrictionResult, ScanError> {
-        let block = self.block.block();
+        let block = self.block.block().map_err(SimError::from)?;
         let req = FrictionRequest {
             block,
             shape: self.pulse.shape(),
@@ -239,7 +239,7 @@ impl FrictionJob {
             levels: self.a_alpha_g.clone(),
         };
         let s = friction_spectrum(&req, control)?;
-        let tan = block.slenderness.tan();
+        let tan = block.slenderness().tan();
         Ok(FrictionResult {
             warnings: Vec::new(),
             kind: tag::FrictionSpectrum,
@@ -251,7 +251,7 @@ impl FrictionJob {
                 .iter()
                 .map(|p| FrictionPointDoc {
                     a_alpha_g: p.level,
-                    a_p_g: p.level * block.slenderness,
+                    a_p_g: p.level * block.slenderness(),
                     peak_friction_demand: p.peak_demand,
                     peak_over_tan_alpha: p.peak_demand.map(|d| d / tan),
                     initiation_friction_demand: p.initiation_demand,

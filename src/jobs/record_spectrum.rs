@@ -18,9 +18,10 @@ use super::spec::{
 };
 use super::spectrum::ScanCost;
 use super::time_history::GroundPeaksDoc;
-use crate::dynamics::{Block, Formulation, peaks};
+use crate::dynamics::block::BlockError;
+use crate::dynamics::{Block, Formulation, SimError, peaks};
 use crate::spectrum::Control;
-use crate::spectrum::overturning::{Derived, LineScan, ScanGrid, threshold_alpha_g};
+use crate::spectrum::overturning::{Derived, LineScan, ScanGrid, threshold_alpha_g_of};
 use crate::spectrum::record::{RecordSpectrumRequest, record_spectrum};
 use crate::spectrum::scan::{Direction, ModeChange, ScanError, Transition};
 
@@ -289,16 +290,7 @@ impl RecordSpectrumSpec {
             from: from * to_scale,
             to: to * to_scale,
         };
-        let threshold = threshold_alpha_g(
-            formulation,
-            &Block {
-                slenderness: block.alpha,
-                frequency_parameter: 1.0,
-                restitution: block.eta,
-                friction: None,
-                gravity: g,
-            },
-        );
+        let threshold = threshold_alpha_g_of(formulation, block.alpha, g);
         let level_to = scale.to / unit;
         if level_to <= threshold {
             return Err(SpecError::at(
@@ -511,15 +503,21 @@ pub struct RecordSpectrumResult {
 }
 
 impl RecordSpectrumJob {
-    /// The block at frequency parameter `p`.
-    pub fn block_at(&self, p: f64) -> Block {
-        Block {
-            slenderness: self.block.alpha,
-            frequency_parameter: p,
-            restitution: self.block.eta,
-            friction: None,
-            gravity: self.block.g,
-        }
+    /// The block at frequency parameter `p` (an error for values no
+    /// validated spec holds).
+    pub fn block_at(&self, p: f64) -> Result<Block, BlockError> {
+        Block::new(
+            self.block.alpha,
+            p,
+            Some(self.block.eta),
+            None,
+            Some(self.block.g),
+        )
+    }
+
+    /// The rocking threshold of every block size, αg.
+    pub fn threshold_alpha_g(&self) -> f64 {
+        threshold_alpha_g_of(self.formulation, self.block.alpha, self.block.g)
     }
 
     /// s_α = αg/PGA: the scale factor of one level (scaled PGA of α g).
@@ -530,7 +528,7 @@ impl RecordSpectrumJob {
     /// The scan grid in levels (scaled PGA in α g).
     pub fn grid(&self) -> ScanGrid {
         let unit = self.unit_scale();
-        let threshold = threshold_alpha_g(self.formulation, &self.block_at(1.0));
+        let threshold = self.threshold_alpha_g();
         ScanGrid {
             // From the threshold whatever `scale.from` is: a line that already
             // overturns at `from` would otherwise lose where overturning begins.
@@ -559,14 +557,14 @@ impl RecordSpectrumJob {
         let peak = pga(&self.ground_motion.acc);
         let req = RecordSpectrumRequest {
             record: record.clone(),
-            block: self.block_at(1.0),
+            block: self.block_at(1.0).map_err(SimError::from)?,
             ps: self.p.clone(),
             formulation: self.formulation,
             solver: self.solver.solver(),
             grid: self.grid(),
         };
         let s = record_spectrum(&req, control)?;
-        let threshold = threshold_alpha_g(self.formulation, &self.block_at(1.0));
+        let threshold = self.threshold_alpha_g();
         let to_scale = |level: f64| level * unit;
         let transition = |t: &Transition| ScaleTransitionDoc {
             scale: to_scale(t.at),

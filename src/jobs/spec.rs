@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 use super::names::{SolverMethod, tag};
+use crate::dynamics::block::BlockError;
 use crate::dynamics::{Block, Formulation, Method, Pulse, PulseShape, Record, Solver};
 
 pub use super::error::SpecError;
@@ -320,15 +321,9 @@ pub struct BlockNorm {
 }
 
 impl BlockNorm {
-    /// The domain block.
-    pub fn block(&self) -> Block {
-        Block {
-            slenderness: self.alpha,
-            frequency_parameter: self.p,
-            restitution: self.eta,
-            friction: self.mu,
-            gravity: self.g,
-        }
+    /// The domain block (an error for values no validated spec holds).
+    pub fn block(&self) -> Result<Block, BlockError> {
+        Block::new(self.alpha, self.p, Some(self.eta), self.mu, Some(self.g))
     }
 }
 
@@ -407,11 +402,11 @@ pub fn validate_block(spec: &BlockSpec, base: &str) -> Result<BlockNorm, SpecErr
         }
     };
     Ok(BlockNorm {
-        alpha: block.slenderness,
-        p: block.frequency_parameter,
-        eta: block.restitution,
-        mu: block.friction,
-        g: block.gravity,
+        alpha: block.slenderness(),
+        p: block.frequency_parameter(),
+        eta: block.restitution(),
+        mu: block.friction(),
+        g: block.gravity(),
     })
 }
 

@@ -8,7 +8,7 @@ use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, ShapeParams, SolverNorm, SolverSpec,
     SpecError, family_of, in_one_unit, parse_formulation, parse_shape, shape_name, validate_block,
 };
-use crate::dynamics::{Formulation, Pulse, PulseShape};
+use crate::dynamics::{Formulation, Pulse, PulseShape, SimError};
 use crate::spectrum::overturning::Derived;
 use crate::spectrum::scan::{Direction, ModeChange, ScanStats, Transition};
 use crate::spectrum::{Control, SpectrumRequest, overturning_spectrum};
@@ -576,7 +576,7 @@ impl SpectrumJob {
         control: &Control,
     ) -> Result<SpectrumResult, crate::spectrum::scan::ScanError> {
         let formulation = self.formulation;
-        let block = self.block.block();
+        let block = self.block.block().map_err(SimError::from)?;
         let req = SpectrumRequest {
             block,
             shape: self.pulse.shape(),

@@ -358,7 +358,7 @@ pub struct TimeHistoryResult {
 impl TimeHistoryJob {
     /// Runs the job.
     pub fn run(&self) -> Result<TimeHistoryResult, SimError> {
-        let block = self.block.block();
+        let block = self.block.block()?;
         let formulation = self.formulation;
         let options = Options {
             solver: self.solver.solver(),
