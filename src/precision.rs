@@ -42,20 +42,16 @@ pub const LADDER: [f64; 10] = [
 ];
 
 fn problems() -> Vec<Problem> {
-    let block = Block::new(0.25, 2.14, Some(0.9), None, None).unwrap_or(Block {
-        slenderness: 0.25,
-        frequency_parameter: 2.14,
-        restitution: 0.9,
-        friction: None,
-        gravity: 9.81,
-    });
+    let Ok(block) = Block::new(0.25, 2.14, Some(0.9), None, None) else {
+        return Vec::new();
+    };
     CASES
         .iter()
         .filter_map(|&(shape, ratio, level)| {
             let pulse = Pulse::new(
                 shape,
-                level * block.slenderness * block.gravity,
-                ratio * block.frequency_parameter,
+                level * block.slenderness() * block.gravity(),
+                ratio * block.frequency_parameter(),
             )
             .ok()?;
             Some(Problem {

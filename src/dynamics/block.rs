@@ -29,18 +29,20 @@ pub enum BlockError {
 }
 
 /// A rigid block rocking on a rigid base, described by the paper's parameters.
+/// Built valid only ([`Block::new`], [`Block::from_geometry`],
+/// [`Block::with_frequency_parameter`]); read through its accessors.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Block {
     /// Slenderness α = atan(b/h), radians; 0 < α < π/2.
-    pub slenderness: f64,
+    slenderness: f64,
     /// Frequency parameter p = √(3g/(4R)), rad/s (eq. 5).
-    pub frequency_parameter: f64,
+    frequency_parameter: f64,
     /// Coefficient of restitution η: θ̇ after impact = η · θ̇ before (eqs. 13–15).
-    pub restitution: f64,
+    restitution: f64,
     /// Static friction coefficient μ at the base, if known (eqs. 6–9).
-    pub friction: Option<f64>,
+    friction: Option<f64>,
     /// Gravitational acceleration g, m/s².
-    pub gravity: f64,
+    gravity: f64,
 }
 
 /// Housner's maximum coefficient of restitution, η = 1 − 1.5 sin²α (eq. 15,
@@ -118,6 +120,48 @@ impl Block {
         )
     }
 
+    /// The same block with frequency parameter `p` (another size, the same
+    /// slenderness, restitution, friction and gravity).
+    pub fn with_frequency_parameter(&self, p: f64) -> Result<Self, BlockError> {
+        Block::new(
+            self.slenderness,
+            p,
+            Some(self.restitution),
+            self.friction,
+            Some(self.gravity),
+        )
+    }
+
+    /// Slenderness α = atan(b/h), radians; 0 < α < π/2.
+    #[inline]
+    pub fn slenderness(&self) -> f64 {
+        self.slenderness
+    }
+
+    /// Frequency parameter p = √(3g/(4R)), rad/s (eq. 5).
+    #[inline]
+    pub fn frequency_parameter(&self) -> f64 {
+        self.frequency_parameter
+    }
+
+    /// Coefficient of restitution η: θ̇ after impact = η · θ̇ before (eqs. 13–15).
+    #[inline]
+    pub fn restitution(&self) -> f64 {
+        self.restitution
+    }
+
+    /// Static friction coefficient μ at the base, if known (eqs. 6–9).
+    #[inline]
+    pub fn friction(&self) -> Option<f64> {
+        self.friction
+    }
+
+    /// Gravitational acceleration g, m/s².
+    #[inline]
+    pub fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
     /// Half-diagonal R = 3g/(4p²), m.
     pub fn half_diagonal(&self) -> f64 {
         3.0 * self.gravity / (4.0 * self.frequency_parameter.powi(2))
@@ -155,5 +199,21 @@ mod tests {
         assert!(Block::new(0.2, 2.0, Some(1.1), None, None).is_err());
         assert!(Block::new(0.2, 2.0, None, Some(-0.1), None).is_err());
         assert!(Block::from_geometry(0.0, 1.0, None, None, None).is_err());
+    }
+
+    #[test]
+    fn another_size_keeps_the_rest_and_is_checked() {
+        let b = Block::new(0.25, 2.14, Some(0.9), Some(0.7), Some(9.8)).expect("valid");
+        let c = b.with_frequency_parameter(5.0).expect("valid");
+        assert_eq!(
+            (c.slenderness(), c.restitution(), c.friction(), c.gravity()),
+            (0.25, 0.9, Some(0.7), 9.8)
+        );
+        assert_eq!(c.frequency_parameter(), 5.0);
+        assert_eq!(
+            b.with_frequency_parameter(f64::INFINITY),
+            Err(BlockError::FrequencyParameter(f64::INFINITY))
+        );
+        assert!(b.with_frequency_parameter(0.0).is_err());
     }
 }

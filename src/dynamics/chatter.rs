@@ -38,9 +38,9 @@ pub struct Settling {
 /// Pull-back accelerations at θ = 0 on sides +1 and −1 (positive when the
 /// block is pulled back to θ = 0), with the ground at `u` = ü_g/g.
 fn pull_back(formulation: Formulation, block: &Block, u: f64) -> (f64, f64) {
-    let p2 = block.frequency_parameter.powi(2);
+    let p2 = block.frequency_parameter().powi(2);
     let acc =
-        |side: f64| -side * formulation.angular_acceleration(p2, block.slenderness, side, 0.0, u);
+        |side: f64| -side * formulation.angular_acceleration(p2, block.slenderness(), side, 0.0, u);
     (acc(1.0), acc(-1.0))
 }
 
@@ -57,14 +57,14 @@ pub fn settle<G: Forcing>(
     v: f64,
     v_rest: f64,
 ) -> Option<Settling> {
-    let eta = block.restitution;
+    let eta = block.restitution();
     let speed = v.abs();
-    let scale = block.frequency_parameter * block.slenderness;
+    let scale = block.frequency_parameter() * block.slenderness();
     if !(eta > 0.0 && eta < 1.0) || speed <= v_rest || speed > CHATTER_VELOCITY * scale {
         return None;
     }
     let u = if forced {
-        pulse.acceleration(t) / block.gravity
+        pulse.acceleration(t) / block.gravity()
     } else {
         0.0
     };
@@ -72,7 +72,7 @@ pub fn settle<G: Forcing>(
     if !(plus > 0.0 && minus > 0.0) {
         return None;
     }
-    if speed * speed / (2.0 * plus.min(minus)) > CHATTER_EXCURSION * block.slenderness {
+    if speed * speed / (2.0 * plus.min(minus)) > CHATTER_EXCURSION * block.slenderness() {
         return None;
     }
     let (own, other) = if v > 0.0 {

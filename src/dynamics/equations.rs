@@ -27,9 +27,16 @@ impl Formulation {
     /// Ground acceleration (m/s²) that |ü_g| must exceed for rocking to start:
     /// g·tan α (nonlinear, § "Condition for Initiation") or g·α (linear).
     pub fn rocking_threshold(self, block: &Block) -> f64 {
+        self.rocking_threshold_of(block.slenderness(), block.gravity())
+    }
+
+    /// [`Formulation::rocking_threshold`] of any block of slenderness α under
+    /// gravity g, whatever its size.
+    #[inline]
+    pub fn rocking_threshold_of(self, slenderness: f64, gravity: f64) -> f64 {
         match self {
-            Formulation::Linear => block.gravity * block.slenderness,
-            Formulation::Nonlinear => block.gravity * block.slenderness.tan(),
+            Formulation::Linear => gravity * slenderness,
+            Formulation::Nonlinear => gravity * slenderness.tan(),
         }
     }
 
@@ -63,8 +70,8 @@ impl Formulation {
     /// Linear: ½(θ̇²/p² − (|θ| − α)²), the sign of the growing exponential's
     /// coefficient when moving towards the barrier (eq. 33).
     pub fn barrier_excess(self, block: &Block, theta: f64, theta_dot: f64) -> f64 {
-        let p = block.frequency_parameter;
-        let d = block.slenderness - theta.abs();
+        let p = block.frequency_parameter();
+        let d = block.slenderness() - theta.abs();
         let kinetic = 0.5 * (theta_dot / p).powi(2);
         match self {
             Formulation::Linear => kinetic - 0.5 * d * d,
@@ -105,11 +112,11 @@ impl RockingRhs {
     ) -> Self {
         RockingRhs {
             formulation,
-            p2: block.frequency_parameter.powi(2),
-            alpha: block.slenderness,
+            p2: block.frequency_parameter().powi(2),
+            alpha: block.slenderness(),
             side,
             amplitude_over_g: if forced {
-                pulse.amplitude / block.gravity
+                pulse.amplitude / block.gravity()
             } else {
                 0.0
             },
@@ -175,7 +182,7 @@ mod tests {
     fn rocking_starts_exactly_at_the_threshold() {
         let block = Block::new(0.3, 2.0, None, None, None).expect("valid");
         for f in [Formulation::Linear, Formulation::Nonlinear] {
-            let u = f.rocking_threshold(&block) / block.gravity;
+            let u = f.rocking_threshold(&block) / block.gravity();
             // Positive ground acceleration pushes towards θ < 0 (side −1).
             let acc = f.angular_acceleration(4.0, 0.3, -1.0, 0.0, u);
             assert!(acc.abs() < 1e-14, "{f:?}: {acc}");

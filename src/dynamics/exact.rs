@@ -625,7 +625,7 @@ mod tests {
         let r = RockingRhs::new(Formulation::Linear, &block, &pulse, 1.0, true);
         let y0 = [0.04, 0.11];
         let cosine = LinearSegment::new(&r, 0.2, y0);
-        let u0 = pulse.amplitude / block.gravity;
+        let u0 = pulse.amplitude / block.gravity();
         let line = LinearSegment::linear_ground(2.14, r.alpha, 1.0, 0.2, y0, u0, 0.0, 1.0);
         for &tau in &[1e-9, 1e-3, 0.1, 0.5, 1.2] {
             let (a, b) = (cosine.at_tau(tau), line.at_tau(tau));

@@ -362,11 +362,11 @@ impl Forcing for Record {
     ) -> RecordRhs<'a> {
         RecordRhs {
             formulation,
-            p: block.frequency_parameter,
-            p2: block.frequency_parameter.powi(2),
-            alpha: block.slenderness,
+            p: block.frequency_parameter(),
+            p2: block.frequency_parameter().powi(2),
+            alpha: block.slenderness(),
             side,
-            inv_g: if forced { 1.0 / block.gravity } else { 0.0 },
+            inv_g: if forced { 1.0 / block.gravity() } else { 0.0 },
             samples: &self.samples,
             dt: self.dt,
             end: self.end,
@@ -543,7 +543,7 @@ mod tests {
         let block = Block::new(0.25, 2.0, None, None, None).expect("valid");
         let r = record(&[0.0, 2.0, -2.0, 1.0], 0.1);
         let rhs = r.rhs(Formulation::Linear, &block, 1.0, true);
-        let g = block.gravity;
+        let g = block.gravity();
         // Inside the second piece: the line through (0.1, 2) and (0.2, −2).
         let (u0, u1, t1) = rhs.piece_from(0.125);
         assert!((u0 - rhs.ground(0.125)).abs() < 1e-15, "{u0}");

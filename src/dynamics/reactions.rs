@@ -17,11 +17,11 @@ pub fn reactions_per_mass(
     theta_dot: f64,
     ground: f64,
 ) -> (f64, f64) {
-    let g = block.gravity;
-    let p2 = block.frequency_parameter.powi(2);
+    let g = block.gravity();
+    let p2 = block.frequency_parameter().powi(2);
     let r = block.half_diagonal();
-    let acc = formulation.angular_acceleration(p2, block.slenderness, side, theta, ground / g);
-    let (sp, cp) = (block.slenderness * side - theta).sin_cos();
+    let acc = formulation.angular_acceleration(p2, block.slenderness(), side, theta, ground / g);
+    let (sp, cp) = (block.slenderness() * side - theta).sin_cos();
     let w2 = theta_dot * theta_dot;
     (
         ground + r * (acc * cp + w2 * sp),
@@ -102,14 +102,14 @@ pub struct ReactionModel {
 impl ReactionModel {
     /// The model of `block` under `formulation`.
     pub fn new(formulation: Formulation, block: &Block) -> Self {
-        let p2 = block.frequency_parameter.powi(2);
+        let p2 = block.frequency_parameter().powi(2);
         ReactionModel {
             formulation,
-            alpha: block.slenderness,
-            g: block.gravity,
+            alpha: block.slenderness(),
+            g: block.gravity(),
             p2,
             r: block.half_diagonal(),
-            jerk_gain: -p2 / block.gravity,
+            jerk_gain: -p2 / block.gravity(),
         }
     }
 
@@ -145,9 +145,9 @@ impl ReactionModel {
 
 /// Eq. 20 as printed: f_x/f_z of a rocking block (nonlinear formulation).
 pub fn eq20_ratio(block: &Block, side: f64, theta: f64, theta_dot: f64, ground: f64) -> f64 {
-    let u = ground / block.gravity;
-    let phi = block.slenderness * side - theta;
-    let w2 = (theta_dot / block.frequency_parameter).powi(2);
+    let u = ground / block.gravity();
+    let phi = block.slenderness() * side - theta;
+    let w2 = (theta_dot / block.frequency_parameter()).powi(2);
     let num = u * (5.0 - 3.0 * (2.0 * phi).cos()) - 3.0 * (2.0 * phi).sin() + 6.0 * w2 * phi.sin();
     let den = 5.0 - 3.0 * u * (2.0 * phi).sin() + 3.0 * (2.0 * phi).cos() - 6.0 * w2 * phi.cos();
     num / den
@@ -157,8 +157,8 @@ pub fn eq20_ratio(block: &Block, side: f64, theta: f64, theta_dot: f64, ground: 
 /// one-cosine pulse, where λ a_p = a_p): the ground acceleration there is
 /// `ground` (= λ a_p, signed).
 pub fn initiation_demand(block: &Block, ground: f64) -> f64 {
-    let a = block.slenderness;
-    let g = block.gravity;
+    let a = block.slenderness();
+    let g = block.gravity();
     let lam = ground.abs();
     let excess = lam / (g * a.tan()) - 1.0;
     let num = lam - 0.75 * g * a.cos() * a.sin() * excess;
@@ -188,10 +188,10 @@ mod tests {
                 let r = ReactionModel::new(formulation, &b).rates(side, th, w, ug);
                 let (fx, fz) = reactions_per_mass(formulation, &b, side, th, w, ug);
                 assert_eq!((r.fx, r.fz), (fx, fz));
-                let p2 = b.frequency_parameter.powi(2);
-                let g = b.gravity;
+                let p2 = b.frequency_parameter().powi(2);
+                let g = b.gravity();
                 let acc = |th: f64, ug: f64| {
-                    formulation.angular_acceleration(p2, b.slenderness, side, th, ug / g)
+                    formulation.angular_acceleration(p2, b.slenderness(), side, th, ug / g)
                 };
                 // θ⃛ by differentiating θ̈(θ(t), ü_g(t)) numerically.
                 let e = 1e-6;
@@ -228,10 +228,10 @@ mod tests {
     #[test]
     fn demand_at_one_sine_initiation_is_tan_alpha() {
         let b = block();
-        let ground = b.gravity * b.slenderness.tan();
+        let ground = b.gravity() * b.slenderness().tan();
         let (fx, fz) = reactions_per_mass(Formulation::Nonlinear, &b, -1.0, 0.0, 0.0, ground);
-        assert!((fx / fz - b.slenderness.tan()).abs() < 1e-15);
-        assert!((initiation_demand(&b, ground) - b.slenderness.tan()).abs() < 1e-15);
+        assert!((fx / fz - b.slenderness().tan()).abs() < 1e-15);
+        assert!((initiation_demand(&b, ground) - b.slenderness().tan()).abs() < 1e-15);
     }
 
     #[test]
@@ -252,7 +252,7 @@ mod tests {
     fn initiation_demand_is_eq_20_at_rest_for_any_level() {
         let b = block();
         for level in [1.0, 2.0, 6.0] {
-            let ground = level * b.gravity * b.slenderness;
+            let ground = level * b.gravity() * b.slenderness();
             let r20 = eq20_ratio(&b, -1.0, 0.0, 0.0, ground);
             assert!((initiation_demand(&b, ground) - r20).abs() < 1e-14);
         }
@@ -262,7 +262,7 @@ mod tests {
     fn one_cosine_demand_at_six_alpha_g_is_about_two_alpha() {
         // Paper Fig. 9 (bottom) and eq. 51: a_p = 6 α g needs μ ≈ 2 α to start rocking.
         let b = Block::new(0.25, 2.14, None, None, None).expect("valid");
-        let d = initiation_demand(&b, 6.0 * 0.25 * b.gravity);
+        let d = initiation_demand(&b, 6.0 * 0.25 * b.gravity());
         assert!((d / 0.25 - 2.0).abs() < 0.1, "{}", d / 0.25);
     }
 }

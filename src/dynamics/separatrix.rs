@@ -26,7 +26,7 @@ pub enum FreeOutcome {
 /// Barrier height in the units of [`Formulation::barrier_excess`]: the excess
 /// of a block at θ = 0 at rest.
 fn barrier_height(formulation: Formulation, block: &Block) -> f64 {
-    let a = block.slenderness;
+    let a = block.slenderness();
     match formulation {
         Formulation::Linear => 0.5 * a * a,
         Formulation::Nonlinear => 2.0 * (0.5 * a).sin().powi(2),
@@ -49,7 +49,7 @@ pub fn decide(
     }
     let excess = formulation.barrier_excess(block, theta, theta_dot);
     let outward = gamma_dot > 0.0;
-    let beyond = gamma > block.slenderness;
+    let beyond = gamma > block.slenderness();
     let reaches_zero = if beyond {
         // Past the barrier: only a sufficiently energetic inward motion comes back.
         !outward && excess > 0.0
@@ -65,7 +65,7 @@ pub fn decide(
     }
     // Energy at θ = 0 is excess + B; the impact scales the kinetic part by η².
     let b = barrier_height(formulation, block);
-    let eta2 = block.restitution * block.restitution;
+    let eta2 = block.restitution() * block.restitution();
     let after = eta2 * (excess + b) - b;
     if after > 0.0 {
         FreeOutcome::Overturns { impacts: 1 }

@@ -163,6 +163,9 @@ pub enum SimError {
     /// Chattering did not end.
     #[error("impact limit reached during the pulse")]
     ImpactLimit,
+    /// The block is not a valid one.
+    #[error("invalid block: {0}")]
+    Block(#[from] super::block::BlockError),
 }
 
 /// Simulates `problem` as `options` ask.
@@ -440,7 +443,7 @@ fn run<G: Forcing>(
     let duration = pulse.duration();
     let mut tracker = Tracker::new(formulation, &block, pulse, req);
     let threshold = formulation.rocking_threshold(&block);
-    let v_rest = REST_VELOCITY * block.frequency_parameter * block.slenderness;
+    let v_rest = REST_VELOCITY * block.frequency_parameter() * block.slenderness();
     let mut engine = Engine {
         solver: options.solver,
         stats: StepperStats::default(),
@@ -554,7 +557,7 @@ fn run<G: Forcing>(
                 if velocity.abs() >= ROCKING_IMPACT_VELOCITY * v_rest / REST_VELOCITY {
                     r.rocking_impacts += 1;
                 }
-                let after = block.restitution * velocity;
+                let after = block.restitution() * velocity;
                 if options.record_impacts {
                     if r.impacts.len() < MAX_LISTED_IMPACTS {
                         r.impacts.push(Impact {
@@ -685,7 +688,7 @@ fn run<G: Forcing>(
     } else {
         tracker.peak_theta.min(std::f64::consts::FRAC_PI_2)
     };
-    r.peak_theta_over_alpha = peak / block.slenderness;
+    r.peak_theta_over_alpha = peak / block.slenderness();
     if options.reactions {
         let (peak, peak_time) = tracker.peak_demand;
         // Past lift-off (f_z → 0⁺) no friction coefficient sustains pure

@@ -180,7 +180,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         } else {
             0.0
         };
-        let p = self.block.frequency_parameter;
+        let p = self.block.frequency_parameter();
         let n = (8.0 + span * (4.0 * w / std::f64::consts::PI + 2.0 * p)).min(400.0) as usize;
         let mut best_theta = (f64::NEG_INFINITY, 0usize);
         let mut best_demand = (f64::NEG_INFINITY, 0usize);
@@ -214,7 +214,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             if d > best_demand.0 {
                 best_demand = (d, k);
             }
-            if let Some(mu) = self.block.friction
+            if let Some(mu) = self.block.friction()
                 && self.first_sliding.is_none()
                 && d > mu
             {
@@ -291,7 +291,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
     ) {
         let (ta, tb) = (start.0, end.0);
         let span = tb - ta;
-        let p = self.block.frequency_parameter;
+        let p = self.block.frequency_parameter();
         let reach = 2.0 * p * span;
         let n = if reach <= 1.0 {
             1
@@ -313,7 +313,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
                 prev.demand = self.demand_at(ta, start.1, side, forced).with_jerk(jerk);
                 if prev.demand[0].is_finite() {
                     self.demand_sample(ta, prev.demand[0]);
-                    if let Some(mu) = self.block.friction
+                    if let Some(mu) = self.block.friction()
                         && self.first_sliding.is_none()
                         && prev.demand[0] > mu
                     {
@@ -382,7 +382,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         // The first time the demand exceeds μ, from below at `a`.
         let mu = self
             .block
-            .friction
+            .friction()
             .filter(|&mu| self.first_sliding.is_none() && a.demand[0] <= mu);
         if let Some(t_above) = lift {
             let tl = self.refine_crossing(a.t, t_above, side, forced, eval, |_, fz| -fz);
@@ -467,13 +467,13 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             // [ta, tb) its supremum is the maximum over [ta, tb], the forcing
             // being continuous where a rest ends in rocking (at tb it reaches
             // the threshold, where eq. 7 gives the same value).
-            let g = self.block.gravity;
+            let g = self.block.gravity();
             let best = self.pulse.peak_between(ta, tb);
             let d = best.0 / g;
             if d > self.peak_demand.0 {
                 self.peak_demand = (d, best.1);
             }
-            if let Some(mu) = self.block.friction
+            if let Some(mu) = self.block.friction()
                 && self.first_sliding.is_none()
                 && d > mu
             {
@@ -495,7 +495,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
                         reactions_per_mass(self.formulation, self.block, s, y[0], y[1], ground);
                     (fz > 0.0).then_some(fx / fz)
                 }
-                None => Some(ground / self.block.gravity),
+                None => Some(ground / self.block.gravity()),
             };
             r.push(ratio);
         }

@@ -46,7 +46,7 @@ pub enum DistributionName {
 }
 
 /// A distribution, normalised (as stored in canonical specs).
-#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 #[serde(tag = "dist", rename_all = "snake_case")]
 pub enum DistributionNorm {
     /// Normal truncated to [min, max] (null: unbounded on that side).

@@ -11,6 +11,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::names::{EngineDoc, Excitation, tag};
 use super::range::RangeSpec;
 use super::record_spectrum::RecordDoc;
 use super::record_spectrum::{ScaleRangeNorm, ScaleRangeSpec, pga};
@@ -20,7 +21,7 @@ use super::spec::{
     validate_ground_motion,
 };
 use super::spectrum::{PulseFamily, ScanCost, validate_family};
-use crate::dynamics::Formulation;
+use crate::dynamics::{Formulation, SimError};
 use crate::spectrum::Control;
 use crate::spectrum::overturning::{SpectrumRequest, overturning_spectrum, threshold_alpha_g};
 use crate::spectrum::scan::{Direction, ScanError, ScanStats, Transition};
@@ -117,7 +118,7 @@ pub struct ForensicSpec {
 }
 
 /// An observation, validated.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct Observation {
     /// Its name.
     pub name: String,
@@ -128,11 +129,11 @@ pub struct Observation {
 }
 
 /// A validated forensic query; serialises to the canonical spec.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ForensicJob {
     /// "forensic".
     #[schema(value_type = crate::jobs::schema::ForensicKind)]
-    pub kind: &'static str,
+    pub kind: tag::Forensic,
     /// Pulse family (pulse queries).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pulse: Option<PulseFamily>,
@@ -142,7 +143,7 @@ pub struct ForensicJob {
     /// Observations.
     pub observations: Vec<Observation>,
     /// Frequencies, Hz (pulse queries).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub frequency_hz: Vec<f64>,
     /// Amplitudes examined, g (pulse queries).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -150,12 +151,10 @@ pub struct ForensicJob {
     /// The scaled record's PGA examined, g (record queries).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pga_g: Option<AmplitudeRange>,
-    /// Scale factors examined (record queries; `pga_g` over the record's PGA).
-    #[serde(skip)]
-    pub scale: Option<ScaleRangeNorm>,
     /// "linear" | "nonlinear".
+    #[serde(with = "super::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
-    pub formulation: &'static str,
+    pub formulation: Formulation,
     /// Scan step, g.
     pub scan_step_g: f64,
     /// Bracket width, g.
@@ -386,15 +385,14 @@ impl ForensicSpec {
             "/a_p_g/to",
         )?;
         Ok(ForensicJob {
-            kind: "forensic",
+            kind: tag::Forensic,
             pulse: Some(pulse),
             ground_motion: None,
             observations,
             frequency_hz,
             a_p_g: Some(AmplitudeRange { from, to }),
             pga_g: None,
-            scale: None,
-            formulation: formulation.name(),
+            formulation,
             scan_step_g,
             tolerance_g,
             solver,
@@ -477,7 +475,7 @@ impl ForensicSpec {
             &format!("/{s_name}/to"),
         )?;
         Ok(ForensicJob {
-            kind: "forensic",
+            kind: tag::Forensic,
             pulse: None,
             ground_motion: Some(ground_motion),
             observations,
@@ -487,11 +485,7 @@ impl ForensicSpec {
                 from: from_g,
                 to: to_g,
             }),
-            scale: Some(ScaleRangeNorm {
-                from: from_g / peak_g,
-                to: to_g / peak_g,
-            }),
-            formulation: formulation.name(),
+            formulation,
             scan_step_g,
             tolerance_g,
             solver,
@@ -705,19 +699,20 @@ pub struct ForensicNumerics {
 }
 
 /// The result document.
-#[derive(Clone, Debug, Serialize, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ForensicResult {
     /// "forensic".
     #[schema(value_type = crate::jobs::schema::ForensicKind)]
-    pub kind: &'static str,
+    pub kind: tag::Forensic,
     /// "linear" | "nonlinear".
+    #[serde(with = "super::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
-    pub formulation: &'static str,
+    pub formulation: Formulation,
     /// "pulse": the unknowns are the pulse's frequency and amplitude
     /// (`pulse`, `frequencies`); "ground_motion": the unknown is the record's
     /// scale (`record`, `scale`, `consistent_scale`, `per_observation`).
     #[schema(value_type = crate::jobs::schema::ForensicExcitation)]
-    pub excitation: &'static str,
+    pub excitation: Excitation,
     /// Pulse family (pulse queries).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pulse: Option<PulseFamily>,
@@ -752,6 +747,10 @@ pub struct ForensicResult {
     /// larger than 100 m); absent when there are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub engine: Option<EngineDoc>,
 }
 
 impl ForensicJob {
@@ -762,13 +761,16 @@ impl ForensicJob {
             .unwrap_or(AmplitudeRange { from: 0.0, to: 0.0 })
     }
 
-    /// The formulation.
-    pub fn formulation(&self) -> Formulation {
-        if self.formulation == "linear" {
-            Formulation::Linear
-        } else {
-            Formulation::Nonlinear
-        }
+    /// The scale factors examined by a record query: `pga_g` over the
+    /// record's PGA (in the g every block shares); `None` for a pulse query.
+    pub fn scale(&self) -> Option<ScaleRangeNorm> {
+        let gm = self.ground_motion.as_ref()?;
+        let range = self.pga_g?;
+        let peak_g = pga(&gm.acc) / common_g(&self.observations)?;
+        Some(ScaleRangeNorm {
+            from: range.from / peak_g,
+            to: range.to / peak_g,
+        })
     }
 
     /// Runs the query: one overturning spectrum per observation (rayon inside).
@@ -786,18 +788,14 @@ impl ForensicJob {
         control: &Control,
     ) -> Result<ForensicResult, ScanError> {
         let started = std::time::Instant::now();
-        let formulation = if self.formulation == "linear" {
-            Formulation::Linear
-        } else {
-            Formulation::Nonlinear
-        };
+        let formulation = self.formulation;
         let two_pi = 2.0 * std::f64::consts::PI;
         let AmplitudeRange { from, to } = self.range_g();
         let mut stats = ScanStats::default();
         let mut sets: Vec<Vec<Intervals>> = Vec::with_capacity(self.observations.len());
         for o in &self.observations {
-            let block = o.block.block();
-            let alpha = block.slenderness;
+            let block = o.block.block().map_err(SimError::from)?;
+            let alpha = block.slenderness();
             let req = SpectrumRequest {
                 block,
                 shape: pulse.shape(),
@@ -806,7 +804,7 @@ impl ForensicJob {
                 omega_ratios: self
                     .frequency_hz
                     .iter()
-                    .map(|f| two_pi * f / block.frequency_parameter)
+                    .map(|f| two_pi * f / block.frequency_parameter())
                     .collect(),
                 a_max: to / alpha,
                 tolerance: self.tolerance_g / alpha,
@@ -882,9 +880,9 @@ impl ForensicJob {
         }
         Ok(ForensicResult {
             warnings: Vec::new(),
-            kind: "forensic",
+            kind: tag::Forensic,
             formulation: self.formulation,
-            excitation: "pulse",
+            excitation: Excitation::Pulse,
             pulse: Some(pulse),
             record: None,
             a_p_g: self.range_g(),
@@ -902,6 +900,7 @@ impl ForensicJob {
                 wall_time_s: started.elapsed().as_secs_f64(),
             },
             spec: self.clone(),
+            engine: None,
         })
     }
 

@@ -11,11 +11,12 @@ use super::forensic::{
     AmplitudeRange, Bounds, ForensicJob, ForensicNumerics, ForensicResult, Intervals,
     RecordObservationSet, complement, intersect, overturning_set,
 };
+use super::names::{Excitation, tag};
 use super::record_spectrum::RecordDoc;
 use super::spec::GroundMotionNorm;
 use super::spectrum::ScanCost;
 use super::time_history::GroundPeaksDoc;
-use crate::dynamics::{Problem, peaks};
+use crate::dynamics::{Problem, SimError, peaks};
 use crate::spectrum::Control;
 use crate::spectrum::overturning::{ScanGrid, scan_lines, threshold_alpha_g};
 use crate::spectrum::scan::{ScanError, ScanStats};
@@ -37,7 +38,7 @@ pub fn run(
     let record = gm
         .record()
         .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
-    let formulation = job.formulation();
+    let formulation = job.formulation;
     let solver = job.solver.solver();
     let AmplitudeRange { from, to } = job.range_g();
     let g = job.observations.first().map_or(9.81, |o| o.block.g);
@@ -47,8 +48,8 @@ pub fn run(
         .observations
         .par_iter()
         .map(|o| {
-            let block = o.block.block();
-            let alpha = block.slenderness;
+            let block = o.block.block().map_err(SimError::from)?;
+            let alpha = block.slenderness();
             let threshold = threshold_alpha_g(formulation, &block);
             let mut stats = ScanStats::default();
             let overturning_g = if to / alpha <= threshold {
@@ -120,9 +121,9 @@ pub fn run(
     let n = gm.acc.len();
     Ok(ForensicResult {
         warnings: Vec::new(),
-        kind: "forensic",
+        kind: tag::Forensic,
         formulation: job.formulation,
-        excitation: "ground_motion",
+        excitation: Excitation::GroundMotion,
         pulse: None,
         record: Some(RecordDoc {
             peaks: GroundPeaksDoc::new(&peaks::of_record(&record), g),
@@ -131,7 +132,7 @@ pub fn run(
             duration_s: (n - 1) as f64 * gm.dt,
         }),
         a_p_g: job.range_g(),
-        scale: job.scale,
+        scale: job.scale(),
         observations: job.observations.clone(),
         frequencies: Vec::new(),
         consistent_scale: Some(to_scale(&all)),
@@ -145,5 +146,6 @@ pub fn run(
             wall_time_s: started.elapsed().as_secs_f64(),
         },
         spec: job.clone(),
+        engine: None,
     })
 }

@@ -18,6 +18,7 @@ use serde_json::Value;
 
 use super::JobError;
 use super::distribution::{DistributionNorm, DistributionSpec};
+use super::names::{EngineDoc, Im, tag};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, GroundMotionNorm, GroundMotionSpec, PulseSpec, SolverNorm, SolverSpec, SpecError,
@@ -57,7 +58,7 @@ pub enum UncertainInput {
 }
 
 /// A value, or its distribution, normalised.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 #[serde(untagged)]
 pub enum UncertainNorm {
     /// Fixed.
@@ -193,7 +194,7 @@ pub struct FragilitySpec {
 }
 
 /// The block, normalised.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct UncertainBlockNorm {
     /// α (with p), rad.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -215,7 +216,7 @@ pub struct UncertainBlockNorm {
 }
 
 /// The pulse, normalised.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct UncertainPulseNorm {
     /// The family.
     #[serde(flatten)]
@@ -229,7 +230,7 @@ pub struct UncertainPulseNorm {
 }
 
 /// A record of the suite, normalised.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct NamedMotionNorm {
     /// Its name.
     pub name: String,
@@ -239,11 +240,11 @@ pub struct NamedMotionNorm {
 }
 
 /// A validated fragility job; serialises to the canonical spec.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct FragilityJob {
     /// "fragility".
     #[schema(value_type = crate::jobs::schema::FragilityKind)]
-    pub kind: &'static str,
+    pub kind: tag::Fragility,
     /// The block.
     pub block: UncertainBlockNorm,
     /// The pulse family.
@@ -253,11 +254,12 @@ pub struct FragilityJob {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ground_motions: Option<Vec<NamedMotionNorm>>,
     /// "linear" | "nonlinear".
+    #[serde(with = "super::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
-    pub formulation: &'static str,
+    pub formulation: Formulation,
     /// "pga_g" | "pgv_m_s".
     #[schema(value_type = crate::jobs::survival::ImName)]
-    pub im: &'static str,
+    pub im: Im,
     /// Intensity levels.
     pub stripes: Vec<f64>,
     /// Simulations per stripe.
@@ -518,8 +520,8 @@ impl FragilitySpec {
             "/solver",
         )?;
         let im = match self.im.as_deref() {
-            None | Some("pga_g") => "pga_g",
-            Some("pgv_m_s") => "pgv_m_s",
+            None | Some("pga_g") => Im::PgaG,
+            Some("pgv_m_s") => Im::PgvMS,
             Some(other) => {
                 return Err(SpecError::at(
                     "/im",
@@ -555,11 +557,11 @@ impl FragilitySpec {
             ));
         }
         let job = FragilityJob {
-            kind: "fragility",
+            kind: tag::Fragility,
             block,
             pulse,
             ground_motions,
-            formulation: formulation.name(),
+            formulation,
             im,
             stripes,
             samples,
@@ -644,13 +646,22 @@ pub struct LognormalFit {
     /// Dispersion β.
     pub beta: f64,
     /// 95 % bootstrap interval of θ.
+    // NaN ends (no replicate fitted) are written as null.
+    #[serde(deserialize_with = "nan_for_null")]
     pub median_interval_95: [f64; 2],
     /// 95 % bootstrap interval of β.
+    #[serde(deserialize_with = "nan_for_null")]
     pub beta_interval_95: [f64; 2],
     /// ln L at the fit.
     pub log_likelihood: f64,
     /// The fitted curve with its 95 % bootstrap band.
     pub curve: Vec<CurvePoint>,
+}
+
+/// An interval whose ends were NaN, serialised as null.
+fn nan_for_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 2], D::Error> {
+    let [a, b] = <[Option<f64>; 2]>::deserialize(d)?;
+    Ok([a.unwrap_or(f64::NAN), b.unwrap_or(f64::NAN)])
 }
 
 /// Cost.
@@ -672,14 +683,14 @@ pub struct FragilityNumerics {
 }
 
 /// The result document.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct FragilityResult {
     /// "fragility".
     #[schema(value_type = crate::jobs::schema::FragilityKind)]
-    pub kind: &'static str,
+    pub kind: tag::Fragility,
     /// The intensity measure.
     #[schema(value_type = crate::jobs::survival::ImName)]
-    pub im: &'static str,
+    pub im: Im,
     /// One entry per stripe, in the order of `spec.stripes`: the empirical
     /// fragility, the primary answer.
     pub stripes: Vec<StripeResult>,
@@ -699,6 +710,16 @@ pub struct FragilityResult {
     pub numerics: FragilityNumerics,
     /// The normalised spec.
     pub spec: FragilityJob,
+    /// Notes on the suite's records (`large_pga`, `baseline_drift`), added
+    /// as the document leaves [`crate::jobs::Job::run`]; absent when there
+    /// are none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[schema(ignore)]
+    pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub engine: Option<EngineDoc>,
 }
 
 /// The ChaCha8 stream of stripe `k`, chunk `c`.
@@ -762,14 +783,6 @@ struct Tasks {
 }
 
 impl FragilityJob {
-    fn formulation(&self) -> Formulation {
-        if self.formulation == "linear" {
-            Formulation::Linear
-        } else {
-            Formulation::Nonlinear
-        }
-    }
-
     /// The block of one sample from its uniforms.
     fn block_at(&self, u: [f64; 3]) -> Result<Block, String> {
         let b = &self.block;
@@ -798,16 +811,16 @@ impl FragilityJob {
     ) -> Result<Option<u8>, String> {
         let block = self.block_at([u[0], u[1], u[2]])?;
         let options = Options::outcome(self.solver.solver());
-        let formulation = self.formulation();
+        let formulation = self.formulation;
         let r = if let Some(pulse) = &self.pulse {
             let omega = match (&pulse.omega_p, &pulse.omega_ratio) {
                 (Some(w), _) => w.at(u[3]),
-                (_, Some(ratio)) => ratio.at(u[3]) * block.frequency_parameter,
+                (_, Some(ratio)) => ratio.at(u[3]) * block.frequency_parameter(),
                 _ => return Err("the pulse has no frequency".into()),
             };
             let unit = Pulse::new(pulse.family.shape(), 1.0, omega).map_err(|e| e.to_string())?;
-            let a_p = if self.im == "pga_g" {
-                im * block.gravity
+            let a_p = if self.im == Im::PgaG {
+                im * block.gravity()
             } else {
                 im / unit.peak_velocity()
             };
@@ -819,8 +832,8 @@ impl FragilityJob {
             simulate(&problem, &options).map_err(|e| e.to_string())?
         } else {
             let (record, per_unit) = &records[j % records.len()];
-            let factor = if self.im == "pga_g" {
-                im * block.gravity / per_unit
+            let factor = if self.im == Im::PgaG {
+                im * block.gravity() / per_unit
             } else {
                 im / per_unit
             };
@@ -854,7 +867,7 @@ impl FragilityJob {
             .filter_map(|m| {
                 let record = m.motion.record().ok()?;
                 let peaks = crate::dynamics::peaks::of_record(&record);
-                let per_unit = if self.im == "pga_g" {
+                let per_unit = if self.im == Im::PgaG {
                     peaks.pga
                 } else {
                     peaks.pgv
@@ -1071,7 +1084,7 @@ impl FragilityJob {
         // (wherever they ran) plus the assembly's.
         let wall = started.elapsed().as_secs_f64() + tasks.as_ref().map_or(0.0, |t| t.compute_s);
         Ok(FragilityResult {
-            kind: "fragility",
+            kind: tag::Fragility,
             im: self.im,
             stripes,
             interval_method: "wilson".into(),
@@ -1079,7 +1092,7 @@ impl FragilityJob {
             falls_at,
             lognormal,
             numerics: FragilityNumerics {
-                method: self.solver.method.to_string(),
+                method: self.solver.method.name().to_string(),
                 simulations,
                 simulations_per_second: simulations as f64 / wall.max(1e-9),
                 wall_time_s: wall,
@@ -1090,6 +1103,8 @@ impl FragilityJob {
                 part: None,
                 ..self.clone()
             },
+            warnings: Vec::new(),
+            engine: None,
         })
     }
 

@@ -2,13 +2,14 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::names::{EngineDoc, tag};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
     in_one_unit, parse_formulation, validate_block,
 };
 use super::spectrum::{PulseFamily, SpectrumNumerics, validate_family};
-use crate::dynamics::Formulation;
+use crate::dynamics::{Formulation, SimError};
 use crate::spectrum::Control;
 use crate::spectrum::friction::{FrictionRequest, friction_spectrum};
 use crate::spectrum::scan::ScanError;
@@ -53,19 +54,20 @@ pub struct FrictionSpec {
 }
 
 /// A validated friction-spectrum job.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 #[schema(as = FrictionSpectrumJob)]
 pub struct FrictionJob {
     /// "friction_spectrum".
     #[schema(value_type = crate::jobs::schema::FrictionSpectrumKind)]
-    pub kind: &'static str,
+    pub kind: tag::FrictionSpectrum,
     /// Block.
     pub block: BlockNorm,
     /// Pulse family.
     pub pulse: PulseFamily,
     /// "linear" | "nonlinear".
+    #[serde(with = "super::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
-    pub formulation: &'static str,
+    pub formulation: Formulation,
     /// ω_p/p.
     pub omega_ratio: f64,
     /// Amplitudes, αg.
@@ -146,10 +148,10 @@ impl FrictionSpec {
             ));
         }
         Ok(FrictionJob {
-            kind: "friction_spectrum",
+            kind: tag::FrictionSpectrum,
             block,
             pulse,
-            formulation: formulation.name(),
+            formulation,
             omega_ratio,
             a_alpha_g,
             solver,
@@ -196,12 +198,12 @@ pub struct FrictionPointDoc {
 }
 
 /// The result document of a friction-spectrum job.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 #[schema(as = FrictionSpectrumResult)]
 pub struct FrictionResult {
     /// "friction_spectrum".
     #[schema(value_type = crate::jobs::schema::FrictionSpectrumKind)]
-    pub kind: &'static str,
+    pub kind: tag::FrictionSpectrum,
     /// ω_p/p.
     pub omega_ratio: f64,
     /// ω_p, rad/s.
@@ -218,29 +220,29 @@ pub struct FrictionResult {
     /// larger than 100 m); absent when there are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub engine: Option<EngineDoc>,
 }
 
 impl FrictionJob {
     /// Runs the job under `control`.
     pub fn run(&self, control: &Control) -> Result<FrictionResult, ScanError> {
-        let block = self.block.block();
+        let block = self.block.block().map_err(SimError::from)?;
         let req = FrictionRequest {
             block,
             shape: self.pulse.shape(),
-            formulation: if self.formulation == "linear" {
-                Formulation::Linear
-            } else {
-                Formulation::Nonlinear
-            },
+            formulation: self.formulation,
             solver: self.solver.solver(),
             omega_ratio: self.omega_ratio,
             levels: self.a_alpha_g.clone(),
         };
         let s = friction_spectrum(&req, control)?;
-        let tan = block.slenderness.tan();
+        let tan = block.slenderness().tan();
         Ok(FrictionResult {
             warnings: Vec::new(),
-            kind: "friction_spectrum",
+            kind: tag::FrictionSpectrum,
             omega_ratio: self.omega_ratio,
             omega_p: self.omega_ratio * self.block.p,
             frequency_hz: self.omega_ratio * self.block.p / std::f64::consts::TAU,
@@ -249,7 +251,7 @@ impl FrictionJob {
                 .iter()
                 .map(|p| FrictionPointDoc {
                     a_alpha_g: p.level,
-                    a_p_g: p.level * block.slenderness,
+                    a_p_g: p.level * block.slenderness(),
                     peak_friction_demand: p.peak_demand,
                     peak_over_tan_alpha: p.peak_demand.map(|d| d / tan),
                     initiation_friction_demand: p.initiation_demand,
@@ -262,6 +264,7 @@ impl FrictionJob {
                 .collect(),
             numerics: SpectrumNumerics::new(&self.solver, &s.stats, 0.0, 0.0, s.wall_time),
             spec: self.clone(),
+            engine: None,
         })
     }
 }

@@ -11,11 +11,14 @@ pub mod friction;
 pub mod key;
 pub mod kind;
 pub mod limits;
+pub mod names;
 pub mod numerics;
 pub mod plausible;
 pub mod range;
 pub mod record_spectrum;
 pub mod registry;
+#[cfg(test)]
+mod roundtrip;
 pub mod schema;
 pub mod spec;
 pub mod spectrum;

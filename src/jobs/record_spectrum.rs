@@ -10,6 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::names::{EngineDoc, tag};
 use super::range::RangeSpec;
 use super::spec::{
     BlockSpec, GroundMotionNorm, GroundMotionSpec, SolverNorm, SolverSpec, SpecError, at_most_one,
@@ -17,9 +18,10 @@ use super::spec::{
 };
 use super::spectrum::ScanCost;
 use super::time_history::GroundPeaksDoc;
-use crate::dynamics::{Block, Formulation, peaks};
+use crate::dynamics::block::BlockError;
+use crate::dynamics::{Block, Formulation, SimError, peaks};
 use crate::spectrum::Control;
-use crate::spectrum::overturning::{Derived, LineScan, ScanGrid, threshold_alpha_g};
+use crate::spectrum::overturning::{Derived, LineScan, ScanGrid, threshold_alpha_g_of};
 use crate::spectrum::record::{RecordSpectrumRequest, record_spectrum};
 use crate::spectrum::scan::{Direction, ModeChange, ScanError, Transition};
 
@@ -132,7 +134,7 @@ pub struct RecordSpectrumSpec {
 }
 
 /// The block of a record spectrum, normalised: everything but its size.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct RecordBlockNorm {
     /// α, rad.
     pub alpha: f64,
@@ -143,7 +145,7 @@ pub struct RecordBlockNorm {
 }
 
 /// A range of scale factors, normalised.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ScaleRangeNorm {
     /// Lowest scale factor.
     pub from: f64,
@@ -152,11 +154,11 @@ pub struct ScaleRangeNorm {
 }
 
 /// A validated record spectrum; serialises to the canonical spec.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct RecordSpectrumJob {
     /// "record_spectrum".
     #[schema(value_type = crate::jobs::schema::RecordSpectrumKind)]
-    pub kind: &'static str,
+    pub kind: tag::RecordSpectrum,
     /// The record, m/s².
     pub ground_motion: GroundMotionNorm,
     /// Block (its size varies).
@@ -166,8 +168,9 @@ pub struct RecordSpectrumJob {
     /// Scale factors examined.
     pub scale: ScaleRangeNorm,
     /// "linear" | "nonlinear".
+    #[serde(with = "super::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
-    pub formulation: &'static str,
+    pub formulation: Formulation,
     /// Bracket width, scale units.
     pub tolerance: f64,
     /// Scan step, scale units.
@@ -287,16 +290,7 @@ impl RecordSpectrumSpec {
             from: from * to_scale,
             to: to * to_scale,
         };
-        let threshold = threshold_alpha_g(
-            formulation,
-            &Block {
-                slenderness: block.alpha,
-                frequency_parameter: 1.0,
-                restitution: block.eta,
-                friction: None,
-                gravity: g,
-            },
-        );
+        let threshold = threshold_alpha_g_of(formulation, block.alpha, g);
         let level_to = scale.to / unit;
         if level_to <= threshold {
             return Err(SpecError::at(
@@ -358,7 +352,7 @@ impl RecordSpectrumSpec {
             ));
         }
         Ok(RecordSpectrumJob {
-            kind: "record_spectrum",
+            kind: tag::RecordSpectrum,
             ground_motion,
             block: RecordBlockNorm {
                 alpha: block.alpha,
@@ -367,7 +361,7 @@ impl RecordSpectrumSpec {
             },
             p,
             scale,
-            formulation: formulation.name(),
+            formulation,
             tolerance,
             scan_step,
             principal_relative_width: principal,
@@ -486,11 +480,11 @@ pub struct RecordSpectrumNumerics {
 }
 
 /// The result document of a record spectrum.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct RecordSpectrumResult {
     /// "record_spectrum".
     #[schema(value_type = crate::jobs::schema::RecordSpectrumKind)]
-    pub kind: &'static str,
+    pub kind: tag::RecordSpectrum,
     /// The record's PGA, PGV, PGD and sampling.
     pub record: RecordDoc,
     /// One entry per block size, in the order of `spec.p`.
@@ -502,27 +496,28 @@ pub struct RecordSpectrumResult {
     /// Notes on the inputs; absent when there are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub engine: Option<EngineDoc>,
 }
 
 impl RecordSpectrumJob {
-    /// The formulation.
-    pub fn formulation(&self) -> Formulation {
-        if self.formulation == "linear" {
-            Formulation::Linear
-        } else {
-            Formulation::Nonlinear
-        }
+    /// The block at frequency parameter `p` (an error for values no
+    /// validated spec holds).
+    pub fn block_at(&self, p: f64) -> Result<Block, BlockError> {
+        Block::new(
+            self.block.alpha,
+            p,
+            Some(self.block.eta),
+            None,
+            Some(self.block.g),
+        )
     }
 
-    /// The block at frequency parameter `p`.
-    pub fn block_at(&self, p: f64) -> Block {
-        Block {
-            slenderness: self.block.alpha,
-            frequency_parameter: p,
-            restitution: self.block.eta,
-            friction: None,
-            gravity: self.block.g,
-        }
+    /// The rocking threshold of every block size, αg.
+    pub fn threshold_alpha_g(&self) -> f64 {
+        threshold_alpha_g_of(self.formulation, self.block.alpha, self.block.g)
     }
 
     /// s_α = αg/PGA: the scale factor of one level (scaled PGA of α g).
@@ -533,7 +528,7 @@ impl RecordSpectrumJob {
     /// The scan grid in levels (scaled PGA in α g).
     pub fn grid(&self) -> ScanGrid {
         let unit = self.unit_scale();
-        let threshold = threshold_alpha_g(self.formulation(), &self.block_at(1.0));
+        let threshold = self.threshold_alpha_g();
         ScanGrid {
             // From the threshold whatever `scale.from` is: a line that already
             // overturns at `from` would otherwise lose where overturning begins.
@@ -562,14 +557,14 @@ impl RecordSpectrumJob {
         let peak = pga(&self.ground_motion.acc);
         let req = RecordSpectrumRequest {
             record: record.clone(),
-            block: self.block_at(1.0),
+            block: self.block_at(1.0).map_err(SimError::from)?,
             ps: self.p.clone(),
-            formulation: self.formulation(),
+            formulation: self.formulation,
             solver: self.solver.solver(),
             grid: self.grid(),
         };
         let s = record_spectrum(&req, control)?;
-        let threshold = threshold_alpha_g(self.formulation(), &self.block_at(1.0));
+        let threshold = self.threshold_alpha_g();
         let to_scale = |level: f64| level * unit;
         let transition = |t: &Transition| ScaleTransitionDoc {
             scale: to_scale(t.at),
@@ -621,7 +616,7 @@ impl RecordSpectrumJob {
             .collect();
         let n = self.ground_motion.acc.len();
         Ok(RecordSpectrumResult {
-            kind: "record_spectrum",
+            kind: tag::RecordSpectrum,
             record: RecordDoc {
                 peaks: GroundPeaksDoc::new(&peaks::of_record(&record), g),
                 dt_s: self.ground_motion.dt,
@@ -637,6 +632,7 @@ impl RecordSpectrumJob {
             },
             spec: self.clone(),
             warnings: Vec::new(),
+            engine: None,
         })
     }
 }

@@ -8,6 +8,8 @@ use serde::{Deserialize, Serialize};
 
 use std::sync::Arc;
 
+use super::names::{SolverMethod, tag};
+use crate::dynamics::block::BlockError;
 use crate::dynamics::{Block, Formulation, Method, Pulse, PulseShape, Record, Solver};
 
 pub use super::error::SpecError;
@@ -277,11 +279,11 @@ pub const DEFAULT_RTOL: f64 = 1e-10;
 pub const DEFAULT_ATOL: f64 = 1e-12;
 
 /// The solver, normalised.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SolverNorm {
     /// "exact" | "dopri5" | "dop853".
     #[schema(value_type = crate::jobs::schema::MethodName)]
-    pub method: &'static str,
+    pub method: SolverMethod,
     /// Relative tolerance (Runge–Kutta only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rtol: Option<f64>,
@@ -294,23 +296,16 @@ impl SolverNorm {
     /// The domain solver.
     pub fn solver(&self) -> Solver {
         match (self.method, self.rtol, self.atol) {
-            ("dopri5", Some(rtol), Some(atol)) => Solver::RungeKutta {
-                method: Method::Dopri5,
-                rtol,
-                atol,
-            },
-            ("dop853", Some(rtol), Some(atol)) => Solver::RungeKutta {
-                method: Method::Dop853,
-                rtol,
-                atol,
-            },
+            (SolverMethod::RungeKutta(method), Some(rtol), Some(atol)) => {
+                Solver::RungeKutta { method, rtol, atol }
+            }
             _ => Solver::Exact,
         }
     }
 }
 
 /// The block, normalised (SI units, defaults filled).
-#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct BlockNorm {
     /// α, rad.
     pub alpha: f64,
@@ -326,15 +321,9 @@ pub struct BlockNorm {
 }
 
 impl BlockNorm {
-    /// The domain block.
-    pub fn block(&self) -> Block {
-        Block {
-            slenderness: self.alpha,
-            frequency_parameter: self.p,
-            restitution: self.eta,
-            friction: self.mu,
-            gravity: self.g,
-        }
+    /// The domain block (an error for values no validated spec holds).
+    pub fn block(&self) -> Result<Block, BlockError> {
+        Block::new(self.alpha, self.p, Some(self.eta), self.mu, Some(self.g))
     }
 }
 
@@ -413,11 +402,11 @@ pub fn validate_block(spec: &BlockSpec, base: &str) -> Result<BlockNorm, SpecErr
         }
     };
     Ok(BlockNorm {
-        alpha: block.slenderness,
-        p: block.frequency_parameter,
-        eta: block.restitution,
-        mu: block.friction,
-        g: block.gravity,
+        alpha: block.slenderness(),
+        p: block.frequency_parameter(),
+        eta: block.restitution(),
+        mu: block.friction(),
+        g: block.gravity(),
     })
 }
 
@@ -678,6 +667,46 @@ impl PulseNorm {
     }
 }
 
+/// A [`PulseNorm`] as documents hold it: its family by name and parameters.
+#[derive(Deserialize)]
+struct PulseNormDoc {
+    #[serde(rename = "type")]
+    kind: String,
+    n: Option<u32>,
+    symmetric: Option<bool>,
+    gamma: Option<f64>,
+    nu: Option<f64>,
+    omega_p: f64,
+    a_p: f64,
+}
+
+impl<'de> Deserialize<'de> for PulseNorm {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let d = PulseNormDoc::deserialize(d)?;
+        let params = ShapeParams {
+            n: d.n,
+            symmetric: d.symmetric,
+            gamma: d.gamma,
+            nu: d.nu,
+        };
+        let shape = family_of(&d.kind, params).map_err(serde::de::Error::custom)?;
+        Ok(PulseNorm::of(shape, d.omega_p, d.a_p))
+    }
+}
+
+/// The family a normalised spec names by `name` and `params`, which must be
+/// exactly the ones it writes ([`ShapeParams::of`]).
+pub(crate) fn family_of(name: &str, params: ShapeParams) -> Result<PulseShape, String> {
+    let shape = shape_of(name, params)
+        .ok_or_else(|| format!("unknown pulse type {name:?} or parameters {params:?}"))?;
+    if ShapeParams::of(shape) != params {
+        return Err(format!(
+            "the parameters {params:?} are not those of a {name} pulse"
+        ));
+    }
+    Ok(shape)
+}
+
 /// Range checked for ω_p/p.
 pub const OMEGA_RATIO_RANGE: (f64, f64) = (1e-3, 1e4);
 /// Largest |a_p|/(α g) accepted.
@@ -754,14 +783,15 @@ pub fn validate_pulse(
 
 /// Parses the formulation (default nonlinear).
 pub fn parse_formulation(v: Option<&str>, pointer: &str) -> Result<Formulation, SpecError> {
-    match v.map(|s| s.to_ascii_lowercase()).as_deref() {
-        None | Some("nonlinear") => Ok(Formulation::Nonlinear),
-        Some("linear") => Ok(Formulation::Linear),
-        Some(other) => Err(SpecError::at(
+    let Some(name) = v.map(|s| s.to_ascii_lowercase()) else {
+        return Ok(Formulation::Nonlinear);
+    };
+    super::names::formulation::from_name(&name).ok_or_else(|| {
+        SpecError::at(
             pointer,
-            format!("unknown formulation {other:?}: expected linear | nonlinear"),
-        )),
-    }
+            format!("unknown formulation {name:?}: expected linear | nonlinear"),
+        )
+    })
 }
 
 /// Validates the solver for a ground motion that has (`closed_form`: a
@@ -784,14 +814,14 @@ pub fn validate_solver_for(
     {
         None => {
             if formulation == Formulation::Linear && closed_form {
-                "exact"
+                SolverMethod::Exact
             } else {
-                "dop853"
+                SolverMethod::RungeKutta(Method::Dop853)
             }
         }
-        Some("exact") => "exact",
-        Some("dopri5") | Some("rk45") => "dopri5",
-        Some("dop853") => "dop853",
+        Some("exact") => SolverMethod::Exact,
+        Some("dopri5") | Some("rk45") => SolverMethod::RungeKutta(Method::Dopri5),
+        Some("dop853") => SolverMethod::RungeKutta(Method::Dop853),
         Some(other) => {
             return Err(SpecError::at(
                 format!("{base}/method"),
@@ -799,7 +829,7 @@ pub fn validate_solver_for(
             ));
         }
     };
-    if method == "exact" {
+    if method == SolverMethod::Exact {
         if !closed_form {
             return Err(SpecError::at(
                 format!("{base}/method"),
@@ -881,21 +911,28 @@ pub const MAX_RECORD_SAMPLES: usize = 1_000_000;
 pub const RECORD_DT_RANGE: (f64, f64) = (1e-5, 1.0);
 
 /// A record, normalised: samples in m/s².
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct GroundMotionNorm {
     /// Sampling interval, s.
     pub dt: f64,
     /// Accelerations, m/s².
-    #[serde(serialize_with = "serialize_samples")]
+    #[serde(
+        serialize_with = "serialize_samples",
+        deserialize_with = "deserialize_samples"
+    )]
     #[schema(value_type = Vec<f64>)]
     pub acc: Arc<[f64]>,
     /// Always "m/s2".
     #[schema(value_type = crate::jobs::schema::MetresPerSecondSquared)]
-    pub unit: &'static str,
+    pub unit: tag::MetresPerSecondSquared,
 }
 
 fn serialize_samples<S: serde::Serializer>(v: &Arc<[f64]>, s: S) -> Result<S::Ok, S::Error> {
     s.collect_seq(v.iter())
+}
+
+fn deserialize_samples<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Arc<[f64]>, D::Error> {
+    Vec::<f64>::deserialize(d).map(Arc::from)
 }
 
 impl GroundMotionNorm {
@@ -1000,7 +1037,7 @@ pub fn validate_ground_motion(
         GroundMotionNorm {
             dt,
             acc: samples,
-            unit: "m/s2",
+            unit: tag::MetresPerSecondSquared,
         },
         record,
     ))

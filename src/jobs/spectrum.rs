@@ -2,12 +2,13 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::names::{EngineDoc, tag};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, ShapeParams, SolverNorm, SolverSpec,
-    SpecError, in_one_unit, parse_formulation, parse_shape, shape_name, validate_block,
+    SpecError, family_of, in_one_unit, parse_formulation, parse_shape, shape_name, validate_block,
 };
-use crate::dynamics::{Formulation, Pulse, PulseShape};
+use crate::dynamics::{Formulation, Pulse, PulseShape, SimError};
 use crate::spectrum::overturning::Derived;
 use crate::spectrum::scan::{Direction, ModeChange, ScanStats, Transition};
 use crate::spectrum::{Control, SpectrumRequest, overturning_spectrum};
@@ -113,6 +114,32 @@ impl PulseFamily {
     }
 }
 
+/// A [`PulseFamily`] as documents hold it: its name and parameters.
+#[derive(Deserialize)]
+struct PulseFamilyDoc {
+    #[serde(rename = "type")]
+    kind: String,
+    n: Option<u32>,
+    symmetric: Option<bool>,
+    gamma: Option<f64>,
+    nu: Option<f64>,
+}
+
+impl<'de> Deserialize<'de> for PulseFamily {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let d = PulseFamilyDoc::deserialize(d)?;
+        let params = ShapeParams {
+            n: d.n,
+            symmetric: d.symmetric,
+            gamma: d.gamma,
+            nu: d.nu,
+        };
+        family_of(&d.kind, params)
+            .map(PulseFamily::of)
+            .map_err(serde::de::Error::custom)
+    }
+}
+
 /// Validates the pulse of a spectrum job: the family only.
 pub fn validate_family(spec: Option<&PulseSpec>, base: &str) -> Result<PulseFamily, SpecError> {
     let spec = spec.ok_or_else(|| SpecError::at(base, "missing field"))?;
@@ -136,18 +163,19 @@ pub fn validate_family(spec: Option<&PulseSpec>, base: &str) -> Result<PulseFami
 }
 
 /// A validated spectrum job; serialises to the canonical spec.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SpectrumJob {
     /// "spectrum".
     #[schema(value_type = crate::jobs::schema::SpectrumKind)]
-    pub kind: &'static str,
+    pub kind: tag::Spectrum,
     /// Block.
     pub block: BlockNorm,
     /// Pulse family.
     pub pulse: PulseFamily,
     /// "linear" | "nonlinear".
+    #[serde(with = "super::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
-    pub formulation: &'static str,
+    pub formulation: Formulation,
     /// ω_p/p values.
     pub omega_ratio: Vec<f64>,
     /// Highest amplitude, αg.
@@ -265,10 +293,10 @@ impl SpectrumSpec {
             "",
         )?;
         Ok(SpectrumJob {
-            kind: "spectrum",
+            kind: tag::Spectrum,
             block,
             pulse,
-            formulation: formulation.name(),
+            formulation,
             omega_ratio,
             a_max_alpha_g: a_max,
             tolerance,
@@ -476,7 +504,7 @@ impl ScanCost {
     /// From scan statistics.
     pub fn new(solver: &SolverNorm, s: &ScanStats) -> Self {
         ScanCost {
-            method: solver.method.to_string(),
+            method: solver.method.name().to_string(),
             rtol: solver.rtol,
             atol: solver.atol,
             simulations: s.simulations,
@@ -516,11 +544,11 @@ impl SpectrumNumerics {
 }
 
 /// The result document of a spectrum job.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SpectrumResult {
     /// "spectrum".
     #[schema(value_type = crate::jobs::schema::SpectrumKind)]
-    pub kind: &'static str,
+    pub kind: tag::Spectrum,
     /// One entry per frequency.
     pub spectrum: Vec<FrequencyDoc>,
     /// Cost and accuracy.
@@ -531,6 +559,10 @@ pub struct SpectrumResult {
     /// larger than 100 m); absent when there are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub engine: Option<EngineDoc>,
 }
 
 fn intervals(d: &Derived) -> Vec<[f64; 2]> {
@@ -543,12 +575,8 @@ impl SpectrumJob {
         &self,
         control: &Control,
     ) -> Result<SpectrumResult, crate::spectrum::scan::ScanError> {
-        let formulation = if self.formulation == "linear" {
-            Formulation::Linear
-        } else {
-            Formulation::Nonlinear
-        };
-        let block = self.block.block();
+        let formulation = self.formulation;
+        let block = self.block.block().map_err(SimError::from)?;
         let req = SpectrumRequest {
             block,
             shape: self.pulse.shape(),
@@ -604,7 +632,7 @@ impl SpectrumJob {
             .collect();
         Ok(SpectrumResult {
             warnings: Vec::new(),
-            kind: "spectrum",
+            kind: tag::Spectrum,
             spectrum,
             numerics: SpectrumNumerics::new(
                 &self.solver,
@@ -614,6 +642,7 @@ impl SpectrumJob {
                 s.wall_time,
             ),
             spec: self.clone(),
+            engine: None,
         })
     }
 }

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use super::distribution::{DistributionNorm, DistributionSpec};
+use super::names::{EngineDoc, Im, tag};
 use super::spec::SpecError;
 use crate::probability::hazard::HazardCurve;
 use crate::probability::survival::{Age, rate_scale};
@@ -127,7 +128,7 @@ pub struct FragilityNorm {
 }
 
 /// An age, normalised.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 #[serde(untagged)]
 pub enum AgeNorm {
     /// Known ages, years.
@@ -137,7 +138,7 @@ pub enum AgeNorm {
 }
 
 /// A rock, normalised.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct RockNorm {
     /// Its name.
     pub name: String,
@@ -148,21 +149,21 @@ pub struct RockNorm {
 }
 
 /// A hazard curve, normalised.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct HazardNorm {
     /// "pga_g" | "pgv_m_s".
     #[schema(value_type = ImName)]
-    pub im: &'static str,
+    pub im: Im,
     /// The points.
     pub points: Vec<[f64; 2]>,
 }
 
 /// A validated survival job; serialises to the canonical spec.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SurvivalJob {
     /// "survival".
     #[schema(value_type = crate::jobs::schema::SurvivalKind)]
-    pub kind: &'static str,
+    pub kind: tag::Survival,
     /// The hazard curve.
     pub hazard: HazardNorm,
     /// The rocks (one when the spec gave `fragility` and `age_years`).
@@ -171,7 +172,7 @@ pub struct SurvivalJob {
 
 fn validate_fragility(
     f: Option<&FragilityInput>,
-    im: &str,
+    im: Im,
     at: &str,
 ) -> Result<FragilityNorm, SpecError> {
     let f = f.ok_or_else(|| {
@@ -193,7 +194,7 @@ fn validate_fragility(
                 "give median_g or median, not both",
             ));
         }
-        (Some(_), None) if im != "pga_g" => {
+        (Some(_), None) if im != Im::PgaG => {
             return Err(SpecError::at(
                 format!("{at}/median_g"),
                 format!("the hazard's intensity is {im}: give the median in its unit as median"),
@@ -283,8 +284,8 @@ impl SurvivalSpec {
             .as_ref()
             .ok_or_else(|| SpecError::at("/hazard", "missing field: {\"im\", \"points\"}"))?;
         let im = match hazard.im.as_deref() {
-            Some("pga_g") => "pga_g",
-            Some("pgv_m_s") => "pgv_m_s",
+            Some("pga_g") => Im::PgaG,
+            Some("pgv_m_s") => Im::PgvMS,
             Some(other) => {
                 return Err(SpecError::at(
                     "/hazard/im",
@@ -369,7 +370,7 @@ impl SurvivalSpec {
             }],
         };
         Ok(SurvivalJob {
-            kind: "survival",
+            kind: tag::Survival,
             hazard: HazardNorm {
                 im,
                 points: points.clone(),
@@ -445,14 +446,14 @@ pub struct SurvivalNumerics {
 }
 
 /// The result document.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SurvivalResult {
     /// "survival".
     #[schema(value_type = crate::jobs::schema::SurvivalKind)]
-    pub kind: &'static str,
+    pub kind: tag::Survival,
     /// The intensity measure.
     #[schema(value_type = ImName)]
-    pub im: &'static str,
+    pub im: Im,
     /// λ_t of the (single) rock, 1/yr; absent with several rocks.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub annual_toppling_rate: Option<f64>,
@@ -471,6 +472,10 @@ pub struct SurvivalResult {
     pub numerics: SurvivalNumerics,
     /// The normalised spec.
     pub spec: SurvivalJob,
+    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub engine: Option<EngineDoc>,
 }
 
 impl SurvivalJob {
@@ -540,7 +545,7 @@ impl SurvivalJob {
             rate_scale_at_5_percent: rate_scale(&joint_rocks, TARGET),
         });
         SurvivalResult {
-            kind: "survival",
+            kind: tag::Survival,
             im: self.hazard.im,
             annual_toppling_rate: single.as_ref().map(|r| r.annual_toppling_rate),
             ages: single
@@ -557,6 +562,7 @@ impl SurvivalJob {
                 wall_time_s: started.elapsed().as_secs_f64(),
             },
             spec: self.clone(),
+            engine: None,
         }
     }
 }

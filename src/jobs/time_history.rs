@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::names::{EngineDoc, tag};
 use super::numerics::NumericsDoc;
 use super::spec::{
     BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, SolverNorm,
@@ -11,7 +12,7 @@ use super::spec::{
 };
 pub use super::warning::WarningDoc;
 use crate::dynamics::response::{Response, Warning};
-use crate::dynamics::{Options, Problem, SimError, simulate};
+use crate::dynamics::{Formulation, Options, Problem, SimError, simulate};
 
 /// Largest series accepted.
 pub const MAX_SERIES_POINTS: usize = 1_000_000;
@@ -59,7 +60,7 @@ pub struct TimeHistorySpec {
 }
 
 /// Outputs, normalised.
-#[derive(Clone, Copy, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct OutputsNorm {
     /// Series samples (0: none).
     pub series: usize,
@@ -75,11 +76,11 @@ pub struct OutputsNorm {
 }
 
 /// A validated time-history job; serialises to the canonical spec.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct TimeHistoryJob {
     /// "time_history".
     #[schema(value_type = crate::jobs::schema::TimeHistoryKind)]
-    pub kind: &'static str,
+    pub kind: tag::TimeHistory,
     /// Block.
     pub block: BlockNorm,
     /// Pulse (when the ground motion is a pulse).
@@ -89,8 +90,9 @@ pub struct TimeHistoryJob {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ground_motion: Option<GroundMotionNorm>,
     /// "linear" | "nonlinear".
+    #[serde(with = "super::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
-    pub formulation: &'static str,
+    pub formulation: Formulation,
     /// Solver.
     pub solver: SolverNorm,
     /// Outputs.
@@ -147,11 +149,11 @@ impl TimeHistorySpec {
             ));
         }
         Ok(TimeHistoryJob {
-            kind: "time_history",
+            kind: tag::TimeHistory,
             block,
             pulse,
             ground_motion,
-            formulation: formulation.name(),
+            formulation,
             solver,
             outputs: OutputsNorm {
                 series,
@@ -264,11 +266,11 @@ pub struct SeriesDoc {
 }
 
 /// The result document of a time-history job.
-#[derive(Clone, Debug, Serialize, PartialEq, utoipa::ToSchema)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct TimeHistoryResult {
     /// "time_history".
     #[schema(value_type = crate::jobs::schema::TimeHistoryKind)]
-    pub kind: &'static str,
+    pub kind: tag::TimeHistory,
     /// Whether rocking started at all.
     pub rocked: bool,
     /// First rocking start, s.
@@ -334,17 +336,17 @@ pub struct TimeHistoryResult {
     pub numerics: NumericsDoc,
     /// The normalised spec that was run.
     pub spec: TimeHistoryJob,
+    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub engine: Option<EngineDoc>,
 }
 
 impl TimeHistoryJob {
     /// Runs the job.
     pub fn run(&self) -> Result<TimeHistoryResult, SimError> {
-        let block = self.block.block();
-        let formulation = if self.formulation == "linear" {
-            crate::dynamics::Formulation::Linear
-        } else {
-            crate::dynamics::Formulation::Nonlinear
-        };
+        let block = self.block.block()?;
+        let formulation = self.formulation;
         let options = Options {
             solver: self.solver.solver(),
             reactions: self.outputs.reactions,
@@ -387,7 +389,7 @@ impl TimeHistoryJob {
     /// The result document of response `r`.
     fn document(&self, r: Response, ground_peaks: GroundPeaksDoc) -> TimeHistoryResult {
         TimeHistoryResult {
-            kind: "time_history",
+            kind: tag::TimeHistory,
             ground_peaks,
             rocked: r.rocked,
             rocking_start: r.rocking_start,
@@ -430,6 +432,7 @@ impl TimeHistoryJob {
             }),
             numerics: NumericsDoc::from(&r.numerics),
             spec: self.clone(),
+            engine: None,
         }
     }
 }
@@ -483,7 +486,7 @@ impl crate::jobs::kind::Kind for TimeHistory {
             found.extend(never_rocks_warning(
                 m,
                 &job.block,
-                job.formulation == "linear",
+                job.formulation == crate::dynamics::Formulation::Linear,
             ));
         }
         found

@@ -69,7 +69,7 @@ pub fn friction_spectrum(
 ) -> Result<FrictionSpectrum, ScanError> {
     let started = Instant::now();
     control.add_total(req.levels.len() as u64);
-    let unit = req.block.slenderness * req.block.gravity;
+    let unit = req.block.slenderness() * req.block.gravity();
     let results: Vec<Result<(FrictionPoint, ScanStats), ScanError>> = req
         .levels
         .par_iter()
@@ -78,7 +78,7 @@ pub fn friction_spectrum(
             let pulse = Pulse::new(
                 req.shape,
                 level * unit,
-                req.omega_ratio * req.block.frequency_parameter,
+                req.omega_ratio * req.block.frequency_parameter(),
             )
             .map_err(|_| ScanError::Simulation(SimError::Tolerance))?;
             let mut opts = Options::history(req.solver);

@@ -84,7 +84,13 @@ pub struct Spectrum {
 
 /// Rocking threshold in units of αg.
 pub fn threshold_alpha_g(formulation: Formulation, block: &Block) -> f64 {
-    formulation.rocking_threshold(block) / (block.gravity * block.slenderness)
+    threshold_alpha_g_of(formulation, block.slenderness(), block.gravity())
+}
+
+/// Rocking threshold in units of αg of any block of slenderness α under
+/// gravity g, whatever its size.
+pub fn threshold_alpha_g_of(formulation: Formulation, slenderness: f64, gravity: f64) -> f64 {
+    formulation.rocking_threshold_of(slenderness, gravity) / (gravity * slenderness)
 }
 
 /// Grid points of one frequency: threshold, threshold + h, …, a_max.
@@ -221,8 +227,8 @@ pub fn overturning_spectrum(
         .map(|&ratio| {
             let pulse = Pulse::new(
                 req.shape,
-                req.block.slenderness * req.block.gravity,
-                ratio * req.block.frequency_parameter,
+                req.block.slenderness() * req.block.gravity(),
+                ratio * req.block.frequency_parameter(),
             )
             .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
             Ok(Problem {

@@ -6,7 +6,8 @@
 
 use std::time::Instant;
 
-use crate::dynamics::{Block, Formulation, Problem, Record, Solver};
+use crate::dynamics::block::BlockError;
+use crate::dynamics::{Block, Formulation, Problem, Record, SimError, Solver};
 
 use super::control::Control;
 use super::overturning::{LineScan, ScanGrid, scan_lines};
@@ -49,15 +50,15 @@ pub fn record_spectrum(
     let problems: Vec<Problem<Record>> = req
         .ps
         .iter()
-        .map(|&p| Problem {
-            block: Block {
-                frequency_parameter: p,
-                ..req.block
-            },
-            pulse: req.record.clone(),
-            formulation: req.formulation,
+        .map(|&p| {
+            Ok(Problem {
+                block: req.block.with_frequency_parameter(p)?,
+                pulse: req.record.clone(),
+                formulation: req.formulation,
+            })
         })
-        .collect();
+        .collect::<Result<_, BlockError>>()
+        .map_err(SimError::from)?;
     let (lines, stats) = scan_lines(&problems, req.solver, &req.grid, control)?;
     Ok(RecordSpectrum {
         lines,

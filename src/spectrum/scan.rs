@@ -128,7 +128,7 @@ pub trait Scalable: Forcing {
 impl Scalable for Pulse {
     #[inline]
     fn at_level(&self, level: f64, block: &Block) -> Self {
-        self.with_amplitude(level * block.slenderness * block.gravity)
+        self.with_amplitude(level * block.slenderness() * block.gravity())
     }
 }
 
@@ -138,7 +138,7 @@ impl Scalable for Record {
     fn at_level(&self, level: f64, block: &Block) -> Self {
         let pga = self.samples().iter().fold(0.0f64, |m, a| m.max(a.abs()));
         if pga > 0.0 {
-            self.scaled(level * block.slenderness * block.gravity / pga)
+            self.scaled(level * block.slenderness() * block.gravity() / pga)
         } else {
             self.clone()
         }

@@ -45,11 +45,11 @@ fn label(problem: &Problem, solver: &Solver) -> String {
         problem.pulse.shape,
         problem.formulation.name(),
         solver.name(),
-        problem.block.slenderness,
-        problem.block.frequency_parameter,
-        problem.block.restitution,
-        problem.pulse.amplitude / (problem.block.slenderness * problem.block.gravity),
-        problem.pulse.circular_frequency / problem.block.frequency_parameter,
+        problem.block.slenderness(),
+        problem.block.frequency_parameter(),
+        problem.block.restitution(),
+        problem.pulse.amplitude / (problem.block.slenderness() * problem.block.gravity()),
+        problem.pulse.circular_frequency / problem.block.frequency_parameter(),
     )
 }
 
@@ -164,7 +164,7 @@ fn run_sane(problem: &Problem, solver: Solver) -> Response {
             assert!(t.is_finite(), "{what}: warning time {t}");
         }
     }
-    let cap = FRAC_PI_2 / problem.block.slenderness * (1.0 + 1e-9);
+    let cap = FRAC_PI_2 / problem.block.slenderness() * (1.0 + 1e-9);
     assert!(
         r.peak_theta_over_alpha.is_finite() && r.peak_theta_over_alpha <= cap,
         "{what}: peak theta/alpha {} above pi/(2 alpha) = {cap}",
@@ -243,7 +243,11 @@ fn very_slender_block_alpha_1e_minus_4_gives_finite_sane_results() {
 fn stocky_block_alpha_1_2_has_housner_eta_zero_and_gives_finite_sane_results() {
     let alpha = 1.2;
     let b = block(alpha, P, None);
-    assert_eq!(b.restitution, 0.0, "Housner's eta vanishes for alpha = 1.2");
+    assert_eq!(
+        b.restitution(),
+        0.0,
+        "Housner's eta vanishes for alpha = 1.2"
+    );
     for shape in [PulseShape::OneSine, PulseShape::OneCosine] {
         for (formulation, solver) in configurations() {
             let pr = problem(formulation, b, pulse(shape, 3.0 * alpha * G, 5.0 * P));
@@ -320,8 +324,8 @@ fn elastic_impacts_eta_1_never_rest_and_truncate_free_rocking_quickly() {
 
 fn threshold(formulation: Formulation, b: &Block) -> f64 {
     match formulation {
-        Formulation::Linear => b.gravity * b.slenderness,
-        Formulation::Nonlinear => b.gravity * b.slenderness.tan(),
+        Formulation::Linear => b.gravity() * b.slenderness(),
+        Formulation::Nonlinear => b.gravity() * b.slenderness().tan(),
     }
 }
 
@@ -457,8 +461,8 @@ fn long_free_rocking_records_hundreds_of_ordered_impacts_scaled_by_eta_and_rests
 #[test]
 fn a_pulse_grazing_the_threshold_ends_in_a_few_impacts() {
     let b = Block::new(0.3544, 4.734, Some(0.5425), None, None).expect("valid block");
-    let a_p = 1.0440824777601374 * b.slenderness * b.gravity;
-    let p = pulse(PulseShape::Cn(3), a_p, 4.6687 * b.frequency_parameter);
+    let a_p = 1.0440824777601374 * b.slenderness() * b.gravity();
+    let p = pulse(PulseShape::Cn(3), a_p, 4.6687 * b.frequency_parameter());
     let problem = Problem {
         block: b,
         pulse: p,

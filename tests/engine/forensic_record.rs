@@ -208,7 +208,7 @@ fn the_scale_axis_in_either_unit_makes_one_job() {
         panic!("forensic")
     };
     assert_eq!((c.tolerance_g, c.scan_step_g), (1e-4, 0.01));
-    let s = c.scale.expect("scale");
+    let s = c.scale().expect("scale");
     assert!((s.from - 0.1).abs() < 1e-15 && (s.to - 6.0).abs() < 1e-15);
 }
 

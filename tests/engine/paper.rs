@@ -25,9 +25,9 @@ fn flips(
     solver: Solver,
     (lo, hi, step): (f64, f64, f64),
 ) -> Vec<(f64, bool, Option<u8>, u64)> {
-    let unit = block.slenderness * G;
+    let unit = block.slenderness() * G;
     let at = |level: f64| {
-        let pulse = Pulse::new(shape, level * unit, ratio * block.frequency_parameter)
+        let pulse = Pulse::new(shape, level * unit, ratio * block.frequency_parameter())
             .expect("valid pulse");
         let r = simulate(
             &Problem {

@@ -87,8 +87,8 @@ fn closed_form_and_dop853_agree_on_housners_pulses() {
         for (ratio, level) in [(1.0, 1.3), (2.0, 1.6), (3.0, 2.2), (5.0, 4.0), (8.0, 7.5)] {
             let pulse = Pulse::new(
                 shape,
-                level * block.slenderness * block.gravity,
-                ratio * block.frequency_parameter,
+                level * block.slenderness() * block.gravity(),
+                ratio * block.frequency_parameter(),
             )
             .expect("valid");
             let problem = Problem {
@@ -249,13 +249,13 @@ fn ricker_wavelets_have_their_peaks_where_the_formulas_put_them() {
 #[test]
 fn ricker_onset_is_located_exactly_in_the_right_lobe() {
     let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
-    let threshold = block.gravity * block.slenderness.tan();
+    let threshold = block.gravity() * block.slenderness().tan();
     for symmetric in [true, false] {
         for level in [1.05, 1.5, 2.5, 4.0] {
             let pulse = ricker(
                 symmetric,
                 level * threshold,
-                3.0 * block.frequency_parameter,
+                3.0 * block.frequency_parameter(),
             );
             let problem = Problem {
                 block,
@@ -309,8 +309,8 @@ fn dopri5_and_dop853_agree_on_ricker_wavelets() {
         for (ratio, level) in [(1.0, 1.5), (2.0, 2.0), (4.0, 4.5), (6.0, 8.0)] {
             let pulse = ricker(
                 symmetric,
-                level * block.slenderness * block.gravity,
-                ratio * block.frequency_parameter,
+                level * block.slenderness() * block.gravity(),
+                ratio * block.frequency_parameter(),
             );
             for formulation in [Formulation::Linear, Formulation::Nonlinear] {
                 let problem = Problem {
@@ -542,7 +542,7 @@ fn mavroeidis_papageorgiou_onset_is_the_first_crossing_of_the_threshold() {
                     gamma,
                     nu,
                     level * threshold,
-                    2.0 * block.frequency_parameter,
+                    2.0 * block.frequency_parameter(),
                 );
                 let problem = Problem {
                     block,
@@ -566,7 +566,7 @@ fn mavroeidis_papageorgiou_onset_is_the_first_crossing_of_the_threshold() {
                 let series = simulate(
                     &problem,
                     &Options {
-                        series_at: Some(vec![start + 1e-3 / block.frequency_parameter]),
+                        series_at: Some(vec![start + 1e-3 / block.frequency_parameter()]),
                         ..Options::history(dop853(1e-10))
                     },
                 )
@@ -594,8 +594,8 @@ fn dopri5_and_dop853_agree_on_mavroeidis_papageorgiou_pulses() {
             let pulse = mp(
                 gamma,
                 nu,
-                level * block.slenderness * block.gravity,
-                ratio * block.frequency_parameter,
+                level * block.slenderness() * block.gravity(),
+                ratio * block.frequency_parameter(),
             );
             for formulation in [Formulation::Linear, Formulation::Nonlinear] {
                 let problem = Problem {

@@ -135,7 +135,7 @@ fn check_peaks<G: Forcing>(problem: &Problem<G>, solver: Solver, what: &str, ext
         "{what}: pick a case that rocks and stands"
     );
     let end = r.end_time;
-    let alpha = problem.block.slenderness;
+    let alpha = problem.block.slenderness();
     let peak_theta = r.peak_theta_over_alpha * alpha;
     // The demand jumps at impacts (θ̇ ← η θ̇) and where rocking starts: the
     // reference samples those instants too.
@@ -252,7 +252,7 @@ fn first_sliding_on_a_record_is_the_first_crossing_of_mu() {
             .and_then(|f| f.peak)
             .expect("bounded");
         // At rest the demand stays below α: a μ above it is crossed rocking.
-        let alpha = free.block.slenderness;
+        let alpha = free.block.slenderness();
         assert!(peak > 1.05 * alpha, "{peak}");
         let mu = alpha + 0.5 * (peak - alpha);
         let problem = record_problem(Formulation::Linear, Some(mu));
