@@ -610,40 +610,6 @@ async fn off_runtime<T: Send + 'static>(
         .map_err(|e| Problem::internal(format!("reading the spec stopped: {e}")))
 }
 
-/// A spec that does not validate: 400 when it is not JSON, else 422 naming
-/// the field.
-fn invalid_spec(e: crate::jobs::spec::SpecError) -> Problem {
-    let status = if e.message.starts_with("not valid JSON") {
-        StatusCode::BAD_REQUEST
-    } else {
-        StatusCode::UNPROCESSABLE_ENTITY
-    };
-    let pointer = e.pointer.clone();
-    // A pointer may hold a key the client sent, of any length.
-    let shown: String = if pointer.is_empty() {
-        "/".into()
-    } else {
-        pointer
-            .split('/')
-            .map(|segment| {
-                if segment.chars().count() > 40 {
-                    segment.chars().take(40).chain(['…']).collect()
-                } else {
-                    segment.to_string()
-                }
-            })
-            .collect::<Vec<_>>()
-            .join("/")
-    };
-    Problem::new(
-        status,
-        "invalid-spec",
-        "Invalid job spec",
-        format!("{shown}: {}", e.message),
-    )
-    .at(pointer)
-}
-
 /// Waits until the tenant's job `id` reaches a final status or `limit` passes.
 async fn wait_for(
     state: &AppState,
@@ -775,7 +741,7 @@ pub async fn create_job(
     let value = off_runtime(move || {
         let text = std::str::from_utf8(&body)
             .map_err(|_| Problem::bad_request("invalid-body", "the body is not UTF-8"))?;
-        crate::jobs::spec::parse_json(text).map_err(invalid_spec)
+        crate::jobs::spec::parse_json(text).map_err(Problem::from)
     })
     .await??;
     // A survival spec may name finished fragility jobs: read their fits.
@@ -784,11 +750,11 @@ pub async fn create_job(
     let (value, records) = crate::service::records::resolve(&*state.store, tenant.name(), value)
         .await
         .map_err(|e| match e {
-            crate::service::records::ResolveError::Invalid(e) => invalid_spec(e),
+            crate::service::records::ResolveError::Invalid(e) => Problem::from(e),
             crate::service::records::ResolveError::Store(e) => e.into(),
         })?;
     let (job, value) = off_runtime(move || (Job::from_value(&value), value)).await?;
-    let job = job.map_err(invalid_spec)?;
+    let job = job.map_err(Problem::from)?;
     let size = job
         .check_limits(&state.config.limits)
         .map_err(|e| Problem::over_limit(&e.as_written(&value)))?;
