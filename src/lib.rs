@@ -24,16 +24,21 @@
 //!   tasks, and the result documents.
 //! - [`store`]: one storage trait for jobs, tasks, results and records;
 //!   SQLite and PostgreSQL implementations.
-//! - [`service`]: the server: workers that claim tasks and compute them on the
-//!   rayon pool, startup, graceful shutdown, metrics.
-//! - [`api`]: axum routes, problem+json errors, authentication (the tenant of
-//!   every request, from its token), CSV, the OpenAPI description, the page
-//!   at `/`.
+//! - [`service`]: the server without its routes: the state of an instance,
+//!   workers that claim tasks and compute them on the rayon pool,
+//!   connections, tenants and their tokens, metrics, and the job logic the
+//!   API calls (records a spec names).
+//! - [`api`]: axum routes, problem+json errors (the one place errors become
+//!   HTTP statuses), authentication (the tenant of every request, from its
+//!   token), CSV, the OpenAPI description, the page at `/`.
+//! - [`startup`]: the application: the service's state and workers behind the
+//!   API's router; startup and graceful shutdown.
 //! - [`plot`]: SVG figures of every result kind; [`precision`]: the
 //!   work-precision study; [`numbers`]: numbers as people read them.
 //!
 //! Data flows one way: HTTP → spec → domain types → engine → result → store →
-//! HTTP. The engine never knows it is in a service; the API does no physics.
+//! HTTP. The engine never knows it is in a service; the API does no physics;
+//! the service never names the API (only [`startup`] knows both).
 
 pub mod api;
 pub mod dynamics;
@@ -45,4 +50,5 @@ pub mod probability;
 pub mod records;
 pub mod service;
 pub mod spectrum;
+pub mod startup;
 pub mod store;

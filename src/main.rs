@@ -461,7 +461,7 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
     }
     let runtime = tokio::runtime::Runtime::new().map_err(|e| (1, e.to_string()))?;
     runtime.block_on(async move {
-        let app = topple::service::Application::build(config)
+        let app = topple::startup::Application::build(config)
             .await
             .map_err(|e| (1, format!("cannot start: {e}")))?;
         app.run_until(topple::service::shutdown_signal())

@@ -22,11 +22,11 @@ use super::problem::Problem;
 use crate::service::ServeConfig;
 use crate::service::tenants::TokensFile;
 
+/// The tenant of every request without a tokens file, and of the API token.
+pub use crate::service::tenants::DEFAULT_TENANT;
+
 /// Paths anyone may read, whatever the settings.
 const OPEN: [&str; 4] = ["/healthz", "/readyz", "/openapi.yaml", "/"];
-
-/// The tenant of every request without a tokens file, and of the API token.
-pub const DEFAULT_TENANT: &str = "default";
 
 /// The tenant a request belongs to, in its extensions (`Extension<Tenant>`).
 ///

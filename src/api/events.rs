@@ -3,8 +3,8 @@
 use std::convert::Infallible;
 use std::time::Duration;
 
-use axum::extract::rejection::{PathRejection, QueryRejection};
-use axum::extract::{Extension, Path, Query, State};
+use axum::extract::rejection::PathRejection;
+use axum::extract::{Extension, Path, State};
 use axum::http::HeaderMap;
 use axum::response::sse::{Event, KeepAlive, Sse};
 use futures_util::Stream;
@@ -12,7 +12,8 @@ use tokio::time::Instant;
 use uuid::Uuid;
 
 use super::auth::Tenant;
-use super::jobs::{load, parse_id, query, status_etag, summary, view};
+use super::http::Query;
+use super::jobs::{load, parse_id, status_etag, summary, view};
 use super::plot::NoQuery;
 use super::problem::Problem;
 use crate::service::AppState;
@@ -119,11 +120,11 @@ pub async fn job_events(
     State(state): State<AppState>,
     Extension(tenant): Extension<Tenant>,
     path: Result<Path<String>, PathRejection>,
-    q: Result<Query<NoQuery>, QueryRejection>,
+    q: Result<Query<NoQuery>, Problem>,
     headers: HeaderMap,
 ) -> Result<Sse<impl Stream<Item = Result<Event, Infallible>>>, Problem> {
     let id = parse_id(path)?;
-    query(q, &[])?;
+    q?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
     // A job that does not exist is a 404, not an empty stream.
     load(&state, &tenant, id).await?;

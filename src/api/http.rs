@@ -1,11 +1,16 @@
-//! HTTP as clients expect it: request ids, entity tags and conditional
-//! requests, cache headers, poll intervals.
+//! HTTP as clients expect it: request ids, query strings, entity tags and
+//! conditional requests, cache headers, poll intervals.
 
 use axum::body::Body;
-use axum::extract::Request;
+use axum::extract::{FromRequestParts, Request};
+use axum::http::request::Parts;
 use axum::http::{HeaderMap, HeaderName, HeaderValue, StatusCode, header};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
+use serde::de::DeserializeOwned;
+use utoipa::IntoParams;
+
+use super::problem::Problem;
 
 /// The request-id header, accepted from clients and echoed on every response.
 pub static REQUEST_ID: HeaderName = HeaderName::from_static("x-request-id");
@@ -32,6 +37,93 @@ pub async fn sanitize_request_id(mut request: Request, next: Next) -> Response {
     next.run(request).await
 }
 
+/// A query string read into `T`, whose parameters (as its [`IntoParams`]
+/// describes them) are the ones the endpoint takes. Its rejection is the
+/// problem to answer: a 400 naming the parameter at fault ([`BadQuery`]).
+///
+/// A handler that checks something before the query (the path's id, the
+/// content type) takes `Result<Query<T>, Problem>` and looks at it in turn.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Query<T>(pub T);
+
+impl<T, S> FromRequestParts<S> for Query<T>
+where
+    T: DeserializeOwned + IntoParams,
+    S: Send + Sync,
+{
+    type Rejection = Problem;
+
+    async fn from_request_parts(parts: &mut Parts, _state: &S) -> Result<Self, Problem> {
+        read_query(parts.uri.query().unwrap_or_default())
+            .map(Query)
+            .map_err(Problem::from)
+    }
+}
+
+/// Why a query string does not read.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BadQuery {
+    /// A parameter the endpoint takes, with a value that does not read.
+    Value {
+        /// The parameter.
+        name: String,
+        /// What is wrong with its value.
+        message: String,
+    },
+    /// A parameter the endpoint does not take (the first given).
+    Unknown {
+        /// The parameter, as given (percent-decoded).
+        name: String,
+        /// The parameters the endpoint takes, in order.
+        takes: Vec<String>,
+    },
+    /// Anything else (a parameter given twice).
+    Other {
+        /// What is wrong.
+        message: String,
+        /// The endpoint's parameter, when it takes just one.
+        only: Option<String>,
+    },
+}
+
+/// `query` (a URL's query string, without `?`) read into `T`.
+pub fn read_query<T: DeserializeOwned + IntoParams>(query: &str) -> Result<T, BadQuery> {
+    let pairs = || form_urlencoded::parse(query.as_bytes());
+    let deserializer = serde_urlencoded::Deserializer::new(pairs());
+    serde_path_to_error::deserialize(deserializer).map_err(|e| {
+        let takes: Vec<String> = T::into_params(|| None)
+            .into_iter()
+            .map(|p| p.name)
+            .collect();
+        if let Some(serde_path_to_error::Segment::Map { key }) = e.path().iter().next()
+            && takes.contains(key)
+        {
+            return BadQuery::Value {
+                name: key.clone(),
+                message: e.inner().to_string(),
+            };
+        }
+        // serde reads the pairs in order and stops at the first it cannot
+        // take: a parameter the endpoint does not take, or one given twice.
+        let mut seen = std::collections::HashSet::new();
+        for (name, _) in pairs() {
+            if !takes.iter().any(|t| *t == name) {
+                return BadQuery::Unknown {
+                    name: name.into_owned(),
+                    takes,
+                };
+            }
+            if !seen.insert(name) {
+                break;
+            }
+        }
+        BadQuery::Other {
+            message: format!("Failed to deserialize query string: {e}"),
+            only: (takes.len() == 1).then(|| takes[0].clone()),
+        }
+    })
+}
+
 /// problem+json bodies name the request they answer: `instance` is
 /// `urn:topple:request:<id>` and `request_id` the id itself.
 pub async fn problem_instance(request: Request, next: Next) -> Response {
@@ -51,8 +143,7 @@ pub async fn problem_instance(request: Request, next: Next) -> Response {
     let (mut parts, body) = response.into_parts();
     // Problem bodies are a few hundred bytes (their texts are bounded).
     let Ok(bytes) = axum::body::to_bytes(body, 64 * 1024).await else {
-        return super::problem::Problem::internal("the error could not be described")
-            .into_response();
+        return Problem::internal("the error could not be described").into_response();
     };
     let mut doc: serde_json::Value = match serde_json::from_slice(&bytes) {
         Ok(v) => v,
@@ -146,7 +237,7 @@ pub async fn refuse_oversized_bodies(
         .and_then(|v| v.to_str().ok())
         .and_then(|v| v.trim().parse::<u64>().ok());
     if declared.is_some_and(|n| n > max as u64) {
-        return super::problem::Problem::body_too_large_for(max, limit).into_response();
+        return Problem::body_too_large_for(max, limit).into_response();
     }
     next.run(req).await
 }
@@ -169,6 +260,129 @@ pub fn audit(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The problem a query string gets: (detail, parameter), or `None` when
+    /// it reads.
+    fn refusal<T: DeserializeOwned + IntoParams>(query: &str) -> Option<(String, Option<String>)> {
+        let p = Problem::from(read_query::<T>(query).err()?);
+        assert_eq!(p.status, 400);
+        assert_eq!(p.kind, "https://topple.dev/problems/invalid-parameter");
+        assert_eq!(p.title, "Bad request");
+        assert_eq!(p.pointer, p.parameter.as_ref().map(|n| format!("#/{n}")));
+        Some((p.detail, p.parameter))
+    }
+
+    fn says(detail: &str, parameter: Option<&str>) -> Option<(String, Option<String>)> {
+        Some((detail.to_string(), parameter.map(str::to_string)))
+    }
+
+    /// The problems of bad query strings, as clients have always read them:
+    /// the first parameter at fault, in order, is named.
+    #[test]
+    fn a_query_that_does_not_read_names_its_parameter() {
+        use crate::api::jobs::{CreateQuery, ListParams};
+        use crate::api::plot::NoQuery;
+        use crate::api::records::UploadQuery;
+        type Create = CreateQuery;
+        let cases = [
+            (refusal::<Create>("wait=1"), None),
+            (
+                refusal::<Create>("wait=abc"),
+                says("wait: invalid float literal", Some("wait")),
+            ),
+            (
+                refusal::<Create>("wait="),
+                says("wait: cannot parse float from empty string", Some("wait")),
+            ),
+            (
+                refusal::<Create>("wait=1&foo=2"),
+                says(
+                    "unknown query parameter \"foo\": this endpoint takes wait",
+                    Some("foo"),
+                ),
+            ),
+            // serde stops at the first pair at fault.
+            (
+                refusal::<Create>("wait=abc&foo=2"),
+                says("wait: invalid float literal", Some("wait")),
+            ),
+            (
+                refusal::<Create>("foo=2&wait=abc"),
+                says(
+                    "unknown query parameter \"foo\": this endpoint takes wait",
+                    Some("foo"),
+                ),
+            ),
+            (
+                refusal::<Create>("=1"),
+                says(
+                    "unknown query parameter \"\": this endpoint takes wait",
+                    Some(""),
+                ),
+            ),
+            (
+                refusal::<Create>("wait=1&wait=2&foo=1"),
+                says(
+                    "Failed to deserialize query string: duplicate field `wait`",
+                    Some("wait"),
+                ),
+            ),
+            // A name with a backquote is named whole.
+            (
+                refusal::<Create>("a%60b=1"),
+                says(
+                    "unknown query parameter \"a`b\": this endpoint takes wait",
+                    Some("a`b"),
+                ),
+            ),
+            (refusal::<NoQuery>(""), None),
+            (refusal::<NoQuery>("&&"), None),
+            (
+                refusal::<NoQuery>("x=1"),
+                says(
+                    "unknown query parameter \"x\": this endpoint takes none",
+                    Some("x"),
+                ),
+            ),
+            (
+                refusal::<ListParams>("limit=-1"),
+                says("limit: invalid digit found in string", Some("limit")),
+            ),
+            (
+                refusal::<ListParams>("bogus=1"),
+                says(
+                    "unknown query parameter \"bogus\": this endpoint takes status, kind, limit, cursor, include",
+                    Some("bogus"),
+                ),
+            ),
+            // Of several parameters none is the one given twice.
+            (
+                refusal::<ListParams>("limit=1&limit=2"),
+                says(
+                    "Failed to deserialize query string: duplicate field `limit`",
+                    None,
+                ),
+            ),
+            (
+                refusal::<UploadQuery>("allow_large_pga=yes"),
+                says(
+                    "allow_large_pga: provided string was not `true` or `false`",
+                    Some("allow_large_pga"),
+                ),
+            ),
+            (refusal::<UploadQuery>("dt=1e999"), None),
+            (
+                refusal::<UploadQuery>("x+y=1"),
+                says(
+                    "unknown query parameter \"x y\": this endpoint takes format, unit, dt, time_column, acc_column, name, allow_large_pga",
+                    Some("x y"),
+                ),
+            ),
+        ];
+        for (i, (got, want)) in cases.into_iter().enumerate() {
+            assert_eq!(got, want, "case {i}");
+        }
+    }
 
     #[test]
     fn request_ids_are_bounded_and_printable() {

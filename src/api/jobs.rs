@@ -4,8 +4,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use axum::body::{Body, Bytes};
-use axum::extract::rejection::{BytesRejection, PathRejection, QueryRejection};
-use axum::extract::{Extension, Path, Query, State};
+use axum::extract::rejection::{BytesRejection, PathRejection};
+use axum::extract::{Extension, Path, State};
 use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
@@ -16,6 +16,7 @@ use uuid::Uuid;
 
 use super::auth::Tenant;
 use super::csv::{SeriesRows, to_csv};
+use super::http::Query;
 use super::problem::Problem;
 use crate::jobs::key::cache_key;
 use crate::jobs::{Job, JobSpec, KINDS};
@@ -162,54 +163,6 @@ pub(crate) fn status_etag(r: &JobRecord) -> String {
     h.update(r.finished_at.as_deref().unwrap_or("").as_bytes());
     h.update(r.error.as_deref().unwrap_or("").as_bytes());
     format!("W/\"{}\"", &h.finalize().to_hex()[..24])
-}
-
-/// A query string read into `T`; an unknown or malformed parameter is a 400
-/// naming it.
-pub(crate) fn query<T>(q: Result<Query<T>, QueryRejection>, known: &[&str]) -> Result<T, Problem> {
-    q.map(|Query(t)| t).map_err(|e| {
-        let text = e.body_text();
-        // "Failed to deserialize query string: <parameter>: <what is wrong>"
-        // for a value that does not read, "…: unknown field `x`, …" for a
-        // parameter the endpoint does not take.
-        let rest = text
-            .split_once("query string: ")
-            .map_or(text.as_str(), |(_, r)| r);
-        if let Some(name) = known.iter().find(|k| rest.starts_with(&format!("{k}: "))) {
-            let what = &rest[name.len() + 2..];
-            return Problem::bad_request(
-                "invalid-parameter",
-                format!("{name}: {}", crate::jobs::spec::shorten_echoes(what)),
-            )
-            .param(name);
-        }
-        let unknown = rest.contains("unknown field");
-        // An unknown parameter is named even when its name is empty (`?=1`).
-        let name = rest
-            .split('`')
-            .nth(1)
-            .filter(|n| unknown || !n.is_empty())
-            .map(str::to_owned);
-        let detail = match (&name, unknown) {
-            (Some(n), true) => format!(
-                "unknown query parameter {n:?}: this endpoint takes {}",
-                if known.is_empty() {
-                    "none".to_string()
-                } else {
-                    known.join(", ")
-                }
-            ),
-            _ => crate::jobs::spec::shorten_echoes(&text),
-        };
-        let p = Problem::bad_request("invalid-parameter", detail);
-        match name
-            .filter(|_| unknown)
-            .or_else(|| (known.len() == 1).then(|| known[0].to_string()))
-        {
-            Some(n) => p.param(&n),
-            None => p,
-        }
-    })
 }
 
 /// A `wait` parameter as a duration, capped by the service's `max_wait`.
@@ -573,40 +526,6 @@ async fn off_runtime<T: Send + 'static>(
         .map_err(|e| Problem::internal(format!("reading the spec stopped: {e}")))
 }
 
-/// A spec that does not validate: 400 when it is not JSON, else 422 naming
-/// the field.
-fn invalid_spec(e: crate::jobs::spec::SpecError) -> Problem {
-    let status = if e.message.starts_with("not valid JSON") {
-        StatusCode::BAD_REQUEST
-    } else {
-        StatusCode::UNPROCESSABLE_ENTITY
-    };
-    let pointer = e.pointer.clone();
-    // A pointer may hold a key the client sent, of any length.
-    let shown: String = if pointer.is_empty() {
-        "/".into()
-    } else {
-        pointer
-            .split('/')
-            .map(|segment| {
-                if segment.chars().count() > 40 {
-                    segment.chars().take(40).chain(['…']).collect()
-                } else {
-                    segment.to_string()
-                }
-            })
-            .collect::<Vec<_>>()
-            .join("/")
-    };
-    Problem::new(
-        status,
-        "invalid-spec",
-        "Invalid job spec",
-        format!("{shown}: {}", e.message),
-    )
-    .at(pointer)
-}
-
 /// Waits until the tenant's job `id` reaches a final status or `limit` passes.
 async fn wait_for(
     state: &AppState,
@@ -722,11 +641,11 @@ pub async fn create_job(
     State(state): State<AppState>,
     Extension(tenant): Extension<Tenant>,
     headers: HeaderMap,
-    query: Result<Query<CreateQuery>, QueryRejection>,
+    query: Result<Query<CreateQuery>, Problem>,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, Problem> {
     check_json_content_type(&headers)?;
-    let query = self::query(query, &["wait"])?;
+    let Query(query) = query?;
     let body = match body {
         Ok(body) => body,
         Err(e) if body_timed_out(&e) => return Ok(body_timeout(&state)),
@@ -738,7 +657,7 @@ pub async fn create_job(
     let value = off_runtime(move || {
         let text = std::str::from_utf8(&body)
             .map_err(|_| Problem::bad_request("invalid-body", "the body is not UTF-8"))?;
-        crate::jobs::spec::parse_json(text).map_err(invalid_spec)
+        crate::jobs::spec::parse_json(text).map_err(Problem::from)
     })
     .await??;
     // A survival spec may name finished fragility jobs: read their fits.
@@ -747,11 +666,11 @@ pub async fn create_job(
     let (value, records) = crate::service::records::resolve(&*state.store, tenant.name(), value)
         .await
         .map_err(|e| match e {
-            crate::service::records::ResolveError::Invalid(e) => invalid_spec(e),
+            crate::service::records::ResolveError::Invalid(e) => Problem::from(e),
             crate::service::records::ResolveError::Store(e) => e.into(),
         })?;
     let (job, value) = off_runtime(move || (Job::from_value(&value), value)).await?;
-    let job = job.map_err(invalid_spec)?;
+    let job = job.map_err(Problem::from)?;
     let size = job
         .check_limits(&state.config.limits)
         .map_err(|e| Problem::over_limit(&e.as_written(&value)))?;
@@ -868,11 +787,11 @@ pub async fn get_job(
     State(state): State<AppState>,
     Extension(tenant): Extension<Tenant>,
     path: Result<Path<String>, PathRejection>,
-    q: Result<Query<JobQuery>, QueryRejection>,
+    q: Result<Query<JobQuery>, Problem>,
     headers: HeaderMap,
 ) -> Result<Response, Problem> {
     let id = parse_id(path)?;
-    let q = query(q, &["wait"])?;
+    let Query(q) = q?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
     let wait = wait_duration(&state, q.wait)?;
     let mut job = load(&state, &tenant, id).await?;
@@ -1154,11 +1073,11 @@ pub async fn get_result(
     State(state): State<AppState>,
     Extension(tenant): Extension<Tenant>,
     path: Result<Path<String>, PathRejection>,
-    q: Result<Query<ResultQuery>, QueryRejection>,
+    q: Result<Query<ResultQuery>, Problem>,
     headers: HeaderMap,
 ) -> Result<Response, Problem> {
     let id = parse_id(path)?;
-    let q = query(q, &["format"])?;
+    let Query(q) = q?;
     let format = Format::negotiate(q.format.as_deref(), &headers)?;
     result_response(&state, &tenant, id, format, &headers).await
 }
@@ -1192,10 +1111,10 @@ pub async fn cancel_job(
     Extension(tenant): Extension<Tenant>,
     headers: HeaderMap,
     path: Result<Path<String>, PathRejection>,
-    q: Result<Query<super::plot::NoQuery>, QueryRejection>,
+    q: Result<Query<super::plot::NoQuery>, Problem>,
 ) -> Result<Response, Problem> {
     let id = parse_id(path)?;
-    query(q, &[])?;
+    q?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
     let job = match cancel(&state, &tenant, id, &headers).await? {
         Ok(canceled) => return Ok(axum::Json(view(&canceled, None)).into_response()),
@@ -1269,10 +1188,10 @@ pub async fn cancel_only(
     Extension(tenant): Extension<Tenant>,
     headers: HeaderMap,
     path: Result<Path<String>, PathRejection>,
-    q: Result<Query<super::plot::NoQuery>, QueryRejection>,
+    q: Result<Query<super::plot::NoQuery>, Problem>,
 ) -> Result<axum::Json<JobView>, Problem> {
     let id = parse_id(path)?;
-    query(q, &[])?;
+    q?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
     match cancel(&state, &tenant, id, &headers).await? {
         Ok(job) => Ok(axum::Json(view(&job, None))),
@@ -1338,9 +1257,9 @@ pub struct JobPage {
 pub async fn list_jobs(
     State(state): State<AppState>,
     Extension(tenant): Extension<Tenant>,
-    q: Result<Query<ListParams>, QueryRejection>,
+    q: Result<Query<ListParams>, Problem>,
 ) -> Result<Response, Problem> {
-    let q = query(q, &["status", "kind", "limit", "cursor", "include"])?;
+    let Query(q) = q?;
     let with_spec = match q.include.as_deref() {
         None => false,
         Some("spec") => true,

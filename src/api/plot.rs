@@ -2,15 +2,16 @@
 
 use std::sync::Arc;
 
-use axum::extract::rejection::{PathRejection, QueryRejection};
-use axum::extract::{Extension, Path, Query, State};
+use axum::extract::rejection::PathRejection;
+use axum::extract::{Extension, Path, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
 use serde::Deserialize;
 use utoipa::IntoParams;
 
 use super::auth::Tenant;
-use super::jobs::{Format, parse_id, query, result_response};
+use super::http::Query;
+use super::jobs::{Format, parse_id, result_response};
 use super::problem::Problem;
 use crate::plot::{FigureError, Window};
 use crate::service::AppState;
@@ -51,11 +52,11 @@ pub async fn get_plot(
     State(state): State<AppState>,
     Extension(tenant): Extension<Tenant>,
     path: Result<Path<String>, PathRejection>,
-    q: Result<Query<PlotQuery>, QueryRejection>,
+    q: Result<Query<PlotQuery>, Problem>,
     headers: HeaderMap,
 ) -> Result<Response, Problem> {
     let id = parse_id(path)?;
-    let q = query(q, &["window"])?;
+    let Query(q) = q?;
     let window = q
         .window
         .as_deref()
@@ -78,7 +79,7 @@ pub struct PlotQuery {
 }
 
 /// A route that takes no query parameters.
-#[derive(Debug, serde::Deserialize)]
+#[derive(Debug, serde::Deserialize, IntoParams)]
 #[serde(deny_unknown_fields)]
 pub struct NoQuery {}
 

@@ -185,6 +185,75 @@ impl From<crate::store::StoreError> for Problem {
     }
 }
 
+/// The one place a refused spec becomes HTTP: a body that is not JSON is
+/// 400, a spec that does not validate 422; both name the field at fault.
+impl From<crate::jobs::SpecError> for Problem {
+    fn from(e: crate::jobs::SpecError) -> Self {
+        use crate::jobs::error::SpecErrorKind;
+        let status = match e.kind {
+            SpecErrorKind::Syntax => StatusCode::BAD_REQUEST,
+            SpecErrorKind::Invalid => StatusCode::UNPROCESSABLE_ENTITY,
+        };
+        // A pointer may hold a key the client sent, of any length.
+        let shown: String = if e.pointer.is_empty() {
+            "/".into()
+        } else {
+            e.pointer
+                .split('/')
+                .map(|segment| {
+                    if segment.chars().count() > 40 {
+                        segment.chars().take(40).chain(['…']).collect()
+                    } else {
+                        segment.to_string()
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join("/")
+        };
+        Problem::new(
+            status,
+            "invalid-spec",
+            "Invalid job spec",
+            format!("{shown}: {}", e.message),
+        )
+        .at(e.pointer)
+    }
+}
+
+/// A query string that does not read: 400, naming the parameter at fault.
+impl From<super::http::BadQuery> for Problem {
+    fn from(e: super::http::BadQuery) -> Self {
+        use super::http::BadQuery;
+        use crate::jobs::spec::shorten_echoes;
+        match e {
+            BadQuery::Value { name, message } => Problem::bad_request(
+                "invalid-parameter",
+                format!("{name}: {}", shorten_echoes(&message)),
+            )
+            .param(&name),
+            BadQuery::Unknown { name, takes } => {
+                let takes = if takes.is_empty() {
+                    "none".to_string()
+                } else {
+                    takes.join(", ")
+                };
+                Problem::bad_request(
+                    "invalid-parameter",
+                    format!("unknown query parameter {name:?}: this endpoint takes {takes}"),
+                )
+                .param(&name)
+            }
+            BadQuery::Other { message, only } => {
+                let p = Problem::bad_request("invalid-parameter", shorten_echoes(&message));
+                match only {
+                    Some(name) => p.param(&name),
+                    None => p,
+                }
+            }
+        }
+    }
+}
+
 /// Longest `detail` a problem carries, bytes: it may quote the input, which
 /// is never echoed at length.
 const MAX_DETAIL: usize = 1000;
@@ -235,5 +304,38 @@ impl IntoResponse for Problem {
                 .insert(header::RETRY_AFTER, HeaderValue::from(s));
         }
         r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::jobs::SpecError;
+
+    /// A spec's status comes from its kind: not JSON is 400, invalid 422;
+    /// the text is the same either way.
+    #[test]
+    fn a_refused_spec_answers_by_its_kind() {
+        let syntax = Problem::from(SpecError::syntax("not valid JSON: EOF while parsing"));
+        assert_eq!(syntax.status, 400);
+        assert_eq!(syntax.kind, "https://topple.dev/problems/invalid-spec");
+        assert_eq!(syntax.title, "Invalid job spec");
+        assert_eq!(syntax.detail, "/: not valid JSON: EOF while parsing");
+        assert_eq!(syntax.pointer.as_deref(), Some(""));
+        // A message that merely starts like one is still an invalid field.
+        let invalid = Problem::from(SpecError::at("/label", "not valid JSON text"));
+        assert_eq!(invalid.status, 422);
+        assert_eq!(invalid.detail, "/label: not valid JSON text");
+        assert_eq!(invalid.pointer.as_deref(), Some("/label"));
+    }
+
+    /// A pointer segment the client wrote long is shown cut, and kept whole
+    /// in `pointer`.
+    #[test]
+    fn long_keys_are_cut_in_the_detail_only() {
+        let key = "k".repeat(50);
+        let p = Problem::from(SpecError::at(format!("/{key}"), "unknown field"));
+        assert_eq!(p.detail, format!("/{}…: unknown field", "k".repeat(40)));
+        assert_eq!(p.pointer, Some(format!("/{key}")));
     }
 }

@@ -3,8 +3,8 @@
 //! record by id (`"ground_motion": {"record": id}`).
 
 use axum::body::Body;
-use axum::extract::rejection::{PathRejection, QueryRejection};
-use axum::extract::{Extension, Path, Query, State};
+use axum::extract::rejection::PathRejection;
+use axum::extract::{Extension, Path, State};
 use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
@@ -12,7 +12,7 @@ use utoipa::{IntoParams, ToSchema};
 use uuid::Uuid;
 
 use super::auth::Tenant;
-use super::jobs::query;
+use super::http::Query;
 use super::problem::Problem;
 use crate::records::{OptionTexts, ReadOptions, RecordMeta};
 use crate::service::AppState;
@@ -236,21 +236,10 @@ pub async fn create_record(
     State(state): State<AppState>,
     Extension(tenant): Extension<Tenant>,
     headers: HeaderMap,
-    q: Result<Query<UploadQuery>, QueryRejection>,
+    q: Result<Query<UploadQuery>, Problem>,
     body: Body,
 ) -> Result<Response, Problem> {
-    let q = query(
-        q,
-        &[
-            "format",
-            "unit",
-            "dt",
-            "time_column",
-            "acc_column",
-            "name",
-            "allow_large_pga",
-        ],
-    )?;
+    let Query(q) = q?;
     let opts = options(&q)?;
     // The file has a limit of its own (max_record_bytes), not the JSON
     // body limit; a declared length over it was refused before any byte.
@@ -375,10 +364,10 @@ pub async fn get_record(
     State(state): State<AppState>,
     Extension(tenant): Extension<Tenant>,
     path: Result<Path<String>, PathRejection>,
-    q: Result<Query<ReadQuery>, QueryRejection>,
+    q: Result<Query<ReadQuery>, Problem>,
 ) -> Result<Response, Problem> {
     let id = parse_record_id(path)?;
-    let q = query(q, &["format"])?;
+    let Query(q) = q?;
     let row = state
         .store
         .get_record(tenant.name(), &id)
@@ -529,9 +518,9 @@ pub struct RecordPage {
 pub async fn list_records(
     State(state): State<AppState>,
     Extension(tenant): Extension<Tenant>,
-    q: Result<Query<RecordListParams>, QueryRejection>,
+    q: Result<Query<RecordListParams>, Problem>,
 ) -> Result<Response, Problem> {
-    let q = query(q, &["limit", "cursor"])?;
+    let Query(q) = q?;
     let limit = q.limit.unwrap_or(50);
     if !(1..=500).contains(&limit) {
         return Err(bad_param(

@@ -1,12 +1,26 @@
 //! Why a spec is refused ([`SpecError`]) and why a valid job did not produce
 //! a result ([`JobError`]).
 
+use crate::dynamics::SimError;
 use crate::spectrum::scan::ScanError;
+
+/// What is wrong with a refused spec, as far as its sender must know: the
+/// HTTP layer answers each kind with its own status.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpecErrorKind {
+    /// The document is not JSON at all.
+    Syntax,
+    /// JSON, but not a spec that can run: a field missing, of the wrong type
+    /// or out of its range, a record or a job named wrongly.
+    Invalid,
+}
 
 /// A spec that cannot be run, with the field at fault.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{pointer}: {message}")]
 pub struct SpecError {
+    /// What kind of fault it is.
+    pub kind: SpecErrorKind,
     /// JSON pointer to the offending field ("" for the document itself).
     pub pointer: String,
     /// What is wrong with it.
@@ -14,22 +28,51 @@ pub struct SpecError {
 }
 
 impl SpecError {
-    /// An error at `pointer`.
+    /// A field at `pointer` that is not valid ([`SpecErrorKind::Invalid`]).
     pub fn at(pointer: impl Into<String>, message: impl Into<String>) -> Self {
         SpecError {
+            kind: SpecErrorKind::Invalid,
             pointer: pointer.into(),
+            message: message.into(),
+        }
+    }
+
+    /// A document that is not JSON ([`SpecErrorKind::Syntax`]).
+    pub fn syntax(message: impl Into<String>) -> Self {
+        SpecError {
+            kind: SpecErrorKind::Syntax,
+            pointer: String::new(),
             message: message.into(),
         }
     }
 }
 
-/// Why a valid job did not produce a result.
+/// Why a valid job did not produce a result. Its text is the `error` a
+/// failed job shows.
 #[derive(Debug, thiserror::Error)]
 pub enum JobError {
     /// The engine refused.
     #[error(transparent)]
-    Simulation(#[from] crate::dynamics::SimError),
-    /// The engine refused at one point of a spectrum.
+    Simulation(#[from] SimError),
+    /// The engine refused at one point of a spectrum: the amplitude
+    /// a_p/(αg) of its ground motion.
+    #[error("at a_p = {level} αg: {source}")]
+    AtLevel {
+        /// Amplitude, a_p/(αg).
+        level: f64,
+        /// What the engine said.
+        source: SimError,
+    },
+    /// A task that does not fit its job (a part outside it, or parts that
+    /// do not make it up).
+    #[error("{0}")]
+    Task(String),
+    /// A result that could not be serialised.
+    #[error("{0}")]
+    Serialise(#[source] serde_json::Error),
+    /// A failure still described in text only, by the kind modules that
+    /// have not moved to the variants above (an engine refusal at a sample,
+    /// a task's part or counts that do not fit, a serialisation).
     #[error("{0}")]
     Point(String),
     /// The job was canceled.
@@ -42,7 +85,32 @@ impl From<ScanError> for JobError {
         match e {
             ScanError::Canceled(_) => JobError::Canceled,
             ScanError::Simulation(s) => JobError::Simulation(s),
-            e @ ScanError::At { .. } => JobError::Point(e.to_string()),
+            ScanError::At { level, source } => JobError::AtLevel { level, source },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A failed job shows the engine's refusal at a spectrum's point as it
+    /// always has.
+    #[test]
+    fn a_refusal_at_a_level_reads_as_the_scan_said_it() {
+        let scan = ScanError::At {
+            level: 2.5,
+            source: SimError::ExactNeedsLinear,
+        };
+        let text = scan.to_string();
+        assert_eq!(JobError::from(scan).to_string(), text);
+    }
+
+    #[test]
+    fn syntax_errors_are_of_the_document() {
+        let e = SpecError::syntax("not valid JSON: EOF");
+        assert_eq!(e.kind, SpecErrorKind::Syntax);
+        assert_eq!(e.pointer, "");
+        assert_eq!(SpecError::at("/a", "x").kind, SpecErrorKind::Invalid);
     }
 }

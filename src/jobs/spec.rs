@@ -72,15 +72,14 @@ pub fn parse_json(text: &str) -> Result<serde_json::Value, SpecError> {
             Ok(value) => return Ok(value),
             Err(e) if e.to_string().starts_with("number out of range") => {
                 let Some(span) = number_at(&text, e.line(), e.column()) else {
-                    return Err(SpecError::at("", format!("not valid JSON: {e}")));
+                    return Err(SpecError::syntax(format!("not valid JSON: {e}")));
                 };
                 text.replace_range(span, &format!("\"{NON_FINITE_MARK}\""));
             }
-            Err(e) => return Err(SpecError::at("", format!("not valid JSON: {e}"))),
+            Err(e) => return Err(SpecError::syntax(format!("not valid JSON: {e}"))),
         }
     }
-    Err(SpecError::at(
-        "",
+    Err(SpecError::syntax(
         "not valid JSON: too many numbers out of range",
     ))
 }

@@ -1,14 +1,13 @@
-//! The HTTP computation service: an axum server over the job store, with
-//! workers that compute on a rayon pool.
+//! The computation service behind the HTTP API: the state of one instance
+//! (the job store, the result cache, the compute pool), workers that claim
+//! tasks and compute them on a rayon pool, the connections the server holds,
+//! and the job logic the API calls (records named by a spec).
 //!
-//! `Application::build` opens the store (applying migrations), requeues jobs
-//! that a dead process left running, and binds the listener;
-//! `Application::run_until` serves until the shutdown future resolves, then
-//! stops accepting, lets requests in flight and running jobs finish within the
-//! grace period, drops the connections left and requeues the jobs left.
+//! It knows nothing of routes: `crate::startup` puts it together with the
+//! API into the application.
 
 pub mod config;
-mod conn;
+pub(crate) mod conn;
 pub mod metrics;
 pub mod records;
 pub mod results;
@@ -18,13 +17,10 @@ pub mod throughput;
 pub mod worker;
 
 use std::collections::HashMap;
-use std::future::Future;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use tokio::net::TcpListener;
 use tokio::sync::{Notify, broadcast, watch};
-use tracing::info;
 use uuid::Uuid;
 
 pub use config::ServeConfig;
@@ -82,6 +78,46 @@ pub struct AppState {
 }
 
 impl AppState {
+    /// The state of an instance with `config` over `store`, computing jobs
+    /// with `engine` on a pool of `config.workers` threads.
+    pub fn new(
+        store: Arc<dyn JobStore>,
+        config: ServeConfig,
+        engine: Engine,
+    ) -> Result<AppState, ServeError> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(config.workers.max(1))
+            .thread_name(|i| format!("topple-compute-{i}"))
+            .build()
+            .map_err(|e| ServeError::Pool(e.to_string()))?;
+        let (finished, _) = broadcast::channel(1024);
+        let (stop, stopping) = watch::channel(false);
+        let results = Arc::new(results::ResultCache::new(config.result_memory));
+        Ok(AppState {
+            store,
+            config: Arc::new(config),
+            wake: Arc::new(Notify::new()),
+            finished,
+            running: Arc::new(Mutex::new(HashMap::new())),
+            metrics: Arc::new(metrics::Metrics::new()),
+            results,
+            renders: Arc::new(tokio::sync::Semaphore::new(RENDERS)),
+            throughput: Arc::new(throughput::Throughput::default()),
+            pool: Arc::new(pool),
+            engine,
+            idle_poll: Duration::from_millis(500),
+            stopping,
+            stop: Arc::new(stop),
+        })
+    }
+
+    /// The instance is stopping: workers stop claiming new work, and
+    /// requests waiting on jobs answer at once.
+    pub fn stop(&self) {
+        let _ = self.stop.send(true);
+        self.wake.notify_waiters();
+    }
+
     fn register(&self, id: Uuid, idx: i64, control: Arc<Control>) {
         if let Ok(mut m) = self.running.lock() {
             m.insert((id, idx), control);
@@ -159,120 +195,6 @@ pub async fn open_store(url: &str, connections: u32) -> Result<Arc<dyn JobStore>
         Ok(Arc::new(SqliteStore::open(url, connections).await?))
     } else {
         Err(ServeError::DatabaseUrl(url.to_string()))
-    }
-}
-
-/// A built, bound, not yet running instance.
-pub struct Application {
-    listener: TcpListener,
-    state: AppState,
-}
-
-impl Application {
-    /// Opens the store, recovers interrupted jobs and binds the address.
-    pub async fn build(config: ServeConfig) -> Result<Self, ServeError> {
-        Self::build_with_engine(config, Arc::new(|job, control| job.run(control))).await
-    }
-
-    /// As [`Application::build`], computing jobs with `engine`.
-    pub async fn build_with_engine(
-        config: ServeConfig,
-        engine: Engine,
-    ) -> Result<Self, ServeError> {
-        // The address first: a taken port is reported before anything is
-        // created (a SQLite file, a migrated database).
-        let listener =
-            TcpListener::bind(&config.addr)
-                .await
-                .map_err(|source| ServeError::Bind {
-                    addr: config.addr.clone(),
-                    source,
-                })?;
-        let store = open_store(&config.database_url, (config.workers as u32 + 4).max(8)).await?;
-        let recovered = store.recover().await?;
-        if recovered > 0 {
-            info!(recovered, "requeued jobs interrupted by a previous stop");
-        }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(config.workers.max(1))
-            .thread_name(|i| format!("topple-compute-{i}"))
-            .build()
-            .map_err(|e| ServeError::Pool(e.to_string()))?;
-        let (finished, _) = broadcast::channel(1024);
-        let (stop, stopping) = watch::channel(false);
-        let results = Arc::new(results::ResultCache::new(config.result_memory));
-        let state = AppState {
-            store,
-            config: Arc::new(config),
-            wake: Arc::new(Notify::new()),
-            finished,
-            running: Arc::new(Mutex::new(HashMap::new())),
-            metrics: Arc::new(metrics::Metrics::new()),
-            results,
-            renders: Arc::new(tokio::sync::Semaphore::new(RENDERS)),
-            throughput: Arc::new(throughput::Throughput::default()),
-            pool: Arc::new(pool),
-            engine,
-            idle_poll: Duration::from_millis(500),
-            stopping,
-            stop: Arc::new(stop),
-        };
-        Ok(Application { listener, state })
-    }
-
-    /// The bound port.
-    pub fn port(&self) -> u16 {
-        self.listener.local_addr().map(|a| a.port()).unwrap_or(0)
-    }
-
-    /// The shared state (for tests and embedding).
-    pub fn state(&self) -> &AppState {
-        &self.state
-    }
-
-    /// Serves until `shutdown` resolves, then drains gracefully.
-    pub async fn run_until<F>(self, shutdown: F) -> Result<(), ServeError>
-    where
-        F: Future<Output = ()> + Send + 'static,
-    {
-        let Application { listener, state } = self;
-        let mut workers = Vec::new();
-        for n in 0..state.config.workers.max(1) {
-            workers.push(tokio::spawn(worker::run(
-                state.clone(),
-                n,
-                state.stopping.clone(),
-            )));
-        }
-        if let Some(retention) = state.config.retention {
-            tokio::spawn(retention::run(
-                state.clone(),
-                retention,
-                state.stopping.clone(),
-            ));
-        }
-        let app = crate::api::router(state.clone());
-        info!(addr = %listener.local_addr()?, workers = state.config.workers, "serving");
-        let (signal_tx, signal_rx) = watch::channel(false);
-        let server = tokio::spawn({
-            let config = state.config.clone();
-            let metrics = state.metrics.clone();
-            async move { conn::serve(listener, app, &config, metrics, signal_rx).await }
-        });
-        shutdown.await;
-        info!("shutting down: no new requests, draining requests and jobs");
-        let _ = signal_tx.send(true);
-        // Workers stop claiming; requests waiting on jobs answer at once.
-        let _ = state.stop.send(true);
-        state.wake.notify_waiters();
-        for w in workers {
-            let _ = w.await;
-        }
-        if let Err(e) = server.await {
-            return Err(ServeError::Io(std::io::Error::other(e.to_string())));
-        }
-        info!("stopped");
-        Ok(())
     }
 }
 

@@ -19,6 +19,10 @@ use std::time::{Duration, Instant, SystemTime};
 
 use tracing::{info, warn};
 
+/// The tenant of every request without a tokens file, and of the API token
+/// (`TOPPLE_API_TOKEN`).
+pub const DEFAULT_TENANT: &str = "default";
+
 /// What a token made by `topple token` starts with.
 pub const TOKEN_PREFIX: &str = "tpl_";
 
@@ -255,7 +259,7 @@ impl std::fmt::Debug for TokensFile {
 
 impl TokensFile {
     /// Reads the file at `path`; `api_token`, if any, is one more token of
-    /// tenant [`crate::api::auth::DEFAULT_TENANT`].
+    /// tenant [`DEFAULT_TENANT`].
     pub fn open(path: &Path, api_token: Option<&str>) -> Result<TokensFile, TokensError> {
         let file = TokensFile {
             path: path.to_path_buf(),
@@ -372,7 +376,7 @@ impl TokensFile {
 impl Tenants {
     fn with_api_token(self, token: Option<&str>) -> Tenants {
         match token {
-            Some(t) => self.with_token(crate::api::auth::DEFAULT_TENANT, t),
+            Some(t) => self.with_token(DEFAULT_TENANT, t),
             None => self,
         }
     }

@@ -11,9 +11,9 @@ use tracing::{Instrument, info, info_span, warn};
 use uuid::Uuid;
 
 use super::AppState;
-use crate::jobs::{Job, JobError};
+use crate::jobs::{Job, JobError, SpecError};
 use crate::spectrum::Control;
-use crate::store::{Status, TaskClaim, now_rfc3339};
+use crate::store::{Status, StoreError, TaskClaim, now_rfc3339};
 
 /// Runs worker `n` until shutdown.
 pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>) {
@@ -86,10 +86,43 @@ enum Outcome {
     Lost,
 }
 
-fn parse(spec: &str) -> Result<Job, String> {
-    serde_json::from_str::<Value>(spec)
-        .map_err(|e| e.to_string())
-        .and_then(|v| Job::from_task(&v).map_err(|e| e.to_string()))
+/// Why the job a task computes cannot be read from what is stored.
+#[derive(Debug, thiserror::Error)]
+enum TaskSpecError {
+    /// Its payload or spec is not JSON.
+    #[error(transparent)]
+    Json(#[from] serde_json::Error),
+    /// It is JSON but no job (it no longer validates).
+    #[error(transparent)]
+    Spec(#[from] SpecError),
+    /// The part it names does not fit its job.
+    #[error(transparent)]
+    Part(JobError),
+    /// Its computation is gone from the store.
+    #[error("its job is gone")]
+    Gone,
+    /// The store failed.
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    /// Reading it on the blocking pool stopped.
+    #[error("reading the spec stopped: {0}")]
+    Stopped(#[from] tokio::task::JoinError),
+}
+
+/// Why a job's result could not be made from its tasks' results.
+#[derive(Debug, thiserror::Error)]
+enum AssembleError {
+    /// Its spec does not read.
+    #[error("invalid spec: {0}")]
+    Spec(TaskSpecError),
+    /// Its tasks' results do not make a result.
+    #[error(transparent)]
+    Job(#[from] JobError),
+}
+
+fn parse(spec: &str) -> Result<Job, TaskSpecError> {
+    let value = serde_json::from_str::<Value>(spec)?;
+    Ok(Job::from_task(&value)?)
 }
 
 /// The computation whose spec a worker read last, parsed: the parts of a
@@ -99,21 +132,22 @@ type Whole = Option<(Uuid, Arc<Job>)>;
 
 /// `f` on the blocking pool (reading specs: not work for the runtime).
 async fn blocking<T: Send + 'static>(
-    f: impl FnOnce() -> Result<T, String> + Send + 'static,
-) -> Result<T, String> {
-    tokio::task::spawn_blocking(f)
-        .await
-        .map_err(|e| format!("reading the spec stopped: {e}"))?
+    f: impl FnOnce() -> Result<T, TaskSpecError> + Send + 'static,
+) -> Result<T, TaskSpecError> {
+    tokio::task::spawn_blocking(f).await?
 }
 
 /// The job task `task` computes, read on the blocking pool: its payload, or
 /// the part it names ([`Job::task_payload`]) of its computation's spec.
-async fn task_job(state: &AppState, task: &TaskClaim, whole: &mut Whole) -> Result<Job, String> {
+async fn task_job(
+    state: &AppState,
+    task: &TaskClaim,
+    whole: &mut Whole,
+) -> Result<Job, TaskSpecError> {
     let text = task.payload.clone();
-    let payload: Value =
-        blocking(move || serde_json::from_str(&text).map_err(|e| e.to_string())).await?;
+    let payload: Value = blocking(move || Ok(serde_json::from_str(&text)?)).await?;
     if payload.get("kind").is_some() || payload.get("part").is_none() {
-        return blocking(move || Job::from_task(&payload).map_err(|e| e.to_string())).await;
+        return blocking(move || Ok(Job::from_task(&payload)?)).await;
     }
     let job = match whole {
         Some((id, job)) if *id == task.computation => job.clone(),
@@ -121,17 +155,16 @@ async fn task_job(state: &AppState, task: &TaskClaim, whole: &mut Whole) -> Resu
             let record = state
                 .store
                 .computation(task.computation)
-                .await
-                .map_err(|e| e.to_string())?
-                .ok_or("its job is gone")?;
+                .await?
+                .ok_or(TaskSpecError::Gone)?;
             let job = Arc::new(blocking(move || parse(&record.spec)).await?);
             *whole = Some((task.computation, job.clone()));
             job
         }
     };
     Job::part_of(&job, &payload)
-        .unwrap_or_else(|| Err(crate::jobs::JobError::Point("not a part".into())))
-        .map_err(|e| e.to_string())
+        .unwrap_or_else(|| Err(JobError::Task("not a part".into())))
+        .map_err(TaskSpecError::Part)
 }
 
 async fn execute(
@@ -369,13 +402,13 @@ async fn finish_job(state: &AppState, id: Uuid) {
     let spec = record.spec.clone();
     state.pool.spawn(move || {
         let assembled = parse(&spec)
-            .map_err(|e| format!("invalid spec: {e}"))
+            .map_err(AssembleError::Spec)
             .and_then(|job| {
                 let values: Vec<Value> = parts
                     .iter()
                     .filter_map(|p| serde_json::from_str(p).ok())
                     .collect();
-                job.assemble(values).map_err(|e| e.to_string())
+                Ok(job.assemble(values)?)
             })
             .map(|result| {
                 let numerics = result
@@ -390,7 +423,7 @@ async fn finish_job(state: &AppState, id: Uuid) {
         Ok(Ok(done)) => done,
         Ok(Err(e)) => {
             warn!(error = %e, "assembling failed");
-            let _ = state.store.fail(id, &e, &now_rfc3339()).await;
+            let _ = state.store.fail(id, &e.to_string(), &now_rfc3339()).await;
             state.announce(id);
             return;
         }
@@ -409,4 +442,36 @@ async fn finish_job(state: &AppState, id: Uuid) {
         Err(e) => warn!(error = %e, "storing the result failed"),
     }
     state.announce(id);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A failed job's `error` reads as it always has, whatever failed.
+    #[test]
+    fn failures_read_as_before() {
+        let not_json = serde_json::from_str::<Value>("{").expect_err("not JSON");
+        let text = not_json.to_string();
+        assert_eq!(TaskSpecError::from(not_json).to_string(), text);
+        let e = parse(r#"{"kind": "time_history"}"#).expect_err("no block");
+        let spec = match &e {
+            TaskSpecError::Spec(s) => s.to_string(),
+            other => panic!("not a spec error: {other}"),
+        };
+        assert_eq!(
+            AssembleError::Spec(e).to_string(),
+            format!("invalid spec: {spec}")
+        );
+        assert_eq!(TaskSpecError::Gone.to_string(), "its job is gone");
+        let part = JobError::Task("a task's part [0,9] does not fit its fragility job".into());
+        assert_eq!(
+            TaskSpecError::Part(part).to_string(),
+            "a task's part [0,9] does not fit its fragility job"
+        );
+        assert_eq!(
+            AssembleError::from(JobError::Canceled).to_string(),
+            "canceled"
+        );
+    }
 }

@@ -4,7 +4,8 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use serde_json::{Value, json};
-use topple::service::{AppState, Application, ServeConfig};
+use topple::service::{AppState, ServeConfig};
+use topple::startup::Application;
 
 pub struct TestApp {
     pub base: String,

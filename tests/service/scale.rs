@@ -7,8 +7,9 @@ use std::time::{Duration, Instant};
 use serde_json::{Value, json};
 use sqlx::Row;
 use topple::jobs::Job;
-use topple::service::{AppState, Application, ServeConfig};
+use topple::service::{AppState, ServeConfig};
 use topple::spectrum::Control;
+use topple::startup::Application;
 
 struct Instance {
     base: String,
