@@ -995,7 +995,7 @@ impl FragilityJob {
         let mut next = 0;
         for [from, to] in &ranges {
             if *from != next {
-                return Err(JobError::Point(if *from > next {
+                return Err(JobError::Task(if *from > next {
                     format!("the tasks' parts do not tile the job: unit {next} is missing")
                 } else {
                     format!("the tasks' parts do not tile the job: unit {from} is counted twice")
@@ -1004,7 +1004,7 @@ impl FragilityJob {
             next = *to;
         }
         if next != self.units() {
-            return Err(JobError::Point(format!(
+            return Err(JobError::Task(format!(
                 "the tasks' parts do not tile the job: units {next}..{} are missing",
                 self.units()
             )));
@@ -1012,7 +1012,7 @@ impl FragilityJob {
         let mut counts = vec![StripeCounts::default(); self.stripes.len()];
         for part in parts {
             if part.counts.len() != counts.len() {
-                return Err(JobError::Point(
+                return Err(JobError::Task(
                     "a task's counts do not match the job's stripes".into(),
                 ));
             }
@@ -1040,7 +1040,7 @@ impl FragilityJob {
             .enumerate()
             .find(|(_, c)| c.n != u64::from(self.samples))
         {
-            return Err(JobError::Point(format!(
+            return Err(JobError::Task(format!(
                 "stripe {k} counted {} simulations, not {}",
                 c.n, self.samples
             )));
@@ -1261,7 +1261,7 @@ impl crate::jobs::kind::Kind for Fragility {
                 part: Some([from, to]),
                 ..whole.clone()
             }),
-            _ => Err(JobError::Point(format!(
+            _ => Err(JobError::Task(format!(
                 "a task's part {part} does not fit its {} job",
                 Self::NAME
             ))),
@@ -1274,7 +1274,7 @@ impl crate::jobs::kind::Kind for Fragility {
             .into_iter()
             .map(serde_json::from_value)
             .collect::<Result<_, _>>()
-            .map_err(|e| JobError::Point(format!("a task's result does not read: {e}")))?;
+            .map_err(|e| JobError::Task(format!("a task's result does not read: {e}")))?;
         crate::jobs::kind::document(&job.assemble(&parts)?)
     }
 }

@@ -109,7 +109,7 @@ pub trait Kind: 'static {
     /// part's; in task order), before warnings and engine are added. Only
     /// kinds that split have several tasks.
     fn assemble(_job: &Self::Job, parts: Vec<Value>) -> Result<Value, JobError> {
-        Err(JobError::Point(format!(
+        Err(JobError::Task(format!(
             "a {} job is computed in one task, not {}",
             Self::NAME,
             parts.len()
@@ -119,8 +119,7 @@ pub trait Kind: 'static {
 
 /// `result` as a document, or the error that it cannot be one.
 pub fn document<T: Serialize>(result: &T) -> Result<Value, JobError> {
-    serde_json::to_value(result)
-        .map_err(|e| JobError::Point(format!("the result cannot be written: {e}")))
+    serde_json::to_value(result).map_err(JobError::Serialise)
 }
 
 /// Runs a job of one simulation under `control`: counts it, and refuses
