@@ -26,7 +26,8 @@
 //! - [`service`]: the server without its routes: the state of an instance,
 //!   workers that claim tasks and compute them on the rayon pool,
 //!   connections, tenants and their tokens, metrics, and the job logic the
-//!   API calls (records a spec names).
+//!   API calls (a submission read, resolved,
+//!   validated and admitted; finished results).
 //! - [`api`]: axum routes, problem+json errors (the one place errors become
 //!   HTTP statuses), authentication (the tenant of every request, from its
 //!   token), CSV, the OpenAPI description, the page at `/`.
