@@ -39,6 +39,8 @@
 //! Data flows one way: HTTP → spec → domain types → engine → result → store →
 //! HTTP. The engine never knows it is in a service; the API does no physics;
 //! the service never names the API (only [`startup`] knows both).
+//! `tests/import_graph.py` (run by `.ci/run`) fails on an import circle
+//! between these modules.
 
 pub mod api;
 pub mod dynamics;
