@@ -27,7 +27,8 @@
 //! - [`service`]: the server without its routes: the state of an instance,
 //!   workers that claim tasks and compute them on the rayon pool,
 //!   connections, tenants and their tokens, metrics, and the job logic the
-//!   API calls (records a spec names).
+//!   API calls (a submission read, resolved,
+//!   validated and admitted; finished results).
 //! - [`api`]: axum routes, problem+json errors (the one place errors become
 //!   HTTP statuses), authentication (the tenant of every request, from its
 //!   token), CSV, the OpenAPI description, the page at `/`.
@@ -39,6 +40,8 @@
 //! Data flows one way: HTTP → spec → domain types → engine → result → store →
 //! HTTP. The engine never knows it is in a service; the API does no physics;
 //! the service never names the API (only [`startup`] knows both).
+//! `tests/import_graph.py` (run by `.ci/run`) fails on an import circle
+//! between these modules.
 
 pub mod api;
 pub mod dynamics;

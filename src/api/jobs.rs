@@ -18,10 +18,11 @@ use super::auth::Tenant;
 use super::csv::{SeriesRows, to_csv};
 use super::http::Query;
 use super::problem::Problem;
-use crate::jobs::key::cache_key;
 use crate::jobs::{Job, JobSpec, KINDS};
 use crate::service::AppState;
-use crate::service::results::{Cached, Document, LoadError, MAX_BODY, SharedText};
+use crate::service::finished::{RESULT_WAIT, ResultError, finished};
+use crate::service::results::{Cached, Document, MAX_BODY, SharedText};
+use crate::service::submit::{self, Prepared};
 use crate::store::{Deleted, JobRecord, ListQuery, NewJob, Status, new_job_id, now_rfc3339};
 
 /// Links of a job.
@@ -242,51 +243,8 @@ pub(crate) async fn load(
         .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))
 }
 
-/// Longest a result read waits for a turn to read the database, for room in
-/// the memory budget of large results or for a rendering slot; then 503.
-const RESULT_WAIT: Duration = Duration::from_secs(10);
-
-/// Seconds a client told that result reads are busy waits before trying again.
-const BUSY_RETRY_S: u64 = 2;
-
 /// Bytes per piece of a streamed CSV table.
 const CSV_PIECE: usize = 64 * 1024;
-
-/// 503: the memory for large results, or the rendering slots, stayed taken
-/// for [`RESULT_WAIT`].
-fn busy(what: &str) -> Problem {
-    Problem::new(
-        StatusCode::SERVICE_UNAVAILABLE,
-        "busy",
-        "Busy",
-        format!(
-            "{what} stayed busy for {} s; try again in {BUSY_RETRY_S} s",
-            RESULT_WAIT.as_secs()
-        ),
-    )
-    .retry_after(BUSY_RETRY_S)
-}
-
-/// The result document of job `job` (of its computation, which identical
-/// jobs of other tenants share).
-async fn load_result(state: &AppState, job: &JobRecord) -> Result<Cached, Problem> {
-    let id = job.computation;
-    match state
-        .results
-        .load(id, &job.key, RESULT_WAIT, state.store.result(id))
-        .await
-    {
-        Ok(Some(found)) => Ok(found),
-        Ok(None) => Err(Problem::internal(format!(
-            "result of job {} is missing",
-            job.id
-        ))),
-        Err(LoadError::Store(e)) => Err(e.into()),
-        Err(LoadError::Busy) => Err(busy(
-            "the memory for large results (result_memory) or the database",
-        )),
-    }
-}
 
 /// A turn to parse and render a whole result document of `len` bytes
 /// (figures, and tables other than a series): large documents (over
@@ -304,7 +262,7 @@ pub(crate) async fn render_turn(
         .ok()
         .and_then(Result::ok)
         .map(Some)
-        .ok_or_else(|| busy("rendering"))
+        .ok_or_else(|| Problem::busy("rendering"))
 }
 
 /// A body that says it is something other than JSON is refused (415); one
@@ -339,191 +297,22 @@ fn check_json_content_type(headers: &HeaderMap) -> Result<(), Problem> {
     .header_name("content-type"))
 }
 
-/// Seconds a client told the queue is full waits before trying again.
-const RETRY_AFTER_S: u64 = 2;
-
-/// Refuses new work while the queue is full (429 with Retry-After), and a
-/// tenant's new live job beyond its quota (`max_queued_per_tenant`); work
-/// already known under `key` (queued, running or done) is always answered.
-async fn admit(state: &AppState, tenant: &Tenant, key: &str) -> Result<(), Problem> {
-    let max = state.config.max_queued;
-    let quota = state.config.max_queued_per_tenant;
-    if max == u64::MAX && quota.is_none() {
-        return Ok(());
-    }
-    let a = state.store.admission(tenant.name(), key).await?;
-    let answered = |s: Option<Status>| {
-        matches!(
-            s,
-            Some(Status::Queued | Status::Running | Status::Succeeded)
-        )
-    };
-    // The tenant's own job for this key, live or done: it is the answer.
-    if answered(a.own) {
-        return Ok(());
-    }
-    // A computation done: a new job over it is done at once.
-    if a.computation == Some(Status::Succeeded) {
-        return Ok(());
-    }
-    if let Some(quota) = quota
-        && a.live as u64 >= quota
-    {
-        state.metrics.rejected_full.increment(1);
-        return Err(Problem::new(
-            StatusCode::TOO_MANY_REQUESTS,
-            "tenant-quota",
-            "Tenant quota reached",
-            format!(
-                "tenant {:?} has {} jobs queued or running, its quota (max_queued_per_tenant); try again in {RETRY_AFTER_S} s, once one finishes",
-                tenant.name(),
-                a.live
-            ),
-        )
-        .limit("max_queued_per_tenant", quota as f64)
-        .retry_after(RETRY_AFTER_S));
-    }
-    // Joining a computation in flight queues no new work.
-    if max == u64::MAX || (a.queued as u64) < max || answered(a.computation) {
-        return Ok(());
-    }
-    state.metrics.rejected_full.increment(1);
-    Err(Problem::new(
-        StatusCode::TOO_MANY_REQUESTS,
-        "queue-full",
-        "Queue full",
-        format!("{max} jobs are waiting (max_queued); try again in {RETRY_AFTER_S} s"),
-    )
-    .limit("max_queued", max as f64)
-    .retry_after(RETRY_AFTER_S))
-}
-
 /// The stored result document of job `id`: 404 without the job, 409 until it
-/// has succeeded.
+/// has succeeded (with when to look again).
 pub(crate) async fn finished_result(
     state: &AppState,
     tenant: &Tenant,
     id: Uuid,
 ) -> Result<Cached, Problem> {
-    let job = load(state, tenant, id).await?;
-    match job.status {
-        Status::Succeeded => match state.results.get(job.computation) {
-            Some(found) => Ok(found),
-            None => load_result(state, &job).await,
-        },
-        Status::Failed => Err(Problem::conflict(
-            "job-failed",
-            format!("job {id} failed: {}", job.error.unwrap_or_default()),
-        )),
-        Status::Canceled => Err(Problem::conflict(
-            "job-canceled",
-            format!("job {id} was canceled"),
-        )),
-        s => Err(Problem::conflict(
-            "not-finished",
-            format!(
-                "job {id} is {}; poll /v1/jobs/{id} (?wait=N waits for it) or follow /v1/jobs/{id}/events",
-                s.as_str()
-            ),
-        )
-        .retry_after(poll_after(state, &job))),
-    }
-}
-
-/// A survival spec whose fragilities name finished `fragility` jobs
-/// (`{"job": "<id>"}`), rewritten with their lognormal fits (`median`,
-/// `beta`); `None` when the spec names none (or is not a survival spec: its
-/// validation will say what is wrong).
-async fn resolve_fragility_jobs(
-    state: &AppState,
-    tenant: &Tenant,
-    mut spec: serde_json::Value,
-) -> Result<serde_json::Value, Problem> {
-    if spec.get("kind").and_then(|k| k.as_str()) != Some("survival") {
-        return Ok(spec);
-    }
-    let hazard_im = spec
-        .pointer("/hazard/im")
-        .and_then(|v| v.as_str())
-        .map(str::to_string);
-    let mut pointers = vec!["/fragility".to_string()];
-    let rocks = spec
-        .get("rocks")
-        .and_then(|r| r.as_array())
-        .map_or(0, Vec::len);
-    pointers.extend((0..rocks).map(|i| format!("/rocks/{i}/fragility")));
-    let invalid = |pointer: String, message: String| {
-        Problem::new(
-            StatusCode::UNPROCESSABLE_ENTITY,
-            "invalid-spec",
-            "Invalid job spec",
-            format!("{pointer}: {message}"),
-        )
-        .at(pointer)
-    };
-    for at in pointers {
-        let Some(id) = spec
-            .pointer(&format!("{at}/job"))
-            .and_then(|v| v.as_str())
-            .map(str::to_string)
-        else {
-            continue;
-        };
-        let pointer = format!("{at}/job");
-        let uuid = Uuid::parse_str(&id)
-            .map_err(|_| invalid(pointer.clone(), format!("{id:?} is not a job id")))?;
-        let found = finished_result(state, tenant, uuid).await.map_err(|p| {
-            invalid(
-                pointer.clone(),
-                format!("job {id} cannot be read: {}", p.detail),
-            )
-        })?;
-        let body = found.body.clone();
-        let doc: serde_json::Value = off_runtime(move || serde_json::from_str(body.as_str()))
-            .await?
-            .map_err(|e| Problem::internal(e.to_string()))?;
-        if doc.get("kind").and_then(|k| k.as_str()) != Some("fragility") {
-            return Err(invalid(pointer, format!("job {id} is not a fragility job")));
-        }
-        let im = doc.get("im").and_then(|v| v.as_str()).unwrap_or("pga_g");
-        if hazard_im.as_deref().is_some_and(|h| h != im) {
-            return Err(invalid(
-                pointer,
-                format!(
-                    "job {id}'s fragility is in {im}, the hazard in {}",
-                    hazard_im.unwrap_or_default()
-                ),
-            ));
-        }
-        let fit = doc.get("lognormal").filter(|v| !v.is_null()).ok_or_else(|| {
-            invalid(
-                pointer.clone(),
-                format!("job {id} has no lognormal fit (its counts do not bound one): give median and beta"),
-            )
-        })?;
-        let (Some(median), Some(beta)) = (
-            fit.get("median").and_then(|v| v.as_f64()),
-            fit.get("beta").and_then(|v| v.as_f64()),
-        ) else {
-            return Err(Problem::internal(format!(
-                "job {id}'s fit has no median or beta"
-            )));
-        };
-        if let Some(slot) = spec.pointer_mut(&at) {
-            *slot = serde_json::json!({"median": median, "beta": beta});
-        }
-    }
-    Ok(spec)
-}
-
-/// Runs `f` on the blocking pool (parsing and validating documents: not
-/// work for the runtime, and not compute to queue behind jobs).
-async fn off_runtime<T: Send + 'static>(
-    f: impl FnOnce() -> T + Send + 'static,
-) -> Result<T, Problem> {
-    tokio::task::spawn_blocking(f)
+    finished(state, tenant.name(), id)
         .await
-        .map_err(|e| Problem::internal(format!("reading the spec stopped: {e}")))
+        .map_err(|e| match e {
+            ResultError::NotFinished(job) => {
+                let after = poll_after(state, &job);
+                Problem::from(ResultError::NotFinished(job)).retry_after(after)
+            }
+            e => e.into(),
+        })
 }
 
 /// Waits until the tenant's job `id` reaches a final status or `limit` passes.
@@ -652,38 +441,15 @@ pub async fn create_job(
         Err(e) => return Err(body_problem(&state, &e)),
     };
     let wait = wait_duration(&state, query.wait)?;
-    // Reading a spec (it may hold long records) is no work for the runtime:
-    // the blocking pool parses and validates it.
-    let value = off_runtime(move || {
-        let text = std::str::from_utf8(&body)
-            .map_err(|_| Problem::bad_request("invalid-body", "the body is not UTF-8"))?;
-        crate::jobs::spec::parse_json(text).map_err(Problem::from)
-    })
-    .await??;
-    // A survival spec may name finished fragility jobs: read their fits.
-    let value = resolve_fragility_jobs(&state, &tenant, value).await?;
-    // A spec may name stored records: read their samples into it.
-    let (value, records) = crate::service::records::resolve(&*state.store, tenant.name(), value)
-        .await
-        .map_err(|e| match e {
-            crate::service::records::ResolveError::Invalid(e) => Problem::from(e),
-            crate::service::records::ResolveError::Store(e) => e.into(),
-        })?;
-    let (job, value) = off_runtime(move || (Job::from_value(&value), value)).await?;
-    let job = job.map_err(Problem::from)?;
-    let size = job
-        .check_limits(&state.config.limits)
-        .map_err(|e| Problem::over_limit(&e.as_written(&value)))?;
-    // Its key, canonical text and tasks: serialising a long record too.
-    let (job, key, spec, tasks) = off_runtime(move || {
-        let key = cache_key(&job);
-        let spec = serde_json::to_string(&job);
-        let tasks: Vec<String> = job.split().iter().map(Job::task_payload).collect();
-        (job, key, spec, tasks)
-    })
-    .await?;
-    let spec = spec.map_err(|e| Problem::internal(e.to_string()))?;
-    admit(&state, &tenant, &key).await?;
+    let Prepared {
+        job,
+        size,
+        key,
+        spec,
+        tasks,
+        records,
+    } = submit::prepare(&state, tenant.name(), body).await?;
+    submit::admit(&state, tenant.name(), &key).await?;
     let submitted = state
         .store
         .submit(NewJob {
@@ -727,7 +493,7 @@ pub async fn create_job(
     let status = if record.status.is_final() && (wait.is_some() || submitted.cached) {
         if record.status == Status::Succeeded {
             // The stored document is inlined as it is, never parsed again.
-            let found = load_result(&state, &record).await?;
+            let found = crate::service::finished::stored(&state, &record).await?;
             v.result =
                 serde_json::value::RawValue::from_string(found.body.as_str().to_string()).ok();
         }

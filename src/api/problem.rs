@@ -4,6 +4,10 @@ use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::Serialize;
 
+use crate::service::finished::{RESULT_WAIT, ResultError};
+use crate::service::fragility_links::LinkError;
+use crate::service::submit::SubmitError;
+
 /// An `application/problem+json` body.
 #[derive(Clone, Debug, Serialize, utoipa::ToSchema)]
 pub struct Problem {
@@ -217,6 +221,117 @@ impl From<crate::jobs::SpecError> for Problem {
             format!("{shown}: {}", e.message),
         )
         .at(e.pointer)
+    }
+}
+
+/// Seconds a client told that result reads are busy waits before trying again.
+const BUSY_RETRY_S: u64 = 2;
+
+impl Problem {
+    /// 503: `what` stayed taken for [`RESULT_WAIT`] (the memory for large
+    /// results, the database, the rendering turns).
+    pub fn busy(what: &str) -> Self {
+        Problem::new(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "busy",
+            "Busy",
+            format!(
+                "{what} stayed busy for {} s; try again in {BUSY_RETRY_S} s",
+                RESULT_WAIT.as_secs()
+            ),
+        )
+        .retry_after(BUSY_RETRY_S)
+    }
+}
+
+/// A result that cannot be read: 404 without the job, 409 until it has
+/// succeeded (a caller adds when to look again), 503 when busy.
+impl From<ResultError> for Problem {
+    fn from(e: ResultError) -> Self {
+        match e {
+            ResultError::NotFound(id) => Problem::not_found(format!("no job {id}")).param("id"),
+            ResultError::Failed { id, error } => {
+                Problem::conflict("job-failed", format!("job {id} failed: {error}"))
+            }
+            ResultError::Canceled(id) => {
+                Problem::conflict("job-canceled", format!("job {id} was canceled"))
+            }
+            ResultError::NotFinished(job) => Problem::conflict(
+                "not-finished",
+                format!(
+                    "job {id} is {}; poll /v1/jobs/{id} (?wait=N waits for it) or follow /v1/jobs/{id}/events",
+                    job.status.as_str(),
+                    id = job.id
+                ),
+            ),
+            ResultError::Missing(id) => Problem::internal(format!("result of job {id} is missing")),
+            ResultError::Busy => {
+                Problem::busy("the memory for large results (result_memory) or the database")
+            }
+            ResultError::Store(e) => e.into(),
+        }
+    }
+}
+
+/// The fragility jobs a survival spec names: an invalid spec (422) when
+/// they are named wrongly or cannot be read, saying why.
+impl From<LinkError> for Problem {
+    fn from(e: LinkError) -> Self {
+        match e {
+            LinkError::Invalid(e) => e.into(),
+            LinkError::Unreadable {
+                pointer,
+                id,
+                reason,
+            } => {
+                let why = Problem::from(reason).detail;
+                crate::jobs::SpecError::at(pointer, format!("job {id} cannot be read: {why}"))
+                    .into()
+            }
+            e @ (LinkError::Corrupt(_) | LinkError::Stopped(_)) => Problem::internal(e.to_string()),
+        }
+    }
+}
+
+/// Seconds a client told the queue is full waits before trying again.
+const RETRY_AFTER_S: u64 = 2;
+
+/// A submission refused: its body or spec (400, 422), a limit (422), the
+/// queue or the tenant's quota (429, with when to try again), the store.
+impl From<SubmitError> for Problem {
+    fn from(e: SubmitError) -> Self {
+        match e {
+            SubmitError::NotUtf8 => Problem::bad_request("invalid-body", "the body is not UTF-8"),
+            SubmitError::Spec(e) => e.into(),
+            SubmitError::Link(e) => e.into(),
+            SubmitError::Limit(e) => Problem::over_limit(&e),
+            SubmitError::TenantQuota {
+                tenant,
+                live,
+                quota,
+            } => Problem::new(
+                StatusCode::TOO_MANY_REQUESTS,
+                "tenant-quota",
+                "Tenant quota reached",
+                format!(
+                    "tenant {tenant:?} has {live} jobs queued or running, its quota (max_queued_per_tenant); try again in {RETRY_AFTER_S} s, once one finishes"
+                ),
+            )
+            .limit("max_queued_per_tenant", quota as f64)
+            .retry_after(RETRY_AFTER_S),
+            SubmitError::QueueFull { max } => Problem::new(
+                StatusCode::TOO_MANY_REQUESTS,
+                "queue-full",
+                "Queue full",
+                format!("{max} jobs are waiting (max_queued); try again in {RETRY_AFTER_S} s"),
+            )
+            .limit("max_queued", max as f64)
+            .retry_after(RETRY_AFTER_S),
+            SubmitError::Store(e) => e.into(),
+            e @ (SubmitError::Serialise(_) | SubmitError::Stopped(_)) => {
+                Problem::internal(e.to_string())
+            }
+        }
     }
 }
 

@@ -1,17 +1,22 @@
 //! The computation service behind the HTTP API: the state of one instance
 //! (the job store, the result cache, the compute pool), workers that claim
 //! tasks and compute them on a rayon pool, the connections the server holds,
-//! and the job logic the API calls (records named by a spec).
+//! and the job logic the API calls: a submission read, resolved (the records
+//! and fragility jobs its spec names), validated and admitted; finished
+//! results.
 //!
 //! It knows nothing of routes: `crate::startup` puts it together with the
 //! API into the application.
 
 pub mod config;
 pub(crate) mod conn;
+pub mod finished;
+pub mod fragility_links;
 pub mod metrics;
 pub mod records;
 pub mod results;
 pub mod retention;
+pub mod submit;
 pub mod tenants;
 pub mod throughput;
 pub mod worker;

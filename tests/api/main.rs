@@ -264,12 +264,25 @@ async fn a_survival_job_reads_a_fragility_jobs_fit() {
     let (_, again, _) = app.post("/v1/jobs", &by_hand).await;
     assert_eq!(again["key"], done["key"]);
     let not_fragility = done["id"].as_str().expect("id");
-    for bad in [not_fragility, "01a20c35-0ff0-7eab-bb8e-86d14f37f92a", "x"] {
+    let missing = "01a20c35-0ff0-7eab-bb8e-86d14f37f92a";
+    for (bad, why) in [
+        (
+            not_fragility,
+            format!("job {not_fragility} is not a fragility job"),
+        ),
+        (
+            missing,
+            format!("job {missing} cannot be read: no job {missing}"),
+        ),
+        ("x", "\"x\" is not a job id".to_string()),
+    ] {
         let mut spec = survival.clone();
         spec["fragility"]["job"] = json!(bad);
         let (status, problem, _) = app.post("/v1/jobs", &spec).await;
         assert_eq!(status, 422, "{problem}");
+        assert_eq!(problem["type"], "https://topple.dev/problems/invalid-spec");
         assert_eq!(problem["pointer"], "/fragility/job", "{problem}");
+        assert_eq!(problem["detail"], format!("/fragility/job: {why}"));
     }
     app.stop().await;
 }

@@ -1,0 +1,172 @@
+//! A submission made ready to store: its spec read, what it names (finished
+//! fragility jobs, stored records) read into it, validated and within the
+//! service's limits, with its cache key, canonical text and tasks; and
+//! whether the queue and the tenant's quota admit it.
+
+use crate::jobs::key::cache_key;
+use crate::jobs::limits::{LimitError, Size};
+use crate::jobs::{Job, SpecError};
+use crate::store::{Status, StoreError};
+
+use super::AppState;
+use super::fragility_links::LinkError;
+use super::records::ResolveError;
+
+/// A job ready to store.
+#[derive(Debug)]
+pub struct Prepared {
+    /// The job, validated.
+    pub job: Job,
+    /// Its size (the work it needs).
+    pub size: Size,
+    /// Its cache key.
+    pub key: String,
+    /// Its canonical spec, as stored.
+    pub spec: String,
+    /// Its tasks' payloads.
+    pub tasks: Vec<String>,
+    /// The stored records it names (in order, without repeats).
+    pub records: Vec<String>,
+}
+
+/// Why a submission is refused.
+#[derive(Debug, thiserror::Error)]
+pub enum SubmitError {
+    /// The body is not UTF-8 text.
+    #[error("the body is not UTF-8")]
+    NotUtf8,
+    /// The spec is not JSON, or not valid.
+    #[error(transparent)]
+    Spec(#[from] SpecError),
+    /// The fragility jobs it names cannot stand in for their fits.
+    #[error(transparent)]
+    Link(#[from] LinkError),
+    /// It is over a service limit (pointing at the field as written).
+    #[error(transparent)]
+    Limit(LimitError),
+    /// The tenant has as many jobs queued or running as its quota
+    /// (`max_queued_per_tenant`).
+    #[error("tenant {tenant:?} has {live} jobs queued or running, its quota")]
+    TenantQuota {
+        /// The tenant.
+        tenant: String,
+        /// Its jobs queued or running.
+        live: i64,
+        /// Its quota.
+        quota: u64,
+    },
+    /// The queue holds `max_queued` computations.
+    #[error("{max} jobs are waiting")]
+    QueueFull {
+        /// The limit (`max_queued`).
+        max: u64,
+    },
+    /// The store failed.
+    #[error(transparent)]
+    Store(#[from] StoreError),
+    /// The job could not be serialised.
+    #[error("{0}")]
+    Serialise(serde_json::Error),
+    /// Reading the spec on the blocking pool stopped.
+    #[error("reading the spec stopped: {0}")]
+    Stopped(#[from] tokio::task::JoinError),
+}
+
+impl From<ResolveError> for SubmitError {
+    fn from(e: ResolveError) -> Self {
+        match e {
+            ResolveError::Invalid(e) => SubmitError::Spec(e),
+            ResolveError::Store(e) => SubmitError::Store(e),
+        }
+    }
+}
+
+/// Runs `f` on the blocking pool (parsing and validating documents: not
+/// work for the runtime, and not compute to queue behind jobs).
+async fn off_runtime<T: Send + 'static>(
+    f: impl FnOnce() -> T + Send + 'static,
+) -> Result<T, SubmitError> {
+    Ok(tokio::task::spawn_blocking(f).await?)
+}
+
+/// The tenant's submission `body` (a job spec) made ready to store.
+pub async fn prepare(
+    state: &AppState,
+    tenant: &str,
+    body: impl AsRef<[u8]> + Send + 'static,
+) -> Result<Prepared, SubmitError> {
+    // Reading a spec (it may hold long records) is no work for the runtime:
+    // the blocking pool parses and validates it.
+    let value = off_runtime(move || {
+        let text = std::str::from_utf8(body.as_ref()).map_err(|_| SubmitError::NotUtf8)?;
+        Ok::<_, SubmitError>(crate::jobs::spec::parse_json(text)?)
+    })
+    .await??;
+    // A survival spec may name finished fragility jobs: read their fits.
+    let value = super::fragility_links::resolve(state, tenant, value).await?;
+    // A spec may name stored records: read their samples into it.
+    let (value, records) = super::records::resolve(&*state.store, tenant, value).await?;
+    let (job, value) = off_runtime(move || (Job::from_value(&value), value)).await?;
+    let job = job?;
+    let size = job
+        .check_limits(&state.config.limits)
+        .map_err(|e| SubmitError::Limit(e.as_written(&value)))?;
+    // Its key, canonical text and tasks: serialising a long record too.
+    let (job, key, spec, tasks) = off_runtime(move || {
+        let key = cache_key(&job);
+        let spec = serde_json::to_string(&job);
+        let tasks: Vec<String> = job.split().iter().map(Job::task_payload).collect();
+        (job, key, spec, tasks)
+    })
+    .await?;
+    Ok(Prepared {
+        job,
+        size,
+        key,
+        spec: spec.map_err(SubmitError::Serialise)?,
+        tasks,
+        records,
+    })
+}
+
+/// Refuses new work while the queue is full, and a tenant's new live job
+/// beyond its quota (`max_queued_per_tenant`); work already known under
+/// `key` (queued, running or done) is always admitted.
+pub async fn admit(state: &AppState, tenant: &str, key: &str) -> Result<(), SubmitError> {
+    let max = state.config.max_queued;
+    let quota = state.config.max_queued_per_tenant;
+    if max == u64::MAX && quota.is_none() {
+        return Ok(());
+    }
+    let a = state.store.admission(tenant, key).await?;
+    let answered = |s: Option<Status>| {
+        matches!(
+            s,
+            Some(Status::Queued | Status::Running | Status::Succeeded)
+        )
+    };
+    // The tenant's own job for this key, live or done: it is the answer.
+    if answered(a.own) {
+        return Ok(());
+    }
+    // A computation done: a new job over it is done at once.
+    if a.computation == Some(Status::Succeeded) {
+        return Ok(());
+    }
+    if let Some(quota) = quota
+        && a.live as u64 >= quota
+    {
+        state.metrics.rejected_full.increment(1);
+        return Err(SubmitError::TenantQuota {
+            tenant: tenant.to_string(),
+            live: a.live,
+            quota,
+        });
+    }
+    // Joining a computation in flight queues no new work.
+    if max == u64::MAX || (a.queued as u64) < max || answered(a.computation) {
+        return Ok(());
+    }
+    state.metrics.rejected_full.increment(1);
+    Err(SubmitError::QueueFull { max })
+}
