@@ -244,14 +244,20 @@ fn run(spec_path: &str, plot: Option<&str>, format: &str) -> Result<(), (u8, Str
     let result = job
         .run(&control)
         .map_err(|e| (1, format!("computation failed: {e}")))?;
-    if let Some(path) = plot {
-        topple::plot::plot_result(&result, path).map_err(|e| (1, format!("cannot plot: {e}")))?;
-    }
-    let out = if format == "csv" {
-        let table = topple::api::csv::to_csv(&result).map_err(|e| (1, e))?;
-        table.trim_end().to_string()
+    let typed = if plot.is_some() || format == "csv" {
+        let typed = topple::jobs::JobResult::from_value(result.clone())
+            .map_err(|e| (1, format!("the result does not read back: {e}")))?;
+        if let Some(path) = plot {
+            topple::plot::plot_result(&typed, path)
+                .map_err(|e| (1, format!("cannot plot: {e}")))?;
+        }
+        Some(typed)
     } else {
-        serde_json::to_string_pretty(&result).map_err(|e| (1, e.to_string()))?
+        None
+    };
+    let out = match typed {
+        Some(typed) if format == "csv" => topple::api::csv::to_csv(&typed).trim_end().to_string(),
+        _ => serde_json::to_string_pretty(&result).map_err(|e| (1, e.to_string()))?,
     };
     // A closed pipe (`topple run spec | head`) is not an error worth a panic.
     let _ = writeln!(std::io::stdout().lock(), "{out}");

@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 use serde_json::Value;
 
-use crate::jobs::JobKind;
+use crate::jobs::{JobKind, JobResult};
 
 /// One CSV field: numbers as JSON writes them, text quoted when it needs to be.
 fn f(v: Option<&Value>) -> String {
@@ -44,8 +44,13 @@ fn array<'a>(v: &'a Value, key: &str) -> &'a [Value] {
         .unwrap_or_default()
 }
 
-/// The CSV table of a result, or why there is none.
-pub fn to_csv(result: &Value) -> Result<String, String> {
+/// The CSV table of a result.
+pub fn to_csv(result: &JobResult) -> String {
+    to_csv_doc(&crate::plot::document(result)).unwrap_or_default()
+}
+
+/// The CSV table of a result document (being replaced by [`to_csv`]).
+pub(crate) fn to_csv_doc(result: &Value) -> Result<String, String> {
     let mut out = String::new();
     let name = result.get("kind").and_then(Value::as_str);
     let Some(kind) = name.and_then(JobKind::from_name) else {
@@ -649,7 +654,7 @@ mod tests {
         let doc = json!({"kind": "time_history", "series": {
             "t": [0.0, 0.1, 0.2], "theta": [0.0, -0.01, -0.02], "theta_dot": [0.0, -0.1, -0.2],
             "ground_acceleration": [0.0, 1.0, 2.0], "fx_over_fz": [0.0, 0.25, 0.3]}});
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         let l = lines(&csv);
         assert_eq!(
             l[0],
@@ -662,7 +667,7 @@ mod tests {
         doc["series"]
             .as_object_mut()
             .map(|s| s.remove("fx_over_fz"));
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         assert!(
             csv.starts_with("t_s,theta_rad,theta_dot_rad_per_s,ground_acceleration_m_per_s2\n")
         );
@@ -673,7 +678,7 @@ mod tests {
         let doc = json!({"kind": "time_history", "overturned": false, "mode": null,
             "impacts": [{"t": 1.5, "theta_dot_before": 0.5, "theta_dot_after": -0.45}],
             "impact_count": 1, "end_time": 9.0});
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         assert_eq!(
             lines(&csv),
             vec![
@@ -683,7 +688,7 @@ mod tests {
         );
         let doc = json!({"kind": "time_history", "rocked": false, "overturned": false,
             "impact_count": 0, "end_time": 1.0, "peak_theta_over_alpha": 0.0});
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         let l = lines(&csv);
         assert_eq!(l.len(), 2);
         assert!(l[0].starts_with("rocked,overturned,mode,impact_count,rocking_start_s,"));
@@ -699,7 +704,7 @@ mod tests {
                              {"a_alpha_g": 2.37, "direction": "down", "mode": 1, "impacts": 1, "bracket": [2.3699, 2.3701]}]},
             {"omega_ratio": 10.0, "threshold_alpha_g": 1.0, "min_overturn_alpha_g": null, "eq21_alpha_g": 2.67,
              "transitions": []}]});
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         let l = lines(&csv);
         assert!(
             l[0].starts_with("omega_ratio,a_alpha_g,direction,mode,impacts,bracket_lo_alpha_g")
@@ -718,7 +723,7 @@ mod tests {
             {"a_alpha_g": 6.0, "peak_friction_demand": null, "peak_over_tan_alpha": null,
              "initiation_friction_demand": 0.51, "overturned": true, "mode": 2,
              "lift_off": true, "lift_off_time": 0.41}]});
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         assert_eq!(
             lines(&csv),
             vec![
@@ -734,7 +739,7 @@ mod tests {
         let doc = json!({"kind": "fragility", "im": "pga_g", "stripes": [
             {"im": 0.3, "n": 200, "overturned": 58, "p": 0.29, "interval_95": [0.23, 0.35],
              "mode_1": 58, "mode_2": 0}]});
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         assert_eq!(
             csv.lines().collect::<Vec<_>>(),
             vec![
@@ -753,7 +758,7 @@ mod tests {
              "age_distribution": {"median_age_years": 9000.0, "survival_probability": 0.4,
                                   "rate_scale_at_5_percent": null}}],
             "joint": {"survival_probability": 0.344, "rate_scale_at_5_percent": 2.5}});
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         assert_eq!(
             csv.lines().collect::<Vec<_>>(),
             vec![
@@ -775,7 +780,7 @@ mod tests {
                  "consistent_scale": [[0.7, 6.0]], "consistent_pga_g": [[0.35, 3.0]]},
                 {"name": "=cmd", "overturned": false,
                  "consistent_scale": [], "consistent_pga_g": []}]});
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         let lines: Vec<&str> = csv.lines().collect();
         assert_eq!(
             lines,
@@ -800,7 +805,7 @@ mod tests {
                 {"frequency_hz": 2.0, "omega_p": 12.566, "consistent_g": [],
                  "per_observation": [{"name": "loco, 1906", "consistent_g": []},
                                      {"name": "transformer", "consistent_g": [[0.1, 3.0]]}]}]});
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         let l = lines(&csv);
         assert_eq!(
             l[0],
@@ -837,7 +842,7 @@ mod tests {
             "frequencies": [{"frequency_hz": 1.0, "omega_p": 6.3, "consistent_g": [[-0.5, 0.7]],
                 "per_observation": [{"name": "=HYPERLINK(\"http://evil\",\"x\")",
                                      "consistent_g": [[-0.5, 3.0]]}]}]});
-        let csv = to_csv(&doc).expect("csv");
+        let csv = to_csv_doc(&doc).expect("csv");
         let l = lines(&csv);
         assert_eq!(l[1], "1.0,6.3,,,-0.5,0.7");
         assert_eq!(
@@ -877,7 +882,7 @@ mod tests {
             json!({"series": {"t": [1.0]}, "kind": "time_history"}),
         ];
         for doc in docs {
-            let whole = to_csv(&doc).expect("csv");
+            let whole = to_csv_doc(&doc).expect("csv");
             for text in [
                 serde_json::to_string(&doc).expect("json"),
                 serde_json::to_string_pretty(&doc).expect("json"),
@@ -898,7 +903,7 @@ mod tests {
         let ratio: Vec<Option<f64>> = t.iter().map(|t| (*t < 5.0).then_some(t / 3.0)).collect();
         let doc = json!({"kind": "time_history", "series": {"t": t, "theta": theta,
             "theta_dot": theta, "ground_acceleration": t, "fx_over_fz": ratio}});
-        let whole = to_csv(&doc).expect("csv");
+        let whole = to_csv_doc(&doc).expect("csv");
         assert_eq!(whole.lines().count(), n + 1);
         let text = serde_json::to_string(&doc).expect("json");
         assert_eq!(streamed(&text, 1 << 16).as_deref(), Some(whole.as_str()));
@@ -926,6 +931,6 @@ mod tests {
 
     #[test]
     fn unknown_kinds_are_refused() {
-        assert!(to_csv(&json!({"kind": "teapot"})).is_err());
+        assert!(to_csv_doc(&json!({"kind": "teapot"})).is_err());
     }
 }

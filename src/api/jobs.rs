@@ -18,7 +18,7 @@ use super::auth::Tenant;
 use super::csv::{SeriesRows, to_csv};
 use super::http::Query;
 use super::problem::Problem;
-use crate::jobs::{Job, JobSpec, KINDS};
+use crate::jobs::{Job, JobResult, JobSpec, KINDS};
 use crate::service::AppState;
 use crate::service::finished::{RESULT_WAIT, ResultError, finished};
 use crate::service::results::{Cached, Document, MAX_BODY, SharedText};
@@ -752,15 +752,11 @@ async fn csv_response(state: &AppState, id: Uuid, doc: Arc<Document>) -> Result<
             let turn = render_turn(state, doc.as_str().len()).await?;
             let (table, kind) = tokio::task::spawn_blocking(move || {
                 let _turn = turn;
-                serde_json::from_str::<serde_json::Value>(doc.as_str())
-                    .map_err(|e| e.to_string())
-                    .map(|v| to_csv(&v).map(|t| (t, kind_of(&v))))
+                read_result(doc.as_str()).map(|r| (to_csv(&r), r.job_kind().name()))
             })
             .await
-            .map_err(stopped)?
-            .map_err(Problem::internal)?
-            .map_err(|e| Problem::bad_request("no-csv", e).param("format"))?;
-            (Body::from(table), kind)
+            .map_err(stopped)??;
+            (Body::from(table), kind.to_string())
         }
     };
     let disposition = format!("attachment; filename=\"{kind}-{id}.csv\"");
@@ -795,13 +791,21 @@ fn csv_pieces(
     })
 }
 
-/// The kind of a result document, for file names.
-fn kind_of(v: &serde_json::Value) -> String {
-    v.get("kind")
-        .and_then(serde_json::Value::as_str)
-        .filter(|k| KINDS.contains(k))
-        .unwrap_or("result")
-        .to_string()
+/// A stored result document read into the type of its kind. One that does
+/// not read (a result of an engine whose documents differ) is a 409 naming
+/// the field, never a table or figure drawn from a guess.
+pub(crate) fn read_result(text: &str) -> Result<JobResult, Problem> {
+    let unreadable = |e: String| {
+        Problem::conflict(
+            "result-unreadable",
+            format!(
+                "the stored result cannot be read as a result of this engine ({e}); \
+                 submit its spec again to compute it anew"
+            ),
+        )
+    };
+    let value = serde_json::from_str(text).map_err(|e| unreadable(e.to_string()))?;
+    JobResult::from_value(value).map_err(|e| unreadable(e.to_string()).at(e.pointer))
 }
 
 /// A job's result: the same document `topple run` prints.

@@ -94,13 +94,10 @@ pub(crate) async fn render(
     let turn = super::jobs::render_turn(state, body.as_str().len()).await?;
     tokio::task::spawn_blocking(move || {
         let _turn = turn;
-        serde_json::from_str::<serde_json::Value>(body.as_str())
-            .map_err(|e| e.to_string())
-            .map(|v| crate::plot::svg_in(&v, window))
+        super::jobs::read_result(body.as_str()).map(|r| crate::plot::svg_in(&r, window))
     })
     .await
-    .map_err(|_| Problem::internal("figure rendering stopped"))?
-    .map_err(Problem::internal)?
+    .map_err(|_| Problem::internal("figure rendering stopped"))??
     .map_err(|e| match e {
         FigureError::Window(e) => Problem::bad_request("invalid-parameter", e).param("window"),
         FigureError::Result(e) => Problem::bad_request("no-plot", e).param("id"),

@@ -58,7 +58,7 @@ pub trait Kind: 'static {
     /// The validated job; serialises to the canonical (normalised) spec.
     type Job: Clone + Debug + PartialEq + Serialize + ToSchema;
     /// The result document.
-    type Result: Serialize + ToSchema;
+    type Result: Clone + Debug + PartialEq + Serialize + DeserializeOwned + ToSchema;
 
     /// Validates a spec of this kind (a JSON object whose `kind` is
     /// [`Kind::NAME`]).

@@ -27,7 +27,7 @@ pub mod survival;
 pub mod time_history;
 pub mod warning;
 
-pub use error::{JobError, SpecError};
+pub use error::{JobError, ResultError, SpecError};
 
 use serde_json::Value;
 

@@ -12,7 +12,7 @@ use utoipa::openapi::schema::{Discriminator, OneOfBuilder, Schema};
 use utoipa::openapi::{Ref, RefOr};
 use utoipa::{PartialSchema, ToSchema};
 
-use super::error::{JobError, SpecError};
+use super::error::{JobError, ResultError, SpecError};
 use super::kind::{Kind, Size};
 use super::warning::WarningDoc;
 use crate::spectrum::Control;
@@ -32,6 +32,63 @@ fn union(description: &str, items: &[(&str, Cow<'static, str>)]) -> RefOr<Schema
     one_of
         .discriminator(Some(Discriminator::with_mapping("kind", mapping)))
         .into()
+}
+
+/// The kind a result document names in its `kind`.
+fn result_kind(value: &Value) -> Result<JobKind, ResultError> {
+    let name = value.get("kind").and_then(Value::as_str);
+    name.and_then(JobKind::from_name)
+        .ok_or_else(|| ResultError {
+            kind: None,
+            pointer: "/kind".into(),
+            message: match name {
+                Some(name) => format!(
+                    "no result kind {name:?}: expected one of {}",
+                    KINDS.join(", ")
+                ),
+                None => "not a result document: it has no \"kind\"".into(),
+            },
+        })
+}
+
+/// `value` read as a `T`, the result type of `kind`, or the field at fault.
+fn read_as<T: serde::de::DeserializeOwned>(kind: JobKind, value: Value) -> Result<T, ResultError> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
+        let path = e.path().to_string();
+        ResultError {
+            kind: Some(kind),
+            pointer: if path == "." {
+                String::new()
+            } else {
+                pointer_of(&path)
+            },
+            message: e.into_inner().to_string(),
+        }
+    })
+}
+
+/// serde_path_to_error's path (`a.b[2].c`) as a JSON pointer (`/a/b/2/c`).
+fn pointer_of(path: &str) -> String {
+    let mut out = String::new();
+    for part in path.split('.') {
+        let mut rest = part;
+        if let Some(i) = rest.find('[') {
+            let (name, index) = rest.split_at(i);
+            if !name.is_empty() {
+                out.push('/');
+                out.push_str(name);
+            }
+            rest = index;
+            for index in rest.split('[').filter(|x| !x.is_empty()) {
+                out.push('/');
+                out.push_str(index.trim_end_matches(']'));
+            }
+        } else if !rest.is_empty() {
+            out.push('/');
+            out.push_str(rest);
+        }
+    }
+    out
 }
 
 /// Generates, from `Variant => kind type` lines, the job enum, the kind enum
@@ -221,8 +278,33 @@ macro_rules! kinds {
             }
         }
 
-        /// A result document, by `kind`.
-        pub struct JobResult;
+        /// A result document, read into the type of its kind: what tables
+        /// and figures are drawn from. It serialises to the document it was
+        /// read from, and is described in the API as a `oneOf` by `kind`.
+        #[derive(Clone, Debug, PartialEq, Serialize)]
+        #[serde(untagged)]
+        pub enum JobResult {
+            $( $(#[doc = $doc])* $variant(Box<<$kind as Kind>::Result>), )*
+        }
+
+        impl JobResult {
+            /// The result's kind.
+            pub fn job_kind(&self) -> JobKind {
+                match self {
+                    $( JobResult::$variant(_) => JobKind::$variant, )*
+                }
+            }
+
+            /// Reads a result document into the type of its `kind`; a
+            /// document that is not one is an error naming the field at
+            /// fault.
+            pub fn from_value(value: Value) -> Result<JobResult, ResultError> {
+                let kind = result_kind(&value)?;
+                Ok(match kind {
+                    $( JobKind::$variant => JobResult::$variant(Box::new(read_as(kind, value)?)), )*
+                })
+            }
+        }
 
         impl PartialSchema for JobResult {
             fn schema() -> RefOr<Schema> {
@@ -268,6 +350,7 @@ kinds! {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spectrum::Control;
 
     /// `?kind=` (serde) and specs (`Kind::NAME`) name every kind alike.
     #[test]
@@ -278,5 +361,47 @@ mod tests {
             assert_eq!(JobKind::from_name(kind.name()), Some(*kind));
         }
         assert_eq!(KINDS.len(), JobKind::ALL.len());
+    }
+
+    /// A document that does not read as a result of its kind is an error
+    /// naming the field, never a guess.
+    #[test]
+    fn a_result_reads_into_its_kind_or_names_the_field_at_fault() {
+        let job = Job::parse(
+            r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","a_p_g":0.5,"frequency_hz":1}}"#,
+        )
+        .expect("a spec");
+        let doc = job.run(&Control::default()).expect("runs");
+        let typed = JobResult::from_value(doc.clone()).expect("a time history");
+        assert_eq!(typed.job_kind(), JobKind::TimeHistory);
+        assert_eq!(serde_json::to_value(&typed).expect("writes"), doc);
+
+        let mut wrong = doc.clone();
+        wrong["numerics"]["steps_accepted"] = serde_json::json!("many");
+        let e = JobResult::from_value(wrong).expect_err("a text for a count");
+        assert_eq!(e.kind, Some(JobKind::TimeHistory));
+        assert_eq!(e.pointer, "/numerics/steps_accepted", "{e}");
+        assert!(
+            e.to_string()
+                .starts_with("not a time_history result: /numerics/steps_accepted: "),
+            "{e}"
+        );
+
+        let mut missing = doc;
+        missing.as_object_mut().expect("object").remove("rocked");
+        let e = JobResult::from_value(missing).expect_err("a field missing");
+        assert!(e.message.contains("rocked"), "{e}");
+
+        let e = JobResult::from_value(serde_json::json!({"kind": "teapot"})).expect_err("no kind");
+        assert_eq!((e.kind, e.pointer.as_str()), (None, "/kind"));
+        assert!(e.message.contains("teapot"), "{e}");
+        assert!(JobResult::from_value(serde_json::json!({})).is_err());
+    }
+
+    #[test]
+    fn paths_become_pointers() {
+        assert_eq!(pointer_of("a.b[2].c"), "/a/b/2/c");
+        assert_eq!(pointer_of("spectrum[0][1]"), "/spectrum/0/1");
+        assert_eq!(pointer_of("kind"), "/kind");
     }
 }

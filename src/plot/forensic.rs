@@ -141,7 +141,12 @@ fn columns(frequencies: &[&Value], names: &[String], from: f64, to: f64) -> Vec<
 }
 
 /// The figure of a `forensic` result.
-pub fn svg(result: &Value) -> Result<String, String> {
+pub fn svg(typed: &crate::jobs::forensic::ForensicResult) -> Result<String, String> {
+    svg_doc(&super::document(typed))
+}
+
+/// The figure of the document (being replaced by [`svg`]).
+pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let spec = result.get("spec").unwrap_or(&Value::Null);
     let range = result
         .get("a_p_g")
@@ -404,7 +409,7 @@ pub(crate) mod tests {
 
     #[test]
     fn consistent_region_observations_and_bounds() {
-        let svg = super::svg(&sample()).expect("svg");
+        let svg = super::svg_doc(&sample()).expect("svg");
         for needle in [
             "Forensic map: one-sine pulses consistent with what was seen (nonlinear)",
             "pulse frequency f_p (Hz)",
@@ -462,7 +467,7 @@ pub(crate) mod tests {
         assert_eq!(right(None), 3.0);
         assert_eq!(right(Some(0)), 2.625);
         // The figure: the consistent fill ends at the same fraction of the map.
-        let svg = super::svg(&result).expect("svg");
+        let svg = super::svg_doc(&result).expect("svg");
         let (left, end) = x_extent(&shapes(&svg, "polygon", ""));
         let (_, green) = x_extent(&shapes(
             &svg,
@@ -490,7 +495,7 @@ pub(crate) mod tests {
             f["consistent_g"] = json!([]);
         }
         doc["bounds"] = json!({"min_g": null, "max_g": null, "frequency_hz": null});
-        let svg = super::svg(&doc).expect("svg");
+        let svg = super::svg_doc(&doc).expect("svg");
         assert!(svg.contains("no consistent pulse"));
     }
 }

@@ -35,7 +35,12 @@ fn shade(class: usize) -> RGBColor {
 }
 
 /// The figure of a `forensic` result on a `ground_motion`.
-pub fn svg(result: &Value) -> Result<String, String> {
+pub fn svg(typed: &crate::jobs::forensic::ForensicResult) -> Result<String, String> {
+    svg_doc(&super::document(typed))
+}
+
+/// The figure of the document (being replaced by [`svg`]).
+pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let spec = result.get("spec").unwrap_or(&Value::Null);
     let range = result
         .get("scale")
@@ -321,7 +326,7 @@ mod tests {
 
     #[test]
     fn columns_per_observation_and_their_intersection() {
-        let svg = super::svg(&sample()).expect("svg");
+        let svg = super::svg_doc(&sample()).expect("svg");
         for needle in [
             "Forensic map: scales of the record consistent with what was seen (nonlinear)",
             "scale factor",
@@ -348,7 +353,7 @@ mod tests {
         let mut doc = sample();
         doc["per_observation"][1]["consistent_scale"] = json!([[0.1, 0.5]]);
         doc["bounds"] = json!({"min_g": null, "max_g": null, "frequency_hz": null});
-        let svg = super::svg(&doc).expect("svg");
+        let svg = super::svg_doc(&doc).expect("svg");
         assert!(svg.contains("no scale of this record"), "said");
         assert!(!svg.contains("max 3.26"));
     }

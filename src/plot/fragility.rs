@@ -16,7 +16,12 @@ const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 620;
 
 /// The figure of a `fragility` result.
-pub fn svg(result: &Value) -> Result<String, String> {
+pub fn svg(typed: &crate::jobs::fragility::FragilityResult) -> Result<String, String> {
+    svg_doc(&super::document(typed))
+}
+
+/// The figure of the document (being replaced by [`svg`]).
+pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let stripes: Vec<(f64, f64, f64, f64)> = result
         .get("stripes")
         .and_then(Value::as_array)
@@ -147,7 +152,7 @@ mod tests {
             "lognormal": {"median": 0.6, "beta": 0.4, "curve": [
                 {"im": 0.2, "p": 0.003, "lo": 0.001, "hi": 0.01},
                 {"im": 1.2, "p": 0.96, "lo": 0.9, "hi": 0.99}]}});
-        let svg = super::svg(&doc).expect("svg");
+        let svg = super::svg_doc(&doc).expect("svg");
         for needle in [
             "Fragility: probability of toppling",
             "PGA (g)",

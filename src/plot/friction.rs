@@ -29,7 +29,12 @@ struct Point {
 }
 
 /// The figure of a `friction_spectrum` result.
-pub fn svg(result: &Value) -> Result<String, String> {
+pub fn svg(typed: &crate::jobs::friction::FrictionResult) -> Result<String, String> {
+    svg_doc(&super::document(typed))
+}
+
+/// The figure of the document (being replaced by [`svg`]).
+pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let spec = result.get("spec").unwrap_or(&Value::Null);
     let alpha = at(spec, "/block/alpha").ok_or("the result's spec has no block.alpha")?;
     let tan = alpha.tan();
@@ -296,7 +301,7 @@ pub(crate) mod tests {
 
     #[test]
     fn demand_curve_axes_and_overturned_points() {
-        let svg = super::svg(&sample()).expect("svg");
+        let svg = super::svg_doc(&sample()).expect("svg");
         for needle in [
             "Friction needed for pure rocking: one-sine pulse, ω_p/p = 7.336",
             "a_p / (α g)",
@@ -317,11 +322,11 @@ pub(crate) mod tests {
     fn a_huge_mu_leaves_the_scale_to_the_demand() {
         let mut doc = sample();
         doc["spec"]["block"]["mu"] = json!(1.1962447537642911e308);
-        let svg = super::svg(&doc).expect("svg");
+        let svg = super::svg_doc(&doc).expect("svg");
         assert!(svg.contains("μ of the block = 1.2e308: far above"), "{svg}");
         assert!(!svg.contains("(slides above)"));
         doc["spec"]["block"]["mu"] = json!(0.4);
-        let svg = super::svg(&doc).expect("svg");
+        let svg = super::svg_doc(&doc).expect("svg");
         assert!(svg.contains("μ of the block = 0.4 (slides"), "{svg}");
     }
 
@@ -329,6 +334,6 @@ pub(crate) mod tests {
     fn no_points_no_figure() {
         let mut doc = sample();
         doc["points"] = json!([]);
-        assert!(super::svg(&doc).is_err());
+        assert!(super::svg_doc(&doc).is_err());
     }
 }

@@ -21,7 +21,8 @@ pub mod window;
 use plotters::prelude::*;
 use serde_json::Value;
 
-use crate::jobs::JobKind;
+use crate::jobs::names::Excitation;
+use crate::jobs::{JobKind, JobResult};
 
 pub use precision::precision_diagram;
 use style::{Area, Drawn, INK, TITLE};
@@ -50,51 +51,43 @@ impl std::fmt::Display for FigureError {
 
 impl std::error::Error for FigureError {}
 
-/// The figure of a result document, as SVG text.
-pub fn svg(result: &Value) -> Result<String, String> {
+/// The figure of a result, as SVG text.
+pub fn svg(result: &JobResult) -> Result<String, String> {
     svg_in(result, None).map_err(|e| e.to_string())
 }
 
-/// The figure of a result document over `window` (time histories only;
-/// `None`: the whole result), as SVG text.
-pub fn svg_in(result: &Value, window: Option<Window>) -> Result<String, FigureError> {
-    let kind = result.get("kind").and_then(Value::as_str);
-    if window.is_some() && kind.is_some_and(|k| k != "time_history") {
+/// The figure of a result over `window` (time histories only; `None`: the
+/// whole result), as SVG text.
+pub fn svg_in(result: &JobResult, window: Option<Window>) -> Result<String, FigureError> {
+    if window.is_some() && result.job_kind() != JobKind::TimeHistory {
         return Err(FigureError::Window(format!(
             "a window is a span of time: it applies to time histories, not to a {} result",
-            kind.unwrap_or("").replace('_', " ")
+            result.job_kind().name().replace('_', " ")
         )));
     }
-    let Some(kind) = kind else {
-        return Err(FigureError::Result(
-            "not a result document: it has no \"kind\"".into(),
-        ));
-    };
-    let Some(kind) = JobKind::from_name(kind) else {
-        return Err(FigureError::Result(format!(
-            "no figure for results of kind {kind:?}"
-        )));
-    };
     // Every kind has a figure: the match is exhaustive.
-    match kind {
-        JobKind::TimeHistory => time_history::svg(result, window),
-        JobKind::Spectrum => spectrum::svg(result),
-        JobKind::FrictionSpectrum => friction::svg(result),
-        JobKind::Forensic
-            if result.get("excitation").and_then(Value::as_str) == Some("ground_motion") =>
-        {
-            forensic_record::svg(result)
+    match result {
+        JobResult::TimeHistory(r) => time_history::svg(r, window),
+        JobResult::Spectrum(r) => spectrum::svg(r),
+        JobResult::FrictionSpectrum(r) => friction::svg(r),
+        JobResult::Forensic(r) if r.excitation == Excitation::GroundMotion => {
+            forensic_record::svg(r)
         }
-        JobKind::Forensic => forensic::svg(result),
-        JobKind::RecordSpectrum => record_spectrum::svg(result),
-        JobKind::Survival => survival::svg(result),
-        JobKind::Fragility => fragility::svg(result),
+        JobResult::Forensic(r) => forensic::svg(r),
+        JobResult::RecordSpectrum(r) => record_spectrum::svg(r),
+        JobResult::Survival(r) => survival::svg(r),
+        JobResult::Fragility(r) => fragility::svg(r),
     }
     .map_err(FigureError::Result)
 }
 
-/// Writes the figure of a result document to `path` (SVG).
-pub fn plot_result(result: &Value, path: &str) -> Result<(), Box<dyn std::error::Error>> {
+/// A typed result as its JSON document (while figures move to typed input).
+pub(crate) fn document<T: serde::Serialize>(typed: &T) -> Value {
+    serde_json::to_value(typed).unwrap_or_default()
+}
+
+/// Writes the figure of a result to `path` (SVG).
+pub fn plot_result(result: &JobResult, path: &str) -> Result<(), Box<dyn std::error::Error>> {
     let text = svg(result)?;
     std::fs::write(path, text)?;
     Ok(())
@@ -264,30 +257,25 @@ pub(crate) mod tests {
             })
     }
 
+    /// The result of a spec, typed.
+    pub(crate) fn typed(text: &str) -> JobResult {
+        JobResult::from_value(computed(text)).expect("a result of its kind")
+    }
+
     #[test]
     fn a_window_is_for_time_histories_only() {
         let w = Window::new(0.0, 1.0).expect("window");
-        let e = svg_in(&friction::tests::sample(), Some(w)).unwrap_err();
+        let doc = typed(include_str!("../../specs/one_cosine_friction.json"));
+        let e = svg_in(&doc, Some(w)).unwrap_err();
         assert!(
             matches!(&e, FigureError::Window(text) if text.contains("friction spectrum")),
             "{e:?}"
         );
-        assert!(matches!(
-            svg_in(&json!({"kind": "teapot"}), None),
-            Err(FigureError::Result(_))
-        ));
-    }
-
-    #[test]
-    fn unknown_kinds_are_refused_with_the_kind_named() {
-        let e = svg(&json!({"kind": "teapot"})).unwrap_err();
-        assert!(e.contains("teapot"), "{e}");
-        assert!(svg(&json!({})).is_err());
     }
 
     #[test]
     fn plot_result_writes_the_svg() {
-        let doc = friction::tests::sample();
+        let doc = typed(include_str!("../../specs/one_cosine_friction.json"));
         let path = std::env::temp_dir().join(format!("topple-plot-{}.svg", std::process::id()));
         let path = path.to_string_lossy().to_string();
         plot_result(&doc, &path).expect("written");

@@ -47,7 +47,12 @@ fn as_pulse_line(line: &Value) -> Value {
 }
 
 /// The figure of a `record_spectrum` result.
-pub fn svg(result: &Value) -> Result<String, String> {
+pub fn svg(typed: &crate::jobs::record_spectrum::RecordSpectrumResult) -> Result<String, String> {
+    svg_doc(&super::document(typed))
+}
+
+/// The figure of the document (being replaced by [`svg`]).
+pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let lines: Vec<&Value> = result
         .get("spectrum")
         .and_then(Value::as_array)

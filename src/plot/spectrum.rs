@@ -168,7 +168,12 @@ pub fn regions(line: &Value, a_max: f64) -> Vec<(f64, f64, u8)> {
 }
 
 /// The figure of a `spectrum` result.
-pub fn svg(result: &Value) -> Result<String, String> {
+pub fn svg(typed: &crate::jobs::spectrum::SpectrumResult) -> Result<String, String> {
+    svg_doc(&super::document(typed))
+}
+
+/// The figure of the document (being replaced by [`svg`]).
+pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let lines: Vec<&Value> = result
         .get("spectrum")
         .and_then(Value::as_array)
@@ -427,7 +432,7 @@ pub(crate) mod tests {
 
     #[test]
     fn regions_by_mode_and_references() {
-        let svg = super::svg(&sample()).expect("svg");
+        let svg = super::svg_doc(&sample()).expect("svg");
         for needle in [
             "Overturning spectrum: one-sine pulse, nonlinear formulation",
             "ω_p / p",
@@ -469,7 +474,7 @@ pub(crate) mod tests {
         assert!((eq21[1].1 - 1.5).abs() < 1e-12, "{eq21:?}");
         // The figure: every eq. 21 dash left of ω_p/p = 3 (the no-rocking
         // band spans 0.25–10), and its end labelled.
-        let svg = super::svg(&result).expect("svg");
+        let svg = super::svg_doc(&result).expect("svg");
         let no_rocking = format!("fill=\"{}\"", hex(super::fill(super::CLASS_NO_ROCKING)));
         let (left, right) = x_extent(&shapes(&svg, "polygon", &no_rocking));
         let at_3 = left + (3.0 - 0.25) / (10.0 - 0.25) * (right - left);
@@ -491,7 +496,7 @@ pub(crate) mod tests {
         if let Some(all) = result["spectrum"].as_array_mut() {
             all.retain(|l| l["omega_ratio"].as_f64().is_some_and(|r| r > 3.0));
         }
-        let svg = super::svg(&result).expect("svg");
+        let svg = super::svg_doc(&result).expect("svg");
         assert!(svg.contains("eq. 21 not drawn"), "no note");
         assert!(!svg.contains("eq. 21 ends"));
     }
@@ -510,6 +515,6 @@ pub(crate) mod tests {
 
     #[test]
     fn an_empty_spectrum_is_refused() {
-        assert!(super::svg(&json!({"kind": "spectrum", "spectrum": []})).is_err());
+        assert!(super::svg_doc(&json!({"kind": "spectrum", "spectrum": []})).is_err());
     }
 }

@@ -17,7 +17,12 @@ const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 620;
 
 /// The figure of a `survival` result.
-pub fn svg(result: &Value) -> Result<String, String> {
+pub fn svg(typed: &crate::jobs::survival::SurvivalResult) -> Result<String, String> {
+    svg_doc(&super::document(typed))
+}
+
+/// The figure of the document (being replaced by [`svg`]).
+pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let rocks: Vec<&Value> = result
         .get("rocks")
         .and_then(Value::as_array)
@@ -149,7 +154,7 @@ mod tests {
             {"name": "Lovejoy", "annual_toppling_rate": 5e-5, "ages": [],
              "age_distribution": {"median_age_years": 15000.0, "survival_probability": 0.47}}],
             "joint": {"survival_probability": 0.39, "rate_scale_at_5_percent": 2.1}});
-        let svg = super::svg(&doc).expect("svg");
+        let svg = super::svg_doc(&doc).expect("svg");
         for needle in [
             "Survival under the hazard model",
             "age T (years)",

@@ -121,7 +121,15 @@ fn broken_at(line: &[(f64, f64)], times: &[f64]) -> Vec<(f64, f64)> {
 
 /// The figure of a `time_history` result, over `window` or, without one,
 /// the whole history (with a zoomed column for a short pulse).
-pub fn svg(result: &Value, window: Option<Window>) -> Result<String, String> {
+pub fn svg(
+    typed: &crate::jobs::time_history::TimeHistoryResult,
+    window: Option<Window>,
+) -> Result<String, String> {
+    svg_doc(&super::document(typed), window)
+}
+
+/// The figure of a time history's document (being replaced by [`svg`]).
+pub(crate) fn svg_doc(result: &Value, window: Option<Window>) -> Result<String, String> {
     let spec = result
         .get("spec")
         .ok_or("the result has no spec: cannot scale θ by α")?;
@@ -658,7 +666,7 @@ pub(crate) mod tests {
 
     #[test]
     fn four_panels_with_labels_marks_and_legend() {
-        let svg = super::svg(&sample(true), None).expect("svg");
+        let svg = super::svg_doc(&sample(true), None).expect("svg");
         for needle in [
             "Rocking time history: one-sine pulse",
             "ü_g / g",
@@ -677,14 +685,14 @@ pub(crate) mod tests {
 
     #[test]
     fn without_series_the_pulse_and_impacts_are_drawn_with_a_hint() {
-        let svg = super::svg(&sample(false), None).expect("svg");
+        let svg = super::svg_doc(&sample(false), None).expect("svg");
         assert!(svg.contains("θ̇ / p at impacts"));
         assert!(svg.contains("ü_g / g"));
         assert!(svg.contains("outputs"));
         let mut bare = sample(false);
         bare["impacts"] = json!([]);
         bare["spec"]["pulse"] = json!({"type": "record"});
-        let e = super::svg(&bare, None).unwrap_err();
+        let e = super::svg_doc(&bare, None).unwrap_err();
         assert!(e.contains("\"outputs\": {\"series\": 500}"), "{e}");
     }
 
@@ -694,7 +702,7 @@ pub(crate) mod tests {
         doc["spec"]["pulse"] = Value::Null;
         doc["spec"].as_object_mut().map(|o| o.remove("pulse"));
         doc["spec"]["ground_motion"] = json!({"dt": 0.01, "acc": (0..300).map(|k| (f64::from(k) * 0.1).sin() * 5.0).collect::<Vec<_>>(), "unit": "m/s2"});
-        let svg = super::svg(&doc, None).expect("svg");
+        let svg = super::svg_doc(&doc, None).expect("svg");
         assert!(svg.contains("recorded ground motion"));
         assert!(svg.contains("ground motion: 0 ≤ t ≤ 2.99 s"));
         assert!(svg.contains("record: 300 samples"));
@@ -704,7 +712,7 @@ pub(crate) mod tests {
     fn a_result_without_spec_is_refused() {
         let mut doc = sample(true);
         doc.as_object_mut().map(|o| o.remove("spec"));
-        assert!(super::svg(&doc, None).unwrap_err().contains("spec"));
+        assert!(super::svg_doc(&doc, None).unwrap_err().contains("spec"));
     }
 
     #[test]
@@ -757,7 +765,7 @@ pub(crate) mod tests {
         assert!(last > lift_off - 0.002, "{last}");
         let end = end.expect("an end");
         assert_eq!((end.t, end.label.as_str()), (last, "lift-off: f_z = 0"));
-        let svg = super::svg(&result, None).expect("svg");
+        let svg = super::svg_doc(&result, None).expect("svg");
         assert!(svg.contains("lift-off: f_z = 0"));
         assert_no_vertical_bar(&svg);
     }
@@ -774,7 +782,7 @@ pub(crate) mod tests {
         assert_eq!(end.map(|e| e.label), Some("bound to overturn".to_string()));
         // Its pulse lasts 0.4 s of 5.24: the figure zooms on it and on the
         // first impact (0.848 s) beside the whole history.
-        let svg = super::svg(&result, None).expect("svg");
+        let svg = super::svg_doc(&result, None).expect("svg");
         assert!(svg.contains("the pulse and first impacts, t = 0–0.932 s"));
         assert!(svg.contains("the whole history, t = 0–5.237 s"));
         assert_no_vertical_bar(&svg);
@@ -783,10 +791,10 @@ pub(crate) mod tests {
     #[test]
     fn a_window_draws_the_span_asked_for() {
         let w = Window::new(0.0, 1.2).expect("window");
-        let svg = super::svg(&sample(true), Some(w)).expect("svg");
+        let svg = super::svg_doc(&sample(true), Some(w)).expect("svg");
         assert!(svg.contains("t = 0–1.2 s (the history runs 0–5.97 s)"));
         // Overturning at 5.9 s is outside the window: not marked.
         assert!(!svg.contains("overturns (mode 1)"));
-        assert_ne!(svg, super::svg(&sample(true), None).expect("svg"));
+        assert_ne!(svg, super::svg_doc(&sample(true), None).expect("svg"));
     }
 }

@@ -3,7 +3,7 @@
 //! without an example, a table or a figure does not compile.
 
 use serde_json::{Value, json};
-use topple::jobs::{Job, JobKind};
+use topple::jobs::{Job, JobKind, JobResult};
 use topple::spectrum::Control;
 
 /// A small job of `kind` (exhaustive: a new kind needs one).
@@ -45,9 +45,11 @@ fn every_kind_has_an_estimate_a_table_and_a_figure() {
             .run(&Control::default())
             .unwrap_or_else(|e| panic!("{kind:?}: {e}"));
         assert_eq!(doc["kind"], kind.name());
-        let table = topple::api::csv::to_csv(&doc).unwrap_or_else(|e| panic!("{kind:?}: {e}"));
+        let typed = JobResult::from_value(doc).unwrap_or_else(|e| panic!("{kind:?}: {e}"));
+        assert_eq!(typed.job_kind(), *kind);
+        let table = topple::api::csv::to_csv(&typed);
         assert!(table.lines().count() >= 2, "{kind:?}: {table}");
-        let figure = topple::plot::svg(&doc).unwrap_or_else(|e| panic!("{kind:?}: {e}"));
+        let figure = topple::plot::svg(&typed).unwrap_or_else(|e| panic!("{kind:?}: {e}"));
         assert!(figure.starts_with("<svg"), "{kind:?}");
     }
 }
@@ -73,13 +75,14 @@ fn a_lift_off_point_is_null_flagged_and_marked_in_csv_and_svg() {
     assert_eq!(lifted["lift_off"], json!(true));
     let tl = lifted["lift_off_time"].as_f64().expect("time");
     assert!((tl - 0.410_511_6).abs() < 1e-6, "{tl}");
-    let csv = topple::api::csv::to_csv(&doc).expect("csv");
+    let typed = JobResult::from_value(doc).expect("a friction spectrum");
+    let csv = topple::api::csv::to_csv(&typed);
     let header: Vec<&str> = csv.lines().next().expect("header").split(',').collect();
     let row: Vec<&str> = csv.lines().nth(2).expect("row").split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
     assert_eq!(row[col("peak_friction_demand")], "");
     assert_eq!(row[col("lift_off")], "true");
-    let svg = topple::plot::svg(&doc).expect("svg");
+    let svg = topple::plot::svg(&typed).expect("svg");
     assert!(svg.contains("lift-off (f_z → 0)"), "legend");
     assert!(
         !svg.contains("e9"),

@@ -197,7 +197,8 @@ fn a_split_record_spectrum_assembles_to_the_whole() {
         whole["numerics"]["simulations"]
     );
     // A figure and a CSV table of it.
-    let svg = topple::plot::svg(&whole).expect("a figure");
+    let typed = topple::jobs::JobResult::from_value(whole).expect("a record spectrum");
+    let svg = topple::plot::svg(&typed).expect("a figure");
     assert!(svg.contains("block size R (m)") && svg.contains("scale factor"));
 }
 
