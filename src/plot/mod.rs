@@ -21,7 +21,9 @@ pub mod window;
 use plotters::prelude::*;
 use serde_json::Value;
 
+use crate::dynamics::PulseShape;
 use crate::jobs::names::Excitation;
+use crate::jobs::spec::BlockNorm;
 use crate::jobs::{JobKind, JobResult};
 
 pub use precision::precision_diagram;
@@ -208,9 +210,43 @@ pub(crate) fn block_note(block: Option<&Value>) -> String {
     parts.join(", ")
 }
 
+/// How a pulse family reads in a title: "one-sine", "Type-C2".
+#[allow(dead_code)] // until the figures read typed results
+pub(crate) fn shape_title(shape: PulseShape) -> String {
+    match shape {
+        PulseShape::OneSine => "one-sine".into(),
+        PulseShape::OneCosine => "one-cosine".into(),
+        PulseShape::HalfSine => "half-sine".into(),
+        PulseShape::Rectangular => "rectangular".into(),
+        PulseShape::Ricker { symmetric: false } => "antisymmetric Ricker".into(),
+        PulseShape::Ricker { symmetric: true } => "Ricker".into(),
+        PulseShape::MavroeidisPapageorgiou { gamma, nu } => format!(
+            "Mavroeidis–Papageorgiou (γ\u{a0}=\u{a0}{}, ν\u{a0}=\u{a0}{}\u{a0}rad)",
+            style::fmt_num(gamma.get(), 3),
+            style::fmt_num(nu.get(), 3)
+        ),
+        PulseShape::Cn(n) => format!("Type-C{n}"),
+    }
+}
+
+/// "α = 0.25 rad, p = 2.14 rad/s, η = 0.9" (and μ when given) of a block.
+#[allow(dead_code)] // until the figures read typed results
+pub(crate) fn block_text(b: &BlockNorm) -> String {
+    let mut parts = vec![
+        format!("α\u{a0}=\u{a0}{}\u{a0}rad", style::fmt_num(b.alpha, 3)),
+        format!("p\u{a0}=\u{a0}{}\u{a0}rad/s", style::fmt_num(b.p, 3)),
+        format!("η\u{a0}=\u{a0}{}", style::fmt_num(b.eta, 3)),
+    ];
+    if let Some(m) = b.mu {
+        parts.push(format!("μ\u{a0}=\u{a0}{}", style::fmt_num(m, 3)));
+    }
+    parts.join(", ")
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::dynamics::excitation::Real;
     use serde_json::json;
 
     /// The result `topple run` prints for the spec `text`.
@@ -282,6 +318,36 @@ pub(crate) mod tests {
         let text = std::fs::read_to_string(&path).expect("read");
         let _ = std::fs::remove_file(&path);
         assert_eq!(text, svg(&doc).expect("svg"));
+    }
+
+    #[test]
+    fn typed_names_read_as_the_documents_did() {
+        for (shape, doc) in [
+            (PulseShape::Cn(2), json!({"type": "cn", "n": 2})),
+            (PulseShape::OneSine, json!({"type": "one_sine"})),
+            (
+                PulseShape::Ricker { symmetric: false },
+                json!({"type": "ricker", "symmetric": false}),
+            ),
+            (
+                PulseShape::MavroeidisPapageorgiou {
+                    gamma: Real::new(2.5).expect("finite"),
+                    nu: Real::new(1.5).expect("finite"),
+                },
+                json!({"type": "mavroeidis_papageorgiou", "gamma": 2.5, "nu": 1.5}),
+            ),
+        ] {
+            assert_eq!(shape_title(shape), pulse_name(Some(&doc)));
+        }
+        let b = BlockNorm {
+            alpha: 0.25,
+            p: 2.14,
+            eta: 0.9,
+            mu: Some(0.7),
+            g: 9.81,
+        };
+        let doc = json!({"alpha": 0.25, "p": 2.14, "eta": 0.9, "mu": 0.7, "g": 9.81});
+        assert_eq!(block_text(&b), block_note(Some(&doc)));
     }
 
     #[test]
