@@ -235,7 +235,7 @@ fn run(spec_path: &str, plot: Option<&str>, format: &str) -> Result<(), (u8, Str
     let warnings = topple::records::embed_files(&mut value, |file| {
         std::fs::read_to_string(folder.join(file)).map_err(|e| e.to_string())
     })
-    .map_err(invalid)?;
+    .map_err(|e| invalid(topple::jobs::SpecError::at(e.field, e.message)))?;
     for (at, w) in warnings {
         eprintln!("topple: warning: {at}: {} ({})", w.message, w.kind);
     }
@@ -546,7 +546,8 @@ fn main() -> ExitCode {
     let outcome = match command {
         Command::Run { spec, plot, format } => run(&spec, plot.as_deref(), &format),
         Command::Precision { svg, readme } => {
-            topple::precision::report(&svg, readme.as_deref()).map_err(|e| (1, e))
+            topple::precision::report(&svg, readme.as_deref(), topple::plot::precision_diagram)
+                .map_err(|e| (1, e))
         }
         Command::Serve(args) => serve(*args),
         Command::Token { name } => token(&name),

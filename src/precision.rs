@@ -243,13 +243,16 @@ pub fn with_table(readme: &str, table: &str) -> Option<String> {
 }
 
 /// The `topple precision` command: prints the table with times measured on
-/// this machine, writes the diagram to `svg_path`, and with `readme` rewrites
-/// that file's table.
-pub fn report(svg_path: &str, readme: Option<&str>) -> Result<(), String> {
+/// this machine, writes the diagram `draw` makes of it to `svg_path`, and
+/// with `readme` rewrites that file's table.
+pub fn report(
+    svg_path: &str,
+    readme: Option<&str>,
+    draw: impl Fn(&[PrecisionRow]) -> Result<String, String>,
+) -> Result<(), String> {
     use std::io::Write;
     let mut rows = study().map_err(|e| e.to_string())?;
-    std::fs::write(svg_path, crate::plot::precision_diagram(&rows)?)
-        .map_err(|e| format!("{svg_path}: {e}"))?;
+    std::fs::write(svg_path, draw(&rows)?).map_err(|e| format!("{svg_path}: {e}"))?;
     if let Some(path) = readme {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
         let new = with_table(&text, &markdown(&rows))

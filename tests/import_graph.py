@@ -1,18 +1,22 @@
 #!/usr/bin/env python3
-"""Data flows one way between the top-level modules of src/: no import circle.
+"""Data flows one way in src/: no import circle between its top-level modules,
+nor between the files of one.
 
 Reads every `.rs` file under src/ (src/main.rs aside: it is another crate,
-which uses the library by name), finds the paths that reach another
-top-level module — `crate::X…`, `use crate::{X…, Y…}`, and `super::` chains
-that climb out of their module — and fails when those references make a
-cycle between top-level modules (api, service, store, jobs, dynamics, …).
+which uses the library by name), finds the paths that reach another module —
+`crate::X…`, `use crate::{X…, Y…}`, and `super::` chains — and fails when
+those references make a cycle between top-level modules (api, service,
+store, jobs, dynamics, …), or between the files of one top-level module
+(src/jobs/spec.rs and src/jobs/forensic.rs, say; a folder below one, like
+src/jobs/forensic/, counts with its file). A name that a module's mod.rs
+re-exports (`pub use registry::Job`) counts as a use of the file it comes
+from.
 
 Comments and string literals are skipped, and so are items under
 `#[cfg(test)]`: a test may use any module to check another (they are listed
-apart, for information). Cycles inside one top-level module (src/jobs/, say)
-are not this check's business. The edges of SET_ASIDE (circles through
-modules being reworked elsewhere, each with its reason) are listed and left
-out; a circle without them fails the check.
+apart, for information). The edges of SET_ASIDE (circles left on purpose,
+each with its reason) are listed and left out; a circle without them fails
+the check.
 
     python3 tests/import_graph.py          # the check; exit status 1 on a cycle
     python3 tests/import_graph.py --dot    # the graph in Graphviz form
@@ -31,11 +35,7 @@ SRC = ROOT / "src"
 # Edges of circles that run through modules being reworked elsewhere, each
 # with why it exists: set aside, so that the check fails on any other circle.
 # A line whose edge is gone is reported, to be removed.
-SET_ASIDE: dict[tuple[str, str], str] = {
-    ("records", "jobs"): "record files are read within jobs::spec's limits on samples and "
-    "time step, and an embedded file's fault is a SpecError",
-    ("precision", "plot"): "the work-precision study draws its own diagram",
-}
+SET_ASIDE: dict[tuple[str, str], str] = {}
 
 IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 RAW = re.compile(r'r(#*)"')
@@ -131,14 +131,29 @@ def group_heads(toks: list[str], i: int) -> list[int]:
     return [h for h in heads if h < len(toks) and IDENT.fullmatch(toks[h])]
 
 
+def two_levels(toks: list[str], h: int, prefix: list[str]) -> list[tuple[str, ...]]:
+    """The paths that start at token `h` under `prefix`, cut to their first two
+    names (`jobs::{spec::X, kind}` → (jobs, spec), (jobs, kind))."""
+    path = prefix + [toks[h]]
+    if len(path) >= 2:
+        return [tuple(path[:2])]
+    if toks[h + 1 : h + 2] == ["::"] and h + 2 < len(toks):
+        if toks[h + 2] == "{":
+            return [tuple(path + [toks[k]]) for k in group_heads(toks, h + 2)]
+        if IDENT.fullmatch(toks[h + 2]):
+            return [tuple(path + [toks[h + 2]])]
+    return [tuple(path)]
+
+
 def references(
     text: str, base: list[str], top: set[str]
-) -> tuple[list[tuple[str, bool]], list[list[str]]]:
-    """(top-level module, under #[cfg(test)]) of each reference that names a
-    top-level module in `text`, the source of module `base`; and the module
-    paths of the files it declares under #[cfg(test)] (`mod tests;`)."""
+) -> tuple[list[tuple[tuple[str, ...], bool]], list[list[str]]]:
+    """(module path cut to two names, under #[cfg(test)]) of each reference
+    that names a top-level module in `text`, the source of module `base`
+    (`crate::jobs::spec::X` → (jobs, spec)); and the module paths of the
+    files it declares under #[cfg(test)] (`mod tests;`)."""
     toks = tokens(text)
-    found: list[tuple[str, bool]] = []
+    found: list[tuple[tuple[str, ...], bool]] = []
     test_files: list[list[str]] = []
     # Inline modules: (name, brace depth inside it, under cfg(test)).
     stack: list[tuple[str, int, bool]] = []
@@ -188,17 +203,20 @@ def references(
                 target = [j]
             for h in target:
                 if h < len(toks) and toks[h] in top:
-                    found.append((toks[h], in_test))
+                    for path in two_levels(toks, h, []):
+                        found.append((path, in_test))
         elif t == "super" and (i == 0 or toks[i - 1] != "::"):
             ups, j = 0, i
             while j + 1 < len(toks) and toks[j] == "super" and toks[j + 1] == "::":
                 ups += 1
                 j += 2
-            if ups >= len(here) and j < len(toks):
+            if j < len(toks):
+                base_path = here[: max(len(here) - ups, 0)]
                 heads = group_heads(toks, j) if toks[j] == "{" else [j]
                 for h in heads:
-                    if toks[h] in top:
-                        found.append((toks[h], in_test))
+                    for path in two_levels(toks, h, base_path):
+                        if path[0] in top:
+                            found.append((path, in_test))
             i = max(j, i + 1)
             continue
         i += 1
@@ -239,9 +257,50 @@ def graph(src: Path = SRC) -> tuple[Edges, Edges]:
         owner = path[0]
         name = str(file.relative_to(src.parent))
         for target, in_test in found:
-            if target != owner:
-                (test_edges if in_test or test_file else edges)[owner][target].add(name)
+            if target[0] != owner:
+                (test_edges if in_test or test_file else edges)[owner][target[0]].add(name)
     return edges, test_edges
+
+
+REEXPORT = re.compile(r"^\s*pub(?:\([a-z]+\))?\s+use\s+(?:self::)?([a-z_][a-z0-9_]*)::(\{[^}]*\}|[A-Za-z_][A-Za-z0-9_]*)\s*;", re.M)
+
+
+def file_graph(module: str, src: Path = SRC) -> Edges:
+    """Edges between the files of top-level module `module` (a file is named
+    by its module: `spec` for src/jobs/spec.rs, `mod` for src/jobs/mod.rs; a
+    folder below is one). A name the module's mod.rs re-exports
+    (`pub use registry::{Job, …}`) stands for the file it comes from: the
+    re-export is not itself an edge."""
+    folder = src / module
+    top = top_modules(src)
+    units = {p.stem for p in folder.glob("*.rs") if p.stem != "mod"}
+    units |= {p.name for p in folder.iterdir() if p.is_dir()}
+    origin: dict[str, str] = {}
+    for m in REEXPORT.finditer((folder / "mod.rs").read_text(encoding="utf-8")):
+        names = m.group(2).strip("{}").split(",")
+        for name in names:
+            name = name.strip().split(" as ")[-1].strip()
+            if name and m.group(1) in units:
+                origin[name] = m.group(1)
+    edges: Edges = {u: defaultdict(set) for u in units | {"mod"}}
+    test_files: list[list[str]] = []
+    read = {}
+    for file in sorted(folder.rglob("*.rs")):
+        path = module_path(file, src)
+        read[file], declared = references(file.read_text(encoding="utf-8"), path, top)
+        test_files.extend(declared)
+    for file, found in read.items():
+        path = module_path(file, src)
+        if any(path[: len(t)] == t for t in test_files):
+            continue
+        unit = path[1] if len(path) > 1 else "mod"
+        for target, in_test in found:
+            if in_test or target[0] != module or len(target) < 2:
+                continue
+            other = target[1] if target[1] in units else origin.get(target[1], "mod")
+            if other != unit:
+                edges[unit][other].add(str(file.relative_to(src.parent)))
+    return edges
 
 
 def cycles(edges: dict[str, set[str]]) -> list[list[str]]:
@@ -296,7 +355,10 @@ def self_check() -> None:
         let r = r#"crate::api "quoted" "#; let y = crate::service::AppState::new;
         macro_rules! m { () => { $crate::api::x } }
     """
-    assert refs(text, ["service", "x"]) == [("store", False), ("jobs", False), ("service", False)], refs(text, ["service", "x"])
+    assert refs(text, ["service", "x"]) == [
+        (("store", "X"), False), (("jobs", "a"), False), (("jobs", "b"), False),
+        (("service", "AppState"), False),
+    ], refs(text, ["service", "x"])
     # `super` climbing out of the module, inline modules, cfg(test).
     text = """
         use super::super::store::Y; use super::problem::P;
@@ -309,9 +371,33 @@ def self_check() -> None:
         mod more;
     """
     assert refs(text, ["service", "x"]) == [
-        ("store", False), ("jobs", False), ("api", True), ("jobs", True)
+        (("store", "Y"), False), (("service", "problem"), False), (("jobs", "J"), False),
+        (("api", "T"), True), (("jobs", "U"), True),
     ], refs(text, ["service", "x"])
     assert references(text, ["service", "x"], top)[1] == [["service", "x", "more"]]
+
+    # Files of one module: a re-exported name leads to its file; a folder
+    # counts with its file; tests are left out.
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        src = Path(tmp)
+        (src / "m" / "c").mkdir(parents=True)
+        (src / "lib.rs").write_text("pub mod m;")
+        files = {
+            "m/mod.rs": "pub mod a; pub mod b; pub mod c;\npub use a::{A, Other as O};",
+            "m/a.rs": "use super::b::B;",
+            "m/b.rs": "use crate::m::A;\n#[cfg(test)]\nmod tests { use super::super::c::C; }",
+            "m/c.rs": "use super::O;",
+            "m/c/inner.rs": "use crate::m::b::B;",
+        }
+        for name, text in files.items():
+            (src / name).write_text(text)
+        got = file_graph("m", src)
+        assert {a: sorted(bs) for a, bs in got.items() if bs} == {
+            "a": ["b"], "b": ["a"], "c": ["a", "b"]
+        }, got
+        assert cycles({a: set(bs) for a, bs in got.items()}) == [["a", "b"]]
 
 
 def main() -> int:
@@ -352,9 +438,22 @@ def main() -> int:
         print(f"import circle among {', '.join(c)}:", file=sys.stderr)
         for line in inside:
             print(f"  {line}", file=sys.stderr)
-    if found:
+    inner = 0
+    for module in sorted(top_modules()):
+        if not (SRC / module).is_dir():
+            continue
+        files = file_graph(module)
+        for c in cycles({a: set(bs) for a, bs in files.items()}):
+            inner += 1
+            members = set(c)
+            print(f"import circle among the files of {module}: {', '.join(c)}:", file=sys.stderr)
+            for a in c:
+                for b in sorted(files[a]):
+                    if b in members:
+                        print(f"  {a} -> {b} ({', '.join(sorted(files[a][b]))})", file=sys.stderr)
+    if found or inner:
         return 1
-    print("no import circle between top-level modules")
+    print("no import circle between top-level modules, nor between the files of one")
     return 0
 
 

@@ -12,9 +12,9 @@ use tokio::time::Instant;
 use uuid::Uuid;
 
 use super::auth::Tenant;
+use super::http::NoQuery;
 use super::http::Query;
 use super::jobs::{load, parse_id, status_etag, summary, view};
-use super::plot::NoQuery;
 use super::problem::Problem;
 use crate::service::AppState;
 

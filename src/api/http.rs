@@ -86,6 +86,39 @@ pub enum BadQuery {
     },
 }
 
+/// A query string that does not read: 400, naming the parameter at fault.
+impl From<BadQuery> for Problem {
+    fn from(e: BadQuery) -> Self {
+        use crate::jobs::spec::shorten_echoes;
+        match e {
+            BadQuery::Value { name, message } => Problem::bad_request(
+                "invalid-parameter",
+                format!("{name}: {}", shorten_echoes(&message)),
+            )
+            .param(&name),
+            BadQuery::Unknown { name, takes } => {
+                let takes = if takes.is_empty() {
+                    "none".to_string()
+                } else {
+                    takes.join(", ")
+                };
+                Problem::bad_request(
+                    "invalid-parameter",
+                    format!("unknown query parameter {name:?}: this endpoint takes {takes}"),
+                )
+                .param(&name)
+            }
+            BadQuery::Other { message, only } => {
+                let p = Problem::bad_request("invalid-parameter", shorten_echoes(&message));
+                match only {
+                    Some(name) => p.param(&name),
+                    None => p,
+                }
+            }
+        }
+    }
+}
+
 /// `query` (a URL's query string, without `?`) read into `T`.
 pub fn read_query<T: DeserializeOwned + IntoParams>(query: &str) -> Result<T, BadQuery> {
     let pairs = || form_urlencoded::parse(query.as_bytes());
@@ -257,6 +290,11 @@ pub fn audit(
     tracing::info!(target: "audit", action, tenant = tenant.name(), job_id = %job, request_id, "audit");
 }
 
+/// A route that takes no query parameters.
+#[derive(Debug, serde::Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+pub struct NoQuery {}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -280,8 +318,8 @@ mod tests {
     /// the first parameter at fault, in order, is named.
     #[test]
     fn a_query_that_does_not_read_names_its_parameter() {
+        use crate::api::http::NoQuery;
         use crate::api::jobs::{CreateQuery, ListParams};
-        use crate::api::plot::NoQuery;
         use crate::api::records::UploadQuery;
         type Create = CreateQuery;
         let cases = [

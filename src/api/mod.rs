@@ -14,6 +14,7 @@ pub mod page;
 pub mod plot;
 pub mod problem;
 pub mod records;
+pub mod representation;
 
 use std::time::Duration;
 

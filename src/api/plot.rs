@@ -1,7 +1,5 @@
 //! `/v1/jobs/{id}/plot.svg`: the figure of a finished job's result.
 
-use std::sync::Arc;
-
 use axum::extract::rejection::PathRejection;
 use axum::extract::{Extension, Path, State};
 use axum::http::HeaderMap;
@@ -11,11 +9,11 @@ use utoipa::IntoParams;
 
 use super::auth::Tenant;
 use super::http::Query;
-use super::jobs::{Format, parse_id, result_response};
+use super::jobs::{parse_id, result_response};
 use super::problem::Problem;
-use crate::plot::{FigureError, Window};
+use super::representation::Format;
+use crate::plot::Window;
 use crate::service::AppState;
-use crate::service::results::Document;
 
 /// A job's result as a figure (SVG).
 ///
@@ -76,30 +74,4 @@ pub struct PlotQuery {
     /// (e.g. `0,1.2`); without it the whole history.
     #[param(pattern = r"^\s*[^,]+\s*,\s*[^,]+\s*$", example = "0,1.2")]
     pub window: Option<String>,
-}
-
-/// A route that takes no query parameters.
-#[derive(Debug, serde::Deserialize, IntoParams)]
-#[serde(deny_unknown_fields)]
-pub struct NoQuery {}
-
-/// The figure of result document `body`. Parsing and drawing are CPU work:
-/// the blocking pool, not the runtime, in a rendering turn (a large document
-/// parsed is several times its text).
-pub(crate) async fn render(
-    state: &AppState,
-    body: Arc<Document>,
-    window: Option<Window>,
-) -> Result<String, Problem> {
-    let turn = super::jobs::render_turn(state, body.as_str().len()).await?;
-    tokio::task::spawn_blocking(move || {
-        let _turn = turn;
-        super::jobs::read_result(body.as_str()).map(|r| crate::plot::svg_in(&r, window))
-    })
-    .await
-    .map_err(|_| Problem::internal("figure rendering stopped"))??
-    .map_err(|e| match e {
-        FigureError::Window(e) => Problem::bad_request("invalid-parameter", e).param("window"),
-        FigureError::Result(e) => Problem::bad_request("no-plot", e).param("id"),
-    })
 }

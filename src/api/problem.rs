@@ -335,40 +335,6 @@ impl From<SubmitError> for Problem {
     }
 }
 
-/// A query string that does not read: 400, naming the parameter at fault.
-impl From<super::http::BadQuery> for Problem {
-    fn from(e: super::http::BadQuery) -> Self {
-        use super::http::BadQuery;
-        use crate::jobs::spec::shorten_echoes;
-        match e {
-            BadQuery::Value { name, message } => Problem::bad_request(
-                "invalid-parameter",
-                format!("{name}: {}", shorten_echoes(&message)),
-            )
-            .param(&name),
-            BadQuery::Unknown { name, takes } => {
-                let takes = if takes.is_empty() {
-                    "none".to_string()
-                } else {
-                    takes.join(", ")
-                };
-                Problem::bad_request(
-                    "invalid-parameter",
-                    format!("unknown query parameter {name:?}: this endpoint takes {takes}"),
-                )
-                .param(&name)
-            }
-            BadQuery::Other { message, only } => {
-                let p = Problem::bad_request("invalid-parameter", shorten_echoes(&message));
-                match only {
-                    Some(name) => p.param(&name),
-                    None => p,
-                }
-            }
-        }
-    }
-}
-
 /// Longest `detail` a problem carries, bytes: it may quote the input, which
 /// is never echoed at length.
 const MAX_DETAIL: usize = 1000;

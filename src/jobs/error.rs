@@ -47,19 +47,6 @@ impl SpecError {
     }
 }
 
-/// A document that does not read as a result of its kind: a stored result
-/// of another engine, or not a result at all.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{}{}: {message}", kind.map(|k| format!("not a {} result: ", k.name())).unwrap_or_default(), if pointer.is_empty() { "the document" } else { pointer.as_str() })]
-pub struct ResultError {
-    /// The kind it claims, when it names one.
-    pub kind: Option<super::JobKind>,
-    /// JSON pointer to the field at fault ("" for the document).
-    pub pointer: String,
-    /// What is wrong with it.
-    pub message: String,
-}
-
 /// Why a valid job did not produce a result. Its text is the `error` a
 /// failed job shows.
 #[derive(Debug, thiserror::Error)]

@@ -9,6 +9,8 @@
 //! transition, so the sets are intervals located to `tolerance_g`, not grid
 //! samples); the sets of all observations are intersected.
 
+pub mod record;
+
 use serde::{Deserialize, Serialize};
 
 use super::names::{EngineDoc, Excitation, tag};
@@ -776,7 +778,7 @@ impl ForensicJob {
     /// Runs the query: one overturning spectrum per observation (rayon inside).
     pub fn run(&self, control: &Control) -> Result<ForensicResult, ScanError> {
         match (&self.ground_motion, self.pulse) {
-            (Some(gm), _) => super::forensic_record::run(self, gm, control),
+            (Some(gm), _) => record::run(self, gm, control),
             (None, Some(pulse)) => self.run_pulse(pulse, control),
             (None, None) => Err(ScanError::Simulation(crate::dynamics::SimError::Tolerance)),
         }

@@ -5,7 +5,6 @@ pub mod distribution;
 pub mod engine;
 pub mod error;
 pub mod forensic;
-pub mod forensic_record;
 pub mod fragility;
 pub mod friction;
 pub mod key;
@@ -27,13 +26,13 @@ pub mod survival;
 pub mod time_history;
 pub mod warning;
 
-pub use error::{JobError, ResultError, SpecError};
+pub use error::{JobError, SpecError};
 
 use serde_json::Value;
 
 use crate::spectrum::Control;
 
-pub use registry::{Job, JobKind, JobResult, JobSpec, KINDS, NormalizedSpec};
+pub use registry::{Job, JobKind, JobResult, JobSpec, KINDS, NormalizedSpec, ResultError};
 
 impl Job {
     /// Parses and validates a job spec from JSON text.

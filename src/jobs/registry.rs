@@ -12,7 +12,7 @@ use utoipa::openapi::schema::{Discriminator, OneOfBuilder, Schema};
 use utoipa::openapi::{Ref, RefOr};
 use utoipa::{PartialSchema, ToSchema};
 
-use super::error::{JobError, ResultError, SpecError};
+use super::error::{JobError, SpecError};
 use super::kind::{Kind, Size};
 use super::warning::WarningDoc;
 use crate::spectrum::Control;
@@ -32,6 +32,19 @@ fn union(description: &str, items: &[(&str, Cow<'static, str>)]) -> RefOr<Schema
     one_of
         .discriminator(Some(Discriminator::with_mapping("kind", mapping)))
         .into()
+}
+
+/// A document that does not read as a result of its kind: a stored result
+/// of another engine, or not a result at all.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{}{}: {message}", kind.map(|k| format!("not a {} result: ", k.name())).unwrap_or_default(), if pointer.is_empty() { "the document" } else { pointer.as_str() })]
+pub struct ResultError {
+    /// The kind it claims, when it names one.
+    pub kind: Option<JobKind>,
+    /// JSON pointer to the field at fault ("" for the document).
+    pub pointer: String,
+    /// What is wrong with it.
+    pub message: String,
 }
 
 /// The kind a result document names in its `kind`.

@@ -904,10 +904,7 @@ pub struct GroundMotionSpec {
     pub allow_large_pga: Option<bool>,
 }
 
-/// Most samples in a record.
-pub const MAX_RECORD_SAMPLES: usize = 1_000_000;
-/// Range of a record's sampling interval, s.
-pub const RECORD_DT_RANGE: (f64, f64) = (1e-5, 1.0);
+pub use crate::records::{MAX_RECORD_SAMPLES, RECORD_DT_RANGE};
 
 /// A record, normalised: samples in m/s².
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]

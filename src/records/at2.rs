@@ -20,12 +20,12 @@
 //! width; in fixed width a minus sign may touch the number before it
 //! (`-.1234E-02-.5678E-03`), and Fortran writes `D` exponents.
 
+use super::MAX_RECORD_SAMPLES;
 use super::format::words;
 use super::number;
 use super::text::{clip, numbered_lines, quote};
 use super::unit::{ACCEPTED_UNITS, Unit, bracketed};
 use super::{MAX_NAME_CHARS, Parsed, ReadError, ReadOptions, RecordWarning};
-use crate::jobs::spec::MAX_RECORD_SAMPLES;
 
 /// Reads an AT2 file.
 pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> {

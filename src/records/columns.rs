@@ -17,12 +17,12 @@
 
 use std::borrow::Cow;
 
+use super::MAX_RECORD_SAMPLES;
 use super::format::is_comment;
 use super::number;
 use super::text::{clip, numbered_lines, quote};
 use super::unit::{ACCEPTED_UNITS, Unit, bracketed};
 use super::{DT_TOLERANCE, MAX_NAME_CHARS, Parsed, ReadError, ReadOptions};
-use crate::jobs::spec::MAX_RECORD_SAMPLES;
 
 /// Which column of a file: by position or by the name in its header row.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]

@@ -6,8 +6,8 @@
 
 use serde_json::{Value, json};
 
+use super::ReadError;
 use super::{OptionTexts, RecordWarning, read};
-use crate::jobs::SpecError;
 
 /// The options a `file` object may carry beside it, as `topple record`'s flags.
 const FILE_OPTIONS: [&str; 9] = [
@@ -25,10 +25,11 @@ const FILE_OPTIONS: [&str; 9] = [
 /// Reads every `{"file": …}` of `spec`'s `ground_motion` and
 /// `ground_motions` with `read_file` and puts its samples (m/s²) in its
 /// place; returns the records' warnings, each prefixed with where it was.
+/// An error's `field` is the JSON pointer into `spec` of what is at fault.
 pub fn embed_files(
     spec: &mut Value,
     read_file: impl Fn(&str) -> Result<String, String>,
-) -> Result<Vec<(String, RecordWarning)>, SpecError> {
+) -> Result<Vec<(String, RecordWarning)>, ReadError> {
     let mut slots = Vec::new();
     if spec.get("ground_motion").is_some_and(Value::is_object) {
         slots.push("/ground_motion".to_string());
@@ -46,9 +47,9 @@ pub fn embed_files(
         };
         let path = path
             .as_str()
-            .ok_or_else(|| SpecError::at(format!("{at}/file"), "must be a path (a string)"))?;
+            .ok_or_else(|| ReadError::new(format!("{at}/file"), "must be a path (a string)"))?;
         if let Some(other) = slot.keys().find(|k| !FILE_OPTIONS.contains(&k.as_str())) {
-            return Err(SpecError::at(
+            return Err(ReadError::new(
                 format!("{at}/{other}"),
                 format!(
                     "a file brings its own samples: beside `file` give only {}",
@@ -56,26 +57,26 @@ pub fn embed_files(
                 ),
             ));
         }
-        let text_of = |k: &str| -> Result<Option<&str>, SpecError> {
+        let text_of = |k: &str| -> Result<Option<&str>, ReadError> {
             match slot.get(k) {
                 None | Some(Value::Null) => Ok(None),
                 Some(Value::String(s)) => Ok(Some(s.as_str())),
-                Some(_) => Err(SpecError::at(format!("{at}/{k}"), "must be a string")),
+                Some(_) => Err(ReadError::new(format!("{at}/{k}"), "must be a string")),
             }
         };
         let dt = match slot.get("dt") {
             None | Some(Value::Null) => None,
             Some(v) => Some(
                 v.as_f64()
-                    .ok_or_else(|| SpecError::at(format!("{at}/dt"), "must be a number (s)"))?,
+                    .ok_or_else(|| ReadError::new(format!("{at}/dt"), "must be a number (s)"))?,
             ),
         };
-        let column = |k: &str| -> Result<Option<String>, SpecError> {
+        let column = |k: &str| -> Result<Option<String>, ReadError> {
             match slot.get(k) {
                 None | Some(Value::Null) => Ok(None),
                 Some(Value::String(s)) => Ok(Some(s.clone())),
                 Some(Value::Number(n)) => Ok(Some(n.to_string())),
-                Some(_) => Err(SpecError::at(
+                Some(_) => Err(ReadError::new(
                     format!("{at}/{k}"),
                     "a column number from 1 or a header name",
                 )),
@@ -96,9 +97,9 @@ pub fn embed_files(
             allow_large_pga,
         }
         .read()
-        .map_err(|e| SpecError::at(format!("{at}/{}", e.field), e.message))?;
+        .map_err(|e| ReadError::new(format!("{at}/{}", e.field), e.message))?;
         let text = read_file(path).map_err(|e| {
-            SpecError::at(format!("{at}/file"), format!("cannot read {path:?}: {e}"))
+            ReadError::new(format!("{at}/file"), format!("cannot read {path:?}: {e}"))
         })?;
         let file = read(&text, &opts).map_err(|e| {
             let field = if e.field == "body" {
@@ -107,7 +108,7 @@ pub fn embed_files(
                 e.field.trim_start_matches('/').to_string()
             };
             let line = e.line.map(|l| format!("line {l}: ")).unwrap_or_default();
-            SpecError::at(
+            ReadError::new(
                 format!("{at}/{field}"),
                 format!("{path}: {line}{}", e.message),
             )

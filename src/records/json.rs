@@ -8,11 +8,11 @@
 use serde::de::{self, Deserialize, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_json::value::RawValue;
 
+use super::MAX_RECORD_SAMPLES;
 use super::number;
 use super::text::clip;
 use super::unit::{ACCEPTED_UNITS, Unit};
 use super::{MAX_NAME_CHARS, Parsed, ReadError, ReadOptions};
-use crate::jobs::spec::MAX_RECORD_SAMPLES;
 
 /// The members a record object may have.
 const FIELDS: [&str; 4] = ["name", "dt", "unit", "acc"];

@@ -36,7 +36,10 @@ pub use meta::{RecordMeta, RecordWarningDoc};
 pub use options::OptionTexts;
 pub use unit::{ACCEPTED_UNITS, Unit};
 
-use crate::jobs::spec::{MAX_RECORD_SAMPLES, RECORD_DT_RANGE};
+/// Most samples in a record.
+pub const MAX_RECORD_SAMPLES: usize = 1_000_000;
+/// Range of a record's sampling interval, s.
+pub const RECORD_DT_RANGE: (f64, f64) = (1e-5, 1.0);
 
 /// How a record in g is converted to m/s²: the default block's g, so that
 /// a record uploaded in g and the same samples in a job spec in g give the

@@ -59,15 +59,14 @@ impl OptionTexts<'_> {
             .transpose()?;
         if let Some(dt) = self.dt
             && !(dt.is_finite()
-                && (crate::jobs::spec::RECORD_DT_RANGE.0..=crate::jobs::spec::RECORD_DT_RANGE.1)
-                    .contains(&dt))
+                && (super::RECORD_DT_RANGE.0..=super::RECORD_DT_RANGE.1).contains(&dt))
         {
             return Err(ReadError::new(
                 "dt",
                 format!(
                     "dt must satisfy {:e} <= dt <= {} (s)",
-                    crate::jobs::spec::RECORD_DT_RANGE.0,
-                    crate::jobs::spec::RECORD_DT_RANGE.1
+                    super::RECORD_DT_RANGE.0,
+                    super::RECORD_DT_RANGE.1
                 ),
             ));
         }

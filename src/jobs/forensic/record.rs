@@ -7,16 +7,16 @@
 
 use rayon::prelude::*;
 
-use super::forensic::{
+use super::{
     AmplitudeRange, Bounds, ForensicJob, ForensicNumerics, ForensicResult, Intervals,
     RecordObservationSet, complement, intersect, overturning_set,
 };
-use super::names::{Excitation, tag};
-use super::record_spectrum::RecordDoc;
-use super::spec::GroundMotionNorm;
-use super::spectrum::ScanCost;
-use super::time_history::GroundPeaksDoc;
 use crate::dynamics::{Problem, SimError, peaks};
+use crate::jobs::names::{Excitation, tag};
+use crate::jobs::record_spectrum::RecordDoc;
+use crate::jobs::spec::GroundMotionNorm;
+use crate::jobs::spectrum::ScanCost;
+use crate::jobs::time_history::GroundPeaksDoc;
 use crate::spectrum::Control;
 use crate::spectrum::overturning::{ScanGrid, scan_lines, threshold_alpha_g};
 use crate::spectrum::scan::{ScanError, ScanStats};
@@ -42,7 +42,7 @@ pub fn run(
     let solver = job.solver.solver();
     let AmplitudeRange { from, to } = job.range_g();
     let g = job.observations.first().map_or(9.81, |o| o.block.g);
-    let peak_g = super::record_spectrum::pga(&gm.acc) / g;
+    let peak_g = crate::jobs::record_spectrum::pga(&gm.acc) / g;
     // Observations in parallel; each line's levels are the scaled PGA in its α g.
     let scanned = job
         .observations
