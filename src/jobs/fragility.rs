@@ -317,10 +317,7 @@ fn uncertain(
 impl FragilitySpec {
     /// Validates into a runnable job.
     pub fn validate(&self) -> Result<FragilityJob, SpecError> {
-        let b = self
-            .block
-            .as_ref()
-            .ok_or_else(|| SpecError::at("/block", "missing field"))?;
+        let b = super::spec::required(self.block.as_ref(), "/block")?;
         let g = b.g.unwrap_or(9.81);
         if !(g.is_finite() && g > 0.0) {
             return Err(SpecError::at("/block/g", "must be a finite number > 0"));

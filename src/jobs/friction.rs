@@ -6,7 +6,7 @@ use super::names::{EngineDoc, tag};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    in_one_unit, parse_formulation, validate_block,
+    in_one_unit, parse_formulation,
 };
 use super::spectrum::{PulseFamily, SpectrumNumerics, validate_family};
 use crate::dynamics::{Formulation, SimError};
@@ -79,11 +79,7 @@ pub struct FrictionJob {
 impl FrictionSpec {
     /// Validates into a runnable job.
     pub fn validate(&self) -> Result<FrictionJob, SpecError> {
-        let block_spec = self
-            .block
-            .as_ref()
-            .ok_or_else(|| SpecError::at("/block", "missing field"))?;
-        let block = validate_block(block_spec, "/block")?;
+        let block = super::spec::the_block(self.block.as_ref())?;
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let solver = super::spec::validate_solver_for(

@@ -199,10 +199,7 @@ pub fn pga(acc: &[f64]) -> f64 {
 impl RecordSpectrumSpec {
     /// Validates into a runnable job.
     pub fn validate(&self) -> Result<RecordSpectrumJob, SpecError> {
-        let block_spec = self
-            .block
-            .as_ref()
-            .ok_or_else(|| SpecError::at("/block", "missing field"))?;
+        let block_spec = super::spec::required(self.block.as_ref(), "/block")?;
         for (v, name) in [
             (block_spec.p, "p"),
             (block_spec.b, "b"),

@@ -66,42 +66,11 @@ fn result_kind(value: &Value) -> Result<JobKind, ResultError> {
 
 /// `value` read as a `T`, the result type of `kind`, or the field at fault.
 fn read_as<T: serde::de::DeserializeOwned>(kind: JobKind, value: Value) -> Result<T, ResultError> {
-    serde_path_to_error::deserialize(value).map_err(|e| {
-        let path = e.path().to_string();
-        ResultError {
-            kind: Some(kind),
-            pointer: if path == "." {
-                String::new()
-            } else {
-                pointer_of(&path)
-            },
-            message: e.into_inner().to_string(),
-        }
+    serde_path_to_error::deserialize(value).map_err(|e| ResultError {
+        kind: Some(kind),
+        pointer: super::spec::json_pointer("", e.path()),
+        message: e.into_inner().to_string(),
     })
-}
-
-/// serde_path_to_error's path (`a.b[2].c`) as a JSON pointer (`/a/b/2/c`).
-fn pointer_of(path: &str) -> String {
-    let mut out = String::new();
-    for part in path.split('.') {
-        let mut rest = part;
-        if let Some(i) = rest.find('[') {
-            let (name, index) = rest.split_at(i);
-            if !name.is_empty() {
-                out.push('/');
-                out.push_str(name);
-            }
-            rest = index;
-            for index in rest.split('[').filter(|x| !x.is_empty()) {
-                out.push('/');
-                out.push_str(index.trim_end_matches(']'));
-            }
-        } else if !rest.is_empty() {
-            out.push('/');
-            out.push_str(rest);
-        }
-    }
-    out
 }
 
 /// Generates, from `Variant => kind type` lines, the job enum, the kind enum
@@ -409,12 +378,5 @@ mod tests {
         assert_eq!((e.kind, e.pointer.as_str()), (None, "/kind"));
         assert!(e.message.contains("teapot"), "{e}");
         assert!(JobResult::from_value(serde_json::json!({})).is_err());
-    }
-
-    #[test]
-    fn paths_become_pointers() {
-        assert_eq!(pointer_of("a.b[2].c"), "/a/b/2/c");
-        assert_eq!(pointer_of("spectrum[0][1]"), "/spectrum/0/1");
-        assert_eq!(pointer_of("kind"), "/kind");
     }
 }

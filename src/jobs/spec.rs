@@ -151,25 +151,51 @@ pub fn from_value<T: for<'de> Deserialize<'de>>(
     base: &str,
 ) -> Result<T, SpecError> {
     serde_path_to_error::deserialize(value).map_err(|e| {
-        let mut pointer = base.to_string();
-        for seg in e.path().iter() {
-            use serde_path_to_error::Segment;
-            match seg {
-                Segment::Seq { index } => pointer.push_str(&format!("/{index}")),
-                Segment::Map { key } | Segment::Enum { variant: key } => {
-                    pointer.push('/');
-                    pointer.push_str(&key.replace('~', "~0").replace('/', "~1"));
-                }
-                Segment::Unknown => {}
-            }
-        }
+        let mut pointer = json_pointer(base, e.path());
         let mut message = shorten_echoes(&e.into_inner().to_string());
         if message.contains(NON_FINITE_MARK) {
             message = "must be a finite number (NaN, Infinity and numbers beyond ±1.8e308 are not accepted)"
                 .to_string();
         }
+        // serde names a missing field in its text, at its parent: point at it.
+        if let Some(name) = message
+            .strip_prefix("missing field `")
+            .and_then(|rest| rest.split('`').next())
+        {
+            pointer.push('/');
+            pointer.push_str(&name.replace('~', "~0").replace('/', "~1"));
+            message = "missing field".to_string();
+        }
         SpecError::at(pointer, message)
     })
+}
+
+/// A path of serde_path_to_error under `base`, as a JSON pointer
+/// (`a.b[2]` under "" → `/a/b/2`).
+pub fn json_pointer(base: &str, path: &serde_path_to_error::Path) -> String {
+    let mut pointer = base.to_string();
+    for seg in path.iter() {
+        use serde_path_to_error::Segment;
+        match seg {
+            Segment::Seq { index } => pointer.push_str(&format!("/{index}")),
+            Segment::Map { key } | Segment::Enum { variant: key } => {
+                pointer.push('/');
+                pointer.push_str(&key.replace('~', "~0").replace('/', "~1"));
+            }
+            Segment::Unknown => {}
+        }
+    }
+    pointer
+}
+
+/// A field a spec must give, or the error that it is missing.
+pub fn required<'a, T>(field: Option<&'a T>, pointer: &str) -> Result<&'a T, SpecError> {
+    field.ok_or_else(|| SpecError::at(pointer, "missing field"))
+}
+
+/// The block of a single-block spec (`/block`), validated.
+pub fn the_block(block: Option<&BlockSpec>) -> Result<BlockNorm, SpecError> {
+    validate_block(required(block, "/block")?, "/block")
 }
 
 /// The block, by parameters or by geometry.

@@ -6,7 +6,7 @@ use super::names::{EngineDoc, tag};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, ShapeParams, SolverNorm, SolverSpec,
-    SpecError, family_of, in_one_unit, parse_formulation, parse_shape, shape_name, validate_block,
+    SpecError, family_of, in_one_unit, parse_formulation, parse_shape, shape_name,
 };
 use crate::dynamics::{Formulation, Pulse, PulseShape, SimError};
 use crate::spectrum::overturning::Derived;
@@ -142,7 +142,7 @@ impl<'de> Deserialize<'de> for PulseFamily {
 
 /// Validates the pulse of a spectrum job: the family only.
 pub fn validate_family(spec: Option<&PulseSpec>, base: &str) -> Result<PulseFamily, SpecError> {
-    let spec = spec.ok_or_else(|| SpecError::at(base, "missing field"))?;
+    let spec = super::spec::required(spec, base)?;
     for (v, name) in [
         (spec.omega_p, "omega_p"),
         (spec.frequency_hz, "frequency_hz"),
@@ -204,11 +204,7 @@ fn positive_in(v: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> Result<f6
 impl SpectrumSpec {
     /// Validates into a runnable job.
     pub fn validate(&self) -> Result<SpectrumJob, SpecError> {
-        let block_spec = self
-            .block
-            .as_ref()
-            .ok_or_else(|| SpecError::at("/block", "missing field"))?;
-        let block = validate_block(block_spec, "/block")?;
+        let block = super::spec::the_block(self.block.as_ref())?;
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let solver = super::spec::validate_solver_for(

@@ -299,10 +299,7 @@ impl SurvivalSpec {
                 ));
             }
         };
-        let points = hazard
-            .points
-            .as_ref()
-            .ok_or_else(|| SpecError::at("/hazard/points", "missing field"))?;
+        let points = super::spec::required(hazard.points.as_ref(), "/hazard/points")?;
         if points.len() > MAX_HAZARD_POINTS {
             return Err(SpecError::at(
                 "/hazard/points",

@@ -7,8 +7,8 @@ use super::names::{EngineDoc, tag};
 use super::numerics::NumericsDoc;
 use super::spec::{
     BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, SolverNorm,
-    SolverSpec, SpecError, parse_formulation, validate_block, validate_ground_motion,
-    validate_pulse, validate_solver_for,
+    SolverSpec, SpecError, parse_formulation, validate_ground_motion, validate_pulse,
+    validate_solver_for,
 };
 pub use super::warning::WarningDoc;
 use crate::dynamics::response::{Response, Warning};
@@ -102,11 +102,7 @@ pub struct TimeHistoryJob {
 impl TimeHistorySpec {
     /// Validates into a runnable job.
     pub fn validate(&self) -> Result<TimeHistoryJob, SpecError> {
-        let block_spec = self
-            .block
-            .as_ref()
-            .ok_or_else(|| SpecError::at("/block", "missing field"))?;
-        let block = validate_block(block_spec, "/block")?;
+        let block = super::spec::the_block(self.block.as_ref())?;
         let (pulse, ground_motion) = match (&self.pulse, &self.ground_motion) {
             (Some(p), None) => (Some(validate_pulse(p, &block, "/pulse")?.0), None),
             (None, Some(g)) => (
