@@ -7,15 +7,78 @@ use std::fmt::Write;
 
 use serde_json::Value;
 
-use crate::jobs::{JobKind, JobResult};
+use crate::jobs::JobResult;
+use crate::jobs::forensic::ForensicResult;
+use crate::jobs::fragility::FragilityResult;
+use crate::jobs::friction::FrictionResult;
+use crate::jobs::names::Excitation;
+use crate::jobs::record_spectrum::RecordSpectrumResult;
+use crate::jobs::spectrum::SpectrumResult;
+use crate::jobs::survival::SurvivalResult;
+use crate::jobs::time_history::TimeHistoryResult;
 
-/// One CSV field: numbers as JSON writes them, text quoted when it needs to be.
+/// One CSV field of a JSON value: numbers as JSON writes them, text quoted
+/// when it needs to be.
 fn f(v: Option<&Value>) -> String {
     match v {
         Some(Value::Null) | None => String::new(),
         Some(Value::String(s)) => quote(s),
         Some(x) => x.to_string(),
     }
+}
+
+/// A value as a CSV field, written as the result document writes it:
+/// numbers as JSON writes them (`1.0`, `1e-7`), a number JSON cannot hold
+/// (not finite) and `None` as an empty field, text through [`quote`].
+trait Field {
+    fn field(&self) -> String;
+}
+
+impl Field for f64 {
+    fn field(&self) -> String {
+        serde_json::Number::from_f64(*self).map_or_else(String::new, |n| n.to_string())
+    }
+}
+
+macro_rules! plain_fields {
+    ($($t:ty),*) => {
+        $(impl Field for $t {
+            fn field(&self) -> String {
+                self.to_string()
+            }
+        })*
+    };
+}
+
+plain_fields!(bool, u8, u32, u64, usize);
+
+impl Field for str {
+    fn field(&self) -> String {
+        quote(self)
+    }
+}
+
+impl Field for String {
+    fn field(&self) -> String {
+        quote(self)
+    }
+}
+
+impl<T: Field> Field for Option<T> {
+    fn field(&self) -> String {
+        self.as_ref().map_or_else(String::new, Field::field)
+    }
+}
+
+impl<T: Field + ?Sized> Field for &T {
+    fn field(&self) -> String {
+        (**self).field()
+    }
+}
+
+/// `x` as a CSV field ([`Field`]).
+fn cell<T: Field + ?Sized>(x: &T) -> String {
+    x.field()
 }
 
 /// `s` as a CSV field (RFC 4180), safe to open in a spreadsheet: text
@@ -37,41 +100,23 @@ fn row(out: &mut String, fields: &[String]) {
     let _ = writeln!(out, "{}", fields.join(","));
 }
 
-fn array<'a>(v: &'a Value, key: &str) -> &'a [Value] {
-    v.get(key)
-        .and_then(Value::as_array)
-        .map(Vec::as_slice)
-        .unwrap_or_default()
-}
-
 /// The CSV table of a result.
 pub fn to_csv(result: &JobResult) -> String {
-    to_csv_doc(&crate::plot::document(result)).unwrap_or_default()
-}
-
-/// The CSV table of a result document (being replaced by [`to_csv`]).
-pub(crate) fn to_csv_doc(result: &Value) -> Result<String, String> {
     let mut out = String::new();
-    let name = result.get("kind").and_then(Value::as_str);
-    let Some(kind) = name.and_then(JobKind::from_name) else {
-        return Err(format!("no CSV form for results of kind {name:?}"));
-    };
     // Every kind has a table: the match is exhaustive.
-    match kind {
-        JobKind::TimeHistory => time_history(result, &mut out),
-        JobKind::Spectrum => spectrum(result, &mut out),
-        JobKind::FrictionSpectrum => friction(result, &mut out),
-        JobKind::Forensic
-            if result.get("excitation").and_then(Value::as_str) == Some("ground_motion") =>
-        {
-            forensic_record(result, &mut out)
+    match result {
+        JobResult::TimeHistory(r) => time_history(r, &mut out),
+        JobResult::Spectrum(r) => spectrum(r, &mut out),
+        JobResult::FrictionSpectrum(r) => friction(r, &mut out),
+        JobResult::Forensic(r) if r.excitation == Excitation::GroundMotion => {
+            forensic_record(r, &mut out)
         }
-        JobKind::Forensic => forensic(result, &mut out),
-        JobKind::RecordSpectrum => record_spectrum(result, &mut out),
-        JobKind::Survival => survival(result, &mut out),
-        JobKind::Fragility => fragility(result, &mut out),
+        JobResult::Forensic(r) => forensic(r, &mut out),
+        JobResult::RecordSpectrum(r) => record_spectrum(r, &mut out),
+        JobResult::Survival(r) => survival(r, &mut out),
+        JobResult::Fragility(r) => fragility(r, &mut out),
     }
-    Ok(out)
+    out
 }
 
 /// The columns of a time history's series: (key, header).
@@ -83,29 +128,58 @@ const SERIES_COLUMNS: [(&str, &str); 5] = [
     ("fx_over_fz", "fx_over_fz"),
 ];
 
+/// One column of a series: samples, or samples that may be missing.
+#[derive(Clone, Copy)]
+enum Column<'a> {
+    Samples(&'a [f64]),
+    Gappy(&'a [Option<f64>]),
+}
+
+impl Column<'_> {
+    fn len(self) -> usize {
+        match self {
+            Column::Samples(s) => s.len(),
+            Column::Gappy(s) => s.len(),
+        }
+    }
+
+    /// Sample `k` as a field (empty past the column's end).
+    fn at(self, k: usize) -> String {
+        match self {
+            Column::Samples(s) => cell(&s.get(k)),
+            Column::Gappy(s) => cell(&s.get(k).copied().flatten()),
+        }
+    }
+}
+
 /// The series when there is one; else the impacts; else a one-row summary.
-fn time_history(result: &Value, out: &mut String) {
-    if let Some(s) = result.get("series") {
-        let cols = SERIES_COLUMNS;
-        let data: Vec<&[Value]> = cols.iter().map(|(key, _)| array(s, key)).collect();
-        let present: Vec<usize> = (0..cols.len()).filter(|&i| !data[i].is_empty()).collect();
+fn time_history(r: &TimeHistoryResult, out: &mut String) {
+    if let Some(s) = &r.series {
+        let data = [
+            Column::Samples(&s.t),
+            Column::Samples(&s.theta),
+            Column::Samples(&s.theta_dot),
+            Column::Samples(&s.ground_acceleration),
+            Column::Gappy(s.fx_over_fz.as_deref().unwrap_or_default()),
+        ];
+        let present: Vec<usize> = (0..data.len()).filter(|&i| data[i].len() > 0).collect();
         if !present.is_empty() {
             row(
                 out,
                 &present
                     .iter()
-                    .map(|&i| cols[i].1.to_string())
+                    .map(|&i| SERIES_COLUMNS[i].1.to_string())
                     .collect::<Vec<_>>(),
             );
             let rows = present.iter().map(|&i| data[i].len()).max().unwrap_or(0);
-            for r in 0..rows {
-                let line: Vec<String> = present.iter().map(|&i| f(data[i].get(r))).collect();
+            for k in 0..rows {
+                let line: Vec<String> = present.iter().map(|&i| data[i].at(k)).collect();
                 row(out, &line);
             }
             return;
         }
     }
-    let impacts = array(result, "impacts");
+    let impacts = r.impacts.as_deref().unwrap_or_default();
     if !impacts.is_empty() {
         row(
             out,
@@ -120,37 +194,50 @@ fn time_history(result: &Value, out: &mut String) {
             row(
                 out,
                 &[
-                    (k + 1).to_string(),
-                    f(i.get("t")),
-                    f(i.get("theta_dot_before")),
-                    f(i.get("theta_dot_after")),
+                    cell(&(k + 1)),
+                    cell(&i.t),
+                    cell(&i.theta_dot_before),
+                    cell(&i.theta_dot_after),
                 ],
             );
         }
         return;
     }
-    let cols = [
-        ("rocked", "rocked"),
-        ("overturned", "overturned"),
-        ("mode", "mode"),
-        ("impact_count", "impact_count"),
-        ("rocking_start", "rocking_start_s"),
-        ("overturn_time", "overturn_time_s"),
-        ("rest_time", "rest_time_s"),
-        ("end_time", "end_time_s"),
-        ("peak_theta_over_alpha", "peak_theta_over_alpha"),
-        ("peak_friction_demand", "peak_friction_demand"),
-        ("initiation_friction_demand", "initiation_friction_demand"),
-        ("lift_off", "lift_off"),
-        ("lift_off_time", "lift_off_time_s"),
+    let cols: [(&str, String); 13] = [
+        ("rocked", cell(&r.rocked)),
+        ("overturned", cell(&r.overturned)),
+        ("mode", cell(&r.mode)),
+        ("impact_count", cell(&r.impact_count)),
+        ("rocking_start_s", cell(&r.rocking_start)),
+        ("overturn_time_s", cell(&r.overturn_time)),
+        ("rest_time_s", cell(&r.rest_time)),
+        ("end_time_s", cell(&r.end_time)),
+        ("peak_theta_over_alpha", cell(&r.peak_theta_over_alpha)),
+        ("peak_friction_demand", cell(&r.peak_friction_demand)),
+        (
+            "initiation_friction_demand",
+            cell(&r.initiation_friction_demand),
+        ),
+        ("lift_off", cell(&r.lift_off)),
+        ("lift_off_time_s", cell(&r.lift_off_time)),
     ];
-    row(out, &cols.map(|c| c.1.to_string()));
-    row(out, &cols.map(|c| f(result.get(c.0))));
+    row(out, &cols.each_ref().map(|c| c.0.to_string()));
+    row(out, &cols.map(|c| c.1));
+}
+
+/// A survive ↔ overturn transition as the cells of its row: its levels
+/// (amplitude, or scale and PGA), direction, mode, impacts and bracket.
+struct Crossing<'a> {
+    levels: Vec<String>,
+    direction: &'a str,
+    mode: u8,
+    impacts: u64,
+    bracket: [f64; 2],
 }
 
 /// One row per transition (a frequency without any: one row, transition
 /// fields empty).
-fn spectrum(result: &Value, out: &mut String) {
+fn spectrum(r: &SpectrumResult, out: &mut String) {
     row(
         out,
         &[
@@ -168,45 +255,50 @@ fn spectrum(result: &Value, out: &mut String) {
         ]
         .map(String::from),
     );
-    for line in array(result, "spectrum") {
+    for line in &r.spectrum {
         let tail = [
-            f(line.get("min_overturn_alpha_g")),
-            f(line.get("eq21_alpha_g")),
-            f(line.get("threshold_alpha_g")),
-            f(line.get("closed_form_mode2_alpha_g")),
+            cell(&line.min_overturn_alpha_g),
+            cell(&line.eq21_alpha_g),
+            cell(&line.threshold_alpha_g),
+            cell(&line.closed_form_mode2_alpha_g),
         ];
-        let head = [f(line.get("omega_ratio"))];
-        transition_rows(out, line, &head, &["a_alpha_g"], &tail);
+        let head = [cell(&line.omega_ratio)];
+        let crossings = line.transitions.iter().map(|t| Crossing {
+            levels: vec![cell(&t.a_alpha_g)],
+            direction: &t.direction,
+            mode: t.mode,
+            impacts: t.impacts,
+            bracket: t.bracket,
+        });
+        transition_rows(out, &head, 1, crossings, &tail);
     }
 }
 
-/// A row per transition of `line` — `head`, the transition's `levels`,
-/// direction, mode, impacts and bracket, then `tail` — or one row with those
-/// cells empty when it has none.
-fn transition_rows(
+/// A row per transition of a line — `head`, the transition's `levels`
+/// (`level_count` cells), direction, mode, impacts and bracket, then `tail`
+/// — or one row with those cells empty when it has none.
+fn transition_rows<'a>(
     out: &mut String,
-    line: &Value,
     head: &[String],
-    levels: &[&str],
+    level_count: usize,
+    crossings: impl ExactSizeIterator<Item = Crossing<'a>>,
     tail: &[String],
 ) {
-    let ts = array(line, "transitions");
-    if ts.is_empty() {
+    if crossings.len() == 0 {
         let mut fields = head.to_vec();
-        fields.extend(std::iter::repeat_n(String::new(), levels.len() + 5));
+        fields.extend(std::iter::repeat_n(String::new(), level_count + 5));
         fields.extend(tail.iter().cloned());
         row(out, &fields);
     }
-    for t in ts {
-        let b = t.get("bracket").and_then(Value::as_array);
+    for t in crossings {
         let mut fields = head.to_vec();
-        fields.extend(levels.iter().map(|k| f(t.get(*k))));
+        fields.extend(t.levels);
         fields.extend([
-            f(t.get("direction")),
-            f(t.get("mode")),
-            f(t.get("impacts")),
-            f(b.and_then(|b| b.first())),
-            f(b.and_then(|b| b.get(1))),
+            cell(t.direction),
+            cell(&t.mode),
+            cell(&t.impacts),
+            cell(&t.bracket[0]),
+            cell(&t.bracket[1]),
         ]);
         fields.extend(tail.iter().cloned());
         row(out, &fields);
@@ -215,7 +307,7 @@ fn transition_rows(
 
 /// One row per transition of each block size (one empty row for a size
 /// without any), with the size's minimum and rocking threshold.
-fn record_spectrum(result: &Value, out: &mut String) {
+fn record_spectrum(r: &RecordSpectrumResult, out: &mut String) {
     row(
         out,
         &[
@@ -234,42 +326,67 @@ fn record_spectrum(result: &Value, out: &mut String) {
         ]
         .map(String::from),
     );
-    for line in array(result, "spectrum") {
-        let head = [f(line.get("p")), f(line.get("R_m"))];
+    for line in &r.spectrum {
+        let head = [cell(&line.p), cell(&line.r_m)];
         let tail = [
-            f(line.get("min_overturn_scale")),
-            f(line.get("min_overturn_pga_g")),
-            f(line.get("threshold_scale")),
+            cell(&line.min_overturn_scale),
+            cell(&line.min_overturn_pga_g),
+            cell(&line.threshold_scale),
         ];
-        transition_rows(out, line, &head, &["scale", "pga_g"], &tail);
+        let crossings = line.transitions.iter().map(|t| Crossing {
+            levels: vec![cell(&t.scale), cell(&t.pga_g)],
+            direction: &t.direction,
+            mode: t.mode,
+            impacts: t.impacts,
+            bracket: t.bracket,
+        });
+        transition_rows(out, &head, 2, crossings, &tail);
     }
 }
 
-fn friction(result: &Value, out: &mut String) {
-    let cols = [
-        ("a_alpha_g", "a_alpha_g"),
-        ("peak_friction_demand", "peak_friction_demand"),
-        ("peak_over_tan_alpha", "peak_over_tan_alpha"),
-        ("initiation_friction_demand", "initiation_friction_demand"),
-        ("overturned", "overturned"),
-        ("mode", "mode"),
-        ("lift_off", "lift_off"),
-        ("lift_off_time", "lift_off_time_s"),
-        (
-            "friction_demand_followed_until",
+fn friction(r: &FrictionResult, out: &mut String) {
+    row(
+        out,
+        &[
+            "a_alpha_g",
+            "peak_friction_demand",
+            "peak_over_tan_alpha",
+            "initiation_friction_demand",
+            "overturned",
+            "mode",
+            "lift_off",
+            "lift_off_time_s",
             "friction_demand_followed_until_s",
-        ),
-    ];
-    row(out, &cols.map(|c| c.1.to_string()));
-    for p in array(result, "points") {
-        row(out, &cols.map(|c| f(p.get(c.0))));
+        ]
+        .map(String::from),
+    );
+    for p in &r.points {
+        row(
+            out,
+            &[
+                cell(&p.a_alpha_g),
+                cell(&p.peak_friction_demand),
+                cell(&p.peak_over_tan_alpha),
+                cell(&p.initiation_friction_demand),
+                cell(&p.overturned),
+                cell(&p.mode),
+                cell(&p.lift_off),
+                cell(&p.lift_off_time),
+                cell(&p.friction_demand_followed_until),
+            ],
+        );
     }
+}
+
+/// "overturned" or "survived".
+fn seen(overturned: bool) -> String {
+    if overturned { "overturned" } else { "survived" }.into()
 }
 
 /// One row per frequency and interval of amplitudes consistent with every
 /// observation (`observation` empty), then the same per observation; a
 /// frequency with no consistent amplitude has one row with the interval empty.
-fn forensic(result: &Value, out: &mut String) {
+fn forensic(r: &ForensicResult, out: &mut String) {
     row(
         out,
         &[
@@ -283,25 +400,13 @@ fn forensic(result: &Value, out: &mut String) {
         .map(String::from),
     );
     let observed = |name: &str| -> String {
-        array(result, "observations")
+        r.observations
             .iter()
-            .find(|o| o.get("name").and_then(Value::as_str) == Some(name))
-            .and_then(|o| o.get("overturned").and_then(Value::as_bool))
-            .map_or(String::new(), |o| {
-                if o { "overturned" } else { "survived" }.into()
-            })
+            .find(|o| o.name == name)
+            .map_or(String::new(), |o| seen(o.overturned))
     };
-    let frequencies = array(result, "frequencies");
-    let mut emit = |freq: &Value, name: &str, seen: String, set: &[Value]| {
-        let head = [f(freq.get("frequency_hz")), f(freq.get("omega_p"))];
-        let intervals: Vec<(String, String)> = set
-            .iter()
-            .filter_map(|i| {
-                let i = i.as_array()?;
-                Some((f(i.first()), f(i.get(1))))
-            })
-            .collect();
-        if intervals.is_empty() {
+    let mut emit = |head: &[String; 2], name: &str, seen: String, set: &[[f64; 2]]| {
+        if set.is_empty() {
             row(
                 out,
                 &[
@@ -314,7 +419,7 @@ fn forensic(result: &Value, out: &mut String) {
                 ],
             );
         }
-        for (lo, hi) in intervals {
+        for [lo, hi] in set {
             row(
                 out,
                 &[
@@ -322,33 +427,33 @@ fn forensic(result: &Value, out: &mut String) {
                     head[1].clone(),
                     quote(name),
                     seen.clone(),
-                    lo,
-                    hi,
+                    cell(lo),
+                    cell(hi),
                 ],
             );
         }
     };
-    for freq in frequencies {
-        emit(freq, "", String::new(), array(freq, "consistent_g"));
+    let heads: Vec<[String; 2]> = r
+        .frequencies
+        .iter()
+        .map(|freq| [cell(&freq.frequency_hz), cell(&freq.omega_p)])
+        .collect();
+    for (freq, head) in r.frequencies.iter().zip(&heads) {
+        emit(head, "", String::new(), &freq.consistent_g);
     }
-    for freq in frequencies {
-        for o in array(freq, "per_observation") {
-            let name = o.get("name").and_then(Value::as_str).unwrap_or("");
-            emit(freq, name, observed(name), array(o, "consistent_g"));
+    for (freq, head) in r.frequencies.iter().zip(&heads) {
+        for o in &freq.per_observation {
+            emit(head, &o.name, observed(&o.name), &o.consistent_g);
         }
     }
 }
 
 /// A fragility: a row per stripe (intensity in the result's `im`).
-fn fragility(result: &Value, out: &mut String) {
-    let im = match result.get("im").and_then(Value::as_str) {
-        Some("pgv_m_s") => "pgv_m_s",
-        _ => "pga_g",
-    };
+fn fragility(r: &FragilityResult, out: &mut String) {
     row(
         out,
         &[
-            im,
+            r.im.name(),
             "n",
             "overturned",
             "p",
@@ -359,19 +464,18 @@ fn fragility(result: &Value, out: &mut String) {
         ]
         .map(String::from),
     );
-    for s in array(result, "stripes") {
-        let interval = s.get("interval_95");
+    for s in &r.stripes {
         row(
             out,
             &[
-                f(s.get("im")),
-                f(s.get("n")),
-                f(s.get("overturned")),
-                f(s.get("p")),
-                f(interval.and_then(|i| i.get(0))),
-                f(interval.and_then(|i| i.get(1))),
-                f(s.get("mode_1")),
-                f(s.get("mode_2")),
+                cell(&s.im),
+                cell(&s.n),
+                cell(&s.overturned),
+                cell(&s.p),
+                cell(&s.interval_95[0]),
+                cell(&s.interval_95[1]),
+                cell(&s.mode_1),
+                cell(&s.mode_2),
             ],
         );
     }
@@ -379,7 +483,7 @@ fn fragility(result: &Value, out: &mut String) {
 
 /// A survival result: a row per rock and age (an uncertain age: its median,
 /// marked), then the joint probability of several rocks (rock "all").
-fn survival(result: &Value, out: &mut String) {
+fn survival(r: &SurvivalResult, out: &mut String) {
     row(
         out,
         &[
@@ -392,37 +496,37 @@ fn survival(result: &Value, out: &mut String) {
         ]
         .map(String::from),
     );
-    for r in array(result, "rocks") {
-        let name = quote(r.get("name").and_then(Value::as_str).unwrap_or(""));
-        let rate = f(r.get("annual_toppling_rate"));
-        for a in array(r, "ages") {
+    for rock in &r.rocks {
+        let name = cell(&rock.name);
+        let rate = cell(&rock.annual_toppling_rate);
+        for a in &rock.ages {
             row(
                 out,
                 &[
                     name.clone(),
                     rate.clone(),
-                    f(a.get("age_years")),
-                    "false".into(),
-                    f(a.get("survival_probability")),
-                    f(a.get("rate_scale_at_5_percent")),
+                    cell(&a.age_years),
+                    cell(&false),
+                    cell(&a.survival_probability),
+                    cell(&a.rate_scale_at_5_percent),
                 ],
             );
         }
-        if let Some(d) = r.get("age_distribution") {
+        if let Some(d) = &rock.age_distribution {
             row(
                 out,
                 &[
                     name.clone(),
                     rate.clone(),
-                    f(d.get("median_age_years")),
-                    "true".into(),
-                    f(d.get("survival_probability")),
-                    f(d.get("rate_scale_at_5_percent")),
+                    cell(&d.median_age_years),
+                    cell(&true),
+                    cell(&d.survival_probability),
+                    cell(&d.rate_scale_at_5_percent),
                 ],
             );
         }
     }
-    if let Some(j) = result.get("joint") {
+    if let Some(j) = &r.joint {
         row(
             out,
             &[
@@ -430,8 +534,8 @@ fn survival(result: &Value, out: &mut String) {
                 String::new(),
                 String::new(),
                 String::new(),
-                f(j.get("survival_probability")),
-                f(j.get("rate_scale_at_5_percent")),
+                cell(&j.survival_probability),
+                cell(&j.rate_scale_at_5_percent),
             ],
         );
     }
@@ -440,7 +544,7 @@ fn survival(result: &Value, out: &mut String) {
 /// A record query: a row per consistent interval, first those consistent
 /// with every observation (observation empty), then each observation's; an
 /// observation that allows nothing has one row with empty ends.
-fn forensic_record(result: &Value, out: &mut String) {
+fn forensic_record(r: &ForensicResult, out: &mut String) {
     row(
         out,
         &[
@@ -453,7 +557,7 @@ fn forensic_record(result: &Value, out: &mut String) {
         ]
         .map(String::from),
     );
-    let mut emit = |name: &str, seen: String, scale: &[Value], pga: &[Value]| {
+    let mut emit = |name: &str, seen: String, scale: &[[f64; 2]], pga: &[[f64; 2]]| {
         if scale.is_empty() {
             row(
                 out,
@@ -473,10 +577,10 @@ fn forensic_record(result: &Value, out: &mut String) {
                 &[
                     quote(name),
                     seen.clone(),
-                    f(s.get(0)),
-                    f(s.get(1)),
-                    f(g.get(0)),
-                    f(g.get(1)),
+                    cell(&s[0]),
+                    cell(&s[1]),
+                    cell(&g[0]),
+                    cell(&g[1]),
                 ],
             );
         }
@@ -484,20 +588,15 @@ fn forensic_record(result: &Value, out: &mut String) {
     emit(
         "",
         String::new(),
-        array(result, "consistent_scale"),
-        array(result, "consistent_pga_g"),
+        r.consistent_scale.as_deref().unwrap_or_default(),
+        r.consistent_pga_g.as_deref().unwrap_or_default(),
     );
-    for o in array(result, "per_observation") {
-        let seen = match o.get("overturned").and_then(Value::as_bool) {
-            Some(true) => "overturned",
-            Some(false) => "survived",
-            None => "",
-        };
+    for o in r.per_observation.as_deref().unwrap_or_default() {
         emit(
-            o.get("name").and_then(Value::as_str).unwrap_or(""),
-            seen.into(),
-            array(o, "consistent_scale"),
-            array(o, "consistent_pga_g"),
+            &o.name,
+            seen(o.overturned),
+            &o.consistent_scale,
+            &o.consistent_pga_g,
         );
     }
 }
@@ -643,31 +742,116 @@ fn next_sample(text: &str, at: &mut Option<usize>) -> Option<Value> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::jobs::forensic::{
+        ForensicFrequency, Observation, ObservationSet, RecordObservationSet,
+    };
+    use crate::jobs::fragility::StripeResult;
+    use crate::jobs::friction::FrictionPointDoc;
+    use crate::jobs::names::Im;
+    use crate::jobs::survival::{AgeDistributionResult, AgeResult, JointResult};
+    use crate::jobs::time_history::{ImpactDoc, SeriesDoc};
+    use crate::plot::tests::typed;
     use serde_json::json;
+
+    const TIME_HISTORY: &str = r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_ratio":3,"a_p_alpha_g":2.5},"outputs":{"series":20}}"#;
+    const SPECTRUM: &str = r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":[2,4],"a_max_alpha_g":6}"#;
+    const FRICTION: &str = r#"{"kind":"friction_spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"omega_ratio":3,"a_alpha_g":[1.5,3]}"#;
+    const FORENSIC: &str = r#"{"kind":"forensic","pulse":{"type":"one_sine"},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false}],"frequency_hz":{"from":0.5,"to":2,"steps":3},"a_p_g":{"from":0.05,"to":2.0}}"#;
+    const FORENSIC_RECORD: &str = r#"{"kind":"forensic","ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false}],"pga_g":{"from":0.05,"to":2.0}}"#;
+    const RECORD_SPECTRUM: &str = r#"{"kind":"record_spectrum","block":{"alpha":0.2},"p":[1.5,3],"scale":{"from":0.5,"to":3},"ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]}}"#;
+    const SURVIVAL: &str = r#"{"kind":"survival","hazard":{"im":"pga_g","points":[[0.1,0.01],[0.5,0.0005],[1.0,0.00005]]},"fragility":{"median_g":0.4,"beta":0.4},"age_years":[1000]}"#;
+    const FRAGILITY: &str = r#"{"kind":"fragility","block":{"alpha":0.2,"p":2.0},"pulse":{"type":"one_sine","omega_ratio":3},"stripes":[0.2,0.4],"samples":8,"seed":1}"#;
 
     fn lines(csv: &str) -> Vec<&str> {
         csv.lines().collect()
     }
 
+    /// `x` as serde_json writes it.
+    fn json_text<T: serde::Serialize>(x: &T) -> String {
+        serde_json::to_string(x).expect("json")
+    }
+
+    fn time_history_result() -> TimeHistoryResult {
+        match typed(TIME_HISTORY) {
+            JobResult::TimeHistory(r) => *r,
+            other => panic!("not a time history: {:?}", other.job_kind()),
+        }
+    }
+
+    fn th_table(r: &TimeHistoryResult) -> String {
+        to_csv(&JobResult::TimeHistory(Box::new(r.clone())))
+    }
+
+    #[test]
+    fn numbers_are_written_as_json_writes_them() {
+        for x in [
+            1.0,
+            -0.0,
+            1e-7,
+            0.1,
+            1.5e-4,
+            0.30000000000000004,
+            1e300,
+            1.7976931348623157e308,
+            12345678901234567890.0,
+        ] {
+            assert_eq!(cell(&x), json_text(&x), "{x:e}");
+        }
+        assert_eq!(cell(&1.0), "1.0");
+        assert_eq!(cell(&1e-7), "1e-7");
+        for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert_eq!(cell(&x), "", "{x}");
+        }
+        assert_eq!(cell(&None::<f64>), "");
+        assert_eq!(cell(&Some(2u8)), "2");
+        assert_eq!(cell(&Some(false)), "false");
+        assert_eq!(cell(&u64::MAX), "18446744073709551615");
+    }
+
     #[test]
     fn time_history_series_with_units() {
-        let doc = json!({"kind": "time_history", "series": {
-            "t": [0.0, 0.1, 0.2], "theta": [0.0, -0.01, -0.02], "theta_dot": [0.0, -0.1, -0.2],
-            "ground_acceleration": [0.0, 1.0, 2.0], "fx_over_fz": [0.0, 0.25, 0.3]}});
-        let csv = to_csv_doc(&doc).expect("csv");
+        let r = time_history_result();
+        let s = r.series.clone().expect("a series");
+        let ratio = s.fx_over_fz.clone().expect("reactions are followed");
+        let csv = th_table(&r);
         let l = lines(&csv);
         assert_eq!(
             l[0],
             "t_s,theta_rad,theta_dot_rad_per_s,ground_acceleration_m_per_s2,fx_over_fz"
         );
+        assert_eq!(l.len(), s.t.len() + 1);
+        assert!(s.t.len() > 2);
+        let k = 2;
+        assert_eq!(
+            l[k + 1],
+            [
+                json_text(&s.t[k]),
+                json_text(&s.theta[k]),
+                json_text(&s.theta_dot[k]),
+                json_text(&s.ground_acceleration[k]),
+                ratio[k].map_or_else(String::new, |x| json_text(&x)),
+            ]
+            .join(",")
+        );
+        // Numbers as JSON writes them.
+        let mut r = r;
+        r.series = Some(SeriesDoc {
+            t: vec![0.0, 0.1, 0.2],
+            theta: vec![0.0, -0.01, -0.02],
+            theta_dot: vec![0.0, -0.1, -0.2],
+            ground_acceleration: vec![0.0, 1.0, 2.0],
+            fx_over_fz: Some(vec![Some(0.0), Some(0.25), None]),
+        });
+        let csv = th_table(&r);
+        let l = lines(&csv);
         assert_eq!(l.len(), 4);
         assert_eq!(l[2], "0.1,-0.01,-0.1,1.0,0.25");
+        assert_eq!(l[3], "0.2,-0.02,-0.2,2.0,");
         // Without reactions the ratio column is left out.
-        let mut doc = doc;
-        doc["series"]
-            .as_object_mut()
-            .map(|s| s.remove("fx_over_fz"));
-        let csv = to_csv_doc(&doc).expect("csv");
+        if let Some(s) = &mut r.series {
+            s.fx_over_fz = None;
+        }
+        let csv = th_table(&r);
         assert!(
             csv.starts_with("t_s,theta_rad,theta_dot_rad_per_s,ground_acceleration_m_per_s2\n")
         );
@@ -675,75 +859,277 @@ mod tests {
 
     #[test]
     fn time_history_without_series_gives_impacts_then_a_summary() {
-        let doc = json!({"kind": "time_history", "overturned": false, "mode": null,
-            "impacts": [{"t": 1.5, "theta_dot_before": 0.5, "theta_dot_after": -0.45}],
-            "impact_count": 1, "end_time": 9.0});
-        let csv = to_csv_doc(&doc).expect("csv");
+        let mut r = time_history_result();
+        r.series = None;
+        let impacts = r.impacts.clone().expect("impacts are listed");
+        assert!(!impacts.is_empty(), "the block rocks and impacts");
+        let csv = th_table(&r);
+        let l = lines(&csv);
         assert_eq!(
-            lines(&csv),
+            l[0],
+            "impact,t_s,theta_dot_before_rad_per_s,theta_dot_after_rad_per_s"
+        );
+        assert_eq!(l.len(), impacts.len() + 1);
+        let i = impacts[0];
+        assert_eq!(
+            l[1],
+            format!(
+                "1,{},{},{}",
+                json_text(&i.t),
+                json_text(&i.theta_dot_before),
+                json_text(&i.theta_dot_after)
+            )
+        );
+        r.impacts = Some(vec![ImpactDoc {
+            t: 1.5,
+            theta_dot_before: 0.5,
+            theta_dot_after: -0.45,
+        }]);
+        assert_eq!(
+            lines(&th_table(&r)),
             vec![
                 "impact,t_s,theta_dot_before_rad_per_s,theta_dot_after_rad_per_s",
                 "1,1.5,0.5,-0.45"
             ]
         );
-        let doc = json!({"kind": "time_history", "rocked": false, "overturned": false,
-            "impact_count": 0, "end_time": 1.0, "peak_theta_over_alpha": 0.0});
-        let csv = to_csv_doc(&doc).expect("csv");
-        let l = lines(&csv);
-        assert_eq!(l.len(), 2);
-        assert!(l[0].starts_with("rocked,overturned,mode,impact_count,rocking_start_s,"));
-        assert!(l[1].starts_with("false,false,,0,,,,1.0,0.0"), "{}", l[1]);
+        // An empty series and no impacts: the summary.
+        r.series = Some(SeriesDoc {
+            t: vec![],
+            theta: vec![],
+            theta_dot: vec![],
+            ground_acceleration: vec![],
+            fx_over_fz: None,
+        });
+        r.impacts = None;
+        r.rocked = false;
+        r.overturned = false;
+        r.mode = None;
+        r.impact_count = 0;
+        r.rocking_start = None;
+        r.overturn_time = None;
+        r.rest_time = None;
+        r.end_time = 1.0;
+        r.peak_theta_over_alpha = 0.0;
+        r.peak_friction_demand = None;
+        r.initiation_friction_demand = None;
+        r.lift_off = None;
+        r.lift_off_time = None;
+        assert_eq!(
+            lines(&th_table(&r)),
+            vec![
+                "rocked,overturned,mode,impact_count,rocking_start_s,overturn_time_s,rest_time_s,end_time_s,peak_theta_over_alpha,peak_friction_demand,initiation_friction_demand,lift_off,lift_off_time_s",
+                "false,false,,0,,,,1.0,0.0,,,,",
+            ]
+        );
+        r.overturned = true;
+        r.mode = Some(2);
+        r.overturn_time = Some(0.75);
+        r.peak_friction_demand = Some(0.3);
+        r.lift_off = Some(false);
+        assert_eq!(
+            lines(&th_table(&r))[1],
+            "false,true,2,0,,0.75,,1.0,0.0,0.3,,false,"
+        );
     }
 
     #[test]
     fn spectrum_rows_per_transition() {
-        let doc = json!({"kind": "spectrum", "spectrum": [
-            {"omega_ratio": 2.0, "threshold_alpha_g": 1.0, "min_overturn_alpha_g": 1.25, "eq21_alpha_g": 1.33,
-             "closed_form_mode2_alpha_g": null,
-             "transitions": [{"a_alpha_g": 1.25, "direction": "up", "mode": 1, "impacts": 1, "bracket": [1.2499, 1.2501]},
-                             {"a_alpha_g": 2.37, "direction": "down", "mode": 1, "impacts": 1, "bracket": [2.3699, 2.3701]}]},
-            {"omega_ratio": 10.0, "threshold_alpha_g": 1.0, "min_overturn_alpha_g": null, "eq21_alpha_g": 2.67,
-             "transitions": []}]});
-        let csv = to_csv_doc(&doc).expect("csv");
+        let JobResult::Spectrum(mut r) = typed(SPECTRUM) else {
+            panic!("a spectrum")
+        };
+        let csv = to_csv(&JobResult::Spectrum(r.clone()));
         let l = lines(&csv);
-        assert!(
-            l[0].starts_with("omega_ratio,a_alpha_g,direction,mode,impacts,bracket_lo_alpha_g")
+        assert_eq!(
+            l[0],
+            "omega_ratio,a_alpha_g,direction,mode,impacts,bracket_lo_alpha_g,bracket_hi_alpha_g,min_overturn_alpha_g,eq21_alpha_g,threshold_alpha_g,closed_form_mode2_alpha_g"
         );
-        assert_eq!(l.len(), 4);
-        assert_eq!(l[1], "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,");
-        assert_eq!(l[3], "10.0,,,,,,,,2.67,1.0,");
+        let rows: usize = r.spectrum.iter().map(|f| f.transitions.len().max(1)).sum();
+        assert_eq!(l.len(), 1 + rows);
+        let line = &r.spectrum[0];
+        let t = line.transitions.first().expect("a transition below a_max");
+        assert_eq!(
+            l[1],
+            format!(
+                "{},{},{},{},{},{},{},{},{},{},{}",
+                json_text(&line.omega_ratio),
+                json_text(&t.a_alpha_g),
+                t.direction,
+                t.mode,
+                t.impacts,
+                json_text(&t.bracket[0]),
+                json_text(&t.bracket[1]),
+                line.min_overturn_alpha_g
+                    .map_or_else(String::new, |x| json_text(&x)),
+                line.eq21_alpha_g
+                    .map_or_else(String::new, |x| json_text(&x)),
+                json_text(&line.threshold_alpha_g),
+                line.closed_form_mode2_alpha_g
+                    .map_or_else(String::new, |x| json_text(&x)),
+            )
+        );
+        // Set values: one line with two transitions, one without any.
+        let mut first = r.spectrum[0].clone();
+        let mut second = first.clone();
+        let mut up = first.transitions[0].clone();
+        (first.omega_ratio, first.threshold_alpha_g) = (2.0, 1.0);
+        (first.min_overturn_alpha_g, first.eq21_alpha_g) = (Some(1.25), Some(1.33));
+        first.closed_form_mode2_alpha_g = None;
+        (up.a_alpha_g, up.direction, up.mode, up.impacts) = (1.25, "up".into(), 1, 1);
+        up.bracket = [1.2499, 1.2501];
+        let mut down = up.clone();
+        (down.a_alpha_g, down.direction, down.bracket) = (2.37, "down".into(), [2.3699, 2.3701]);
+        first.transitions = vec![up, down];
+        (second.omega_ratio, second.threshold_alpha_g) = (10.0, 1.0);
+        (second.min_overturn_alpha_g, second.eq21_alpha_g) = (None, Some(2.67));
+        second.closed_form_mode2_alpha_g = None;
+        second.transitions = vec![];
+        r.spectrum = vec![first, second];
+        let csv = to_csv(&JobResult::Spectrum(r));
+        assert_eq!(
+            lines(&csv)[1..],
+            [
+                "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,",
+                "2.0,2.37,down,1,1,2.3699,2.3701,1.25,1.33,1.0,",
+                "10.0,,,,,,,,2.67,1.0,",
+            ]
+        );
+    }
+
+    #[test]
+    fn record_spectrum_rows_per_transition_and_size() {
+        let JobResult::RecordSpectrum(mut r) = typed(RECORD_SPECTRUM) else {
+            panic!("a record spectrum")
+        };
+        let csv = to_csv(&JobResult::RecordSpectrum(r.clone()));
+        let l = lines(&csv);
+        assert_eq!(
+            l[0],
+            "p_rad_s,R_m,scale,pga_g,direction,mode,impacts,bracket_lo_scale,bracket_hi_scale,min_overturn_scale,min_overturn_pga_g,threshold_scale"
+        );
+        let rows: usize = r.spectrum.iter().map(|s| s.transitions.len().max(1)).sum();
+        assert_eq!(l.len(), 1 + rows);
+        let size = &r.spectrum[0];
+        let head = format!("{},{},", json_text(&size.p), json_text(&size.r_m));
+        assert!(l[1].starts_with(&head), "{} against {head}", l[1]);
+        assert!(
+            l[1].ends_with(&format!(",{}", json_text(&size.threshold_scale))),
+            "{}",
+            l[1]
+        );
+        // Set values: a size with a transition, one without.
+        let mut first = r.spectrum[0].clone();
+        let mut second = first.clone();
+        (first.p, first.r_m, first.threshold_scale) = (1.5, 4.36, 0.4);
+        (first.min_overturn_scale, first.min_overturn_pga_g) = (Some(2.5), Some(0.75));
+        let up = crate::jobs::record_spectrum::ScaleTransitionDoc {
+            scale: 2.5,
+            pga_g: 0.75,
+            direction: "up".into(),
+            mode: 2,
+            impacts: 0,
+            bracket: [2.49, 2.51],
+        };
+        first.transitions = vec![up];
+        (second.p, second.r_m, second.threshold_scale) = (3.0, 1.09, 0.5);
+        (second.min_overturn_scale, second.min_overturn_pga_g) = (None, None);
+        second.transitions = vec![];
+        r.spectrum = vec![first, second];
+        let csv = to_csv(&JobResult::RecordSpectrum(r));
+        assert_eq!(
+            lines(&csv)[1..],
+            [
+                "1.5,4.36,2.5,0.75,up,2,0,2.49,2.51,2.5,0.75,0.4",
+                "3.0,1.09,,,,,,,,,,0.5",
+            ]
+        );
     }
 
     #[test]
     fn friction_rows_per_amplitude() {
-        let doc = json!({"kind": "friction_spectrum", "points": [
-            {"a_alpha_g": 1.1, "peak_friction_demand": 0.26, "peak_over_tan_alpha": 1.02,
-             "initiation_friction_demand": 0.255, "overturned": false, "mode": null,
-             "lift_off": false, "lift_off_time": null},
-            {"a_alpha_g": 6.0, "peak_friction_demand": null, "peak_over_tan_alpha": null,
-             "initiation_friction_demand": 0.51, "overturned": true, "mode": 2,
-             "lift_off": true, "lift_off_time": 0.41}]});
-        let csv = to_csv_doc(&doc).expect("csv");
+        let JobResult::FrictionSpectrum(mut r) = typed(FRICTION) else {
+            panic!("a friction spectrum")
+        };
+        let csv = to_csv(&JobResult::FrictionSpectrum(r.clone()));
+        let l = lines(&csv);
+        assert_eq!(l.len(), 1 + r.points.len());
+        let p = &r.points[0];
+        assert_eq!(
+            l[1].split(',').take(2).collect::<Vec<_>>(),
+            vec![
+                json_text(&p.a_alpha_g),
+                p.peak_friction_demand
+                    .map_or_else(String::new, |x| json_text(&x))
+            ]
+        );
+        let point = |a: f64, peak: Option<f64>, over: Option<f64>, init: f64| FrictionPointDoc {
+            a_alpha_g: a,
+            a_p_g: a * 0.25,
+            peak_friction_demand: peak,
+            peak_over_tan_alpha: over,
+            initiation_friction_demand: Some(init),
+            overturned: false,
+            mode: None,
+            lift_off: false,
+            lift_off_time: None,
+            friction_demand_followed_until: None,
+        };
+        let mut lifted = point(6.0, None, None, 0.51);
+        (lifted.overturned, lifted.mode) = (true, Some(2));
+        (lifted.lift_off, lifted.lift_off_time) = (true, Some(0.41));
+        let mut followed = point(8.0, Some(0.3), Some(1.2), 0.6);
+        followed.friction_demand_followed_until = Some(0.5);
+        r.points = vec![point(1.1, Some(0.26), Some(1.02), 0.255), lifted, followed];
+        let csv = to_csv(&JobResult::FrictionSpectrum(r));
         assert_eq!(
             lines(&csv),
             vec![
                 "a_alpha_g,peak_friction_demand,peak_over_tan_alpha,initiation_friction_demand,overturned,mode,lift_off,lift_off_time_s,friction_demand_followed_until_s",
                 "1.1,0.26,1.02,0.255,false,,false,,",
-                "6.0,,,0.51,true,2,true,0.41,"
+                "6.0,,,0.51,true,2,true,0.41,",
+                "8.0,0.3,1.2,0.6,false,,false,,0.5",
             ]
         );
     }
 
     #[test]
     fn fragility_rows_per_stripe() {
-        let doc = json!({"kind": "fragility", "im": "pga_g", "stripes": [
-            {"im": 0.3, "n": 200, "overturned": 58, "p": 0.29, "interval_95": [0.23, 0.35],
-             "mode_1": 58, "mode_2": 0}]});
-        let csv = to_csv_doc(&doc).expect("csv");
+        let JobResult::Fragility(mut r) = typed(FRAGILITY) else {
+            panic!("a fragility")
+        };
+        let csv = to_csv(&JobResult::Fragility(r.clone()));
+        let l = lines(&csv);
+        assert_eq!(l[0], "pga_g,n,overturned,p,p_lo_95,p_hi_95,mode_1,mode_2");
+        assert_eq!(l.len(), 1 + r.stripes.len());
+        let s = &r.stripes[1];
         assert_eq!(
-            csv.lines().collect::<Vec<_>>(),
+            l[2],
+            format!(
+                "{},{},{},{},{},{},{},{}",
+                json_text(&s.im),
+                s.n,
+                s.overturned,
+                json_text(&s.p),
+                json_text(&s.interval_95[0]),
+                json_text(&s.interval_95[1]),
+                s.mode_1,
+                s.mode_2
+            )
+        );
+        r.stripes = vec![StripeResult {
+            im: 0.3,
+            n: 200,
+            overturned: 58,
+            p: 0.29,
+            interval_95: [0.23, 0.35],
+            mode_1: 58,
+            mode_2: 0,
+        }];
+        r.im = Im::PgvMS;
+        let csv = to_csv(&JobResult::Fragility(r));
+        assert_eq!(
+            lines(&csv),
             vec![
-                "pga_g,n,overturned,p,p_lo_95,p_hi_95,mode_1,mode_2",
+                "pgv_m_s,n,overturned,p,p_lo_95,p_hi_95,mode_1,mode_2",
                 "0.3,200,58,0.29,0.23,0.35,58,0",
             ]
         );
@@ -751,18 +1137,49 @@ mod tests {
 
     #[test]
     fn survival_rows_per_rock_and_age_then_the_joint() {
-        let doc = json!({"kind": "survival", "rocks": [
-            {"name": "Grass Valley", "annual_toppling_rate": 1.5e-4,
-             "ages": [{"age_years": 1000.0, "survival_probability": 0.86, "rate_scale_at_5_percent": 20.0}]},
-            {"name": "b", "annual_toppling_rate": 1e-4, "ages": [],
-             "age_distribution": {"median_age_years": 9000.0, "survival_probability": 0.4,
-                                  "rate_scale_at_5_percent": null}}],
-            "joint": {"survival_probability": 0.344, "rate_scale_at_5_percent": 2.5}});
-        let csv = to_csv_doc(&doc).expect("csv");
+        let JobResult::Survival(mut r) = typed(SURVIVAL) else {
+            panic!("a survival")
+        };
+        let csv = to_csv(&JobResult::Survival(r.clone()));
+        let rock = &r.rocks[0];
+        let age = &rock.ages[0];
         assert_eq!(
-            csv.lines().collect::<Vec<_>>(),
+            lines(&csv),
             vec![
-                "rock,annual_toppling_rate_per_yr,age_years,age_uncertain,survival_probability,rate_scale_at_5_percent",
+                "rock,annual_toppling_rate_per_yr,age_years,age_uncertain,survival_probability,rate_scale_at_5_percent".to_string(),
+                format!(
+                    "{},{},1000.0,false,{},{}",
+                    rock.name,
+                    json_text(&rock.annual_toppling_rate),
+                    json_text(&age.survival_probability),
+                    json_text(&age.rate_scale_at_5_percent.expect("it can topple")),
+                ),
+            ]
+        );
+        let mut grass = rock.clone();
+        (grass.name, grass.annual_toppling_rate) = ("Grass Valley".into(), 1.5e-4);
+        grass.ages = vec![AgeResult {
+            age_years: 1000.0,
+            survival_probability: 0.86,
+            rate_scale_at_5_percent: Some(20.0),
+        }];
+        grass.age_distribution = None;
+        let mut b = rock.clone();
+        (b.name, b.annual_toppling_rate, b.ages) = ("b".into(), 1e-4, vec![]);
+        b.age_distribution = Some(AgeDistributionResult {
+            median_age_years: 9000.0,
+            survival_probability: 0.4,
+            rate_scale_at_5_percent: None,
+        });
+        r.rocks = vec![grass, b];
+        r.joint = Some(JointResult {
+            survival_probability: 0.344,
+            rate_scale_at_5_percent: Some(2.5),
+        });
+        let csv = to_csv(&JobResult::Survival(r));
+        assert_eq!(
+            lines(&csv)[1..],
+            [
                 "Grass Valley,0.00015,1000.0,false,0.86,20.0",
                 "b,0.0001,9000.0,true,0.4,",
                 "all,,,,0.344,2.5",
@@ -772,20 +1189,55 @@ mod tests {
 
     #[test]
     fn a_record_querys_rows_per_interval_and_observation() {
-        let doc = json!({"kind": "forensic", "excitation": "ground_motion",
-            "consistent_scale": [[0.7, 1.4], [2.8, 3.2]],
-            "consistent_pga_g": [[0.35, 0.7], [1.4, 1.6]],
-            "per_observation": [
-                {"name": "locomotive", "overturned": true,
-                 "consistent_scale": [[0.7, 6.0]], "consistent_pga_g": [[0.35, 3.0]]},
-                {"name": "=cmd", "overturned": false,
-                 "consistent_scale": [], "consistent_pga_g": []}]});
-        let csv = to_csv_doc(&doc).expect("csv");
-        let lines: Vec<&str> = csv.lines().collect();
+        let JobResult::Forensic(mut r) = typed(FORENSIC_RECORD) else {
+            panic!("a forensic query")
+        };
+        assert_eq!(r.excitation, Excitation::GroundMotion);
+        let csv = to_csv(&JobResult::Forensic(r.clone()));
+        let l = lines(&csv);
         assert_eq!(
-            lines,
-            vec![
-                "observation,observed,consistent_lo_scale,consistent_hi_scale,consistent_lo_pga_g,consistent_hi_pga_g",
+            l[0],
+            "observation,observed,consistent_lo_scale,consistent_hi_scale,consistent_lo_pga_g,consistent_hi_pga_g"
+        );
+        let all = r.consistent_scale.clone().expect("a record query's scales");
+        let mine = &r.per_observation.as_ref().expect("per observation")[0];
+        let rows = |n: usize| n.max(1);
+        assert_eq!(
+            l.len(),
+            1 + rows(all.len()) + rows(mine.consistent_scale.len())
+        );
+        let first = mine.consistent_scale.first().expect("a survived scale");
+        let first_g = mine.consistent_pga_g[0];
+        assert_eq!(
+            l[1 + rows(all.len())],
+            format!(
+                "transformer,survived,{},{},{},{}",
+                json_text(&first[0]),
+                json_text(&first[1]),
+                json_text(&first_g[0]),
+                json_text(&first_g[1])
+            )
+        );
+        let set = |name: &str, overturned: bool, scale: Vec<[f64; 2]>, pga: Vec<[f64; 2]>| {
+            RecordObservationSet {
+                name: name.into(),
+                overturned,
+                consistent_scale: scale,
+                consistent_pga_g: pga,
+                overturning_scale: vec![],
+                threshold_scale: 0.5,
+            }
+        };
+        r.consistent_scale = Some(vec![[0.7, 1.4], [2.8, 3.2]]);
+        r.consistent_pga_g = Some(vec![[0.35, 0.7], [1.4, 1.6]]);
+        r.per_observation = Some(vec![
+            set("locomotive", true, vec![[0.7, 6.0]], vec![[0.35, 3.0]]),
+            set("=cmd", false, vec![], vec![]),
+        ]);
+        let csv = to_csv(&JobResult::Forensic(r));
+        assert_eq!(
+            lines(&csv)[1..],
+            [
                 ",,0.7,1.4,0.35,0.7",
                 ",,2.8,3.2,1.4,1.6",
                 "locomotive,overturned,0.7,6.0,0.35,3.0",
@@ -794,29 +1246,119 @@ mod tests {
         );
     }
 
+    /// A pulse query's observations and frequencies set to `observations`
+    /// (name, overturned) and `frequencies`.
+    fn forensic_with(
+        observations: &[(&str, bool)],
+        frequencies: Vec<ForensicFrequency>,
+    ) -> JobResult {
+        let JobResult::Forensic(mut r) = typed(FORENSIC) else {
+            panic!("a forensic query")
+        };
+        let block = r.observations[0].block;
+        r.observations = observations
+            .iter()
+            .map(|&(name, overturned)| Observation {
+                name: name.into(),
+                overturned,
+                block,
+            })
+            .collect();
+        r.frequencies = frequencies;
+        JobResult::Forensic(r)
+    }
+
+    fn frequency(
+        frequency_hz: f64,
+        omega_p: f64,
+        consistent_g: Vec<[f64; 2]>,
+        per_observation: &[(&str, Vec<[f64; 2]>)],
+    ) -> ForensicFrequency {
+        ForensicFrequency {
+            frequency_hz,
+            omega_p,
+            consistent_g,
+            per_observation: per_observation
+                .iter()
+                .map(|(name, set)| ObservationSet {
+                    name: (*name).into(),
+                    consistent_g: set.clone(),
+                })
+                .collect(),
+        }
+    }
+
     #[test]
     fn forensic_rows_per_frequency_interval_and_observation() {
-        let doc = json!({"kind": "forensic",
-            "observations": [{"name": "loco, 1906", "overturned": true}, {"name": "transformer", "overturned": false}],
-            "frequencies": [
-                {"frequency_hz": 1.0, "omega_p": 6.3, "consistent_g": [[0.5, 0.7], [0.9, 1.1]],
-                 "per_observation": [{"name": "loco, 1906", "consistent_g": [[0.5, 3.0]]},
-                                     {"name": "transformer", "consistent_g": [[0.1, 0.7], [0.9, 1.1]]}]},
-                {"frequency_hz": 2.0, "omega_p": 12.566, "consistent_g": [],
-                 "per_observation": [{"name": "loco, 1906", "consistent_g": []},
-                                     {"name": "transformer", "consistent_g": [[0.1, 3.0]]}]}]});
-        let csv = to_csv_doc(&doc).expect("csv");
+        let JobResult::Forensic(r) = typed(FORENSIC) else {
+            panic!("a forensic query")
+        };
+        assert_eq!(r.excitation, Excitation::Pulse);
+        let csv = to_csv(&JobResult::Forensic(r.clone()));
         let l = lines(&csv);
         assert_eq!(
             l[0],
             "frequency_hz,omega_p_rad_per_s,observation,observed,consistent_lo_g,consistent_hi_g"
         );
-        assert_eq!(l[1], "1.0,6.3,,,0.5,0.7");
-        assert_eq!(l[3], "2.0,12.566,,,,");
-        assert_eq!(l[4], "1.0,6.3,\"loco, 1906\",overturned,0.5,3.0");
-        assert_eq!(l[5], "1.0,6.3,transformer,survived,0.1,0.7");
-        // 3 rows for the intersection, 3 + 2 per observation.
-        assert_eq!(l.len(), 1 + 3 + 5);
+        let rows = |sets: &[[f64; 2]]| sets.len().max(1);
+        let whole: usize = r.frequencies.iter().map(|f| rows(&f.consistent_g)).sum();
+        let each: usize = r
+            .frequencies
+            .iter()
+            .flat_map(|f| &f.per_observation)
+            .map(|o| rows(&o.consistent_g))
+            .sum();
+        assert_eq!(l.len(), 1 + whole + each);
+        let f0 = &r.frequencies[0];
+        let head = format!(
+            "{},{},,,",
+            json_text(&f0.frequency_hz),
+            json_text(&f0.omega_p)
+        );
+        assert!(l[1].starts_with(&head), "{} against {head}", l[1]);
+        let mine = &f0.per_observation[0];
+        let head = format!(
+            "{},{},transformer,survived,",
+            json_text(&f0.frequency_hz),
+            json_text(&f0.omega_p)
+        );
+        assert_eq!(mine.name, "transformer");
+        assert!(l[1 + whole].starts_with(&head), "{}", l[1 + whole]);
+
+        let doc = forensic_with(
+            &[("loco, 1906", true), ("transformer", false)],
+            vec![
+                frequency(
+                    1.0,
+                    6.3,
+                    vec![[0.5, 0.7], [0.9, 1.1]],
+                    &[
+                        ("loco, 1906", vec![[0.5, 3.0]]),
+                        ("transformer", vec![[0.1, 0.7], [0.9, 1.1]]),
+                    ],
+                ),
+                frequency(
+                    2.0,
+                    12.566,
+                    vec![],
+                    &[("loco, 1906", vec![]), ("transformer", vec![[0.1, 3.0]])],
+                ),
+            ],
+        );
+        let csv = to_csv(&doc);
+        assert_eq!(
+            lines(&csv)[1..],
+            [
+                "1.0,6.3,,,0.5,0.7",
+                "1.0,6.3,,,0.9,1.1",
+                "2.0,12.566,,,,",
+                "1.0,6.3,\"loco, 1906\",overturned,0.5,3.0",
+                "1.0,6.3,transformer,survived,0.1,0.7",
+                "1.0,6.3,transformer,survived,0.9,1.1",
+                "2.0,12.566,\"loco, 1906\",overturned,,",
+                "2.0,12.566,transformer,survived,0.1,3.0",
+            ]
+        );
     }
 
     #[test]
@@ -837,12 +1379,17 @@ mod tests {
             assert_eq!(quote(name), cell, "{name:?}");
         }
         // In a forensic table the name is text; the numbers stay numbers.
-        let doc = json!({"kind": "forensic",
-            "observations": [{"name": "=HYPERLINK(\"http://evil\",\"x\")", "overturned": true}],
-            "frequencies": [{"frequency_hz": 1.0, "omega_p": 6.3, "consistent_g": [[-0.5, 0.7]],
-                "per_observation": [{"name": "=HYPERLINK(\"http://evil\",\"x\")",
-                                     "consistent_g": [[-0.5, 3.0]]}]}]});
-        let csv = to_csv_doc(&doc).expect("csv");
+        let evil = "=HYPERLINK(\"http://evil\",\"x\")";
+        let doc = forensic_with(
+            &[(evil, true)],
+            vec![frequency(
+                1.0,
+                6.3,
+                vec![[-0.5, 0.7]],
+                &[(evil, vec![[-0.5, 3.0]])],
+            )],
+        );
+        let csv = to_csv(&doc);
         let l = lines(&csv);
         assert_eq!(l[1], "1.0,6.3,,,-0.5,0.7");
         assert_eq!(
@@ -870,22 +1417,32 @@ mod tests {
 
     #[test]
     fn series_read_row_by_row_are_the_whole_table() {
-        let docs = [
-            json!({"kind": "time_history", "spec": {"acc": [1.0, 2.0]}, "series": {
-                "t": [0.0, 0.1, 0.2], "theta": [0.0, -0.01, -0.02], "theta_dot": [0.0, -0.1, -0.2],
-                "ground_acceleration": [0.0, 1.0, 2.0], "fx_over_fz": [0.0, null, 0.3]}}),
-            // Columns of different lengths, one empty, one missing, odd numbers.
-            json!({"kind": "time_history", "series": {
-                "t": [0.0, 1e-300, -0.0, 1.7976931348623157e308, 12345678901234567890u64],
-                "theta": [], "theta_dot": [-5, 0.30000000000000004],
-                "ground_acceleration": [null]}, "impacts": []}),
-            json!({"series": {"t": [1.0]}, "kind": "time_history"}),
-        ];
-        for doc in docs {
-            let whole = to_csv_doc(&doc).expect("csv");
+        let computed = time_history_result();
+        let mut odd = computed.clone();
+        // Columns of different lengths, one empty, odd numbers, and samples
+        // JSON cannot hold (written null).
+        odd.series = Some(SeriesDoc {
+            t: vec![
+                0.0,
+                1e-300,
+                -0.0,
+                1.7976931348623157e308,
+                12345678901234567890.0,
+            ],
+            theta: vec![],
+            theta_dot: vec![-5.0, 0.30000000000000004],
+            ground_acceleration: vec![f64::NAN],
+            fx_over_fz: Some(vec![Some(f64::INFINITY), None, Some(0.3)]),
+        });
+        let mut no_ratio = computed.clone();
+        if let Some(s) = &mut no_ratio.series {
+            s.fx_over_fz = None;
+        }
+        for r in [computed, odd, no_ratio] {
+            let whole = th_table(&r);
             for text in [
-                serde_json::to_string(&doc).expect("json"),
-                serde_json::to_string_pretty(&doc).expect("json"),
+                serde_json::to_string(&r).expect("json"),
+                serde_json::to_string_pretty(&r).expect("json"),
             ] {
                 for piece in [1, 7, 64, 1 << 16] {
                     assert_eq!(
@@ -897,16 +1454,36 @@ mod tests {
             }
         }
         // A long series, as a result holds it.
+        let mut long = time_history_result();
         let n = 20_000;
         let t: Vec<f64> = (0..n).map(|k| k as f64 * 0.0005).collect();
         let theta: Vec<f64> = t.iter().map(|t| (t * 7.0).sin() * 1e-3).collect();
         let ratio: Vec<Option<f64>> = t.iter().map(|t| (*t < 5.0).then_some(t / 3.0)).collect();
-        let doc = json!({"kind": "time_history", "series": {"t": t, "theta": theta,
-            "theta_dot": theta, "ground_acceleration": t, "fx_over_fz": ratio}});
-        let whole = to_csv_doc(&doc).expect("csv");
+        long.series = Some(SeriesDoc {
+            t: t.clone(),
+            theta: theta.clone(),
+            theta_dot: theta,
+            ground_acceleration: t,
+            fx_over_fz: Some(ratio),
+        });
+        let whole = th_table(&long);
         assert_eq!(whole.lines().count(), n + 1);
-        let text = serde_json::to_string(&doc).expect("json");
+        let text = serde_json::to_string(&long).expect("json");
         assert_eq!(streamed(&text, 1 << 16).as_deref(), Some(whole.as_str()));
+    }
+
+    #[test]
+    fn series_are_read_from_any_stored_document() {
+        // Integers as stored, a key order other than the engine's, a null.
+        let text = r#"{"series": {"t": [0.0, 12345678901234567890], "theta": [],
+            "theta_dot": [-5, 0.30000000000000004], "ground_acceleration": [null]},
+            "kind": "time_history"}"#;
+        let table = "t_s,theta_dot_rad_per_s,ground_acceleration_m_per_s2\n\
+                     0.0,-5,\n\
+                     12345678901234567890,0.30000000000000004,\n";
+        for piece in [1, 7, 1 << 16] {
+            assert_eq!(streamed(text, piece).as_deref(), Some(table));
+        }
     }
 
     #[test]
@@ -930,7 +1507,9 @@ mod tests {
     }
 
     #[test]
-    fn unknown_kinds_are_refused() {
-        assert!(to_csv_doc(&json!({"kind": "teapot"})).is_err());
+    fn unknown_kinds_have_no_table() {
+        // A table is made of a result of a known kind; a document of another
+        // kind is not read into one.
+        assert!(JobResult::from_value(json!({"kind": "teapot"})).is_err());
     }
 }
