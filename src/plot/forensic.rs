@@ -11,29 +11,23 @@
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
-use serde_json::Value;
 
 use super::bands::{Band, Column, cell_edges, cells, simplify, tile};
 use super::style::{
     AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, OBSERVATIONS, Swatch, TICKS,
     X_LABEL_AREA, axis_range, chart_on, draw_legend, fmt_num, text, tick, tint,
 };
-use super::{block_note, num, pulse_name, render, text_at};
+use super::{block_text, render, shape_title};
+use crate::jobs::forensic::{ForensicFrequency, ForensicResult};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
 
-/// Intervals `[lo, hi]` at `key` of `v`.
-pub(crate) fn intervals(v: &Value, key: &str) -> Vec<(f64, f64)> {
-    v.get(key)
-        .and_then(Value::as_array)
-        .into_iter()
-        .flatten()
-        .filter_map(|i| {
-            let i = i.as_array()?;
-            let (lo, hi) = (i.first()?.as_f64()?, i.get(1)?.as_f64()?);
-            (hi >= lo).then_some((lo, hi))
-        })
+/// The intervals `[lo, hi]` of a list, those with `hi` below `lo` left out.
+pub(crate) fn intervals(list: &[[f64; 2]]) -> Vec<(f64, f64)> {
+    list.iter()
+        .map(|&[lo, hi]| (lo, hi))
+        .filter(|(lo, hi)| hi >= lo)
         .collect()
 }
 
@@ -101,31 +95,23 @@ pub fn partition(sets: &[Vec<(f64, f64)>], from: f64, to: f64) -> Vec<Band> {
 /// One column per computed frequency: its amplitudes `from`–`to` g cut into
 /// bands labelled with the observations (of `names`) that rule them out (0:
 /// consistent with all).
-fn columns(frequencies: &[&Value], names: &[String], from: f64, to: f64) -> Vec<Column> {
+fn columns(frequencies: &[ForensicFrequency], names: &[String], from: f64, to: f64) -> Vec<Column> {
     let gap = (to - from) / 900.0;
     let mut map = Vec::new();
     for f in frequencies {
-        let x = num(f, "frequency_hz").unwrap_or(f64::NAN);
-        let listed: Vec<&Value> = f
-            .get("per_observation")
-            .and_then(Value::as_array)
-            .map(|a| a.iter().collect())
-            .unwrap_or_default();
+        let listed = &f.per_observation;
         let sets: Vec<Vec<(f64, f64)>> = names
             .iter()
             .enumerate()
             .map(|(k, name)| {
-                let entry = listed
-                    .iter()
-                    .find(|o| o.get("name").and_then(Value::as_str) == Some(name))
-                    .or(listed.get(k));
+                let entry = listed.iter().find(|o| &o.name == name).or(listed.get(k));
                 entry
-                    .map(|o| intervals(o, "consistent_g"))
+                    .map(|o| intervals(&o.consistent_g))
                     .unwrap_or_default()
             })
             .collect();
         let mut bands = if sets.is_empty() {
-            let all: Vec<Band> = intervals(f, "consistent_g")
+            let all: Vec<Band> = intervals(&f.consistent_g)
                 .into_iter()
                 .map(|(lo, hi)| Band { lo, hi, class: 0 })
                 .collect();
@@ -135,55 +121,27 @@ fn columns(frequencies: &[&Value], names: &[String], from: f64, to: f64) -> Vec<
         };
         // Slivers of consistent pulses stay, however narrow.
         simplify(&mut bands, gap, |class| class == 0);
-        map.push(Column { x, bands });
+        map.push(Column {
+            x: f.frequency_hz,
+            bands,
+        });
     }
     map
 }
 
 /// The figure of a `forensic` result.
-pub fn svg(typed: &crate::jobs::forensic::ForensicResult) -> Result<String, String> {
-    svg_doc(&super::document(typed))
-}
-
-/// The figure of the document (being replaced by [`svg`]).
-pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
-    let spec = result.get("spec").unwrap_or(&Value::Null);
-    let range = result
-        .get("a_p_g")
-        .or_else(|| spec.get("a_p_g"))
-        .ok_or("the result has no a_p_g range")?;
-    let (from, to) = (
-        num(range, "from").ok_or("a_p_g has no from")?,
-        num(range, "to").ok_or("a_p_g has no to")?,
-    );
+pub fn svg(result: &ForensicResult) -> Result<String, String> {
+    let (from, to) = (result.a_p_g.from, result.a_p_g.to);
     if to.partial_cmp(&from) != Some(std::cmp::Ordering::Greater) {
         return Err(format!("empty amplitude range {from}–{to} g"));
     }
-    let observations: Vec<&Value> = result
-        .get("observations")
-        .and_then(Value::as_array)
-        .map(|a| a.iter().collect())
-        .unwrap_or_default();
-    let names: Vec<String> = observations
-        .iter()
-        .enumerate()
-        .map(|(k, o)| {
-            o.get("name")
-                .and_then(Value::as_str)
-                .map_or_else(|| format!("observation {}", k + 1), str::to_string)
-        })
-        .collect();
-    let frequencies: Vec<&Value> = result
-        .get("frequencies")
-        .and_then(Value::as_array)
-        .ok_or("the result has no frequencies")?
-        .iter()
-        .filter(|f| num(f, "frequency_hz").is_some())
-        .collect();
+    let observations = &result.observations;
+    let names: Vec<String> = observations.iter().map(|o| o.name.clone()).collect();
+    let frequencies = &result.frequencies;
     if frequencies.is_empty() {
         return Err("the forensic result has no frequencies".into());
     }
-    let mut map = columns(&frequencies, &names, from, to);
+    let mut map = columns(frequencies, &names, from, to);
     map.sort_by(|a, b| a.x.total_cmp(&b.x));
     let xs: Vec<f64> = map.iter().map(|c| c.x).collect();
     let (fmin, fmax) = (xs[0], xs[xs.len() - 1]);
@@ -207,13 +165,9 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
                 .collect()
         })
         .collect();
-    let bounds = result.get("bounds");
-    let min_g = bounds.and_then(|b| num(b, "min_g"));
-    let max_g = bounds.and_then(|b| num(b, "max_g"));
-    let f_bounds = bounds
-        .and_then(|b| b.get("frequency_hz"))
-        .and_then(Value::as_array)
-        .and_then(|a| Some((a.first()?.as_f64()?, a.get(1)?.as_f64()?)));
+    let min_g = result.bounds.min_g;
+    let max_g = result.bounds.max_g;
+    let f_bounds = result.bounds.frequency_hz.map(|[a, b]| (a, b));
     let consistent_anywhere = shaded.iter().any(|p| p.class == 0);
 
     let mut legend = Legend::default();
@@ -222,8 +176,8 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
         "consistent with every observation",
     );
     legend.entry(Swatch::Heading, "ruled out by (shade), boundary (line):");
-    for (k, (name, o)) in names.iter().zip(&observations).enumerate() {
-        let seen = if o.get("overturned").and_then(Value::as_bool) == Some(true) {
+    for (k, (name, o)) in names.iter().zip(observations).enumerate() {
+        let seen = if o.overturned {
             "overturned"
         } else {
             "survived"
@@ -254,17 +208,17 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             ),
         );
     }
-    for (name, o) in names.iter().zip(&observations) {
-        legend.note(format!("{name}: {}", block_note(o.get("block"))));
+    for (name, o) in names.iter().zip(observations) {
+        legend.note(format!("{name}: {}", block_text(&o.block)));
     }
-    let formulation = result
-        .get("formulation")
-        .and_then(Value::as_str)
-        .unwrap_or_else(|| text_at(spec, "/formulation"));
-    let pulse = result.get("pulse").or_else(|| spec.get("pulse"));
+    let formulation = result.formulation.name();
+    let pulse = result
+        .pulse
+        .as_ref()
+        .or(result.spec.pulse.as_ref())
+        .map_or_else(|| "pulse".to_string(), |p| shape_title(p.shape()));
     legend.note(format!(
-        "{} pulses, {formulation} formulation; {} frequenc{}, amplitudes {}–{} g",
-        pulse_name(pulse),
+        "{pulse} pulses, {formulation} formulation; {} frequenc{}, amplitudes {}–{} g",
         frequencies.len(),
         if frequencies.len() == 1 { "y" } else { "ies" },
         fmt_num(from, 3),
@@ -283,10 +237,8 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
         legend.note("no pulse of this family is consistent with every observation");
     }
 
-    let title = format!(
-        "Forensic map: {} pulses consistent with what was seen ({formulation})",
-        pulse_name(pulse)
-    );
+    let title =
+        format!("Forensic map: {pulse} pulses consistent with what was seen ({formulation})");
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
         let chart = chart_on(&chart_area)
@@ -381,35 +333,66 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
-    use serde_json::{Value, json};
+mod tests {
+    use crate::jobs::JobResult;
+    use crate::jobs::forensic::{
+        AmplitudeRange, Bounds, ForensicFrequency, ForensicResult, ObservationSet,
+    };
+    use crate::plot::tests::typed;
 
-    pub(crate) fn sample() -> Value {
-        let freqs: Vec<Value> = (0..6)
+    /// A computed forensic result of the Point Reyes observations (one
+    /// frequency).
+    fn computed_small() -> ForensicResult {
+        let spec = r#"{"kind": "forensic", "pulse": {"type": "one_sine"},
+            "observations": [
+                {"name": "locomotive", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9}, "overturned": true},
+                {"name": "transformer", "b": 0.6, "h": 1.2, "overturned": false}],
+            "frequency_hz": [1.0], "a_p_g": {"from": 0.1, "to": 2.0},
+            "scan_step_g": 0.1, "tolerance_g": 0.01, "formulation": "nonlinear"}"#;
+        match typed(spec) {
+            JobResult::Forensic(r) => *r,
+            other => panic!("not a forensic result: {:?}", other.job_kind()),
+        }
+    }
+
+    /// The computed result with six frequencies of known sets: the
+    /// locomotive (overturned) rules out amplitudes below 0.3 + 0.2 f g, the
+    /// transformer (survived) those above 1 + 0.3 f g.
+    fn sample() -> ForensicResult {
+        let mut r = computed_small();
+        assert_eq!(r.observations.len(), 2);
+        r.frequencies = (0..6)
             .map(|k| {
                 let f = 0.5 + 0.5 * f64::from(k);
-                let loco = vec![[0.3 + 0.2 * f, 5.0]];
-                let trafo = vec![[0.1, 1.0 + 0.3 * f]];
-                let all = vec![[0.3 + 0.2 * f, 1.0 + 0.3 * f]];
-                json!({"frequency_hz": f, "omega_p": f * std::f64::consts::TAU,
-                       "consistent_g": all,
-                       "per_observation": [{"name": "locomotive", "consistent_g": loco},
-                                           {"name": "transformer", "consistent_g": trafo}]})
+                let set = |name: &str, consistent_g| ObservationSet {
+                    name: name.into(),
+                    consistent_g,
+                };
+                ForensicFrequency {
+                    frequency_hz: f,
+                    omega_p: f * std::f64::consts::TAU,
+                    consistent_g: vec![[0.3 + 0.2 * f, 1.0 + 0.3 * f]],
+                    per_observation: vec![
+                        set("locomotive", vec![[0.3 + 0.2 * f, 5.0]]),
+                        set("transformer", vec![[0.1, 1.0 + 0.3 * f]]),
+                    ],
+                }
             })
             .collect();
-        json!({"kind": "forensic", "formulation": "nonlinear", "pulse": {"type": "one_sine"},
-               "a_p_g": {"from": 0.1, "to": 5.0},
-               "observations": [
-                   {"name": "locomotive", "overturned": true, "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9, "g": 9.81}},
-                   {"name": "transformer", "overturned": false, "block": {"alpha": 0.46, "p": 2.34, "eta": 0.7, "g": 9.81}}],
-               "frequencies": freqs,
-               "bounds": {"min_g": 0.4, "max_g": 2.8, "frequency_hz": [0.5, 3.0]},
-               "numerics": {}, "spec": {}})
+        r.a_p_g = AmplitudeRange { from: 0.1, to: 5.0 };
+        r.bounds = Bounds {
+            min_g: Some(0.4),
+            max_g: Some(2.8),
+            frequency_hz: Some([0.5, 3.0]),
+            min_scale: None,
+            max_scale: None,
+        };
+        r
     }
 
     #[test]
     fn consistent_region_observations_and_bounds() {
-        let svg = super::svg_doc(&sample()).expect("svg");
+        let svg = super::svg(&sample()).expect("svg");
         for needle in [
             "Forensic map: one-sine pulses consistent with what was seen (nonlinear)",
             "pulse frequency f_p (Hz)",
@@ -419,8 +402,14 @@ pub(crate) mod tests {
             "transformer survived",
             "max 2.8 g",
             "min 0.4 g",
+            "bounds: 0.4–2.8 g",
+            "6 frequencies",
+            "amplitudes 0.1–5 g",
         ] {
-            assert!(svg.contains(needle), "missing {needle:?}");
+            assert!(
+                svg.replace('\u{a0}', " ").contains(needle),
+                "missing {needle:?}"
+            );
         }
         // One cell per frequency (six) for the consistent region and for
         // each observation's excluded region, plus the legend swatch.
@@ -434,26 +423,25 @@ pub(crate) mod tests {
     #[test]
     fn point_reyes_cells_end_at_the_last_computed_frequency() {
         use crate::plot::bands::cells;
-        use crate::plot::tests::{computed, hex, shapes, x_extent};
-        let result = computed(include_str!("../../specs/point_reyes_forensic.json"));
-        let frequencies: Vec<&Value> = result["frequencies"]
-            .as_array()
-            .expect("frequencies")
-            .iter()
-            .collect();
-        let hz = |f: &Value| f["frequency_hz"].as_f64().expect("hz");
+        use crate::plot::tests::{hex, shapes, x_extent};
+        let JobResult::Forensic(result) =
+            typed(include_str!("../../specs/point_reyes_forensic.json"))
+        else {
+            panic!("not a forensic result");
+        };
+        let frequencies = &result.frequencies;
         assert_eq!(frequencies.len(), 12);
-        assert_eq!(hz(frequencies[11]), 3.0);
+        assert_eq!(frequencies[11].frequency_hz, 3.0);
         // The computed result: pulses consistent with both observations up to
         // 2.5 Hz, none at 2.75 and 3 Hz.
         let consistent: Vec<f64> = frequencies
             .iter()
-            .filter(|f| f["consistent_g"].as_array().is_some_and(|a| !a.is_empty()))
-            .map(|f| hz(f))
+            .filter(|f| !f.consistent_g.is_empty())
+            .map(|f| f.frequency_hz)
             .collect();
         assert_eq!(consistent.last(), Some(&2.5));
         let names = ["locomotive".to_string(), "transformer".to_string()];
-        let tiling = cells(&super::columns(&frequencies, &names, 0.05, 3.0), 0.025);
+        let tiling = cells(&super::columns(frequencies, &names, 0.05, 3.0), 0.025);
         let right = |class: Option<usize>| {
             tiling
                 .pieces
@@ -467,7 +455,7 @@ pub(crate) mod tests {
         assert_eq!(right(None), 3.0);
         assert_eq!(right(Some(0)), 2.625);
         // The figure: the consistent fill ends at the same fraction of the map.
-        let svg = super::svg_doc(&result).expect("svg");
+        let svg = super::svg(&result).expect("svg");
         let (left, end) = x_extent(&shapes(&svg, "polygon", ""));
         let (_, green) = x_extent(&shapes(
             &svg,
@@ -488,14 +476,26 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn intervals_leave_out_reversed_ones() {
+        assert_eq!(
+            super::intervals(&[[0.1, 0.5], [0.9, 0.7], [1.0, 1.0]]),
+            vec![(0.1, 0.5), (1.0, 1.0)]
+        );
+    }
+
+    #[test]
     fn nothing_consistent_is_said_so() {
         let mut doc = sample();
-        for f in doc["frequencies"].as_array_mut().expect("array") {
-            f["per_observation"][1]["consistent_g"] = json!([[0.1, 0.2]]);
-            f["consistent_g"] = json!([]);
+        for f in &mut doc.frequencies {
+            f.per_observation[1].consistent_g = vec![[0.1, 0.2]];
+            f.consistent_g = Vec::new();
         }
-        doc["bounds"] = json!({"min_g": null, "max_g": null, "frequency_hz": null});
-        let svg = super::svg_doc(&doc).expect("svg");
+        doc.bounds.min_g = None;
+        doc.bounds.max_g = None;
+        doc.bounds.frequency_hz = None;
+        let svg = super::svg(&doc).expect("svg");
         assert!(svg.contains("no consistent pulse"));
+        assert!(svg.contains("no pulse of this family"));
+        assert!(!svg.contains("max 2.8 g"));
     }
 }

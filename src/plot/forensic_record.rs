@@ -9,7 +9,6 @@
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
-use serde_json::Value;
 
 use super::bands::{Band, simplify, tile};
 use super::forensic::{colour, fill, intervals, partition};
@@ -17,7 +16,8 @@ use super::style::{
     AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, Swatch, TICKS, X_LABEL_AREA,
     Y_LABEL_AREA, axis_range, draw_legend, fmt_num, mesh, text, tick, tint,
 };
-use super::{at, block_note, num, render, text_at};
+use super::{block_text, render};
+use crate::jobs::forensic::ForensicResult;
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -35,53 +35,24 @@ fn shade(class: usize) -> RGBColor {
 }
 
 /// The figure of a `forensic` result on a `ground_motion`.
-pub fn svg(typed: &crate::jobs::forensic::ForensicResult) -> Result<String, String> {
-    svg_doc(&super::document(typed))
-}
-
-/// The figure of the document (being replaced by [`svg`]).
-pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
-    let spec = result.get("spec").unwrap_or(&Value::Null);
-    let range = result
-        .get("scale")
-        .or_else(|| spec.get("scale"))
-        .ok_or("the result has no scale range")?;
-    let (from, to) = (
-        num(range, "from").ok_or("scale has no from")?,
-        num(range, "to").ok_or("scale has no to")?,
-    );
+pub fn svg(result: &ForensicResult) -> Result<String, String> {
+    let range = result.scale.ok_or("the result has no scale range")?;
+    let (from, to) = (range.from, range.to);
     if to.partial_cmp(&from) != Some(std::cmp::Ordering::Greater) {
         return Err(format!("empty scale range {from}–{to}"));
     }
-    let pga_g = at(result, "/record/pga_g");
-    let per: Vec<&Value> = result
-        .get("per_observation")
-        .and_then(Value::as_array)
-        .ok_or("the result has no per_observation")?
-        .iter()
-        .collect();
+    let pga_g = result.record.as_ref().map(|r| r.peaks.pga_g);
+    let per = result
+        .per_observation
+        .as_deref()
+        .ok_or("the result has no per_observation")?;
     if per.is_empty() {
         return Err("the forensic result has no observations".into());
     }
-    let observations: Vec<&Value> = result
-        .get("observations")
-        .and_then(Value::as_array)
-        .map(|a| a.iter().collect())
-        .unwrap_or_default();
+    let observations = &result.observations;
     let n = per.len();
-    let names: Vec<String> = per
-        .iter()
-        .enumerate()
-        .map(|(k, o)| {
-            o.get("name")
-                .and_then(Value::as_str)
-                .map_or_else(|| format!("observation {}", k + 1), str::to_string)
-        })
-        .collect();
-    let sets: Vec<Vec<(f64, f64)>> = per
-        .iter()
-        .map(|o| intervals(o, "consistent_scale"))
-        .collect();
+    let names: Vec<String> = per.iter().map(|o| o.name.clone()).collect();
+    let sets: Vec<Vec<(f64, f64)>> = per.iter().map(|o| intervals(&o.consistent_scale)).collect();
     let sliver = (to - from) / 900.0;
     // Column k (1-based) is observation k; column n + 1 is every observation.
     let mut columns: Vec<(f64, Vec<Band>)> = sets
@@ -108,12 +79,11 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let thresholds: Vec<(f64, f64)> = per
         .iter()
         .enumerate()
-        .filter_map(|(k, o)| Some(((k + 1) as f64, num(o, "threshold_scale")?)))
+        .map(|(k, o)| ((k + 1) as f64, o.threshold_scale))
         .filter(|&(_, s)| s > from && s < to)
         .collect();
-    let bounds = result.get("bounds");
-    let lo = bounds.and_then(|b| num(b, "min_scale"));
-    let hi = bounds.and_then(|b| num(b, "max_scale"));
+    let lo = result.bounds.min_scale;
+    let hi = result.bounds.max_scale;
 
     let mut legend = Legend::default();
     legend.entry(
@@ -127,16 +97,7 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     legend.entry(Swatch::Heading, "ruled out by:");
     let numbered = n > 6;
     for (k, name) in names.iter().enumerate() {
-        let seen = per[k]
-            .get("overturned")
-            .and_then(Value::as_bool)
-            .or_else(|| {
-                observations
-                    .get(k)
-                    .and_then(|o| o.get("overturned"))
-                    .and_then(Value::as_bool)
-            });
-        let seen = if seen == Some(true) {
+        let seen = if per[k].overturned {
             "overturned"
         } else {
             "survived"
@@ -148,10 +109,7 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
         };
         legend.entry(Swatch::Boxed(fill(1 << k), colour(k)), label);
     }
-    let formulation = result
-        .get("formulation")
-        .and_then(Value::as_str)
-        .unwrap_or_else(|| text_at(spec, "/formulation"));
+    let formulation = result.formulation.name();
     legend.entry(
         Swatch::Line(INK, 3),
         if formulation == "linear" {
@@ -175,16 +133,16 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             ),
         );
     }
-    for (name, o) in names.iter().zip(&observations) {
-        legend.note(format!("{name}: {}", block_note(o.get("block"))));
+    for (name, o) in names.iter().zip(observations) {
+        legend.note(format!("{name}: {}", block_text(&o.block)));
     }
-    if let Some(r) = result.get("record") {
+    if let Some(r) = &result.record {
         legend.note(format!(
             "record: {} samples, dt = {} s; PGA {} g, PGV {} m/s (unscaled)",
-            r.get("samples").and_then(Value::as_u64).unwrap_or(0),
-            fmt_num(num(r, "dt_s").unwrap_or(f64::NAN), 4),
-            fmt_num(num(r, "pga_g").unwrap_or(f64::NAN), 4),
-            fmt_num(num(r, "pgv_m_s").unwrap_or(f64::NAN), 4),
+            r.samples,
+            fmt_num(r.dt_s, 4),
+            fmt_num(r.peaks.pga_g, 4),
+            fmt_num(r.peaks.pgv_m_s, 4),
         ));
     }
     legend.note(format!(
@@ -300,33 +258,54 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
 
 #[cfg(test)]
 mod tests {
-    use serde_json::json;
-
+    use crate::jobs::JobResult;
+    use crate::jobs::forensic::{ForensicResult, RecordObservationSet};
+    use crate::jobs::record_spectrum::ScaleRangeNorm;
     use crate::plot::style::{CONSISTENT, OBSERVATIONS};
-    use crate::plot::tests::hex;
+    use crate::plot::tests::{hex, typed};
 
-    fn sample() -> serde_json::Value {
-        json!({"kind": "forensic", "excitation": "ground_motion", "formulation": "nonlinear",
-               "record": {"pga_g": 0.5, "pgv_m_s": 0.4, "dt_s": 0.01, "samples": 200},
-               "scale": {"from": 0.1, "to": 6.0}, "a_p_g": {"from": 0.05, "to": 3.0},
-               "observations": [
-                   {"name": "locomotive", "overturned": true, "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9, "g": 9.81}},
-                   {"name": "transformer", "overturned": false, "block": {"alpha": 0.46, "p": 2.34, "eta": 0.7, "g": 9.81}}],
-               "frequencies": [],
-               "per_observation": [
-                   {"name": "locomotive", "overturned": true, "threshold_scale": 0.51,
-                    "consistent_scale": [[0.7, 1.76], [1.82, 6.0]]},
-                   {"name": "transformer", "overturned": false, "threshold_scale": 1.0,
-                    "consistent_scale": [[0.1, 1.42], [2.87, 3.26]]}],
-               "consistent_scale": [[0.7, 1.42], [2.87, 3.26]],
-               "bounds": {"min_g": 0.35, "max_g": 1.63, "frequency_hz": null,
-                          "min_scale": 0.7, "max_scale": 3.26},
-               "numerics": {}, "spec": {}})
+    /// The computed Point Reyes record query.
+    fn computed() -> ForensicResult {
+        match typed(include_str!("../../specs/point_reyes_forensic_record.json")) {
+            JobResult::Forensic(r) => *r,
+            other => panic!("not a forensic result: {:?}", other.job_kind()),
+        }
+    }
+
+    /// The computed query with known sets: scales 0.1–6 of a record of PGA
+    /// 0.5 g; the locomotive allows 0.7–1.76 and 1.82–6, the transformer
+    /// 0.1–1.42 and 2.87–3.26.
+    fn sample() -> ForensicResult {
+        let mut r = computed();
+        let record = r.record.as_mut().expect("a record query has its record");
+        record.peaks.pga_g = 0.5;
+        r.scale = Some(ScaleRangeNorm { from: 0.1, to: 6.0 });
+        let set = |name: &str, overturned, threshold_scale, consistent_scale: Vec<[f64; 2]>| {
+            RecordObservationSet {
+                name: name.into(),
+                overturned,
+                consistent_pga_g: consistent_scale
+                    .iter()
+                    .map(|[a, b]| [0.5 * a, 0.5 * b])
+                    .collect(),
+                consistent_scale,
+                overturning_scale: Vec::new(),
+                threshold_scale,
+            }
+        };
+        r.per_observation = Some(vec![
+            set("locomotive", true, 0.51, vec![[0.7, 1.76], [1.82, 6.0]]),
+            set("transformer", false, 1.0, vec![[0.1, 1.42], [2.87, 3.26]]),
+        ]);
+        r.consistent_scale = Some(vec![[0.7, 1.42], [2.87, 3.26]]);
+        r.bounds.min_scale = Some(0.7);
+        r.bounds.max_scale = Some(3.26);
+        r
     }
 
     #[test]
     fn columns_per_observation_and_their_intersection() {
-        let svg = super::svg_doc(&sample()).expect("svg");
+        let svg = super::svg(&sample()).expect("svg");
         for needle in [
             "Forensic map: scales of the record consistent with what was seen (nonlinear)",
             "scale factor",
@@ -338,6 +317,7 @@ mod tests {
             "max 3.26",
             "min 0.7",
             "0.35–1.63 g",
+            "record: 101 samples",
         ] {
             assert!(svg.contains(needle), "missing {needle:?} in {svg}");
         }
@@ -349,11 +329,43 @@ mod tests {
     }
 
     #[test]
+    fn the_computed_bounds_are_framed() {
+        let r = computed();
+        let (lo, hi) = (
+            r.bounds.min_scale.expect("a consistent scale"),
+            r.bounds.max_scale.expect("a consistent scale"),
+        );
+        assert!(lo < hi, "{lo} < {hi}");
+        let svg = super::svg(&r).expect("svg");
+        let fmt = |v: f64| crate::plot::style::fmt_num(v, 4);
+        assert!(svg.contains(&format!("max {}", fmt(hi))), "max {hi}");
+        assert!(svg.contains(&format!("min {}", fmt(lo))), "min {lo}");
+    }
+
+    #[test]
+    fn a_result_without_a_scale_range_is_refused() {
+        let mut r = sample();
+        r.scale = None;
+        assert_eq!(super::svg(&r).unwrap_err(), "the result has no scale range");
+        let mut r = sample();
+        r.per_observation = None;
+        assert_eq!(
+            super::svg(&r).unwrap_err(),
+            "the result has no per_observation"
+        );
+    }
+
+    #[test]
     fn nothing_consistent_is_said() {
         let mut doc = sample();
-        doc["per_observation"][1]["consistent_scale"] = json!([[0.1, 0.5]]);
-        doc["bounds"] = json!({"min_g": null, "max_g": null, "frequency_hz": null});
-        let svg = super::svg_doc(&doc).expect("svg");
+        if let Some(per) = doc.per_observation.as_mut() {
+            per[1].consistent_scale = vec![[0.1, 0.5]];
+        }
+        doc.bounds.min_g = None;
+        doc.bounds.max_g = None;
+        doc.bounds.min_scale = None;
+        doc.bounds.max_scale = None;
+        let svg = super::svg(&doc).expect("svg");
         assert!(svg.contains("no scale of this record"), "said");
         assert!(!svg.contains("max 3.26"));
     }

@@ -4,68 +4,42 @@
 //! as the intensity rises are marked.
 
 use plotters::prelude::*;
-use serde_json::Value;
 
+use super::render;
 use super::style::{
     Drawn, INK, LEGEND_WIDTH, Legend, MODE1, Marker, Swatch, axis_range, chart_on, draw_legend,
     fmt_num, marker, mesh, tint,
 };
-use super::{num, render};
+use crate::jobs::fragility::FragilityResult;
+use crate::jobs::names::Im;
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 620;
 
 /// The figure of a `fragility` result.
-pub fn svg(typed: &crate::jobs::fragility::FragilityResult) -> Result<String, String> {
-    svg_doc(&super::document(typed))
-}
-
-/// The figure of the document (being replaced by [`svg`]).
-pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
+pub fn svg(result: &FragilityResult) -> Result<String, String> {
     let stripes: Vec<(f64, f64, f64, f64)> = result
-        .get("stripes")
-        .and_then(Value::as_array)
-        .ok_or("the result has no stripes")?
+        .stripes
         .iter()
-        .filter_map(|s| {
-            let i = s.get("interval_95")?;
-            Some((
-                num(s, "im")?,
-                num(s, "p")?,
-                i.get(0)?.as_f64()?,
-                i.get(1)?.as_f64()?,
-            ))
-        })
+        .map(|s| (s.im, s.p, s.interval_95[0], s.interval_95[1]))
         .collect();
     if stripes.is_empty() {
         return Err("the result has no stripes".into());
     }
-    let fit = result.get("lognormal").filter(|v| !v.is_null());
+    let fit = result.lognormal.as_ref();
     let curve: Vec<(f64, f64, f64, f64)> = fit
-        .and_then(|f| f.get("curve"))
-        .and_then(Value::as_array)
-        .into_iter()
-        .flatten()
-        .filter_map(|c| Some((num(c, "im")?, num(c, "p")?, num(c, "lo")?, num(c, "hi")?)))
-        .collect();
+        .map(|f| f.curve.iter().map(|c| (c.im, c.p, c.lo, c.hi)).collect())
+        .unwrap_or_default();
     let x_max = stripes
         .iter()
         .map(|s| s.0)
         .chain(curve.iter().map(|c| c.0))
         .fold(0.0f64, f64::max)
         * 1.05;
-    let falls: Vec<f64> = result
-        .get("falls_at")
-        .and_then(Value::as_array)
-        .into_iter()
-        .flatten()
-        .filter_map(Value::as_f64)
-        .collect();
-    let im = result.get("im").and_then(Value::as_str).unwrap_or("pga_g");
-    let x_desc = if im == "pgv_m_s" {
-        "PGV (m/s)"
-    } else {
-        "PGA (g)"
+    let falls = &result.falls_at;
+    let x_desc = match result.im {
+        Im::PgvMS => "PGV (m/s)",
+        Im::PgaG => "PGA (g)",
     };
 
     let mut legend = Legend::default();
@@ -78,8 +52,8 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             Swatch::Line(MODE1, 3),
             format!(
                 "lognormal fit: θ = {}, β = {}",
-                fmt_num(num(f, "median").unwrap_or(f64::NAN), 3),
-                fmt_num(num(f, "beta").unwrap_or(f64::NAN), 3)
+                fmt_num(f.median, 3),
+                fmt_num(f.beta, 3)
             ),
         );
         legend.entry(Swatch::Fill(tint(MODE1, 0.2)), "95 % bootstrap band");
@@ -92,7 +66,7 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             "falls below the stripe before (safe regions)",
         );
     }
-    if let Some(n) = result.pointer("/stripes/0/n").and_then(Value::as_u64) {
+    if let Some(n) = result.stripes.first().map(|s| s.n) {
         legend.note(format!(
             "{n} simulations per stripe; the empirical points are the answer, the fit a summary"
         ));
@@ -139,20 +113,58 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
 
 #[cfg(test)]
 mod tests {
-    use serde_json::json;
+    use crate::jobs::JobResult;
+    use crate::jobs::fragility::{CurvePoint, FragilityResult, LognormalFit, StripeResult};
+    use crate::plot::style::{MODE1, tint};
+    use crate::plot::tests::hex;
+
+    /// A small computed fragility (two stripes of 20 simulations).
+    fn computed() -> FragilityResult {
+        let spec = r#"{"kind": "fragility",
+            "block": {"b": {"dist": "normal", "mean": 0.6, "sd": 0.06, "min": 0.4, "max": 0.8},
+                      "h": 1.5},
+            "pulse": {"type": "one_sine", "frequency_hz": 1.0},
+            "im": "pga_g", "stripes": [0.4, 1.0], "samples": 20, "seed": 42}"#;
+        match crate::plot::tests::typed(spec) {
+            JobResult::Fragility(r) => *r,
+            other => panic!("not a fragility result: {:?}", other.job_kind()),
+        }
+    }
+
+    /// Three stripes of 200, the last below the one before, and a fit.
+    fn sample() -> FragilityResult {
+        let mut doc = computed();
+        let stripe = |im, overturned: u64, interval_95| StripeResult {
+            im,
+            n: 200,
+            overturned,
+            p: overturned as f64 / 200.0,
+            interval_95,
+            mode_1: overturned,
+            mode_2: 0,
+        };
+        doc.stripes = vec![
+            stripe(0.4, 20, [0.06, 0.15]),
+            stripe(0.8, 140, [0.63, 0.76]),
+            stripe(1.0, 120, [0.53, 0.67]),
+        ];
+        doc.falls_at = vec![1.0];
+        doc.monotone = false;
+        let point = |im, p, lo, hi| CurvePoint { im, p, lo, hi };
+        doc.lognormal = Some(LognormalFit {
+            median: 0.6,
+            beta: 0.4,
+            median_interval_95: [0.55, 0.65],
+            beta_interval_95: [0.3, 0.5],
+            log_likelihood: -300.0,
+            curve: vec![point(0.2, 0.003, 0.001, 0.01), point(1.2, 0.96, 0.9, 0.99)],
+        });
+        doc
+    }
 
     #[test]
     fn points_intervals_fit_and_falls() {
-        let doc = json!({"kind": "fragility", "im": "pga_g",
-            "stripes": [
-                {"im": 0.4, "n": 200, "p": 0.1, "interval_95": [0.06, 0.15]},
-                {"im": 0.8, "n": 200, "p": 0.7, "interval_95": [0.63, 0.76]},
-                {"im": 1.0, "n": 200, "p": 0.6, "interval_95": [0.53, 0.67]}],
-            "falls_at": [1.0],
-            "lognormal": {"median": 0.6, "beta": 0.4, "curve": [
-                {"im": 0.2, "p": 0.003, "lo": 0.001, "hi": 0.01},
-                {"im": 1.2, "p": 0.96, "lo": 0.9, "hi": 0.99}]}});
-        let svg = super::svg_doc(&doc).expect("svg");
+        let svg = super::svg(&sample()).expect("svg");
         for needle in [
             "Fragility: probability of toppling",
             "PGA (g)",
@@ -160,8 +172,32 @@ mod tests {
             "θ = 0.6",
             "95 % bootstrap band",
             "falls below",
+            "200 simulations per stripe",
         ] {
             assert!(svg.contains(needle), "missing {needle:?}");
         }
+        // The band is drawn (and its legend swatch).
+        assert!(svg.contains(&hex(tint(MODE1, 0.2))), "band");
+    }
+
+    #[test]
+    fn without_a_fit_the_points_stand_alone() {
+        let mut doc = sample();
+        doc.lognormal = None;
+        doc.falls_at.clear();
+        let svg = super::svg(&doc).expect("svg");
+        assert!(svg.contains("no lognormal fit"), "said");
+        assert!(!svg.contains("bootstrap band"));
+        assert!(!svg.contains("falls below"));
+        assert!(!svg.contains(&hex(tint(MODE1, 0.2))), "no band");
+    }
+
+    #[test]
+    fn the_computed_stripes() {
+        let doc = computed();
+        assert_eq!(doc.stripes.len(), 2);
+        let svg = super::svg(&doc).expect("svg");
+        assert!(svg.contains("20 simulations per stripe"), "counts");
+        assert!(svg.contains("PGA (g)"));
     }
 }

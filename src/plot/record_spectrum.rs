@@ -4,73 +4,114 @@
 //! right axis reads the scaled record's PGA in g.
 
 use plotters::prelude::*;
-use serde_json::{Value, json};
 
 use super::bands::{Band, Column, simplify, tile, tiling};
+use super::render;
 use super::spectrum::{
-    CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, fill, region_legend, regions,
+    CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, fill, region_legend,
 };
 use super::style::{
     AXIS, Drawn, INK, LEGEND_WIDTH, Marker, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, axis_range,
     clip_y, draw_legend, fmt_num, marker, mesh, text, tick,
 };
-use super::{at, block_note, num, render, text_at};
+use crate::jobs::record_spectrum::{RecordSpectrumResult, ScaleTransitionDoc, SizeDoc};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
 
-/// A line of the result in the keys of a pulse spectrum's line (`a_alpha_g`
-/// for a scale factor), so that the pulse spectra's region logic applies.
-fn as_pulse_line(line: &Value) -> Value {
-    let rename = |list: Option<&Value>| -> Value {
-        Value::Array(
-            list.and_then(Value::as_array)
-                .map(|l| {
-                    l.iter()
-                        .map(|t| {
-                            let mut t = t.clone();
-                            if let Some(s) = t.get("scale").cloned() {
-                                t["a_alpha_g"] = s;
-                            }
-                            t
-                        })
-                        .collect()
-                })
-                .unwrap_or_default(),
-        )
-    };
-    json!({
-        "transitions": rename(line.get("transitions")),
-        "mode_changes": rename(line.get("mode_changes")),
-        "principal": {"transitions": rename(line.pointer("/principal/transitions"))},
-    })
+/// Overturning intervals (lo, hi, mode) of a list of transitions: each "up"
+/// opens one (of the mode above it), the next "down" closes it; an open one
+/// ends at `s_max`.
+fn intervals(transitions: &[ScaleTransitionDoc], s_max: f64) -> Vec<(f64, f64, u8)> {
+    let mut out = Vec::new();
+    let mut open: Option<(f64, u8)> = None;
+    for t in transitions {
+        if t.direction == "up" {
+            open = Some((t.scale, t.mode));
+        } else if let Some((lo, m)) = open.take() {
+            out.push((lo, t.scale, m));
+        }
+    }
+    if let Some((lo, m)) = open {
+        out.push((lo, s_max.max(lo), m));
+    }
+    out
+}
+
+/// `regions` cut where the mode changes (`changes`: scale, new mode).
+fn split_at_changes(regions: &[(f64, f64, u8)], changes: &[(f64, u8)]) -> Vec<(f64, f64, u8)> {
+    let mut out = Vec::new();
+    for &(lo, hi, mut mode) in regions {
+        let mut start = lo;
+        for &(at, to) in changes.iter().filter(|(at, _)| *at > lo && *at < hi) {
+            out.push((start, at, mode));
+            start = at;
+            mode = to;
+        }
+        out.push((start, hi, mode));
+    }
+    out
+}
+
+/// The overturning regions (lo, hi, mode) of one block size, in scale
+/// factors. The extents are those of the principal view (bands narrower than
+/// its relative width dropped); the modes come from the full view, a dropped
+/// safe gap taking the mode below it.
+fn regions(line: &SizeDoc, s_max: f64) -> Vec<(f64, f64, u8)> {
+    let changes: Vec<(f64, u8)> = line
+        .mode_changes
+        .iter()
+        .map(|m| (m.scale, m.to_mode))
+        .collect();
+    let fine = split_at_changes(&intervals(&line.transitions, s_max), &changes);
+    let mut out = Vec::new();
+    for (lo, hi, mode) in intervals(&line.principal.transitions, s_max) {
+        let mut inside: Vec<(f64, f64, u8)> = fine
+            .iter()
+            .filter(|f| f.1 > lo && f.0 < hi)
+            .map(|&(a, b, m)| (a.max(lo), b.min(hi), m))
+            .collect();
+        if inside.is_empty() {
+            out.push((lo, hi, mode));
+            continue;
+        }
+        inside[0].0 = lo;
+        for k in 1..inside.len() {
+            inside[k - 1].1 = inside[k].0;
+        }
+        if let Some(last) = inside.last_mut() {
+            last.1 = hi;
+        }
+        for piece in inside {
+            match out.last_mut() {
+                Some(prev) if prev.2 == piece.2 && prev.1 >= piece.0 => prev.1 = piece.1,
+                _ => out.push(piece),
+            }
+        }
+    }
+    out
+}
+
+/// "α = 0.25 rad, η = 0.9": the block of every size.
+fn block_text(alpha: f64, eta: f64) -> String {
+    format!(
+        "α\u{a0}=\u{a0}{}\u{a0}rad, η\u{a0}=\u{a0}{}",
+        fmt_num(alpha, 3),
+        fmt_num(eta, 3)
+    )
 }
 
 /// The figure of a `record_spectrum` result.
-pub fn svg(typed: &crate::jobs::record_spectrum::RecordSpectrumResult) -> Result<String, String> {
-    svg_doc(&super::document(typed))
-}
-
-/// The figure of the document (being replaced by [`svg`]).
-pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
-    let lines: Vec<&Value> = result
-        .get("spectrum")
-        .and_then(Value::as_array)
-        .ok_or("the result has no spectrum")?
-        .iter()
-        .filter(|l| num(l, "R_m").is_some())
-        .collect();
+pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
+    let lines = &result.spectrum;
     if lines.is_empty() {
         return Err("the spectrum has no block sizes".into());
     }
-    let spec = result.get("spec").unwrap_or(&Value::Null);
-    let s_max = at(spec, "/scale/to").unwrap_or(1.0);
-    let pga_g = at(result, "/record/pga_g");
+    let spec = &result.spec;
+    let s_max = spec.scale.to;
+    let pga_g = result.record.peaks.pga_g;
     // Block sizes in increasing R (p decreasing).
-    let mut sized: Vec<(f64, &Value)> = lines
-        .iter()
-        .filter_map(|l| Some((num(l, "R_m")?, *l)))
-        .collect();
+    let mut sized: Vec<(f64, &SizeDoc)> = lines.iter().map(|l| (l.r_m, l)).collect();
     sized.sort_by(|a, b| a.0.total_cmp(&b.0));
     let xs: Vec<f64> = sized.iter().map(|s| s.0).collect();
     let (rmin, rmax) = (xs[0], xs[xs.len() - 1]);
@@ -87,15 +128,12 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let columns: Vec<Column> = sized
         .iter()
         .map(|&(x, l)| {
-            let mut bands = Vec::new();
-            if let Some(th) = num(l, "threshold_scale") {
-                bands.push(Band {
-                    lo: 0.0,
-                    hi: th.min(s_max),
-                    class: CLASS_NO_ROCKING,
-                });
-            }
-            for (lo, hi, mode) in regions(&as_pulse_line(l), s_max) {
+            let mut bands = vec![Band {
+                lo: 0.0,
+                hi: l.threshold_scale.min(s_max),
+                class: CLASS_NO_ROCKING,
+            }];
+            for (lo, hi, mode) in regions(l, s_max) {
                 bands.push(Band {
                     lo,
                     hi,
@@ -115,7 +153,7 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let used = |class: usize| shaded.iter().any(|p| p.class == class);
     let minimum: Vec<(f64, f64)> = sized
         .iter()
-        .filter_map(|&(x, l)| Some((x, num(l, "min_overturn_scale")?)))
+        .filter_map(|&(x, l)| Some((x, l.min_overturn_scale?)))
         .collect();
 
     let mut legend = region_legend(used, "no rocking (PGA below the threshold)");
@@ -125,33 +163,27 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             "minimum overturning scale (computed)",
         );
     }
-    legend.note(block_note(spec.get("block")));
-    if let Some(r) = result.get("record") {
-        legend.note(format!(
-            "record: {} samples, dt = {} s; PGA {} g, PGV {} m/s, PGD {} m (unscaled)",
-            r.get("samples").and_then(Value::as_u64).unwrap_or(0),
-            fmt_num(num(r, "dt_s").unwrap_or(f64::NAN), 4),
-            fmt_num(num(r, "pga_g").unwrap_or(f64::NAN), 4),
-            fmt_num(num(r, "pgv_m_s").unwrap_or(f64::NAN), 4),
-            fmt_num(num(r, "pgd_m").unwrap_or(f64::NAN), 4),
-        ));
-    }
+    legend.note(block_text(spec.block.alpha, spec.block.eta));
+    let r = &result.record;
     legend.note(format!(
-        "{} formulation, {} block size{}; R = 3g/(4p²)",
-        text_at(spec, "/formulation"),
+        "record: {} samples, dt = {} s; PGA {} g, PGV {} m/s, PGD {} m (unscaled)",
+        r.samples,
+        fmt_num(r.dt_s, 4),
+        fmt_num(r.peaks.pga_g, 4),
+        fmt_num(r.peaks.pgv_m_s, 4),
+        fmt_num(r.peaks.pgd_m, 4),
+    ));
+    let formulation = spec.formulation.name();
+    legend.note(format!(
+        "{formulation} formulation, {} block size{}; R = 3g/(4p²)",
         lines.len(),
         if lines.len() == 1 { "" } else { "s" }
     ));
     legend
         .note("shading: principal view (narrow bands omitted; the result lists every transition)");
-    if pga_g.is_some() {
-        legend.note("right axis: the scaled record's PGA = scale × PGA");
-    }
+    legend.note("right axis: the scaled record's PGA = scale × PGA");
 
-    let title = format!(
-        "Rocking spectrum of a record: {} formulation",
-        text_at(spec, "/formulation")
-    );
+    let title = format!("Rocking spectrum of a record: {formulation} formulation");
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
         let mut builder = ChartBuilder::on(&chart_area);
@@ -159,16 +191,11 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             .margin(10)
             .margin_right(14)
             .x_label_area_size(X_LABEL_AREA)
-            .y_label_area_size(Y_LABEL_AREA);
-        if pga_g.is_some() {
-            builder.right_y_label_area_size(Y_LABEL_AREA);
-        }
+            .y_label_area_size(Y_LABEL_AREA)
+            .right_y_label_area_size(Y_LABEL_AREA);
         let chart =
             builder.build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", 0.0, s_max)?)?;
-        let mut chart = chart.set_secondary_coord(
-            x0..x1,
-            axis_range("right", 0.0, s_max * pga_g.unwrap_or(1.0))?,
-        );
+        let mut chart = chart.set_secondary_coord(x0..x1, axis_range("right", 0.0, s_max * pga_g)?);
         for piece in &shaded {
             chart.draw_series(std::iter::once(Polygon::new(
                 piece.polygon.clone(),
@@ -176,15 +203,13 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             )))?;
         }
         mesh(&mut chart, "block size R (m)", "scale factor").draw()?;
-        if pga_g.is_some() {
-            chart
-                .configure_secondary_axes()
-                .y_desc("scaled PGA (g)")
-                .label_style(text(TICKS, INK))
-                .axis_desc_style(text(AXIS, INK))
-                .y_label_formatter(&|v| tick(*v))
-                .draw()?;
-        }
+        chart
+            .configure_secondary_axes()
+            .y_desc("scaled PGA (g)")
+            .label_style(text(TICKS, INK))
+            .axis_desc_style(text(AXIS, INK))
+            .y_label_formatter(&|v| tick(*v))
+            .draw()?;
         for piece in clip_y(&minimum, 0.0, s_max) {
             chart.draw_series(LineSeries::new(piece, INK.stroke_width(2)))?;
         }
@@ -196,4 +221,121 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
         )?;
         draw_legend(&side, &legend)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::jobs::JobResult;
+    use crate::jobs::record_spectrum::{
+        RecordSpectrumResult, ScaleModeChangeDoc, ScalePrincipalDoc, ScaleTransitionDoc, SizeDoc,
+    };
+    use crate::plot::spectrum::{CLASS_MODE1, CLASS_MODE2, fill};
+    use crate::plot::style::fmt_num;
+    use crate::plot::tests::{hex, typed};
+
+    fn transition(scale: f64, up: bool, mode: u8) -> ScaleTransitionDoc {
+        ScaleTransitionDoc {
+            scale,
+            pga_g: 0.5 * scale,
+            direction: if up { "up" } else { "down" }.into(),
+            mode,
+            impacts: u64::from(mode == 1),
+            bracket: [scale - 1e-4, scale + 1e-4],
+        }
+    }
+
+    /// A block size overturning in mode 2 from scale 1, in mode 1 from 1.2,
+    /// with a narrow safe band 1.5–1.52 that the principal view drops.
+    fn size() -> SizeDoc {
+        SizeDoc {
+            p: 2.0,
+            r_m: 1.84,
+            threshold_scale: 0.4,
+            transitions: vec![
+                transition(1.0, true, 2),
+                transition(1.5, false, 1),
+                transition(1.52, true, 1),
+            ],
+            mode_changes: vec![ScaleModeChangeDoc {
+                scale: 1.2,
+                from_mode: 2,
+                to_mode: 1,
+                bracket: [1.1999, 1.2001],
+            }],
+            min_overturn_scale: Some(1.0),
+            min_overturn_pga_g: Some(0.5),
+            min_overturn_mode: Some(2),
+            safe_intervals: vec![[1.5, 1.52]],
+            overturns_above_scale: Some(1.52),
+            principal: ScalePrincipalDoc {
+                transitions: vec![transition(1.0, true, 2)],
+                min_overturn_scale: Some(1.0),
+                min_overturn_mode: Some(2),
+                safe_intervals: Vec::new(),
+                overturns_above_scale: Some(1.0),
+            },
+        }
+    }
+
+    #[test]
+    fn regions_take_the_principal_extent_and_the_full_modes() {
+        let line = size();
+        assert_eq!(
+            super::intervals(&line.transitions, 3.0),
+            vec![(1.0, 1.5, 2), (1.52, 3.0, 1)]
+        );
+        // The dropped gap 1.5–1.52 takes the mode below it.
+        assert_eq!(
+            super::regions(&line, 3.0),
+            vec![(1.0, 1.2, 2), (1.2, 3.0, 1)]
+        );
+    }
+
+    fn computed() -> RecordSpectrumResult {
+        match typed(include_str!("../../specs/record_spectrum_one_sine.json")) {
+            JobResult::RecordSpectrum(r) => *r,
+            other => panic!("not a record spectrum: {:?}", other.job_kind()),
+        }
+    }
+
+    #[test]
+    fn the_computed_spectrum_and_its_record() {
+        let doc = computed();
+        assert_eq!(doc.spectrum.len(), 4);
+        let svg = super::svg(&doc).expect("svg");
+        let r = &doc.record;
+        for needle in [
+            "Rocking spectrum of a record: nonlinear formulation".to_string(),
+            "block size R (m)".to_string(),
+            "scaled PGA (g)".to_string(),
+            format!(
+                "α\u{a0}=\u{a0}{}\u{a0}rad",
+                fmt_num(doc.spec.block.alpha, 3)
+            ),
+            format!(
+                "record: {} samples, dt = {} s;",
+                r.samples,
+                fmt_num(r.dt_s, 4)
+            ),
+            "4 block".to_string(),
+        ] {
+            assert!(svg.contains(&needle), "missing {needle:?}");
+        }
+        // A block size without p: the note names α and η only.
+        assert!(!svg.contains("rad/s"), "no p in the block note");
+    }
+
+    #[test]
+    fn a_size_shades_its_modes() {
+        let mut doc = computed();
+        doc.spec.scale.to = 3.0;
+        let mut other = size();
+        other.r_m = 2.0;
+        doc.spectrum = vec![size(), other];
+        let svg = super::svg(&doc).expect("svg");
+        for class in [CLASS_MODE1, CLASS_MODE2] {
+            assert!(svg.contains(&hex(fill(class))), "class {class}");
+        }
+        assert!(svg.contains("overturns, mode 2"));
+    }
 }

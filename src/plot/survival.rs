@@ -4,48 +4,32 @@
 //! E[exp(−λ_t T)]; several rocks' joint probability noted.
 
 use plotters::prelude::*;
-use serde_json::Value;
 
 use super::forensic::colour;
+use super::render;
 use super::style::{
     Drawn, INK, LEGEND_WIDTH, Legend, Marker, Swatch, axis_range, chart_on, draw_legend, fmt_num,
     marker, mesh,
 };
-use super::{num, render};
+use crate::jobs::survival::{RockResult, SurvivalResult};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 620;
 
 /// The figure of a `survival` result.
-pub fn svg(typed: &crate::jobs::survival::SurvivalResult) -> Result<String, String> {
-    svg_doc(&super::document(typed))
-}
-
-/// The figure of the document (being replaced by [`svg`]).
-pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
-    let rocks: Vec<&Value> = result
-        .get("rocks")
-        .and_then(Value::as_array)
-        .ok_or("the result has no rocks")?
-        .iter()
-        .collect();
+pub fn svg(result: &SurvivalResult) -> Result<String, String> {
+    let rocks = &result.rocks;
     if rocks.is_empty() {
         return Err("the result has no rocks".into());
     }
-    let rate = |r: &Value| num(r, "annual_toppling_rate").unwrap_or(0.0);
-    let points = |r: &Value| -> Vec<(f64, f64, bool)> {
+    let points = |r: &RockResult| -> Vec<(f64, f64, bool)> {
         let mut p: Vec<(f64, f64, bool)> = r
-            .get("ages")
-            .and_then(Value::as_array)
-            .into_iter()
-            .flatten()
-            .filter_map(|a| Some((num(a, "age_years")?, num(a, "survival_probability")?, false)))
+            .ages
+            .iter()
+            .map(|a| (a.age_years, a.survival_probability, false))
             .collect();
-        if let Some(d) = r.get("age_distribution")
-            && let (Some(t), Some(ps)) =
-                (num(d, "median_age_years"), num(d, "survival_probability"))
-        {
-            p.push((t, ps, true));
+        if let Some(d) = &r.age_distribution {
+            p.push((d.median_age_years, d.survival_probability, true));
         }
         p
     };
@@ -56,7 +40,7 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
         .chain(
             rocks
                 .iter()
-                .map(|r| rate(r))
+                .map(|r| r.annual_toppling_rate)
                 .filter(|l| *l > 0.0)
                 .map(|l| 1.0 / l),
         )
@@ -70,7 +54,7 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let curves: Vec<Vec<(f64, f64)>> = rocks
         .iter()
         .map(|r| {
-            let l = rate(r);
+            let l = r.annual_toppling_rate;
             (0..=240)
                 .map(|k| {
                     let t = lo * (hi / lo).powf(f64::from(k) / 240.0);
@@ -82,35 +66,37 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
 
     let mut legend = Legend::default();
     for (k, r) in rocks.iter().enumerate() {
-        let name = r.get("name").and_then(Value::as_str).unwrap_or("rock");
+        let name = &r.name;
         legend.entry(
             Swatch::Line(colour(k), 3),
             format!(
                 "{name}: λ_t = {}/yr (1 in {} yr)",
-                fmt_num(rate(r), 4),
-                fmt_num(1.0 / rate(r), 4)
+                fmt_num(r.annual_toppling_rate, 4),
+                fmt_num(1.0 / r.annual_toppling_rate, 4)
             ),
         );
     }
     legend.entry(Swatch::Mark(Marker::Dot, INK), "an age asked for");
-    if rocks.iter().any(|r| r.get("age_distribution").is_some()) {
+    if rocks.iter().any(|r| r.age_distribution.is_some()) {
         legend.entry(
             Swatch::Mark(Marker::Square, INK),
             "uncertain age: E[P_s] at its median",
         );
     }
-    if let Some(j) = result.get("joint") {
+    if let Some(j) = &result.joint {
         legend.note(format!(
             "all {} rocks standing: P = {}; every hazard rate × {} brings it to 5 %",
             rocks.len(),
-            fmt_num(num(j, "survival_probability").unwrap_or(f64::NAN), 4),
-            fmt_num(num(j, "rate_scale_at_5_percent").unwrap_or(f64::NAN), 4)
+            fmt_num(j.survival_probability, 4),
+            fmt_num(j.rate_scale_at_5_percent.unwrap_or(f64::NAN), 4)
         ));
     }
     legend
         .note("P_s = exp(−λ_t T): topplings as a Poisson process; λ_t = ∫ P(topple | im) |dλ(im)|");
-    let im = result.get("im").and_then(Value::as_str).unwrap_or("pga_g");
-    legend.note(format!("hazard in {im}, interpolated log-log"));
+    legend.note(format!(
+        "hazard in {}, interpolated log-log",
+        result.im.name()
+    ));
 
     render(
         (WIDTH, HEIGHT),
@@ -144,17 +130,57 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
 
 #[cfg(test)]
 mod tests {
-    use serde_json::json;
+    use crate::jobs::JobResult;
+    use crate::jobs::survival::{
+        AgeDistributionResult, AgeResult, FragilityNorm, JointResult, RockResult, SurvivalResult,
+    };
+    use crate::plot::style::fmt_num;
+    use crate::plot::tests::typed;
+
+    /// The computed survival of the power-law hazard (one rock, three ages).
+    fn computed() -> SurvivalResult {
+        match typed(include_str!("../../specs/survival_power_law.json")) {
+            JobResult::Survival(r) => *r,
+            other => panic!("not a survival result: {:?}", other.job_kind()),
+        }
+    }
+
+    fn rock(name: &str, annual_toppling_rate: f64) -> RockResult {
+        RockResult {
+            name: name.into(),
+            fragility: FragilityNorm {
+                median: 0.38,
+                beta: 0.38,
+            },
+            annual_toppling_rate,
+            mean_years_between_topplings: Some(1.0 / annual_toppling_rate),
+            extrapolated_share: 0.0,
+            ages: Vec::new(),
+            age_distribution: None,
+        }
+    }
 
     #[test]
     fn curves_and_ages_of_each_rock() {
-        let doc = json!({"kind": "survival", "im": "pga_g", "rocks": [
-            {"name": "Grass Valley", "annual_toppling_rate": 1.785e-4,
-             "ages": [{"age_years": 1000.0, "survival_probability": 0.8365}]},
-            {"name": "Lovejoy", "annual_toppling_rate": 5e-5, "ages": [],
-             "age_distribution": {"median_age_years": 15000.0, "survival_probability": 0.47}}],
-            "joint": {"survival_probability": 0.39, "rate_scale_at_5_percent": 2.1}});
-        let svg = super::svg_doc(&doc).expect("svg");
+        let mut doc = computed();
+        let mut grass = rock("Grass Valley", 1.785e-4);
+        grass.ages = vec![AgeResult {
+            age_years: 1000.0,
+            survival_probability: 0.8365,
+            rate_scale_at_5_percent: Some(16.8),
+        }];
+        let mut lovejoy = rock("Lovejoy", 5e-5);
+        lovejoy.age_distribution = Some(AgeDistributionResult {
+            median_age_years: 15000.0,
+            survival_probability: 0.47,
+            rate_scale_at_5_percent: Some(4.0),
+        });
+        doc.rocks = vec![grass, lovejoy];
+        doc.joint = Some(JointResult {
+            survival_probability: 0.39,
+            rate_scale_at_5_percent: Some(2.1),
+        });
+        let svg = super::svg(&doc).expect("svg");
         for needle in [
             "Survival under the hazard model",
             "age T (years)",
@@ -166,5 +192,25 @@ mod tests {
         ] {
             assert!(svg.contains(needle), "missing {needle:?}");
         }
+    }
+
+    #[test]
+    fn the_computed_rock_and_its_ages() {
+        let doc = computed();
+        assert_eq!(doc.rocks.len(), 1);
+        let rate = doc.rocks[0].annual_toppling_rate;
+        assert!(rate > 0.0, "{rate}");
+        let svg = super::svg(&doc).expect("svg");
+        for needle in [
+            format!("rock: λ_t = {}/yr", fmt_num(rate, 4)),
+            format!("{} yr)", fmt_num(1.0 / rate, 4)),
+            "an age asked for".to_string(),
+            "hazard in pga_g".to_string(),
+        ] {
+            assert!(svg.contains(&needle), "missing {needle:?}");
+        }
+        // One rock, no uncertain age and no joint probability.
+        assert!(!svg.contains("uncertain age"));
+        assert!(!svg.contains("rocks standing"));
     }
 }
