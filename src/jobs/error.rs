@@ -70,11 +70,18 @@ pub enum JobError {
     /// A result that could not be serialised.
     #[error("{0}")]
     Serialise(#[source] serde_json::Error),
-    /// A failure still described in text only, by the kind modules that
-    /// have not moved to the variants above (an engine refusal at a sample,
-    /// a task's part or counts that do not fit, a serialisation).
-    #[error("{0}")]
-    Point(String),
+    /// The engine refused one sample of a Monte Carlo job.
+    #[error("stripe {stripe} ({level}), sample {sample}: {source}")]
+    AtSample {
+        /// Index of the stripe.
+        stripe: usize,
+        /// Its intensity, with its measure ("0.4 pga_g").
+        level: String,
+        /// Index of the sample in the stripe.
+        sample: usize,
+        /// What was refused.
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
     /// The job was canceled.
     #[error("canceled")]
     Canceled,

@@ -31,6 +31,24 @@ use crate::probability::fragility::{Stripe, fit_lognormal, log_likelihood, wilso
 use crate::probability::normal;
 use crate::spectrum::Control;
 
+/// Why one sample of a fragility could not be simulated: its sampled block
+/// or pulse is not one the engine takes, or the engine refused it.
+#[derive(Debug, thiserror::Error)]
+pub enum SampleError {
+    /// The sampled block.
+    #[error(transparent)]
+    Block(#[from] crate::dynamics::block::BlockError),
+    /// The sampled pulse.
+    #[error(transparent)]
+    Pulse(#[from] crate::dynamics::excitation::PulseError),
+    /// The engine.
+    #[error(transparent)]
+    Simulation(#[from] crate::dynamics::SimError),
+    /// A sample without what it needs (a validated job always has it).
+    #[error("{0}")]
+    Incomplete(&'static str),
+}
+
 /// Samples per chunk: the unit of seeding (and of a task's work).
 pub const CHUNK: usize = 64;
 /// Most samples per stripe.
@@ -781,7 +799,7 @@ struct Tasks {
 
 impl FragilityJob {
     /// The block of one sample from its uniforms.
-    fn block_at(&self, u: [f64; 3]) -> Result<Block, String> {
+    fn block_at(&self, u: [f64; 3]) -> Result<Block, SampleError> {
         let b = &self.block;
         let (alpha, p) = match (&b.alpha, &b.p, &b.b, &b.h) {
             (Some(a), Some(p), _, _) => (a.at(u[0]), p.at(u[1])),
@@ -790,12 +808,16 @@ impl FragilityJob {
                 let r = half_b.hypot(half_h);
                 ((half_b / half_h).atan(), (3.0 * b.g / (4.0 * r)).sqrt())
             }
-            _ => return Err("the block has neither α and p nor b and h".into()),
+            _ => {
+                return Err(SampleError::Incomplete(
+                    "the block has neither α and p nor b and h",
+                ));
+            }
         };
         let eta = b
             .eta
             .map_or_else(|| housner_restitution(alpha), |e| e.at(u[2]));
-        Block::new(alpha, p, Some(eta), None, Some(b.g)).map_err(|e| e.to_string())
+        Ok(Block::new(alpha, p, Some(eta), None, Some(b.g))?)
     }
 
     /// Whether one sample topples, and its mode.
@@ -805,7 +827,7 @@ impl FragilityJob {
         j: usize,
         u: [f64; 4],
         records: &[(Record, f64)],
-    ) -> Result<Option<u8>, String> {
+    ) -> Result<Option<u8>, SampleError> {
         let block = self.block_at([u[0], u[1], u[2]])?;
         let options = Options::outcome(self.solver.solver());
         let formulation = self.formulation;
@@ -813,9 +835,9 @@ impl FragilityJob {
             let omega = match (&pulse.omega_p, &pulse.omega_ratio) {
                 (Some(w), _) => w.at(u[3]),
                 (_, Some(ratio)) => ratio.at(u[3]) * block.frequency_parameter(),
-                _ => return Err("the pulse has no frequency".into()),
+                _ => return Err(SampleError::Incomplete("the pulse has no frequency")),
             };
-            let unit = Pulse::new(pulse.family.shape(), 1.0, omega).map_err(|e| e.to_string())?;
+            let unit = Pulse::new(pulse.family.shape(), 1.0, omega)?;
             let a_p = if self.im == Im::PgaG {
                 im * block.gravity()
             } else {
@@ -826,7 +848,7 @@ impl FragilityJob {
                 pulse: unit.with_amplitude(a_p),
                 formulation,
             };
-            simulate(&problem, &options).map_err(|e| e.to_string())?
+            simulate(&problem, &options)?
         } else {
             let (record, per_unit) = &records[j % records.len()];
             let factor = if self.im == Im::PgaG {
@@ -839,7 +861,7 @@ impl FragilityJob {
                 pulse: record.scaled(factor),
                 formulation,
             };
-            simulate(&problem, &options).map_err(|e| e.to_string())?
+            simulate(&problem, &options)?
         };
         Ok(r.overturned.then(|| r.mode.map_or(0, |m| m.number())))
     }
@@ -927,10 +949,12 @@ impl FragilityJob {
                         uniform(&mut rng),
                     ];
                     let outcome = self.sample(self.stripes[k], j, u, &records).map_err(|e| {
-                        JobError::Point(format!(
-                            "stripe {k} ({} {}), sample {j}: {e}",
-                            self.stripes[k], self.im
-                        ))
+                        JobError::AtSample {
+                            stripe: k,
+                            level: format!("{} {}", self.stripes[k], self.im),
+                            sample: j,
+                            source: Box::new(e),
+                        }
                     })?;
                     counts.n += 1;
                     if let Some(mode) = outcome {

@@ -371,15 +371,22 @@ async fn a_job_view_links_everything_and_a_submission_estimates_its_cost() {
 #[tokio::test]
 async fn post_wait_answers_200_with_a_failed_job() {
     let engine: topple::service::Engine = Arc::new(|_, _| {
-        Err(topple::jobs::JobError::Point(
-            "simulation failed at 4 αg".into(),
-        ))
+        Err(topple::jobs::JobError::AtLevel {
+            level: 4.0,
+            source: topple::dynamics::SimError::ExactNeedsLinear,
+        })
     });
     let app = spawn_app_with_engine("wait-failed", |_| {}, Some(engine)).await;
     let (status, job, _) = app.post("/v1/jobs?wait=10", &time_history(4.0)).await;
     assert_eq!(status, 200, "{job}");
     assert_eq!(job["status"], "failed");
-    assert!(job["error"].as_str().unwrap_or("").contains("4 αg"));
+    assert!(
+        job["error"]
+            .as_str()
+            .unwrap_or("")
+            .contains("at a_p = 4 αg"),
+        "{job}"
+    );
     assert!(job.get("result").is_none());
     app.stop().await;
 }
