@@ -665,7 +665,7 @@ pub(crate) async fn result_response(
         (status = 400, description = "Bad id or format, an unknown parameter, or no CSV form", body = Problem, content_type = "application/problem+json"),
         (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
-        (status = 409, description = "Not finished (Retry-After says when to look again), failed, or canceled", body = Problem, content_type = "application/problem+json",
+        (status = 409, description = "Not finished (Retry-After says when to look again), failed, or canceled; or, for CSV and SVG, a stored result this engine cannot read (`result-unreadable`, naming the field: submit the spec again)", body = Problem, content_type = "application/problem+json",
             headers(("Retry-After" = Option<String>, description = "Seconds until a poll is worthwhile"))),
         (status = 503, description = "Busy: the memory for large results (result_memory) or the rendering turns stayed taken for 10 s, or the database is unavailable", body = Problem, content_type = "application/problem+json",
             headers(("Retry-After" = String, description = "Seconds to wait"))),

@@ -41,7 +41,7 @@ use crate::service::AppState;
         (status = 400, description = "Bad id or window (or a window on a result without time axis), an unknown parameter, or a result with nothing to draw", body = Problem, content_type = "application/problem+json"),
         (status = 401, description = "Reads need a token here (TOPPLE_AUTH_READS) and the request lacks it", body = Problem, content_type = "application/problem+json"),
         (status = 404, description = "No such job", body = Problem, content_type = "application/problem+json"),
-        (status = 409, description = "Not finished (or failed, or canceled)", body = Problem, content_type = "application/problem+json"),
+        (status = 409, description = "Not finished (or failed, or canceled), or a stored result this engine cannot read (`result-unreadable`, naming the field: submit the spec again)", body = Problem, content_type = "application/problem+json"),
         (status = 503, description = "Busy: the memory for large results (result_memory) or the rendering turns stayed taken for 10 s, or the database is unavailable", body = Problem, content_type = "application/problem+json",
             headers(("Retry-After" = String, description = "Seconds to wait"))),
     )

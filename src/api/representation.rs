@@ -105,9 +105,11 @@ pub(crate) async fn render_turn(
         .ok_or_else(|| Problem::busy("rendering"))
 }
 
-/// The CSV table of result document `doc` of job `id`. A series is streamed
-/// from the stored text in pieces; other tables (small: impacts, summaries,
-/// spectra) are rendered whole from the parsed document, in a rendering turn.
+/// The CSV table of result document `doc` of job `id`. The series of a
+/// document larger than [`MAX_BODY`] is streamed from the stored text in
+/// pieces (its samples read as they are written, the rest of the document
+/// left unread); every other table is rendered from the document read whole
+/// into its type, in a rendering turn when it is large.
 /// Parsing and rendering are not work for the runtime: they go to the
 /// blocking pool rather than the compute pool, where they would queue behind
 /// running spectra.
@@ -117,12 +119,18 @@ pub(crate) async fn csv_response(
     doc: Arc<Document>,
 ) -> Result<Response, Problem> {
     let stopped = |_| Problem::internal("CSV rendering stopped");
-    let rows = tokio::task::spawn_blocking({
-        let doc = doc.clone();
-        move || SeriesRows::of(doc.as_str())
-    })
-    .await
-    .map_err(stopped)?;
+    // A document of up to MAX_BODY is read whole into its type (so one that
+    // does not read is refused); only a larger one's series is streamed.
+    let rows = if doc.as_str().len() <= MAX_BODY {
+        None
+    } else {
+        tokio::task::spawn_blocking({
+            let doc = doc.clone();
+            move || SeriesRows::of(doc.as_str())
+        })
+        .await
+        .map_err(stopped)?
+    };
     let (body, kind) = match rows {
         Some(rows) => (
             Body::from_stream(csv_pieces(rows, doc)),

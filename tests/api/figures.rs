@@ -2,6 +2,8 @@
 //! span of time, validated like every query parameter, each window a
 //! representation of its own (its own bytes and entity tag).
 
+use std::sync::Arc;
+
 use serde_json::Value;
 
 use super::helpers::*;
@@ -122,5 +124,48 @@ async fn each_window_is_its_own_figure_with_its_own_etag() {
         200,
         "the whole figure's tag is not the window's"
     );
+    app.stop().await;
+}
+
+/// A stored result that does not read as a result of its kind (a document
+/// of another engine) is served as it is in JSON, and its table and figure
+/// are a 409 naming the field at fault, never a table or figure drawn from
+/// a guess.
+#[tokio::test]
+async fn an_unreadable_result_is_409_naming_the_field_for_csv_and_svg() {
+    let engine: topple::service::Engine = Arc::new(|job, control| {
+        let mut doc = job.run(control)?;
+        doc["rocked"] = serde_json::json!("maybe");
+        Ok(doc)
+    });
+    let app = spawn_app_with_engine("unreadable", |_| {}, Some(engine)).await;
+    let (status, job, _) = app.post("/v1/jobs?wait=20", &time_history(4.0)).await;
+    assert_eq!(status, 200, "{job}");
+    assert_eq!(job["status"], "succeeded", "{job}");
+    let id = job["id"].as_str().expect("id");
+    let json = get(&app, &format!("/v1/jobs/{id}/result"), None).await;
+    assert_eq!(json.status(), 200);
+    let doc: Value = json.json().await.expect("json");
+    assert_eq!(doc["rocked"], "maybe");
+    for path in [
+        format!("/v1/jobs/{id}/result?format=csv"),
+        format!("/v1/jobs/{id}/result?format=svg"),
+        format!("/v1/jobs/{id}/plot.svg"),
+    ] {
+        let r = get(&app, &path, None).await;
+        let body = crate::assert_problem(r, 409, Some("/rocked")).await;
+        assert!(
+            body["type"]
+                .as_str()
+                .unwrap_or("")
+                .ends_with("result-unreadable"),
+            "{body}"
+        );
+        let detail = body["detail"].as_str().unwrap_or("");
+        assert!(
+            detail.contains("time_history") && detail.contains("submit its spec again"),
+            "{detail}"
+        );
+    }
     app.stop().await;
 }
