@@ -4,13 +4,13 @@
 
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
-use serde_json::Value;
 
 use super::style::{
     AXIS, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, REFERENCE, Swatch, TICKS,
     X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num, marker, text, tick,
 };
-use super::{at, block_note, num, pulse_name, render, text_at};
+use super::{block_text, render, shape_title};
+use crate::jobs::friction::FrictionResult;
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 620;
@@ -29,36 +29,28 @@ struct Point {
 }
 
 /// The figure of a `friction_spectrum` result.
-pub fn svg(typed: &crate::jobs::friction::FrictionResult) -> Result<String, String> {
-    svg_doc(&super::document(typed))
-}
-
-/// The figure of the document (being replaced by [`svg`]).
-pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
-    let spec = result.get("spec").unwrap_or(&Value::Null);
-    let alpha = at(spec, "/block/alpha").ok_or("the result's spec has no block.alpha")?;
+pub fn svg(result: &FrictionResult) -> Result<String, String> {
+    let spec = &result.spec;
+    let alpha = spec.block.alpha;
     let tan = alpha.tan();
     let points: Vec<Point> = result
-        .get("points")
-        .and_then(Value::as_array)
-        .ok_or("the result has no points")?
+        .points
         .iter()
         .filter_map(|p| {
-            let a = num(p, "a_alpha_g")?;
-            let lift_off = p.get("lift_off").and_then(Value::as_bool) == Some(true)
-                || num(p, "lift_off_time").is_some();
-            let peak = num(p, "peak_over_tan_alpha")
-                .or_else(|| num(p, "peak_friction_demand").map(|d| d / tan))
+            let lift_off = p.lift_off || p.lift_off_time.is_some();
+            let peak = p
+                .peak_over_tan_alpha
+                .or_else(|| p.peak_friction_demand.map(|d| d / tan))
                 .filter(|d| d.is_finite() && !lift_off);
             if peak.is_none() && !lift_off {
                 return None;
             }
             Some(Point {
-                a,
+                a: p.a_alpha_g,
                 peak,
-                initiation: num(p, "initiation_friction_demand").map(|d| d / tan),
-                overturned: p.get("overturned").and_then(Value::as_bool) == Some(true),
-                mode: p.get("mode").and_then(Value::as_u64).map(|m| m as u8),
+                initiation: p.initiation_friction_demand.map(|d| d / tan),
+                overturned: p.overturned,
+                mode: p.mode,
                 lift_off,
             })
         })
@@ -68,7 +60,7 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     }
     // μ of the block over tan α; μ can be any size (1e308 for "never
     // slides"), so it sets the scale only when it is near the demand.
-    let mu_of_block = at(spec, "/block/mu");
+    let mu_of_block = spec.block.mu;
     let mu = mu_of_block.map(|m| m / tan);
     // Lift-off makes the demand unbounded: the range follows the others, and
     // lift-off amplitudes are marked on the top edge.
@@ -177,13 +169,12 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
         )),
         (None, None) => {}
     }
-    legend.note(block_note(spec.get("block")));
-    let ratio = num(result, "omega_ratio").or_else(|| at(spec, "/omega_ratio"));
+    legend.note(block_text(&spec.block));
+    let pulse = shape_title(spec.pulse.shape());
+    let ratio = fmt_num(result.omega_ratio, 4);
     legend.note(format!(
-        "{} pulse, ω_p/p = {}, {} formulation",
-        pulse_name(spec.get("pulse")),
-        ratio.map_or("?".into(), |r| fmt_num(r, 4)),
-        text_at(spec, "/formulation")
+        "{pulse} pulse, ω_p/p = {ratio}, {} formulation",
+        spec.formulation.name()
     ));
     legend.note(format!(
         "right axis: μ_min = tan α × left axis (tan α = {})",
@@ -196,11 +187,7 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
         ));
     }
 
-    let title = format!(
-        "Friction needed for pure rocking: {} pulse, ω_p/p = {}",
-        pulse_name(spec.get("pulse")),
-        ratio.map_or("?".into(), |r| fmt_num(r, 4)),
-    );
+    let title = format!("Friction needed for pure rocking: {pulse} pulse, ω_p/p = {ratio}");
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
         let chart = ChartBuilder::on(&chart_area)
@@ -280,28 +267,51 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use serde_json::{Value, json};
+    use crate::jobs::JobResult;
+    use crate::jobs::friction::{FrictionPointDoc, FrictionResult};
 
-    pub(crate) fn sample() -> Value {
-        let points: Vec<Value> = (0..20)
+    /// The friction spectrum of the spec `text`.
+    fn computed(text: &str) -> FrictionResult {
+        match crate::plot::tests::typed(text) {
+            JobResult::FrictionSpectrum(r) => *r,
+            other => panic!("a friction spectrum, not {:?}", other.job_kind()),
+        }
+    }
+
+    /// A one-sine friction spectrum at ω_p/p = 7.336 whose twenty amplitudes
+    /// (1.1 to 10.6 αg) survive up to 8 αg, overturn in mode 1 up to 9.5 αg
+    /// and in mode 2 above.
+    pub(crate) fn sample() -> FrictionResult {
+        let mut result = computed(
+            r#"{"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+                "pulse": {"type": "one_sine"}, "formulation": "nonlinear",
+                "omega_ratio": 7.336, "a_alpha_g": [1.1]}"#,
+        );
+        let tan = 0.25f64.tan();
+        result.points = (0..20)
             .map(|k| {
                 let a = 1.1 + 0.5 * f64::from(k);
                 let over = a > 8.0;
-                json!({"a_alpha_g": a, "peak_friction_demand": 0.25 + 0.04 * a,
-                       "peak_over_tan_alpha": (0.25 + 0.04 * a) / 0.25f64.tan(),
-                       "initiation_friction_demand": 0.255, "overturned": over,
-                       "mode": if over { Some(if a > 9.5 { 2 } else { 1 }) } else { None },
-                       "lift_off_time": null})
+                FrictionPointDoc {
+                    a_alpha_g: a,
+                    a_p_g: a * 0.25,
+                    peak_friction_demand: Some(0.25 + 0.04 * a),
+                    peak_over_tan_alpha: Some((0.25 + 0.04 * a) / tan),
+                    initiation_friction_demand: Some(0.255),
+                    overturned: over,
+                    mode: over.then_some(if a > 9.5 { 2 } else { 1 }),
+                    lift_off: false,
+                    lift_off_time: None,
+                    friction_demand_followed_until: None,
+                }
             })
             .collect();
-        json!({"kind": "friction_spectrum", "omega_ratio": 7.336, "points": points,
-               "spec": {"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9, "g": 9.81},
-                        "pulse": {"type": "one_sine"}, "formulation": "nonlinear", "omega_ratio": 7.336}})
+        result
     }
 
     #[test]
     fn demand_curve_axes_and_overturned_points() {
-        let svg = super::svg_doc(&sample()).expect("svg");
+        let svg = super::svg(&sample()).expect("svg");
         for needle in [
             "Friction needed for pure rocking: one-sine pulse, ω_p/p = 7.336",
             "a_p / (α g)",
@@ -310,6 +320,7 @@ pub(crate) mod tests {
             "block overturns, mode 1",
             "block overturns, mode 2",
             "when rocking starts",
+            "first overturning amplitude: 8.1 αg",
         ] {
             assert!(svg.contains(needle), "missing {needle:?}");
         }
@@ -320,20 +331,33 @@ pub(crate) mod tests {
     /// the demand (an infinite μ/tan α once made plotters' tick search spin).
     #[test]
     fn a_huge_mu_leaves_the_scale_to_the_demand() {
-        let mut doc = sample();
-        doc["spec"]["block"]["mu"] = json!(1.1962447537642911e308);
-        let svg = super::svg_doc(&doc).expect("svg");
+        let mut result = sample();
+        result.spec.block.mu = Some(1.1962447537642911e308);
+        let svg = super::svg(&result).expect("svg");
         assert!(svg.contains("μ of the block = 1.2e308: far above"), "{svg}");
         assert!(!svg.contains("(slides above)"));
-        doc["spec"]["block"]["mu"] = json!(0.4);
-        let svg = super::svg_doc(&doc).expect("svg");
+        result.spec.block.mu = Some(0.4);
+        let svg = super::svg(&result).expect("svg");
         assert!(svg.contains("μ of the block = 0.4 (slides"), "{svg}");
     }
 
     #[test]
+    fn lift_off_is_marked_on_the_top_edge() {
+        // One-cosine at ω_p/p = 1: 6 αg lifts the block off, 2 αg does not.
+        let result = computed(
+            r#"{"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+                "pulse": {"type": "one_cosine"}, "omega_ratio": 1.0, "a_alpha_g": [2.0, 6.0]}"#,
+        );
+        let lifted: Vec<bool> = result.points.iter().map(|p| p.lift_off).collect();
+        assert_eq!(lifted, [false, true]);
+        let svg = super::svg(&result).expect("svg");
+        assert!(svg.contains("lift-off (f_z → 0): demand"), "{svg}");
+    }
+
+    #[test]
     fn no_points_no_figure() {
-        let mut doc = sample();
-        doc["points"] = json!([]);
-        assert!(super::svg_doc(&doc).is_err());
+        let mut result = sample();
+        result.points.clear();
+        assert!(super::svg(&result).is_err());
     }
 }

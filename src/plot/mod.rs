@@ -132,15 +132,6 @@ pub(crate) fn text_at<'a>(v: &'a Value, pointer: &str) -> &'a str {
     v.pointer(pointer).and_then(Value::as_str).unwrap_or("")
 }
 
-/// The numbers of array `name` of `v` (non-numbers read as NaN, so indices
-/// stay aligned).
-pub(crate) fn column(v: &Value, name: &str) -> Vec<f64> {
-    v.get(name)
-        .and_then(Value::as_array)
-        .map(|a| a.iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect())
-        .unwrap_or_default()
-}
-
 /// How a pulse family reads in a title: "one-sine", "Type-C2".
 pub(crate) fn pulse_name(pulse: Option<&Value>) -> String {
     let kind = pulse
@@ -211,7 +202,6 @@ pub(crate) fn block_note(block: Option<&Value>) -> String {
 }
 
 /// How a pulse family reads in a title: "one-sine", "Type-C2".
-#[allow(dead_code)] // until the figures read typed results
 pub(crate) fn shape_title(shape: PulseShape) -> String {
     match shape {
         PulseShape::OneSine => "one-sine".into(),
@@ -230,7 +220,6 @@ pub(crate) fn shape_title(shape: PulseShape) -> String {
 }
 
 /// "α = 0.25 rad, p = 2.14 rad/s, η = 0.9" (and μ when given) of a block.
-#[allow(dead_code)] // until the figures read typed results
 pub(crate) fn block_text(b: &BlockNorm) -> String {
     let mut parts = vec![
         format!("α\u{a0}=\u{a0}{}\u{a0}rad", style::fmt_num(b.alpha, 3)),

@@ -2,10 +2,10 @@
 //! cycloidal pulse evaluated in closed form (smooth at any zoom), or a
 //! recorded ground motion by its samples.
 
-use serde_json::Value;
+use std::sync::Arc;
 
-use super::{at, column, num, text_at};
 use crate::dynamics::Pulse;
+use crate::jobs::time_history::TimeHistoryJob;
 
 /// Samples of a pulse across any drawn time span.
 const PULSE_SAMPLES: u32 = 1200;
@@ -22,29 +22,22 @@ pub enum Motion {
         /// Sampling interval, s.
         dt: f64,
         /// Accelerations, m/s².
-        acc: Vec<f64>,
+        acc: Arc<[f64]>,
     },
 }
 
 impl Motion {
     /// The ground motion of `spec`, if it names one the figure can draw.
-    pub fn of(spec: &Value) -> Option<Motion> {
-        if let Some(g) = spec.get("ground_motion") {
-            let dt = num(g, "dt").filter(|dt| *dt > 0.0)?;
-            let acc = column(g, "acc");
-            return (acc.len() >= 2).then_some(Motion::Record { dt, acc });
+    pub fn of(spec: &TimeHistoryJob) -> Option<Motion> {
+        if let Some(g) = &spec.ground_motion {
+            let dt = Some(g.dt).filter(|dt| *dt > 0.0)?;
+            return (g.acc.len() >= 2).then(|| Motion::Record {
+                dt,
+                acc: g.acc.clone(),
+            });
         }
-        let params = crate::jobs::spec::ShapeParams {
-            n: spec
-                .pointer("/pulse/n")
-                .and_then(Value::as_u64)
-                .and_then(|n| u32::try_from(n).ok()),
-            symmetric: spec.pointer("/pulse/symmetric").and_then(Value::as_bool),
-            gamma: at(spec, "/pulse/gamma"),
-            nu: at(spec, "/pulse/nu"),
-        };
-        let shape = crate::jobs::spec::shape_of(text_at(spec, "/pulse/type"), params)?;
-        Pulse::new(shape, at(spec, "/pulse/a_p")?, at(spec, "/pulse/omega_p")?)
+        let pulse = spec.pulse.as_ref()?;
+        Pulse::new(pulse.shape, pulse.a_p, pulse.omega_p)
             .ok()
             .map(|p| Motion::Pulse(Box::new(p)))
     }
@@ -147,12 +140,25 @@ fn record_curve(dt: f64, acc: &[f64], t0: f64, t1: f64, g: f64) -> Vec<(f64, f64
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::jobs::time_history::TimeHistorySpec;
     use serde_json::json;
+
+    /// The validated time-history job of the spec `doc`.
+    fn job(doc: serde_json::Value) -> TimeHistoryJob {
+        serde_json::from_value::<TimeHistorySpec>(doc)
+            .expect("a spec")
+            .validate()
+            .expect("a valid spec")
+    }
 
     #[test]
     fn a_one_sine_pulse_lasts_one_period() {
-        let spec = json!({"pulse": {"type": "one_sine", "a_p": 7.4, "omega_p": 10.7}});
+        let spec = job(
+            json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14},
+                              "pulse": {"type": "one_sine", "a_p": 7.4, "omega_p": 10.7}}),
+        );
         let m = Motion::of(&spec).expect("pulse");
+        assert!(matches!(m, Motion::Pulse(_)));
         assert!((m.duration() - std::f64::consts::TAU / 10.7).abs() < 1e-12);
         let c = m.curve(0.0, 1.0, 9.81);
         assert_eq!(c.len(), 1203);
@@ -163,9 +169,33 @@ mod tests {
     }
 
     #[test]
+    fn a_record_of_the_spec_is_its_samples() {
+        let acc: Vec<f64> = (0..300).map(|k| (f64::from(k) * 0.1).sin() * 5.0).collect();
+        let spec = job(
+            json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14},
+                              "ground_motion": {"dt": 0.01, "acc": acc, "unit": "m/s2"}}),
+        );
+        let m = Motion::of(&spec).expect("record");
+        let Motion::Record { dt, acc: samples } = &m else {
+            panic!("a record");
+        };
+        assert_eq!((*dt, &samples[..]), (0.01, &acc[..]));
+        assert!((m.duration() - 2.99).abs() < 1e-12);
+        let peak = acc.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert_eq!(m.peak(), peak);
+        // Neither a pulse nor a record: nothing to draw.
+        let mut bare = spec;
+        bare.ground_motion = None;
+        assert!(Motion::of(&bare).is_none());
+    }
+
+    #[test]
     fn a_record_is_drawn_by_its_samples_inside_a_span() {
         let acc: Vec<f64> = (0..300).map(|k| f64::from(k) * 0.01).collect();
-        let m = Motion::Record { dt: 0.01, acc };
+        let m = Motion::Record {
+            dt: 0.01,
+            acc: acc.into(),
+        };
         assert!((m.duration() - 2.99).abs() < 1e-12);
         let c = m.curve(1.0, 1.5, 1.0);
         assert!(c.first().is_some_and(|p| p.0 <= 1.0), "{c:?}");

@@ -12,7 +12,10 @@ use super::style::{
     REFERENCE, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num,
     marker, mesh, text, tick, tint,
 };
-use super::{at, block_note, num, pulse_name, render, text_at};
+use super::{block_text, num, render, shape_title};
+use crate::dynamics::PulseShape;
+use crate::jobs::record_spectrum::ScaleTransitionDoc;
+use crate::jobs::spectrum::{FrequencyDoc, SpectrumResult, TransitionDoc};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -26,10 +29,10 @@ pub const EQ21_HOLDS_TO: f64 = 3.0;
 /// drawn range `[x0, x1]` where it holds (ω_p/p ≤ 3); β from the lines'
 /// own eq. 21 values. Empty when the range lies beyond 3 or the lines carry
 /// no eq. 21 value.
-pub fn eq21_line(lines: &[&Value], x0: f64, x1: f64) -> Vec<(f64, f64)> {
+pub fn eq21_line(lines: &[FrequencyDoc], x0: f64, x1: f64) -> Vec<(f64, f64)> {
     let beta = lines.iter().find_map(|l| {
-        let r = num(l, "omega_ratio").filter(|r| *r > 0.0)?;
-        Some((num(l, "eq21_alpha_g")? - 1.0) / r)
+        let r = Some(l.omega_ratio).filter(|r| *r > 0.0)?;
+        Some((l.eq21_alpha_g? - 1.0) / r)
     });
     let (from, to) = (x0.max(0.0), x1.min(EQ21_HOLDS_TO));
     match beta {
@@ -84,24 +87,50 @@ pub fn region_legend(used: impl Fn(usize) -> bool, no_rocking: &str) -> Legend {
     legend
 }
 
+/// A transition as the regions read it: where it lies on the amplitude
+/// axis, whether overturning begins there as the amplitude grows ("up") or
+/// a safe interval does, and the mode on the overturning side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    /// Amplitude (αg in a pulse spectrum, a scale factor in a record's).
+    pub at: f64,
+    /// Overturning begins here.
+    pub up: bool,
+    /// Mode on the overturning side.
+    pub mode: u8,
+}
+
+impl From<&TransitionDoc> for Crossing {
+    fn from(t: &TransitionDoc) -> Self {
+        Crossing {
+            at: t.a_alpha_g,
+            up: t.direction == "up",
+            mode: t.mode,
+        }
+    }
+}
+
+impl From<&ScaleTransitionDoc> for Crossing {
+    fn from(t: &ScaleTransitionDoc) -> Self {
+        Crossing {
+            at: t.scale,
+            up: t.direction == "up",
+            mode: t.mode,
+        }
+    }
+}
+
 /// Overturning intervals (lo, hi, mode) of a list of transitions: each "up"
 /// opens one (of the mode above it), the next "down" closes it; an open one
 /// ends at `a_max`.
-pub fn intervals(transitions: &[Value], a_max: f64) -> Vec<(f64, f64, u8)> {
+pub fn intervals(transitions: &[Crossing], a_max: f64) -> Vec<(f64, f64, u8)> {
     let mut out = Vec::new();
     let mut open: Option<(f64, u8)> = None;
     for t in transitions {
-        let (Some(a), Some(dir)) = (
-            num(t, "a_alpha_g"),
-            t.get("direction").and_then(Value::as_str),
-        ) else {
-            continue;
-        };
-        let mode = t.get("mode").and_then(Value::as_u64).unwrap_or(1) as u8;
-        if dir == "up" {
-            open = Some((a, mode));
+        if t.up {
+            open = Some((t.at, t.mode));
         } else if let Some((lo, m)) = open.take() {
-            out.push((lo, a, m));
+            out.push((lo, t.at, m));
         }
     }
     if let Some((lo, m)) = open {
@@ -125,22 +154,24 @@ fn split_at_changes(regions: &[(f64, f64, u8)], changes: &[(f64, u8)]) -> Vec<(f
     out
 }
 
-/// The overturning regions of one frequency with their modes. The extents are
-/// those of the principal view when the line has one (bands narrower than its
-/// relative width dropped); the modes come from the full view, a dropped safe
-/// gap taking the mode below it.
-pub fn regions(line: &Value, a_max: f64) -> Vec<(f64, f64, u8)> {
-    let list = |v: Option<&Value>| v.and_then(Value::as_array).cloned().unwrap_or_default();
-    let changes: Vec<(f64, u8)> = list(line.get("mode_changes"))
-        .iter()
-        .filter_map(|m| Some((num(m, "a_alpha_g")?, m.get("to_mode")?.as_u64()? as u8)))
-        .collect();
-    let fine = split_at_changes(&intervals(&list(line.get("transitions")), a_max), &changes);
-    let Some(principal) = line.pointer("/principal/transitions") else {
+/// The overturning regions of one line with their modes, from its
+/// `transitions`, its mode `changes` (amplitude, new mode) and the
+/// transitions of its `principal` view. The extents are those of the
+/// principal view when there is one (bands narrower than its relative width
+/// dropped); the modes come from the full view, a dropped safe gap taking
+/// the mode below it.
+pub fn regions_of(
+    transitions: &[Crossing],
+    changes: &[(f64, u8)],
+    principal: Option<&[Crossing]>,
+    a_max: f64,
+) -> Vec<(f64, f64, u8)> {
+    let fine = split_at_changes(&intervals(transitions, a_max), changes);
+    let Some(principal) = principal else {
         return fine;
     };
     let mut out = Vec::new();
-    for (lo, hi, mode) in intervals(&list(Some(principal)), a_max) {
+    for (lo, hi, mode) in intervals(principal, a_max) {
         let mut inside: Vec<(f64, f64, u8)> = fine
             .iter()
             .filter(|f| f.1 > lo && f.0 < hi)
@@ -167,37 +198,65 @@ pub fn regions(line: &Value, a_max: f64) -> Vec<(f64, f64, u8)> {
     out
 }
 
-/// The figure of a `spectrum` result.
-pub fn svg(typed: &crate::jobs::spectrum::SpectrumResult) -> Result<String, String> {
-    svg_doc(&super::document(typed))
+/// The overturning regions of one frequency of a pulse spectrum with their
+/// modes (see [`regions_of`]).
+pub fn frequency_regions(line: &FrequencyDoc, a_max: f64) -> Vec<(f64, f64, u8)> {
+    let crossings = |list: &[TransitionDoc]| list.iter().map(Crossing::from).collect::<Vec<_>>();
+    let changes: Vec<(f64, u8)> = line
+        .mode_changes
+        .iter()
+        .map(|m| (m.a_alpha_g, m.to_mode))
+        .collect();
+    regions_of(
+        &crossings(&line.transitions),
+        &changes,
+        Some(&crossings(&line.principal.transitions)),
+        a_max,
+    )
 }
 
-/// The figure of the document (being replaced by [`svg`]).
-pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
-    let lines: Vec<&Value> = result
-        .get("spectrum")
-        .and_then(Value::as_array)
-        .ok_or("the result has no spectrum")?
+/// [`regions_of`] a line given as a document with the keys of a pulse
+/// spectrum's line (`transitions`, `mode_changes`, `principal.transitions`,
+/// amplitudes at `a_alpha_g`).
+pub fn regions(line: &Value, a_max: f64) -> Vec<(f64, f64, u8)> {
+    let list = |v: Option<&Value>| v.and_then(Value::as_array).cloned().unwrap_or_default();
+    let crossings = |v: Option<&Value>| -> Vec<Crossing> {
+        list(v)
+            .iter()
+            .filter_map(|t| {
+                Some(Crossing {
+                    at: num(t, "a_alpha_g")?,
+                    up: t.get("direction")?.as_str()? == "up",
+                    mode: t.get("mode").and_then(Value::as_u64).unwrap_or(1) as u8,
+                })
+            })
+            .collect()
+    };
+    let changes: Vec<(f64, u8)> = list(line.get("mode_changes"))
         .iter()
-        .filter(|l| num(l, "omega_ratio").is_some())
+        .filter_map(|m| Some((num(m, "a_alpha_g")?, m.get("to_mode")?.as_u64()? as u8)))
         .collect();
+    let principal = line
+        .pointer("/principal/transitions")
+        .map(|p| crossings(Some(p)));
+    regions_of(
+        &crossings(line.get("transitions")),
+        &changes,
+        principal.as_deref(),
+        a_max,
+    )
+}
+
+/// The figure of a `spectrum` result.
+pub fn svg(result: &SpectrumResult) -> Result<String, String> {
+    let lines = &result.spectrum;
     if lines.is_empty() {
         return Err("the spectrum has no frequencies".into());
     }
-    let spec = result.get("spec").unwrap_or(&Value::Null);
-    let a_max = at(spec, "/a_max_alpha_g")
-        .or_else(|| {
-            lines
-                .iter()
-                .flat_map(|l| regions(l, 0.0))
-                .map(|r| r.1)
-                .reduce(f64::max)
-        })
-        .unwrap_or(20.0)
-        .max(1.5);
-    let alpha = at(spec, "/block/alpha");
-    let p = at(spec, "/block/p");
-    let ratios: Vec<f64> = lines.iter().filter_map(|l| num(l, "omega_ratio")).collect();
+    let spec = &result.spec;
+    let a_max = spec.a_max_alpha_g.max(1.5);
+    let (alpha, p) = (spec.block.alpha, spec.block.p);
+    let ratios: Vec<f64> = lines.iter().map(|l| l.omega_ratio).collect();
     let rmin = ratios.iter().copied().fold(f64::INFINITY, f64::min);
     let rmax = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let half = if rmax > rmin {
@@ -213,16 +272,12 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     let columns: Vec<Column> = lines
         .iter()
         .map(|l| {
-            let x = num(l, "omega_ratio").unwrap_or(f64::NAN);
-            let mut bands = Vec::new();
-            if let Some(th) = num(l, "threshold_alpha_g") {
-                bands.push(Band {
-                    lo: 0.0,
-                    hi: th,
-                    class: CLASS_NO_ROCKING,
-                });
-            }
-            for (lo, hi, mode) in regions(l, a_max) {
+            let mut bands = vec![Band {
+                lo: 0.0,
+                hi: l.threshold_alpha_g,
+                class: CLASS_NO_ROCKING,
+            }];
+            for (lo, hi, mode) in frequency_regions(l, a_max) {
                 bands.push(Band {
                     lo,
                     hi,
@@ -231,7 +286,10 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             }
             let mut bands = tile(0.0, a_max, &bands, CLASS_SAFE);
             simplify(&mut bands, a_max / 1000.0, |_| false);
-            Column { x, bands }
+            Column {
+                x: l.omega_ratio,
+                bands,
+            }
         })
         .collect();
     let shaded: Vec<_> = tiling(&columns, half)
@@ -244,12 +302,12 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
     // (the paper's finite jump).
     let mut minimum: Vec<Vec<(f64, f64)>> = Vec::new();
     let mut last_mode = None;
-    for l in &lines {
-        let (Some(r), Some(a)) = (num(l, "omega_ratio"), num(l, "min_overturn_alpha_g")) else {
+    for l in lines {
+        let Some(a) = l.min_overturn_alpha_g else {
             last_mode = None;
             continue;
         };
-        let mode = l.get("min_overturn_mode").and_then(Value::as_u64);
+        let (r, mode) = (l.omega_ratio, l.min_overturn_mode);
         if last_mode.is_none() || last_mode != Some(mode) {
             minimum.push(Vec::new());
         }
@@ -258,21 +316,21 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             part.push((r, a));
         }
     }
-    // A curve known at one frequency only is drawn across that frequency's bar.
-    let curve = |key: &str| -> Vec<(f64, f64)> {
+    // The closed-form mode-2 boundary; known at one frequency only, it is
+    // drawn across that frequency's bar.
+    let mode2_closed = {
         let points: Vec<(f64, f64)> = lines
             .iter()
-            .filter_map(|l| Some((num(l, "omega_ratio")?, num(l, key)?)))
+            .filter_map(|l| Some((l.omega_ratio, l.closed_form_mode2_alpha_g?)))
             .collect();
         match points.as_slice() {
             [(x, y)] => vec![(x - half, *y), (x + half, *y)],
             _ => points,
         }
     };
-    let eq21 = eq21_line(&lines, x0, x1);
-    let mode2_closed = curve("closed_form_mode2_alpha_g");
-    let beta = match text_at(spec, "/pulse/type") {
-        "one_cosine" => "1/4",
+    let eq21 = eq21_line(lines, x0, x1);
+    let beta = match spec.pulse.shape() {
+        PulseShape::OneCosine => "1/4",
         _ => "1/6",
     };
 
@@ -304,29 +362,25 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             "mode-2 boundary, corrected eq. 47 (linear closed form)",
         );
     }
-    legend.note(block_note(spec.get("block")));
+    legend.note(block_text(&spec.block));
     legend.note(format!(
         "{} pulse, {} formulation, {} frequenc{}",
-        pulse_name(spec.get("pulse")),
-        text_at(spec, "/formulation"),
+        shape_title(spec.pulse.shape()),
+        spec.formulation.name(),
         lines.len(),
         if lines.len() == 1 { "y" } else { "ies" }
     ));
-    if lines.iter().any(|l| l.get("principal").is_some()) {
-        let width = at(spec, "/principal_relative_width").unwrap_or(0.01);
-        legend.note(format!(
-            "shading: principal view (bands narrower than {} % of their amplitude omitted; the result lists every transition)",
-            fmt_num(width * 100.0, 3)
-        ));
-    }
-    if alpha.is_some() && p.is_some() {
-        legend.note("top axis: f_p = (ω_p/p)·p/2π; right axis: a_p/g = α·a_p/(αg)");
-    }
+    // Every line has its principal view: the shading follows it.
+    legend.note(format!(
+        "shading: principal view (bands narrower than {} % of their amplitude omitted; the result lists every transition)",
+        fmt_num(spec.principal_relative_width * 100.0, 3)
+    ));
+    legend.note("top axis: f_p = (ω_p/p)·p/2π; right axis: a_p/g = α·a_p/(αg)");
 
     let title = format!(
         "Overturning spectrum: {} pulse, {} formulation",
-        pulse_name(spec.get("pulse")),
-        text_at(spec, "/formulation")
+        shape_title(spec.pulse.shape()),
+        spec.formulation.name()
     );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
@@ -335,24 +389,16 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             .margin(10)
             .margin_right(14)
             .x_label_area_size(X_LABEL_AREA)
-            .y_label_area_size(Y_LABEL_AREA);
-        if alpha.is_some() && p.is_some() {
-            builder
-                .top_x_label_area_size(X_LABEL_AREA)
-                .right_y_label_area_size(Y_LABEL_AREA);
-        }
+            .y_label_area_size(Y_LABEL_AREA)
+            .top_x_label_area_size(X_LABEL_AREA)
+            .right_y_label_area_size(Y_LABEL_AREA);
         let chart =
             builder.build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", 0.0, a_max)?)?;
-        let mut chart = match (alpha, p) {
-            (Some(alpha), Some(p)) => {
-                let hz = |r: f64| r * p / std::f64::consts::TAU;
-                chart.set_secondary_coord(
-                    axis_range("top", hz(x0), hz(x1))?,
-                    axis_range("right", 0.0, a_max * alpha)?,
-                )
-            }
-            _ => chart.set_secondary_coord(x0..x1, 0.0..a_max),
-        };
+        let hz = |r: f64| r * p / std::f64::consts::TAU;
+        let mut chart = chart.set_secondary_coord(
+            axis_range("top", hz(x0), hz(x1))?,
+            axis_range("right", 0.0, a_max * alpha)?,
+        );
         for piece in &shaded {
             chart.draw_series(std::iter::once(Polygon::new(
                 piece.polygon.clone(),
@@ -360,17 +406,15 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
             )))?;
         }
         mesh(&mut chart, "ω_p / p", "a_p / (α g)").draw()?;
-        if alpha.is_some() && p.is_some() {
-            chart
-                .configure_secondary_axes()
-                .x_desc("pulse frequency f_p (Hz)")
-                .y_desc("a_p / g")
-                .label_style(text(TICKS, INK))
-                .axis_desc_style(text(AXIS, INK))
-                .x_label_formatter(&|v| tick(*v))
-                .y_label_formatter(&|v| tick(*v))
-                .draw()?;
-        }
+        chart
+            .configure_secondary_axes()
+            .x_desc("pulse frequency f_p (Hz)")
+            .y_desc("a_p / g")
+            .label_style(text(TICKS, INK))
+            .axis_desc_style(text(AXIS, INK))
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
+            .draw()?;
         for part in clip_y(&mode2_closed, 0.0, a_max) {
             chart.draw_series(DashedLineSeries::new(
                 part,
@@ -411,28 +455,72 @@ pub(crate) fn svg_doc(result: &Value) -> Result<String, String> {
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use serde_json::{Value, json};
+    use serde_json::json;
 
-    fn line(r: f64, up1: f64, down: f64, up2: f64) -> Value {
-        let t = |a: f64, d: &str, m: u8| json!({"a_alpha_g": a, "direction": d, "mode": m, "impacts": if m == 1 {1} else {0}, "bracket": [a - 1e-4, a + 1e-4]});
-        let transitions = vec![t(up1, "up", 1), t(down, "down", 1), t(up2, "up", 2)];
-        json!({"omega_ratio": r, "threshold_alpha_g": 1.02, "transitions": transitions.clone(),
-               "mode_changes": [], "min_overturn_alpha_g": up1, "min_overturn_mode": 1,
-               "principal": {"transitions": transitions},
-               "eq21_alpha_g": 1.0 + r / 6.0, "closed_form_mode2_alpha_g": null})
+    use super::{Crossing, regions, regions_of};
+    use crate::jobs::JobResult;
+    use crate::jobs::spectrum::{FrequencyDoc, ModeChangeDoc, SpectrumResult, TransitionDoc};
+
+    /// The spectrum of the spec `text`.
+    fn computed(text: &str) -> SpectrumResult {
+        match crate::plot::tests::typed(text) {
+            JobResult::Spectrum(r) => *r,
+            other => panic!("a spectrum, not {:?}", other.job_kind()),
+        }
     }
 
-    pub(crate) fn sample() -> Value {
-        json!({"kind": "spectrum",
-               "spectrum": [line(2.0, 1.25, 2.37, 2.41), line(2.25, 1.29, 2.66, 2.71), line(2.5, 1.33, 2.96, 3.03)],
-               "spec": {"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9, "g": 9.81},
-                        "pulse": {"type": "one_sine"}, "formulation": "nonlinear", "a_max_alpha_g": 8.0,
-                        "principal_relative_width": 0.01}})
+    fn transition(a: f64, direction: &str, mode: u8) -> TransitionDoc {
+        TransitionDoc {
+            a_alpha_g: a,
+            direction: direction.into(),
+            mode,
+            impacts: if mode == 1 { 1 } else { 0 },
+            bracket: [a - 1e-4, a + 1e-4],
+            a_g: a * 0.25,
+        }
+    }
+
+    /// `base` at ω_p/p = `r`: mode 1 from `up1` to `down`, mode 2 from `up2`.
+    fn line(base: &FrequencyDoc, r: f64, up1: f64, down: f64, up2: f64) -> FrequencyDoc {
+        let transitions = vec![
+            transition(up1, "up", 1),
+            transition(down, "down", 1),
+            transition(up2, "up", 2),
+        ];
+        let mut l = base.clone();
+        l.omega_ratio = r;
+        l.threshold_alpha_g = 1.02;
+        l.transitions = transitions.clone();
+        l.mode_changes = Vec::new();
+        l.min_overturn_alpha_g = Some(up1);
+        l.min_overturn_mode = Some(1);
+        l.principal.transitions = transitions;
+        l.eq21_alpha_g = Some(1.0 + r / 6.0);
+        l.closed_form_mode2_alpha_g = None;
+        l
+    }
+
+    /// A one-sine spectrum up to 8 αg whose three frequencies (ω_p/p = 2,
+    /// 2.25, 2.5) each overturn in mode 1, then are safe, then overturn in
+    /// mode 2.
+    pub(crate) fn sample() -> SpectrumResult {
+        let mut result = computed(
+            r#"{"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+                "pulse": {"type": "one_sine"}, "formulation": "nonlinear",
+                "omega_ratio": [2.0], "a_max_alpha_g": 8, "scan_step_alpha_g": 0.1}"#,
+        );
+        let base = result.spectrum[0].clone();
+        result.spectrum = vec![
+            line(&base, 2.0, 1.25, 2.37, 2.41),
+            line(&base, 2.25, 1.29, 2.66, 2.71),
+            line(&base, 2.5, 1.33, 2.96, 3.03),
+        ];
+        result
     }
 
     #[test]
     fn regions_by_mode_and_references() {
-        let svg = super::svg_doc(&sample()).expect("svg");
+        let svg = super::svg(&sample()).expect("svg");
         for needle in [
             "Overturning spectrum: one-sine pulse, nonlinear formulation",
             "ω_p / p",
@@ -457,24 +545,19 @@ pub(crate) mod tests {
     #[test]
     fn eq21_is_drawn_only_where_it_holds() {
         use crate::plot::style::REFERENCE;
-        use crate::plot::tests::{computed, hex, shapes, x_extent};
+        use crate::plot::tests::{hex, shapes, x_extent};
         let mut result = computed(include_str!(
             "../../specs/locomotive_spectrum_nonlinear.json"
         ));
-        let lines: Vec<&Value> = result["spectrum"]
-            .as_array()
-            .expect("lines")
-            .iter()
-            .collect();
-        assert_eq!(lines.len(), 40);
-        let eq21 = super::eq21_line(&lines, 0.25, 10.0);
+        assert_eq!(result.spectrum.len(), 40);
+        let eq21 = super::eq21_line(&result.spectrum, 0.25, 10.0);
         // From the first frequency to ω_p/p = 3, β = 1/6 (one-sine).
         assert_eq!(eq21.len(), 2);
         assert_eq!((eq21[0].0, eq21[1].0), (0.25, 3.0));
         assert!((eq21[1].1 - 1.5).abs() < 1e-12, "{eq21:?}");
         // The figure: every eq. 21 dash left of ω_p/p = 3 (the no-rocking
         // band spans 0.25–10), and its end labelled.
-        let svg = super::svg_doc(&result).expect("svg");
+        let svg = super::svg(&result).expect("svg");
         let no_rocking = format!("fill=\"{}\"", hex(super::fill(super::CLASS_NO_ROCKING)));
         let (left, right) = x_extent(&shapes(&svg, "polygon", &no_rocking));
         let at_3 = left + (3.0 - 0.25) / (10.0 - 0.25) * (right - left);
@@ -493,28 +576,57 @@ pub(crate) mod tests {
         assert!(dashes_end >= at_3 - 8.0, "{dashes_end} < {at_3}");
         assert!(svg.contains("eq. 21 ends: ω_p/p = 3"));
         // A spectrum that starts beyond 3 draws none, and says why.
-        if let Some(all) = result["spectrum"].as_array_mut() {
-            all.retain(|l| l["omega_ratio"].as_f64().is_some_and(|r| r > 3.0));
-        }
-        let svg = super::svg_doc(&result).expect("svg");
+        result.spectrum.retain(|l| l.omega_ratio > 3.0);
+        let svg = super::svg(&result).expect("svg");
         assert!(svg.contains("eq. 21 not drawn"), "no note");
         assert!(!svg.contains("eq. 21 ends"));
     }
 
     #[test]
     fn principal_extents_take_modes_from_the_full_view() {
+        let t = |at: f64, up: bool, mode: u8| Crossing { at, up, mode };
+        let fine = [t(1.1, true, 1), t(1.28, false, 1), t(1.281, true, 2)];
+        let principal = [t(1.1, true, 1)];
+        let expected = vec![(1.1, 1.281, 1), (1.281, 20.0, 2)];
+        assert_eq!(regions_of(&fine, &[], Some(&principal), 20.0), expected);
+        // Without a principal view, the full one.
+        assert_eq!(
+            regions_of(&fine, &[], None, 20.0),
+            vec![(1.1, 1.28, 1), (1.281, 20.0, 2)]
+        );
+        // A line given as a document reads alike.
         let t = |a: f64, d: &str, m: u8| json!({"a_alpha_g": a, "direction": d, "mode": m});
         let l = json!({
             "transitions": [t(1.1, "up", 1), t(1.28, "down", 1), t(1.281, "up", 2)],
             "mode_changes": [],
             "principal": {"transitions": [t(1.1, "up", 1)]}
         });
-        let r = super::regions(&l, 20.0);
-        assert_eq!(r, vec![(1.1, 1.281, 1), (1.281, 20.0, 2)]);
+        assert_eq!(regions(&l, 20.0), expected);
+    }
+
+    #[test]
+    fn a_mode_change_splits_a_region() {
+        let base = sample().spectrum[0].clone();
+        let mut l = line(&base, 2.0, 1.25, 2.37, 2.41);
+        // Overturning from 1.25 αg on, mode 1 turning to mode 2 at 3 αg.
+        l.transitions.truncate(1);
+        l.principal.transitions.truncate(1);
+        l.mode_changes = vec![ModeChangeDoc {
+            a_alpha_g: 3.0,
+            from_mode: 1,
+            to_mode: 2,
+            bracket: [3.0 - 1e-4, 3.0 + 1e-4],
+        }];
+        assert_eq!(
+            super::frequency_regions(&l, 8.0),
+            vec![(1.25, 3.0, 1), (3.0, 8.0, 2)]
+        );
     }
 
     #[test]
     fn an_empty_spectrum_is_refused() {
-        assert!(super::svg_doc(&json!({"kind": "spectrum", "spectrum": []})).is_err());
+        let mut result = sample();
+        result.spectrum.clear();
+        assert!(super::svg(&result).is_err());
     }
 }
