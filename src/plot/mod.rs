@@ -19,7 +19,6 @@ pub mod time_panel;
 pub mod window;
 
 use plotters::prelude::*;
-use serde_json::Value;
 
 use crate::dynamics::PulseShape;
 use crate::jobs::names::Excitation;
@@ -83,11 +82,6 @@ pub fn svg_in(result: &JobResult, window: Option<Window>) -> Result<String, Figu
     .map_err(FigureError::Result)
 }
 
-/// A typed result as its JSON document (while figures move to typed input).
-pub(crate) fn document<T: serde::Serialize>(typed: &T) -> Value {
-    serde_json::to_value(typed).unwrap_or_default()
-}
-
 /// Writes the figure of a result to `path` (SVG).
 pub fn plot_result(result: &JobResult, path: &str) -> Result<(), Box<dyn std::error::Error>> {
     let text = svg(result)?;
@@ -115,90 +109,6 @@ pub(crate) fn render(
         drawn.map_err(|e| format!("cannot draw the figure: {e}"))?;
     }
     Ok(out)
-}
-
-/// A number at `key` of `v`.
-pub(crate) fn num(v: &Value, key: &str) -> Option<f64> {
-    v.get(key).and_then(Value::as_f64)
-}
-
-/// A number at JSON pointer `pointer` of `v`.
-pub(crate) fn at(v: &Value, pointer: &str) -> Option<f64> {
-    v.pointer(pointer).and_then(Value::as_f64)
-}
-
-/// A text at JSON pointer `pointer` of `v`, or "".
-pub(crate) fn text_at<'a>(v: &'a Value, pointer: &str) -> &'a str {
-    v.pointer(pointer).and_then(Value::as_str).unwrap_or("")
-}
-
-/// How a pulse family reads in a title: "one-sine", "Type-C2".
-pub(crate) fn pulse_name(pulse: Option<&Value>) -> String {
-    let kind = pulse
-        .and_then(|p| p.get("type"))
-        .and_then(Value::as_str)
-        .unwrap_or("");
-    match kind {
-        "one_sine" => "one-sine".into(),
-        "one_cosine" => "one-cosine".into(),
-        "half_sine" => "half-sine".into(),
-        "rectangular" => "rectangular".into(),
-        "ricker" => {
-            if pulse
-                .and_then(|p| p.get("symmetric"))
-                .and_then(Value::as_bool)
-                == Some(false)
-            {
-                "antisymmetric Ricker".into()
-            } else {
-                "Ricker".into()
-            }
-        }
-        "mavroeidis_papageorgiou" => {
-            let param = |name: &str| {
-                pulse
-                    .and_then(|p| p.get(name))
-                    .and_then(Value::as_f64)
-                    .map(|v| style::fmt_num(v, 3))
-                    .unwrap_or_else(|| "?".into())
-            };
-            format!(
-                "Mavroeidis–Papageorgiou (γ\u{a0}=\u{a0}{}, ν\u{a0}=\u{a0}{}\u{a0}rad)",
-                param("gamma"),
-                param("nu")
-            )
-        }
-        "cn" => format!(
-            "Type-C{}",
-            pulse
-                .and_then(|p| p.get("n"))
-                .and_then(Value::as_u64)
-                .unwrap_or(1)
-        ),
-        "" => "pulse".into(),
-        other => other.replace('_', " "),
-    }
-}
-
-/// "α = 0.25 rad, p = 2.14 rad/s, η = 0.9" of a block document.
-pub(crate) fn block_note(block: Option<&Value>) -> String {
-    let Some(b) = block else {
-        return String::new();
-    };
-    let mut parts = Vec::new();
-    if let Some(a) = num(b, "alpha") {
-        parts.push(format!("α\u{a0}=\u{a0}{}\u{a0}rad", style::fmt_num(a, 3)));
-    }
-    if let Some(p) = num(b, "p") {
-        parts.push(format!("p\u{a0}=\u{a0}{}\u{a0}rad/s", style::fmt_num(p, 3)));
-    }
-    if let Some(e) = num(b, "eta") {
-        parts.push(format!("η\u{a0}=\u{a0}{}", style::fmt_num(e, 3)));
-    }
-    if let Some(m) = num(b, "mu") {
-        parts.push(format!("μ\u{a0}=\u{a0}{}", style::fmt_num(m, 3)));
-    }
-    parts.join(", ")
 }
 
 /// How a pulse family reads in a title: "one-sine", "Type-C2".
@@ -236,7 +146,7 @@ pub(crate) fn block_text(b: &BlockNorm) -> String {
 pub(crate) mod tests {
     use super::*;
     use crate::dynamics::excitation::Real;
-    use serde_json::json;
+    use serde_json::Value;
 
     /// The result `topple run` prints for the spec `text`.
     pub(crate) fn computed(text: &str) -> Value {
@@ -310,41 +220,38 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn typed_names_read_as_the_documents_did() {
-        for (shape, doc) in [
-            (PulseShape::Cn(2), json!({"type": "cn", "n": 2})),
-            (PulseShape::OneSine, json!({"type": "one_sine"})),
+    fn names() {
+        let real = |x: f64| Real::new(x).expect("finite");
+        for (shape, title) in [
+            (PulseShape::Cn(2), "Type-C2"),
+            (PulseShape::OneSine, "one-sine"),
             (
                 PulseShape::Ricker { symmetric: false },
-                json!({"type": "ricker", "symmetric": false}),
+                "antisymmetric Ricker",
             ),
+            (PulseShape::Ricker { symmetric: true }, "Ricker"),
             (
                 PulseShape::MavroeidisPapageorgiou {
-                    gamma: Real::new(2.5).expect("finite"),
-                    nu: Real::new(1.5).expect("finite"),
+                    gamma: real(2.5),
+                    nu: real(1.5),
                 },
-                json!({"type": "mavroeidis_papageorgiou", "gamma": 2.5, "nu": 1.5}),
+                "Mavroeidis–Papageorgiou (γ = 2.5, ν = 1.5 rad)",
             ),
         ] {
-            assert_eq!(shape_title(shape), pulse_name(Some(&doc)));
+            assert_eq!(shape_title(shape).replace('\u{a0}', " "), title);
         }
-        let b = BlockNorm {
+        let mut b = BlockNorm {
             alpha: 0.25,
             p: 2.14,
             eta: 0.9,
-            mu: Some(0.7),
+            mu: None,
             g: 9.81,
         };
-        let doc = json!({"alpha": 0.25, "p": 2.14, "eta": 0.9, "mu": 0.7, "g": 9.81});
-        assert_eq!(block_text(&b), block_note(Some(&doc)));
-    }
-
-    #[test]
-    fn names() {
-        assert_eq!(pulse_name(Some(&json!({"type": "cn", "n": 2}))), "Type-C2");
         assert_eq!(
-            block_note(Some(&json!({"alpha": 0.25, "p": 2.14, "eta": 0.9}))).replace('\u{a0}', " "),
+            block_text(&b).replace('\u{a0}', " "),
             "α = 0.25 rad, p = 2.14 rad/s, η = 0.9"
         );
+        b.mu = Some(0.7);
+        assert!(block_text(&b).replace('\u{a0}', " ").ends_with(", μ = 0.7"));
     }
 }

@@ -8,7 +8,8 @@ use plotters::prelude::*;
 use super::bands::{Band, Column, simplify, tile, tiling};
 use super::render;
 use super::spectrum::{
-    CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, fill, region_legend,
+    CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, Crossing, fill, region_legend,
+    regions_of,
 };
 use super::style::{
     AXIS, Drawn, INK, LEGEND_WIDTH, Marker, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, axis_range,
@@ -19,77 +20,22 @@ use crate::jobs::record_spectrum::{RecordSpectrumResult, ScaleTransitionDoc, Siz
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
 
-/// Overturning intervals (lo, hi, mode) of a list of transitions: each "up"
-/// opens one (of the mode above it), the next "down" closes it; an open one
-/// ends at `s_max`.
-fn intervals(transitions: &[ScaleTransitionDoc], s_max: f64) -> Vec<(f64, f64, u8)> {
-    let mut out = Vec::new();
-    let mut open: Option<(f64, u8)> = None;
-    for t in transitions {
-        if t.direction == "up" {
-            open = Some((t.scale, t.mode));
-        } else if let Some((lo, m)) = open.take() {
-            out.push((lo, t.scale, m));
-        }
-    }
-    if let Some((lo, m)) = open {
-        out.push((lo, s_max.max(lo), m));
-    }
-    out
-}
-
-/// `regions` cut where the mode changes (`changes`: scale, new mode).
-fn split_at_changes(regions: &[(f64, f64, u8)], changes: &[(f64, u8)]) -> Vec<(f64, f64, u8)> {
-    let mut out = Vec::new();
-    for &(lo, hi, mut mode) in regions {
-        let mut start = lo;
-        for &(at, to) in changes.iter().filter(|(at, _)| *at > lo && *at < hi) {
-            out.push((start, at, mode));
-            start = at;
-            mode = to;
-        }
-        out.push((start, hi, mode));
-    }
-    out
-}
-
 /// The overturning regions (lo, hi, mode) of one block size, in scale
-/// factors. The extents are those of the principal view (bands narrower than
-/// its relative width dropped); the modes come from the full view, a dropped
-/// safe gap taking the mode below it.
+/// factors (see [`regions_of`]).
 fn regions(line: &SizeDoc, s_max: f64) -> Vec<(f64, f64, u8)> {
+    let crossings =
+        |list: &[ScaleTransitionDoc]| list.iter().map(Crossing::from).collect::<Vec<_>>();
     let changes: Vec<(f64, u8)> = line
         .mode_changes
         .iter()
         .map(|m| (m.scale, m.to_mode))
         .collect();
-    let fine = split_at_changes(&intervals(&line.transitions, s_max), &changes);
-    let mut out = Vec::new();
-    for (lo, hi, mode) in intervals(&line.principal.transitions, s_max) {
-        let mut inside: Vec<(f64, f64, u8)> = fine
-            .iter()
-            .filter(|f| f.1 > lo && f.0 < hi)
-            .map(|&(a, b, m)| (a.max(lo), b.min(hi), m))
-            .collect();
-        if inside.is_empty() {
-            out.push((lo, hi, mode));
-            continue;
-        }
-        inside[0].0 = lo;
-        for k in 1..inside.len() {
-            inside[k - 1].1 = inside[k].0;
-        }
-        if let Some(last) = inside.last_mut() {
-            last.1 = hi;
-        }
-        for piece in inside {
-            match out.last_mut() {
-                Some(prev) if prev.2 == piece.2 && prev.1 >= piece.0 => prev.1 = piece.1,
-                _ => out.push(piece),
-            }
-        }
-    }
-    out
+    regions_of(
+        &crossings(&line.transitions),
+        &changes,
+        Some(&crossings(&line.principal.transitions)),
+        s_max,
+    )
 }
 
 /// "α = 0.25 rad, η = 0.9": the block of every size.
@@ -280,8 +226,10 @@ mod tests {
     #[test]
     fn regions_take_the_principal_extent_and_the_full_modes() {
         let line = size();
+        let crossings: Vec<crate::plot::spectrum::Crossing> =
+            line.transitions.iter().map(Into::into).collect();
         assert_eq!(
-            super::intervals(&line.transitions, 3.0),
+            crate::plot::spectrum::intervals(&crossings, 3.0),
             vec![(1.0, 1.5, 2), (1.52, 3.0, 1)]
         );
         // The dropped gap 1.5–1.52 takes the mode below it.

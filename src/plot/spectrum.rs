@@ -4,7 +4,6 @@
 //! (eq. 21; the corrected eq. 47 for linear one-sine) as reference curves.
 
 use plotters::prelude::*;
-use serde_json::Value;
 
 use super::bands::{Band, Column, simplify, tile, tiling};
 use super::style::{
@@ -12,7 +11,7 @@ use super::style::{
     REFERENCE, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num,
     marker, mesh, text, tick, tint,
 };
-use super::{block_text, num, render, shape_title};
+use super::{block_text, render, shape_title};
 use crate::dynamics::PulseShape;
 use crate::jobs::record_spectrum::ScaleTransitionDoc;
 use crate::jobs::spectrum::{FrequencyDoc, SpectrumResult, TransitionDoc};
@@ -211,38 +210,6 @@ pub fn frequency_regions(line: &FrequencyDoc, a_max: f64) -> Vec<(f64, f64, u8)>
         &crossings(&line.transitions),
         &changes,
         Some(&crossings(&line.principal.transitions)),
-        a_max,
-    )
-}
-
-/// [`regions_of`] a line given as a document with the keys of a pulse
-/// spectrum's line (`transitions`, `mode_changes`, `principal.transitions`,
-/// amplitudes at `a_alpha_g`).
-pub fn regions(line: &Value, a_max: f64) -> Vec<(f64, f64, u8)> {
-    let list = |v: Option<&Value>| v.and_then(Value::as_array).cloned().unwrap_or_default();
-    let crossings = |v: Option<&Value>| -> Vec<Crossing> {
-        list(v)
-            .iter()
-            .filter_map(|t| {
-                Some(Crossing {
-                    at: num(t, "a_alpha_g")?,
-                    up: t.get("direction")?.as_str()? == "up",
-                    mode: t.get("mode").and_then(Value::as_u64).unwrap_or(1) as u8,
-                })
-            })
-            .collect()
-    };
-    let changes: Vec<(f64, u8)> = list(line.get("mode_changes"))
-        .iter()
-        .filter_map(|m| Some((num(m, "a_alpha_g")?, m.get("to_mode")?.as_u64()? as u8)))
-        .collect();
-    let principal = line
-        .pointer("/principal/transitions")
-        .map(|p| crossings(Some(p)));
-    regions_of(
-        &crossings(line.get("transitions")),
-        &changes,
-        principal.as_deref(),
         a_max,
     )
 }
@@ -455,9 +422,7 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use serde_json::json;
-
-    use super::{Crossing, regions, regions_of};
+    use super::{Crossing, regions_of};
     use crate::jobs::JobResult;
     use crate::jobs::spectrum::{FrequencyDoc, ModeChangeDoc, SpectrumResult, TransitionDoc};
 
@@ -594,14 +559,6 @@ pub(crate) mod tests {
             regions_of(&fine, &[], None, 20.0),
             vec![(1.1, 1.28, 1), (1.281, 20.0, 2)]
         );
-        // A line given as a document reads alike.
-        let t = |a: f64, d: &str, m: u8| json!({"a_alpha_g": a, "direction": d, "mode": m});
-        let l = json!({
-            "transitions": [t(1.1, "up", 1), t(1.28, "down", 1), t(1.281, "up", 2)],
-            "mode_changes": [],
-            "principal": {"transitions": [t(1.1, "up", 1)]}
-        });
-        assert_eq!(regions(&l, 20.0), expected);
     }
 
     #[test]
