@@ -21,7 +21,8 @@
 //!   forensic queries, record spectra, fragility, survival), each one module
 //!   and one line of the registry: the job-spec JSON, its validation into
 //!   domain types, service limits, canonical cache keys, splitting into
-//!   tasks, and the result documents.
+//!   tasks, and the result documents, read back into their types
+//!   ([`jobs::JobResult`]) for tables and figures.
 //! - [`store`]: one storage trait for jobs, tasks, results and records;
 //!   SQLite and PostgreSQL implementations.
 //! - [`service`]: the server without its routes: the state of an instance,
@@ -34,14 +35,15 @@
 //!   token), CSV, the OpenAPI description, the page at `/`.
 //! - [`startup`]: the application: the service's state and workers behind the
 //!   API's router; startup and graceful shutdown.
-//! - [`plot`]: SVG figures of every result kind; [`precision`]: the
+//! - [`plot`]: SVG figures of every result kind, drawn from typed results;
+//!   [`precision`]: the
 //!   work-precision study; [`numbers`]: numbers as people read them.
 //!
 //! Data flows one way: HTTP → spec → domain types → engine → result → store →
 //! HTTP. The engine never knows it is in a service; the API does no physics;
 //! the service never names the API (only [`startup`] knows both).
 //! `tests/import_graph.py` (run by `.ci/run`) fails on an import circle
-//! between these modules.
+//! between these modules, or between the files of one.
 
 pub mod api;
 pub mod dynamics;
