@@ -89,16 +89,9 @@ impl utoipa::Modify for EngineProvenance {
         let Some(components) = api.components.as_mut() else {
             return;
         };
-        for name in [
-            "TimeHistoryResult",
-            "SpectrumResult",
-            "FrictionSpectrumResult",
-            "ForensicResult",
-            "RecordSpectrumResult",
-            "SurvivalResult",
-            "FragilityResult",
-        ] {
-            if let Some(RefOr::T(Schema::Object(o))) = components.schemas.get_mut(name) {
+        for kind in crate::jobs::JobKind::ALL {
+            let name = kind.result_schema();
+            if let Some(RefOr::T(Schema::Object(o))) = components.schemas.get_mut(name.as_ref()) {
                 o.properties.insert(
                     "engine".into(),
                     utoipa::openapi::Ref::from_schema_name("Engine").into(),
@@ -436,5 +429,22 @@ mod tests {
             portable_floats(yaml),
             "a:\n  minimum: 1.0e-9\n  maximum: -1.0e8\n  x: 1.5e-3\n  d: Width 1e-4 to 2\n  - 1.0e4\n  s: 'x: 1e4'\n"
         );
+    }
+
+    /// Every kind's result schema is described, with its `engine` required:
+    /// the list comes from the registry, so a new kind cannot miss it.
+    #[test]
+    fn every_result_schema_requires_its_engine() {
+        use utoipa::openapi::{RefOr, Schema};
+        let (_, api) = super::routes();
+        let components = api.components.expect("components");
+        for kind in crate::jobs::JobKind::ALL {
+            let name = kind.result_schema();
+            let Some(RefOr::T(Schema::Object(o))) = components.schemas.get(name.as_ref()) else {
+                panic!("no schema {name} for {kind:?}");
+            };
+            assert!(o.properties.contains_key("engine"), "{name}");
+            assert!(o.required.iter().any(|r| r == "engine"), "{name}");
+        }
     }
 }

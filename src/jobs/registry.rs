@@ -110,6 +110,14 @@ macro_rules! kinds {
                 }
             }
 
+            /// The name of the kind's result schema in the API description
+            /// (`"TimeHistoryResult"`).
+            pub fn result_schema(self) -> Cow<'static, str> {
+                match self {
+                    $( JobKind::$variant => <<$kind as Kind>::Result as ToSchema>::name(), )*
+                }
+            }
+
             /// The kind named `name`.
             pub fn from_name(name: &str) -> Option<JobKind> {
                 JobKind::ALL.iter().copied().find(|k| k.name() == name)
