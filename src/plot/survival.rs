@@ -76,11 +76,21 @@ pub fn svg(result: &SurvivalResult) -> Result<String, String> {
             ),
         );
     }
-    legend.entry(Swatch::Mark(Marker::Dot, INK), "an age asked for");
+    // An age is marked in its rock's colour: the legend's mark is that
+    // colour for one rock, and says so for several.
+    let (mark, whose) = if rocks.len() == 1 {
+        (colour(0), "")
+    } else {
+        (INK, ", in the colour of its rock")
+    };
+    legend.entry(
+        Swatch::Mark(Marker::Dot, mark),
+        format!("an age asked for{whose}"),
+    );
     if rocks.iter().any(|r| r.age_distribution.is_some()) {
         legend.entry(
-            Swatch::Mark(Marker::Square, INK),
-            "uncertain age: E[P_s] at its median",
+            Swatch::Mark(Marker::Square, mark),
+            format!("uncertain age: E[P_s] at its median{whose}"),
         );
     }
     if let Some(j) = &result.joint {
@@ -192,6 +202,12 @@ mod tests {
         ] {
             assert!(svg.contains(needle), "missing {needle:?}");
         }
+        // Several rocks: the legend's mark says whose colour an age takes.
+        assert!(
+            words(&svg).contains("an age asked for, in the colour of its rock"),
+            "{}",
+            words(&svg)
+        );
     }
 
     #[test]
@@ -212,5 +228,25 @@ mod tests {
         // One rock, no uncertain age and no joint probability.
         assert!(!svg.contains("uncertain age"));
         assert!(!svg.contains("rocks standing"));
+        // The ages' marks and the legend's mark are the rock's colour.
+        let fill = format!("fill=\"{}\"", crate::plot::tests::hex(super::colour(0)));
+        let dots = svg
+            .split("<polygon")
+            .skip(1)
+            .filter(|c| c.split('>').next().unwrap_or("").contains(&fill))
+            .count();
+        assert_eq!(dots, doc.rocks[0].ages.len() + 1, "{fill}");
+        assert!(!words(&svg).contains("colour of its rock"));
+    }
+
+    /// The text of `svg`, its pieces joined by single spaces.
+    fn words(svg: &str) -> String {
+        let text: Vec<&str> = svg
+            .split('>')
+            .filter_map(|piece| piece.split('<').next())
+            .map(str::trim)
+            .filter(|t| !t.is_empty())
+            .collect();
+        text.join(" ")
     }
 }
