@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Screenshots of the web page (`/`) for the documentation, taken in headless
 # Chromium at 1400×1000: a time history that overturns, an overturning
-# spectrum and a forensic query, each submitted from the form (see
+# spectrum, a forensic query on pulses and one on a record, a fragility, a
+# survival job, each submitted from the form, and the list of jobs (see
 # tests/e2e/screenshots.py). Writes docs/page-*.png.
 #
 # Starts its own server (a temporary SQLite database, a free port) and

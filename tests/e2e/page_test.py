@@ -19,11 +19,17 @@ clicks and typed text:
    are listed;
 5. the same block under a weaker pulse survives: the page gives the result's
    peak |θ|/α and the time it came to rest, or, with the simulation stopped
-   at 3 s, that it had not come to rest;
+   at 3 s, that it had not come to rest; switching the block from α, p to
+   b, h clears the error box of the submission before and empties the η
+   typed for the block as it was given (the hint names the default that
+   applies), and switching the kind clears the error box and the other
+   kind's result;
 6. a forensic query filled in on the form (the Point Reyes observations and a
    third one added, given by half-width and half-height) is the JSON the raw
-   editor shows, runs on those observations and frequencies, shows its plot
-   and the bounds of the result;
+   editor shows, runs on those observations and frequencies, shows its plot;
+   its outcome and summary give the result's number of separate intervals,
+   their lowest and highest ends and total width, and link the figure and
+   the CSV (which holds that many intervals);
 7. records, read by the service (`POST /v1/records`), never by the page: a
    two-column CSV with a comment line and a header row (`time_s,acc_g`, 250
    samples, PGA about 0.5 g) chosen in the file input is previewed before
@@ -38,14 +44,26 @@ clicks and typed text:
    service's hint beside a unit picker, a dt field), sends it again, and
    previews it, the old error box gone; the first record, picked again from
    the stored list, is the one sent; a fragility on a suite of both (ticked
-   in the list) sends `ground_motions` by id and runs;
+   in the list) sends `ground_motions` by id and runs; the Point Reyes record
+   (two separate intervals of scale) is said to give two, not one range;
+   its locomotive switched to b and h is sent without the example's η, the
+   error box before is gone; a fragility of uncertain b and h sends them as
+   the truncated normals its hint states, and runs; the survival summary
+   gives each rate scale with its age;
 9. a long overturning spectrum is submitted and canceled with the Cancel
-   button; the service reports it canceled;
+   button; the service reports it canceled; "Your jobs" lists the service's
+   jobs newest first with their statuses, and a click on an older one (the
+   forensic query) opens its status, summary and figure;
 10. against a second server that wants a token for reads too
    (`--api-token`, `--auth-reads`): the token box opens by itself, the 401
    of a submission without it is explained, and once the token
-   is filled in the job runs and its plot loads (fetched with the token);
-11. nothing was blocked by the policy and no script error occurred.
+   is filled in the job runs, its plot loads (fetched with the token) and
+   it is listed in "Your jobs";
+11. every job submitted from the form (as the browser sent it) holds only
+   values the form shows in sight: a control's value, a number a visible
+   hint states, a word of its visible text — nothing hidden, nothing left
+   from another kind or block description;
+12. nothing was blocked by the policy and no script error occurred.
 
 Screenshots go to target/e2e/ (page.png: the finished time history;
 page-error.png, page-forensic.png, page-cancel.png; page-record-preview.png
@@ -53,7 +71,8 @@ and page-record-ask.png: the record fieldset, twice its size, with a
 preview and with the unit question; page-record-spectrum.png and
 page-record-spectrum-figure.png; page-record-error.png,
 page-forensic-record.png, page-time-history-record.png,
-page-fragility-suite.png; failure.png when a step fails).
+page-fragility-suite.png, page-survival.png, page-forensic-intervals.png,
+page-fragility-geometry.png, page-jobs.png; failure.png when a step fails).
 
 Environment: TOPPLE_BIN (default target/debug/topple), CHROMIUM (default
 /usr/bin/chromium), E2E_OUT (default target/e2e), E2E_TIMEOUT (seconds the
@@ -258,6 +277,7 @@ class Page:
         self.ws = websocket.create_connection(ws_url, timeout=30, suppress_origin=True)
         self.next_id = 0
         self.problems = []  # script errors and blocked resources
+        self.submissions = []  # [requestId, body or None]: the POSTs to /v1/jobs, as sent
 
     def close(self):
         try:
@@ -275,6 +295,10 @@ class Page:
         elif method == "Runtime.consoleAPICalled" and params.get("type") in ("error", "assert"):
             args = " ".join(str(a.get("value", a.get("description", ""))) for a in params.get("args", []))
             self.problems.append(f"console.{params['type']}: {args}")
+        elif method == "Network.requestWillBeSent":
+            request = params.get("request", {})
+            if request.get("method") == "POST" and re.search(r"/v1/jobs(\?|$)", request.get("url", "")):
+                self.submissions.append([params.get("requestId"), request.get("postData")])
         elif method == "Log.entryAdded":
             entry = params.get("entry", {})
             # Failed requests the test provokes (the 422) are "network" entries;
@@ -293,6 +317,17 @@ class Page:
                     raise Failure(f"{method}: {message['error']}")
                 return message.get("result", {})
             self._event(message)
+
+    def last_submission(self):
+        """The body of the last job submitted (POST /v1/jobs), as the
+        browser sent it."""
+        self.pump()
+        if not self.submissions:
+            raise Failure("no job was submitted")
+        entry = self.submissions[-1]
+        if entry[1] is None:
+            entry[1] = self.send("Network.getRequestPostData", requestId=entry[0])["postData"]
+        return json.loads(entry[1])
 
     def pump(self):
         """Reads events that arrived meanwhile."""
@@ -534,6 +569,11 @@ def check_time_history(page, base):
         raise Failure(f"the summary of an overturned block: {summary}")
     if abs(float(summary["Overturns at (s)"]) - result["overturn_time"]) > 5e-4 * result["overturn_time"]:
         raise Failure(f"the summary's overturning time: {summary}")
+    # The block as it ran: its η the one given (or the default, named).
+    block = result["spec"]["block"]
+    want = f"α = {js_fmt(block['alpha'])} rad, p = {js_fmt(block['p'])} rad/s, η = {js_fmt(block['eta'])}"
+    if summary.get("Block") != want or block["eta"] != 0.9:
+        raise Failure(f"the summary does not give the block as it ran ({want}): {summary.get('Block')!r}")
     # Its warning (the friction demand stops at the pulse end) is in sight.
     kinds = page.js("[...document.querySelectorAll('#warnings li')].map((li) => li.dataset.kind)")
     if kinds != [w["kind"] for w in result["warnings"]] or "demand_excludes_fall" not in kinds:
@@ -541,6 +581,72 @@ def check_time_history(page, base):
     if page.js("document.getElementById('warnings').hidden"):
         raise Failure("the warnings are hidden")
     page.screenshot(os.path.join(OUT, "page.png"))
+
+
+# What the form shows: the values of its controls in sight (a radio or a
+# checkbox when ticked; the words and numbers of a text field or a text
+# area), the numbers its hints in sight state, and its visible text.
+SHOWN_JS = """(() => {
+  const form = document.getElementById('job-form');
+  const values = [];
+  for (const el of form.querySelectorAll('input, select, textarea')) {
+    if (el.disabled || el.closest('[hidden]') || el.getClientRects().length === 0) continue;
+    if (el.type === 'file' || el.type === 'password') continue;
+    if ((el.type === 'radio' || el.type === 'checkbox') && !el.checked) continue;
+    values.push(el.value);
+    if (el.tagName === 'TEXTAREA' || el.type === 'text') values.push(...el.value.split(/[\\s,;]+/).filter(Boolean));
+  }
+  const hints = [...form.querySelectorAll('.hint')]
+    .filter((h) => !h.closest('[hidden]') && h.getClientRects().length > 0).map((h) => h.textContent).join(' ');
+  return {values, hints, text: form.innerText};
+})()"""
+
+# Constants of the form a kind sends whatever is filled in (and says so:
+# "Stripes of PGA (g)").
+FORM_CONSTANTS = {("fragility", "/im"): "pga_g"}
+
+
+def json_leaves(value, pointer=""):
+    """(JSON pointer, value) of every scalar in a document."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield from json_leaves(v, f"{pointer}/{k}")
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            yield from json_leaves(v, f"{pointer}/{i}")
+    else:
+        yield pointer, value
+
+
+def check_sent_is_visible(page, body, what):
+    """Every value of the job sent is one the form shows in sight: a
+    control's value, a number a visible hint states (a truncation bound,
+    a converted unit), or a word of its visible text. Nothing hidden, and
+    nothing left over from another kind or block description, is sent."""
+    shown = page.js(SHOWN_JS)
+    texts = set(shown["values"])
+    numbers = []
+    for v in texts:
+        try:
+            numbers.append(float(v))
+        except ValueError:
+            pass
+    hinted = [float(x) for x in re.findall(r"-?\d+(?:\.\d+)?(?:e-?\d+)?", shown["hints"].replace("−", "-"))]
+    words = set(re.findall(r"[\w.-]+", shown["text"]))
+    for pointer, v in json_leaves(body):
+        if FORM_CONSTANTS.get((body.get("kind"), pointer)) == v:
+            continue
+        if isinstance(v, bool):
+            ok = str(v).lower() in texts
+        elif isinstance(v, (int, float)):
+            ok = any(x == v for x in numbers) or any(abs(x - v) <= 1e-3 * abs(v) for x in hinted)
+        elif isinstance(v, str):
+            ok = v in texts or v in words
+        else:
+            ok = False
+        if not ok:
+            raise Failure(f"the {what} sent {pointer} = {v!r}, which the form does not show "
+                          f"(in sight: {sorted(texts)}; hints: {shown['hints']!r})")
 
 
 def summary_of(page):
@@ -564,6 +670,10 @@ def finished_job(page, before, what):
         raise Failure(f"the {what} {status}: {page.js('document.body.innerText')[:2000]}")
     wait_plot(page, what)
     page.wait_js("the summary", "document.querySelectorAll('#summary dd').length > 0", 10)
+    body = page.last_submission()
+    if body.get("kind") != page.js("document.querySelector('input[name=kind]:checked').value"):
+        raise Failure(f"the {what} sent is of the kind {body.get('kind')!r}")
+    check_sent_is_visible(page, body, what)
     return job_id
 
 
@@ -640,14 +750,86 @@ def check_forensic(page, base):
     src = page.js("document.getElementById('plot').getAttribute('src')")
     if src != f"/v1/jobs/{job_id}/plot.svg":
         raise Failure(f"the forensic plot comes from {src!r}")
-    outcome = page.js("document.getElementById('outcome').textContent")
-    bounds = result["bounds"]
-    m = re.match(r"Consistent with every observation: a_p = ([0-9.]+) – ([0-9.]+) g at ", outcome)
-    if not m or abs(float(m.group(1)) - bounds["min_g"]) > 5e-4 or abs(float(m.group(2)) - bounds["max_g"]) > 5e-4:
-        raise Failure(f"the outcome does not give the bounds {bounds}: {outcome!r}")
     if summary_of(page).get("Observations") != "1 toppled, 2 stood":
         raise Failure(f"the forensic summary: {summary_of(page)}")
+    check_forensic_answer(page, base, job_id, result)
     page.screenshot(os.path.join(OUT, "page-forensic.png"))
+    return job_id
+
+
+def intervals_of(lists):
+    """(count, lowest, highest, total length) of the intervals in lists."""
+    xs = [iv for ivs in lists for iv in ivs]
+    if not xs:
+        return 0, None, None, 0.0
+    return len(xs), min(lo for lo, _ in xs), max(hi for _, hi in xs), sum(hi - lo for lo, hi in xs)
+
+
+def check_forensic_answer(page, base, job_id, result):
+    """A forensic answer is read as what it is — a number of separate
+    intervals, never one range from the lowest to the highest: the outcome
+    and the summary give the result's count of intervals, their lowest and
+    highest ends and their total length, and link to the figure and to the
+    CSV that list every one of them."""
+    record = result["excitation"] == "ground_motion"
+    if record:
+        count, lo, hi, measure = intervals_of([result["consistent_scale"]])
+        _, lo_g, hi_g, measure_g = intervals_of([result["consistent_pga_g"]])
+        where = ""
+    else:
+        count, lo, hi, measure = intervals_of([f["consistent_g"] for f in result["frequencies"]])
+        with_any = sum(1 for f in result["frequencies"] if f["consistent_g"])
+        where = f" at {with_any} of {len(result['frequencies'])} frequencies"
+    outcome = page.js("document.getElementById('outcome').textContent")
+    summary = summary_of(page)
+    if count == 0:
+        if not outcome.startswith("No "):
+            raise Failure(f"no interval, yet the outcome says {outcome!r}")
+        return
+    unit = "" if record else " g"
+    axis = "the record's scale" if record else "a_p"
+    if count == 1:
+        want = f"one interval of {axis}"
+    else:
+        want = (f"{count} separate intervals of {axis}{where} (lowest {js_fmt(lo)}{unit}, highest {js_fmt(hi)}{unit}; "
+                f"{js_fmt(measure)}{unit} wide in all")
+    if record and count > 1:
+        want += f"; as PGA: lowest {js_fmt(lo_g)} g, highest {js_fmt(hi_g)} g, {js_fmt(measure_g)} g in all)"
+    if want not in outcome:
+        raise Failure(f"the outcome does not say {want!r}: {outcome!r}")
+    if record and 1 < count <= 6:
+        listed = ", ".join(f"{js_fmt(a)} – {js_fmt(b)}" if js_fmt(a) != js_fmt(b) else js_fmt(a)
+                           for a, b in result["consistent_scale"])
+        if summary.get("The intervals (scale)") != listed:
+            raise Failure(f"the summary does not list the {count} intervals {listed!r}: {summary}")
+    if not summary.get("Consistent intervals", "").startswith(f"{count}{where} — each in the figure and the CSV"):
+        raise Failure(f"the summary does not count the {count} intervals: {summary}")
+    if record:
+        want_lohi = f"{js_fmt(lo)} (PGA {js_fmt(lo_g)} g), {js_fmt(hi)} (PGA {js_fmt(hi_g)} g)"
+        got_lohi = summary.get("Lowest, highest scale", "")
+        if not summary.get("Total width, all intervals", "").startswith(js_fmt(measure)) \
+                or f"(PGA {js_fmt(measure_g)} g)" not in summary.get("Total width, all intervals", ""):
+            raise Failure(f"the summary's total width is not {measure} (PGA {measure_g} g): {summary}")
+    else:
+        got_lohi = re.sub(r" \(at [0-9.]+ Hz\)", "", summary.get("Lowest, highest a_p", ""))
+        want_lohi = f"{js_fmt(lo)} g, {js_fmt(hi)} g"
+        if not summary.get("Total width, all intervals", "").startswith(f"{js_fmt(measure)} g, summed over the"):
+            raise Failure(f"the summary's total width is not {measure} g: {summary}")
+    if got_lohi != want_lohi:
+        raise Failure(f"the summary's lowest and highest are not {want_lohi!r}: {summary}")
+    links = page.js("[...document.querySelectorAll('#summary a')].map((a) => [a.textContent, a.getAttribute('href')])")
+    if links != [["figure", f"/v1/jobs/{job_id}/plot.svg"], ["CSV", f"/v1/jobs/{job_id}/result?format=csv"]]:
+        raise Failure(f"the summary does not link the figure and the CSV: {links}")
+    status, _, body = http_get(base + links[1][1])
+    header, *rows = body.decode().strip().splitlines()
+    columns = header.split(",")
+    observation = columns.index("observation")
+    lo = columns.index("consistent_lo_scale" if record else "consistent_lo_g")
+    # The intersection's rows have no observation; a frequency without an
+    # interval has a row without ends.
+    together = [r for r in rows if r.split(",")[observation] == "" and r.split(",")[lo] != ""]
+    if status != 200 or len(together) != count:
+        raise Failure(f"the CSV linked has {len(together)} intervals consistent with every observation, not {count}")
 
 
 # --- records ---------------------------------------------------------------------
@@ -807,16 +989,7 @@ def check_forensic_record(page, base, rec):
     result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
     if result["excitation"] != "ground_motion" or result["frequencies"]:
         raise Failure(f"not a record query: {result['excitation']}, {len(result['frequencies'])} frequencies")
-    outcome = page.js("document.getElementById('outcome').textContent")
-    bounds = result["bounds"]
-    if bounds["min_scale"] is None:
-        if not outcome.startswith("No scale of the record"):
-            raise Failure(f"the outcome of a record query without answer: {outcome!r}")
-    else:
-        m = re.match(r"Consistent with every observation: scale ([0-9.]+) – ([0-9.]+) \(PGA ([0-9.]+) – ([0-9.]+) g\)", outcome)
-        if (not m or abs(float(m.group(1)) - bounds["min_scale"]) > 5e-4 * bounds["min_scale"]
-                or abs(float(m.group(4)) - bounds["max_g"]) > 5e-4 * bounds["max_g"]):
-            raise Failure(f"the outcome does not give the bounds {bounds}: {outcome!r}")
+    check_forensic_answer(page, base, job_id, result)
     summary = summary_of(page)
     want = f"{rec['samples']} samples, dt = {js_fmt(rec['dt'])} s, PGA {js_fmt(result['record']['pga_g'])} g"
     if summary.get("Record") != want:
@@ -861,6 +1034,10 @@ def check_time_history_record(page, base, rec):
     outcome = page.js("document.getElementById('outcome').textContent")
     if not re.match(r"(Overturned at t = |Survived: |Did not rock)", outcome):
         raise Failure(f"the time history on a record says {outcome!r}")
+    motion = summary_of(page).get("Ground motion", "")
+    want = f"a record ({rec['samples']} samples, dt = {js_fmt(rec['dt'])} s): PGA {js_fmt(peaks['pga_g'])} g"
+    if not motion.startswith(want):
+        raise Failure(f"the summary of a time history on a record says {motion!r}, not {want!r}")
     page.screenshot(os.path.join(OUT, "page-time-history-record.png"))
     page.click("input[name=th-by][value=pulse]")
     page.click("#show-json")
@@ -1014,8 +1191,207 @@ def check_survival(page, base):
     first = result["ages"][0]["survival_probability"]
     if f"P = {float(f'{first:.3g}'):g} at 1000 yr" not in outcome:
         raise Failure(f"the survival outcome does not give P_s = {first} at 1000 yr: {outcome!r}")
+    # Every rate scale is given with the age it belongs to (16.78 at 1 kyr
+    # is 1.678 at 10 kyr): none without its age.
+    summary = summary_of(page)
+    for age in result["ages"]:
+        term = f"Hazard × for P = 5 % at {js_fmt(age['age_years'])} yr"
+        if summary.get(term) != js_fmt(age["rate_scale_at_5_percent"]):
+            raise Failure(f"the summary does not give the rate scale {age['rate_scale_at_5_percent']} at "
+                          f"{age['age_years']} yr: {summary}")
+    ageless = [k for k in summary if "Hazard" in k and not re.search(r" at [0-9.]+ yr$", k)]
+    if ageless:
+        raise Failure(f"a rate scale is given without its age: {ageless}")
     page.screenshot(os.path.join(OUT, "page-survival.png"))
     page.click("input[name=kind][value=time_history]")
+
+
+def problem_shown(page):
+    return page.js("document.getElementById('problem').hidden ? '' : document.getElementById('problem').innerText")
+
+
+def check_switches_clear(page):
+    """Switching how the block is given, or the kind, leaves nothing behind:
+    the error box of the submission before goes; a restitution typed for
+    the block as it was given is emptied (the hint says the default that
+    applies); another kind's result goes from the panel."""
+    page.click("input[name=kind][value=time_history]")
+    if page.js("document.getElementById('result').hidden"):
+        raise Failure("no result is shown before the switches")
+    page.type_into("#f-alpha", "2")
+    page.click("#submit")
+    page.wait_js("the refusal", "!document.getElementById('problem').hidden", 10)
+    page.click("input[name=block-by][value=geometry]")
+    if problem_shown(page):
+        raise Failure(f"the error box stays after switching to b and h: {problem_shown(page)!r}")
+    if page.js("document.getElementById('f-eta').value") != "":
+        raise Failure("the restitution typed for α and p stays for the block given by b and h")
+    hint = page.js("document.getElementById('block-hint').textContent")
+    if "η = 1 − 1.5 sin²α = " not in hint or "(the default: none given)" not in hint:
+        raise Failure(f"the hint does not say which restitution applies: {hint!r}")
+    page.click("input[name=block-by][value=params]")
+    page.type_into("#f-eta", "0.9")
+    page.click("#submit")
+    page.wait_js("the refusal", "!document.getElementById('problem').hidden", 10)
+    page.click("input[name=kind][value=spectrum]")
+    if problem_shown(page):
+        raise Failure(f"the error box stays after switching the kind: {problem_shown(page)!r}")
+    state = page.js("['result', 'job', 'empty'].map((id) => document.getElementById(id).hidden).concat([location.hash])")
+    if state != [True, True, False, ""]:
+        raise Failure(f"the time history's result stays beside the spectrum's form (result, job, empty hidden; hash): {state}")
+    page.click("input[name=kind][value=time_history]")
+    page.type_into("#f-alpha", "0.25")
+
+
+def write_point_reyes_record(work):
+    """The record of specs/point_reyes_forensic_record.json (a 1 Hz one-sine
+    pulse of PGA 0.5 g) as a JSON file to upload."""
+    with open(os.path.join(ROOT, "specs", "point_reyes_forensic_record.json")) as f:
+        motion = json.load(f)["ground_motion"]
+    path = os.path.join(work, "point_reyes_1hz.json")
+    with open(path, "w") as f:
+        json.dump(dict(motion, name="point_reyes_1hz"), f)
+    return path
+
+
+def check_forensic_intervals(page, base, work):
+    """The Point Reyes observations on a record whose answer is two separate
+    intervals of scale: the page says two, not one range. Then, the
+    locomotive given by b and h instead: the example's η = 0.9 is not sent
+    with the new block (the service's default is, and the hint says which),
+    the error box of the submission before is gone, and the body sent holds
+    the values in sight only."""
+    page.click("input[name=kind][value=forensic]")
+    page.click("input[name=fo-by][value=record]")
+    page.set_files("#f-rec-file", [write_point_reyes_record(work)])
+    wait_preview(page, "the Point Reyes record", "point_reyes_1hz.json")
+    while page.js("document.querySelectorAll('#obs-list .obs').length") > 2:
+        page.click("#obs-list .obs:last-child .obs-remove")
+    page.type_into("#f-fo-sfrom", "0.05")
+    page.type_into("#f-fo-sto", "3")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "forensic query on the Point Reyes record")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    if len(result["consistent_scale"]) < 2:
+        raise Failure(f"the Point Reyes record was expected to give separate intervals: {result['consistent_scale']}")
+    check_forensic_answer(page, base, job_id, result)
+    page.screenshot(os.path.join(OUT, "page-forensic-intervals.png"))
+
+    # An error box from a submission: a range the service refuses.
+    page.type_into("#f-fo-sto", "500")
+    page.click("#submit")
+    page.wait_js("the refusal of PGA 500 g", "!document.getElementById('problem').hidden", 10)
+    first = "#obs-list .obs:first-child"
+    if page.js(f"document.querySelector('{first} .obs-eta').value") != "0.9":
+        raise Failure("the example's locomotive has no η = 0.9")
+    page.choose(f"{first} .obs-by", "geometry")
+    if problem_shown(page):
+        raise Failure(f"the error box stays after the block description was switched: {problem_shown(page)!r}")
+    if page.js(f"document.querySelector('{first} .obs-eta').value") != "":
+        raise Failure("the η of the block given by α and p stays for the block given by b and h")
+    page.type_into(f"{first} .obs-b", "0.2")
+    page.type_into(f"{first} .obs-h", "0.8")
+    housner = 1 - 1.5 * math.sin(math.atan2(0.2, 0.8)) ** 2
+    hint = page.js(f"document.querySelector('{first} .hint').textContent")
+    if f"η = 1 − 1.5 sin²α = {js_fmt(housner)} (the default: none given)" not in hint:
+        raise Failure(f"the card does not say which η applies ({housner}): {hint!r}")
+    page.type_into("#f-fo-sto", "3")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "forensic query with the locomotive given by b and h")
+    sent = page.last_submission()["observations"][0]
+    if sent != {"name": "locomotive", "block": {"b": 0.2, "h": 0.8}, "overturned": True}:
+        raise Failure(f"the observation switched to b and h was sent as {sent}")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    eta = result["observations"][0]["block"]["eta"]
+    if abs(eta - housner) > 1e-9:
+        raise Failure(f"the locomotive given by b and h ran with η = {eta}, not the default {housner}")
+    check_forensic_answer(page, base, job_id, result)
+    page.choose(f"{first} .obs-by", "params")
+    page.type_into(f"{first} .obs-eta", "0.9")
+    page.click("input[name=fo-by][value=pulse]")
+    page.click("input[name=kind][value=time_history]")
+
+
+def check_fragility_geometry(page, base):
+    """A fragility of blocks of uncertain half-width b and half-height h:
+    the form sends b and h as the truncated normals its hint states (and
+    no α or p); the job runs; the summary gives every number with its
+    intensity measure."""
+    page.click("input[name=kind][value=fragility]")
+    page.click("input[name=fg-by][value=pulse]")
+    page.click("input[name=fg-block-by][value=geometry]")
+    hidden = page.js("['fg-params', 'fg-geometry', 'fg-pulse-axes'].map((id) => !!document.getElementById(id).closest('[hidden]'))")
+    if hidden != [True, False, False]:
+        raise Failure(f"a fragility by b and h shows the wrong fields (hidden: {hidden})")
+    page.type_into("#f-fg-b", "0.6")
+    page.type_into("#f-fg-b-sd", "0.06")
+    page.type_into("#f-fg-h", "1.5")
+    page.type_into("#f-fg-h-sd", "0.1")
+    page.type_into("#f-fg-from", "0.3")
+    page.type_into("#f-fg-to", "1.5")
+    page.type_into("#f-fg-steps", "3")
+    page.type_into("#f-fg-samples", "8")
+    hint = page.js("document.getElementById('fg-block-hint').textContent")
+    if "b normal (mean 0.6, sd 0.06) m on [0.42, 0.78]" not in hint or "h normal (mean 1.5, sd 0.1) m on [1.2, 1.8]" not in hint:
+        raise Failure(f"the hint does not state the distributions sent: {hint!r}")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "fragility by b and h")
+    log(f"fragility by b and h {job_id}")
+    block = page.last_submission()["block"]
+    want = {"b": {"dist": "normal", "mean": 0.6, "sd": 0.06, "min": 0.42, "max": 0.78},
+            "h": {"dist": "normal", "mean": 1.5, "sd": 0.1, "min": 1.2, "max": 1.8}}
+    if block != want:
+        raise Failure(f"the fragility's uncertain block was sent as {block}, not {want}")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    if [s["n"] for s in result["stripes"]] != [8, 8, 8]:
+        raise Failure(f"the fragility by b and h: {result['stripes']}")
+    summary = summary_of(page)
+    if summary.get("Stripes (PGA, g)") != "3: 0.3 – 1.5, 8 simulations each":
+        raise Failure(f"the fragility summary: {summary}")
+    top = max(result["stripes"], key=lambda x: x["p"])
+    if not summary.get("Highest P(topple)", "").endswith(f"at PGA {js_fmt(top['im'])} g"):
+        raise Failure(f"the highest probability is not given with its stripe {top['im']} g: {summary}")
+    page.screenshot(os.path.join(OUT, "page-fragility-geometry.png"))
+    page.click("input[name=fg-block-by][value=params]")
+    page.click("input[name=kind][value=time_history]")
+
+
+def check_jobs_list(page, base, forensic_id):
+    """"Your jobs": the service's listing of this user's jobs, newest first;
+    a click on an older one opens it — its status, summary and figure."""
+    page.click("#jobs-refresh")
+    api = json.loads(http_get(f"{base}/v1/jobs?limit=500")[2])["jobs"]
+    created = [j["created_at"] for j in api]
+    if created != sorted(created, reverse=True):
+        raise Failure(f"the service does not list the jobs newest first: {created}")
+    want = [j["id"] for j in api[:20]]
+    page.wait_js("the list of jobs",
+                 f"[...document.querySelectorAll('#jobs-list .job-row')].map((r) => r.dataset.id).join() === {json.dumps(','.join(want))}",
+                 10)
+    statuses = page.js("[...document.querySelectorAll('#jobs-list .job-row .badge')].map((b) => b.textContent)")
+    if statuses != [j["status"] for j in api[:20]]:
+        raise Failure(f"the list's statuses {statuses} are not the service's")
+    if forensic_id not in want[1:]:
+        raise Failure(f"the forensic query {forensic_id} is not among the older jobs listed")
+    page.click(f"#jobs-list .job-row[data-id='{forensic_id}']")
+    page.wait_js("the forensic query to open",
+                 f"document.getElementById('job-id').textContent === {json.dumps(forensic_id)}"
+                 " && document.getElementById('status').textContent === 'succeeded'", 10)
+    wait_plot(page, "forensic query opened from the list")
+    src = page.js("document.getElementById('plot').getAttribute('src')")
+    if src != f"/v1/jobs/{forensic_id}/plot.svg":
+        raise Failure(f"the job opened shows the plot {src!r}")
+    page.wait_js("the summary", "document.querySelectorAll('#summary dd').length > 0", 10)
+    result = json.loads(http_get(f"{base}/v1/jobs/{forensic_id}/result")[2])
+    check_forensic_answer(page, base, forensic_id, result)
+    if not page.js("document.getElementById('job-kind').textContent").startswith("forensic query, submitted "):
+        raise Failure("the job opened does not say its kind")
+    if page.js(f"document.querySelector(\"#jobs-list .job-row[data-id='{forensic_id}']\").getAttribute('aria-current')") != "true":
+        raise Failure("the job opened is not marked in the list")
+    page.screenshot(os.path.join(OUT, "page-jobs.png"))
 
 
 def check_mavroeidis_papageorgiou_inputs(page):
@@ -1067,6 +1443,8 @@ def check_token(page, base):
     page.wait_js("the form", "!!document.getElementById('submit')", 10)
     page.wait_js("the token box to open by itself",
                  "document.getElementById('token-box').open", 10)
+    page.wait_js("the list of jobs to ask for the token",
+                 "document.getElementById('jobs-list').textContent.includes('needs the API token')", 10)
     page.click("#submit")
     page.wait_js("the error to be shown", "!document.getElementById('problem').hidden", 10)
     text = page.js("document.getElementById('problem').innerText")
@@ -1086,6 +1464,10 @@ def check_token(page, base):
     if not loaded.startswith("data:image/svg+xml"):
         raise Failure(f"with the token, the plot did not load: {loaded[:200]!r}")
     page.wait_js("the summary", "document.querySelectorAll('#summary dd').length > 0", 10)
+    job_id = page.js("document.getElementById('job-id').textContent")
+    page.wait_js("the job listed with the token",
+                 "(() => { const r = document.querySelector('#jobs-list .job-row');"
+                 f" return !!r && r.dataset.id === {json.dumps(job_id)}; }})()", 10)
 
 
 TOKEN = "e2e-token"
@@ -1098,7 +1480,8 @@ def main():
     for name in ("page.png", "page-error.png", "page-forensic.png", "page-cancel.png", "failure.png",
                  "page-record-preview.png", "page-record-ask.png", "page-record-error.png",
                  "page-record-spectrum.png", "page-record-spectrum-figure.png", "page-forensic-record.png",
-                 "page-time-history-record.png", "page-fragility-suite.png"):
+                 "page-time-history-record.png", "page-fragility-suite.png", "page-survival.png",
+                 "page-forensic-intervals.png", "page-fragility-geometry.png", "page-jobs.png"):
         try:
             os.remove(os.path.join(OUT, name))
         except FileNotFoundError:
@@ -1119,7 +1502,7 @@ def main():
         log(f"server {BIN} at {server.base}")
         check_served(server.base)
         page = Page(chromium.start())
-        for domain in ("Page", "Runtime", "Log"):
+        for domain in ("Page", "Runtime", "Log", "Network"):
             page.send(f"{domain}.enable")
         page.send("Emulation.setDeviceMetricsOverride", width=WIDTH, height=HEIGHT,
                   deviceScaleFactor=1, mobile=False)
@@ -1129,15 +1512,19 @@ def main():
         check_invalid_field(page)
         check_time_history(page, server.base)
         check_survivor(page, server.base)
-        check_forensic(page, server.base)
+        check_switches_clear(page)
+        forensic_id = check_forensic(page, server.base)
         record = check_record_spectrum(page, server.base, work)
         check_forensic_record(page, server.base, record)
         check_time_history_record(page, server.base, record)
         other = check_record_questions(page, server.base, work, record)
         check_fragility_suite(page, server.base, [record["id"], other])
+        check_forensic_intervals(page, server.base, work)
+        check_fragility_geometry(page, server.base)
         check_mavroeidis_papageorgiou_inputs(page)
         check_survival(page, server.base)
         check_cancel(page, server.base)
+        check_jobs_list(page, server.base, forensic_id)
         guarded.start()
         log(f"server with a token at {guarded.base}")
         check_token(page, guarded.base)

@@ -11,9 +11,18 @@ Chromium in a 1400×1000 window, fills the form as a user would and submits:
 - page-spectrum.png: the overturning spectrum of the same block
   (ω_p/p from 0.25 to 10, 40 steps, up to 20 αg);
 - page-forensic.png: the forensic query of specs/point_reyes_forensic.json
-  (the locomotive toppled, the transformer stood; 0.25–3 Hz, 0.05–3 g).
+  (the locomotive toppled, the transformer stood; 0.25–3 Hz, 0.05–3 g);
+- page-forensic-record.png: the same observations on the record of
+  specs/point_reyes_forensic_record.json (uploaded as a file), whose answer
+  is two separate intervals of scale;
+- page-fragility.png: the fragility of specs/pbr_fragility.json (b and h
+  uncertain, one-sine pulses of lognormal frequency; 15 stripes of 200);
+- page-survival.png: the survival job of specs/survival_power_law.json;
+- page-jobs.png: "Your jobs" listing the jobs above newest first, the
+  first time history opened from it: what the window shows, scrolled down
+  to the list.
 
-Each is what the window shows, scrolled to the top.
+The others are what the window shows, scrolled to the top.
 
 Environment: TOPPLE_BIN (default target/debug/topple), CHROMIUM (default
 /usr/bin/chromium), SCREENSHOTS_OUT (default docs/), E2E_TIMEOUT (seconds a
@@ -22,6 +31,7 @@ job may take, default 60).
 Exit status 0 when every screenshot was taken, 1 otherwise.
 """
 
+import base64
 import os
 import shutil
 import signal
@@ -95,6 +105,50 @@ def forensic(page):
     page.window_screenshot(os.path.join(OUT, "page-forensic.png"))
 
 
+def forensic_record(page, work):
+    page.click("input[name=kind][value=forensic]")
+    page.click("input[name=fo-by][value=record]")
+    path = e2e.write_point_reyes_record(work)
+    page.set_files("#f-rec-file", [path])
+    e2e.wait_preview(page, "the Point Reyes record", os.path.basename(path))
+    page.type_into("#f-fo-sfrom", "0.05")
+    page.type_into("#f-fo-sto", "3")
+    submit(page, "forensic query on a record")
+    page.window_screenshot(os.path.join(OUT, "page-forensic-record.png"))
+    page.click("input[name=fo-by][value=pulse]")
+
+
+def fragility(page):
+    page.click("input[name=kind][value=fragility]")
+    page.click("input[name=fg-block-by][value=geometry]")
+    for selector, value in (("#f-fg-b", "0.6"), ("#f-fg-b-sd", "0.06"), ("#f-fg-h", "1.5"), ("#f-fg-h-sd", "0.1"),
+                            ("#f-fg-hz", "1"), ("#f-fg-hz-beta", "0.4"), ("#f-fg-from", "0.1"), ("#f-fg-to", "1.5"),
+                            ("#f-fg-steps", "15"), ("#f-fg-samples", "200"), ("#f-fg-seed", "42")):
+        page.type_into(selector, value)
+    submit(page, "fragility")
+    page.window_screenshot(os.path.join(OUT, "page-fragility.png"))
+
+
+def survival(page):
+    page.click("input[name=kind][value=survival]")
+    submit(page, "survival")
+    page.window_screenshot(os.path.join(OUT, "page-survival.png"))
+
+
+def jobs(page):
+    page.click("input[name=kind][value=time_history]")
+    page.click("#jobs-list .job-row:last-child")
+    e2e.wait_plot(page, "time history opened from the list")
+    page.wait_js("the summary", "document.querySelectorAll('#summary dd').length > 0", 10)
+    # The window scrolled down to the list, the job's summary above it.
+    page.js("document.getElementById('jobs-title').closest('.panel').scrollIntoView({block: 'end'})")
+    shot = page.send("Page.captureScreenshot", format="png")
+    path = os.path.join(OUT, "page-jobs.png")
+    with open(path, "wb") as f:
+        f.write(base64.b64decode(shot["data"]))
+    log(f"screenshot {os.path.relpath(path, e2e.ROOT)}")
+
+
 def main():
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     os.makedirs(OUT, exist_ok=True)
@@ -114,6 +168,10 @@ def main():
         time_history(page)
         spectrum(page)
         forensic(page)
+        forensic_record(page, work)
+        fragility(page)
+        survival(page)
+        jobs(page)
         page.pump()
         if page.problems:
             raise Failure("the browser reported:\n  " + "\n  ".join(page.problems))
