@@ -5,7 +5,8 @@
 //! reference machine ([`crate::jobs::cost`]); its expected wall time here is
 //! that, spread over the compute threads it can use, times this instance's
 //! rate for its kind: a moving average of what finished tasks measured
-//! against what their size predicted (1 before anything was measured).
+//! against what their size predicted (1 before anything was measured; the
+//! first measurement of a kind replaces it).
 
 use std::collections::HashMap;
 use std::sync::Mutex;
@@ -48,8 +49,11 @@ impl Throughput {
         }
         let measured = (seconds / predicted).clamp(RATE_RANGE.0, RATE_RANGE.1);
         if let Ok(mut rates) = self.rates.lock() {
-            let rate = rates.entry(kind.to_string()).or_insert(1.0);
-            *rate += WEIGHT * (measured - *rate);
+            // The first measurement of a kind replaces the model's guess.
+            rates
+                .entry(kind.to_string())
+                .and_modify(|rate| *rate += WEIGHT * (measured - *rate))
+                .or_insert(measured);
         }
     }
 
@@ -88,6 +92,8 @@ mod tests {
         assert!((t.seconds("spectrum", &size(1.0)) - 0.5).abs() < 1e-12);
         t.record("spectrum", &size(0.001), 100.0);
         assert_eq!(t.rate("spectrum"), 1.0);
+        t.record("spectrum", &size(1.0), 0.25);
+        assert!((t.rate("spectrum") - 0.5).abs() < 1e-12);
         for _ in 0..60 {
             t.record("spectrum", &size(1.0), 1.5);
         }
