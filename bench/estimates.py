@@ -245,8 +245,9 @@ def main() -> int:
                     "est_seconds": est["seconds"], "wall_time_s": wall,
                 }
                 row["ratio_simulations"] = est["simulations"] / max(sims, 1.0)
-                # Below a millisecond, the wall time is overhead, not work.
-                row["ratio_seconds"] = max(est["seconds"], 1e-3) / max(wall, 1e-3)
+                # Below 10 ms, a wall time is overhead and noise, not work
+                # (and Retry-After counts whole seconds): both are floored there.
+                row["ratio_seconds"] = max(est["seconds"], 1e-2) / max(wall, 1e-2)
                 rows.append(row)
                 print(f"{round_name:8} {name:48} sims {est['simulations']:>10.0f} / {sims:>8.0f} "
                       f"({row['ratio_simulations']:.2f})  s {est['seconds']:>8.3f} / {wall:>8.3f} "
