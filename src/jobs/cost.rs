@@ -14,11 +14,12 @@ use crate::dynamics::{Formulation, PulseShape};
 
 use super::names::SolverMethod;
 
-/// CPU seconds a task of a split job aims at: well under a second of the
-/// reference machine's two cores, so that a small job submitted behind it
-/// starts within about a second. A task also costs a claim, heartbeats and a
-/// write (a few milliseconds on PostgreSQL).
-pub const TASK_CPU_S: f64 = 0.5;
+/// CPU seconds a task of a split job aims at: a fraction of a second of the
+/// reference machine (whose model seconds run about twice the measured
+/// ones), so that a small job submitted behind it starts well within a
+/// second. A task also costs a claim, heartbeats and a write (a few
+/// milliseconds on PostgreSQL): a few per cent.
+pub const TASK_CPU_S: f64 = 0.3;
 
 /// CPU seconds of one simulation of a pulse of `shape` (a spectrum's
 /// average: blocks that overturn early stop early), µs × 1e-6.

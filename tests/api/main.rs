@@ -360,8 +360,8 @@ async fn cancel_stops_a_running_spectrum_within_100_ms() {
 #[tokio::test]
 async fn a_fragility_campaign_runs_as_tasks_reports_progress_and_cancels() {
     let app = spawn_app("fragility-cancel").await;
-    // Two million simulations (about 200 CPU seconds): hundreds of tasks
-    // of about half a CPU second each.
+    // Two million simulations (about 70 CPU seconds in the cost model's):
+    // hundreds of tasks of about 0.3 each.
     let spec = json!({"kind": "fragility",
         "block": {"alpha": {"dist": "uniform", "min": 0.15, "max": 0.25}, "p": 2.0},
         "pulse": {"type": "one_sine", "frequency_hz": 0.8},
