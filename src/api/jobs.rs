@@ -60,11 +60,16 @@ impl Links {
 /// take on this instance, from the rate it has measured.
 #[derive(Clone, Debug, Serialize, ToSchema)]
 pub struct Estimate {
-    /// Simulations the job needs (estimated for spectra: grid plus bisections).
+    /// Simulations the job needs (estimated for scans: grid plus
+    /// bisections, of a few transitions a line under a pulse and of most
+    /// scan points under a record).
     pub simulations: f64,
-    /// Expected compute time on this instance, s.
+    /// Expected compute time on this instance, s: the CPU time of its
+    /// simulations (by pulse shape, formulation and method, or by the
+    /// shaking part of its record) over the threads it can use, at the rate
+    /// this instance measured for its kind.
     pub seconds: f64,
-    /// The measured rate behind it: wall seconds per simulation.
+    /// `seconds` over `simulations`.
     pub seconds_per_simulation: f64,
 }
 
@@ -192,16 +197,17 @@ fn poll_after(state: &AppState, r: &JobRecord) -> u64 {
     // suite) is not worth parsing on the runtime for each poll: its work is
     // taken as one simulation too, and the client polls at the shortest
     // interval. The other specs are small.
+    let one = crate::jobs::kind::Size::one(1e-3);
     let work = if r.kind == "time_history" || r.spec.len() > SMALL_SPEC {
-        1.0
+        one
     } else {
         serde_json::from_str::<serde_json::Value>(&r.spec)
             .ok()
             .and_then(|v| Job::from_value(&v).ok())
-            .map_or(1.0, |job| job.size().work)
+            .map_or(one, |job| job.size())
     };
-    let remaining = work * (1.0 - r.progress.clamp(0.0, 1.0));
-    super::http::poll_interval(state.throughput.seconds(remaining))
+    let left = 1.0 - r.progress.clamp(0.0, 1.0);
+    super::http::poll_interval(state.throughput.seconds(&r.kind, &work) * left)
 }
 
 /// Query of a submission.
@@ -458,10 +464,11 @@ pub async fn create_job(
         record = wait_for(&state, &tenant, id, limit).await?;
     }
     let mut v = view(&record, Some(submitted.cached));
+    let seconds = state.throughput.seconds(job.kind(), &size);
     v.estimate = Some(Estimate {
         simulations: size.work,
-        seconds: state.throughput.seconds(size.work),
-        seconds_per_simulation: state.throughput.seconds_per_simulation(),
+        seconds,
+        seconds_per_simulation: seconds / size.work.max(1.0),
     });
     // New work is accepted (202) unless the caller waited for it; existing work
     // that is done, and work waited for that ended (succeeded, failed or

@@ -906,15 +906,31 @@ impl ForensicJob {
         })
     }
 
-    /// Scan points over all observations and frequencies, and the estimated
-    /// simulations (scan plus bisection of a few transitions per line).
-    pub fn size(&self) -> (f64, f64) {
+    /// Scan points over all observations and frequencies, the estimated
+    /// simulations (scan plus bisection: of a few transitions per line of a
+    /// pulse, of most scan points under a record, [`super::cost`]) and their
+    /// CPU seconds.
+    pub fn size(&self) -> (f64, f64, f64) {
+        use super::cost;
         // A record query has one line per observation.
         let n = self.frequency_hz.len().max(1) as f64;
         let scan = self.range_g().to / self.scan_step_g;
-        let bisection = (self.scan_step_g / self.tolerance_g).log2().ceil().max(1.0);
         let lines = n * self.observations.len() as f64;
-        (lines * scan, lines * (scan + 6.0 * bisection))
+        match (&self.ground_motion, &self.pulse) {
+            (Some(g), _) => {
+                let work =
+                    lines * cost::record_line_simulations(scan, self.scan_step_g, self.tolerance_g);
+                (lines * scan, work, work * cost::record_simulation_s(&g.acc))
+            }
+            (None, pulse) => {
+                let work =
+                    lines * cost::pulse_line_simulations(scan, self.scan_step_g, self.tolerance_g);
+                let per = pulse.as_ref().map_or(0.0, |p| {
+                    cost::pulse_simulation_s(&p.shape(), self.formulation, self.solver.method)
+                });
+                (lines * scan, work, work * per)
+            }
+        }
     }
 }
 
@@ -954,11 +970,13 @@ impl crate::jobs::kind::Kind for Forensic {
     }
 
     fn size(job: &ForensicJob) -> crate::jobs::kind::Size {
-        let (grid, work) = job.size();
+        let (grid, work, cpu_s) = job.size();
         crate::jobs::kind::Size {
             series_points: 0,
             grid_points: grid.min(usize::MAX as f64) as usize,
             work,
+            cpu_s,
+            lanes: grid / 48.0,
             record_work: job
                 .ground_motion
                 .as_ref()

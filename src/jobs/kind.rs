@@ -17,14 +17,9 @@ use super::error::{JobError, SpecError};
 use super::warning::WarningDoc;
 use crate::spectrum::Control;
 
-/// Transitions assumed per frequency in the work estimate of a spectrum: a
-/// bracket of one scan step narrowed to the tolerance takes
-/// log2(step/tolerance) bisection steps; a frequency has a handful of
-/// transitions (Figs. 6, 10, 11 show at most four).
-pub const TRANSITIONS_PER_FREQUENCY: f64 = 6.0;
-
-/// Size of a job: its grid and its estimated simulations, what the
-/// service's limits are checked against and its tasks are cut by.
+/// Size of a job: its grid, its estimated simulations and their CPU
+/// seconds ([`super::cost`]), what the service's limits are checked against,
+/// its estimate is made of and its tasks are cut by.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Size {
     /// Series samples (time histories).
@@ -35,16 +30,30 @@ pub struct Size {
     pub work: f64,
     /// Estimated simulations × record samples (records only, else 0).
     pub record_work: f64,
+    /// Estimated CPU seconds on the reference machine.
+    pub cpu_s: f64,
+    /// Simulations that can run at once (1: one simulation after another).
+    pub lanes: f64,
 }
 
 impl Size {
-    /// The size of a job of one simulation (and no series).
-    pub const ONE: Size = Size {
-        series_points: 0,
-        grid_points: 1,
-        work: 1.0,
-        record_work: 0.0,
-    };
+    /// The size of a job of one simulation (and no series) costing `cpu_s`.
+    pub fn one(cpu_s: f64) -> Size {
+        Size {
+            series_points: 0,
+            grid_points: 1,
+            work: 1.0,
+            record_work: 0.0,
+            cpu_s,
+            lanes: 1.0,
+        }
+    }
+
+    /// Expected wall seconds on `threads` compute threads at `rate` times
+    /// the reference machine's CPU seconds.
+    pub fn wall_s(&self, threads: usize, rate: f64) -> f64 {
+        self.cpu_s * rate / self.lanes.clamp(1.0, threads.max(1) as f64)
+    }
 }
 
 /// A job kind.

@@ -10,6 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::error::JobError;
 use super::names::{EngineDoc, tag};
 use super::range::RangeSpec;
 use super::spec::{
@@ -23,6 +24,9 @@ use crate::dynamics::{Block, Formulation, SimError, peaks};
 use crate::spectrum::Control;
 use crate::spectrum::overturning::{Derived, LineScan, ScanGrid, threshold_alpha_g_of};
 use crate::spectrum::record::{RecordSpectrumRequest, record_spectrum};
+use crate::spectrum::scan::ScanStats;
+
+pub mod part;
 use crate::spectrum::scan::{Direction, ModeChange, ScanError, Transition};
 
 /// Most block sizes in one record spectrum.
@@ -179,6 +183,10 @@ pub struct RecordSpectrumJob {
     pub principal_relative_width: f64,
     /// Solver.
     pub solver: SolverNorm,
+    /// A task's sizes and levels (absent: the whole job).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub part: Option<part::Part>,
 }
 
 /// p of a block of size R, m, under gravity g (eq. 5: p = √(3g/(4R))).
@@ -363,6 +371,7 @@ impl RecordSpectrumSpec {
             scan_step,
             principal_relative_width: principal,
             solver,
+            part: None,
         })
     }
 }
@@ -472,8 +481,12 @@ pub struct RecordSpectrumNumerics {
     pub tolerance: f64,
     /// Scan step, scale units.
     pub scan_step: f64,
-    /// Wall time, s.
+    /// Wall time, s (of a job computed in several tasks: their total
+    /// compute time).
     pub wall_time_s: f64,
+    /// Tasks the job was computed in (absent: one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tasks: Option<usize>,
 }
 
 /// The result document of a record spectrum.
@@ -543,17 +556,35 @@ impl RecordSpectrumJob {
         ((grid.to - grid.from) / grid.step).ceil().max(0.0) + 1.0
     }
 
-    /// Runs the job under `control`.
-    pub fn run(&self, control: &Control) -> Result<RecordSpectrumResult, ScanError> {
-        let record = self
-            .ground_motion
+    /// The record as the engine takes it.
+    fn record(&self) -> Result<crate::dynamics::Record, ScanError> {
+        self.ground_motion
             .record()
-            .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
-        let unit = self.unit_scale();
-        let g = self.block.g;
-        let peak = pga(&self.ground_motion.acc);
+            .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))
+    }
+
+    /// The problems of the blocks of frequency parameters `ps` under the
+    /// record (scaled per level by the scan).
+    pub fn problems(
+        &self,
+        ps: &[f64],
+    ) -> Result<Vec<crate::dynamics::Problem<crate::dynamics::Record>>, ScanError> {
+        let record = self.record()?;
+        ps.iter()
+            .map(|&p| {
+                Ok(crate::dynamics::Problem {
+                    block: self.block_at(p).map_err(SimError::from)?,
+                    pulse: record.clone(),
+                    formulation: self.formulation,
+                })
+            })
+            .collect()
+    }
+
+    /// Runs the whole job under `control` (whatever its `part`).
+    pub fn run(&self, control: &Control) -> Result<RecordSpectrumResult, ScanError> {
         let req = RecordSpectrumRequest {
-            record: record.clone(),
+            record: self.record()?,
             block: self.block_at(1.0).map_err(SimError::from)?,
             ps: self.p.clone(),
             formulation: self.formulation,
@@ -561,6 +592,30 @@ impl RecordSpectrumJob {
             grid: self.grid(),
         };
         let s = record_spectrum(&req, control)?;
+        self.result(&s.lines, &s.stats, s.wall_time, None)
+    }
+
+    /// The whole job's result from its tasks' parts (in any order).
+    pub fn result_of(&self, parts: &[part::PartDoc]) -> Result<RecordSpectrumResult, JobError> {
+        let (found, stats, wall) = part::assemble(self, parts)?;
+        let grid = self.grid();
+        let lines: Vec<LineScan> = found.into_iter().map(|(t, m)| grid.line(t, m)).collect();
+        self.result(&lines, &stats, wall, Some(parts.len()))
+            .map_err(|e| JobError::Task(e.to_string()))
+    }
+
+    /// The result document of the lines found.
+    fn result(
+        &self,
+        lines: &[LineScan],
+        stats: &ScanStats,
+        wall_time: f64,
+        tasks: Option<usize>,
+    ) -> Result<RecordSpectrumResult, ScanError> {
+        let record = self.record()?;
+        let unit = self.unit_scale();
+        let g = self.block.g;
+        let peak = pga(&self.ground_motion.acc);
         let threshold = self.threshold_alpha_g();
         let to_scale = |level: f64| level * unit;
         let transition = |t: &Transition| ScaleTransitionDoc {
@@ -590,7 +645,7 @@ impl RecordSpectrumJob {
         let spectrum = self
             .p
             .iter()
-            .zip(&s.lines)
+            .zip(lines)
             .map(|(&p, l): (&f64, &LineScan)| SizeDoc {
                 p,
                 r_m: size_of_p(p, g),
@@ -622,12 +677,16 @@ impl RecordSpectrumJob {
             },
             spectrum,
             numerics: RecordSpectrumNumerics {
-                cost: ScanCost::new(&self.solver, &s.stats),
+                cost: ScanCost::new(&self.solver, stats),
                 tolerance: self.tolerance,
                 scan_step: self.scan_step,
-                wall_time_s: s.wall_time,
+                wall_time_s: wall_time,
+                tasks,
             },
-            spec: self.clone(),
+            spec: RecordSpectrumJob {
+                part: None,
+                ..self.clone()
+            },
             warnings: Vec::new(),
             engine: None,
         })
@@ -652,20 +711,34 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
         job: &RecordSpectrumJob,
         control: &Control,
     ) -> Result<serde_json::Value, crate::jobs::JobError> {
-        crate::jobs::kind::document(&job.run(control)?)
+        match job.part {
+            // A task's transitions, assembled by the service.
+            Some(p) => crate::jobs::kind::document(&part::run(job, p, control)?),
+            None => crate::jobs::kind::document(&job.run(control)?),
+        }
     }
 
+    /// Scan points of every size, each bisected down to the tolerance
+    /// ([`super::cost::record_line_simulations`]), at the cost of a
+    /// simulation of the record.
     fn size(job: &RecordSpectrumJob) -> crate::jobs::kind::Size {
         let scan = job.points_per_size();
         let grid = job.grid();
-        let bisection = (grid.step / grid.tolerance).log2().ceil().max(1.0);
-        let n = job.p.len() as f64;
-        let work = n * (scan + crate::jobs::kind::TRANSITIONS_PER_FREQUENCY * bisection);
+        let (n, points) = match job.part {
+            Some(p) => (
+                (p.sizes[1] - p.sizes[0]) as f64,
+                (p.levels[1] - p.levels[0] + 1) as f64,
+            ),
+            None => (job.p.len() as f64, scan),
+        };
+        let work = n * super::cost::record_line_simulations(points, grid.step, grid.tolerance);
         crate::jobs::kind::Size {
             series_points: 0,
-            grid_points: (n * scan).min(usize::MAX as f64) as usize,
+            grid_points: (n * points).min(usize::MAX as f64) as usize,
             work,
             record_work: work * job.ground_motion.acc.len() as f64,
+            cpu_s: work * super::cost::record_simulation_s(&job.ground_motion.acc),
+            lanes: n * (points / 48.0).ceil(),
         }
     }
 
@@ -682,29 +755,66 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
         found
     }
 
-    /// One task per chunk of block sizes; a long record (stored with each
-    /// task) in fewer tasks.
+    /// Tasks of about [`super::cost::TASK_CPU_S`]: sizes grouped, or a
+    /// size split along the scale axis ([`part`]); each task names its part
+    /// of the job, whose record is stored once.
     fn split(job: &RecordSpectrumJob, size: &crate::jobs::kind::Size) -> Vec<RecordSpectrumJob> {
-        let n = job.p.len();
-        if n <= 1 {
+        if job.part.is_some() {
             return vec![job.clone()];
         }
-        let per =
-            super::split::line_chunk(n, size.work / n as f64, Some(job.ground_motion.acc.len()));
-        job.p
-            .chunks(per)
-            .map(|chunk| RecordSpectrumJob {
-                p: chunk.to_vec(),
+        let per_size = size.cpu_s / job.p.len().max(1) as f64;
+        let parts = part::parts(
+            job,
+            per_size,
+            super::cost::TASK_CPU_S,
+            super::split::MAX_TASKS,
+        );
+        if parts.len() <= 1 {
+            return vec![job.clone()];
+        }
+        parts
+            .into_iter()
+            .map(|p| RecordSpectrumJob {
+                part: Some(p),
                 ..job.clone()
             })
             .collect()
     }
 
+    fn task_payload(job: &RecordSpectrumJob) -> Option<String> {
+        job.part
+            .map(|part| serde_json::json!({ "part": part }).to_string())
+    }
+
+    fn part_of(
+        whole: &RecordSpectrumJob,
+        payload: &serde_json::Value,
+    ) -> Option<Result<RecordSpectrumJob, JobError>> {
+        let part = payload.get("part")?;
+        if payload.get("kind").is_some() {
+            return None;
+        }
+        Some(part::Part::of(whole, part).map(|p| RecordSpectrumJob {
+            part: Some(p),
+            ..whole.clone()
+        }))
+    }
+
+    fn is_part(job: &RecordSpectrumJob) -> bool {
+        job.part.is_some()
+    }
+
+    /// The parts' transitions gathered per size, and everything derived
+    /// from them as one task would.
     fn assemble(
         job: &RecordSpectrumJob,
         parts: Vec<serde_json::Value>,
-    ) -> Result<serde_json::Value, crate::jobs::JobError> {
-        let spec = crate::jobs::kind::document(job)?;
-        Ok(super::split::concatenate(Self::NAME, spec, parts))
+    ) -> Result<serde_json::Value, JobError> {
+        let parts: Vec<part::PartDoc> = parts
+            .into_iter()
+            .map(serde_json::from_value)
+            .collect::<Result<_, _>>()
+            .map_err(|e| JobError::Task(format!("a task's result does not read: {e}")))?;
+        crate::jobs::kind::document(&job.result_of(&parts)?)
     }
 }

@@ -666,18 +666,20 @@ impl crate::jobs::kind::Kind for Spectrum {
     }
 
     fn size(job: &SpectrumJob) -> crate::jobs::kind::Size {
+        use crate::jobs::cost;
         let scan = (job.a_max_alpha_g / job.scan_step_alpha_g).ceil();
-        let bisection = (job.scan_step_alpha_g / job.tolerance)
-            .log2()
-            .ceil()
-            .max(1.0);
-        let per_frequency = scan + crate::jobs::kind::TRANSITIONS_PER_FREQUENCY * bisection;
+        let per_frequency =
+            cost::pulse_line_simulations(scan, job.scan_step_alpha_g, job.tolerance);
         let n = job.omega_ratio.len() as f64;
+        let work = n * per_frequency;
         crate::jobs::kind::Size {
             series_points: 0,
             grid_points: (n * scan).min(usize::MAX as f64) as usize,
-            work: n * per_frequency,
+            work,
             record_work: 0.0,
+            cpu_s: work
+                * cost::pulse_simulation_s(&job.pulse.shape(), job.formulation, job.solver.method),
+            lanes: n * (scan / 48.0).ceil(),
         }
     }
 
@@ -692,13 +694,13 @@ impl crate::jobs::kind::Kind for Spectrum {
     }
 
     /// One task per chunk of frequencies of about
-    /// [`super::split::TASK_SIMULATIONS`] simulations.
+    /// [`super::split::TASK_CPU_S`].
     fn split(job: &SpectrumJob, size: &crate::jobs::kind::Size) -> Vec<SpectrumJob> {
         let n = job.omega_ratio.len();
         if n <= 1 {
             return vec![job.clone()];
         }
-        let per = super::split::line_chunk(n, size.work / n as f64, None);
+        let per = super::split::per_task(n, size.cpu_s / n as f64);
         job.omega_ratio
             .chunks(per)
             .map(|chunk| SpectrumJob {

@@ -3,57 +3,24 @@
 
 use serde_json::Value;
 
-/// Most tasks a spectrum is split into.
-pub const MAX_TASKS: usize = 256;
+/// Most tasks a job is split into: past this, tasks grow longer than
+/// [`TASK_CPU_S`] (the service's `max_work` keeps a job under about 2,000
+/// CPU seconds, so this is reached by none it accepts).
+pub const MAX_TASKS: usize = 4096;
 
-/// Simulations a task of a spectrum aims at (whole frequencies; a frequency
-/// that needs more is a task of its own): about a seventh of a second of one
-/// core. A task is the unit of turns — a small job waits for a task of a big
-/// one to finish, not for the big one — and each costs a claim, heartbeats and
-/// a write (a few milliseconds on PostgreSQL): small enough for turns, large
-/// enough that the queue costs a few per cent.
-pub const TASK_SIMULATIONS: f64 = 5_000.0;
+pub use super::cost::TASK_CPU_S;
 
-/// Record samples one simulation of a pulse costs about as much as: a
-/// simulation of a record of N samples counts as N/50 in a task's budget.
-const SAMPLES_PER_PULSE_SIMULATION: f64 = 50.0;
-
-/// Record samples stored over all the tasks of a record spectrum (each task
-/// carries the record): a long record is split into fewer tasks.
-pub const MAX_TASK_SAMPLES: usize = 5_000_000;
-
-/// Chunks of `n` lines of `per_line` simulations each, at most `max_tasks`.
-fn chunk_len(n: usize, per_line: f64, max_tasks: usize) -> usize {
-    ((TASK_SIMULATIONS / per_line.max(1.0)).floor() as usize)
-        .max(n.div_ceil(max_tasks.max(1)))
-        .clamp(1, n)
-}
-
-/// Frequency chunks of a spectrum's `n` lines of `per_line` simulations
-/// each, each record sample costing 1/[`SAMPLES_PER_PULSE_SIMULATION`] of a
-/// simulation when the spectrum is of a record of `samples` samples (stored
-/// with every task: their total is bounded by [`MAX_TASK_SAMPLES`]).
-pub fn line_chunk(n: usize, per_line: f64, samples: Option<usize>) -> usize {
-    match samples {
-        Some(samples) => {
-            let per_line = per_line * (samples as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
-            let max_tasks = MAX_TASKS.min((MAX_TASK_SAMPLES / samples.max(1)).max(1));
-            chunk_len(n, per_line, max_tasks)
-        }
-        None => chunk_len(n, per_line, MAX_TASKS),
-    }
-}
-
-/// Units of a job split by units of `per_unit_simulations` simulations each
-/// (records of `longest_record` samples at most) per task.
-pub fn units_per_task(units: usize, per_unit_simulations: f64, longest_record: usize) -> usize {
-    let per_unit =
-        per_unit_simulations * (longest_record as f64 / SAMPLES_PER_PULSE_SIMULATION).max(1.0);
-    // Whole units, rounded up: a unit of long records is already most of a
-    // task, and a task costs a claim and two writes.
-    ((TASK_SIMULATIONS / per_unit).ceil() as usize)
-        .max(units.div_ceil(MAX_TASKS))
-        .clamp(1, units.max(1))
+/// Lines per task of a job of `n` lines of `per_line` CPU seconds each: as
+/// many as fit in [`TASK_CPU_S`] (a line that costs more is a task of its
+/// own), in at most [`MAX_TASKS`] tasks. A task is the unit of turns — a
+/// small job waits for a task of a big one to finish, not for the big one —
+/// and each costs a claim, heartbeats and a write: short enough for turns,
+/// long enough that the queue costs a few per cent.
+pub fn per_task(n: usize, per_line: f64) -> usize {
+    let fit = (TASK_CPU_S / per_line.max(f64::MIN_POSITIVE)).floor();
+    (fit.min(n as f64) as usize)
+        .max(n.div_ceil(MAX_TASKS))
+        .clamp(1, n.max(1))
 }
 
 /// The result document of a spectrum (`kind`, normalised spec `spec`) from
@@ -124,8 +91,8 @@ mod tests {
         )
         .expect("valid");
         let tasks = job.split();
-        let per = (TASK_SIMULATIONS / (job.size().work / 70.0)).floor() as usize;
-        assert!(per >= 1);
+        let per = per_task(70, job.size().cpu_s / 70.0);
+        assert!(per >= 1 && per < 70, "{per}");
         assert_eq!(tasks.len(), 70usize.div_ceil(per));
         let control = Control::new();
         let parts: Vec<Value> = tasks
@@ -144,38 +111,44 @@ mod tests {
     }
 
     #[test]
-    fn a_large_spectrum_is_split_into_at_most_max_tasks_of_about_task_simulations() {
-        // A fine grid: one frequency is a task of its own, and 1,000 of them
-        // make 250 tasks of 4.
-        let job = Job::parse(
+    fn a_spectrum_is_split_into_tasks_of_about_task_cpu_s() {
+        // A fine grid (10,000 scan points a frequency): a few frequencies a
+        // task; the default grid: tens of frequencies a task.
+        for spec in [
             r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":{"from":1,"to":8,"steps":1000},"scan_step_alpha_g":0.002}"#,
-        )
-        .expect("valid");
-        assert!(job.size().work / 1000.0 > TASK_SIMULATIONS);
-        let tasks = job.split();
-        assert_eq!(tasks.len(), 250);
-        let per: Vec<usize> = tasks
-            .iter()
-            .map(|t| match t {
-                Job::Spectrum(s) => s.omega_ratio.len(),
-                _ => 0,
-            })
-            .collect();
-        assert!(per.iter().all(|&n| n == 4), "{per:?}");
-        // The default grid (about 1,100 simulations a frequency): tasks of 4.
-        let job = Job::parse(
             r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"nonlinear","omega_ratio":{"from":0.25,"to":10,"steps":400},"a_max_alpha_g":20,"tolerance":1e-4}"#,
-        )
-        .expect("valid");
-        let per_frequency = job.size().work / 400.0;
-        let tasks = job.split();
-        for t in &tasks {
-            let Job::Spectrum(s) = t else {
-                panic!("a spectrum task");
-            };
-            assert!(s.omega_ratio.len() as f64 * per_frequency <= TASK_SIMULATIONS);
+        ] {
+            let job = Job::parse(spec).expect("valid");
+            let whole = job.size();
+            let tasks = job.split();
+            assert!(tasks.len() > 1 && tasks.len() <= MAX_TASKS);
+            let mut lines = 0;
+            for t in &tasks {
+                let Job::Spectrum(s) = t else {
+                    panic!("a spectrum task");
+                };
+                lines += s.omega_ratio.len();
+                assert!(t.size().cpu_s <= TASK_CPU_S, "{:?}", t.size());
+                // Not much shorter either: tasks are filled.
+                assert!(
+                    t.size().cpu_s > TASK_CPU_S / 2.0 || t == tasks.last().expect("a task"),
+                    "{:?}",
+                    t.size()
+                );
+            }
+            assert_eq!(lines, job_lines(&job));
+            assert!(
+                (tasks.iter().map(|t| t.size().cpu_s).sum::<f64>() - whole.cpu_s).abs()
+                    < 1e-9 * whole.cpu_s
+            );
         }
-        assert!(tasks.len() < 400 && tasks.len() > 50, "{}", tasks.len());
+    }
+
+    fn job_lines(job: &Job) -> usize {
+        match job {
+            Job::Spectrum(s) => s.omega_ratio.len(),
+            _ => 0,
+        }
     }
 
     #[test]

@@ -456,14 +456,21 @@ impl crate::jobs::kind::Kind for TimeHistory {
     }
 
     fn size(job: &TimeHistoryJob) -> crate::jobs::kind::Size {
+        use crate::jobs::cost;
+        let cpu_s = match (&job.ground_motion, &job.pulse) {
+            (Some(g), _) => cost::record_simulation_s(&g.acc),
+            (None, Some(p)) => {
+                cost::pulse_simulation_s(&p.shape, job.formulation, job.solver.method)
+            }
+            (None, None) => 0.0,
+        };
         crate::jobs::kind::Size {
             series_points: job.outputs.series,
-            grid_points: 1,
-            work: 1.0,
             record_work: job
                 .ground_motion
                 .as_ref()
                 .map_or(0.0, |g| g.acc.len() as f64),
+            ..crate::jobs::kind::Size::one(cpu_s)
         }
     }
 

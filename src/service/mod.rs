@@ -107,7 +107,7 @@ impl AppState {
             metrics: Arc::new(metrics::Metrics::new()),
             results,
             renders: Arc::new(tokio::sync::Semaphore::new(RENDERS)),
-            throughput: Arc::new(throughput::Throughput::default()),
+            throughput: Arc::new(throughput::Throughput::new(pool.current_num_threads())),
             pool: Arc::new(pool),
             engine,
             idle_poll: Duration::from_millis(500),

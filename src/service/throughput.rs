@@ -1,59 +1,96 @@
-//! The measured computation rate of this instance, for the estimates a
-//! submission answers with and the poll interval it suggests.
+//! The measured computation rate of this instance, per job kind, for the
+//! estimates a submission answers with and the poll interval it suggests.
+//!
+//! A job's size carries the CPU seconds its simulations take on the
+//! reference machine ([`crate::jobs::cost`]); its expected wall time here is
+//! that, spread over the compute threads it can use, times this instance's
+//! rate for its kind: the wall seconds its finished tasks took over the
+//! seconds their sizes predicted, summed over about the last
+//! [`MEMORY_S`] predicted seconds (so a long task counts for more than a
+//! short one, whose cost the model knows less well), starting from the
+//! model's own guess (a rate of 1) worth [`PRIOR_S`].
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::collections::HashMap;
+use std::sync::Mutex;
 
-/// Wall seconds per simulation before anything was measured: a nonlinear
-/// dop853 simulation with its events takes about 10 µs on one core of the
-/// reference machine; a job's simulations share the pool.
-const DEFAULT_SECONDS_PER_SIMULATION: f64 = 2e-5;
+use crate::jobs::kind::Size;
 
-/// Tasks with fewer simulations say more about overheads than about the rate.
-const MIN_SIMULATIONS: u64 = 32;
+/// Predicted seconds of work the rate remembers.
+const MEMORY_S: f64 = 60.0;
 
-/// Weight of the newest measurement in the moving average.
-const WEIGHT: f64 = 0.3;
+/// Predicted seconds the model's guess counts for before anything is measured.
+const PRIOR_S: f64 = 1.0;
 
-/// Wall seconds per simulation on this instance, an exponential moving
-/// average over finished tasks.
-#[derive(Debug)]
-pub struct Throughput {
-    seconds_per_simulation: AtomicU64,
+/// Tasks predicted shorter than this say more about overheads than about
+/// the rate, s.
+const MIN_PREDICTED_S: f64 = 0.005;
+
+/// Rates never leave this range: one wild measurement (a task stalled by a
+/// paused process) must not make every estimate absurd.
+const RATE_RANGE: (f64, f64) = (0.05, 50.0);
+
+/// Measured and predicted seconds of one kind, both decayed alike.
+#[derive(Clone, Copy, Debug)]
+struct Sums {
+    measured: f64,
+    predicted: f64,
 }
 
-impl Default for Throughput {
+impl Default for Sums {
     fn default() -> Self {
-        Throughput {
-            seconds_per_simulation: AtomicU64::new(DEFAULT_SECONDS_PER_SIMULATION.to_bits()),
+        Sums {
+            measured: PRIOR_S,
+            predicted: PRIOR_S,
         }
     }
+}
+
+/// This instance's rate per kind.
+#[derive(Debug)]
+pub struct Throughput {
+    threads: usize,
+    sums: Mutex<HashMap<String, Sums>>,
 }
 
 impl Throughput {
-    /// Records a task of `simulations` that took `seconds` of wall time.
-    pub fn record(&self, simulations: u64, seconds: f64) {
-        if simulations < MIN_SIMULATIONS || !(seconds.is_finite() && seconds > 0.0) {
+    /// Rates of an instance of `threads` compute threads.
+    pub fn new(threads: usize) -> Self {
+        Throughput {
+            threads: threads.max(1),
+            sums: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// Records a task of `kind` whose size was `size` and that took
+    /// `seconds` of wall time.
+    pub fn record(&self, kind: &str, size: &Size, seconds: f64) {
+        let predicted = size.wall_s(self.threads, 1.0);
+        if predicted < MIN_PREDICTED_S || !(seconds.is_finite() && seconds > 0.0) {
             return;
         }
-        let measured = seconds / simulations as f64;
-        let _ = self.seconds_per_simulation.fetch_update(
-            Ordering::Relaxed,
-            Ordering::Relaxed,
-            |bits| {
-                let old = f64::from_bits(bits);
-                Some((old + WEIGHT * (measured - old)).to_bits())
-            },
-        );
+        let seconds = seconds.clamp(predicted * RATE_RANGE.0, predicted * RATE_RANGE.1);
+        if let Ok(mut sums) = self.sums.lock() {
+            let s = sums.entry(kind.to_string()).or_default();
+            let keep = (-predicted / MEMORY_S).exp();
+            s.measured = keep * s.measured + seconds;
+            s.predicted = keep * s.predicted + predicted;
+        }
     }
 
-    /// Wall seconds per simulation.
-    pub fn seconds_per_simulation(&self) -> f64 {
-        f64::from_bits(self.seconds_per_simulation.load(Ordering::Relaxed))
+    /// The rate of `kind`: measured wall seconds per predicted second.
+    pub fn rate(&self, kind: &str) -> f64 {
+        let s = self
+            .sums
+            .lock()
+            .ok()
+            .and_then(|r| r.get(kind).copied())
+            .unwrap_or_default();
+        (s.measured / s.predicted).clamp(RATE_RANGE.0, RATE_RANGE.1)
     }
 
-    /// Expected wall seconds of `simulations`.
-    pub fn seconds(&self, simulations: f64) -> f64 {
-        simulations * self.seconds_per_simulation()
+    /// Expected wall seconds of a job of `kind` and `size`.
+    pub fn seconds(&self, kind: &str, size: &Size) -> f64 {
+        size.wall_s(self.threads, self.rate(kind))
     }
 }
 
@@ -61,15 +98,52 @@ impl Throughput {
 mod tests {
     use super::*;
 
-    #[test]
-    fn the_rate_moves_toward_what_tasks_measure_and_ignores_tiny_ones() {
-        let t = Throughput::default();
-        t.record(4, 100.0);
-        assert_eq!(t.seconds_per_simulation(), DEFAULT_SECONDS_PER_SIMULATION);
-        for _ in 0..60 {
-            t.record(1000, 0.005);
+    fn size(cpu_s: f64) -> Size {
+        Size {
+            cpu_s,
+            lanes: 100.0,
+            work: 1000.0,
+            ..Size::one(0.0)
         }
-        assert!((t.seconds_per_simulation() - 5e-6).abs() < 1e-9);
-        assert!((t.seconds(2e5) - 1.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn each_kind_moves_toward_what_its_work_measures_and_tiny_tasks_are_ignored() {
+        let t = Throughput::new(2);
+        // Predicted 0.5 s on two threads.
+        assert!((t.seconds("spectrum", &size(1.0)) - 0.5).abs() < 1e-12);
+        t.record("spectrum", &size(0.001), 100.0);
+        assert_eq!(t.rate("spectrum"), 1.0);
+        // One short task that ran fast moves the rate a little, weighted by
+        // its predicted seconds against the prior's.
+        t.record("spectrum", &size(0.2), 0.01);
+        let r = t.rate("spectrum");
+        assert!(r < 1.0 && r > 0.8, "{r}");
+        // A long run of tasks 3 times slower than predicted: the rate is 3.
+        for _ in 0..400 {
+            t.record("spectrum", &size(1.0), 1.5);
+        }
+        assert!(
+            (t.rate("spectrum") - 3.0).abs() < 1e-2,
+            "{}",
+            t.rate("spectrum")
+        );
+        assert!((t.seconds("spectrum", &size(1.0)) - 1.5).abs() < 1e-2);
+        // Tasks of uneven cost: the rate is their total over their
+        // predicted total, not the average of their ratios.
+        let u = Throughput::new(2);
+        for _ in 0..100 {
+            u.record("record_spectrum", &size(0.02), 0.2);
+            u.record("record_spectrum", &size(1.0), 0.05);
+        }
+        let r = u.rate("record_spectrum");
+        assert!((r - 0.25 / 0.51).abs() < 0.05, "{r}");
+        // Another kind keeps its own rate.
+        assert_eq!(t.rate("fragility"), 1.0);
+        // One simulation runs on one thread.
+        assert!((t.seconds("time_history", &Size::one(0.2)) - 0.2).abs() < 1e-12);
+        // A stalled task moves the rate, within bounds.
+        t.record("fragility", &size(1.0), 1e6);
+        assert!(t.rate("fragility") <= RATE_RANGE.1);
     }
 }

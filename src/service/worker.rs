@@ -191,6 +191,7 @@ async fn execute(
     };
     // A job of one task is its own spec: its key names the result.
     let key = crate::jobs::key::cache_key(&job);
+    let size = job.size();
     let control = Arc::new(Control::new());
     state.register(id, idx, control.clone());
     let (tx, mut rx) = oneshot::channel();
@@ -251,7 +252,7 @@ async fn execute(
     state.unregister(id, idx);
     let seconds = started.elapsed().as_secs_f64();
     if matches!(outcome, Outcome::Done(Ok(_))) {
-        state.throughput.record(control.done(), seconds);
+        state.throughput.record(&task.kind, &size, seconds);
     }
     match outcome {
         Outcome::Done(Ok(Serialised { body, numerics })) if task.tasks == 1 => {

@@ -157,7 +157,67 @@ pub fn scan_lines<G: Scalable + Sync>(
     grid: &ScanGrid,
     control: &Control,
 ) -> Result<(Vec<LineScan>, ScanStats), ScanError> {
-    let len = grid_len(grid.from, grid.to, grid.step);
+    let len = grid.points();
+    let (found, stats) = scan_range(problems, solver, grid, [0, len - 1], control)?;
+    let lines = found
+        .into_iter()
+        .map(|(transitions, mode_changes)| grid.line(transitions, mode_changes))
+        .collect();
+    Ok((lines, stats))
+}
+
+/// What a scan of part of a line's levels found: its transitions and mode
+/// changes, in order.
+pub type Found = (Vec<Transition>, Vec<ModeChange>);
+
+impl ScanGrid {
+    /// Levels of one line: `from`, `from + step`, …, `to`.
+    pub fn points(&self) -> usize {
+        grid_len(self.from, self.to, self.step)
+    }
+
+    /// The `k`th level of a line.
+    pub fn level(&self, k: usize) -> f64 {
+        grid_point(self.from, self.to, self.step, k, self.points())
+    }
+
+    /// The overturning set of a line from everything its scans found (in
+    /// any order): the transitions in order, and what they imply.
+    pub fn line(
+        &self,
+        mut transitions: Vec<Transition>,
+        mut mode_changes: Vec<ModeChange>,
+    ) -> LineScan {
+        transitions.sort_by(|a, b| a.at.total_cmp(&b.at));
+        mode_changes.sort_by(|a, b| a.at.total_cmp(&b.at));
+        let derived = derive(&transitions, self.to);
+        let principal_transitions = principal(&transitions, self.to, self.principal_relative_width);
+        let principal = derive(&principal_transitions, self.to);
+        LineScan {
+            transitions,
+            mode_changes,
+            derived,
+            principal_transitions,
+            principal,
+        }
+    }
+}
+
+/// Scans the levels `k0..=k1` of every problem's line over `grid`, in
+/// parallel over lines and chunks of levels; what each line's range holds,
+/// in the order of `problems`. Neighbouring ranges share their boundary
+/// level, so that every pair of neighbouring levels is refined by exactly one
+/// of them: the ranges of a line, scanned apart, find what one scan finds.
+pub fn scan_range<G: Scalable + Sync>(
+    problems: &[Problem<G>],
+    solver: Solver,
+    grid: &ScanGrid,
+    [first, last]: [usize; 2],
+    control: &Control,
+) -> Result<(Vec<Found>, ScanStats), ScanError> {
+    let last = last.min(grid.points() - 1);
+    let first = first.min(last);
+    let len = last - first + 1;
     let chunks = len.div_ceil(CHUNK_POINTS).clamp(1, MAX_CHUNKS);
     let per_chunk = (len - 1).div_ceil(chunks).max(1);
     control.add_total((problems.len() * len) as u64);
@@ -172,20 +232,19 @@ pub fn scan_lines<G: Scalable + Sync>(
                 solver,
                 control,
             };
-            let k0 = c * per_chunk;
-            let k1 = ((c + 1) * per_chunk).min(len - 1);
+            let k0 = first + c * per_chunk;
+            let k1 = (first + (c + 1) * per_chunk).min(last);
             let mut stats = ScanStats::default();
             if k0 > k1 || (k0 == k1 && c > 0) {
                 return Ok((f, Vec::new(), Vec::new(), stats));
             }
             // Chunks share their boundary point so that no pair is skipped.
-            let levels = (k0..=k1).map(|k| grid_point(grid.from, grid.to, grid.step, k, len));
+            let levels = (k0..=k1).map(|k| grid.level(k));
             let (t, m) = line.scan(levels, grid.tolerance, &mut stats)?;
             Ok((f, t, m, stats))
         })
         .collect();
-    let mut per_line: Vec<(Vec<Transition>, Vec<ModeChange>)> =
-        vec![(Vec::new(), Vec::new()); problems.len()];
+    let mut per_line: Vec<Found> = vec![(Vec::new(), Vec::new()); problems.len()];
     let mut stats = ScanStats::default();
     for r in results {
         let (f, t, m, s) = r?;
@@ -193,25 +252,7 @@ pub fn scan_lines<G: Scalable + Sync>(
         per_line[f].1.extend(m);
         stats.absorb(&s);
     }
-    let lines = per_line
-        .into_iter()
-        .map(|(mut transitions, mut mode_changes)| {
-            transitions.sort_by(|a, b| a.at.total_cmp(&b.at));
-            mode_changes.sort_by(|a, b| a.at.total_cmp(&b.at));
-            let derived = derive(&transitions, grid.to);
-            let principal_transitions =
-                principal(&transitions, grid.to, grid.principal_relative_width);
-            let principal = derive(&principal_transitions, grid.to);
-            LineScan {
-                transitions,
-                mode_changes,
-                derived,
-                principal_transitions,
-                principal,
-            }
-        })
-        .collect();
-    Ok((lines, stats))
+    Ok((per_line, stats))
 }
 
 /// Computes the spectrum, in parallel over frequencies and amplitude chunks.
