@@ -1,7 +1,13 @@
 //! CSV renderings of result documents (`?format=csv`, `topple run --format
 //! csv`). Every header names its quantity and unit: `_s` seconds, `_rad`,
-//! `_rad_per_s`, `_m_per_s2`, `_hz`, `_g` (multiples of g), `_alpha_g`
-//! (multiples of α g); ratios without a suffix are dimensionless.
+//! `_rad_per_s`, `_m`, `_m_per_s`, `_m_per_s2`, `_hz`, `_g` (multiples of g),
+//! `_alpha_g` (multiples of α g); ratios without a suffix are dimensionless.
+//! A row holds every number the result document gives for what the row is
+//! about; columns added later come at the end of the row, after the ones
+//! scripts already read.
+//!
+//! Numbers are written to [`SIGNIFICANT_DIGITS`] ([`number`]): a value the
+//! user wrote reads as written (a grid value 0.7999999999999999 as 0.8).
 
 use std::fmt::Write;
 
@@ -17,26 +23,33 @@ use crate::jobs::spectrum::SpectrumResult;
 use crate::jobs::survival::SurvivalResult;
 use crate::jobs::time_history::TimeHistoryResult;
 
-/// One CSV field of a JSON value: numbers as JSON writes them, text quoted
-/// when it needs to be.
-fn f(v: Option<&Value>) -> String {
+#[cfg(test)]
+mod every_field;
+mod number;
+
+pub use number::{SIGNIFICANT_DIGITS, number};
+
+/// One CSV field of a JSON value read from a stored document: numbers
+/// through [`number`] (an integer as stored is the double the typed result
+/// reads), text quoted when it needs to be.
+fn json_field(v: Option<&Value>) -> String {
     match v {
         Some(Value::Null) | None => String::new(),
+        Some(Value::Number(n)) => n.as_f64().map_or_else(String::new, number),
         Some(Value::String(s)) => quote(s),
         Some(x) => x.to_string(),
     }
 }
 
-/// A value as a CSV field, written as the result document writes it:
-/// numbers as JSON writes them (`1.0`, `1e-7`), a number JSON cannot hold
-/// (not finite) and `None` as an empty field, text through [`quote`].
+/// A value as a CSV field: numbers through [`number`], `None` as an empty
+/// field, text through [`quote`].
 trait Field {
     fn field(&self) -> String;
 }
 
 impl Field for f64 {
     fn field(&self) -> String {
-        serde_json::Number::from_f64(*self).map_or_else(String::new, |n| n.to_string())
+        number(*self)
     }
 }
 
@@ -203,7 +216,8 @@ fn time_history(r: &TimeHistoryResult, out: &mut String) {
         }
         return;
     }
-    let cols: [(&str, String); 13] = [
+    let peaks = &r.ground_peaks;
+    let cols: [(&str, String); 23] = [
         ("rocked", cell(&r.rocked)),
         ("overturned", cell(&r.overturned)),
         ("mode", cell(&r.mode)),
@@ -220,19 +234,54 @@ fn time_history(r: &TimeHistoryResult, out: &mut String) {
         ),
         ("lift_off", cell(&r.lift_off)),
         ("lift_off_time_s", cell(&r.lift_off_time)),
+        ("rocking_starts", cell(&r.rocking_starts)),
+        ("chatter_impacts_summed", cell(&r.chatter_impacts_summed)),
+        ("decided_at_s", cell(&r.decided_at)),
+        (
+            "peak_friction_demand_time_s",
+            cell(&r.peak_friction_demand_time),
+        ),
+        (
+            "friction_demand_followed_until_s",
+            cell(&r.friction_demand_followed_until),
+        ),
+        ("pga_m_per_s2", cell(&peaks.pga_m_s2)),
+        ("pga_g", cell(&peaks.pga_g)),
+        ("pgv_m_per_s", cell(&peaks.pgv_m_s)),
+        ("pgd_m", cell(&peaks.pgd_m)),
+        ("pgv_over_pga_s", cell(&peaks.pgv_over_pga_s)),
     ];
     row(out, &cols.each_ref().map(|c| c.0.to_string()));
     row(out, &cols.map(|c| c.1));
 }
 
 /// A survive ↔ overturn transition as the cells of its row: its levels
-/// (amplitude, or scale and PGA), direction, mode, impacts and bracket.
+/// (amplitude, or scale and PGA), direction, mode, impacts and bracket, and
+/// the cells it adds at the row's end.
 struct Crossing<'a> {
     levels: Vec<String>,
     direction: &'a str,
     mode: u8,
     impacts: u64,
     bracket: [f64; 2],
+    added: Vec<String>,
+}
+
+/// The cells of a spectrum line's rows that are the line's: `head` before
+/// the transition's, `tail` after them, then (after the transition's added
+/// cells) `added`.
+struct LineCells {
+    head: Vec<String>,
+    tail: Vec<String>,
+    added: Vec<String>,
+}
+
+/// The number of cells a transition fills: `levels` before its direction,
+/// `added` at the row's end.
+#[derive(Clone, Copy)]
+struct CrossingShape {
+    levels: usize,
+    added: usize,
 }
 
 /// One row per transition (a frequency without any: one row, transition
@@ -252,46 +301,82 @@ fn spectrum(r: &SpectrumResult, out: &mut String) {
             "eq21_alpha_g",
             "threshold_alpha_g",
             "closed_form_mode2_alpha_g",
+            "a_g",
+            "omega_p_rad_per_s",
+            "frequency_hz",
+            "threshold_g",
+            "min_overturn_g",
+            "min_overturn_m_per_s2",
+            "min_overturn_mode",
+            "overturns_above_alpha_g",
+            "pgv_over_pga_s",
+            "pgd_over_pga_s2",
+            "principal_min_overturn_alpha_g",
+            "principal_min_overturn_mode",
+            "principal_overturns_above_alpha_g",
         ]
         .map(String::from),
     );
     for line in &r.spectrum {
-        let tail = [
-            cell(&line.min_overturn_alpha_g),
-            cell(&line.eq21_alpha_g),
-            cell(&line.threshold_alpha_g),
-            cell(&line.closed_form_mode2_alpha_g),
-        ];
-        let head = [cell(&line.omega_ratio)];
+        let cells = LineCells {
+            head: vec![cell(&line.omega_ratio)],
+            tail: vec![
+                cell(&line.min_overturn_alpha_g),
+                cell(&line.eq21_alpha_g),
+                cell(&line.threshold_alpha_g),
+                cell(&line.closed_form_mode2_alpha_g),
+            ],
+            added: vec![
+                cell(&line.omega_p),
+                cell(&line.frequency_hz),
+                cell(&line.threshold_g),
+                cell(&line.min_overturn_g),
+                cell(&line.min_overturn_m_s2),
+                cell(&line.min_overturn_mode),
+                cell(&line.overturns_above_alpha_g),
+                cell(&line.ground.pgv_over_pga_s),
+                cell(&line.ground.pgd_over_pga_s2),
+                cell(&line.principal.min_overturn_alpha_g),
+                cell(&line.principal.min_overturn_mode),
+                cell(&line.principal.overturns_above_alpha_g),
+            ],
+        };
         let crossings = line.transitions.iter().map(|t| Crossing {
             levels: vec![cell(&t.a_alpha_g)],
             direction: &t.direction,
             mode: t.mode,
             impacts: t.impacts,
             bracket: t.bracket,
+            added: vec![cell(&t.a_g)],
         });
-        transition_rows(out, &head, 1, crossings, &tail);
+        let shape = CrossingShape {
+            levels: 1,
+            added: 1,
+        };
+        transition_rows(out, &cells, shape, crossings);
     }
 }
 
-/// A row per transition of a line — `head`, the transition's `levels`
-/// (`level_count` cells), direction, mode, impacts and bracket, then `tail`
-/// — or one row with those cells empty when it has none.
+/// A row per transition of a line — the line's `head`, the transition's
+/// levels, direction, mode, impacts and bracket, the line's `tail`, the
+/// transition's added cells, the line's `added` — or one row with the
+/// transition's cells empty when it has none.
 fn transition_rows<'a>(
     out: &mut String,
-    head: &[String],
-    level_count: usize,
+    line: &LineCells,
+    shape: CrossingShape,
     crossings: impl ExactSizeIterator<Item = Crossing<'a>>,
-    tail: &[String],
 ) {
     if crossings.len() == 0 {
-        let mut fields = head.to_vec();
-        fields.extend(std::iter::repeat_n(String::new(), level_count + 5));
-        fields.extend(tail.iter().cloned());
+        let mut fields = line.head.clone();
+        fields.extend(std::iter::repeat_n(String::new(), shape.levels + 5));
+        fields.extend(line.tail.iter().cloned());
+        fields.extend(std::iter::repeat_n(String::new(), shape.added));
+        fields.extend(line.added.iter().cloned());
         row(out, &fields);
     }
     for t in crossings {
-        let mut fields = head.to_vec();
+        let mut fields = line.head.clone();
         fields.extend(t.levels);
         fields.extend([
             cell(t.direction),
@@ -300,7 +385,9 @@ fn transition_rows<'a>(
             cell(&t.bracket[0]),
             cell(&t.bracket[1]),
         ]);
-        fields.extend(tail.iter().cloned());
+        fields.extend(line.tail.iter().cloned());
+        fields.extend(t.added);
+        fields.extend(line.added.iter().cloned());
         row(out, &fields);
     }
 }
@@ -323,24 +410,43 @@ fn record_spectrum(r: &RecordSpectrumResult, out: &mut String) {
             "min_overturn_scale",
             "min_overturn_pga_g",
             "threshold_scale",
+            "min_overturn_mode",
+            "overturns_above_scale",
+            "principal_min_overturn_scale",
+            "principal_min_overturn_mode",
+            "principal_overturns_above_scale",
         ]
         .map(String::from),
     );
     for line in &r.spectrum {
-        let head = [cell(&line.p), cell(&line.r_m)];
-        let tail = [
-            cell(&line.min_overturn_scale),
-            cell(&line.min_overturn_pga_g),
-            cell(&line.threshold_scale),
-        ];
+        let cells = LineCells {
+            head: vec![cell(&line.p), cell(&line.r_m)],
+            tail: vec![
+                cell(&line.min_overturn_scale),
+                cell(&line.min_overturn_pga_g),
+                cell(&line.threshold_scale),
+            ],
+            added: vec![
+                cell(&line.min_overturn_mode),
+                cell(&line.overturns_above_scale),
+                cell(&line.principal.min_overturn_scale),
+                cell(&line.principal.min_overturn_mode),
+                cell(&line.principal.overturns_above_scale),
+            ],
+        };
         let crossings = line.transitions.iter().map(|t| Crossing {
             levels: vec![cell(&t.scale), cell(&t.pga_g)],
             direction: &t.direction,
             mode: t.mode,
             impacts: t.impacts,
             bracket: t.bracket,
+            added: vec![],
         });
-        transition_rows(out, &head, 2, crossings, &tail);
+        let shape = CrossingShape {
+            levels: 2,
+            added: 0,
+        };
+        transition_rows(out, &cells, shape, crossings);
     }
 }
 
@@ -357,6 +463,10 @@ fn friction(r: &FrictionResult, out: &mut String) {
             "lift_off",
             "lift_off_time_s",
             "friction_demand_followed_until_s",
+            "a_p_g",
+            "omega_ratio",
+            "omega_p_rad_per_s",
+            "frequency_hz",
         ]
         .map(String::from),
     );
@@ -373,6 +483,10 @@ fn friction(r: &FrictionResult, out: &mut String) {
                 cell(&p.lift_off),
                 cell(&p.lift_off_time),
                 cell(&p.friction_demand_followed_until),
+                cell(&p.a_p_g),
+                cell(&r.omega_ratio),
+                cell(&r.omega_p),
+                cell(&r.frequency_hz),
             ],
         );
     }
@@ -482,8 +596,10 @@ fn fragility(r: &FragilityResult, out: &mut String) {
 }
 
 /// A survival result: a row per rock and age (an uncertain age: its median,
-/// marked), then the joint probability of several rocks (rock "all").
+/// marked), then the joint probability of several rocks (rock "all"); a
+/// rock's fragility and rates are on each of its rows.
 fn survival(r: &SurvivalResult, out: &mut String) {
+    let median = format!("fragility_median_{}", r.im.name());
     row(
         out,
         &[
@@ -493,57 +609,61 @@ fn survival(r: &SurvivalResult, out: &mut String) {
             "age_uncertain",
             "survival_probability",
             "rate_scale_at_5_percent",
+            &median,
+            "fragility_beta",
+            "mean_years_between_topplings",
+            "extrapolated_share",
         ]
         .map(String::from),
     );
     for rock in &r.rocks {
-        let name = cell(&rock.name);
-        let rate = cell(&rock.annual_toppling_rate);
-        for a in &rock.ages {
+        let ages = rock.ages.iter().map(|a| {
+            (
+                a.age_years,
+                false,
+                a.survival_probability,
+                a.rate_scale_at_5_percent,
+            )
+        });
+        let uncertain = rock.age_distribution.iter().map(|d| {
+            (
+                d.median_age_years,
+                true,
+                d.survival_probability,
+                d.rate_scale_at_5_percent,
+            )
+        });
+        for (age, uncertain, survival, scale) in ages.chain(uncertain) {
             row(
                 out,
                 &[
-                    name.clone(),
-                    rate.clone(),
-                    cell(&a.age_years),
-                    cell(&false),
-                    cell(&a.survival_probability),
-                    cell(&a.rate_scale_at_5_percent),
-                ],
-            );
-        }
-        if let Some(d) = &rock.age_distribution {
-            row(
-                out,
-                &[
-                    name.clone(),
-                    rate.clone(),
-                    cell(&d.median_age_years),
-                    cell(&true),
-                    cell(&d.survival_probability),
-                    cell(&d.rate_scale_at_5_percent),
+                    cell(&rock.name),
+                    cell(&rock.annual_toppling_rate),
+                    cell(&age),
+                    cell(&uncertain),
+                    cell(&survival),
+                    cell(&scale),
+                    cell(&rock.fragility.median),
+                    cell(&rock.fragility.beta),
+                    cell(&rock.mean_years_between_topplings),
+                    cell(&rock.extrapolated_share),
                 ],
             );
         }
     }
     if let Some(j) = &r.joint {
-        row(
-            out,
-            &[
-                "all".into(),
-                String::new(),
-                String::new(),
-                String::new(),
-                cell(&j.survival_probability),
-                cell(&j.rate_scale_at_5_percent),
-            ],
-        );
+        let mut fields = vec![String::new(); 10];
+        fields[0] = "all".into();
+        fields[4] = cell(&j.survival_probability);
+        fields[5] = cell(&j.rate_scale_at_5_percent);
+        row(out, &fields);
     }
 }
 
 /// A record query: a row per consistent interval, first those consistent
 /// with every observation (observation empty), then each observation's; an
-/// observation that allows nothing has one row with empty ends.
+/// observation that allows nothing has one row with empty ends. An
+/// observation's rows carry the scale at which its block starts to rock.
 fn forensic_record(r: &ForensicResult, out: &mut String) {
     row(
         out,
@@ -554,40 +674,36 @@ fn forensic_record(r: &ForensicResult, out: &mut String) {
             "consistent_hi_scale",
             "consistent_lo_pga_g",
             "consistent_hi_pga_g",
+            "threshold_scale",
         ]
         .map(String::from),
     );
-    let mut emit = |name: &str, seen: String, scale: &[[f64; 2]], pga: &[[f64; 2]]| {
-        if scale.is_empty() {
-            row(
-                out,
-                &[
-                    quote(name),
-                    seen.clone(),
-                    String::new(),
-                    String::new(),
-                    String::new(),
-                    String::new(),
-                ],
-            );
-        }
-        for (s, g) in scale.iter().zip(pga) {
-            row(
-                out,
-                &[
-                    quote(name),
-                    seen.clone(),
-                    cell(&s[0]),
-                    cell(&s[1]),
-                    cell(&g[0]),
-                    cell(&g[1]),
-                ],
-            );
-        }
-    };
+    let mut emit =
+        |name: &str, seen: String, threshold: Option<f64>, scale: &[[f64; 2]], pga: &[[f64; 2]]| {
+            let ends = scale
+                .iter()
+                .zip(pga)
+                .map(|(s, g)| [s[0], s[1], g[0], g[1]].map(|x| cell(&x)));
+            let none = scale.is_empty().then(<[String; 4]>::default);
+            for [scale_lo, scale_hi, pga_lo, pga_hi] in none.into_iter().chain(ends) {
+                row(
+                    out,
+                    &[
+                        quote(name),
+                        seen.clone(),
+                        scale_lo,
+                        scale_hi,
+                        pga_lo,
+                        pga_hi,
+                        cell(&threshold),
+                    ],
+                );
+            }
+        };
     emit(
         "",
         String::new(),
+        None,
         r.consistent_scale.as_deref().unwrap_or_default(),
         r.consistent_pga_g.as_deref().unwrap_or_default(),
     );
@@ -595,6 +711,7 @@ fn forensic_record(r: &ForensicResult, out: &mut String) {
         emit(
             &o.name,
             seen(o.overturned),
+            Some(o.threshold_scale),
             &o.consistent_scale,
             &o.consistent_pga_g,
         );
@@ -701,7 +818,7 @@ impl SeriesRows {
             for at in &mut self.next {
                 let sample = next_sample(text, at);
                 any |= sample.is_some();
-                fields.push(f(sample.as_ref()));
+                fields.push(json_field(sample.as_ref()));
             }
             if !any {
                 return false;
@@ -748,26 +865,27 @@ mod tests {
     use crate::jobs::fragility::StripeResult;
     use crate::jobs::friction::FrictionPointDoc;
     use crate::jobs::names::Im;
+    use crate::jobs::spectrum::PulseScalesDoc;
     use crate::jobs::survival::{AgeDistributionResult, AgeResult, JointResult};
     use crate::jobs::time_history::{ImpactDoc, SeriesDoc};
     use crate::plot::tests::typed;
     use serde_json::json;
 
-    const TIME_HISTORY: &str = r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_ratio":3,"a_p_alpha_g":2.5},"outputs":{"series":20}}"#;
-    const SPECTRUM: &str = r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":[2,4],"a_max_alpha_g":6}"#;
-    const FRICTION: &str = r#"{"kind":"friction_spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"omega_ratio":3,"a_alpha_g":[1.5,3]}"#;
-    const FORENSIC: &str = r#"{"kind":"forensic","pulse":{"type":"one_sine"},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false}],"frequency_hz":{"from":0.5,"to":2,"steps":3},"a_p_g":{"from":0.05,"to":2.0}}"#;
-    const FORENSIC_RECORD: &str = r#"{"kind":"forensic","ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false}],"pga_g":{"from":0.05,"to":2.0}}"#;
-    const RECORD_SPECTRUM: &str = r#"{"kind":"record_spectrum","block":{"alpha":0.2},"p":[1.5,3],"scale":{"from":0.5,"to":3},"ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]}}"#;
-    const SURVIVAL: &str = r#"{"kind":"survival","hazard":{"im":"pga_g","points":[[0.1,0.01],[0.5,0.0005],[1.0,0.00005]]},"fragility":{"median_g":0.4,"beta":0.4},"age_years":[1000]}"#;
-    const FRAGILITY: &str = r#"{"kind":"fragility","block":{"alpha":0.2,"p":2.0},"pulse":{"type":"one_sine","omega_ratio":3},"stripes":[0.2,0.4],"samples":8,"seed":1}"#;
+    pub(super) const TIME_HISTORY: &str = r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_ratio":3,"a_p_alpha_g":2.5},"outputs":{"series":20}}"#;
+    pub(super) const SPECTRUM: &str = r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":[2,4],"a_max_alpha_g":6}"#;
+    pub(super) const FRICTION: &str = r#"{"kind":"friction_spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"omega_ratio":3,"a_alpha_g":[1.5,3]}"#;
+    pub(super) const FORENSIC: &str = r#"{"kind":"forensic","pulse":{"type":"one_sine"},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false}],"frequency_hz":{"from":0.5,"to":2,"steps":3},"a_p_g":{"from":0.05,"to":2.0}}"#;
+    pub(super) const FORENSIC_RECORD: &str = r#"{"kind":"forensic","ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false}],"pga_g":{"from":0.05,"to":2.0}}"#;
+    pub(super) const RECORD_SPECTRUM: &str = r#"{"kind":"record_spectrum","block":{"alpha":0.2},"p":[1.5,3],"scale":{"from":0.5,"to":3},"ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]}}"#;
+    pub(super) const SURVIVAL: &str = r#"{"kind":"survival","hazard":{"im":"pga_g","points":[[0.1,0.01],[0.5,0.0005],[1.0,0.00005]]},"fragility":{"median_g":0.4,"beta":0.4},"age_years":[1000]}"#;
+    pub(super) const FRAGILITY: &str = r#"{"kind":"fragility","block":{"alpha":0.2,"p":2.0},"pulse":{"type":"one_sine","omega_ratio":3},"stripes":[0.2,0.4],"samples":8,"seed":1}"#;
 
-    fn lines(csv: &str) -> Vec<&str> {
+    pub(super) fn lines(csv: &str) -> Vec<&str> {
         csv.lines().collect()
     }
 
     /// `x` as serde_json writes it.
-    fn json_text<T: serde::Serialize>(x: &T) -> String {
+    pub(super) fn json_text<T: serde::Serialize>(x: &T) -> String {
         serde_json::to_string(x).expect("json")
     }
 
@@ -783,25 +901,10 @@ mod tests {
     }
 
     #[test]
-    fn numbers_are_written_as_json_writes_them() {
-        for x in [
-            1.0,
-            -0.0,
-            1e-7,
-            0.1,
-            1.5e-4,
-            0.30000000000000004,
-            1e300,
-            1.7976931348623157e308,
-            12345678901234567890.0,
-        ] {
-            assert_eq!(cell(&x), json_text(&x), "{x:e}");
-        }
+    fn fields_of_options_flags_and_counts() {
         assert_eq!(cell(&1.0), "1.0");
-        assert_eq!(cell(&1e-7), "1e-7");
-        for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-            assert_eq!(cell(&x), "", "{x}");
-        }
+        assert_eq!(cell(&0.30000000000000004), "0.3");
+        assert_eq!(cell(&f64::NAN), "");
         assert_eq!(cell(&None::<f64>), "");
         assert_eq!(cell(&Some(2u8)), "2");
         assert_eq!(cell(&Some(false)), "false");
@@ -825,11 +928,11 @@ mod tests {
         assert_eq!(
             l[k + 1],
             [
-                json_text(&s.t[k]),
-                json_text(&s.theta[k]),
-                json_text(&s.theta_dot[k]),
-                json_text(&s.ground_acceleration[k]),
-                ratio[k].map_or_else(String::new, |x| json_text(&x)),
+                cell(&s.t[k]),
+                cell(&s.theta[k]),
+                cell(&s.theta_dot[k]),
+                cell(&s.ground_acceleration[k]),
+                ratio[k].map_or_else(String::new, |x| cell(&x)),
             ]
             .join(",")
         );
@@ -875,9 +978,9 @@ mod tests {
             l[1],
             format!(
                 "1,{},{},{}",
-                json_text(&i.t),
-                json_text(&i.theta_dot_before),
-                json_text(&i.theta_dot_after)
+                cell(&i.t),
+                cell(&i.theta_dot_before),
+                cell(&i.theta_dot_after)
             )
         );
         r.impacts = Some(vec![ImpactDoc {
@@ -914,11 +1017,20 @@ mod tests {
         r.initiation_friction_demand = None;
         r.lift_off = None;
         r.lift_off_time = None;
+        (r.rocking_starts, r.chatter_impacts_summed, r.decided_at) = (0, 0, 1.0);
+        r.peak_friction_demand_time = None;
+        r.friction_demand_followed_until = None;
+        r.ground_peaks.pga_m_s2 = 2.5 * 0.25 * 9.81;
+        r.ground_peaks.pga_g = 0.625;
+        r.ground_peaks.pgv_m_s = 0.43;
+        r.ground_peaks.pgd_m = 0.07;
+        r.ground_peaks.pgv_over_pga_s = 0.07;
         assert_eq!(
             lines(&th_table(&r)),
             vec![
-                "rocked,overturned,mode,impact_count,rocking_start_s,overturn_time_s,rest_time_s,end_time_s,peak_theta_over_alpha,peak_friction_demand,initiation_friction_demand,lift_off,lift_off_time_s",
-                "false,false,,0,,,,1.0,0.0,,,,",
+                "rocked,overturned,mode,impact_count,rocking_start_s,overturn_time_s,rest_time_s,end_time_s,peak_theta_over_alpha,peak_friction_demand,initiation_friction_demand,lift_off,lift_off_time_s,\
+                 rocking_starts,chatter_impacts_summed,decided_at_s,peak_friction_demand_time_s,friction_demand_followed_until_s,pga_m_per_s2,pga_g,pgv_m_per_s,pgd_m,pgv_over_pga_s",
+                "false,false,,0,,,,1.0,0.0,,,,,0,0,1.0,,,6.13125,0.625,0.43,0.07,0.07",
             ]
         );
         r.overturned = true;
@@ -926,9 +1038,12 @@ mod tests {
         r.overturn_time = Some(0.75);
         r.peak_friction_demand = Some(0.3);
         r.lift_off = Some(false);
+        (r.rocking_starts, r.chatter_impacts_summed, r.decided_at) = (1, 3, 0.5);
+        r.peak_friction_demand_time = Some(0.25);
+        r.friction_demand_followed_until = Some(0.6);
         assert_eq!(
             lines(&th_table(&r))[1],
-            "false,true,2,0,,0.75,,1.0,0.0,0.3,,false,"
+            "false,true,2,0,,0.75,,1.0,0.0,0.3,,false,,1,3,0.5,0.25,0.6,6.13125,0.625,0.43,0.07,0.07"
         );
     }
 
@@ -941,31 +1056,33 @@ mod tests {
         let l = lines(&csv);
         assert_eq!(
             l[0],
-            "omega_ratio,a_alpha_g,direction,mode,impacts,bracket_lo_alpha_g,bracket_hi_alpha_g,min_overturn_alpha_g,eq21_alpha_g,threshold_alpha_g,closed_form_mode2_alpha_g"
+            "omega_ratio,a_alpha_g,direction,mode,impacts,bracket_lo_alpha_g,bracket_hi_alpha_g,min_overturn_alpha_g,eq21_alpha_g,threshold_alpha_g,closed_form_mode2_alpha_g,\
+             a_g,omega_p_rad_per_s,frequency_hz,threshold_g,min_overturn_g,min_overturn_m_per_s2,min_overturn_mode,overturns_above_alpha_g,\
+             pgv_over_pga_s,pgd_over_pga_s2,principal_min_overturn_alpha_g,principal_min_overturn_mode,principal_overturns_above_alpha_g"
         );
         let rows: usize = r.spectrum.iter().map(|f| f.transitions.len().max(1)).sum();
         assert_eq!(l.len(), 1 + rows);
         let line = &r.spectrum[0];
         let t = line.transitions.first().expect("a transition below a_max");
-        assert_eq!(
-            l[1],
-            format!(
-                "{},{},{},{},{},{},{},{},{},{},{}",
-                json_text(&line.omega_ratio),
-                json_text(&t.a_alpha_g),
+        assert!(
+            l[1].starts_with(&format!(
+                "{},{},{},{},{},{},{},{},{},{},{},",
+                cell(&line.omega_ratio),
+                cell(&t.a_alpha_g),
                 t.direction,
                 t.mode,
                 t.impacts,
-                json_text(&t.bracket[0]),
-                json_text(&t.bracket[1]),
+                cell(&t.bracket[0]),
+                cell(&t.bracket[1]),
                 line.min_overturn_alpha_g
-                    .map_or_else(String::new, |x| json_text(&x)),
-                line.eq21_alpha_g
-                    .map_or_else(String::new, |x| json_text(&x)),
-                json_text(&line.threshold_alpha_g),
+                    .map_or_else(String::new, |x| cell(&x)),
+                line.eq21_alpha_g.map_or_else(String::new, |x| cell(&x)),
+                cell(&line.threshold_alpha_g),
                 line.closed_form_mode2_alpha_g
-                    .map_or_else(String::new, |x| json_text(&x)),
-            )
+                    .map_or_else(String::new, |x| cell(&x)),
+            )),
+            "{}",
+            l[1]
         );
         // Set values: one line with two transitions, one without any.
         let mut first = r.spectrum[0].clone();
@@ -974,23 +1091,46 @@ mod tests {
         (first.omega_ratio, first.threshold_alpha_g) = (2.0, 1.0);
         (first.min_overturn_alpha_g, first.eq21_alpha_g) = (Some(1.25), Some(1.33));
         first.closed_form_mode2_alpha_g = None;
+        (first.omega_p, first.frequency_hz, first.threshold_g) = (4.28, 0.68, 0.25);
+        (first.min_overturn_g, first.min_overturn_m_s2) = (Some(0.3125), Some(3.07));
+        (first.min_overturn_mode, first.overturns_above_alpha_g) = (Some(1), Some(2.37));
+        first.ground = PulseScalesDoc {
+            pgv_over_pga_s: 0.23,
+            pgd_over_pga_s2: 0.037,
+        };
+        first.principal.min_overturn_alpha_g = Some(1.25);
+        first.principal.min_overturn_mode = Some(1);
+        first.principal.overturns_above_alpha_g = Some(1.25);
         (up.a_alpha_g, up.direction, up.mode, up.impacts) = (1.25, "up".into(), 1, 1);
-        up.bracket = [1.2499, 1.2501];
+        (up.bracket, up.a_g) = ([1.2499, 1.2501], 0.3125);
         let mut down = up.clone();
         (down.a_alpha_g, down.direction, down.bracket) = (2.37, "down".into(), [2.3699, 2.3701]);
+        down.a_g = 0.5925;
         first.transitions = vec![up, down];
         (second.omega_ratio, second.threshold_alpha_g) = (10.0, 1.0);
         (second.min_overturn_alpha_g, second.eq21_alpha_g) = (None, Some(2.67));
         second.closed_form_mode2_alpha_g = None;
+        (second.omega_p, second.frequency_hz, second.threshold_g) = (21.4, 3.4, 0.25);
+        (second.min_overturn_g, second.min_overturn_m_s2) = (None, None);
+        (second.min_overturn_mode, second.overturns_above_alpha_g) = (None, None);
+        second.ground = PulseScalesDoc {
+            pgv_over_pga_s: 0.046,
+            pgd_over_pga_s2: 0.0015,
+        };
+        second.principal.min_overturn_alpha_g = None;
+        second.principal.min_overturn_mode = None;
+        second.principal.overturns_above_alpha_g = None;
         second.transitions = vec![];
         r.spectrum = vec![first, second];
         let csv = to_csv(&JobResult::Spectrum(r));
         assert_eq!(
             lines(&csv)[1..],
             [
-                "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,",
-                "2.0,2.37,down,1,1,2.3699,2.3701,1.25,1.33,1.0,",
-                "10.0,,,,,,,,2.67,1.0,",
+                "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,,\
+                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25",
+                "2.0,2.37,down,1,1,2.3699,2.3701,1.25,1.33,1.0,,\
+                 0.5925,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25",
+                "10.0,,,,,,,,2.67,1.0,,,21.4,3.4,0.25,,,,,0.046,0.0015,,,",
             ]
         );
     }
@@ -1004,23 +1144,25 @@ mod tests {
         let l = lines(&csv);
         assert_eq!(
             l[0],
-            "p_rad_s,R_m,scale,pga_g,direction,mode,impacts,bracket_lo_scale,bracket_hi_scale,min_overturn_scale,min_overturn_pga_g,threshold_scale"
+            "p_rad_s,R_m,scale,pga_g,direction,mode,impacts,bracket_lo_scale,bracket_hi_scale,min_overturn_scale,min_overturn_pga_g,threshold_scale,\
+             min_overturn_mode,overturns_above_scale,principal_min_overturn_scale,principal_min_overturn_mode,principal_overturns_above_scale"
         );
         let rows: usize = r.spectrum.iter().map(|s| s.transitions.len().max(1)).sum();
         assert_eq!(l.len(), 1 + rows);
         let size = &r.spectrum[0];
-        let head = format!("{},{},", json_text(&size.p), json_text(&size.r_m));
+        let head = format!("{},{},", cell(&size.p), cell(&size.r_m));
         assert!(l[1].starts_with(&head), "{} against {head}", l[1]);
-        assert!(
-            l[1].ends_with(&format!(",{}", json_text(&size.threshold_scale))),
-            "{}",
-            l[1]
-        );
+        let fields: Vec<&str> = l[1].split(',').collect();
+        assert_eq!(fields[11], cell(&size.threshold_scale), "{}", l[1]);
         // Set values: a size with a transition, one without.
         let mut first = r.spectrum[0].clone();
         let mut second = first.clone();
         (first.p, first.r_m, first.threshold_scale) = (1.5, 4.36, 0.4);
         (first.min_overturn_scale, first.min_overturn_pga_g) = (Some(2.5), Some(0.75));
+        (first.min_overturn_mode, first.overturns_above_scale) = (Some(2), Some(2.5));
+        first.principal.min_overturn_scale = Some(2.5);
+        first.principal.min_overturn_mode = Some(2);
+        first.principal.overturns_above_scale = Some(2.5);
         let up = crate::jobs::record_spectrum::ScaleTransitionDoc {
             scale: 2.5,
             pga_g: 0.75,
@@ -1032,14 +1174,18 @@ mod tests {
         first.transitions = vec![up];
         (second.p, second.r_m, second.threshold_scale) = (3.0, 1.09, 0.5);
         (second.min_overturn_scale, second.min_overturn_pga_g) = (None, None);
+        (second.min_overturn_mode, second.overturns_above_scale) = (None, None);
+        second.principal.min_overturn_scale = None;
+        second.principal.min_overturn_mode = None;
+        second.principal.overturns_above_scale = None;
         second.transitions = vec![];
         r.spectrum = vec![first, second];
         let csv = to_csv(&JobResult::RecordSpectrum(r));
         assert_eq!(
             lines(&csv)[1..],
             [
-                "1.5,4.36,2.5,0.75,up,2,0,2.49,2.51,2.5,0.75,0.4",
-                "3.0,1.09,,,,,,,,,,0.5",
+                "1.5,4.36,2.5,0.75,up,2,0,2.49,2.51,2.5,0.75,0.4,2,2.5,2.5,2,2.5",
+                "3.0,1.09,,,,,,,,,,0.5,,,,,",
             ]
         );
     }
@@ -1056,14 +1202,14 @@ mod tests {
         assert_eq!(
             l[1].split(',').take(2).collect::<Vec<_>>(),
             vec![
-                json_text(&p.a_alpha_g),
+                cell(&p.a_alpha_g),
                 p.peak_friction_demand
-                    .map_or_else(String::new, |x| json_text(&x))
+                    .map_or_else(String::new, |x| cell(&x))
             ]
         );
         let point = |a: f64, peak: Option<f64>, over: Option<f64>, init: f64| FrictionPointDoc {
             a_alpha_g: a,
-            a_p_g: a * 0.25,
+            a_p_g: a / 4.0,
             peak_friction_demand: peak,
             peak_over_tan_alpha: over,
             initiation_friction_demand: Some(init),
@@ -1079,14 +1225,16 @@ mod tests {
         let mut followed = point(8.0, Some(0.3), Some(1.2), 0.6);
         followed.friction_demand_followed_until = Some(0.5);
         r.points = vec![point(1.1, Some(0.26), Some(1.02), 0.255), lifted, followed];
+        (r.omega_ratio, r.omega_p, r.frequency_hz) = (3.0, 6.42, 1.02);
         let csv = to_csv(&JobResult::FrictionSpectrum(r));
         assert_eq!(
             lines(&csv),
             vec![
-                "a_alpha_g,peak_friction_demand,peak_over_tan_alpha,initiation_friction_demand,overturned,mode,lift_off,lift_off_time_s,friction_demand_followed_until_s",
-                "1.1,0.26,1.02,0.255,false,,false,,",
-                "6.0,,,0.51,true,2,true,0.41,",
-                "8.0,0.3,1.2,0.6,false,,false,,0.5",
+                "a_alpha_g,peak_friction_demand,peak_over_tan_alpha,initiation_friction_demand,overturned,mode,lift_off,lift_off_time_s,friction_demand_followed_until_s,\
+                 a_p_g,omega_ratio,omega_p_rad_per_s,frequency_hz",
+                "1.1,0.26,1.02,0.255,false,,false,,,0.275,3.0,6.42,1.02",
+                "6.0,,,0.51,true,2,true,0.41,,1.5,3.0,6.42,1.02",
+                "8.0,0.3,1.2,0.6,false,,false,,0.5,2.0,3.0,6.42,1.02",
             ]
         );
     }
@@ -1105,12 +1253,12 @@ mod tests {
             l[2],
             format!(
                 "{},{},{},{},{},{},{},{}",
-                json_text(&s.im),
+                cell(&s.im),
                 s.n,
                 s.overturned,
-                json_text(&s.p),
-                json_text(&s.interval_95[0]),
-                json_text(&s.interval_95[1]),
+                cell(&s.p),
+                cell(&s.interval_95[0]),
+                cell(&s.interval_95[1]),
                 s.mode_1,
                 s.mode_2
             )
@@ -1146,18 +1294,24 @@ mod tests {
         assert_eq!(
             lines(&csv),
             vec![
-                "rock,annual_toppling_rate_per_yr,age_years,age_uncertain,survival_probability,rate_scale_at_5_percent".to_string(),
+                "rock,annual_toppling_rate_per_yr,age_years,age_uncertain,survival_probability,rate_scale_at_5_percent,\
+                 fragility_median_pga_g,fragility_beta,mean_years_between_topplings,extrapolated_share".to_string(),
                 format!(
-                    "{},{},1000.0,false,{},{}",
+                    "{},{},1000.0,false,{},{},0.4,0.4,{},{}",
                     rock.name,
-                    json_text(&rock.annual_toppling_rate),
-                    json_text(&age.survival_probability),
-                    json_text(&age.rate_scale_at_5_percent.expect("it can topple")),
+                    cell(&rock.annual_toppling_rate),
+                    cell(&age.survival_probability),
+                    cell(&age.rate_scale_at_5_percent.expect("it can topple")),
+                    cell(&rock.mean_years_between_topplings.expect("it can topple")),
+                    cell(&rock.extrapolated_share),
                 ),
             ]
         );
         let mut grass = rock.clone();
         (grass.name, grass.annual_toppling_rate) = ("Grass Valley".into(), 1.5e-4);
+        (grass.fragility.median, grass.fragility.beta) = (0.3, 0.5);
+        grass.mean_years_between_topplings = Some(6666.7);
+        grass.extrapolated_share = 0.01;
         grass.ages = vec![AgeResult {
             age_years: 1000.0,
             survival_probability: 0.86,
@@ -1166,6 +1320,8 @@ mod tests {
         grass.age_distribution = None;
         let mut b = rock.clone();
         (b.name, b.annual_toppling_rate, b.ages) = ("b".into(), 1e-4, vec![]);
+        (b.fragility.median, b.fragility.beta) = (5.0, 0.0);
+        (b.mean_years_between_topplings, b.extrapolated_share) = (None, 0.0);
         b.age_distribution = Some(AgeDistributionResult {
             median_age_years: 9000.0,
             survival_probability: 0.4,
@@ -1180,9 +1336,9 @@ mod tests {
         assert_eq!(
             lines(&csv)[1..],
             [
-                "Grass Valley,0.00015,1000.0,false,0.86,20.0",
-                "b,0.0001,9000.0,true,0.4,",
-                "all,,,,0.344,2.5",
+                "Grass Valley,0.00015,1000.0,false,0.86,20.0,0.3,0.5,6666.7,0.01",
+                "b,0.0001,9000.0,true,0.4,,5.0,0.0,,0.0",
+                "all,,,,0.344,2.5,,,,",
             ]
         );
     }
@@ -1197,7 +1353,7 @@ mod tests {
         let l = lines(&csv);
         assert_eq!(
             l[0],
-            "observation,observed,consistent_lo_scale,consistent_hi_scale,consistent_lo_pga_g,consistent_hi_pga_g"
+            "observation,observed,consistent_lo_scale,consistent_hi_scale,consistent_lo_pga_g,consistent_hi_pga_g,threshold_scale"
         );
         let all = r.consistent_scale.clone().expect("a record query's scales");
         let mine = &r.per_observation.as_ref().expect("per observation")[0];
@@ -1211,11 +1367,12 @@ mod tests {
         assert_eq!(
             l[1 + rows(all.len())],
             format!(
-                "transformer,survived,{},{},{},{}",
-                json_text(&first[0]),
-                json_text(&first[1]),
-                json_text(&first_g[0]),
-                json_text(&first_g[1])
+                "transformer,survived,{},{},{},{},{}",
+                cell(&first[0]),
+                cell(&first[1]),
+                cell(&first_g[0]),
+                cell(&first_g[1]),
+                cell(&mine.threshold_scale)
             )
         );
         let set = |name: &str, overturned: bool, scale: Vec<[f64; 2]>, pga: Vec<[f64; 2]>| {
@@ -1225,7 +1382,7 @@ mod tests {
                 consistent_scale: scale,
                 consistent_pga_g: pga,
                 overturning_scale: vec![],
-                threshold_scale: 0.5,
+                threshold_scale: if overturned { 0.5 } else { 0.25 },
             }
         };
         r.consistent_scale = Some(vec![[0.7, 1.4], [2.8, 3.2]]);
@@ -1238,10 +1395,10 @@ mod tests {
         assert_eq!(
             lines(&csv)[1..],
             [
-                ",,0.7,1.4,0.35,0.7",
-                ",,2.8,3.2,1.4,1.6",
-                "locomotive,overturned,0.7,6.0,0.35,3.0",
-                "\"'=cmd\",survived,,,,",
+                ",,0.7,1.4,0.35,0.7,",
+                ",,2.8,3.2,1.4,1.6,",
+                "locomotive,overturned,0.7,6.0,0.35,3.0,0.5",
+                "\"'=cmd\",survived,,,,,0.25",
             ]
         );
     }
@@ -1310,17 +1467,13 @@ mod tests {
             .sum();
         assert_eq!(l.len(), 1 + whole + each);
         let f0 = &r.frequencies[0];
-        let head = format!(
-            "{},{},,,",
-            json_text(&f0.frequency_hz),
-            json_text(&f0.omega_p)
-        );
+        let head = format!("{},{},,,", cell(&f0.frequency_hz), cell(&f0.omega_p));
         assert!(l[1].starts_with(&head), "{} against {head}", l[1]);
         let mine = &f0.per_observation[0];
         let head = format!(
             "{},{},transformer,survived,",
-            json_text(&f0.frequency_hz),
-            json_text(&f0.omega_p)
+            cell(&f0.frequency_hz),
+            cell(&f0.omega_p)
         );
         assert_eq!(mine.name, "transformer");
         assert!(l[1 + whole].starts_with(&head), "{}", l[1 + whole]);
@@ -1428,12 +1581,23 @@ mod tests {
                 -0.0,
                 1.7976931348623157e308,
                 12345678901234567890.0,
+                0.7999999999999999,
             ],
             theta: vec![],
             theta_dot: vec![-5.0, 0.30000000000000004],
             ground_acceleration: vec![f64::NAN],
             fx_over_fz: Some(vec![Some(f64::INFINITY), None, Some(0.3)]),
         });
+        assert_eq!(
+            th_table(&odd),
+            "t_s,theta_dot_rad_per_s,ground_acceleration_m_per_s2,fx_over_fz\n\
+             0.0,-5.0,,\n\
+             1e-300,0.3,,\n\
+             -0.0,,,0.3\n\
+             1.7976931348623157e+308,,,\n\
+             1.23456789012346e+19,,,\n\
+             0.8,,,\n"
+        );
         let mut no_ratio = computed.clone();
         if let Some(s) = &mut no_ratio.series {
             s.fx_over_fz = None;
@@ -1474,13 +1638,15 @@ mod tests {
 
     #[test]
     fn series_are_read_from_any_stored_document() {
-        // Integers as stored, a key order other than the engine's, a null.
+        // Integers as stored, a key order other than the engine's, a null:
+        // every number is written as the double a typed result reads, to 15
+        // digits.
         let text = r#"{"series": {"t": [0.0, 12345678901234567890], "theta": [],
             "theta_dot": [-5, 0.30000000000000004], "ground_acceleration": [null]},
             "kind": "time_history"}"#;
         let table = "t_s,theta_dot_rad_per_s,ground_acceleration_m_per_s2\n\
-                     0.0,-5,\n\
-                     12345678901234567890,0.30000000000000004,\n";
+                     0.0,-5.0,\n\
+                     1.23456789012346e+19,0.3,\n";
         for piece in [1, 7, 1 << 16] {
             assert_eq!(streamed(text, piece).as_deref(), Some(table));
         }
