@@ -92,7 +92,7 @@ mod tests {
         .expect("valid");
         let tasks = job.split();
         let per = per_task(70, job.size().cpu_s / 70.0);
-        assert!(per >= 1 && per < 70, "{per}");
+        assert!((1..70).contains(&per), "{per}");
         assert_eq!(tasks.len(), 70usize.div_ceil(per));
         let control = Control::new();
         let parts: Vec<Value> = tasks
