@@ -254,7 +254,11 @@ fn the_result_is_identical_whatever_the_split() {
     big["samples"] = json!(100_000);
     let job = Job::from_value(&big).expect("valid");
     let tasks = job.split();
-    assert!(tasks.len() > 50 && tasks.len() <= 256, "{}", tasks.len());
+    assert!(
+        tasks.len() > 20 && tasks.len() <= topple::jobs::split::MAX_TASKS,
+        "{}",
+        tasks.len()
+    );
     let mut next = 0;
     for t in &tasks {
         let Job::Fragility(f) = t else {

@@ -193,7 +193,9 @@ pub fn parts(job: &RecordSpectrumJob, per_size: f64, budget: f64, max_tasks: usi
             .collect();
     }
     // Each size in ranges of levels sharing their boundaries.
-    let ranges = ((per_size / budget).ceil() as usize).clamp(1, last);
+    let ranges = ((per_size / budget).ceil() as usize)
+        .min(max_tasks / n.max(1))
+        .clamp(1, last);
     let per = last.div_ceil(ranges);
     (0..n)
         .flat_map(|i| {
@@ -338,7 +340,8 @@ mod tests {
             assert!(ranges.windows(2).all(|w| w[0][1] == w[1][0]), "{ranges:?}");
         }
         // At most max_tasks.
-        assert!(parts(&j, 100.0, 0.01, 10).len() <= 12);
+        assert!(parts(&j, 100.0, 0.01, 10).len() <= 10);
+        assert!(parts(&j, 100.0, 0.01, 100).len() <= 100);
     }
 
     #[test]
