@@ -27,7 +27,8 @@
 //!   SQLite and PostgreSQL implementations.
 //! - [`service`]: the server without its routes: the state of an instance,
 //!   workers that claim tasks and compute them on the rayon pool,
-//!   connections, tenants and their tokens, metrics, and the job logic the
+//!   connections, tenants and their tokens, metrics, succeeded jobs and the
+//!   renderings of results in memory, and the job logic the
 //!   API calls (a submission read, resolved,
 //!   validated and admitted; finished results).
 //! - [`api`]: axum routes, problem+json errors (the one place errors become

@@ -1,5 +1,6 @@
 //! `/v1/jobs`: submit, inspect, fetch results, cancel, list.
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use axum::body::{Body, Bytes};
@@ -19,8 +20,10 @@ use super::representation::Format;
 use crate::jobs::{Job, JobSpec, KINDS};
 use crate::service::AppState;
 use crate::service::finished::{ResultError, finished};
+use crate::service::renderings::Rendering;
 use crate::service::results::{Cached, SharedText};
 use crate::service::submit::{self, Prepared};
+use crate::service::succeeded::{Read, Rendered, read};
 use crate::store::{Deleted, JobRecord, ListQuery, NewJob, Status, new_job_id, now_rfc3339};
 
 /// Links of a job.
@@ -233,6 +236,11 @@ pub(crate) fn parse_id(path: Result<Path<String>, PathRejection>) -> Result<Uuid
     })
 }
 
+/// No job `id` for the tenant asking.
+fn no_job(id: Uuid) -> Problem {
+    Problem::not_found(format!("no job {id}")).param("id")
+}
+
 /// The tenant's job `id`; another tenant's job is not found, as if it did
 /// not exist (a 403 would confirm that it does).
 pub(crate) async fn load(
@@ -244,7 +252,31 @@ pub(crate) async fn load(
         .store
         .get(tenant.name(), id)
         .await?
-        .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))
+        .ok_or_else(|| no_job(id))
+}
+
+/// The status document of succeeded job `r` as served, with its entity tag.
+fn render_status(r: &JobRecord) -> Result<Rendered, Problem> {
+    let body = serde_json::to_vec(&view(r, None))
+        .map_err(|e| Problem::internal(format!("status document: {e}")))?;
+    Ok(Rendered {
+        etag: status_etag(r),
+        body: body.into(),
+    })
+}
+
+/// A status document already rendered, or 304 when the client holds it.
+fn rendered_status(status: &Rendered, headers: &HeaderMap) -> Response {
+    if super::http::if_none_match(headers, &status.etag) {
+        return super::http::not_modified(&status.etag, super::http::REVALIDATE);
+    }
+    let mut r = (
+        [(header::CONTENT_TYPE, "application/json")],
+        Body::from(Bytes::from_owner(status.body.clone())),
+    )
+        .into_response();
+    super::http::set_validators(r.headers_mut(), &status.etag, super::http::REVALIDATE);
+    r
 }
 
 /// A body that says it is something other than JSON is refused (415); one
@@ -543,7 +575,25 @@ pub async fn get_job(
     let Query(q) = q?;
     tracing::Span::current().record("job_id", tracing::field::display(id));
     let wait = wait_duration(&state, q.wait)?;
-    let mut job = load(&state, &tenant, id).await?;
+    let mut job = match read(&state, tenant.name(), id).await? {
+        None => return Err(no_job(id)),
+        Some(Read::Other(job)) => *job,
+        // A succeeded job's document is made once. Only a long poll for a
+        // change of it waits, as for any job (only its deletion ends it).
+        Some(Read::Succeeded(done)) => {
+            let status = match done.status.get() {
+                Some(status) => status,
+                None => {
+                    let rendered = render_status(&done.record)?;
+                    done.status.get_or_init(|| rendered)
+                }
+            };
+            if wait.is_none() || !super::http::if_none_match(&headers, &status.etag) {
+                return Ok(rendered_status(status, &headers));
+            }
+            done.record.clone()
+        }
+    };
     if let Some(limit) = wait {
         let seen = super::http::if_none_match(&headers, &status_etag(&job));
         if seen || !job.status.is_final() {
@@ -637,10 +687,26 @@ pub(crate) async fn result_response(
             Body::from(Bytes::from_owner(SharedText(body))),
         )
             .into_response(),
-        Format::Csv => super::representation::csv_response(state, id, body).await?,
+        Format::Csv => super::representation::csv_response(state, id, &found.key, body).await?,
         Format::Svg(window) => {
-            let figure = super::representation::figure(state, body, window).await?;
-            ([(header::CONTENT_TYPE, "image/svg+xml")], figure).into_response()
+            let name = format.name();
+            let figure = match state.renderings.get(&found.key, &name) {
+                Some(held) => held,
+                None => {
+                    let figure = super::representation::figure(state, body, window).await?;
+                    let made = Arc::new(Rendering {
+                        body: figure.into_bytes().into(),
+                        kind: String::new(),
+                    });
+                    state.renderings.put(&found.key, &name, made.clone());
+                    made
+                }
+            };
+            (
+                [(header::CONTENT_TYPE, "image/svg+xml")],
+                Body::from(Bytes::from_owner(figure.body.clone())),
+            )
+                .into_response()
         }
     };
     super::http::set_validators(response.headers_mut(), &etag, cache);
@@ -735,7 +801,7 @@ pub async fn cancel_job(
             info!(job_id = %id, status = job.status.as_str(), "deleted");
             Ok(StatusCode::NO_CONTENT.into_response())
         }
-        Deleted::NotFound => Err(Problem::not_found(format!("no job {id}")).param("id")),
+        Deleted::NotFound => Err(no_job(id)),
         // Queued again (resubmitted) between the two steps: it stays.
         Deleted::NotFinished(job) => Err(Problem::conflict(
             "not-finished",
@@ -756,7 +822,7 @@ async fn cancel(
         .store
         .cancel(tenant.name(), id, &now_rfc3339())
         .await?
-        .ok_or_else(|| Problem::not_found(format!("no job {id}")).param("id"))?;
+        .ok_or_else(|| no_job(id))?;
     if !canceled.changed {
         return Ok(Err(canceled.job));
     }

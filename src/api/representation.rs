@@ -16,6 +16,7 @@ use crate::jobs::JobResult;
 use crate::plot::{FigureError, Window};
 use crate::service::AppState;
 use crate::service::finished::RESULT_WAIT;
+use crate::service::renderings::Rendering;
 use crate::service::results::{Document, MAX_BODY};
 
 /// The representation a result request asks for.
@@ -33,7 +34,7 @@ impl Format {
     pub(crate) fn name(self) -> String {
         match self {
             Format::Json => "json".into(),
-            Format::Csv => "csv".into(),
+            Format::Csv => CSV.into(),
             Format::Svg(None) => format!("svg{}", crate::plot::FIGURES_REVISION),
             Format::Svg(Some(w)) => {
                 format!("svg{}-window-{}", crate::plot::FIGURES_REVISION, w.tag())
@@ -105,19 +106,28 @@ pub(crate) async fn render_turn(
         .ok_or_else(|| Problem::busy("rendering"))
 }
 
-/// The CSV table of result document `doc` of job `id`. The series of a
-/// document larger than [`MAX_BODY`] is streamed from the stored text in
-/// pieces (its samples read as they are written, the rest of the document
-/// left unread); every other table is rendered from the document read whole
-/// into its type, in a rendering turn when it is large.
+/// The CSV table of result document `doc` of job `id` (cache key `key`).
+/// The series of a document larger than [`MAX_BODY`] is streamed from the
+/// stored text in pieces (its samples read as they are written, the rest of
+/// the document left unread); every other table is rendered from the
+/// document read whole into its type, in a rendering turn when it is large,
+/// and kept in memory ([`crate::service::renderings`]).
 /// Parsing and rendering are not work for the runtime: they go to the
 /// blocking pool rather than the compute pool, where they would queue behind
 /// running spectra.
 pub(crate) async fn csv_response(
     state: &AppState,
     id: Uuid,
+    key: &Arc<str>,
     doc: Arc<Document>,
 ) -> Result<Response, Problem> {
+    if let Some(held) = state.renderings.get(key, CSV) {
+        return Ok(csv_table(
+            Body::from(Bytes::from_owner(held.body.clone())),
+            &held.kind,
+            id,
+        ));
+    }
     let stopped = |_| Problem::internal("CSV rendering stopped");
     // A document of up to MAX_BODY is read whole into its type (so one that
     // does not read is refused); only a larger one's series is streamed.
@@ -131,11 +141,8 @@ pub(crate) async fn csv_response(
         .await
         .map_err(stopped)?
     };
-    let (body, kind) = match rows {
-        Some(rows) => (
-            Body::from_stream(csv_pieces(rows, doc)),
-            "time_history".to_string(),
-        ),
+    Ok(match rows {
+        Some(rows) => csv_table(Body::from_stream(csv_pieces(rows, doc)), "time_history", id),
         None => {
             let turn = render_turn(state, doc.as_str().len()).await?;
             let (table, kind) = tokio::task::spawn_blocking(move || {
@@ -144,15 +151,29 @@ pub(crate) async fn csv_response(
             })
             .await
             .map_err(stopped)??;
-            (Body::from(table), kind.to_string())
+            let made = Arc::new(Rendering {
+                body: table.into_bytes().into(),
+                kind: kind.to_string(),
+            });
+            state.renderings.put(key, CSV, made.clone());
+            csv_table(Body::from(Bytes::from_owner(made.body.clone())), kind, id)
         }
-    };
+    })
+}
+
+/// The name of the CSV representation in [`crate::service::renderings`]
+/// (as in [`Format::name`]).
+const CSV: &str = "csv";
+
+/// A CSV table response of job `id`, of a result of `kind`: its file is
+/// named after both.
+fn csv_table(body: Body, kind: &str, id: Uuid) -> Response {
     let disposition = format!("attachment; filename=\"{kind}-{id}.csv\"");
     let mut r = ([(header::CONTENT_TYPE, "text/csv; charset=utf-8")], body).into_response();
     if let Ok(v) = HeaderValue::from_str(&disposition) {
         r.headers_mut().insert(header::CONTENT_DISPOSITION, v);
     }
-    Ok(r)
+    r
 }
 
 /// The pieces of a series table, each written on the blocking pool when the

@@ -7,6 +7,7 @@ use uuid::Uuid;
 
 use super::AppState;
 use super::results::{Cached, LoadError};
+use super::succeeded::{Read, read};
 use crate::store::{JobRecord, Status, StoreError};
 
 /// Longest a result read waits for a turn to read the database, or for room
@@ -46,18 +47,20 @@ pub enum ResultError {
     Store(#[from] StoreError),
 }
 
-/// The result document of the tenant's job `id`, once it has succeeded.
+/// The result document of the tenant's job `id`, once it has succeeded
+/// (the job and its document from memory when they are held there).
 pub async fn finished(state: &AppState, tenant: &str, id: Uuid) -> Result<Cached, ResultError> {
-    let job = state
-        .store
-        .get(tenant, id)
-        .await?
-        .ok_or(ResultError::NotFound(id))?;
+    let job = match read(state, tenant, id).await? {
+        Some(Read::Succeeded(job)) => {
+            return match state.results.get(job.record.computation) {
+                Some(found) => Ok(found),
+                None => stored(state, &job.record).await,
+            };
+        }
+        Some(Read::Other(job)) => *job,
+        None => return Err(ResultError::NotFound(id)),
+    };
     match job.status {
-        Status::Succeeded => match state.results.get(job.computation) {
-            Some(found) => Ok(found),
-            None => stored(state, &job).await,
-        },
         Status::Failed => Err(ResultError::Failed {
             id,
             error: job.error.unwrap_or_default(),

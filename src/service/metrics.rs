@@ -35,6 +35,10 @@ pub struct Metrics {
     pub accept_errors: Counter,
     /// Requests answered 408 because their body came too slowly.
     pub body_timeouts: Counter,
+    /// Reads of a succeeded job (status or result) answered from memory.
+    pub succeeded_from_memory: Counter,
+    /// Reads of a succeeded job that went to the database.
+    pub succeeded_from_database: Counter,
     jobs: Vec<(Status, Gauge)>,
     queue_depth: Gauge,
     compute: Vec<(&'static str, Histogram)>,
@@ -77,6 +81,15 @@ impl Metrics {
         let closed_at_shutdown = closed("shutdown");
         let accept_errors = counter("topple_accept_errors_total");
         let body_timeouts = counter("topple_request_body_timeouts_total");
+        let succeeded_read = |from: &'static str| {
+            let key = Key::from_parts(
+                "topple_succeeded_reads_total",
+                vec![Label::new("from", from)],
+            );
+            recorder.register_counter(&key, &META)
+        };
+        let succeeded_from_memory = succeeded_read("memory");
+        let succeeded_from_database = succeeded_read("database");
         let jobs = Status::ALL
             .iter()
             .map(|&s| {
@@ -106,6 +119,8 @@ impl Metrics {
             closed_at_shutdown,
             accept_errors,
             body_timeouts,
+            succeeded_from_memory,
+            succeeded_from_database,
             jobs,
             queue_depth,
             compute,

@@ -1,5 +1,6 @@
 //! The computation service behind the HTTP API: the state of one instance
-//! (the job store, the result cache, the compute pool), workers that claim
+//! (the job store, succeeded jobs, results and their renderings in memory,
+//! the compute pool), workers that claim
 //! tasks and compute them on a rayon pool, the connections the server holds,
 //! and the job logic the API calls: a submission read, resolved (the records
 //! and fragility jobs its spec names), validated and admitted; finished
@@ -12,11 +13,14 @@ pub mod config;
 pub(crate) mod conn;
 pub mod finished;
 pub mod fragility_links;
+pub mod lru;
 pub mod metrics;
 pub mod records;
+pub mod renderings;
 pub mod results;
 pub mod retention;
 pub mod submit;
+pub mod succeeded;
 pub mod tenants;
 pub mod throughput;
 pub mod worker;
@@ -67,6 +71,10 @@ pub struct AppState {
     pub metrics: Arc<metrics::Metrics>,
     /// Result documents in memory.
     pub results: Arc<results::ResultCache>,
+    /// Succeeded jobs in memory.
+    pub succeeded: Arc<succeeded::SucceededJobs>,
+    /// Tables and figures of results in memory.
+    pub renderings: Arc<renderings::Renderings>,
     /// Turns to parse and render a large result document whole ([`RENDERS`]).
     pub renders: Arc<tokio::sync::Semaphore>,
     /// The measured computation rate (estimates, poll intervals).
@@ -98,6 +106,7 @@ impl AppState {
         let (finished, _) = broadcast::channel(1024);
         let (stop, stopping) = watch::channel(false);
         let results = Arc::new(results::ResultCache::new(config.result_memory));
+        let succeeded = Arc::new(succeeded::SucceededJobs::new(store.deletions()));
         Ok(AppState {
             store,
             config: Arc::new(config),
@@ -106,6 +115,8 @@ impl AppState {
             running: Arc::new(Mutex::new(HashMap::new())),
             metrics: Arc::new(metrics::Metrics::new()),
             results,
+            succeeded,
+            renderings: Arc::new(renderings::Renderings::default()),
             renders: Arc::new(tokio::sync::Semaphore::new(RENDERS)),
             throughput: Arc::new(throughput::Throughput::new(pool.current_num_threads())),
             pool: Arc::new(pool),

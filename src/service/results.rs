@@ -1,14 +1,14 @@
 //! Result documents in memory. Results never change once stored, so:
 //!
-//! - a bounded copy of recent small documents is kept, and a popular result is
-//!   read from the database once;
+//! - a bounded copy of small documents is kept (the least recently read let
+//!   go first), and a popular result is read from the database once;
 //! - a large document (over [`MAX_BODY`]) is held only while requests use it,
 //!   and every request for it meanwhile shares that one copy;
 //! - large documents held at once stay within a memory budget: a request that
 //!   would exceed it waits for room, and is refused when none comes in time;
 //! - at most [`LOADS`] documents are read from the database at once.
 
-use std::collections::{HashMap, VecDeque};
+use std::collections::HashMap;
 use std::future::Future;
 use std::sync::{Arc, Mutex, Weak};
 use std::time::Duration;
@@ -16,6 +16,8 @@ use std::time::Duration;
 use tokio::sync::{OwnedSemaphorePermit, Semaphore};
 use tokio::time::Instant;
 use uuid::Uuid;
+
+use super::lru::Lru;
 
 /// Documents up to this size are kept after use.
 pub const MAX_BODY: usize = 512 * 1024;
@@ -82,12 +84,10 @@ pub struct ResultCache {
     loads: Semaphore,
 }
 
-#[derive(Debug, Default)]
+#[derive(Debug)]
 struct Inner {
-    /// Recent small documents.
-    map: HashMap<Uuid, Cached>,
-    order: VecDeque<Uuid>,
-    bytes: usize,
+    /// Small documents, within [`MAX_TOTAL`] bytes.
+    small: Lru<Uuid, Cached>,
     /// Large documents, while some request holds them.
     live: HashMap<Uuid, (Arc<str>, Weak<Document>)>,
 }
@@ -106,7 +106,10 @@ impl ResultCache {
             .unwrap_or(u32::MAX)
             .clamp(1, Semaphore::MAX_PERMITS as u32);
         ResultCache {
-            inner: Mutex::new(Inner::default()),
+            inner: Mutex::new(Inner {
+                small: Lru::new(MAX_TOTAL),
+                live: HashMap::new(),
+            }),
             budget: Arc::new(Semaphore::new(budget_kib as usize)),
             budget_kib,
             loads: Semaphore::new(LOADS),
@@ -115,8 +118,8 @@ impl ResultCache {
 
     /// The result of `id` when it is in memory.
     pub fn get(&self, id: Uuid) -> Option<Cached> {
-        let inner = self.inner.lock().ok()?;
-        if let Some(found) = inner.map.get(&id) {
+        let mut inner = self.inner.lock().ok()?;
+        if let Some(found) = inner.small.get(&id) {
             return Some(found.clone());
         }
         let (key, weak) = inner.live.get(&id)?;
@@ -146,20 +149,11 @@ impl ResultCache {
         let Ok(mut inner) = self.inner.lock() else {
             return found;
         };
-        if let Some(there) = inner.map.get(&id) {
+        if let Some(there) = inner.small.get(&id) {
             return there.clone();
         }
-        inner.bytes += found.body.text.len();
-        inner.map.insert(id, found.clone());
-        inner.order.push_back(id);
-        while inner.bytes > MAX_TOTAL {
-            let Some(old) = inner.order.pop_front() else {
-                break;
-            };
-            if let Some(b) = inner.map.remove(&old) {
-                inner.bytes -= b.body.text.len();
-            }
-        }
+        let bytes = found.body.text.len();
+        inner.small.put(id, found.clone(), bytes);
         found
     }
 

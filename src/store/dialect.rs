@@ -24,6 +24,10 @@ pub trait Dialect: sqlx::Database {
     const SINGLE_INSTANCE: bool;
     /// The statement that wakes other instances' idle workers, if any.
     const ANNOUNCE: Option<&'static str>;
+    /// The statement that tells other instances, when its transaction
+    /// commits, that finished jobs were deleted (`$1`: a job id, or `*`), if
+    /// there are others.
+    const ANNOUNCE_DELETED: Option<&'static str>;
 }
 
 impl Dialect for Sqlite {
@@ -34,6 +38,7 @@ impl Dialect for Sqlite {
     const FOR_UPDATE: &'static str = "";
     const SINGLE_INSTANCE: bool = true;
     const ANNOUNCE: Option<&'static str> = None;
+    const ANNOUNCE_DELETED: Option<&'static str> = None;
 }
 
 impl Dialect for Postgres {
@@ -43,6 +48,7 @@ impl Dialect for Postgres {
     const FOR_UPDATE: &'static str = " FOR UPDATE";
     const SINGLE_INSTANCE: bool = false;
     const ANNOUNCE: Option<&'static str> = Some("SELECT pg_notify('topple_tasks', '')");
+    const ANNOUNCE_DELETED: Option<&'static str> = Some("SELECT pg_notify('topple_deleted', $1)");
 }
 
 /// `sql` with `{now}`, `{now+$N}` (the clock plus parameter `$N` seconds),

@@ -18,6 +18,7 @@ macro_rules! in_write_turn {
     }};
 }
 
+pub mod deletions;
 pub mod dialect;
 pub mod migrations;
 pub mod postgres;
@@ -27,10 +28,13 @@ pub mod sqlite;
 
 use std::future::Future;
 use std::pin::Pin;
+use std::sync::Arc;
 use std::time::Duration;
 
 use serde::Serialize;
 use uuid::Uuid;
+
+pub use deletions::{Deletion, Deletions};
 
 /// A boxed future, so that the trait can be used as `dyn JobStore`.
 pub type BoxFuture<'a, T> = Pin<Box<dyn Future<Output = T> + Send + 'a>>;
@@ -455,6 +459,10 @@ pub trait JobStore: records::RecordStore + Send + Sync {
     fn queued_elsewhere(&self) -> BoxFuture<'_, ()>;
     /// Tells other instances that work was queued.
     fn announce_queued(&self) -> BoxFuture<'_, ()>;
+    /// The deletions of finished jobs by [`JobStore::delete`] and
+    /// [`JobStore::purge`], announced as they commit: this instance's, and
+    /// (PostgreSQL) every other instance's sharing the database.
+    fn deletions(&self) -> Arc<Deletions>;
 }
 
 /// A new job id: a UUIDv7 (creation time in its first 48 bits, so ids sort by

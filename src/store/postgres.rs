@@ -1,6 +1,7 @@
 //! PostgreSQL storage: several instances share jobs, tasks and the cache.
 //! Tasks are claimed with `FOR UPDATE SKIP LOCKED` under leases on the
-//! database clock; LISTEN/NOTIFY wakes idle workers everywhere.
+//! database clock; LISTEN/NOTIFY wakes idle workers everywhere, and tells
+//! every instance of the finished jobs any of them deleted.
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -10,11 +11,16 @@ use sqlx::{PgPool, Postgres};
 use tokio::sync::Notify;
 
 use super::StoreError;
+use super::deletions::{Deletion, Deletions};
 use super::sql::SqlStore;
 
 /// The channel that announces queued work (as in [`super::dialect`]'s
 /// announcement).
 const CHANNEL: &str = "topple_tasks";
+
+/// The channel that announces deleted jobs (as in [`super::dialect`]'s
+/// announcement of deletions).
+const DELETED_CHANNEL: &str = "topple_deleted";
 
 /// Longest wait for a connection: past it a request fails with 503.
 const ACQUIRE_TIMEOUT: Duration = Duration::from_millis(1500);
@@ -23,36 +29,56 @@ const ACQUIRE_TIMEOUT: Duration = Duration::from_millis(1500);
 /// lost (the pauses double from 100 ms up to it).
 const LISTEN_BACKOFF_MAX: Duration = Duration::from_secs(3);
 
-/// Wakes idle workers at each notification on [`CHANNEL`], for as long as the
-/// pool is open. A lost connection (the database restarted, or the network
-/// failed) is listened on again, with a backoff, for as long as it takes; the
-/// workers poll meanwhile, and are woken once listening resumes in case work
-/// was queued while it was down.
-async fn listen(pool: PgPool, mut listener: PgListener, wake: Arc<Notify>) {
+/// A listener on both channels.
+async fn listener(pool: &PgPool) -> Result<PgListener, sqlx::Error> {
+    let mut l = PgListener::connect_with(pool).await?;
+    // A lost connection is reported at once, not hidden behind a reconnection
+    // that would have missed notifications meanwhile.
+    l.eager_reconnect(false);
+    l.listen_all([CHANNEL, DELETED_CHANNEL]).await?;
+    Ok(l)
+}
+
+/// Wakes idle workers at each notification on [`CHANNEL`], and announces
+/// the deletions of [`DELETED_CHANNEL`], for as long as the pool is open. A
+/// lost connection (the database restarted, or the network failed) is
+/// listened on again, with a backoff, for as long as it takes; the workers
+/// poll meanwhile, deletions are not heard meanwhile, and once listening
+/// resumes the workers are woken and any job may have been deleted (what
+/// was said meanwhile is lost).
+async fn listen(pool: PgPool, mut l: PgListener, wake: Arc<Notify>, deletions: Arc<Deletions>) {
     loop {
-        match listener.recv().await {
-            Ok(_) => wake.notify_waiters(),
-            Err(e) => {
+        match l.try_recv().await {
+            Ok(Some(n)) if n.channel() == DELETED_CHANNEL => {
+                deletions.announce(Deletion::from_payload(n.payload()));
+            }
+            Ok(Some(_)) => wake.notify_waiters(),
+            // The connection was lost (`None`) or failed.
+            lost => {
                 if pool.is_closed() {
                     return;
                 }
-                tracing::warn!(error = %e, "lost the notification connection; listening again");
+                deletions.set_heard(false);
+                match lost {
+                    Err(e) => {
+                        tracing::warn!(error = %e, "lost the notification connection; listening again")
+                    }
+                    _ => tracing::warn!("lost the notification connection; listening again"),
+                }
                 let mut pause = Duration::from_millis(100);
-                listener = loop {
+                l = loop {
                     tokio::time::sleep(pause).await;
                     if pool.is_closed() {
                         return;
                     }
-                    match PgListener::connect_with(&pool).await {
-                        Ok(mut l) => match l.listen(CHANNEL).await {
-                            Ok(()) => break l,
-                            Err(e) => tracing::debug!(error = %e, "listen failed"),
-                        },
-                        Err(e) => tracing::debug!(error = %e, "notification connection failed"),
+                    match listener(&pool).await {
+                        Ok(l) => break l,
+                        Err(e) => tracing::debug!(error = %e, "listening failed"),
                     }
                     pause = (pause * 2).min(LISTEN_BACKOFF_MAX);
                 };
-                tracing::info!("listening for queued tasks again");
+                tracing::info!("listening for queued tasks again, and for deletions");
+                deletions.set_heard(true);
                 wake.notify_waiters();
             }
         }
@@ -64,7 +90,7 @@ pub type PgStore = SqlStore<Postgres>;
 
 impl SqlStore<Postgres> {
     /// Connects to `url` (`postgres://…`), applies the migrations and starts
-    /// listening for work queued by other instances.
+    /// listening for work queued and jobs deleted by other instances.
     pub async fn open(url: &str, connections: u32) -> Result<Self, StoreError> {
         let pool = PgPoolOptions::new()
             .max_connections(connections.max(2))
@@ -74,9 +100,9 @@ impl SqlStore<Postgres> {
             .await?;
         super::migrations::postgres().run(&pool).await?;
         let queued = Arc::new(Notify::new());
-        let mut listener = PgListener::connect_with(&pool).await?;
-        listener.listen(CHANNEL).await?;
-        tokio::spawn(listen(pool.clone(), listener, queued.clone()));
-        Ok(SqlStore::new(pool, Some(queued)))
+        let deletions = Arc::new(Deletions::default());
+        let l = listener(&pool).await?;
+        tokio::spawn(listen(pool.clone(), l, queued.clone(), deletions.clone()));
+        Ok(SqlStore::new(pool, Some(queued), deletions))
     }
 }

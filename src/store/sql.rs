@@ -13,6 +13,7 @@ use sqlx::{
 use tokio::sync::Notify;
 use uuid::Uuid;
 
+use super::deletions::{Deletion, Deletions};
 use super::dialect::{Dialect, fill};
 use super::{
     Admission, BoxFuture, Canceled, Computation, Deleted, Failure, JobRecord, JobStore, ListQuery,
@@ -120,6 +121,8 @@ pub struct SqlStore<DB: Dialect> {
     health: Arc<Mutex<WriteHealth>>,
     /// Notified when another instance queued work (PostgreSQL).
     elsewhere: Option<Arc<Notify>>,
+    /// Announces the deletions of finished jobs.
+    deletions: Arc<Deletions>,
     sql: Arc<Statements>,
 }
 
@@ -130,6 +133,7 @@ impl<DB: Dialect> Clone for SqlStore<DB> {
             writer: self.writer.clone(),
             health: self.health.clone(),
             elsewhere: self.elsewhere.clone(),
+            deletions: self.deletions.clone(),
             sql: self.sql.clone(),
         }
     }
@@ -145,13 +149,19 @@ fn parse_status(s: &str) -> Result<Status, StoreError> {
 
 impl<DB: Dialect> SqlStore<DB> {
     /// A store over `pool` (migrated already); `elsewhere` is notified when
-    /// another instance queues work.
-    pub(super) fn new(pool: Pool<DB>, elsewhere: Option<Arc<Notify>>) -> Self {
+    /// another instance queues work; deletions are announced on `deletions`
+    /// (where the listener of other instances' announcements writes too).
+    pub(super) fn new(
+        pool: Pool<DB>,
+        elsewhere: Option<Arc<Notify>>,
+        deletions: Arc<Deletions>,
+    ) -> Self {
         SqlStore {
             pool,
             writer: DB::SINGLE_INSTANCE.then(|| Arc::new(tokio::sync::Mutex::new(()))),
             health: Default::default(),
             elsewhere,
+            deletions,
             sql: Arc::new(Statements::new::<DB>()),
         }
     }
@@ -516,8 +526,25 @@ where
         .bind(computation)
         .execute(&mut *tx)
         .await?;
+        Self::announce_deleted(&mut tx, Deletion::Job(id)).await?;
         tx.commit().await?;
+        self.deletions.announce(Deletion::Job(id));
         Ok(Deleted::Gone)
+    }
+
+    /// Tells the other instances of `deletion` when `tx` commits (and only
+    /// then), where there are others.
+    async fn announce_deleted(
+        tx: &mut DB::Connection,
+        deletion: Deletion,
+    ) -> Result<(), StoreError> {
+        if let Some(sql) = DB::ANNOUNCE_DELETED {
+            sqlx::query(sql)
+                .bind(deletion.payload())
+                .execute(&mut *tx)
+                .await?;
+        }
+        Ok(())
     }
 
     async fn purge_in(&self, conn: &mut DB::Connection, before: &str) -> Result<u64, StoreError> {
@@ -537,8 +564,12 @@ where
             )
             .execute(&mut *tx)
             .await?;
+            Self::announce_deleted(&mut tx, Deletion::Any).await?;
         }
         tx.commit().await?;
+        if jobs > 0 {
+            self.deletions.announce(Deletion::Any);
+        }
         Ok(jobs)
     }
 
@@ -1204,6 +1235,10 @@ where
                 None => std::future::pending().await,
             }
         })
+    }
+
+    fn deletions(&self) -> Arc<Deletions> {
+        self.deletions.clone()
     }
 
     fn announce_queued(&self) -> BoxFuture<'_, ()> {

@@ -73,7 +73,8 @@ impl SqlStore<Sqlite> {
             .connect_with(options)
             .await?;
         super::migrations::sqlite().run(&pool).await?;
-        let store = SqlStore::new(pool.clone(), None);
+        // One instance: every deletion is its own, announced as it commits.
+        let store = SqlStore::new(pool.clone(), None, Default::default());
         tokio::spawn(checkpoint_loop(pool, store.writer()));
         Ok(store)
     }

@@ -1,8 +1,8 @@
 //! `topple` as a process: the CLI, and real servers on SQLite and PostgreSQL
 //! under crashes, restarts, a full disk, a stopped database, many connections,
-//! large reads, several instances and several tenants. One test binary (each
-//! module was one before), so the library and its dependencies are linked
-//! once.
+//! large reads, reads from memory, several instances and several tenants. One
+//! test binary (each module was one before), so the library and its
+//! dependencies are linked once.
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -14,6 +14,7 @@ mod crash;
 mod disk_full;
 mod memory;
 mod pg_restart;
+mod reads;
 mod restart;
 mod scale;
 mod store;
