@@ -767,7 +767,7 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
             job,
             per_size,
             super::cost::TASK_CPU_S,
-            super::split::MAX_TASKS,
+            super::split::MAX_PART_TASKS,
         );
         if parts.len() <= 1 {
             return vec![job.clone()];

@@ -3,10 +3,15 @@
 
 use serde_json::Value;
 
-/// Most tasks a job is split into: past this, tasks grow longer than
-/// [`TASK_CPU_S`] (the service's `max_work` keeps a job under about 2,000
-/// CPU seconds, so this is reached by none it accepts).
-pub const MAX_TASKS: usize = 4096;
+/// Most tasks a job of cheap lines (a pulse spectrum, a fragility
+/// campaign) is split into: past this, its tasks grow longer than
+/// [`TASK_CPU_S`] — a big job pays less for the queue, and its tasks stay
+/// well under a second (a 2,000-frequency spectrum's hold 8 frequencies).
+pub const MAX_TASKS: usize = 256;
+
+/// Most tasks of a job whose lines are dear (a record spectrum, split along
+/// its scale axis): its tasks stay short however long its record.
+pub const MAX_PART_TASKS: usize = 4096;
 
 pub use super::cost::TASK_CPU_S;
 
@@ -112,8 +117,8 @@ mod tests {
 
     #[test]
     fn a_spectrum_is_split_into_tasks_of_about_task_cpu_s() {
-        // A fine grid (10,000 scan points a frequency): a few frequencies a
-        // task; the default grid: tens of frequencies a task.
+        // A fine grid (10,000 scan points a frequency) of 1,000 frequencies:
+        // 250 tasks of 4; the default grid: a few frequencies a task.
         for spec in [
             r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":{"from":1,"to":8,"steps":1000},"scan_step_alpha_g":0.002}"#,
             r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"nonlinear","omega_ratio":{"from":0.25,"to":10,"steps":400},"a_max_alpha_g":20,"tolerance":1e-4}"#,
@@ -128,7 +133,15 @@ mod tests {
                     panic!("a spectrum task");
                 };
                 lines += s.omega_ratio.len();
-                assert!(t.size().cpu_s <= TASK_CPU_S, "{:?}", t.size());
+                // At most TASK_CPU_S, unless MAX_TASKS tasks must hold
+                // the job: then its lines spread evenly over them.
+                let line = whole.cpu_s / job_lines(&job) as f64;
+                let least = job_lines(&job).div_ceil(MAX_TASKS) as f64 * line;
+                assert!(
+                    t.size().cpu_s <= TASK_CPU_S.max(least) * (1.0 + 1e-12),
+                    "{:?}",
+                    t.size()
+                );
                 // Not much shorter either: tasks are filled.
                 assert!(
                     t.size().cpu_s > TASK_CPU_S / 2.0 || t == tasks.last().expect("a task"),

@@ -223,7 +223,7 @@ fn a_long_record_is_split_into_few_tasks_and_its_size_is_limited() {
     // The record is stored once, with the job: a task names its part.
     let tasks = job.split();
     assert!(
-        tasks.len() > 200 && tasks.len() <= topple::jobs::split::MAX_TASKS,
+        tasks.len() > 200 && tasks.len() <= topple::jobs::split::MAX_PART_TASKS,
         "{} tasks",
         tasks.len()
     );
