@@ -13,6 +13,8 @@ end), the time histories sent to both alternately. Each instance runs with
 the default workers (the number of cores). Prints, per setup and tenant, the
 time histories' latencies (median, largest) and the spectra's progress
 meanwhile; exits 1 if any time history took longer than --limit (2 s).
+With --big forensic the two big jobs are forensic queries of three blocks
+on such a record instead.
 
     python3 bench/fairness.py [--binary target/release/topple] [--setups sqlite,postgres]
 
@@ -98,6 +100,19 @@ def spectrum(seed: int) -> dict:
             "ground_motion": enveloped_record(seed, 4000, 0.01, 0.45)}
 
 
+def forensic(seed: int) -> dict:
+    # Three blocks seen after the same 40-s record, scales to 5 x PGA.
+    return {"kind": "forensic", "scale": {"to": 5.0},
+            "observations": [
+                {"name": "column", "overturned": True, "block": {"alpha": 0.15, "p": 2.2}},
+                {"name": "cabinet", "overturned": False, "block": {"alpha": 0.2, "p": 2.7}},
+                {"name": "statue", "overturned": True, "block": {"alpha": 0.12, "p": 3.0}}],
+            "ground_motion": enveloped_record(seed, 4000, 0.01, 0.45)}
+
+
+BIG = {"record_spectrum": spectrum, "forensic": forensic}
+
+
 def history(k: int) -> dict:
     # Distinct specs: each is computed, none answered from the cache.
     return {"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
@@ -105,13 +120,13 @@ def history(k: int) -> dict:
                       "a_p_alpha_g": 2.5 + 1e-4 * (os.getpid() % 1000)}}
 
 
-def measure(bases, tok, histories, limit):
+def measure(bases, tok, histories, limit, kind):
     big = []
     for i, seed in enumerate((11, 12)):
-        status, doc = request(bases[0] + "/v1/jobs", "POST", spectrum(seed), tok["lab"])
+        status, doc = request(bases[0] + "/v1/jobs", "POST", BIG[kind](seed), tok["lab"])
         assert status == 202, (status, doc)
         big.append(doc["id"])
-        print(f"  record spectrum {doc['id']}: estimated {doc['estimate']['simulations']:.0f} "
+        print(f"  {kind} {doc['id']}: estimated {doc['estimate']['simulations']:.0f} "
               f"simulations, {doc['estimate']['seconds']:.0f} s", flush=True)
     # Both running.
     deadline = time.time() + 60
@@ -150,6 +165,9 @@ def main() -> int:
     ap.add_argument("--setups", default="sqlite,postgres")
     ap.add_argument("--histories", type=int, default=20)
     ap.add_argument("--limit", type=float, default=2.0)
+    ap.add_argument("--big", choices=sorted(BIG), default="record_spectrum",
+                    help="the kind of the two big jobs: record spectra, or forensic queries "
+                         "of three blocks on the same 40-s record")
     args = ap.parse_args()
     tmp = tempfile.mkdtemp(prefix="topple-fairness-")
     binary = os.path.join(tmp, "topple")
@@ -174,7 +192,7 @@ def main() -> int:
                     p, base = start(binary, url, tokens_file, name, tmp)
                     procs.append(p)
                     bases.append(base)
-            worst[setup] = measure(bases, tok, args.histories, args.limit)
+            worst[setup] = measure(bases, tok, args.histories, args.limit, args.big)
         finally:
             for p in procs:
                 p.terminate()

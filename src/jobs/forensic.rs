@@ -10,6 +10,7 @@
 //! samples); the sets of all observations are intersected.
 
 pub mod record;
+pub mod scan;
 
 use serde::{Deserialize, Serialize};
 
@@ -23,9 +24,8 @@ use super::spec::{
     validate_ground_motion,
 };
 use super::spectrum::{PulseFamily, ScanCost, validate_family};
-use crate::dynamics::{Formulation, SimError};
+use crate::dynamics::Formulation;
 use crate::spectrum::Control;
-use crate::spectrum::overturning::{SpectrumRequest, overturning_spectrum, threshold_alpha_g};
 use crate::spectrum::scan::{Direction, ScanError, ScanStats, Transition};
 
 /// Most observations in one query.
@@ -163,6 +163,10 @@ pub struct ForensicJob {
     pub tolerance_g: f64,
     /// Solver.
     pub solver: SolverNorm,
+    /// A task's lines and levels (absent: the whole query).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(ignore)]
+    pub part: Option<super::scan_parts::Part>,
 }
 
 fn in_range(v: f64, lo: f64, hi: f64, pointer: &str, what: &str) -> Result<f64, SpecError> {
@@ -398,6 +402,7 @@ impl ForensicSpec {
             scan_step_g,
             tolerance_g,
             solver,
+            part: None,
         })
     }
 
@@ -491,6 +496,7 @@ impl ForensicSpec {
             scan_step_g,
             tolerance_g,
             solver,
+            part: None,
         })
     }
 }
@@ -696,8 +702,12 @@ pub struct ForensicNumerics {
     pub tolerance_g: f64,
     /// Scan step, g.
     pub scan_step_g: f64,
-    /// Wall time, s.
+    /// Wall time, s (of a query computed in several tasks: their total
+    /// compute time).
     pub wall_time_s: f64,
+    /// Tasks the query was computed in (absent: one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tasks: Option<usize>,
 }
 
 /// The result document.
@@ -775,68 +785,36 @@ impl ForensicJob {
         })
     }
 
-    /// Runs the query: one overturning spectrum per observation (rayon inside).
-    pub fn run(&self, control: &Control) -> Result<ForensicResult, ScanError> {
-        match (&self.ground_motion, self.pulse) {
-            (Some(gm), _) => record::run(self, gm, control),
-            (None, Some(pulse)) => self.run_pulse(pulse, control),
-            (None, None) => Err(ScanError::Simulation(crate::dynamics::SimError::Tolerance)),
-        }
-    }
-
-    fn run_pulse(
+    /// The result of a pulse query from each observation's overturning set
+    /// at each frequency (`sets[observation][frequency]`, g): the sets
+    /// consistent with what was seen, intersected at each frequency.
+    fn pulse_result(
         &self,
-        pulse: PulseFamily,
-        control: &Control,
+        sets: &[Vec<Intervals>],
+        stats: &ScanStats,
     ) -> Result<ForensicResult, ScanError> {
-        let started = std::time::Instant::now();
-        let formulation = self.formulation;
+        let pulse = self
+            .pulse
+            .ok_or(ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
         let two_pi = 2.0 * std::f64::consts::PI;
         let AmplitudeRange { from, to } = self.range_g();
-        let mut stats = ScanStats::default();
-        let mut sets: Vec<Vec<Intervals>> = Vec::with_capacity(self.observations.len());
-        for o in &self.observations {
-            let block = o.block.block().map_err(SimError::from)?;
-            let alpha = block.slenderness();
-            let req = SpectrumRequest {
-                block,
-                shape: pulse.shape(),
-                formulation,
-                solver: self.solver.solver(),
-                omega_ratios: self
-                    .frequency_hz
+        let consistent: Vec<Vec<Intervals>> = self
+            .observations
+            .iter()
+            .zip(sets)
+            .map(|(o, per_frequency)| {
+                per_frequency
                     .iter()
-                    .map(|f| two_pi * f / block.frequency_parameter())
-                    .collect(),
-                a_max: to / alpha,
-                tolerance: self.tolerance_g / alpha,
-                scan_step: self.scan_step_g / alpha,
-                principal_relative_width: 0.0,
-            };
-            let spectrum = if to / alpha <= threshold_alpha_g(formulation, &block) {
-                // Never rocks in the range: nothing overturns.
-                None
-            } else {
-                Some(overturning_spectrum(&req, control)?)
-            };
-            if let Some(s) = &spectrum {
-                stats.absorb(&s.stats);
-            }
-            let per_frequency = (0..self.frequency_hz.len())
-                .map(|k| {
-                    let over = spectrum
-                        .as_ref()
-                        .map(|s| overturning_set(&s.lines[k].transitions, alpha, from, to))
-                        .unwrap_or_default();
-                    if o.overturned {
-                        over
-                    } else {
-                        complement(&over, from, to)
-                    }
-                })
-                .collect();
-            sets.push(per_frequency);
-        }
+                    .map(|over| {
+                        if o.overturned {
+                            over.clone()
+                        } else {
+                            complement(over, from, to)
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
         let frequencies: Vec<ForensicFrequency> = self
             .frequency_hz
             .iter()
@@ -846,7 +824,7 @@ impl ForensicJob {
                 let per_observation = self
                     .observations
                     .iter()
-                    .zip(&sets)
+                    .zip(&consistent)
                     .map(|(o, s)| {
                         all = intersect(&all, &s[k]);
                         ObservationSet {
@@ -896,41 +874,15 @@ impl ForensicJob {
             per_observation: None,
             bounds,
             numerics: ForensicNumerics {
-                cost: ScanCost::new(&self.solver, &stats),
+                cost: ScanCost::new(&self.solver, stats),
                 tolerance_g: self.tolerance_g,
                 scan_step_g: self.scan_step_g,
-                wall_time_s: started.elapsed().as_secs_f64(),
+                wall_time_s: 0.0,
+                tasks: None,
             },
             spec: self.clone(),
             engine: None,
         })
-    }
-
-    /// Scan points over all observations and frequencies, the estimated
-    /// simulations (scan plus bisection: of a few transitions per line of a
-    /// pulse, of most scan points under a record, [`super::cost`]) and their
-    /// CPU seconds.
-    pub fn size(&self) -> (f64, f64, f64) {
-        use super::cost;
-        // A record query has one line per observation.
-        let n = self.frequency_hz.len().max(1) as f64;
-        let scan = self.range_g().to / self.scan_step_g;
-        let lines = n * self.observations.len() as f64;
-        match (&self.ground_motion, &self.pulse) {
-            (Some(g), _) => {
-                let work =
-                    lines * cost::record_line_simulations(scan, self.scan_step_g, self.tolerance_g);
-                (lines * scan, work, work * cost::record_simulation_s(&g.acc))
-            }
-            (None, pulse) => {
-                let work =
-                    lines * cost::pulse_line_simulations(scan, self.scan_step_g, self.tolerance_g);
-                let per = pulse.as_ref().map_or(0.0, |p| {
-                    cost::pulse_simulation_s(&p.shape(), self.formulation, self.solver.method)
-                });
-                (lines * scan, work, work * per)
-            }
-        }
     }
 }
 
@@ -966,22 +918,19 @@ impl crate::jobs::kind::Kind for Forensic {
         job: &ForensicJob,
         control: &Control,
     ) -> Result<serde_json::Value, crate::jobs::JobError> {
-        crate::jobs::kind::document(&job.run(control)?)
+        match job.part {
+            // A task's transitions, assembled by the service.
+            Some(p) => crate::jobs::kind::document(&job.run_part(p, control)?),
+            None => crate::jobs::kind::document(&job.run(control)?),
+        }
     }
 
+    /// Scan points of every observation's lines, each bisected down to the
+    /// tolerance ([`super::cost`]), at the cost of a simulation of the pulse
+    /// or the record.
     fn size(job: &ForensicJob) -> crate::jobs::kind::Size {
-        let (grid, work, cpu_s) = job.size();
-        crate::jobs::kind::Size {
-            series_points: 0,
-            grid_points: grid.min(usize::MAX as f64) as usize,
-            work,
-            cpu_s,
-            lanes: grid / 48.0,
-            record_work: job
-                .ground_motion
-                .as_ref()
-                .map_or(0.0, |g| work * g.acc.len() as f64),
-        }
+        job.scan_size()
+            .unwrap_or_else(|_| crate::jobs::kind::Size::one(0.0))
     }
 
     fn grid_field(job: &ForensicJob) -> &'static str {
@@ -1007,6 +956,58 @@ impl crate::jobs::kind::Kind for Forensic {
             }
         }
         found
+    }
+
+    /// Tasks of about [`super::cost::TASK_CPU_S`]: an observation's lines
+    /// grouped, or a line split along its levels ([`scan`]); each task
+    /// names its part of the query, whose record is stored once.
+    fn split(job: &ForensicJob, _size: &crate::jobs::kind::Size) -> Vec<ForensicJob> {
+        if job.part.is_some() {
+            return vec![job.clone()];
+        }
+        let parts = job.parts();
+        if parts.is_empty() {
+            return vec![job.clone()];
+        }
+        parts
+            .into_iter()
+            .map(|p| ForensicJob {
+                part: Some(p),
+                ..job.clone()
+            })
+            .collect()
+    }
+
+    fn task_payload(job: &ForensicJob) -> Option<String> {
+        job.part
+            .map(|part| serde_json::json!({ "part": part }).to_string())
+    }
+
+    fn part_of(
+        whole: &ForensicJob,
+        payload: &serde_json::Value,
+    ) -> Option<Result<ForensicJob, crate::jobs::JobError>> {
+        let part = payload.get("part")?;
+        if payload.get("kind").is_some() {
+            return None;
+        }
+        Some(whole.part_of(part).map(|p| ForensicJob {
+            part: Some(p),
+            ..whole.clone()
+        }))
+    }
+
+    fn is_part(job: &ForensicJob) -> bool {
+        job.part.is_some()
+    }
+
+    /// The parts' transitions gathered per line, and everything derived
+    /// from them as one task would.
+    fn assemble(
+        job: &ForensicJob,
+        parts: Vec<serde_json::Value>,
+    ) -> Result<serde_json::Value, crate::jobs::JobError> {
+        crate::jobs::kind::document(&job.result_of(parts)?)
     }
 }
 

@@ -19,6 +19,7 @@ pub mod record_spectrum;
 pub mod registry;
 #[cfg(test)]
 mod roundtrip;
+pub mod scan_parts;
 pub mod schema;
 pub mod spec;
 pub mod spectrum;

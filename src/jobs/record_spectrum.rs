@@ -186,7 +186,7 @@ pub struct RecordSpectrumJob {
     /// A task's sizes and levels (absent: the whole job).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
-    pub part: Option<part::Part>,
+    pub part: Option<super::scan_parts::Part>,
 }
 
 /// p of a block of size R, m, under gravity g (eq. 5: p = √(3g/(4R))).
@@ -596,7 +596,10 @@ impl RecordSpectrumJob {
     }
 
     /// The whole job's result from its tasks' parts (in any order).
-    pub fn result_of(&self, parts: &[part::PartDoc]) -> Result<RecordSpectrumResult, JobError> {
+    pub fn result_of(
+        &self,
+        parts: &[super::scan_parts::PartDoc],
+    ) -> Result<RecordSpectrumResult, JobError> {
         let (found, stats, wall) = part::assemble(self, parts)?;
         let grid = self.grid();
         let lines: Vec<LineScan> = found.into_iter().map(|(t, m)| grid.line(t, m)).collect();
@@ -726,7 +729,7 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
         let grid = job.grid();
         let (n, points) = match job.part {
             Some(p) => (
-                (p.sizes[1] - p.sizes[0]) as f64,
+                (p.lines[1] - p.lines[0]) as f64,
                 (p.levels[1] - p.levels[0] + 1) as f64,
             ),
             None => (job.p.len() as f64, scan),
@@ -794,7 +797,7 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
         if payload.get("kind").is_some() {
             return None;
         }
-        Some(part::Part::of(whole, part).map(|p| RecordSpectrumJob {
+        Some(part::of(whole, part).map(|p| RecordSpectrumJob {
             part: Some(p),
             ..whole.clone()
         }))
@@ -810,7 +813,7 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
         job: &RecordSpectrumJob,
         parts: Vec<serde_json::Value>,
     ) -> Result<serde_json::Value, JobError> {
-        let parts: Vec<part::PartDoc> = parts
+        let parts: Vec<super::scan_parts::PartDoc> = parts
             .into_iter()
             .map(serde_json::from_value)
             .collect::<Result<_, _>>()

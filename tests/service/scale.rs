@@ -193,6 +193,71 @@ async fn two_instances_share_one_fragility_campaign_and_assemble_the_single_inst
     db.drop_now().await;
 }
 
+/// A forensic query on a 5-s record: two blocks seen, one overturned, one
+/// standing, each scanned over the record's scale in several tasks.
+fn record_forensic() -> Value {
+    let acc: Vec<f64> = (0..500)
+        .map(|k| {
+            let t = k as f64 * 0.01;
+            let a = 0.3 * (std::f64::consts::TAU * 1.5 * t).sin() * (-t / 2.0).exp();
+            (a * 1e5).round() / 1e5
+        })
+        .collect();
+    json!({"kind": "forensic",
+        "observations": [
+            {"name": "column", "overturned": true, "block": {"alpha": 0.15, "p": 2.0}},
+            {"name": "cabinet", "overturned": false, "block": {"alpha": 0.25, "p": 2.5}}],
+        "scale": {"to": 4}, "scan_step_g": 0.02,
+        "ground_motion": {"dt": 0.01, "unit": "g", "acc": acc}})
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn two_instances_share_one_record_forensic_query_and_assemble_the_single_instance_result() {
+    let Some(db) = crate::common::pg_database("forensic").await else {
+        return;
+    };
+    let a = instance(&db.url, "A", 1).await;
+    let b = instance(&db.url, "B", 1).await;
+    let client = reqwest::Client::new();
+    let spec = record_forensic();
+    let tasks = Job::from_value(&spec).expect("valid").split().len();
+    assert!(tasks > 2, "{tasks}");
+    let (status, job) = post(&client, &a.base, &spec).await;
+    assert_eq!(status, 202, "{job}");
+    let id = job["id"].as_str().expect("id").to_string();
+    let done = wait_for(&client, &b.base, &id, "succeeded", Duration::from_secs(300)).await;
+    assert_eq!(done["status"], "succeeded", "{done}");
+    assert_eq!(
+        finishers(&db.url, &id).await,
+        vec!["A", "B"],
+        "both instances computed tasks"
+    );
+    let result = get(&client, &format!("{}/v1/jobs/{id}/result", b.base)).await;
+    let whole = Job::from_value(&spec)
+        .expect("valid")
+        .run(&Control::new())
+        .expect("runs");
+    for field in [
+        "per_observation",
+        "consistent_scale",
+        "bounds",
+        "record",
+        "spec",
+    ] {
+        assert_eq!(result[field], whole[field], "{field}");
+    }
+    assert!(
+        whole["per_observation"][0]["overturning_scale"]
+            .as_array()
+            .is_some_and(|s| !s.is_empty()),
+        "{whole}"
+    );
+    assert_eq!(result["numerics"]["tasks"], tasks);
+    a.shutdown().await;
+    b.shutdown().await;
+    db.drop_now().await;
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_job_submitted_to_one_instance_is_visible_cancellable_and_cached_through_another() {
     let Some(db) = crate::common::pg_database("ab").await else {
