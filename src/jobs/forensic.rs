@@ -962,39 +962,18 @@ impl crate::jobs::kind::Kind for Forensic {
     /// grouped, or a line split along its levels ([`scan`]); each task
     /// names its part of the query, whose record is stored once.
     fn split(job: &ForensicJob, _size: &crate::jobs::kind::Size) -> Vec<ForensicJob> {
-        if job.part.is_some() {
-            return vec![job.clone()];
-        }
-        let parts = job.parts();
-        if parts.is_empty() {
-            return vec![job.clone()];
-        }
-        parts
-            .into_iter()
-            .map(|p| ForensicJob {
-                part: Some(p),
-                ..job.clone()
-            })
-            .collect()
+        super::scan_parts::split(job)
     }
 
     fn task_payload(job: &ForensicJob) -> Option<String> {
-        job.part
-            .map(|part| serde_json::json!({ "part": part }).to_string())
+        super::scan_parts::task_payload(job)
     }
 
     fn part_of(
         whole: &ForensicJob,
         payload: &serde_json::Value,
     ) -> Option<Result<ForensicJob, crate::jobs::JobError>> {
-        let part = payload.get("part")?;
-        if payload.get("kind").is_some() {
-            return None;
-        }
-        Some(whole.part_of(part).map(|p| ForensicJob {
-            part: Some(p),
-            ..whole.clone()
-        }))
+        super::scan_parts::part_of(whole, payload)
     }
 
     fn is_part(job: &ForensicJob) -> bool {

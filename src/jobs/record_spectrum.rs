@@ -761,46 +761,19 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
     /// Tasks of about [`super::cost::TASK_CPU_S`]: sizes grouped, or a
     /// size split along the scale axis ([`part`]); each task names its part
     /// of the job, whose record is stored once.
-    fn split(job: &RecordSpectrumJob, size: &crate::jobs::kind::Size) -> Vec<RecordSpectrumJob> {
-        if job.part.is_some() {
-            return vec![job.clone()];
-        }
-        let per_size = size.cpu_s / job.p.len().max(1) as f64;
-        let parts = part::parts(
-            job,
-            per_size,
-            super::cost::TASK_CPU_S,
-            super::split::MAX_PART_TASKS,
-        );
-        if parts.len() <= 1 {
-            return vec![job.clone()];
-        }
-        parts
-            .into_iter()
-            .map(|p| RecordSpectrumJob {
-                part: Some(p),
-                ..job.clone()
-            })
-            .collect()
+    fn split(job: &RecordSpectrumJob, _size: &crate::jobs::kind::Size) -> Vec<RecordSpectrumJob> {
+        super::scan_parts::split(job)
     }
 
     fn task_payload(job: &RecordSpectrumJob) -> Option<String> {
-        job.part
-            .map(|part| serde_json::json!({ "part": part }).to_string())
+        super::scan_parts::task_payload(job)
     }
 
     fn part_of(
         whole: &RecordSpectrumJob,
         payload: &serde_json::Value,
     ) -> Option<Result<RecordSpectrumJob, JobError>> {
-        let part = payload.get("part")?;
-        if payload.get("kind").is_some() {
-            return None;
-        }
-        Some(part::of(whole, part).map(|p| RecordSpectrumJob {
-            part: Some(p),
-            ..whole.clone()
-        }))
+        super::scan_parts::part_of(whole, payload)
     }
 
     fn is_part(job: &RecordSpectrumJob) -> bool {

@@ -347,6 +347,48 @@ pub fn assemble(
     Ok((found, stats, wall))
 }
 
+/// A job of scan lines cut into [`Part`]s: what its `impl Kind` needs to
+/// split, name and read back its tasks ([`split`], [`task_payload`],
+/// [`part_of`]).
+pub trait Parted: Clone {
+    /// The part a task computes (`None`: the whole job).
+    fn part(&self) -> Option<Part>;
+    /// The task computing `part` of this job.
+    fn with_part(&self, part: Part) -> Self;
+    /// The job's parts (fewer than two: one task).
+    fn cut(&self) -> Vec<Part>;
+    /// The part a task's `payload` names, or why it does not fit the job.
+    fn fit(&self, payload: &serde_json::Value) -> Result<Part, JobError>;
+}
+
+/// The tasks of `job`: one per part, or the job itself.
+pub fn split<J: Parted>(job: &J) -> Vec<J> {
+    if job.part().is_some() {
+        return vec![job.clone()];
+    }
+    let parts = job.cut();
+    if parts.len() <= 1 {
+        return vec![job.clone()];
+    }
+    parts.into_iter().map(|p| job.with_part(p)).collect()
+}
+
+/// A task's stored payload, `{"part": …}`, when it is a part.
+pub fn task_payload<J: Parted>(job: &J) -> Option<String> {
+    job.part()
+        .map(|part| serde_json::json!({ "part": part }).to_string())
+}
+
+/// The task of `whole` a payload names (`{"part": …}`, no `kind`), or
+/// `None` when it names no part.
+pub fn part_of<J: Parted>(whole: &J, payload: &serde_json::Value) -> Option<Result<J, JobError>> {
+    let part = payload.get("part")?;
+    if payload.get("kind").is_some() {
+        return None;
+    }
+    Some(whole.fit(part).map(|p| whole.with_part(p)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -154,19 +154,18 @@ async fn two_instances_share_one_spectrum_and_assemble_the_single_instance_resul
     db.drop_now().await;
 }
 
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn two_instances_share_one_fragility_campaign_and_assemble_the_single_instance_result() {
-    let Some(db) = crate::common::pg_database("fragility").await else {
-        return;
-    };
+/// Submits `spec` to one of two instances on a new database `name`, waits
+/// for it through the other, checks that both computed its tasks (more than
+/// two) and returns its result beside the one-task result of this process,
+/// and the tasks.
+async fn shared_by_two(name: &str, spec: &Value) -> Option<(Value, Value, usize)> {
+    let db = crate::common::pg_database(name).await?;
     let a = instance(&db.url, "A", 1).await;
     let b = instance(&db.url, "B", 1).await;
     let client = reqwest::Client::new();
-    let spec = json!({"kind": "fragility",
-        "block": {"alpha": {"dist": "normal", "mean": 0.2, "sd": 0.03, "min": 0.1, "max": 0.3}, "p": 2.0},
-        "pulse": {"type": "one_sine", "frequency_hz": {"dist": "lognormal", "median": 0.8, "beta": 0.3}},
-        "stripes": [0.25, 0.5], "samples": 12_000, "seed": 3});
-    let (status, job) = post(&client, &a.base, &spec).await;
+    let tasks = Job::from_value(spec).expect("valid").split().len();
+    assert!(tasks > 2, "{tasks}");
+    let (status, job) = post(&client, &a.base, spec).await;
     assert_eq!(status, 202, "{job}");
     let id = job["id"].as_str().expect("id").to_string();
     let done = wait_for(&client, &b.base, &id, "succeeded", Duration::from_secs(300)).await;
@@ -177,20 +176,30 @@ async fn two_instances_share_one_fragility_campaign_and_assemble_the_single_inst
         "both instances computed tasks"
     );
     let result = get(&client, &format!("{}/v1/jobs/{id}/result", b.base)).await;
-    let whole = Job::from_value(&spec)
+    let whole = Job::from_value(spec)
         .expect("valid")
         .run(&Control::new())
         .expect("runs");
-    for field in ["stripes", "lognormal", "monotone", "spec"] {
-        assert_eq!(result[field], whole[field], "{field}");
-    }
-    let tasks = Job::from_value(&spec).expect("valid").split().len();
-    assert!(tasks > 2, "{tasks}");
-    assert_eq!(result["numerics"]["tasks"], tasks);
-    assert_eq!(result["numerics"]["simulations"], 24_000);
     a.shutdown().await;
     b.shutdown().await;
     db.drop_now().await;
+    Some((result, whole, tasks))
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn two_instances_share_one_fragility_campaign_and_assemble_the_single_instance_result() {
+    let spec = json!({"kind": "fragility",
+        "block": {"alpha": {"dist": "normal", "mean": 0.2, "sd": 0.03, "min": 0.1, "max": 0.3}, "p": 2.0},
+        "pulse": {"type": "one_sine", "frequency_hz": {"dist": "lognormal", "median": 0.8, "beta": 0.3}},
+        "stripes": [0.25, 0.5], "samples": 12_000, "seed": 3});
+    let Some((result, whole, tasks)) = shared_by_two("fragility", &spec).await else {
+        return;
+    };
+    for field in ["stripes", "lognormal", "monotone", "spec"] {
+        assert_eq!(result[field], whole[field], "{field}");
+    }
+    assert_eq!(result["numerics"]["tasks"], tasks);
+    assert_eq!(result["numerics"]["simulations"], 24_000);
 }
 
 /// A forensic query on a 5-s record: two blocks seen, one overturned, one
@@ -213,30 +222,9 @@ fn record_forensic() -> Value {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn two_instances_share_one_record_forensic_query_and_assemble_the_single_instance_result() {
-    let Some(db) = crate::common::pg_database("forensic").await else {
+    let Some((result, whole, tasks)) = shared_by_two("forensic", &record_forensic()).await else {
         return;
     };
-    let a = instance(&db.url, "A", 1).await;
-    let b = instance(&db.url, "B", 1).await;
-    let client = reqwest::Client::new();
-    let spec = record_forensic();
-    let tasks = Job::from_value(&spec).expect("valid").split().len();
-    assert!(tasks > 2, "{tasks}");
-    let (status, job) = post(&client, &a.base, &spec).await;
-    assert_eq!(status, 202, "{job}");
-    let id = job["id"].as_str().expect("id").to_string();
-    let done = wait_for(&client, &b.base, &id, "succeeded", Duration::from_secs(300)).await;
-    assert_eq!(done["status"], "succeeded", "{done}");
-    assert_eq!(
-        finishers(&db.url, &id).await,
-        vec!["A", "B"],
-        "both instances computed tasks"
-    );
-    let result = get(&client, &format!("{}/v1/jobs/{id}/result", b.base)).await;
-    let whole = Job::from_value(&spec)
-        .expect("valid")
-        .run(&Control::new())
-        .expect("runs");
     for field in [
         "per_observation",
         "consistent_scale",
@@ -253,9 +241,6 @@ async fn two_instances_share_one_record_forensic_query_and_assemble_the_single_i
         "{whole}"
     );
     assert_eq!(result["numerics"]["tasks"], tasks);
-    a.shutdown().await;
-    b.shutdown().await;
-    db.drop_now().await;
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

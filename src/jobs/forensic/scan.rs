@@ -156,28 +156,6 @@ impl ForensicJob {
         })
     }
 
-    /// The tasks of the query: its parts of about [`cost::TASK_CPU_S`], or
-    /// none when one task does.
-    pub fn parts(&self) -> Vec<Part> {
-        let Ok(scans) = self.observation_scans() else {
-            return Vec::new();
-        };
-        let parts = scan_parts::parts(
-            &self.groups(&scans),
-            cost::TASK_CPU_S,
-            crate::jobs::split::MAX_PART_TASKS,
-        );
-        if parts.len() <= 1 { Vec::new() } else { parts }
-    }
-
-    /// The part a task's `payload` names, or why it does not fit the query.
-    pub fn part_of(&self, payload: &serde_json::Value) -> Result<Part, JobError> {
-        let scans = self
-            .observation_scans()
-            .map_err(|e| JobError::Task(e.to_string()))?;
-        Part::of(&self.groups(&scans), payload)
-    }
-
     /// Scans the lines and levels of `part`.
     pub fn run_part(&self, part: Part, control: &Control) -> Result<PartDoc, ScanError> {
         let scans = self.observation_scans()?;
@@ -313,10 +291,42 @@ impl ForensicJob {
     }
 }
 
+impl scan_parts::Parted for ForensicJob {
+    fn part(&self) -> Option<Part> {
+        self.part
+    }
+
+    fn with_part(&self, part: Part) -> Self {
+        ForensicJob {
+            part: Some(part),
+            ..self.clone()
+        }
+    }
+
+    /// Parts of about [`cost::TASK_CPU_S`].
+    fn cut(&self) -> Vec<Part> {
+        self.observation_scans().map_or(Vec::new(), |scans| {
+            scan_parts::parts(
+                &self.groups(&scans),
+                cost::TASK_CPU_S,
+                crate::jobs::split::MAX_PART_TASKS,
+            )
+        })
+    }
+
+    fn fit(&self, payload: &serde_json::Value) -> Result<Part, JobError> {
+        let scans = self
+            .observation_scans()
+            .map_err(|e| JobError::Task(e.to_string()))?;
+        Part::of(&self.groups(&scans), payload)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use crate::jobs::Job;
     use crate::jobs::forensic::ForensicJob;
+    use crate::jobs::scan_parts;
     use crate::spectrum::Control;
 
     fn query(spec: &str) -> ForensicJob {
@@ -415,7 +425,7 @@ mod tests {
             };
             points += task.scan_size().expect("sized").grid_points;
             let payload = serde_json::to_value(p).expect("writes");
-            assert_eq!(job.part_of(&payload).expect("fits"), p);
+            assert_eq!(scan_parts::Parted::fit(&job, &payload).expect("fits"), p);
         }
         // Parts meet at a shared level: each boundary counted twice.
         assert!(

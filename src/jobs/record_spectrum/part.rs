@@ -54,6 +54,36 @@ pub fn assemble(
     scan_parts::assemble(PART_KIND, &groups(job, 0.0), parts)
 }
 
+impl scan_parts::Parted for RecordSpectrumJob {
+    fn part(&self) -> Option<Part> {
+        self.part
+    }
+
+    fn with_part(&self, part: Part) -> Self {
+        RecordSpectrumJob {
+            part: Some(part),
+            ..self.clone()
+        }
+    }
+
+    /// Parts of about [`crate::jobs::cost::TASK_CPU_S`], each size costing
+    /// its share of the job's estimate.
+    fn cut(&self) -> Vec<Part> {
+        use crate::jobs::kind::Kind;
+        let size = super::RecordSpectrum::size(self);
+        parts(
+            self,
+            size.cpu_s / self.p.len().max(1) as f64,
+            crate::jobs::cost::TASK_CPU_S,
+            crate::jobs::split::MAX_PART_TASKS,
+        )
+    }
+
+    fn fit(&self, payload: &serde_json::Value) -> Result<Part, JobError> {
+        of(self, payload)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
