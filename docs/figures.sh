@@ -30,6 +30,7 @@ figures=(
   "forensic_record_point_reyes point_reyes_forensic_record"
   "survival_power_law survival_power_law"
   "fragility_pbr pbr_fragility"
+  "record_spectrum_ridge records/record_spectrum_ridge"
 )
 
 if [[ -z ${TOPPLE_BIN:-} ]]; then

@@ -1,19 +1,14 @@
-//! Regions of a plane sampled along x: at each sample (a frequency) the y
-//! range (amplitudes) is tiled by bands of a class (an overturning mode, the
-//! set of observations that rule a pulse out). Two ways to draw them:
+//! Regions of a plane sampled along x: at each sample (a frequency, a
+//! block size) the y range (amplitudes, scale factors) is tiled by bands of
+//! a class (an overturning mode, the set of observations that rule a pulse
+//! out). Each sample is drawn as a cell of its own reaching half-way to its
+//! neighbours and ending at the first and last samples — [`cells`], or
+//! [`joined_cells`] with the cells of a class merged across their shared
+//! edges — or as a bar of its own (the record spectra); nothing is
+//! interpolated between samples, where nothing was computed. [`widen`]
+//! keeps narrow bands visible rather than dropping them.
 //!
-//! - [`tiling`] (spectra): between two samples whose bands come in the same
-//!   order of classes every boundary is interpolated linearly, so boundaries
-//!   read as the piecewise-linear curves of the paper's figures. A band
-//!   present at one sample only is given a zero-width partner at the other
-//!   (where its neighbours meet, or inside the band that surrounds it), so
-//!   it tapers to a point between the samples; when no such pairing exists
-//!   each sample's bands reach half-way, as steps.
-//! - [`cells`] (forensic maps): each sample a cell of its own reaching
-//!   half-way to its neighbours and ending at the first and last samples;
-//!   nothing is interpolated.
-//!
-//! Either way the strip is tiled: no holes, no overlaps.
+//! The strip is tiled: no holes, no overlaps.
 
 /// One band of one sample.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -150,142 +145,64 @@ pub fn simplify(bands: &mut Vec<Band>, width: f64, keep: impl Fn(usize) -> bool)
     }
 }
 
-fn classes(bands: &[Band]) -> Vec<usize> {
-    bands.iter().map(|b| b.class).collect()
-}
+/// The least height a band is drawn at, as a fraction of its axis: about
+/// 3 px on the figures' charts (some 540 px tall), seen at the web page's
+/// scale too.
+pub const MIN_VISIBLE: f64 = 0.005;
 
-/// Inserts into `to` a zero-width band matching `from[k]`, the first band
-/// whose class differs, if the result lines the two up further: at the
-/// boundary where `to`'s neighbours meet, or splitting the band of `to`
-/// that surrounds it. The point it tapers to must lie within `reach` of the
-/// band, or the taper would be a long shear rather than an ending.
-fn insert_partner(from: &[Band], to: &mut Vec<Band>, k: usize, reach: f64) -> bool {
-    let c = from[k].class;
-    let near = |y: f64| y >= from[k].lo - reach && y <= from[k].hi + reach;
-    // At a boundary: what follows in `from` is what follows in `to`.
-    let follows = match (from.get(k + 1), to.get(k)) {
-        (Some(a), Some(b)) => a.class == b.class,
-        (None, None) => true,
-        _ => false,
+/// A tiling (bands from the bottom up, meeting) whose bands of the classes
+/// `keep` asks for are at least `min` tall: each narrower one widened to
+/// `min` about its middle (within the tiling's range), over its neighbours.
+/// Nothing is dropped: every point of a kept band lies in a band of a kept
+/// class of the result, and a narrow one in a band at least `min` tall.
+pub fn widen(bands: &[Band], min: f64, keep: impl Fn(usize) -> bool) -> Vec<Band> {
+    let (Some(first), Some(last)) = (bands.first(), bands.last()) else {
+        return Vec::new();
     };
-    if follows {
-        let y = if k == 0 {
-            to.first().map_or(from[k].lo, |b| b.lo)
-        } else {
-            to[k - 1].hi
-        };
-        if near(y) {
-            to.insert(
-                k,
-                Band {
-                    lo: y,
-                    hi: y,
-                    class: c,
-                },
-            );
-            return true;
-        }
+    let (lo, hi) = (first.lo, last.hi);
+    let min = min.min(hi - lo);
+    let grown: Vec<Band> = bands
+        .iter()
+        .filter(|b| keep(b.class) && b.hi - b.lo < min)
+        .map(|b| {
+            let start = (0.5 * (b.lo + b.hi) - 0.5 * min).clamp(lo, hi - min);
+            Band {
+                lo: start,
+                hi: start + min,
+                class: b.class,
+            }
+        })
+        .collect();
+    let mut out = bands.to_vec();
+    for b in grown {
+        out = paint(&out, b);
     }
-    // Inside: `from` has d, c, d where `to` has d.
-    if k >= 1
-        && from
-            .get(k + 1)
-            .is_some_and(|b| b.class == from[k - 1].class)
-        && to[k - 1].class == from[k - 1].class
-    {
-        let d = to[k - 1];
-        let y = (0.5 * (from[k].lo + from[k].hi)).clamp(d.lo, d.hi);
-        if near(y) {
-            to[k - 1].hi = y;
-            to.insert(
-                k,
-                Band {
-                    lo: y,
-                    hi: y,
-                    class: c,
-                },
-            );
-            to.insert(
-                k + 1,
-                Band {
-                    lo: y,
-                    hi: d.hi,
-                    class: d.class,
-                },
-            );
-            return true;
-        }
-    }
-    false
+    out
 }
 
-/// Whether each band of `l` plausibly continues as its partner in `r`: they
-/// overlap, or lie within twice the wider one's width or half `reach` of
-/// each other (a narrow band leaping far is another band, not this one
-/// moved); a band tapering to a point must end within `reach` of it.
-fn plausible(l: &[Band], r: &[Band], reach: f64) -> bool {
-    l.iter().zip(r).all(|(a, b)| {
-        let (wa, wb) = (a.hi - a.lo, b.hi - b.lo);
-        let gap = (a.lo - b.hi).max(b.lo - a.hi);
-        if wa <= 0.0 || wb <= 0.0 {
-            gap <= reach
-        } else {
-            gap <= (2.0 * wa.max(wb)).max(0.5 * reach)
-        }
-    })
-}
-
-/// A fraction of the y range of two columns: how far a band may taper.
-fn reach_of(l: &[Band], r: &[Band]) -> f64 {
-    let lo = l
-        .iter()
-        .chain(r)
-        .map(|b| b.lo)
-        .fold(f64::INFINITY, f64::min);
-    let hi = l
-        .iter()
-        .chain(r)
-        .map(|b| b.hi)
-        .fold(f64::NEG_INFINITY, f64::max);
-    0.08 * (hi - lo)
-}
-
-/// `l` and `r` refined with zero-width bands until their classes come in the
-/// same order, if that can be done.
-fn align(l: &[Band], r: &[Band]) -> Option<(Vec<Band>, Vec<Band>)> {
-    let (mut l, mut r) = (l.to_vec(), r.to_vec());
-    // More than a band or two appearing or vanishing is not a continuation:
-    // steps say so more honestly than shears.
-    let limit = l.len().max(r.len()) + 2;
-    let lo = l
-        .iter()
-        .chain(&r)
-        .map(|b| b.lo)
-        .fold(f64::INFINITY, f64::min);
-    let hi = l
-        .iter()
-        .chain(&r)
-        .map(|b| b.hi)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let reach = 0.08 * (hi - lo);
-    loop {
-        if l.len().max(r.len()) > limit {
-            return None;
-        }
-        let k = l
-            .iter()
-            .zip(&r)
-            .position(|(a, b)| a.class != b.class)
-            .unwrap_or(l.len().min(r.len()));
-        if k == l.len() && k == r.len() {
-            return Some((l, r));
-        }
-        let done = (k < l.len() && insert_partner(&l, &mut r, k, reach))
-            || (k < r.len() && insert_partner(&r, &mut l, k, reach));
-        if !done {
-            return None;
-        }
+/// `bands` (a tiling) with `b` laid over it.
+fn paint(bands: &[Band], b: Band) -> Vec<Band> {
+    let mut out = Vec::with_capacity(bands.len() + 2);
+    for x in bands.iter().filter(|x| x.lo < b.lo) {
+        push(
+            &mut out,
+            Band {
+                hi: x.hi.min(b.lo),
+                ..*x
+            },
+        );
     }
+    push(&mut out, b);
+    for x in bands.iter().filter(|x| x.hi > b.hi) {
+        push(
+            &mut out,
+            Band {
+                lo: x.lo.max(b.hi),
+                ..*x
+            },
+        );
+    }
+    out
 }
 
 fn class_at(c: &Column, y: f64) -> Option<usize> {
@@ -309,51 +226,6 @@ fn steps(c: &Column, x0: f64, x1: f64, out: &mut Tiling) {
             b: w[1].class,
         });
     }
-}
-
-/// The pieces and boundaries of `columns` (any order). A single sample is
-/// drawn `half_width` to either side.
-pub fn tiling(columns: &[Column], half_width: f64) -> Tiling {
-    let mut cols: Vec<&Column> = columns.iter().filter(|c| c.x.is_finite()).collect();
-    cols.sort_by(|a, b| a.x.total_cmp(&b.x));
-    let mut out = Tiling::default();
-    if let [only] = cols.as_slice() {
-        steps(only, only.x - half_width, only.x + half_width, &mut out);
-        return out;
-    }
-    for pair in cols.windows(2) {
-        let (l, r) = (pair[0], pair[1]);
-        let aligned = if classes(&l.bands) == classes(&r.bands) {
-            Some((l.bands.clone(), r.bands.clone()))
-        } else {
-            align(&l.bands, &r.bands)
-        }
-        .filter(|(a, b)| plausible(a, b, reach_of(a, b)));
-        if let Some((lb, rb)) = aligned {
-            for (a, b) in lb.iter().zip(&rb) {
-                if a.hi <= a.lo && b.hi <= b.lo {
-                    continue;
-                }
-                out.pieces.push(Piece {
-                    class: a.class,
-                    polygon: vec![(l.x, a.lo), (r.x, b.lo), (r.x, b.hi), (l.x, a.hi)],
-                });
-            }
-            for (a, b) in lb.windows(2).zip(rb.windows(2)) {
-                out.edges.push(Edge {
-                    segment: [(l.x, a[1].lo), (r.x, b[1].lo)],
-                    a: a[0].class,
-                    b: a[1].class,
-                });
-            }
-            continue;
-        }
-        let mid = 0.5 * (l.x + r.x);
-        steps(l, l.x, mid, &mut out);
-        steps(r, mid, r.x, &mut out);
-        step_edges(l, r, mid, &mut out);
-    }
-    out
 }
 
 /// Where the classes of `l` and `r` differ across a step at `mid`: vertical
@@ -433,6 +305,81 @@ pub fn cells(columns: &[Column], half_width: f64) -> Tiling {
     out
 }
 
+/// Each of `columns` (any order) as a cell of its own as in [`cells`], and
+/// the cells of a class that meet across the edge of two neighbouring cells
+/// joined into one polygon (a staircase, its steps on the cells' edges): no
+/// edge is drawn between them, so no seam shows where a viewer scales the
+/// figure. A band continues into the next cell when it meets exactly one
+/// band of its class there and that band meets no other; where regions
+/// split or join, their cells share their edge exactly.
+pub fn joined_cells(columns: &[Column], half_width: f64) -> Vec<Piece> {
+    let mut cols: Vec<&Column> = columns.iter().filter(|c| c.x.is_finite()).collect();
+    cols.sort_by(|a, b| a.x.total_cmp(&b.x));
+    let xs: Vec<f64> = cols.iter().map(|c| c.x).collect();
+    // Each run: its class and its steps (x0, x1, lo, hi), left to right.
+    let mut runs: Vec<(usize, Vec<[f64; 4]>)> = Vec::new();
+    let mut open: Vec<usize> = Vec::new();
+    let mut prev: &[Band] = &[];
+    let meet = |a: &Band, b: &Band| a.class == b.class && a.hi.min(b.hi) > a.lo.max(b.lo);
+    for (c, (x0, x1)) in cols.iter().zip(cell_edges(&xs, half_width)) {
+        let mut here = Vec::with_capacity(c.bands.len());
+        for b in &c.bands {
+            let step = [x0, x1, b.lo, b.hi];
+            let mut met = prev.iter().enumerate().filter(|(_, a)| meet(a, b));
+            let only = match (met.next(), met.next()) {
+                (Some((i, a)), None) if c.bands.iter().filter(|d| meet(a, d)).count() == 1 => {
+                    Some(i)
+                }
+                _ => None,
+            };
+            match only.and_then(|i| open.get(i)) {
+                Some(&run) => {
+                    runs[run].1.push(step);
+                    here.push(run);
+                }
+                None => {
+                    here.push(runs.len());
+                    runs.push((b.class, vec![step]));
+                }
+            }
+        }
+        open = here;
+        prev = &c.bands;
+    }
+    runs.into_iter()
+        .map(|(class, steps)| {
+            let mut polygon: Vec<(f64, f64)> = Vec::with_capacity(4 * steps.len());
+            for s in &steps {
+                polygon.extend([(s[0], s[2]), (s[1], s[2])]);
+            }
+            for s in steps.iter().rev() {
+                polygon.extend([(s[1], s[3]), (s[0], s[3])]);
+            }
+            polygon.dedup();
+            Piece {
+                class,
+                polygon: without_straight_vertices(polygon),
+            }
+        })
+        .collect()
+}
+
+/// A closed polygon of horizontal and vertical sides without the vertices
+/// inside a straight side.
+fn without_straight_vertices(polygon: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    let n = polygon.len();
+    if n < 4 {
+        return polygon;
+    }
+    (0..n)
+        .filter(|&k| {
+            let (a, p, b) = (polygon[(k + n - 1) % n], polygon[k], polygon[(k + 1) % n]);
+            !((a.0 == p.0 && p.0 == b.0) || (a.1 == p.1 && p.1 == b.1))
+        })
+        .map(|k| polygon[k])
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -452,108 +399,6 @@ mod tests {
 
     fn segments(t: &Tiling) -> Vec<Segment> {
         t.edges.iter().map(|e| (e.segment, e.a, e.b)).collect()
-    }
-
-    #[test]
-    fn same_order_of_classes_interpolates_every_boundary() {
-        let cols = [
-            col(
-                0.0,
-                &[band(0.0, 1.0, 0), band(1.0, 2.0, 1), band(2.0, 9.0, 2)],
-            ),
-            col(
-                1.0,
-                &[band(0.0, 1.5, 0), band(1.5, 2.5, 1), band(2.5, 9.0, 2)],
-            ),
-        ];
-        let t = tiling(&cols, 0.1);
-        assert_eq!(t.pieces.len(), 3);
-        assert_eq!(
-            t.pieces[1].polygon,
-            vec![(0.0, 1.0), (1.0, 1.5), (1.0, 2.5), (0.0, 2.0)]
-        );
-        assert_eq!(
-            segments(&t),
-            vec![
-                ([(0.0, 1.0), (1.0, 1.5)], 0, 1),
-                ([(0.0, 2.0), (1.0, 2.5)], 1, 2)
-            ]
-        );
-    }
-
-    #[test]
-    fn a_band_ending_between_samples_tapers_to_a_point() {
-        // A bay (class 1) inside class 3 that is gone at the next sample.
-        let l = [
-            band(0.0, 1.0, 0),
-            band(1.0, 4.0, 3),
-            band(4.0, 6.0, 1),
-            band(6.0, 8.0, 3),
-            band(8.0, 9.0, 2),
-        ];
-        let r = [band(0.0, 1.0, 0), band(1.0, 8.5, 3), band(8.5, 9.0, 2)];
-        let t = tiling(&[col(0.0, &l), col(1.0, &r)], 0.1);
-        let bay = t.pieces.iter().find(|p| p.class == 1).expect("bay");
-        assert_eq!(
-            bay.polygon,
-            vec![(0.0, 4.0), (1.0, 5.0), (1.0, 5.0), (0.0, 6.0)]
-        );
-        assert_eq!(t.pieces.len(), 5);
-        // A band opening at a boundary.
-        let (a, b) = align(
-            &[band(0.0, 1.0, 1), band(1.0, 9.0, 2)],
-            &[band(0.0, 1.0, 1), band(1.0, 1.5, 3), band(1.5, 9.0, 2)],
-        )
-        .expect("aligned");
-        assert_eq!(a[1], band(1.0, 1.0, 3));
-        assert_eq!(classes(&a), classes(&b));
-        // A band at the top end vanishing.
-        let (a, _) = align(
-            &[band(0.0, 9.0, 3)],
-            &[band(0.0, 8.0, 3), band(8.0, 9.0, 2)],
-        )
-        .expect("top");
-        assert_eq!(a[1], band(9.0, 9.0, 2));
-    }
-
-    #[test]
-    fn a_change_of_order_gives_steps_half_way() {
-        let cols = [
-            col(
-                0.0,
-                &[band(0.0, 1.0, 0), band(1.0, 2.0, 1), band(2.0, 5.0, 2)],
-            ),
-            col(
-                2.0,
-                &[band(0.0, 1.0, 2), band(1.0, 2.0, 1), band(2.0, 5.0, 0)],
-            ),
-        ];
-        let t = tiling(&cols, 0.1);
-        assert_eq!(t.pieces.len(), 6);
-        assert_eq!(t.pieces[0].polygon[1], (1.0, 0.0));
-        // Each half's two boundaries, and the vertical steps where the
-        // classes differ across the middle.
-        let s = segments(&t);
-        assert_eq!(s.len(), 6);
-        assert_eq!(s[4], ([(1.0, 0.0), (1.0, 1.0)], 0, 2));
-        assert_eq!(s[5], ([(1.0, 2.0), (1.0, 5.0)], 2, 0));
-    }
-
-    #[test]
-    fn a_narrow_band_leaping_far_is_not_joined() {
-        let cols = [
-            col(
-                0.0,
-                &[band(0.0, 5.0, 1), band(5.0, 5.1, 0), band(5.1, 9.0, 1)],
-            ),
-            col(
-                1.0,
-                &[band(0.0, 2.0, 1), band(2.0, 2.1, 0), band(2.1, 9.0, 1)],
-            ),
-        ];
-        let t = tiling(&cols, 0.1);
-        assert_eq!(t.pieces.len(), 6);
-        assert!(t.pieces.iter().all(|p| p.polygon[0].1 == p.polygon[1].1));
     }
 
     #[test]
@@ -625,9 +470,103 @@ mod tests {
     }
 
     #[test]
-    fn one_sample_is_a_bar() {
-        let t = tiling(&[col(1.0, &[band(0.0, 1.0, 0), band(1.0, 2.0, 1)])], 0.5);
-        assert_eq!(t.pieces[0].polygon[0], (0.5, 0.0));
-        assert_eq!(t.edges[0].segment, [(0.5, 1.0), (1.5, 1.0)]);
+    fn narrow_kept_bands_are_widened_never_dropped() {
+        let bands = [
+            band(0.0, 1.0, 0),
+            band(1.0, 1.001, 1),
+            band(1.001, 5.0, 3),
+            band(5.0, 5.002, 2),
+            band(5.002, 9.9995, 3),
+            band(9.9995, 10.0, 1),
+        ];
+        let keep = |c: usize| c == 1 || c == 2;
+        let out = widen(&bands, 0.1, keep);
+        // Still a tiling of 0–10.
+        assert_eq!(out[0].lo, 0.0);
+        assert_eq!(out[out.len() - 1].hi, 10.0);
+        assert!(out.windows(2).all(|w| w[0].hi == w[1].lo), "{out:?}");
+        // Every kept band lies inside a band of its class at least 0.1 tall
+        // (the one at the top end shifted down into the range).
+        for b in bands.iter().filter(|b| keep(b.class)) {
+            let holder = out
+                .iter()
+                .find(|o| o.class == b.class && o.lo <= b.lo && o.hi >= b.hi);
+            assert!(
+                holder.is_some_and(|o| o.hi - o.lo >= 0.1 - 1e-12),
+                "{b:?} in {out:?}"
+            );
+        }
+        // Bands of other classes are not widened, and wide ones untouched.
+        assert_eq!(widen(&bands, 0.1, |c| c == 0), bands.to_vec());
+        assert_eq!((out[0].lo, out[0].class), (0.0, 0));
+        assert!((out[0].hi - 0.9505).abs() < 1e-12, "{out:?}");
+    }
+
+    #[test]
+    fn joined_cells_leave_no_edge_inside_a_class() {
+        let cols = [
+            col(0.0, &[band(0.0, 1.0, 0), band(1.0, 5.0, 1)]),
+            col(1.0, &[band(0.0, 2.0, 0), band(2.0, 5.0, 1)]),
+            col(
+                2.0,
+                &[band(0.0, 2.0, 0), band(2.0, 3.0, 1), band(3.0, 5.0, 2)],
+            ),
+            // Class 1 splits in two: a new piece for each, edge to edge.
+            col(
+                3.0,
+                &[
+                    band(0.0, 2.0, 0),
+                    band(2.0, 2.5, 1),
+                    band(2.5, 2.6, 2),
+                    band(2.6, 5.0, 1),
+                ],
+            ),
+        ];
+        let pieces = joined_cells(&cols, 0.5);
+        let of =
+            |class: usize| -> Vec<&Piece> { pieces.iter().filter(|p| p.class == class).collect() };
+        // Class 0 is one staircase from x = 0 to 3: rising to 2 at 0.5.
+        assert_eq!(of(0).len(), 1);
+        assert_eq!(
+            of(0)[0].polygon,
+            vec![
+                (0.0, 0.0),
+                (3.0, 0.0),
+                (3.0, 2.0),
+                (0.5, 2.0),
+                (0.5, 1.0),
+                (0.0, 1.0)
+            ]
+        );
+        // Class 1 runs over the first three cells, then splits in two.
+        assert_eq!(of(1).len(), 3);
+        assert_eq!(
+            of(1)[0].polygon,
+            vec![
+                (0.0, 1.0),
+                (0.5, 1.0),
+                (0.5, 2.0),
+                (2.5, 2.0),
+                (2.5, 3.0),
+                (1.5, 3.0),
+                (1.5, 5.0),
+                (0.0, 5.0)
+            ]
+        );
+        // Class 2 does not meet itself across the last edge: two pieces.
+        assert_eq!(of(2).len(), 2);
+        // The pieces tile the cells: their areas add up to the whole.
+        let area = |p: &Piece| {
+            let n = p.polygon.len();
+            0.5 * (0..n)
+                .map(|k| {
+                    let (a, b) = (p.polygon[k], p.polygon[(k + 1) % n]);
+                    a.0 * b.1 - b.0 * a.1
+                })
+                .sum::<f64>()
+                .abs()
+        };
+        let total: f64 = pieces.iter().map(area).sum();
+        assert!((total - 3.0 * 5.0).abs() < 1e-12, "{total}");
     }
 }

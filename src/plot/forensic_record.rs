@@ -10,11 +10,11 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::bands::{Band, simplify, tile};
+use super::bands::{Band, Column, MIN_VISIBLE, tile, widen};
 use super::forensic::{colour, fill, intervals, partition};
 use super::style::{
-    AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, Swatch, TICKS, X_LABEL_AREA,
-    Y_LABEL_AREA, axis_range, draw_legend, fmt_num, mesh, text, tick, tint,
+    CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, Swatch, X_LABEL_AREA, Y_LABEL_AREA,
+    axis_range, draw_legend, fmt_num, mesh, scaled_pga_axis, text, tint,
 };
 use super::{block_text, render};
 use crate::jobs::forensic::ForensicResult;
@@ -34,14 +34,17 @@ fn shade(class: usize) -> RGBColor {
     }
 }
 
-/// The figure of a `forensic` result on a `ground_motion`.
-pub fn svg(result: &ForensicResult) -> Result<String, String> {
+/// The scale range of a record query, and its columns as drawn: column k
+/// (1-based) is observation k, column n + 1 every observation, each with
+/// its bands of scale from the bottom of the range up. An interval allowed
+/// (consistent with every observation, in the last column) narrower than
+/// [`MIN_VISIBLE`] of the range is drawn that tall: none vanishes.
+pub fn columns(result: &ForensicResult) -> Result<((f64, f64), Vec<Column>), String> {
     let range = result.scale.ok_or("the result has no scale range")?;
     let (from, to) = (range.from, range.to);
     if to.partial_cmp(&from) != Some(std::cmp::Ordering::Greater) {
         return Err(format!("empty scale range {from}–{to}"));
     }
-    let pga_g = result.record.as_ref().map(|r| r.peaks.pga_g);
     let per = result
         .per_observation
         .as_deref()
@@ -49,13 +52,9 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
     if per.is_empty() {
         return Err("the forensic result has no observations".into());
     }
-    let observations = &result.observations;
-    let n = per.len();
-    let names: Vec<String> = per.iter().map(|o| o.name.clone()).collect();
+    let min = MIN_VISIBLE * (to - from);
     let sets: Vec<Vec<(f64, f64)>> = per.iter().map(|o| intervals(&o.consistent_scale)).collect();
-    let sliver = (to - from) / 900.0;
-    // Column k (1-based) is observation k; column n + 1 is every observation.
-    let mut columns: Vec<(f64, Vec<Band>)> = sets
+    let mut columns: Vec<Column> = sets
         .iter()
         .enumerate()
         .map(|(k, set)| {
@@ -67,15 +66,35 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
                     class: ALLOWED,
                 })
                 .collect();
-            let mut bands = tile(from, to, &allowed, 1 << (k % usize::BITS as usize));
-            simplify(&mut bands, sliver, |class| class == ALLOWED);
-            ((k + 1) as f64, bands)
+            let bands = tile(from, to, &allowed, 1 << (k % usize::BITS as usize));
+            Column {
+                x: (k + 1) as f64,
+                bands: widen(&bands, min, |class| class == ALLOWED),
+            }
         })
         .collect();
-    let mut all = partition(&sets, from, to);
-    simplify(&mut all, sliver, |class| class == 0);
-    let consistent_anywhere = all.iter().any(|b| b.class == 0);
-    columns.push(((n + 1) as f64, all));
+    let all = partition(&sets, from, to);
+    columns.push(Column {
+        x: (per.len() + 1) as f64,
+        bands: widen(&all, min, |class| class == 0),
+    });
+    Ok(((from, to), columns))
+}
+
+/// The figure of a `forensic` result on a `ground_motion`.
+pub fn svg(result: &ForensicResult) -> Result<String, String> {
+    let ((from, to), columns) = columns(result)?;
+    let pga_g = result.record.as_ref().map(|r| r.peaks.pga_g);
+    let per = result
+        .per_observation
+        .as_deref()
+        .ok_or("the result has no per_observation")?;
+    let observations = &result.observations;
+    let n = per.len();
+    let names: Vec<String> = per.iter().map(|o| o.name.clone()).collect();
+    let consistent_anywhere = columns
+        .last()
+        .is_some_and(|all| all.bands.iter().any(|b| b.class == 0));
     let thresholds: Vec<(f64, f64)> = per
         .iter()
         .enumerate()
@@ -185,7 +204,7 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         let chart = builder.build_cartesian_2d(0.5..x1, axis_range("y", from, to)?)?;
         let p = pga_g.unwrap_or(1.0);
         let mut chart = chart.set_secondary_coord(0.5..x1, axis_range("right", from * p, to * p)?);
-        for (x, bands) in &columns {
+        for Column { x, bands } in &columns {
             chart.draw_series(bands.iter().map(|b| {
                 Rectangle::new(
                     [(x - HALF, b.lo), (x + HALF, b.hi)],
@@ -207,16 +226,10 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
             .disable_x_mesh()
             .draw()?;
         if pga_g.is_some() {
-            chart
-                .configure_secondary_axes()
-                .y_desc("scaled PGA (g)")
-                .label_style(text(TICKS, INK))
-                .axis_desc_style(text(AXIS, INK))
-                .y_label_formatter(&|v| tick(*v))
-                .draw()?;
+            scaled_pga_axis(&mut chart)?;
         }
         // Column outlines: observation k in its colour.
-        for (x, _) in &columns {
+        for Column { x, .. } in &columns {
             let k = *x as usize;
             let c = if k <= n { colour(k - 1) } else { INK };
             chart.draw_series(std::iter::once(Rectangle::new(
@@ -261,6 +274,7 @@ mod tests {
     use crate::jobs::JobResult;
     use crate::jobs::forensic::{ForensicResult, RecordObservationSet};
     use crate::jobs::record_spectrum::ScaleRangeNorm;
+    use crate::plot::bands::{Column, MIN_VISIBLE};
     use crate::plot::style::{CONSISTENT, OBSERVATIONS};
     use crate::plot::tests::{hex, typed};
 
@@ -368,5 +382,58 @@ mod tests {
         let svg = super::svg(&doc).expect("svg");
         assert!(svg.contains("no scale of this record"), "said");
         assert!(!svg.contains("max 3.26"));
+    }
+
+    /// Every interval the result lists — each observation's allowed scales
+    /// in its column, those consistent with all in the last — lies inside a
+    /// drawn band of its class at least [`MIN_VISIBLE`] of the range tall,
+    /// and every such band holds one.
+    fn assert_every_interval_drawn(doc: &ForensicResult) {
+        let ((from, to), columns) = super::columns(doc).expect("columns");
+        let min = MIN_VISIBLE * (to - from);
+        let per = doc.per_observation.as_deref().expect("per observation");
+        let all = doc.consistent_scale.clone().unwrap_or_default();
+        let listed = per
+            .iter()
+            .map(|o| (super::ALLOWED, &o.consistent_scale))
+            .chain(std::iter::once((0, &all)));
+        for ((class, set), Column { bands, .. }) in listed.zip(&columns) {
+            let drawn: Vec<_> = bands.iter().filter(|b| b.class == class).collect();
+            for &[lo, hi] in set {
+                let (lo, hi) = (lo.max(from), hi.min(to));
+                let holder = drawn.iter().find(|b| b.lo <= lo && hi <= b.hi);
+                assert!(
+                    holder.is_some_and(|b| b.hi - b.lo >= min - 1e-12),
+                    "[{lo}, {hi}] in {bands:?}"
+                );
+            }
+            for b in drawn {
+                assert!(
+                    set.iter().any(|&[lo, hi]| lo < b.hi && hi > b.lo),
+                    "{b:?} holds none of {set:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn every_interval_is_drawn_however_narrow() {
+        assert_every_interval_drawn(&computed());
+        assert_every_interval_drawn(&sample());
+        // A transformer allowing 2.5–2.5006 too: a sliver of the 0.1–6 axis.
+        let mut narrow = sample();
+        if let Some(per) = narrow.per_observation.as_mut() {
+            per[1].consistent_scale = vec![[0.1, 1.42], [2.5, 2.5006], [2.87, 3.26]];
+        }
+        narrow.consistent_scale = Some(vec![[0.7, 1.42], [2.5, 2.5006], [2.87, 3.26]]);
+        assert_every_interval_drawn(&narrow);
+    }
+
+    #[test]
+    fn the_right_axis_reads_the_scaled_pga() {
+        let doc = computed();
+        let pga = doc.record.as_ref().expect("a record").peaks.pga_g;
+        let svg = super::svg(&doc).expect("svg");
+        crate::plot::spectrum::tests::assert_right_axis_is_left_times(&svg, pga);
     }
 }

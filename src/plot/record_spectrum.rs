@@ -1,41 +1,151 @@
 //! Rocking spectra of a record: in the (block size R, scale factor) plane,
-//! the scales that overturn each block shaded by mode, the safe ones white,
-//! below the rocking threshold grey, and the minimum overturning scale. The
-//! right axis reads the scaled record's PGA in g.
+//! each computed block size a bar of its own — the scales that overturn it
+//! shaded by mode, the safe ones white, below the rocking threshold grey —
+//! with a dot at its minimum overturning scale. Nothing is drawn between
+//! the sizes: what lies between them was not computed. The right axis reads
+//! the scaled record's PGA in g.
 
 use plotters::prelude::*;
 
-use super::bands::{Band, Column, simplify, tile, tiling};
+use super::bands::{Band, MIN_VISIBLE, tile, widen};
 use super::render;
 use super::spectrum::{
-    CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, Crossing, fill, region_legend,
-    regions_of,
+    CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, Crossing, fill, overturns,
+    region_legend, regions_of,
 };
 use super::style::{
-    AXIS, Drawn, INK, LEGEND_WIDTH, Marker, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, axis_range,
-    clip_y, draw_legend, fmt_num, marker, mesh, text, tick,
+    Drawn, INK, LEGEND_WIDTH, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, draw_legend,
+    fmt_num, marker, mesh, scaled_pga_axis,
 };
-use crate::jobs::record_spectrum::{RecordSpectrumResult, ScaleTransitionDoc, SizeDoc};
+use crate::jobs::record_spectrum::{RecordSpectrumResult, SizeDoc};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
+/// A bar's share of the distance to the nearest other size: the rest is a
+/// gap, so that no bar reads as a range of sizes.
+const BAR_SHARE: f64 = 0.6;
+/// The widest bar, a fraction of the sizes' span (of the size itself when
+/// there is one).
+const BAR_MAX: f64 = 0.06;
 
 /// The overturning regions (lo, hi, mode) of one block size, in scale
-/// factors (see [`regions_of`]).
+/// factors: every band of the result, narrow ones included (see
+/// [`regions_of`]).
 fn regions(line: &SizeDoc, s_max: f64) -> Vec<(f64, f64, u8)> {
-    let crossings =
-        |list: &[ScaleTransitionDoc]| list.iter().map(Crossing::from).collect::<Vec<_>>();
+    let crossings: Vec<Crossing> = line.transitions.iter().map(Crossing::from).collect();
     let changes: Vec<(f64, u8)> = line
         .mode_changes
         .iter()
         .map(|m| (m.scale, m.to_mode))
         .collect();
-    regions_of(
-        &crossings(&line.transitions),
-        &changes,
-        Some(&crossings(&line.principal.transitions)),
+    regions_of(&crossings, &changes, s_max)
+}
+
+/// One computed block size as drawn.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bar {
+    /// The size, m.
+    pub r_m: f64,
+    /// The bar's left and right ends, m (around `r_m`, clear of the others).
+    pub x: (f64, f64),
+    /// Its bands of scale factor from 0 to the highest, by class; overturning
+    /// bands narrower than [`MIN_VISIBLE`] of the axis widened to it.
+    pub bands: Vec<Band>,
+}
+
+/// What the figure of a record spectrum draws.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drawing {
+    /// The block size axis, m.
+    pub x_range: (f64, f64),
+    /// The highest scale factor (the axis runs from 0).
+    pub s_max: f64,
+    /// One bar per computed size, in increasing R.
+    pub bars: Vec<Bar>,
+    /// The minimum overturning scale of each size that has one within the
+    /// axis: (R, scale).
+    pub minimum: Vec<(f64, f64)>,
+}
+
+/// The half-width of the bar of each of `xs` (ascending) and the axis
+/// range: each bar [`BAR_SHARE`] of the distance to its nearest neighbour,
+/// at most [`BAR_MAX`] of the span and half its size.
+fn bar_layout(xs: &[f64]) -> (Vec<f64>, (f64, f64)) {
+    let (first, last) = (xs[0], xs[xs.len() - 1]);
+    let span = if last > first { last - first } else { first };
+    let halves: Vec<f64> = (0..xs.len())
+        .map(|k| {
+            let nearest = [k.checked_sub(1), Some(k + 1)]
+                .into_iter()
+                .flatten()
+                .filter_map(|j| xs.get(j))
+                .map(|x| (x - xs[k]).abs())
+                .filter(|d| *d > 0.0)
+                .fold(f64::INFINITY, f64::min);
+            (0.5 * BAR_SHARE * nearest)
+                .min(0.5 * BAR_MAX * span)
+                .min(0.5 * xs[k])
+        })
+        .collect();
+    let range = if last > first {
+        let pad = 0.02 * span;
+        (
+            (first - halves[0] - pad).max(0.0),
+            last + halves[xs.len() - 1] + pad,
+        )
+    } else {
+        (0.5 * first, 1.5 * first)
+    };
+    (halves, range)
+}
+
+/// The bars and markers of a `record_spectrum` result: what [`svg`] draws.
+pub fn drawing(result: &RecordSpectrumResult) -> Result<Drawing, String> {
+    let s_max = result.spec.scale.to;
+    let mut sized: Vec<&SizeDoc> = result
+        .spectrum
+        .iter()
+        .filter(|l| l.r_m.is_finite() && l.r_m > 0.0)
+        .collect();
+    if sized.is_empty() {
+        return Err("the spectrum has no block sizes".into());
+    }
+    sized.sort_by(|a, b| a.r_m.total_cmp(&b.r_m));
+    let xs: Vec<f64> = sized.iter().map(|l| l.r_m).collect();
+    let (halves, x_range) = bar_layout(&xs);
+    let bars = sized
+        .iter()
+        .zip(halves)
+        .map(|(l, half)| {
+            let mut bands = vec![Band {
+                lo: 0.0,
+                hi: l.threshold_scale.min(s_max),
+                class: CLASS_NO_ROCKING,
+            }];
+            bands.extend(regions(l, s_max).into_iter().map(|(lo, hi, mode)| Band {
+                lo,
+                hi,
+                class: if mode == 2 { CLASS_MODE2 } else { CLASS_MODE1 },
+            }));
+            let bands = tile(0.0, s_max, &bands, CLASS_SAFE);
+            Bar {
+                r_m: l.r_m,
+                x: (l.r_m - half, l.r_m + half),
+                bands: widen(&bands, MIN_VISIBLE * s_max, overturns),
+            }
+        })
+        .collect();
+    let minimum = sized
+        .iter()
+        .filter_map(|l| Some((l.r_m, l.min_overturn_scale?)))
+        .filter(|m| m.1 <= s_max)
+        .collect();
+    Ok(Drawing {
+        x_range,
         s_max,
-    )
+        bars,
+        minimum,
+    })
 }
 
 /// "α = 0.25 rad, η = 0.9": the block of every size.
@@ -49,63 +159,21 @@ fn block_text(alpha: f64, eta: f64) -> String {
 
 /// The figure of a `record_spectrum` result.
 pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
-    let lines = &result.spectrum;
-    if lines.is_empty() {
-        return Err("the spectrum has no block sizes".into());
-    }
+    let drawn = drawing(result)?;
     let spec = &result.spec;
-    let s_max = spec.scale.to;
+    let s_max = drawn.s_max;
     let pga_g = result.record.peaks.pga_g;
-    // Block sizes in increasing R (p decreasing).
-    let mut sized: Vec<(f64, &SizeDoc)> = lines.iter().map(|l| (l.r_m, l)).collect();
-    sized.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let xs: Vec<f64> = sized.iter().map(|s| s.0).collect();
-    let (rmin, rmax) = (xs[0], xs[xs.len() - 1]);
-    let half = if rmax > rmin {
-        0.5 * (rmax - rmin) / (xs.len() as f64 - 1.0).max(1.0)
-    } else {
-        0.25 * rmin
+    let used = |class: usize| {
+        drawn
+            .bars
+            .iter()
+            .any(|b| b.bands.iter().any(|band| band.class == class))
     };
-    let (x0, x1) = if rmax > rmin {
-        (rmin, rmax)
-    } else {
-        (rmin - 2.0 * half, rmax + 2.0 * half)
-    };
-    let columns: Vec<Column> = sized
-        .iter()
-        .map(|&(x, l)| {
-            let mut bands = vec![Band {
-                lo: 0.0,
-                hi: l.threshold_scale.min(s_max),
-                class: CLASS_NO_ROCKING,
-            }];
-            for (lo, hi, mode) in regions(l, s_max) {
-                bands.push(Band {
-                    lo,
-                    hi,
-                    class: if mode == 2 { CLASS_MODE2 } else { CLASS_MODE1 },
-                });
-            }
-            let mut bands = tile(0.0, s_max, &bands, CLASS_SAFE);
-            simplify(&mut bands, s_max / 1000.0, |_| false);
-            Column { x, bands }
-        })
-        .collect();
-    let shaded: Vec<_> = tiling(&columns, half)
-        .pieces
-        .into_iter()
-        .filter(|p| p.class != CLASS_SAFE)
-        .collect();
-    let used = |class: usize| shaded.iter().any(|p| p.class == class);
-    let minimum: Vec<(f64, f64)> = sized
-        .iter()
-        .filter_map(|&(x, l)| Some((x, l.min_overturn_scale?)))
-        .collect();
 
     let mut legend = region_legend(used, "no rocking (PGA below the threshold)");
-    if !minimum.is_empty() {
+    if !drawn.minimum.is_empty() {
         legend.entry(
-            Swatch::LineMark(INK, Marker::Dot),
+            Swatch::Mark(Marker::Dot, INK),
             "minimum overturning scale (computed)",
         );
     }
@@ -120,15 +188,21 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
         fmt_num(r.peaks.pgd_m, 4),
     ));
     let formulation = spec.formulation.name();
+    let n = drawn.bars.len();
     legend.note(format!(
-        "{formulation} formulation, {} block size{}; R = 3g/(4p²)",
-        lines.len(),
-        if lines.len() == 1 { "" } else { "s" }
+        "{formulation} formulation, {n} block size{}; R = 3g/(4p²)",
+        if n == 1 { "" } else { "s" }
     ));
-    legend
-        .note("shading: principal view (narrow bands omitted; the result lists every transition)");
+    legend.note(
+        "each bar is one computed size, R at its middle; its width is not a range of sizes, and nothing is drawn between sizes",
+    );
+    legend.note(format!(
+        "shading: every overturning band of the result, those narrower than {} % of the axis drawn that tall",
+        fmt_num(MIN_VISIBLE * 100.0, 2)
+    ));
     legend.note("right axis: the scaled record's PGA = scale × PGA");
 
+    let (x0, x1) = drawn.x_range;
     let title = format!("Rocking spectrum of a record: {formulation} formulation");
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
@@ -142,28 +216,18 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
         let chart =
             builder.build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", 0.0, s_max)?)?;
         let mut chart = chart.set_secondary_coord(x0..x1, axis_range("right", 0.0, s_max * pga_g)?);
-        for piece in &shaded {
-            chart.draw_series(std::iter::once(Polygon::new(
-                piece.polygon.clone(),
-                fill(piece.class).filled(),
-            )))?;
+        for bar in &drawn.bars {
+            chart.draw_series(bar.bands.iter().filter(|b| b.class != CLASS_SAFE).map(|b| {
+                Rectangle::new([(bar.x.0, b.lo), (bar.x.1, b.hi)], fill(b.class).filled())
+            }))?;
         }
         mesh(&mut chart, "block size R (m)", "scale factor").draw()?;
-        chart
-            .configure_secondary_axes()
-            .y_desc("scaled PGA (g)")
-            .label_style(text(TICKS, INK))
-            .axis_desc_style(text(AXIS, INK))
-            .y_label_formatter(&|v| tick(*v))
-            .draw()?;
-        for piece in clip_y(&minimum, 0.0, s_max) {
-            chart.draw_series(LineSeries::new(piece, INK.stroke_width(2)))?;
-        }
+        scaled_pga_axis(&mut chart)?;
         chart.draw_series(
-            minimum
+            drawn
+                .minimum
                 .iter()
-                .filter(|q| q.1 <= s_max)
-                .map(|&q| marker(q, Marker::Dot, 5, INK)),
+                .map(|&q| marker(q, Marker::Dot, 7, INK)),
         )?;
         draw_legend(&side, &legend)
     })
@@ -171,11 +235,13 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
 
 #[cfg(test)]
 mod tests {
+    use super::{BAR_MAX, Drawing, drawing, overturns};
     use crate::jobs::JobResult;
     use crate::jobs::record_spectrum::{
         RecordSpectrumResult, ScaleModeChangeDoc, ScalePrincipalDoc, ScaleTransitionDoc, SizeDoc,
     };
-    use crate::plot::spectrum::{CLASS_MODE1, CLASS_MODE2, fill};
+    use crate::plot::bands::MIN_VISIBLE;
+    use crate::plot::spectrum::{CLASS_MODE1, CLASS_MODE2, CLASS_SAFE, fill};
     use crate::plot::style::fmt_num;
     use crate::plot::tests::{hex, typed};
 
@@ -224,18 +290,11 @@ mod tests {
     }
 
     #[test]
-    fn regions_take_the_principal_extent_and_the_full_modes() {
-        let line = size();
-        let crossings: Vec<crate::plot::spectrum::Crossing> =
-            line.transitions.iter().map(Into::into).collect();
+    fn regions_are_every_band_with_its_mode() {
+        // The narrow safe band 1.5–1.52 the principal view drops is kept.
         assert_eq!(
-            crate::plot::spectrum::intervals(&crossings, 3.0),
-            vec![(1.0, 1.5, 2), (1.52, 3.0, 1)]
-        );
-        // The dropped gap 1.5–1.52 takes the mode below it.
-        assert_eq!(
-            super::regions(&line, 3.0),
-            vec![(1.0, 1.2, 2), (1.2, 3.0, 1)]
+            super::regions(&size(), 3.0),
+            vec![(1.0, 1.2, 2), (1.2, 1.5, 1), (1.52, 3.0, 1)]
         );
     }
 
@@ -285,5 +344,133 @@ mod tests {
             assert!(svg.contains(&hex(fill(class))), "class {class}");
         }
         assert!(svg.contains("overturns, mode 2"));
+    }
+
+    /// Each bar holds its own computed size and no other, bars do not touch
+    /// and none is wider than [`BAR_MAX`] of the axis; the figure draws one
+    /// rectangle per shaded cell (and a swatch per shaded class).
+    fn assert_one_size_per_bar(doc: &RecordSpectrumResult) -> Drawing {
+        let d = drawing(doc).expect("drawing");
+        let sizes: Vec<f64> = doc.spectrum.iter().map(|l| l.r_m).collect();
+        assert_eq!(d.bars.len(), sizes.len());
+        let span = d.x_range.1 - d.x_range.0;
+        for bar in &d.bars {
+            let inside: Vec<f64> = sizes
+                .iter()
+                .copied()
+                .filter(|r| bar.x.0 <= *r && *r <= bar.x.1)
+                .collect();
+            assert_eq!(inside, vec![bar.r_m], "{bar:?}");
+            assert!(bar.x.1 - bar.x.0 <= BAR_MAX * span + 1e-12, "{bar:?}");
+            assert!(bar.x.0 >= d.x_range.0 && bar.x.1 <= d.x_range.1);
+        }
+        for w in d.bars.windows(2) {
+            assert!(
+                w[0].x.1 < w[1].x.0,
+                "a gap between {:?} and {:?}",
+                w[0],
+                w[1]
+            );
+        }
+        let svg = super::svg(doc).expect("svg");
+        let shaded: Vec<usize> = d
+            .bars
+            .iter()
+            .flat_map(|b| b.bands.iter().map(|band| band.class))
+            .filter(|c| *c != CLASS_SAFE)
+            .collect();
+        let mut classes = shaded.clone();
+        classes.sort_unstable();
+        classes.dedup();
+        let rects: usize = classes
+            .iter()
+            .map(|c| {
+                let needle = format!("fill=\"{}\"", hex(fill(*c)));
+                svg.split("<rect ")
+                    .skip(1)
+                    .filter(|tag| tag.split('>').next().is_some_and(|t| t.contains(&needle)))
+                    .count()
+            })
+            .sum();
+        assert_eq!(rects, shaded.len() + classes.len(), "cells and swatches");
+        d
+    }
+
+    #[test]
+    fn each_computed_size_is_a_bar_of_its_own() {
+        let doc = computed();
+        let d = assert_one_size_per_bar(&doc);
+        assert_eq!(d.bars.len(), 4);
+        // One size: one narrow bar, not a band over a range of sizes.
+        let mut one = computed();
+        one.spectrum.truncate(1);
+        let d = assert_one_size_per_bar(&one);
+        let bar = &d.bars[0];
+        assert!(bar.x.1 - bar.x.0 <= BAR_MAX * bar.r_m + 1e-12, "{bar:?}");
+        // Ten sizes 0.25 m apart.
+        let mut ten = computed();
+        let base = ten.spectrum[0].clone();
+        ten.spectrum = (0..10)
+            .map(|k| {
+                let mut l = base.clone();
+                l.r_m = 0.25 + 0.25 * f64::from(k);
+                l
+            })
+            .collect();
+        let d = assert_one_size_per_bar(&ten);
+        // Each bar a share of the spacing: the rest is white.
+        for bar in &d.bars {
+            assert!(bar.x.1 - bar.x.0 <= 0.6 * 0.25 + 1e-12, "{bar:?}");
+        }
+    }
+
+    /// Every dot is in a drawn overturning cell of its size's bar, at least
+    /// [`MIN_VISIBLE`] of the axis tall.
+    fn assert_minima_in_overturning_cells(d: &Drawing) {
+        assert!(!d.minimum.is_empty(), "dots to check");
+        for &(r, s) in &d.minimum {
+            let cell = d
+                .bars
+                .iter()
+                .filter(|b| b.x.0 <= r && r <= b.x.1)
+                .flat_map(|b| &b.bands)
+                .find(|band| overturns(band.class) && band.lo <= s && s <= band.hi);
+            assert!(
+                cell.is_some_and(|c| c.hi - c.lo >= MIN_VISIBLE * d.s_max - 1e-12),
+                "the dot at R = {r} m, scale {s} in {:?}",
+                d.bars
+            );
+        }
+    }
+
+    #[test]
+    fn every_minimum_lies_in_an_overturning_cell() {
+        let doc = computed();
+        let d = drawing(&doc).expect("drawing");
+        assert_minima_in_overturning_cells(&d);
+        // A size whose lowest overturning band is far narrower than a pixel.
+        let mut narrow = computed();
+        narrow.spec.scale.to = 3.0;
+        let mut line = size();
+        line.transitions = vec![
+            transition(1.0, true, 2),
+            transition(1.0004, false, 2),
+            transition(2.0, true, 1),
+        ];
+        line.mode_changes.clear();
+        line.safe_intervals = vec![[1.0004, 2.0]];
+        line.principal.transitions = vec![transition(2.0, true, 1)];
+        line.principal.min_overturn_scale = Some(2.0);
+        narrow.spectrum = vec![line];
+        let d = drawing(&narrow).expect("drawing");
+        assert_eq!(d.minimum, vec![(1.84, 1.0)]);
+        assert_minima_in_overturning_cells(&d);
+    }
+
+    #[test]
+    fn the_right_axis_reads_the_scaled_pga() {
+        let doc = computed();
+        let svg = super::svg(&doc).expect("svg");
+        crate::plot::spectrum::tests::assert_right_axis_is_left_times(&svg, doc.record.peaks.pga_g);
     }
 }

@@ -1,20 +1,22 @@
 //! Overturning spectra (paper Figs. 6, 10, 11): in the (ω_p/p, a_p/(αg))
-//! plane, the amplitudes that overturn the block shaded by mode, the safe
-//! ones white, the minimum overturning acceleration and the closed forms
-//! (eq. 21; the corrected eq. 47 for linear one-sine) as reference curves.
+//! plane, each computed frequency a cell reaching half-way to its
+//! neighbours, the amplitudes that overturn the block shaded by mode, the
+//! safe ones white, a dot at the minimum overturning acceleration; the
+//! closed forms (eq. 21; the corrected eq. 47 for linear one-sine) as
+//! reference curves. The right axis reads the amplitude in g.
 
 use plotters::prelude::*;
 
-use super::bands::{Band, Column, simplify, tile, tiling};
+use super::bands::{Band, Column, MIN_VISIBLE, Piece, joined_cells, tile, widen};
 use super::style::{
-    AXIS, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING,
-    REFERENCE, Swatch, TICKS, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num,
-    marker, mesh, text, tick, tint,
+    Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING, REFERENCE,
+    Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num, marker, mesh,
+    secondary_mesh, text, tint,
 };
 use super::{block_text, render, shape_title};
 use crate::dynamics::PulseShape;
 use crate::jobs::record_spectrum::ScaleTransitionDoc;
-use crate::jobs::spectrum::{FrequencyDoc, SpectrumResult, TransitionDoc};
+use crate::jobs::spectrum::{FrequencyDoc, SpectrumJob, SpectrumResult, TransitionDoc};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -50,6 +52,11 @@ pub const CLASS_MODE1: usize = 1;
 pub const CLASS_MODE2: usize = 2;
 /// Rocks and survives (left white).
 pub const CLASS_SAFE: usize = 3;
+
+/// Whether a region class is overturning.
+pub fn overturns(class: usize) -> bool {
+    class == CLASS_MODE1 || class == CLASS_MODE2
+}
 
 /// Fill of a region class.
 pub fn fill(class: usize) -> RGBColor {
@@ -153,76 +160,67 @@ fn split_at_changes(regions: &[(f64, f64, u8)], changes: &[(f64, u8)]) -> Vec<(f
     out
 }
 
-/// The overturning regions of one line with their modes, from its
-/// `transitions`, its mode `changes` (amplitude, new mode) and the
-/// transitions of its `principal` view. The extents are those of the
-/// principal view when there is one (bands narrower than its relative width
-/// dropped); the modes come from the full view, a dropped safe gap taking
-/// the mode below it.
+/// The overturning regions (lo, hi, mode) of one line: every band of its
+/// `transitions` (narrow ones included: a figure widens them rather than
+/// drop them), cut where the mode changes (`changes`: amplitude, new mode).
 pub fn regions_of(
     transitions: &[Crossing],
     changes: &[(f64, u8)],
-    principal: Option<&[Crossing]>,
     a_max: f64,
 ) -> Vec<(f64, f64, u8)> {
-    let fine = split_at_changes(&intervals(transitions, a_max), changes);
-    let Some(principal) = principal else {
-        return fine;
-    };
-    let mut out = Vec::new();
-    for (lo, hi, mode) in intervals(principal, a_max) {
-        let mut inside: Vec<(f64, f64, u8)> = fine
-            .iter()
-            .filter(|f| f.1 > lo && f.0 < hi)
-            .map(|&(a, b, m)| (a.max(lo), b.min(hi), m))
-            .collect();
-        if inside.is_empty() {
-            out.push((lo, hi, mode));
-            continue;
-        }
-        inside[0].0 = lo;
-        for k in 1..inside.len() {
-            inside[k - 1].1 = inside[k].0;
-        }
-        if let Some(last) = inside.last_mut() {
-            last.1 = hi;
-        }
-        for piece in inside {
-            match out.last_mut() {
-                Some(prev) if prev.2 == piece.2 && prev.1 >= piece.0 => prev.1 = piece.1,
-                _ => out.push(piece),
-            }
-        }
-    }
-    out
+    split_at_changes(&intervals(transitions, a_max), changes)
 }
 
 /// The overturning regions of one frequency of a pulse spectrum with their
 /// modes (see [`regions_of`]).
 pub fn frequency_regions(line: &FrequencyDoc, a_max: f64) -> Vec<(f64, f64, u8)> {
-    let crossings = |list: &[TransitionDoc]| list.iter().map(Crossing::from).collect::<Vec<_>>();
+    let crossings: Vec<Crossing> = line.transitions.iter().map(Crossing::from).collect();
     let changes: Vec<(f64, u8)> = line
         .mode_changes
         .iter()
         .map(|m| (m.a_alpha_g, m.to_mode))
         .collect();
-    regions_of(
-        &crossings(&line.transitions),
-        &changes,
-        Some(&crossings(&line.principal.transitions)),
-        a_max,
-    )
+    regions_of(&crossings, &changes, a_max)
 }
 
-/// The figure of a `spectrum` result.
-pub fn svg(result: &SpectrumResult) -> Result<String, String> {
+/// One unit of a spectrum's amplitude axis in g: α. The spec stores every
+/// amplitude in units of αg whichever unit it was given in (`a_max_g` is
+/// divided by α) and whatever the formulation — the paper's unit, of eq. 21
+/// and of the axes of Figs. 6, 10 and 11 — so a_p/g = α · a_p/(αg) (the
+/// nonlinear rocking threshold, g tan α, reads tan α/α on it).
+pub fn g_per_axis_unit(spec: &SpectrumJob) -> f64 {
+    spec.block.alpha
+}
+
+/// What the figure of a pulse spectrum shades and marks.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drawing {
+    /// The ω_p/p axis.
+    pub x_range: (f64, f64),
+    /// The amplitude axis runs from 0 to this, αg.
+    pub a_max: f64,
+    /// Half the width of a lone frequency's cell.
+    pub half: f64,
+    /// The bands of each computed frequency.
+    pub columns: Vec<Column>,
+    /// The shaded pieces: the cells of [`joined_cells`], the safe ones left
+    /// out (white).
+    pub shaded: Vec<Piece>,
+    /// The computed minimum overturning acceleration of each frequency
+    /// that has one within the axis, (ω_p/p, αg): a dot each, nothing
+    /// drawn between them.
+    pub minimum: Vec<(f64, f64)>,
+}
+
+/// The cells and the minimum of a `spectrum` result: what [`svg`] draws.
+/// Each computed frequency is a cell reaching half-way to its neighbours;
+/// nothing is interpolated between frequencies.
+pub fn drawing(result: &SpectrumResult) -> Result<Drawing, String> {
     let lines = &result.spectrum;
     if lines.is_empty() {
         return Err("the spectrum has no frequencies".into());
     }
-    let spec = &result.spec;
-    let a_max = spec.a_max_alpha_g.max(1.5);
-    let (alpha, p) = (spec.block.alpha, spec.block.p);
+    let a_max = result.spec.a_max_alpha_g.max(1.5);
     let ratios: Vec<f64> = lines.iter().map(|l| l.omega_ratio).collect();
     let rmin = ratios.iter().copied().fold(f64::INFINITY, f64::min);
     let rmax = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -231,7 +229,7 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
     } else {
         0.25 * rmin.max(0.1)
     };
-    let (x0, x1) = if rmax > rmin {
+    let x_range = if rmax > rmin {
         (rmin, rmax)
     } else {
         (rmin - 2.0 * half, rmax + 2.0 * half)
@@ -251,38 +249,43 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
                     class: if mode == 2 { CLASS_MODE2 } else { CLASS_MODE1 },
                 });
             }
-            let mut bands = tile(0.0, a_max, &bands, CLASS_SAFE);
-            simplify(&mut bands, a_max / 1000.0, |_| false);
+            let bands = tile(0.0, a_max, &bands, CLASS_SAFE);
             Column {
                 x: l.omega_ratio,
-                bands,
+                bands: widen(&bands, MIN_VISIBLE * a_max, overturns),
             }
         })
         .collect();
-    let shaded: Vec<_> = tiling(&columns, half)
-        .pieces
+    let shaded: Vec<Piece> = joined_cells(&columns, half)
         .into_iter()
         .filter(|p| p.class != CLASS_SAFE)
         .collect();
+    let minimum = lines
+        .iter()
+        .filter_map(|l| Some((l.omega_ratio, l.min_overturn_alpha_g?)))
+        .filter(|m| m.1 <= a_max)
+        .collect();
+    Ok(Drawing {
+        x_range,
+        a_max,
+        half,
+        columns,
+        shaded,
+        minimum,
+    })
+}
+
+/// The figure of a `spectrum` result.
+pub fn svg(result: &SpectrumResult) -> Result<String, String> {
+    let drawn = drawing(result)?;
+    let lines = &result.spectrum;
+    let spec = &result.spec;
+    let p = spec.block.p;
+    let (a_max, half) = (drawn.a_max, drawn.half);
+    let (x0, x1) = drawn.x_range;
+    let shaded = &drawn.shaded;
+    let minimum = &drawn.minimum;
     let used = |class: usize| shaded.iter().any(|p| p.class == class);
-    // The minimum overturning acceleration, broken where its mode changes
-    // (the paper's finite jump).
-    let mut minimum: Vec<Vec<(f64, f64)>> = Vec::new();
-    let mut last_mode = None;
-    for l in lines {
-        let Some(a) = l.min_overturn_alpha_g else {
-            last_mode = None;
-            continue;
-        };
-        let (r, mode) = (l.omega_ratio, l.min_overturn_mode);
-        if last_mode.is_none() || last_mode != Some(mode) {
-            minimum.push(Vec::new());
-        }
-        last_mode = Some(mode);
-        if let Some(part) = minimum.last_mut() {
-            part.push((r, a));
-        }
-    }
     // The closed-form mode-2 boundary; known at one frequency only, it is
     // drawn across that frequency's bar.
     let mode2_closed = {
@@ -304,7 +307,7 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
     let mut legend = region_legend(used, "no rocking (below the threshold)");
     if !minimum.is_empty() {
         legend.entry(
-            Swatch::LineMark(INK, Marker::Dot),
+            Swatch::Mark(Marker::Dot, INK),
             "minimum overturning acceleration (computed)",
         );
     }
@@ -337,12 +340,11 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
         lines.len(),
         if lines.len() == 1 { "y" } else { "ies" }
     ));
-    // Every line has its principal view: the shading follows it.
     legend.note(format!(
-        "shading: principal view (bands narrower than {} % of their amplitude omitted; the result lists every transition)",
-        fmt_num(spec.principal_relative_width * 100.0, 3)
+        "shading: every overturning band of the result, those narrower than {} % of the axis drawn that tall; each frequency a cell reaching half-way to the next",
+        fmt_num(MIN_VISIBLE * 100.0, 2)
     ));
-    legend.note("top axis: f_p = (ω_p/p)·p/2π; right axis: a_p/g = α·a_p/(αg)");
+    legend.note("top axis: f_p = (ω_p/p)·p/2π; right axis: a_p in g = α × a_p/(αg)");
 
     let title = format!(
         "Overturning spectrum: {} pulse, {} formulation",
@@ -364,23 +366,17 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
         let hz = |r: f64| r * p / std::f64::consts::TAU;
         let mut chart = chart.set_secondary_coord(
             axis_range("top", hz(x0), hz(x1))?,
-            axis_range("right", 0.0, a_max * alpha)?,
+            axis_range("right", 0.0, a_max * g_per_axis_unit(spec))?,
         );
-        for piece in &shaded {
+        for piece in shaded {
             chart.draw_series(std::iter::once(Polygon::new(
                 piece.polygon.clone(),
                 fill(piece.class).filled(),
             )))?;
         }
         mesh(&mut chart, "ω_p / p", "a_p / (α g)").draw()?;
-        chart
-            .configure_secondary_axes()
+        secondary_mesh(&mut chart, "a_p (g)")
             .x_desc("pulse frequency f_p (Hz)")
-            .y_desc("a_p / g")
-            .label_style(text(TICKS, INK))
-            .axis_desc_style(text(AXIS, INK))
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
             .draw()?;
         for part in clip_y(&mode2_closed, 0.0, a_max) {
             chart.draw_series(DashedLineSeries::new(
@@ -390,16 +386,7 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
                 RGBColor(0, 130, 60).stroke_width(2),
             ))?;
         }
-        for part in &minimum {
-            for piece in clip_y(part, 0.0, a_max) {
-                chart.draw_series(LineSeries::new(piece, INK.stroke_width(2)))?;
-            }
-            chart.draw_series(
-                part.iter()
-                    .filter(|q| q.1 <= a_max)
-                    .map(|&q| marker(q, Marker::Dot, 5, INK)),
-            )?;
-        }
+        chart.draw_series(minimum.iter().map(|&q| marker(q, Marker::Dot, 5, INK)))?;
         // Over the computed minimum, dashed so that both show where they agree;
         // its end (ω_p/p = 3) ticked and labelled.
         for part in clip_y(&eq21, 0.0, a_max) {
@@ -422,9 +409,10 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use super::{Crossing, regions_of};
+    use super::{CLASS_SAFE, Crossing, regions_of};
     use crate::jobs::JobResult;
     use crate::jobs::spectrum::{FrequencyDoc, ModeChangeDoc, SpectrumResult, TransitionDoc};
+    use crate::plot::bands::MIN_VISIBLE;
 
     /// The spectrum of the spec `text`.
     fn computed(text: &str) -> SpectrumResult {
@@ -498,12 +486,12 @@ pub(crate) mod tests {
         ] {
             assert!(svg.contains(needle), "missing {needle:?}");
         }
-        // Three bands per frequency joined across two gaps: no rocking, mode 1,
-        // mode 2 — one polygon each per gap.
+        // Three bands per frequency, no rocking, mode 1, mode 2, each joined
+        // across the three cells: one polygon each (and a legend swatch).
         let fills = [super::fill(1), super::fill(2)]
             .map(|c| format!("fill=\"#{:02X}{:02X}{:02X}\"", c.0, c.1, c.2));
         for f in fills {
-            assert_eq!(svg.matches(&f).count(), 2 + 1, "{f}");
+            assert_eq!(svg.matches(&f).count(), 1 + 1, "{f}");
         }
     }
 
@@ -548,16 +536,13 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn principal_extents_take_modes_from_the_full_view() {
+    fn every_band_is_a_region() {
         let t = |at: f64, up: bool, mode: u8| Crossing { at, up, mode };
-        let fine = [t(1.1, true, 1), t(1.28, false, 1), t(1.281, true, 2)];
-        let principal = [t(1.1, true, 1)];
-        let expected = vec![(1.1, 1.281, 1), (1.281, 20.0, 2)];
-        assert_eq!(regions_of(&fine, &[], Some(&principal), 20.0), expected);
-        // Without a principal view, the full one.
+        // A band 0.001 αg wide, then overturning from 1.281 αg on.
+        let fine = [t(1.1, true, 1), t(1.101, false, 1), t(1.281, true, 2)];
         assert_eq!(
-            regions_of(&fine, &[], None, 20.0),
-            vec![(1.1, 1.28, 1), (1.281, 20.0, 2)]
+            regions_of(&fine, &[], 20.0),
+            vec![(1.1, 1.101, 1), (1.281, 20.0, 2)]
         );
     }
 
@@ -585,5 +570,238 @@ pub(crate) mod tests {
         let mut result = sample();
         result.spectrum.clear();
         assert!(super::svg(&result).is_err());
+    }
+
+    /// Whether `q` lies inside `polygon` (crossings of a ray to the right).
+    fn inside(polygon: &[(f64, f64)], q: (f64, f64)) -> bool {
+        let n = polygon.len();
+        (0..n)
+            .filter(|&k| {
+                let (a, b) = (polygon[k], polygon[(k + 1) % n]);
+                (a.1 > q.1) != (b.1 > q.1) && q.0 < a.0 + (q.1 - a.1) / (b.1 - a.1) * (b.0 - a.0)
+            })
+            .count()
+            % 2
+            == 1
+    }
+
+    /// Whether `polygon` has a vertical side at `x` across `y`.
+    fn side_at(polygon: &[(f64, f64)], x: f64, y: f64) -> bool {
+        let n = polygon.len();
+        (0..n).any(|k| {
+            let (a, b) = (polygon[k], polygon[(k + 1) % n]);
+            a.0 == x && b.0 == x && a.1.min(b.1) <= y && y <= a.1.max(b.1)
+        })
+    }
+
+    #[test]
+    fn cells_of_a_class_meet_without_a_gap() {
+        use crate::plot::bands::cell_edges;
+        let result = computed(include_str!(
+            "../../specs/locomotive_spectrum_nonlinear.json"
+        ));
+        let d = super::drawing(&result).expect("drawing");
+        let mut columns = d.columns.clone();
+        columns.sort_by(|a, b| a.x.total_cmp(&b.x));
+        let xs: Vec<f64> = columns.iter().map(|c| c.x).collect();
+        let edges = cell_edges(&xs, d.half);
+        // Nothing between frequencies: every side level or upright, the
+        // upright ones on the edges of the cells.
+        let on_edge = |x: f64| edges.iter().any(|e| e.0 == x || e.1 == x);
+        for piece in &d.shaded {
+            let n = piece.polygon.len();
+            for k in 0..n {
+                let (a, b) = (piece.polygon[k], piece.polygon[(k + 1) % n]);
+                assert!(a.0 == b.0 || a.1 == b.1, "a slanted side {a:?}–{b:?}");
+                assert!(on_edge(a.0), "a vertex off the cells' edges: {a:?}");
+            }
+        }
+        // Wherever a class continues across the edge of two cells, one piece
+        // holds both sides, or two pieces share that edge exactly.
+        let mut crossings = 0;
+        let mut joined = 0;
+        for (k, pair) in columns.windows(2).enumerate() {
+            let x = edges[k].1;
+            assert_eq!(x, edges[k + 1].0);
+            let eps = 1e-6 * (pair[1].x - pair[0].x);
+            for a in pair[0].bands.iter().filter(|a| a.class != CLASS_SAFE) {
+                for b in pair[1].bands.iter().filter(|b| b.class == a.class) {
+                    let (lo, hi) = (a.lo.max(b.lo), a.hi.min(b.hi));
+                    if hi <= lo {
+                        continue;
+                    }
+                    let y = 0.5 * (lo + hi);
+                    let holder = |q: (f64, f64)| {
+                        d.shaded
+                            .iter()
+                            .position(|p| p.class == a.class && inside(&p.polygon, q))
+                    };
+                    let (left, right) = (holder((x - eps, y)), holder((x + eps, y)));
+                    let (Some(l), Some(r)) = (left, right) else {
+                        panic!("a hole at ({x}, {y}): {left:?} {right:?}");
+                    };
+                    crossings += 1;
+                    if l == r {
+                        joined += 1;
+                    } else {
+                        assert!(side_at(&d.shaded[l].polygon, x, y), "left of {x}");
+                        assert!(side_at(&d.shaded[r].polygon, x, y), "right of {x}");
+                    }
+                }
+            }
+        }
+        assert!(crossings > 40, "{crossings}");
+        assert!(joined > crossings / 2, "{joined} of {crossings} joined");
+        // Far fewer pieces than cells.
+        let cells: usize = columns
+            .iter()
+            .map(|c| c.bands.iter().filter(|b| b.class != CLASS_SAFE).count())
+            .sum();
+        assert!(
+            d.shaded.len() * 4 < cells,
+            "{} pieces, {cells} cells",
+            d.shaded.len()
+        );
+    }
+
+    #[test]
+    fn every_minimum_lies_in_an_overturning_cell() {
+        use crate::plot::bands::cell_edges;
+        let result = computed(include_str!(
+            "../../specs/locomotive_spectrum_nonlinear.json"
+        ));
+        let d = super::drawing(&result).expect("drawing");
+        let xs: Vec<f64> = d.columns.iter().map(|c| c.x).collect();
+        let edges = cell_edges(&xs, d.half);
+        for &(r, a) in &d.minimum {
+            let k = xs
+                .iter()
+                .position(|x| *x == r)
+                .expect("a computed frequency");
+            assert!(edges[k].0 <= r && r <= edges[k].1);
+            let cell = d.columns[k]
+                .bands
+                .iter()
+                .find(|b| super::overturns(b.class) && b.lo <= a && a <= b.hi);
+            assert!(
+                cell.is_some_and(|c| c.hi - c.lo >= MIN_VISIBLE * d.a_max - 1e-12),
+                "ω_p/p = {r}, {a} αg in {:?}",
+                d.columns[k].bands
+            );
+        }
+        // Among them a minimum whose band is far narrower than a pixel (the
+        // locomotive at ω_p/p = 0.25, just above 1.046 αg).
+        let narrow = result.spectrum.iter().any(|l| {
+            super::frequency_regions(l, d.a_max)
+                .first()
+                .is_some_and(|r| {
+                    Some(r.0) == l.min_overturn_alpha_g && r.1 - r.0 < d.a_max / 1000.0
+                })
+        });
+        assert!(narrow, "a narrow lowest band");
+    }
+
+    /// Tick labels of an axis: (y px, value).
+    type Ticks = Vec<(f64, f64)>;
+
+    /// Tick labels of the left (anchored at their end) and right (at their
+    /// start, left of the legend) axes of a figure: (y px, value).
+    fn y_ticks(svg: &str) -> (Ticks, Ticks) {
+        let attr = |tag: &str, name: &str| -> Option<String> {
+            Some(
+                tag.split(&format!(" {name}=\""))
+                    .nth(1)?
+                    .split('"')
+                    .next()?
+                    .to_string(),
+            )
+        };
+        let legend_left = f64::from(super::WIDTH - super::LEGEND_WIDTH);
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        for rest in svg.split("<text").skip(1) {
+            let Some((tag, body)) = rest.split_once('>') else {
+                continue;
+            };
+            let Some(label) = body.split("</text>").next() else {
+                continue;
+            };
+            let (Some(x), Some(y), Some(anchor)) =
+                (attr(tag, "x"), attr(tag, "y"), attr(tag, "text-anchor"))
+            else {
+                continue;
+            };
+            let (Ok(x), Ok(y), Ok(v)) = (
+                x.parse::<f64>(),
+                y.parse::<f64>(),
+                label.trim().parse::<f64>(),
+            ) else {
+                continue;
+            };
+            if tag.contains("rotate") {
+                continue;
+            }
+            match anchor.as_str() {
+                "end" if x < 150.0 => left.push((y, v)),
+                "start" if x > 150.0 && x < legend_left => right.push((y, v)),
+                _ => {}
+            }
+        }
+        (left, right)
+    }
+
+    /// The right axis of a figure as drawn reads its left axis × `factor`:
+    /// each right tick label is the left axis' value at its height times
+    /// `factor`, to two pixels (each axis rounds its ticks to a pixel) and
+    /// the label's four digits.
+    pub(crate) fn assert_right_axis_is_left_times(svg: &str, factor: f64) {
+        let (left, right) = y_ticks(svg);
+        assert!(left.len() >= 3 && right.len() >= 3, "{left:?} {right:?}");
+        // The left axis as drawn: value = v0 + slope × (y − y0).
+        let (a, b) = (left[0], left[left.len() - 1]);
+        let slope = (b.1 - a.1) / (b.0 - a.0);
+        let at = |y: f64| a.1 + slope * (y - a.0);
+        for &(y, v) in &left {
+            assert!((at(y) - v).abs() <= slope.abs(), "left {v} at {y}");
+        }
+        for &(y, r) in &right {
+            let expected = factor * at(y);
+            assert!(
+                (r - expected).abs() <= 2.0 * (factor * slope).abs() + 5e-4 * r.abs(),
+                "right {r} at {y}: {expected}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_right_axis_reads_the_left_in_g() {
+        for (text, a_max_g) in [
+            (
+                include_str!("../../specs/locomotive_spectrum_nonlinear.json"),
+                None,
+            ),
+            (
+                r#"{"kind": "spectrum", "block": {"alpha": 0.15, "p": 3.0}, "pulse": {"type": "one_cosine"},
+                    "formulation": "linear", "frequency_hz": [0.5, 1.0], "a_max_g": 1.2}"#,
+                Some(1.2),
+            ),
+        ] {
+            let result = computed(text);
+            let factor = super::g_per_axis_unit(&result.spec);
+            assert_eq!(factor, result.spec.block.alpha);
+            // The result's own conversion: a transition's g over its αg.
+            let t = result
+                .spectrum
+                .iter()
+                .flat_map(|l| &l.transitions)
+                .next()
+                .expect("a transition");
+            assert!((t.a_g - factor * t.a_alpha_g).abs() < 1e-12);
+            assert_right_axis_is_left_times(&super::svg(&result).expect("svg"), factor);
+            // A highest amplitude given in g tops the right axis.
+            if let Some(g) = a_max_g {
+                let d = super::drawing(&result).expect("drawing");
+                assert!((d.a_max * factor - g).abs() < 1e-12, "{}", d.a_max * factor);
+            }
+        }
     }
 }

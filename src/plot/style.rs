@@ -1,9 +1,9 @@
 //! The shared look of every figure: fonts, colours, markers, the legend
 //! panel beside the chart, and clipping of curves to a chart's range.
 
-use plotters::chart::MeshStyle;
-use plotters::coord::Shift;
+use plotters::chart::{DualCoordChartContext, MeshStyle, SecondaryMeshStyle};
 use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::element::ComposedElement;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -538,6 +538,44 @@ where
         .light_line_style(TRANSPARENT)
         .bold_line_style(RGBColor(200, 200, 200).mix(0.6));
     mesh
+}
+
+/// The secondary axes (right, and top when the chart has room for it) in
+/// the look of [`mesh`], the right one described `y_desc`; the caller may
+/// describe the top one before `.draw()`.
+pub fn secondary_mesh<'a, 'b, DB, CT, X, Y>(
+    chart: &'b mut DualCoordChartContext<'a, DB, CT, Cartesian2d<X, Y>>,
+    y_desc: &str,
+) -> SecondaryMeshStyle<'a, 'b, X, Y, DB>
+where
+    DB: DrawingBackend,
+    CT: CoordTranslate,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let mut axes = chart.configure_secondary_axes();
+    axes.y_desc(y_desc)
+        .label_style(text(TICKS, INK))
+        .axis_desc_style(text(AXIS, INK))
+        .x_label_formatter(&tick_label)
+        .y_label_formatter(&tick_label);
+    axes
+}
+
+/// Draws the right axis of a figure over a record's scale factor: the
+/// scaled record's PGA in g (its secondary range: the scale range × PGA).
+pub fn scaled_pga_axis<DB, CT, X, Y>(
+    chart: &mut DualCoordChartContext<'_, DB, CT, Cartesian2d<X, Y>>,
+) -> Drawn
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+    CT: CoordTranslate,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    secondary_mesh(chart, "scaled PGA (g)").draw()?;
+    Ok(())
 }
 
 /// The chart of a figure with its legend beside it: margins and the room
