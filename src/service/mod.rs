@@ -140,6 +140,11 @@ impl AppState {
         }
     }
 
+    /// Tasks computing on this instance now.
+    fn busy(&self) -> usize {
+        self.running.lock().map_or(1, |m| m.len())
+    }
+
     fn unregister(&self, id: Uuid, idx: i64) {
         if let Ok(mut m) = self.running.lock() {
             m.remove(&(id, idx));

@@ -62,9 +62,13 @@ impl Throughput {
     }
 
     /// Records a task of `kind` whose size was `size` and that took
-    /// `seconds` of wall time.
-    pub fn record(&self, kind: &str, size: &Size, seconds: f64) {
-        let predicted = size.wall_s(self.threads, 1.0);
+    /// `seconds` of wall time while `busy` tasks (itself included, on
+    /// average) computed on this instance: it had the threads to itself, or
+    /// its share of them — a task of many lanes beside another runs on about
+    /// half the threads, as a job's tasks do beside each other.
+    pub fn record(&self, kind: &str, size: &Size, seconds: f64, busy: f64) {
+        let share = (self.threads as f64 / busy.max(1.0)).max(1.0);
+        let predicted = size.cpu_s / size.lanes.clamp(1.0, share);
         if predicted < MIN_PREDICTED_S || !(seconds.is_finite() && seconds > 0.0) {
             return;
         }
@@ -112,16 +116,16 @@ mod tests {
         let t = Throughput::new(2);
         // Predicted 0.5 s on two threads.
         assert!((t.seconds("spectrum", &size(1.0)) - 0.5).abs() < 1e-12);
-        t.record("spectrum", &size(0.001), 100.0);
+        t.record("spectrum", &size(0.001), 100.0, 1.0);
         assert_eq!(t.rate("spectrum"), 1.0);
         // One short task that ran fast moves the rate a little, weighted by
         // its predicted seconds against the prior's.
-        t.record("spectrum", &size(0.2), 0.01);
+        t.record("spectrum", &size(0.2), 0.01, 1.0);
         let r = t.rate("spectrum");
         assert!(r < 1.0 && r > 0.8, "{r}");
         // A long run of tasks 3 times slower than predicted: the rate is 3.
         for _ in 0..400 {
-            t.record("spectrum", &size(1.0), 1.5);
+            t.record("spectrum", &size(1.0), 1.5, 1.0);
         }
         assert!(
             (t.rate("spectrum") - 3.0).abs() < 1e-2,
@@ -133,8 +137,8 @@ mod tests {
         // predicted total, not the average of their ratios.
         let u = Throughput::new(2);
         for _ in 0..100 {
-            u.record("record_spectrum", &size(0.02), 0.2);
-            u.record("record_spectrum", &size(1.0), 0.05);
+            u.record("record_spectrum", &size(0.02), 0.2, 1.0);
+            u.record("record_spectrum", &size(1.0), 0.05, 1.0);
         }
         let r = u.rate("record_spectrum");
         assert!((r - 0.25 / 0.51).abs() < 0.05, "{r}");
@@ -143,7 +147,37 @@ mod tests {
         // One simulation runs on one thread.
         assert!((t.seconds("time_history", &Size::one(0.2)) - 0.2).abs() < 1e-12);
         // A stalled task moves the rate, within bounds.
-        t.record("fragility", &size(1.0), 1e6);
+        t.record("fragility", &size(1.0), 1e6, 1.0);
         assert!(t.rate("fragility") <= RATE_RANGE.1);
+    }
+
+    #[test]
+    fn a_task_beside_others_is_predicted_on_its_share_of_the_threads() {
+        // Two workers, two tasks of many lanes at once: each on one thread.
+        let t = Throughput::new(2);
+        for _ in 0..400 {
+            t.record("spectrum", &size(1.0), 1.0, 2.0);
+        }
+        assert!(
+            (t.rate("spectrum") - 1.0).abs() < 1e-2,
+            "{}",
+            t.rate("spectrum")
+        );
+        // The same task alone on both threads, as fast as predicted.
+        let u = Throughput::new(2);
+        for _ in 0..400 {
+            u.record("spectrum", &size(1.0), 0.5, 1.0);
+        }
+        assert!(
+            (u.rate("spectrum") - 1.0).abs() < 1e-2,
+            "{}",
+            u.rate("spectrum")
+        );
+        // A task of one lane runs on one thread however many compute.
+        let v = Throughput::new(2);
+        for _ in 0..400 {
+            v.record("record_spectrum", &Size::one(1.0), 1.0, 1.0);
+        }
+        assert!((v.rate("record_spectrum") - 1.0).abs() < 1e-2);
     }
 }

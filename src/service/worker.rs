@@ -194,6 +194,7 @@ async fn execute(
     let size = job.size();
     let control = Arc::new(Control::new());
     state.register(id, idx, control.clone());
+    let busy_at_start = state.busy();
     let (tx, mut rx) = oneshot::channel();
     let started = Instant::now();
     {
@@ -249,10 +250,12 @@ async fn execute(
             }
         }
     };
+    // Tasks beside it: as it started and as it ends (itself included).
+    let busy = (busy_at_start + state.busy()) as f64 / 2.0;
     state.unregister(id, idx);
     let seconds = started.elapsed().as_secs_f64();
     if matches!(outcome, Outcome::Done(Ok(_))) {
-        state.throughput.record(&task.kind, &size, seconds);
+        state.throughput.record(&task.kind, &size, seconds, busy);
     }
     match outcome {
         Outcome::Done(Ok(Serialised { body, numerics })) if task.tasks == 1 => {
