@@ -270,9 +270,10 @@ impl FrictionJob {
 pub struct FrictionSpectrum;
 
 /// A friction simulation costs this many of an overturning scan's: it
-/// follows the reactions through the whole response (measured: 350 µs on
-/// two cores against about 30 for a one-sine scan's).
-const FRICTION_COST: f64 = 12.0;
+/// follows the reactions through the whole response (measured: about
+/// 350 µs of CPU for a one-sine, whose scan simulation the cost table puts
+/// at 60 µs).
+const FRICTION_COST: f64 = 6.0;
 
 impl crate::jobs::kind::Kind for FrictionSpectrum {
     const NAME: &'static str = "friction_spectrum";
