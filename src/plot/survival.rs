@@ -1,20 +1,188 @@
 //! Survival of rocks under a hazard model: the probability that each rock
 //! still stands after T years, P_s = exp(−λ_t T), on a logarithmic age axis;
-//! the requested ages marked; an uncertain age at its median with
-//! E[exp(−λ_t T)]; several rocks' joint probability noted.
+//! the requested ages marked and labelled with their probability (labels
+//! that would overlap stacked away, joined to their mark by a leader line);
+//! an uncertain age at its median with E[exp(−λ_t T)]; several rocks' joint
+//! probability noted.
 
 use plotters::prelude::*;
 
 use super::forensic::colour;
 use super::render;
 use super::style::{
-    Drawn, INK, LEGEND_WIDTH, Legend, Marker, Swatch, axis_range, chart_on, draw_legend, fmt_num,
-    marker, mesh,
+    Drawn, INK, LEGEND_WIDTH, Legend, MUTED, Marker, NOTE, Swatch, axis_range, chart_on,
+    draw_legend, fmt_num, left_top, legend_height, marker, mesh, right_top, text_width,
 };
 use crate::jobs::survival::{RockResult, SurvivalResult};
 
 const WIDTH: u32 = 1120;
+/// Least height of the figure (taller when the legend needs it).
 const HEIGHT: u32 = 620;
+/// Room the figure's title takes, px.
+const TITLE_AREA: u32 = 44;
+/// Room kept under the legend for a note drawn with the chart, px.
+const LATE_NOTE: u32 = 44;
+/// Size of the ages' labels, px.
+const LABEL: u32 = NOTE;
+/// Room around a label's text, px.
+const PAD: i32 = 2;
+/// Line height of a label, px.
+const LINE: i32 = LABEL as i32 + 2;
+/// Distance of a label from its mark, px.
+const GAP: i32 = 6;
+/// Half the size of the room a mark takes, px.
+const MARK: i32 = 5;
+/// How many label heights a label may be stacked away from its mark.
+const MAX_STACK: i32 = 24;
+
+/// A box in pixels: left, top, right, bottom.
+pub type Box4 = (i32, i32, i32, i32);
+
+/// Whether two boxes overlap (touching is not overlapping).
+pub fn overlap(a: Box4, b: Box4) -> bool {
+    a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
+}
+
+/// The room a label of `lines` takes, px (the legend's estimate of text
+/// width).
+pub fn label_size(lines: &[String]) -> (i32, i32) {
+    let widest = lines
+        .iter()
+        .map(|l| text_width(l, LABEL).ceil() as i32)
+        .max()
+        .unwrap_or(0);
+    let n = lines.len().max(1) as i32;
+    (widest + 2 * PAD, (n - 1) * LINE + LABEL as i32 + 2 * PAD)
+}
+
+/// A label placed beside its mark.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Placed {
+    /// Its box, px.
+    pub area: Box4,
+    /// Stacked away from its mark: a leader line joins them.
+    pub led: bool,
+}
+
+/// Places a label of `sizes[k]` by each mark `anchors[k]` (px) inside
+/// `bounds`, in order, none overlapping a label placed before or any
+/// mark, and no leader line crossing a label: beside its mark when there
+/// is room (first above right and below left, off the falling curves), else
+/// stacked above or below it (with a leader line); off the points `clear`
+/// (the curves) where it can be; `None` for a label that finds no room.
+pub fn place_labels(
+    anchors: &[(i32, i32)],
+    sizes: &[(i32, i32)],
+    bounds: Box4,
+    clear: &[(i32, i32)],
+) -> Vec<Option<Placed>> {
+    let marks: Vec<Box4> = anchors
+        .iter()
+        .map(|&(x, y)| (x - MARK, y - MARK, x + MARK, y + MARK))
+        .collect();
+    let mut placed: Vec<Box4> = Vec::new();
+    // Points along the leader lines drawn so far.
+    let mut leaders: Vec<(i32, i32)> = Vec::new();
+    let inside = |b: Box4| b.0 >= bounds.0 && b.1 >= bounds.1 && b.2 <= bounds.2 && b.3 <= bounds.3;
+    let covers = |b: Box4, p: &(i32, i32)| p.0 >= b.0 && p.0 <= b.2 && p.1 >= b.1 && p.1 <= b.3;
+    // Strictly inside: a leader may end on its own label's edge.
+    let within = |b: Box4, p: &(i32, i32)| p.0 > b.0 && p.0 < b.2 && p.1 > b.1 && p.1 < b.3;
+    anchors
+        .iter()
+        .zip(sizes)
+        .map(|(&(x, y), &(w, h))| {
+            let (right, left) = (x + GAP, x - GAP - w);
+            let (above, below) = (y - GAP - h, y + GAP);
+            let beside = [(right, above), (left, below), (right, below), (left, above)]
+                .into_iter()
+                .map(|corner| (corner, false));
+            // A stacked label moves along to stay inside (a long one may
+            // not fit at either side of its mark).
+            let along = move |x: i32| x.min(bounds.2 - w).max(bounds.0);
+            // Stacked: a row further up or down each time, at either side
+            // and then further out (so that leaders can pass each other).
+            let stacked = (1..=MAX_STACK).flat_map(move |k| {
+                let step = k * (h + 2);
+                [0, w / 2, w].into_iter().flat_map(move |out| {
+                    [
+                        (right + GAP + out, above - step),
+                        (left - GAP - out, below + step),
+                        (right + GAP + out, below + step),
+                        (left - GAP - out, above - step),
+                    ]
+                    .into_iter()
+                    .map(move |(x, y)| ((along(x), y), true))
+                })
+            });
+            let candidates: Vec<Placed> = beside
+                .chain(stacked)
+                .map(|((bx, by), led)| Placed {
+                    area: (bx, by, bx + w, by + h),
+                    led,
+                })
+                .filter(|c| {
+                    let b = c.area;
+                    let lead = if c.led {
+                        dense(&[(x, y), nearest(b, (x, y))])
+                    } else {
+                        Vec::new()
+                    };
+                    inside(b)
+                        && !placed.iter().any(|p| overlap(*p, b))
+                        && !marks.iter().any(|m| overlap(*m, b))
+                        && !leaders.iter().any(|q| within(b, q))
+                        && !lead.iter().any(|q| placed.iter().any(|p| within(*p, q)))
+                })
+                .collect();
+            let found = candidates
+                .iter()
+                .find(|c| !clear.iter().any(|p| covers(c.area, p)))
+                .or(candidates.first())
+                .cloned();
+            if let Some(p) = &found {
+                placed.push(p.area);
+                if p.led {
+                    leaders.extend(dense(&[(x, y), nearest(p.area, (x, y))]));
+                }
+            }
+            found
+        })
+        .collect()
+}
+
+/// The points of the polyline `line` (px) with none more than 4 px from
+/// the next.
+fn dense(line: &[(i32, i32)]) -> Vec<(i32, i32)> {
+    let mut out: Vec<(i32, i32)> = line.first().copied().into_iter().collect();
+    for pair in line.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        let steps = ((b.0 - a.0).abs().max((b.1 - a.1).abs()) / 4).max(1);
+        out.extend(
+            (1..=steps).map(|k| (a.0 + (b.0 - a.0) * k / steps, a.1 + (b.1 - a.1) * k / steps)),
+        );
+    }
+    out
+}
+
+/// The point of `b` nearest to `p`.
+fn nearest(b: Box4, p: (i32, i32)) -> (i32, i32) {
+    (p.0.clamp(b.0, b.2), p.1.clamp(b.1, b.3))
+}
+
+/// The lines of the label of an age's mark: "1000 yr: P_s = 0.837", or for
+/// an uncertain age "median 15000 yr: E[P_s] = 0.47"; under the rock's name
+/// when there are several.
+pub fn age_label(rock: Option<&str>, age: f64, p: f64, uncertain: bool) -> Vec<String> {
+    let value = if uncertain {
+        format!("median {} yr: E[P_s] = {}", fmt_num(age, 4), fmt_num(p, 3))
+    } else {
+        format!("{} yr: P_s = {}", fmt_num(age, 4), fmt_num(p, 3))
+    };
+    rock.map(str::to_string)
+        .into_iter()
+        .chain([value])
+        .collect()
+}
 
 /// The figure of a `survival` result.
 pub fn svg(result: &SurvivalResult) -> Result<String, String> {
@@ -108,8 +276,9 @@ pub fn svg(result: &SurvivalResult) -> Result<String, String> {
         result.im.name()
     ));
 
+    let height = HEIGHT.max(TITLE_AREA + legend_height(&legend, LEGEND_WIDTH, 1) + LATE_NOTE);
     render(
-        (WIDTH, HEIGHT),
+        (WIDTH, height),
         "Survival under the hazard model",
         |area| -> Drawn {
             let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
@@ -133,6 +302,67 @@ pub fn svg(result: &SurvivalResult) -> Result<String, String> {
                     )
                 }))?;
             }
+            // Every mark labelled, left to right, placed among the others.
+            let several = rocks.len() > 1;
+            let mut marks: Vec<(f64, f64, Vec<String>)> = rocks
+                .iter()
+                .flat_map(|r| {
+                    let name = several.then_some(r.name.as_str());
+                    points(r)
+                        .into_iter()
+                        .map(move |(t, p, uncertain)| (t, p, age_label(name, t, p, uncertain)))
+                })
+                .filter(|(t, p, _)| *t >= lo && *t <= hi && p.is_finite())
+                .collect();
+            marks.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
+            let anchors: Vec<(i32, i32)> = marks
+                .iter()
+                .map(|(t, p, _)| chart.backend_coord(&(*t, *p)))
+                .collect();
+            let sizes: Vec<(i32, i32)> = marks.iter().map(|m| label_size(&m.2)).collect();
+            let (xs, ys) = chart.plotting_area().get_pixel_range();
+            let bounds = (xs.start, ys.start, xs.end, ys.end);
+            let clear: Vec<(i32, i32)> = curves
+                .iter()
+                .flat_map(|c| {
+                    let px: Vec<(i32, i32)> = c.iter().map(|q| chart.backend_coord(q)).collect();
+                    dense(&px)
+                })
+                .collect();
+            let places = place_labels(&anchors, &sizes, bounds, &clear);
+            let mut legend = legend.clone();
+            let left_out = places.iter().filter(|p| p.is_none()).count();
+            if left_out > 0 {
+                legend.note(format!(
+                    "{left_out} of {} ages' labels left out for room (their marks stand)",
+                    places.len()
+                ));
+            }
+            for ((mark, at), place) in marks.iter().zip(&anchors).zip(&places) {
+                let Some(place) = place else { continue };
+                let (l, t, r, _) = place.area;
+                let offset = |q: (i32, i32)| (q.0 - at.0, q.1 - at.1);
+                // Left of its mark the text ends at the box's right edge, so
+                // that it stands by the mark (or its leader) whatever its width.
+                let (text_at, style) = if r <= at.0 {
+                    (offset((r - PAD, t + PAD)), right_top(LABEL, INK))
+                } else {
+                    (offset((l + PAD, t + PAD)), left_top(LABEL, INK))
+                };
+                let lead = if place.led {
+                    vec![(0, 0), offset(nearest(place.area, *at))]
+                } else {
+                    Vec::new()
+                };
+                chart.draw_series(std::iter::once(
+                    EmptyElement::at((mark.0, mark.1))
+                        + PathElement::new(lead, MUTED.stroke_width(1)),
+                ))?;
+                chart.draw_series(mark.2.iter().enumerate().map(|(k, line)| {
+                    let at = (text_at.0, text_at.1 + k as i32 * LINE);
+                    EmptyElement::at((mark.0, mark.1)) + Text::new(line.clone(), at, style.clone())
+                }))?;
+            }
             draw_legend(&side, &legend)
         },
     )
@@ -140,12 +370,13 @@ pub fn svg(result: &SurvivalResult) -> Result<String, String> {
 
 #[cfg(test)]
 mod tests {
+    use super::{Box4, LABEL, age_label, overlap, place_labels};
     use crate::jobs::JobResult;
     use crate::jobs::survival::{
         AgeDistributionResult, AgeResult, FragilityNorm, JointResult, RockResult, SurvivalResult,
     };
-    use crate::plot::style::fmt_num;
-    use crate::plot::tests::typed;
+    use crate::plot::style::{MUTED, fmt_num, text_width};
+    use crate::plot::tests::{hex, shapes, typed};
 
     /// The computed survival of the power-law hazard (one rock, three ages).
     fn computed() -> SurvivalResult {
@@ -237,6 +468,221 @@ mod tests {
             .count();
         assert_eq!(dots, doc.rocks[0].ages.len() + 1, "{fill}");
         assert!(!words(&svg).contains("colour of its rock"));
+    }
+
+    /// The hazard of specs/survival_power_law.json.
+    fn hazard() -> String {
+        let spec: serde_json::Value =
+            serde_json::from_str(include_str!("../../specs/survival_power_law.json"))
+                .expect("json");
+        spec["hazard"].to_string()
+    }
+
+    /// Six rocks of close fragilities and ages (900 to 1200 years, one
+    /// uncertain), their marks crowded on close curves.
+    fn crowded_rocks() -> SurvivalResult {
+        let rocks = [
+            ("Grass Valley", 0.38, "1000"),
+            ("Lovejoy", 0.40, "1000"),
+            (
+                "Echo Cliffs",
+                0.42,
+                r#"{"dist": "lognormal", "median": 1100, "beta": 0.3}"#,
+            ),
+            ("Pacifico", 0.36, "1100"),
+            ("Mojave", 0.39, "1200"),
+            ("Silverwood", 0.41, "900"),
+        ]
+        .map(|(name, median, age)| {
+            format!(
+                r#"{{"name": "{name}", "fragility": {{"median_g": {median}, "beta": 0.38}},
+                    "age_years": {age}}}"#
+            )
+        });
+        let spec = format!(
+            r#"{{"kind": "survival", "hazard": {}, "rocks": [{}]}}"#,
+            hazard(),
+            rocks.join(", ")
+        );
+        match typed(&spec) {
+            JobResult::Survival(r) => *r,
+            other => panic!("not a survival result: {:?}", other.job_kind()),
+        }
+    }
+
+    /// One rock and eight ages from 800 to 2000 years.
+    fn close_ages() -> SurvivalResult {
+        let spec = format!(
+            r#"{{"kind": "survival", "hazard": {}, "fragility": {{"median_g": 0.38, "beta": 0.38}},
+                "age_years": [800, 900, 1000, 1100, 1200, 1300, 1500, 2000]}}"#,
+            hazard()
+        );
+        match typed(&spec) {
+            JobResult::Survival(r) => *r,
+            other => panic!("not a survival result: {:?}", other.job_kind()),
+        }
+    }
+
+    /// The texts drawn in the chart of `svg` (left of the legend): each
+    /// with its box as drawn (from its anchor, the width the figures
+    /// estimate for it, and its size).
+    fn chart_texts(svg: &str) -> Vec<(String, Box4)> {
+        let chart_right = (super::WIDTH - super::LEGEND_WIDTH) as i32;
+        svg.split("<text")
+            .skip(1)
+            .filter_map(|t| {
+                let (tag, rest) = t.split_once('>')?;
+                let text = rest.split("</text>").next()?.trim().to_string();
+                let attr = |name: &str| -> Option<&str> {
+                    tag.split(&format!(" {name}=\"")).nth(1)?.split('"').next()
+                };
+                let (x, y): (i32, i32) = (attr("x")?.parse().ok()?, attr("y")?.parse().ok()?);
+                let w = text_width(&text, LABEL).ceil() as i32;
+                let left = if attr("text-anchor") == Some("end") {
+                    x - w
+                } else {
+                    x
+                };
+                (x < chart_right).then(|| (text, (left, y, left + w, y + LABEL as i32)))
+            })
+            .collect()
+    }
+
+    /// Every mark of `doc` labelled in `svg` (each line of its label drawn
+    /// once), no two lines of labels overlapping; the number of leader
+    /// lines drawn.
+    fn assert_labels_apart(doc: &SurvivalResult, svg: &str) -> usize {
+        let several = doc.rocks.len() > 1;
+        let lines: Vec<String> = doc
+            .rocks
+            .iter()
+            .flat_map(|r| {
+                let name = several.then_some(r.name.as_str());
+                let asked = r
+                    .ages
+                    .iter()
+                    .map(move |a| age_label(name, a.age_years, a.survival_probability, false));
+                let uncertain = r.age_distribution.iter().map(move |d| {
+                    age_label(name, d.median_age_years, d.survival_probability, true)
+                });
+                asked.chain(uncertain).flatten()
+            })
+            .collect();
+        let drawn = chart_texts(svg);
+        let boxes: Vec<&(String, Box4)> = drawn.iter().filter(|(t, _)| lines.contains(t)).collect();
+        assert_eq!(boxes.len(), lines.len(), "{lines:?} {boxes:?}");
+        for (i, (a, ba)) in boxes.iter().enumerate() {
+            for (b, bb) in &boxes[i + 1..] {
+                assert!(!overlap(*ba, *bb), "{a:?} {ba:?} overlaps {b:?} {bb:?}");
+            }
+        }
+        assert!(!svg.contains("left out for room"));
+        // Leader lines are in the chart (the legend's rule is of their
+        // colour too).
+        let chart_right = f64::from(super::WIDTH - super::LEGEND_WIDTH);
+        let muted = format!("stroke=\"{}\"", hex(MUTED));
+        let leaders: Vec<Vec<(f64, f64)>> = shapes(svg, "polyline", &muted)
+            .into_iter()
+            .filter(|l| l.len() == 2 && l.iter().all(|p| p.0 < chart_right))
+            .collect();
+        // No leader crosses a label.
+        for l in &leaders {
+            let (a, b) = (l[0], l[1]);
+            for k in 0..=100 {
+                let s = f64::from(k) / 100.0;
+                let p = (a.0 + s * (b.0 - a.0), a.1 + s * (b.1 - a.1));
+                for (t, bx) in &boxes {
+                    let inside = p.0 > f64::from(bx.0)
+                        && p.0 < f64::from(bx.2)
+                        && p.1 > f64::from(bx.1)
+                        && p.1 < f64::from(bx.3);
+                    assert!(!inside, "the leader {l:?} crosses {t:?} {bx:?}");
+                }
+            }
+        }
+        leaders.len()
+    }
+
+    #[test]
+    fn labels_of_crowded_rocks_never_overlap() {
+        let doc = crowded_rocks();
+        assert_eq!(doc.rocks.len(), 6);
+        let svg = super::svg(&doc).expect("svg");
+        let leaders = assert_labels_apart(&doc, &svg);
+        // The marks are that close: some labels stand away, led by a line.
+        assert!(leaders > 0, "no leader line");
+        // Each label names its rock, the probability computed under it.
+        let lovejoy = &doc.rocks[1];
+        let label = age_label(
+            Some("Lovejoy"),
+            1000.0,
+            lovejoy.ages[0].survival_probability,
+            false,
+        );
+        let drawn = chart_texts(&svg);
+        let at = |line: &str| {
+            drawn
+                .iter()
+                .find(|(t, _)| t == line)
+                .map(|(_, b)| b)
+                .expect("drawn")
+        };
+        let (name, value) = (at(&label[0]), at(&label[1]));
+        assert_eq!(name.1 + super::LINE, value.1, "{name:?} {value:?}");
+        assert!(name.0 == value.0 || name.2 == value.2, "aligned");
+        let echo = doc.rocks[2]
+            .age_distribution
+            .as_ref()
+            .expect("uncertain age");
+        let label = age_label(Some("Echo Cliffs"), 1100.0, echo.survival_probability, true);
+        assert!(label[1].starts_with("median 1100 yr: E[P_s] = "));
+        assert!(at(&label[1]).1 > at(&label[0]).1);
+    }
+
+    #[test]
+    fn labels_of_close_ages_never_overlap() {
+        let doc = close_ages();
+        let svg = super::svg(&doc).expect("svg");
+        assert_labels_apart(&doc, &svg);
+        let age = &doc.rocks[0].ages[3];
+        let label = age_label(None, 1100.0, age.survival_probability, false);
+        assert_eq!(label.len(), 1, "one rock: no name");
+        assert!(svg.contains(&label[0]), "no {label:?}");
+    }
+
+    #[test]
+    fn labels_on_one_spot_are_stacked_and_led() {
+        let sizes = [(80, 21); 4];
+        let places = place_labels(&[(200, 200); 4], &sizes, (0, 0, 600, 400), &[]);
+        let boxes: Vec<Box4> = places.iter().flatten().map(|p| p.area).collect();
+        assert_eq!(boxes.len(), 4);
+        for (i, a) in boxes.iter().enumerate() {
+            for b in &boxes[i + 1..] {
+                assert!(!overlap(*a, *b), "{a:?} {b:?}");
+            }
+        }
+        // The four places beside the mark first, then stacked.
+        let led: Vec<bool> = places.iter().flatten().map(|p| p.led).collect();
+        assert_eq!(led, [false, false, false, false]);
+        let more = place_labels(&[(200, 200); 6], &[(80, 21); 6], (0, 0, 600, 400), &[]);
+        assert!(more[4].as_ref().is_some_and(|p| p.led), "{more:?}");
+        // No room at all: left out.
+        let none = place_labels(&[(5, 5)], &[(80, 21)], (0, 0, 40, 40), &[]);
+        assert_eq!(none, vec![None]);
+        // A point to keep clear of above right of the mark: the label goes
+        // below left, where it is clear; with no clear place, the first.
+        let clear = [(230, 185)];
+        let off = place_labels(&[(200, 200)], &[(80, 21)], (0, 0, 600, 400), &clear);
+        assert_eq!(off[0].as_ref().map(|p| p.area), Some((114, 206, 194, 227)));
+        let crowded: Vec<(i32, i32)> = (0..600)
+            .step_by(5)
+            .flat_map(|x| (0..400).step_by(5).map(move |y| (x, y)))
+            .collect();
+        let first = place_labels(&[(200, 200)], &[(80, 21)], (0, 0, 600, 400), &crowded);
+        assert_eq!(
+            first[0].as_ref().map(|p| p.area),
+            Some((206, 173, 286, 194))
+        );
     }
 
     /// The text of `svg`, its pieces joined by single spaces.

@@ -5,7 +5,11 @@
 //!
 //! A short pulse followed by a long history (the pulse under a quarter of
 //! it) gets two columns: at left the pulse and the first impacts, at right
-//! the whole history. A window draws the span asked for instead.
+//! the whole history. Under a record the time axis runs to the record's end
+//! whenever the block stopped: a block at rest for good stays drawn at rest
+//! (θ = 0, its friction demand ü_g/g) to the end, and when it stopped early
+//! a column at left shows its response larger. A window draws the span asked
+//! for instead.
 
 use plotters::prelude::*;
 
@@ -42,9 +46,16 @@ const FIRST_IMPACTS: usize = 3;
 const IMPACT_REACH: f64 = 4.0;
 /// A zoom reaching past this fraction of the history is no zoom.
 const ZOOM_AT_MOST: f64 = 0.6;
+/// Under a record, the block's response gets a column of its own when it
+/// ends (with a margin) before this fraction of the record.
+const RESPONSE_AT_MOST: f64 = 0.35;
 
 /// Colour of the friction demand.
 const RATIO: RGBColor = RGBColor(150, 80, 20);
+/// Colour of the ground acceleration.
+const GROUND: RGBColor = RGBColor(90, 90, 90);
+/// Colour of the rotation.
+const THETA: RGBColor = RGBColor(31, 78, 160);
 
 /// What the figure asks of a result without a series.
 pub const NO_SERIES: &str = "no series in this result: add \"outputs\": {\"series\": 500} to the spec for θ(t), θ̇(t) and f_x/f_z(t)";
@@ -64,6 +75,23 @@ pub fn zoom_end(duration: f64, impacts: &[f64], t_end: f64) -> Option<f64> {
         .fold(1.5 * duration, f64::max);
     let end = (1.1 * end).min(t_end);
     (end < ZOOM_AT_MOST * t_end).then_some(end)
+}
+
+/// The end of a span showing the block's response under a record lasting
+/// `record_end`, when the block stopped (came to rest for good or
+/// overturned) at `stopped`, early enough that the whole record would
+/// squeeze it; `None` when the whole record reads well enough.
+pub fn response_end(stopped: f64, record_end: f64) -> Option<f64> {
+    let end = 1.1 * stopped;
+    (stopped > 0.0 && record_end.is_finite() && end < RESPONSE_AT_MOST * record_end).then_some(end)
+}
+
+/// `line` continued from its last point to `to` by `after` (points later
+/// than the last; ordered in time).
+fn continued(mut line: Vec<(f64, f64)>, after: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let last = line.last().map_or(f64::NEG_INFINITY, |p| p.0);
+    line.extend(after.iter().copied().filter(|p| p.0 > last));
+    line
 }
 
 /// The f_x/f_z series cut where it stops meaning anything, with that end:
@@ -135,9 +163,18 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
     let motion = Motion::of(spec);
     let series = result.series.as_ref();
     let t: &[f64] = series.map_or(&[], |s| &s.t);
-    let t_end = Some(result.end_time)
+    let simulated = Some(result.end_time)
         .filter(|t| *t > 0.0 && t.is_finite())
         .unwrap_or(1.0);
+    // Under a record the axis runs to its end, however early the block
+    // stopped: the record did not end there.
+    let record_end = match &motion {
+        Some(m @ Motion::Record { .. }) => Some(m.duration()),
+        _ => None,
+    };
+    let t_end = record_end.map_or(simulated, |r| r.max(simulated));
+    // The block at rest for good from then on (not after overturning).
+    let at_rest_from = result.rest_time.filter(|_| !result.overturned);
     let impacts: Vec<(f64, f64, f64)> = result
         .impacts
         .iter()
@@ -147,11 +184,15 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
     let impact_times: Vec<f64> = impacts.iter().map(|i| i.0).collect();
 
     // The spans drawn, one column each.
-    let zoom = match window {
-        Some(_) => None,
-        None => motion
-            .as_ref()
-            .and_then(|m| zoom_end(m.duration(), &impact_times, t_end)),
+    let zoom = match (window, &motion) {
+        (Some(_), _) | (None, None) => None,
+        (None, Some(Motion::Record { .. })) => response_end(simulated, t_end),
+        (None, Some(m)) => zoom_end(m.duration(), &impact_times, t_end),
+    };
+    let (zoom_heading, whole_heading) = if record_end.is_some() {
+        ("the block's response", "the whole record")
+    } else {
+        ("the pulse and first impacts", "the whole history")
     };
     let spans: Vec<(Span, String)> = match (window, zoom) {
         (Some(w), _) => vec![(
@@ -174,7 +215,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                     t1: z,
                     zoomed: None,
                 },
-                format!("the pulse and first impacts, t = 0–{} s", fmt_num(z, 3)),
+                format!("{zoom_heading}, t = 0–{} s", fmt_num(z, 3)),
             ),
             (
                 Span {
@@ -182,7 +223,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                     t1: t_end,
                     zoomed: Some((0.0, z)),
                 },
-                format!("the whole history, t = 0–{} s", fmt_num(t_end, 4)),
+                format!("{whole_heading}, t = 0–{} s", fmt_num(t_end, 4)),
             ),
         ],
         (None, None) => vec![(
@@ -211,8 +252,8 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         let ground = ground_from_motion
             .clone()
             .unwrap_or_else(|| zip(&s.ground_acceleration, g));
-        let theta = zip(&s.theta, alpha);
-        let theta_dot = zip(&s.theta_dot, p);
+        let mut theta = zip(&s.theta, alpha);
+        let mut theta_dot = zip(&s.theta_dot, p);
         // Null where f_z ≤ 0: NaN, so that the line stops there.
         let fx_over_fz: Vec<f64> = s
             .fx_over_fz
@@ -220,12 +261,25 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             .flatten()
             .map(|v| v.unwrap_or(f64::NAN))
             .collect();
-        let ratio = zip(&fx_over_fz, 1.0);
+        let mut ratio = zip(&fx_over_fz, 1.0);
+        // At rest for good the block stays still to the end of what is
+        // drawn, its friction demand f_x/f_z = ü_g/g (the series' own at rest).
+        if let Some(tr) = at_rest_from {
+            let still = [(tr, 0.0), (to, 0.0)];
+            theta = continued(theta, &still);
+            theta_dot = continued(theta_dot, &still);
+            if !ratio.is_empty() {
+                let demand = ground_from_motion
+                    .as_ref()
+                    .map_or(still.to_vec(), |g| crop(g, tr, to));
+                ratio = continued(ratio, &demand);
+            }
+        }
         if !ground.is_empty() {
             panels.push(Panel {
                 desc: "ü_g / g".into(),
                 label: "ground acceleration ü_g/g".into(),
-                colour: RGBColor(90, 90, 90),
+                colour: GROUND,
                 line: ground,
                 points: Vec::new(),
                 scale: Scale::Symmetric {
@@ -239,7 +293,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         panels.push(Panel {
             desc: "θ / α".into(),
             label: format!("rotation θ/α (α = {} rad)", fmt_num(alpha, 3)),
-            colour: RGBColor(31, 78, 160),
+            colour: THETA,
             line: theta,
             points: Vec::new(),
             scale: Scale::Symmetric { floor: 1.25 },
@@ -308,7 +362,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                     Motion::Pulse(_) => "ground acceleration ü_g/g (from the pulse)".into(),
                     Motion::Record { .. } => "ground acceleration ü_g/g (the record)".into(),
                 },
-                colour: RGBColor(90, 90, 90),
+                colour: GROUND,
                 line: ground,
                 points: Vec::new(),
                 scale: Scale::Symmetric {
@@ -426,15 +480,23 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             colour: mode_colour(mode),
             label: format!("overturns (mode {mode})"),
         });
-    } else if let Some(tr) = result.rest_time {
+    } else if let Some(tr) = at_rest_from {
+        let until = if record_end.is_some_and(|r| r > tr) {
+            format!(
+                ", to the record's end at {} s (the ground stays below the rocking threshold)",
+                fmt_num(t_end, 4)
+            )
+        } else {
+            String::new()
+        };
         legend.entry(
             Swatch::Dashed(REST, 2),
-            format!("at rest, t = {} s", fmt_num(tr, 4)),
+            format!("at rest for good from t = {} s{until}", fmt_num(tr, 4)),
         );
         marks.push(Mark {
             t: tr,
             colour: REST,
-            label: "at rest".into(),
+            label: format!("at rest from t = {} s", fmt_num(tr, 4)),
         });
     }
     if let Some(tl) = result.lift_off_time {
@@ -619,9 +681,12 @@ fn draw(
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use super::{RATIO, TimeHistoryResult, zoom_end};
+    use super::{GROUND, RATIO, THETA, TimeHistoryResult, response_end, zoom_end};
     use crate::jobs::JobResult;
+    use crate::plot::style::{REST, fmt_num};
+    use crate::plot::tests::{hex, shapes, x_extent};
     use crate::plot::window::Window;
+    use plotters::style::RGBColor;
 
     /// The time history of the spec `text`.
     pub(crate) fn computed(text: &str) -> TimeHistoryResult {
@@ -640,6 +705,7 @@ pub(crate) mod tests {
             .map(str::trim)
             .collect::<Vec<_>>()
             .join(" ")
+            .replace("&apos;", "'")
     }
 
     /// Fig. 7: a one-sine pulse of 3.02 αg at ω_p/p = 5, linear, exact;
@@ -784,6 +850,119 @@ pub(crate) mod tests {
         assert!(svg.contains("the pulse and first impacts, t = 0–0.932 s"));
         assert!(svg.contains("the whole history, t = 0–5.237 s"));
         assert_no_vertical_bar(&svg);
+    }
+
+    /// A 40 s record (every 0.01 s): 3 s of shaking at 0.5 g, 2 Hz, then
+    /// 0.05 g, below the rocking threshold of α = 0.25 (0.255 g), to the end.
+    fn quiet_tail() -> TimeHistoryResult {
+        let acc: Vec<String> = (0..4000)
+            .map(|k| {
+                let t = f64::from(k) * 0.01;
+                let a = if t < 3.0 { 0.5 } else { 0.05 };
+                (a * (std::f64::consts::TAU * 2.0 * t).sin()).to_string()
+            })
+            .collect();
+        computed(&format!(
+            r#"{{"kind": "time_history", "block": {{"alpha": 0.25, "p": 2.14, "eta": 0.9}},
+                "ground_motion": {{"dt": 0.01, "acc": [{}], "unit": "g"}},
+                "formulation": "nonlinear", "solver": {{"method": "dopri5"}},
+                "outputs": {{"series": 600, "reactions": true}}}}"#,
+            acc.join(", ")
+        ))
+    }
+
+    /// The polylines of `svg` in `colour` whose every point lies right of
+    /// `left` px and above the time axis' description (the legend is
+    /// below it).
+    fn lines_right_of(svg: &str, colour: RGBColor, left: f64) -> Vec<Vec<(f64, f64)>> {
+        let axis = svg
+            .split("<text")
+            .find(|t| t.contains(">\nt (s)\n<"))
+            .and_then(|t| {
+                t.split(" y=\"")
+                    .nth(1)?
+                    .split('"')
+                    .next()?
+                    .parse::<f64>()
+                    .ok()
+            })
+            .expect("a time axis");
+        let stroke = format!("stroke=\"{}\"", hex(colour));
+        shapes(svg, "polyline", &stroke)
+            .into_iter()
+            .filter(|l| l.iter().all(|p| p.0 > left && p.1 < axis))
+            .collect()
+    }
+
+    #[test]
+    fn under_a_record_the_axis_runs_to_its_end_and_says_when_the_block_came_to_rest() {
+        let result = quiet_tail();
+        let record_end = 3999.0 * 0.01;
+        let rest = result.rest_time.expect("comes to rest");
+        assert!(
+            !result.overturned && rest > 3.0 && rest < 0.3 * record_end,
+            "{rest}"
+        );
+        // The simulation stops at rest: the series ends there.
+        assert_eq!(result.end_time, rest);
+        let svg = super::svg(&result, None).expect("svg");
+        let text = text_of(&svg).replace('\u{a0}', " ");
+        let at_rest = format!("at rest from t = {} s", fmt_num(rest, 4));
+        for needle in [
+            at_rest.as_str(),
+            "the whole record, t = 0–39.99 s",
+            "the block's response, t = 0–",
+            "to the record's end at 39.99 s",
+        ] {
+            assert!(text.contains(needle), "missing {needle:?} in {text}");
+        }
+        // In the whole record's column (at right): the ground motion and
+        // the rotation (at rest, θ = 0) reach the same right end, and the
+        // rest mark stands where rest / record_end puts it between t = 0
+        // (where both start) and that end.
+        let left = f64::from(super::WIDTH) * super::ZOOM_SHARE;
+        let ground = x_extent(&lines_right_of(&svg, GROUND, left));
+        let theta = x_extent(&lines_right_of(&svg, THETA, left));
+        assert!((ground.1 - theta.1).abs() < 1.0, "{ground:?} {theta:?}");
+        assert!((ground.0 - theta.0).abs() < 1.0, "{ground:?} {theta:?}");
+        let mark: Vec<f64> = lines_right_of(&svg, REST, left)
+            .into_iter()
+            .filter(|l| l.len() == 2 && l[0].0 == l[1].0)
+            .map(|l| l[0].0)
+            .collect();
+        let x = mark.first().copied().expect("the rest mark");
+        let share = (x - ground.0) / (ground.1 - ground.0);
+        assert!(
+            (share - rest / record_end).abs() < 0.01,
+            "{share} vs {}",
+            rest / record_end
+        );
+    }
+
+    #[test]
+    fn a_window_on_a_record_keeps_the_block_at_rest() {
+        let result = quiet_tail();
+        let rest = result.rest_time.expect("comes to rest");
+        // A window past the rest time: the block drawn still, the ground moving.
+        let w = Window::new(rest + 1.0, 35.0).expect("window");
+        let svg = super::svg(&result, Some(w)).expect("svg");
+        let text = text_of(&svg);
+        assert!(text.contains("(the history runs 0–39.99 s)"), "{text}");
+        // Right of the y labels: the chart, not the legend's swatch.
+        let left = f64::from(super::Y_LABELS.0);
+        let theta = lines_right_of(&svg, THETA, left);
+        assert_eq!(theta.len(), 1, "{theta:?}");
+        let ys: Vec<f64> = theta[0].iter().map(|p| p.1).collect();
+        assert!(ys.windows(2).all(|w| w[0] == w[1]), "θ flat at rest");
+        let ground = x_extent(&lines_right_of(&svg, GROUND, left));
+        assert!((x_extent(&theta).1 - ground.1).abs() < 1.0);
+    }
+
+    #[test]
+    fn the_response_column_only_when_the_block_stops_early() {
+        assert_eq!(response_end(8.0, 40.0), Some(8.8));
+        assert_eq!(response_end(15.0, 30.0), None);
+        assert_eq!(response_end(0.0, 40.0), None);
     }
 
     #[test]
