@@ -308,7 +308,9 @@ pub fn svg(result: &FragilityResult) -> Result<String, String> {
             "falls below the stripe before (safe regions)",
         );
     }
-    legend.note("the empirical points are the answer, the fit a summary");
+    if fit.is_some() {
+        legend.note("the empirical points are the answer, the fit a summary");
+    }
     let listed = box_lines(&inputs(result), LEGEND_WIDTH - 16);
     let legend_h = legend_height(&legend, LEGEND_WIDTH, 1);
     let height = HEIGHT.max(TITLE_AREA + legend_h + box_height(&listed) + 24);
