@@ -215,6 +215,11 @@ impl WarningDoc {
                 Some(t),
                 format!("f_z <= 0 at t = {t:.6} s: the block would lift off the base; no friction coefficient sustains pure rocking (peak_friction_demand is null: unbounded)"),
             ),
+            Warning::GroundFallsAway(t) => (
+                "lift_off",
+                Some(t),
+                format!("g + vertical ground acceleration <= 0 at t = {t:.6} s: the ground falls away faster than gravity pulls the block, which leaves the base; the simulation ends there, without a verdict on overturning (overturned is false, mode null)"),
+            ),
             Warning::DemandExcludesFall(t) => (
                 "demand_excludes_fall",
                 Some(t),
