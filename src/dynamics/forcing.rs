@@ -315,7 +315,7 @@ impl Record {
 
 /// Linear interpolation of `samples` taken every `dt`, on `[0, end]`.
 #[inline]
-fn interpolate(samples: &[f64], dt: f64, end: f64, t: f64) -> f64 {
+pub(super) fn interpolate(samples: &[f64], dt: f64, end: f64, t: f64) -> f64 {
     let t = t.clamp(0.0, end);
     let x = t / dt;
     let k = (x.floor() as usize).min(samples.len() - 2);
