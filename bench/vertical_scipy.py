@@ -13,7 +13,9 @@ The model, written from the rocking equation with vertical acceleration
   waits for the next exceedance;
 * overturning when |theta| reaches pi/2 while the ground moves; after the
   ground motion (the later of both components) it is decided from the energy
-  E = theta'^2/(2p^2) + cos(alpha - |theta|), as in bench/rocking_scipy.py;
+  E = theta'^2/(2p^2) + cos(alpha - |theta|) against the barrier's top (1, at
+  |theta| = alpha): past it the block falls unless it moves inward with E > 1;
+  inside it, it falls if it moves outward with E > 1;
 * every leg is integrated piece by piece between the kinks of the ground
   motion (pulse ends, record samples), DOP853 at rtol 1e-11, atol 1e-13.
 
@@ -94,7 +96,7 @@ def first_start(ug, uv, t_from, end, n):
             t = None
             for j in range(n):
                 if vals[j + 1] > 0:
-                    t = brentq(f, ts[j], ts[j + 1], xtol=1e-15, rtol=4.5e-16)
+                    t = brentq(f, ts[j], ts[j + 1], xtol=1e-15, rtol=8.9e-16)
                     break
         if t is not None and (best is None or t < best[0]):
             best = (t, s)
@@ -109,7 +111,7 @@ def first_weightless(uv, t_from, end, n):
         return t_from
     for j in range(n):
         if vals[j + 1] >= 0:
-            return brentq(f, ts[j], ts[j + 1], xtol=1e-15, rtol=4.5e-16)
+            return brentq(f, ts[j], ts[j + 1], xtol=1e-15, rtol=8.9e-16)
     return None
 
 
@@ -205,7 +207,13 @@ def simulate(motion, scan):
     theta, theta_dot = y
     while True:
         outward = theta * theta_dot > 0 or (theta == 0 and theta_dot != 0)
-        if outward and energy(theta, theta_dot) > 1:
+        e = energy(theta, theta_dot)
+        if abs(theta) > ALPHA:
+            # Past the barrier's top (|theta| = alpha, where the potential
+            # is 1): outward it falls; inward it comes back only over the top.
+            if outward or e <= 1:
+                return result(overturned=True)
+        elif outward and e > 1:
             return result(overturned=True)
         e = energy(theta, theta_dot)
         v0 = math.sqrt(max(0.0, 2 * P**2 * (e - math.cos(ALPHA))))
@@ -226,7 +234,8 @@ def cases():
     """(name, spec fields, scipy motion)."""
     block_g = ALPHA * G
     out = []
-    for level, ratio_w in [(3.0, 2.0), (5.0, 4.0), (8.0, 6.0), (2.0, 1.0)]:
+    # (Not 8 αg: with a ratio of 0.5 its vertical would touch −g exactly.)
+    for level, ratio_w in [(3.0, 2.0), (5.0, 4.0), (7.5, 6.0), (2.0, 1.0)]:
         for kind in ("one_sine", "one_cosine"):
             for r in (0.5, -0.5, 1.0, -1.0):
                 a, w = level * block_g, ratio_w * P
