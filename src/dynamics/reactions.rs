@@ -272,8 +272,7 @@ mod tests {
         .expect("valid");
         for formulation in [Formulation::Linear, Formulation::Nonlinear] {
             for &(side, th, w, ug) in &[(-1.0, -0.1, -0.3, 5.0), (1.0, 0.2, 0.4, -3.0)] {
-                let (fx, fz) =
-                    reactions_per_mass_vertical(formulation, &b, side, th, w, ug, av);
+                let (fx, fz) = reactions_per_mass_vertical(formulation, &b, side, th, w, ug, av);
                 let (hx, hz) = reactions_per_mass(formulation, &heavier, side, th, w, ug);
                 assert!((fx - hx).abs() < 1e-12 && (fz - hz).abs() < 1e-12);
                 let plain = reactions_per_mass(formulation, &b, side, th, w, ug);

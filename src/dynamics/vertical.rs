@@ -92,14 +92,8 @@ impl<R: GroundTerm> Rhs for VerticalRhs<R> {
         let (u, weight) = self.ground(t);
         [
             y[1],
-            self.formulation.angular_acceleration_weighted(
-                self.p2,
-                self.alpha,
-                self.side,
-                y[0],
-                u,
-                weight,
-            ),
+            self.formulation
+                .angular_acceleration_weighted(self.p2, self.alpha, self.side, y[0], u, weight),
         ]
     }
 }
@@ -185,8 +179,13 @@ impl PulsePair {
     /// ü_v = `ratio`·ü_g, in phase; `None` for a ratio of 0 (no vertical
     /// motion) or one that is not finite.
     pub fn proportional(horizontal: Pulse, ratio: f64) -> Option<Self> {
-        (ratio != 0.0 && ratio.is_finite())
-            .then(|| PulsePair::new(horizontal, horizontal.with_amplitude(ratio * horizontal.amplitude), 0.0))
+        (ratio != 0.0 && ratio.is_finite()).then(|| {
+            PulsePair::new(
+                horizontal,
+                horizontal.with_amplitude(ratio * horizontal.amplitude),
+                0.0,
+            )
+        })
     }
 
     /// ü_g on a piece whose inside holds `mid` (continued to the piece's ends).
@@ -395,7 +394,11 @@ impl Forcing for PulsePair {
         };
         let mut best = (f64::NEG_INFINITY, ta);
         let mut a = ta;
-        let mut cuts: Vec<f64> = self.cuts_after(ta).into_iter().filter(|&c| c < tb).collect();
+        let mut cuts: Vec<f64> = self
+            .cuts_after(ta)
+            .into_iter()
+            .filter(|&c| c < tb)
+            .collect();
         cuts.push(tb);
         for &b in &cuts {
             if b < a {
@@ -414,7 +417,11 @@ impl Forcing for PulsePair {
             }
             let (lo, hi) = (at(k_best.saturating_sub(1)), at((k_best + 1).min(n)));
             let (t, v) = golden_max(lo, hi, |t| demand(t, mid));
-            let cand = if v > v_best { (v, t) } else { (v_best, at(k_best)) };
+            let cand = if v > v_best {
+                (v, t)
+            } else {
+                (v_best, at(k_best))
+            };
             if cand.0 > best.0 {
                 best = cand;
             }
@@ -469,7 +476,9 @@ pub struct RecordPair {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum PairError {
     /// Both records must share the sampling interval.
-    #[error("the vertical record's dt ({vertical} s) differs from the horizontal one's ({horizontal} s)")]
+    #[error(
+        "the vertical record's dt ({vertical} s) differs from the horizontal one's ({horizontal} s)"
+    )]
     Interval {
         /// The horizontal dt, s.
         horizontal: f64,
@@ -635,8 +644,8 @@ impl Forcing for RecordPair {
             }
             // The window closes where s ü_g − k ü_v falls back to k g.
             // At the start the line is at the level (or above, at `from`).
-            let at_start = (k * self.vertical_acceleration(start) - s * self.acceleration(start))
-                .min(-level);
+            let at_start =
+                (k * self.vertical_acceleration(start) - s * self.acceleration(start)).min(-level);
             let end = self
                 .first_over(start, at_start, |j| -(s * a[j] - k * b[j]), -level)
                 .map_or(self.end(), |(t, _)| t);
@@ -745,7 +754,10 @@ mod tests {
                 let pair = PulsePair::proportional(h, r).expect("non-zero");
                 let e = pair.next_rocking(0.0, &th).expect("rocks");
                 let expect = (k * b.gravity() / (1.0 - k * r) / a).asin() / 5.0;
-                assert!((e.start - expect).abs() < 1e-13, "{f:?} r={r}: {e:?} vs {expect}");
+                assert!(
+                    (e.start - expect).abs() < 1e-13,
+                    "{f:?} r={r}: {e:?} vs {expect}"
+                );
                 assert_eq!(e.side, -1.0);
                 // It closes symmetrically about the crest at π/(2ω).
                 let crest = std::f64::consts::FRAC_PI_2 / 5.0;
@@ -793,7 +805,9 @@ mod tests {
         assert_eq!(pair.next_weightless(0.0, g), Some(0.4));
         let later = pair.next_weightless(0.5, g).expect("again");
         assert_eq!(later, 0.5);
-        let second = pair.next_weightless(0.4 + PI / 9.0 + 1e-9, g).expect("the last crest");
+        let second = pair
+            .next_weightless(0.4 + PI / 9.0 + 1e-9, g)
+            .expect("the last crest");
         assert!((second - (0.4 + (2.0 * PI - PI / 3.0) / 3.0)).abs() < 1e-12);
         assert_eq!(pair.duration(), PI);
         assert_eq!(pair.vertical_acceleration(0.3), 0.0);

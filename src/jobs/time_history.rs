@@ -12,8 +12,8 @@ use super::spec::{
 use super::vertical::{
     VerticalPulseNorm, VerticalPulseSpec, validate_record_with_vertical, validate_vertical_pulse,
 };
-use crate::dynamics::PulsePair;
 pub use super::warning::WarningDoc;
+use crate::dynamics::PulsePair;
 use crate::dynamics::response::{Response, Warning};
 use crate::dynamics::{Formulation, Options, Problem, SimError, simulate};
 
@@ -143,10 +143,8 @@ impl TimeHistorySpec {
             }
             (None, _) => None,
         };
-        let with_vertical = vertical.is_some()
-            || ground_motion
-                .as_ref()
-                .is_some_and(|g| g.vertical.is_some());
+        let with_vertical =
+            vertical.is_some() || ground_motion.as_ref().is_some_and(|g| g.vertical.is_some());
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         if with_vertical
             && self
@@ -163,8 +161,7 @@ impl TimeHistorySpec {
         // The closed form covers the sinusoidal pulses and every record
         // (linear between samples); a wavelet has none, nor any motion with
         // a vertical component.
-        let closed_form =
-            !with_vertical && pulse.as_ref().is_none_or(|p| p.shape.is_sinusoidal());
+        let closed_form = !with_vertical && pulse.as_ref().is_none_or(|p| p.shape.is_sinusoidal());
         let solver =
             validate_solver_for(self.solver.as_ref(), formulation, closed_form, "/solver")?;
         let out = self.outputs.clone().unwrap_or_default();
@@ -453,10 +450,7 @@ impl TimeHistoryJob {
                 }
             }
             (None, Some(g)) if g.vertical.is_some() => {
-                let pair = g
-                    .pair()
-                    .and_then(Result::ok)
-                    .ok_or(SimError::Tolerance)?;
+                let pair = g.pair().and_then(Result::ok).ok_or(SimError::Tolerance)?;
                 let peaks = crate::dynamics::peaks::of_record(&pair.horizontal);
                 pga_v = Some(
                     pair.vertical

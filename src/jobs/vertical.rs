@@ -296,7 +296,10 @@ pub struct VerticalRecordNorm {
     pub unit: Option<tag::MetresPerSecondSquared>,
 }
 
-fn serialize_samples<S: serde::Serializer>(v: &Option<Arc<[f64]>>, s: S) -> Result<S::Ok, S::Error> {
+fn serialize_samples<S: serde::Serializer>(
+    v: &Option<Arc<[f64]>>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
     match v {
         Some(v) => s.collect_seq(v.iter()),
         None => s.serialize_none(),

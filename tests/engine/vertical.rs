@@ -122,11 +122,12 @@ fn a_constant_vertical_acceleration_is_another_gravity() {
                     (s0.unwrap_or(0.0) - s1.unwrap_or(0.0)).abs() < 1e-9,
                     "{what}: {s0:?} {s1:?}"
                 );
-                let p_max = heavier
-                    .frequency_parameter()
-                    .max(b.frequency_parameter());
+                let p_max = heavier.frequency_parameter().max(b.frequency_parameter());
                 let v_min = 1e-3 * p_max * b.slenderness();
-                let (i0, i1) = (rocking_impacts(&with, v_min), rocking_impacts(&reference, v_min));
+                let (i0, i1) = (
+                    rocking_impacts(&with, v_min),
+                    rocking_impacts(&reference, v_min),
+                );
                 assert_eq!(i0.len(), i1.len(), "{what}: {i0:?} {i1:?}");
                 for (x, y) in i0.iter().zip(&i1) {
                     assert!((x - y).abs() < 1e-9, "{what}: impact at {x} vs {y}");
@@ -142,7 +143,10 @@ fn a_constant_vertical_acceleration_is_another_gravity() {
         }
     }
     assert!(compared > 20, "{compared} impacts compared");
-    assert!(overturned >= 2 && overturned < 16, "{overturned} overturned");
+    assert!(
+        (2..16).contains(&overturned),
+        "{overturned} overturned"
+    );
 }
 
 /// The result of a time-history spec.
@@ -192,7 +196,10 @@ fn rocking_starts_where_the_ground_beats_g_plus_the_vertical() {
                 (start - expect).abs() < 1e-13,
                 "{formulation} r = {r}: {start} vs {expect}"
             );
-            assert_eq!(doc["ground_peaks"]["pga_v_m_s2"].as_f64(), Some(a * r.abs()));
+            assert_eq!(
+                doc["ground_peaks"]["pga_v_m_s2"].as_f64(),
+                Some(a * r.abs())
+            );
         }
     }
 }
@@ -294,8 +301,10 @@ fn refused_at(spec: &Value) -> String {
 fn vertical_specs_are_checked_field_by_field() {
     let pulse = json!({"type": "one_sine", "omega_ratio": 3.0, "a_p_alpha_g": 4.0});
     let record = |vertical: Value| {
-        history(json!({"ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, 0.0],
-                                         "vertical": vertical}}))
+        history(
+            json!({"ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, 0.0],
+                                         "vertical": vertical}}),
+        )
     };
     let cases = [
         (
@@ -306,11 +315,19 @@ fn vertical_specs_are_checked_field_by_field() {
             record(json!({"ratio": 0.5, "acc": [0.0, 0.1]})),
             "/ground_motion/vertical/acc",
         ),
-        (record(json!({"acc": [0.0, 0.1]})), "/ground_motion/vertical/unit"),
-        (record(json!({"ratio": 1e9})), "/ground_motion/vertical/ratio"),
         (
-            history(json!({"pulse": pulse, "vertical": {"ratio": 0.5}, "formulation": "linear",
-                           "solver": {"method": "exact"}})),
+            record(json!({"acc": [0.0, 0.1]})),
+            "/ground_motion/vertical/unit",
+        ),
+        (
+            record(json!({"ratio": 1e9})),
+            "/ground_motion/vertical/ratio",
+        ),
+        (
+            history(
+                json!({"pulse": pulse, "vertical": {"ratio": 0.5}, "formulation": "linear",
+                           "solver": {"method": "exact"}}),
+            ),
             "/solver/method",
         ),
         (
@@ -322,13 +339,17 @@ fn vertical_specs_are_checked_field_by_field() {
             "/vertical",
         ),
         (
-            history(json!({"pulse": pulse, "vertical": {"type": "one_sine", "omega_p": 3.0,
-                                                        "a_p_g": 0.5, "delay_s": -1}})),
+            history(
+                json!({"pulse": pulse, "vertical": {"type": "one_sine", "omega_p": 3.0,
+                                                        "a_p_g": 0.5, "delay_s": -1}}),
+            ),
             "/vertical/delay_s",
         ),
         (
-            history(json!({"ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3]},
-                           "vertical": {"ratio": 0.5}})),
+            history(
+                json!({"ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3]},
+                           "vertical": {"ratio": 0.5}}),
+            ),
             "/vertical",
         ),
         (
