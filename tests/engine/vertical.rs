@@ -143,10 +143,7 @@ fn a_constant_vertical_acceleration_is_another_gravity() {
         }
     }
     assert!(compared > 20, "{compared} impacts compared");
-    assert!(
-        (2..16).contains(&overturned),
-        "{overturned} overturned"
-    );
+    assert!((2..16).contains(&overturned), "{overturned} overturned");
 }
 
 /// The result of a time-history spec.
