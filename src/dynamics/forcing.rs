@@ -12,6 +12,10 @@
 //! and the threshold crossings |ü_g| = g tan α (or g α) are solved on each
 //! linear piece in closed form. So is the linear equation of motion
 //! ([`Forcing::linear_segment`]): its exact solution runs piece by piece.
+//!
+//! A ground motion with a vertical component is a pair of these
+//! ([`super::vertical`]); without one, the trait's vertical methods are the
+//! horizontal ones and cost nothing.
 
 use std::sync::Arc;
 

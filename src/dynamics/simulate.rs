@@ -16,6 +16,10 @@
 //! interpolated acceleration) end Runge–Kutta steps without restarting the
 //! step-size control, and end the exact solver's closed-form segments (one
 //! per piece of the record, each re-anchored where the last one ended).
+//!
+//! With a vertical component ([`super::vertical`]) gravity is g + ü_v: the
+//! threshold and the equation carry it, and the history ends where
+//! g + ü_v ≤ 0 first (the ground falls away and the block leaves it).
 
 use std::time::Instant;
 

@@ -488,6 +488,9 @@ pub enum PairError {
     /// A record is not valid.
     #[error(transparent)]
     Record(#[from] RecordError),
+    /// Neither vertical samples nor a non-zero ratio.
+    #[error("a vertical record needs samples or a non-zero ratio")]
+    Empty,
 }
 
 /// `samples` followed by zeros up to `n`.

@@ -981,9 +981,9 @@ impl GroundMotionNorm {
             let horizontal = self.record()?;
             match (&v.acc, v.ratio) {
                 (Some(acc), _) => RecordPair::new(horizontal, Record::new(acc.clone(), self.dt)?),
-                (None, r) => RecordPair::proportional(horizontal, r.unwrap_or(0.0)).ok_or(
-                    PairError::Record(crate::dynamics::RecordError::Interval(0.0)),
-                ),
+                (None, r) => {
+                    RecordPair::proportional(horizontal, r.unwrap_or(0.0)).ok_or(PairError::Empty)
+                }
             }
         };
         Some(pair())
