@@ -16,6 +16,8 @@
 //! reaches. The sum is used only where it is accurate: both sides pull back
 //! (|ü_g| below the rocking threshold) until the block has settled, the
 //! excursions v²/(2A) are below 1e-6 α, and the velocity is below 1e-4 p α.
+//! Under a vertical ground acceleration the pulls are those of gravity
+//! g + ü_v, and the ground must keep the block on it (g + ü_v > 0) meanwhile.
 
 use super::block::Block;
 use super::equations::Formulation;
@@ -44,6 +46,23 @@ fn pull_back(formulation: Formulation, block: &Block, u: f64) -> (f64, f64) {
     (acc(1.0), acc(-1.0))
 }
 
+/// [`pull_back`] under a vertical ground acceleration too: `weight` = 1 + ü_v/g.
+fn pull_back_weighted(formulation: Formulation, block: &Block, u: f64, weight: f64) -> (f64, f64) {
+    let p2 = block.frequency_parameter().powi(2);
+    let acc = |side: f64| {
+        -side
+            * formulation.angular_acceleration_weighted(
+                p2,
+                block.slenderness(),
+                side,
+                0.0,
+                u,
+                weight,
+            )
+    };
+    (acc(1.0), acc(-1.0))
+}
+
 /// The settling of a block that has just left θ = 0 at time `t` with velocity
 /// `v` (after the impact), if chattering can be summed there. `v_rest` is the
 /// rest threshold; `forced` whether the ground motion still acts.
@@ -68,7 +87,16 @@ pub fn settle<G: Forcing>(
     } else {
         0.0
     };
-    let (plus, minus) = pull_back(formulation, block, u);
+    let (plus, minus) = if G::VERTICAL {
+        let weight = if forced {
+            1.0 + pulse.vertical_acceleration(t) / block.gravity()
+        } else {
+            1.0
+        };
+        pull_back_weighted(formulation, block, u, weight)
+    } else {
+        pull_back(formulation, block, u)
+    };
     if !(plus > 0.0 && minus > 0.0) {
         return None;
     }
@@ -84,8 +112,14 @@ pub fn settle<G: Forcing>(
     let rest_time = t + duration;
     if forced {
         // The ground must keep pulling back until the block has settled.
-        let threshold = formulation.rocking_threshold(block);
-        if pulse.exceeds_before(t, t + 2.0 * duration, threshold) {
+        let threshold = formulation.threshold(block);
+        if pulse.rocks_before(t, t + 2.0 * duration, &threshold) {
+            return None;
+        }
+        if pulse
+            .next_weightless(t, block.gravity())
+            .is_some_and(|tw| tw <= t + 2.0 * duration)
+        {
             return None;
         }
         if rest_time >= pulse.duration() {

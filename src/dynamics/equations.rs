@@ -40,6 +40,16 @@ impl Formulation {
         }
     }
 
+    /// The rocking threshold of `block` under this formulation, for ground
+    /// motions with or without a vertical component.
+    pub fn threshold(self, block: &Block) -> Threshold {
+        Threshold {
+            level: self.rocking_threshold(block),
+            factor: self.rocking_threshold_of(block.slenderness(), 1.0),
+            gravity: block.gravity(),
+        }
+    }
+
     /// Angular acceleration θ̈ while pivoting on the corner of side `side` (±1, the
     /// sign of θ), with the ground acceleration `ug_over_g` = ü_g/g.
     ///
@@ -63,6 +73,33 @@ impl Formulation {
         }
     }
 
+    /// [`Formulation::angular_acceleration`] under a vertical ground
+    /// acceleration ü_v (positive up): `weight` = 1 + ü_v/g scales the
+    /// restoring term, gravity being g + ü_v in the block's frame.
+    ///
+    /// Nonlinear (eq. 12 with g + ü_v):
+    /// θ̈ = −p² { (1 + ü_v/g) sin(α s − θ) + (ü_g/g) cos(α s − θ) }.
+    /// Linear (eq. 50 likewise): θ̈ = p² { (1 + ü_v/g)(θ − α s) − ü_g/g }.
+    /// With `weight` = 1 it is [`Formulation::angular_acceleration`] to the bit.
+    #[inline]
+    pub fn angular_acceleration_weighted(
+        self,
+        p2: f64,
+        alpha: f64,
+        side: f64,
+        theta: f64,
+        ug_over_g: f64,
+        weight: f64,
+    ) -> f64 {
+        match self {
+            Formulation::Linear => p2 * (weight * (theta - alpha * side) - ug_over_g),
+            Formulation::Nonlinear => {
+                let (s, c) = (alpha * side - theta).sin_cos();
+                -p2 * (weight * s + ug_over_g * c)
+            }
+        }
+    }
+
     /// Free-vibration energy above the barrier at |θ| = α, in units where the
     /// block can pass the barrier exactly when this is positive.
     ///
@@ -77,6 +114,28 @@ impl Formulation {
             Formulation::Linear => kinetic - 0.5 * d * d,
             Formulation::Nonlinear => kinetic - 2.0 * (0.5 * d).sin().powi(2),
         }
+    }
+}
+
+/// When the ground rocks a block at rest: |ü_g| > (g + ü_v)·k with k = tan α
+/// (nonlinear, § "Condition for Initiation of Rocking Motion") or α
+/// (linear); without vertical motion the level g·k.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Threshold {
+    /// g·k, m/s²: the level |ü_g| must exceed without vertical motion
+    /// ([`Formulation::rocking_threshold`], to the bit).
+    pub level: f64,
+    /// k: tan α or α.
+    pub factor: f64,
+    /// g, m/s².
+    pub gravity: f64,
+}
+
+impl Threshold {
+    /// The level |ü_g| must exceed under the vertical acceleration ü_v, m/s².
+    #[inline]
+    pub fn under(&self, vertical: f64) -> f64 {
+        (self.gravity + vertical) * self.factor
     }
 }
 
@@ -187,6 +246,37 @@ mod tests {
             let acc = f.angular_acceleration(4.0, 0.3, -1.0, 0.0, u);
             assert!(acc.abs() < 1e-14, "{f:?}: {acc}");
             assert!(f.angular_acceleration(4.0, 0.3, -1.0, 0.0, u * 1.01) < 0.0);
+        }
+    }
+
+    #[test]
+    fn a_weight_of_one_is_the_plain_equation_and_a_weight_is_another_gravity() {
+        let (p2, alpha) = (4.0, 0.3);
+        for f in [Formulation::Linear, Formulation::Nonlinear] {
+            for &(side, theta, u) in &[(1.0, 0.2, -0.4), (-1.0, -0.05, 0.7)] {
+                let plain = f.angular_acceleration(p2, alpha, side, theta, u);
+                let one = f.angular_acceleration_weighted(p2, alpha, side, theta, u, 1.0);
+                assert_eq!(plain.to_bits(), one.to_bits(), "{f:?}");
+                // g + ü_v = w g: p² → w p², ü_g/g → ü_g/(w g).
+                let w = 1.6;
+                let weighted = f.angular_acceleration_weighted(p2, alpha, side, theta, u, w);
+                let heavier = f.angular_acceleration(w * p2, alpha, side, theta, u / w);
+                assert!((weighted - heavier).abs() < 1e-14, "{f:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_threshold_carries_the_vertical_acceleration() {
+        let block = Block::new(0.3, 2.0, None, None, None).expect("valid");
+        for f in [Formulation::Linear, Formulation::Nonlinear] {
+            let th = f.threshold(&block);
+            assert_eq!(th.level, f.rocking_threshold(&block));
+            assert_eq!(th.under(0.0), th.level);
+            let u = th.under(-3.0) / block.gravity();
+            let w = 1.0 - 3.0 / block.gravity();
+            let acc = f.angular_acceleration_weighted(4.0, 0.3, -1.0, 0.0, u, w);
+            assert!(acc.abs() < 1e-14, "{f:?}: {acc}");
         }
     }
 

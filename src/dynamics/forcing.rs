@@ -12,11 +12,15 @@
 //! and the threshold crossings |ü_g| = g tan α (or g α) are solved on each
 //! linear piece in closed form. So is the linear equation of motion
 //! ([`Forcing::linear_segment`]): its exact solution runs piece by piece.
+//!
+//! A ground motion with a vertical component is a pair of these
+//! ([`super::vertical`]); without one, the trait's vertical methods are the
+//! horizontal ones and cost nothing.
 
 use std::sync::Arc;
 
 use super::block::Block;
-use super::equations::{Formulation, RockingRhs};
+use super::equations::{Formulation, RockingRhs, Threshold};
 use super::exact::LinearSegment;
 use super::excitation::{Exceedance, Pulse, Wave};
 use super::integrator::{Rhs, State};
@@ -84,6 +88,47 @@ pub trait Forcing: Clone + std::fmt::Debug {
 
     /// max |ü_g| over `[ta, tb]` and where it is reached.
     fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64);
+
+    /// Whether the motion has a vertical component. Without one (a pulse, a
+    /// record) the methods below are the horizontal ones, to the bit.
+    const VERTICAL: bool = false;
+
+    /// Vertical ground acceleration ü_v(t), m/s², positive up (zero outside
+    /// the motion).
+    #[inline]
+    fn vertical_acceleration(&self, _t: f64) -> f64 {
+        0.0
+    }
+
+    /// The first stretch at or after `from` where the ground rocks a block
+    /// at rest: |ü_g| > (g + ü_v)·k ([`Threshold`]); its side is the one the
+    /// ground pushes the block to.
+    #[inline]
+    fn next_rocking(&self, from: f64, threshold: &Threshold) -> Option<Exceedance> {
+        self.next_exceedance(from, threshold.level)
+    }
+
+    /// Whether the ground rocks a block at rest somewhere in `[from, until]`.
+    #[inline]
+    fn rocks_before(&self, from: f64, until: f64, threshold: &Threshold) -> bool {
+        self.exceeds_before(from, until, threshold.level)
+    }
+
+    /// The first time at or after `from` at which g + ü_v ≤ 0 (`gravity` =
+    /// g): the ground falls away at least as fast as the block would, and
+    /// nothing holds the block on it.
+    #[inline]
+    fn next_weightless(&self, _from: f64, _gravity: f64) -> Option<f64> {
+        None
+    }
+
+    /// The friction demand of the block at rest on the base (f_x = m ü_g,
+    /// f_z = m(g + ü_v)): max |ü_g|/(g + ü_v) over `[ta, tb]` and where.
+    #[inline]
+    fn rest_demand_peak(&self, ta: f64, tb: f64, gravity: f64) -> (f64, f64) {
+        let best = self.peak_between(ta, tb);
+        (best.0 / gravity, best.1)
+    }
 }
 
 impl Forcing for Pulse {
@@ -274,7 +319,7 @@ impl Record {
 
 /// Linear interpolation of `samples` taken every `dt`, on `[0, end]`.
 #[inline]
-fn interpolate(samples: &[f64], dt: f64, end: f64, t: f64) -> f64 {
+pub(super) fn interpolate(samples: &[f64], dt: f64, end: f64, t: f64) -> f64 {
     let t = t.clamp(0.0, end);
     let x = t / dt;
     let k = (x.floor() as usize).min(samples.len() - 2);

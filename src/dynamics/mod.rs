@@ -18,6 +18,7 @@ pub mod response;
 pub mod separatrix;
 pub mod simulate;
 pub mod tracking;
+pub mod vertical;
 
 pub use block::Block;
 pub use equations::Formulation;
@@ -26,3 +27,4 @@ pub use forcing::{Forcing, Record, RecordError};
 pub use integrator::Method;
 pub use response::{OverturnMode, Response};
 pub use simulate::{Options, Problem, SimError, Solver, simulate};
+pub use vertical::{PulsePair, RecordPair};

@@ -29,6 +29,38 @@ pub fn reactions_per_mass(
     )
 }
 
+/// [`reactions_per_mass`] under a vertical ground acceleration `vertical`
+/// (ü_v, m/s², positive up): f_z = m(g + ü_v + z̈), and θ̈ from the equation
+/// with gravity g + ü_v ([`Formulation::angular_acceleration_weighted`]).
+pub fn reactions_per_mass_vertical(
+    formulation: Formulation,
+    block: &Block,
+    side: f64,
+    theta: f64,
+    theta_dot: f64,
+    ground: f64,
+    vertical: f64,
+) -> (f64, f64) {
+    let g = block.gravity();
+    let p2 = block.frequency_parameter().powi(2);
+    let r = block.half_diagonal();
+    let weight = 1.0 + vertical / g;
+    let acc = formulation.angular_acceleration_weighted(
+        p2,
+        block.slenderness(),
+        side,
+        theta,
+        ground / g,
+        weight,
+    );
+    let (sp, cp) = (block.slenderness() * side - theta).sin_cos();
+    let w2 = theta_dot * theta_dot;
+    (
+        ground + r * (acc * cp + w2 * sp),
+        g + vertical + r * (acc * sp - w2 * cp),
+    )
+}
+
 /// The base reactions per unit mass at a rocking state and their rates of
 /// change along the motion, the rates written as affine functions of the
 /// ground's jerk (d ü_g/dt, m/s³): a record's jerk jumps at every sample while
@@ -221,6 +253,31 @@ mod tests {
                 assert_eq!(q, fx / fz);
                 let fd = (xp / zp - xm / zm) / (2.0 * h);
                 assert!((fd - dq).abs() < 1e-6 * scale, "{formulation:?} {fd} {dq}");
+            }
+        }
+    }
+
+    #[test]
+    fn vertical_reactions_are_those_of_a_block_under_another_gravity() {
+        // A constant ü_v is gravity g + ü_v: the same α, p² scaled by (g + ü_v)/g.
+        let b = block();
+        let (g, av) = (b.gravity(), 2.5);
+        let heavier = Block::new(
+            b.slenderness(),
+            b.frequency_parameter() * ((g + av) / g).sqrt(),
+            Some(b.restitution()),
+            b.friction(),
+            Some(g + av),
+        )
+        .expect("valid");
+        for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+            for &(side, th, w, ug) in &[(-1.0, -0.1, -0.3, 5.0), (1.0, 0.2, 0.4, -3.0)] {
+                let (fx, fz) = reactions_per_mass_vertical(formulation, &b, side, th, w, ug, av);
+                let (hx, hz) = reactions_per_mass(formulation, &heavier, side, th, w, ug);
+                assert!((fx - hx).abs() < 1e-12 && (fz - hz).abs() < 1e-12);
+                let plain = reactions_per_mass(formulation, &b, side, th, w, ug);
+                let none = reactions_per_mass_vertical(formulation, &b, side, th, w, ug, 0.0);
+                assert_eq!(plain, none);
             }
         }
     }

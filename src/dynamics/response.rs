@@ -78,6 +78,9 @@ pub enum Warning {
     Sliding(f64),
     /// f_z ≤ 0 first at this time: the block would lift off.
     LiftOff(f64),
+    /// g + ü_v ≤ 0 first at this time: the ground falls away faster than
+    /// gravity pulls the block, which leaves it; the simulation ends there.
+    GroundFallsAway(f64),
     /// The friction demand was followed up to this time (the pulse end): the
     /// block was then bound to overturn, and its fall is not counted.
     DemandExcludesFall(f64),
@@ -152,6 +155,10 @@ pub struct Response {
     pub peak_theta_over_alpha: f64,
     /// Friction demand, when asked for.
     pub friction: Option<FrictionDemand>,
+    /// When the vertical ground acceleration reached −g (g + ü_v ≤ 0): the
+    /// block left the ground there and the simulation ended, with no
+    /// verdict on overturning (`overturned` is false, `mode` none).
+    pub lift_off: Option<f64>,
     /// Sampled series, when asked for.
     pub series: Option<Series>,
     /// Notes on the result.

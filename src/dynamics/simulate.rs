@@ -16,6 +16,10 @@
 //! interpolated acceleration) end Runge–Kutta steps without restarting the
 //! step-size control, and end the exact solver's closed-form segments (one
 //! per piece of the record, each re-anchored where the last one ended).
+//!
+//! With a vertical component ([`super::vertical`]) gravity is g + ü_v: the
+//! threshold and the equation carry it, and the history ends where
+//! g + ü_v ≤ 0 first (the ground falls away and the block leaves it).
 
 use std::time::Instant;
 
@@ -27,7 +31,7 @@ use super::exact::{SegmentEnd, first_event};
 use super::excitation::Pulse;
 use super::forcing::Forcing;
 use super::integrator::{MAX_DEGREE, Method, State, StepError, Stepper, StepperStats, single_step};
-use super::reactions::reactions_per_mass;
+use super::reactions::{reactions_per_mass, reactions_per_mass_vertical};
 use super::response::{FrictionDemand, Impact, Numerics, OverturnMode, Response, Warning};
 use super::separatrix::{FreeOutcome, decide};
 use super::tracking::{TrackRequest, Tracker};
@@ -154,6 +158,12 @@ pub enum SimError {
         "the exact solver solves sinusoidal pulses and records only; use dopri5 or dop853 for a wavelet"
     )]
     ExactNeedsClosedForm,
+    /// Under vertical ground motion the linear equation has a time-varying
+    /// coefficient (1 + ü_v/g): it has no closed form.
+    #[error(
+        "the exact solver has no closed form under vertical ground motion; use dopri5 or dop853"
+    )]
+    ExactWithVertical,
     /// Tolerances must be positive and finite.
     #[error("rtol and atol must be positive and finite, rtol >= 1e-14")]
     Tolerance,
@@ -217,7 +227,7 @@ pub fn simulate<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<R
 }
 
 fn check<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<(), SimError> {
-    if matches!(options.solver, Solver::Exact) {
+    if matches!(options.solver, Solver::Exact) && !G::VERTICAL {
         let probe = problem
             .pulse
             .rhs(problem.formulation, &problem.block, 1.0, true);
@@ -226,6 +236,7 @@ fn check<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<(), SimE
         }
     }
     match options.solver {
+        Solver::Exact if G::VERTICAL => Err(SimError::ExactWithVertical),
         Solver::Exact if problem.formulation != Formulation::Linear => {
             Err(SimError::ExactNeedsLinear)
         }
@@ -432,6 +443,17 @@ impl Engine {
     }
 }
 
+/// The ground falls away at `t` (g + ü_v ≤ 0): the block leaves it, and
+/// the rocking model ends there without a verdict on overturning.
+fn lift_off<G: Forcing>(r: &mut Response, tracker: &mut Tracker<G>, t: f64) {
+    r.lift_off = Some(t);
+    r.warnings.push(Warning::GroundFallsAway(t));
+    r.rest_time = None;
+    r.decided_at = t;
+    r.end_time = t;
+    tracker.finish(t);
+}
+
 fn run<G: Forcing>(
     problem: &Problem<G>,
     options: &Options,
@@ -442,7 +464,9 @@ fn run<G: Forcing>(
     let pulse = &problem.pulse;
     let duration = pulse.duration();
     let mut tracker = Tracker::new(formulation, &block, pulse, req);
-    let threshold = formulation.rocking_threshold(&block);
+    let threshold = formulation.threshold(&block);
+    // Past this time (g + ü_v ≤ 0) nothing holds the block on the ground.
+    let weightless = pulse.next_weightless(0.0, block.gravity());
     let v_rest = REST_VELOCITY * block.frequency_parameter() * block.slenderness();
     let mut engine = Engine {
         solver: options.solver,
@@ -466,6 +490,7 @@ fn run<G: Forcing>(
         end_time: duration,
         peak_theta_over_alpha: 0.0,
         friction: None,
+        lift_off: None,
         series: None,
         warnings: Vec::new(),
         numerics: Numerics::default(),
@@ -495,7 +520,15 @@ fn run<G: Forcing>(
     loop {
         let Some((y, side, forced, lift_until)) = rocking else {
             // At rest: wait for the ground to exceed the threshold.
-            match pulse.next_exceedance(t, threshold) {
+            let next = pulse.next_rocking(t, &threshold);
+            if let Some(tw) = weightless
+                && next.as_ref().is_none_or(|ex| ex.start >= tw)
+            {
+                tracker.resting(t, tw, true);
+                lift_off(&mut r, &mut tracker, tw);
+                break;
+            }
+            match next {
                 None => {
                     tracker.resting(t, duration.max(t), false);
                     if r.rocked {
@@ -519,14 +552,26 @@ fn run<G: Forcing>(
                     r.rocking_start.get_or_insert(t);
                     if initiation.is_none() {
                         // Eq. 7 (eq. 51 for one-cosine) is eq. 20 at the start state.
-                        let (fx, fz) = reactions_per_mass(
-                            formulation,
-                            &block,
-                            ex.side,
-                            0.0,
-                            0.0,
-                            pulse.acceleration(t),
-                        );
+                        let (fx, fz) = if G::VERTICAL {
+                            reactions_per_mass_vertical(
+                                formulation,
+                                &block,
+                                ex.side,
+                                0.0,
+                                0.0,
+                                pulse.acceleration(t),
+                                pulse.vertical_acceleration(t),
+                            )
+                        } else {
+                            reactions_per_mass(
+                                formulation,
+                                &block,
+                                ex.side,
+                                0.0,
+                                0.0,
+                                pulse.acceleration(t),
+                            )
+                        };
                         initiation = Some((fx / fz).abs());
                     }
                     rocking = Some(([0.0, 0.0], ex.side, true, ex.end));
@@ -535,7 +580,7 @@ fn run<G: Forcing>(
             }
         };
         let t_stop = if forced {
-            duration
+            weightless.map_or(duration, |tw| tw.min(duration))
         } else {
             options.horizon.unwrap_or(f64::INFINITY).max(t)
         };
@@ -628,6 +673,10 @@ fn run<G: Forcing>(
             }
             LegEnd::Reached { t: tr, y } => {
                 t = tr;
+                if forced && weightless.is_some_and(|tw| tr >= tw) {
+                    lift_off(&mut r, &mut tracker, tr);
+                    break;
+                }
                 if forced {
                     // Pulse end: from here on the outcome follows from the state.
                     events += 1;
@@ -693,7 +742,7 @@ fn run<G: Forcing>(
         let (peak, peak_time) = tracker.peak_demand;
         // Past lift-off (f_z → 0⁺) no friction coefficient sustains pure
         // rocking: the demand is unbounded, not the large number reached.
-        let bounded = tracker.first_lift_off.is_none();
+        let bounded = tracker.first_lift_off.is_none() && r.lift_off.is_none();
         r.friction = Some(FrictionDemand {
             peak: bounded.then_some(peak),
             peak_time: bounded.then_some(peak_time),
@@ -705,7 +754,9 @@ fn run<G: Forcing>(
         if let Some(ts) = tracker.first_sliding {
             r.warnings.push(Warning::Sliding(ts));
         }
-        if let Some(tl) = tracker.first_lift_off {
+        if let Some(tl) = tracker.first_lift_off
+            && r.lift_off.is_none_or(|tw| tl < tw)
+        {
             r.warnings.push(Warning::LiftOff(tl));
         }
         if let Some(tf) = tracker.reactions_stopped_at

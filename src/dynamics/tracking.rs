@@ -14,12 +14,16 @@
 //! [`interior_max`]) and then located as a root of the derivative. Elsewhere
 //! (a pulse) the piece is sampled densely enough for the forcing and the block
 //! and the maxima refined by golden-section search around the best sample.
+//! Under a vertical ground motion every piece is sampled so, and the
+//! reactions carry g + ü_v ([`reactions_per_mass_vertical`]).
 
 use super::block::Block;
 use super::equations::Formulation;
 use super::forcing::Forcing;
 use super::integrator::State;
-use super::reactions::{ReactionModel, ReactionRates, reactions_per_mass};
+use super::reactions::{
+    ReactionModel, ReactionRates, reactions_per_mass, reactions_per_mass_vertical,
+};
 use super::response::Series;
 
 /// What to follow.
@@ -118,16 +122,37 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         }
     }
 
+    /// ü_v at t (zero when free).
+    fn vertical(&self, t: f64, forced: bool) -> f64 {
+        if forced {
+            self.pulse.vertical_acceleration(t)
+        } else {
+            0.0
+        }
+    }
+
+    /// (f_x/m, f_z/m) at a rocking state on `side`.
+    #[inline]
+    fn reactions(&self, side: f64, t: f64, y: State, forced: bool) -> (f64, f64) {
+        let ground = self.ground(t, forced);
+        if G::VERTICAL {
+            reactions_per_mass_vertical(
+                self.formulation,
+                self.block,
+                side,
+                y[0],
+                y[1],
+                ground,
+                self.vertical(t, forced),
+            )
+        } else {
+            reactions_per_mass(self.formulation, self.block, side, y[0], y[1], ground)
+        }
+    }
+
     /// (|f_x/f_z| or ∞ when f_z ≤ 0, f_z) at a rocking state.
     fn demand(&self, side: f64, t: f64, y: State, forced: bool) -> (f64, f64, f64) {
-        let (fx, fz) = reactions_per_mass(
-            self.formulation,
-            self.block,
-            side,
-            y[0],
-            y[1],
-            self.ground(t, forced),
-        );
+        let (fx, fz) = self.reactions(side, t, y, forced);
         let d = if fz > 0.0 {
             (fx / fz).abs()
         } else {
@@ -468,8 +493,8 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             // being continuous where a rest ends in rocking (at tb it reaches
             // the threshold, where eq. 7 gives the same value).
             let g = self.block.gravity();
-            let best = self.pulse.peak_between(ta, tb);
-            let d = best.0 / g;
+            let best = self.pulse.rest_demand_peak(ta, tb, g);
+            let d = best.0;
             if d > self.peak_demand.0 {
                 self.peak_demand = (d, best.1);
             }
@@ -488,16 +513,21 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         self.series.theta.push(y[0]);
         self.series.theta_dot.push(y[1]);
         self.series.ground_acceleration.push(ground);
-        if let Some(r) = self.series.reaction_ratio.as_mut() {
+        if self.series.reaction_ratio.is_some() {
             let ratio = match side {
                 Some(s) => {
-                    let (fx, fz) =
-                        reactions_per_mass(self.formulation, self.block, s, y[0], y[1], ground);
+                    let (fx, fz) = self.reactions(s, t, y, forced);
                     (fz > 0.0).then_some(fx / fz)
+                }
+                None if G::VERTICAL => {
+                    let fz = self.block.gravity() + self.vertical(t, forced);
+                    (fz > 0.0).then_some(ground / fz)
                 }
                 None => Some(ground / self.block.gravity()),
             };
-            r.push(ratio);
+            if let Some(r) = self.series.reaction_ratio.as_mut() {
+                r.push(ratio);
+            }
         }
     }
 

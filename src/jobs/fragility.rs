@@ -496,6 +496,7 @@ impl FragilitySpec {
                                 record: m.record.clone(),
                                 file: m.file.clone(),
                                 allow_large_pga: m.allow_large_pga,
+                                vertical: None,
                             },
                             &nominal,
                             &at,

@@ -26,6 +26,7 @@ pub mod spectrum;
 pub mod split;
 pub mod survival;
 pub mod time_history;
+pub mod vertical;
 pub mod warning;
 
 pub use error::{JobError, SpecError};

@@ -928,6 +928,10 @@ pub struct GroundMotionSpec {
     /// record is refused as a likely unit mistake). Not part of the
     /// computation: it does not change the cache key.
     pub allow_large_pga: Option<bool>,
+    /// Time histories only: the vertical ground acceleration (positive up),
+    /// `{"ratio": r}` (ü_v = r·ü_g) or samples on the same dt
+    /// (`{"acc": [...], "unit": ...}`; the shorter record is padded with zeros).
+    pub vertical: Option<super::vertical::VerticalRecordSpec>,
 }
 
 pub use crate::records::{MAX_RECORD_SAMPLES, RECORD_DT_RANGE};
@@ -947,6 +951,9 @@ pub struct GroundMotionNorm {
     /// Always "m/s2".
     #[schema(value_type = crate::jobs::schema::MetresPerSecondSquared)]
     pub unit: tag::MetresPerSecondSquared,
+    /// The vertical acceleration (time histories only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertical: Option<super::vertical::VerticalRecordNorm>,
 }
 
 fn serialize_samples<S: serde::Serializer>(v: &Arc<[f64]>, s: S) -> Result<S::Ok, S::Error> {
@@ -962,6 +969,25 @@ impl GroundMotionNorm {
     pub fn record(&self) -> Result<Record, crate::dynamics::RecordError> {
         Record::new(self.acc.clone(), self.dt)
     }
+
+    /// The record with its vertical acceleration, when it has one.
+    pub fn pair(
+        &self,
+    ) -> Option<Result<crate::dynamics::RecordPair, crate::dynamics::vertical::PairError>> {
+        use crate::dynamics::RecordPair;
+        use crate::dynamics::vertical::PairError;
+        let v = self.vertical.as_ref()?;
+        let pair = || -> Result<RecordPair, PairError> {
+            let horizontal = self.record()?;
+            match (&v.acc, v.ratio) {
+                (Some(acc), _) => RecordPair::new(horizontal, Record::new(acc.clone(), self.dt)?),
+                (None, r) => {
+                    RecordPair::proportional(horizontal, r.unwrap_or(0.0)).ok_or(PairError::Empty)
+                }
+            }
+        };
+        Some(pair())
+    }
 }
 
 /// Validates a ground-motion record found at `base`.
@@ -970,6 +996,12 @@ pub fn validate_ground_motion(
     block: &BlockNorm,
     base: &str,
 ) -> Result<(GroundMotionNorm, Record), SpecError> {
+    if spec.vertical.is_some() {
+        return Err(SpecError::at(
+            format!("{base}/vertical"),
+            "vertical ground motion is simulated by time_history jobs only",
+        ));
+    }
     if spec.record.is_some() {
         return Err(SpecError::at(
             format!("{base}/record"),
@@ -1060,6 +1092,7 @@ pub fn validate_ground_motion(
             dt,
             acc: samples,
             unit: tag::MetresPerSecondSquared,
+            vertical: None,
         },
         record,
     ))

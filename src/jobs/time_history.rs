@@ -7,10 +7,13 @@ use super::names::{EngineDoc, tag};
 use super::numerics::NumericsDoc;
 use super::spec::{
     BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, SolverNorm,
-    SolverSpec, SpecError, parse_formulation, validate_ground_motion, validate_pulse,
-    validate_solver_for,
+    SolverSpec, SpecError, parse_formulation, validate_pulse, validate_solver_for,
+};
+use super::vertical::{
+    VerticalPulseNorm, VerticalPulseSpec, validate_record_with_vertical, validate_vertical_pulse,
 };
 pub use super::warning::WarningDoc;
+use crate::dynamics::PulsePair;
 use crate::dynamics::response::{Response, Warning};
 use crate::dynamics::{Formulation, Options, Problem, SimError, simulate};
 
@@ -47,6 +50,10 @@ pub struct TimeHistorySpec {
     pub block: Option<BlockSpec>,
     /// The pulse (give this or `ground_motion`).
     pub pulse: Option<PulseSpec>,
+    /// With `pulse`: the vertical ground acceleration (positive up),
+    /// `{"ratio": r}` (ü_v = r·ü_g) or a pulse of its own (with `delay_s`).
+    /// A record takes its own in `ground_motion.vertical`.
+    pub vertical: Option<VerticalPulseSpec>,
     /// A sampled ground-acceleration record (give this or `pulse`).
     pub ground_motion: Option<GroundMotionSpec>,
     /// "linear" | "nonlinear" (default).
@@ -86,6 +93,10 @@ pub struct TimeHistoryJob {
     /// Pulse (when the ground motion is a pulse).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pulse: Option<PulseNorm>,
+    /// The vertical motion beside the pulse (when there is one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
+    pub vertical: Option<VerticalPulseNorm>,
     /// Record (when the ground motion is a record).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ground_motion: Option<GroundMotionNorm>,
@@ -107,7 +118,7 @@ impl TimeHistorySpec {
             (Some(p), None) => (Some(validate_pulse(p, &block, "/pulse")?.0), None),
             (None, Some(g)) => (
                 None,
-                Some(validate_ground_motion(g, &block, "/ground_motion")?.0),
+                Some(validate_record_with_vertical(g, &block, "/ground_motion")?),
             ),
             (None, None) => {
                 return Err(SpecError::at(
@@ -122,10 +133,35 @@ impl TimeHistorySpec {
                 ));
             }
         };
+        let vertical = match (&self.vertical, &pulse) {
+            (Some(v), Some(_)) => validate_vertical_pulse(v, &block, "/vertical")?,
+            (Some(_), None) => {
+                return Err(SpecError::at(
+                    "/vertical",
+                    "goes with a pulse: a record takes its vertical acceleration in ground_motion.vertical",
+                ));
+            }
+            (None, _) => None,
+        };
+        let with_vertical =
+            vertical.is_some() || ground_motion.as_ref().is_some_and(|g| g.vertical.is_some());
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        if with_vertical
+            && self
+                .solver
+                .as_ref()
+                .and_then(|s| s.method.as_deref())
+                .is_some_and(|m| m.eq_ignore_ascii_case("exact"))
+        {
+            return Err(SpecError::at(
+                "/solver/method",
+                "the exact solver has no closed form under vertical ground motion (the linear equation's coefficient 1 + ü_v/g varies in time): use dop853 (the default) or dopri5",
+            ));
+        }
         // The closed form covers the sinusoidal pulses and every record
-        // (linear between samples); a wavelet has none.
-        let closed_form = pulse.as_ref().is_none_or(|p| p.shape.is_sinusoidal());
+        // (linear between samples); a wavelet has none, nor any motion with
+        // a vertical component.
+        let closed_form = !with_vertical && pulse.as_ref().is_none_or(|p| p.shape.is_sinusoidal());
         let solver =
             validate_solver_for(self.solver.as_ref(), formulation, closed_form, "/solver")?;
         let out = self.outputs.clone().unwrap_or_default();
@@ -148,6 +184,7 @@ impl TimeHistorySpec {
             kind: tag::TimeHistory,
             block,
             pulse,
+            vertical,
             ground_motion,
             formulation,
             solver,
@@ -187,6 +224,12 @@ pub struct GroundPeaksDoc {
     pub pgd_m: f64,
     /// PGV/PGA, s (the pulse's duration scale, independent of its amplitude).
     pub pgv_over_pga_s: f64,
+    /// Peak vertical ground acceleration, m/s² (with a vertical motion).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pga_v_m_s2: Option<f64>,
+    /// Peak vertical ground acceleration, g (with a vertical motion).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pga_v_g: Option<f64>,
 }
 
 impl GroundPeaksDoc {
@@ -198,6 +241,17 @@ impl GroundPeaksDoc {
             pgv_m_s: p.pgv,
             pgd_m: p.pgd,
             pgv_over_pga_s: if p.pga > 0.0 { p.pgv / p.pga } else { 0.0 },
+            pga_v_m_s2: None,
+            pga_v_g: None,
+        }
+    }
+
+    /// With the vertical peak acceleration `pga_v`, m/s².
+    pub fn with_vertical(self, pga_v: Option<f64>, g: f64) -> Self {
+        GroundPeaksDoc {
+            pga_v_m_s2: pga_v,
+            pga_v_g: pga_v.map(|a| a / g),
+            ..self
         }
     }
 }
@@ -214,6 +268,11 @@ impl WarningDoc {
                 "lift_off",
                 Some(t),
                 format!("f_z <= 0 at t = {t:.6} s: the block would lift off the base; no friction coefficient sustains pure rocking (peak_friction_demand is null: unbounded)"),
+            ),
+            Warning::GroundFallsAway(t) => (
+                "lift_off",
+                Some(t),
+                format!("g + vertical ground acceleration <= 0 at t = {t:.6} s: the ground falls away faster than gravity pulls the block, which leaves the base; the simulation ends there, without a verdict on overturning (overturned is false, mode null)"),
             ),
             Warning::DemandExcludesFall(t) => (
                 "demand_excludes_fall",
@@ -308,7 +367,10 @@ pub struct TimeHistoryResult {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub peak_friction_demand_time: Option<f64>,
     /// Whether f_z reached 0 (the block would lift off; the friction demand is
-    /// unbounded). Present when reactions are followed.
+    /// unbounded). Present when reactions are followed, and whenever a
+    /// vertical ground acceleration reached −g (g + ü_v ≤ 0: the block left
+    /// the ground and the simulation ended there, `overturned` false and
+    /// `mode` null without a verdict; warning `lift_off`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lift_off: Option<bool>,
     /// First time f_z ≤ 0, s.
@@ -355,14 +417,50 @@ impl TimeHistoryJob {
             horizon: self.outputs.duration,
             initial_state: None,
         };
+        let mut pga_v = None;
         let (r, peaks) = match (&self.pulse, &self.ground_motion) {
             (Some(p), _) => {
                 let pulse = crate::dynamics::Pulse::new(p.shape, p.a_p, p.omega_p)
                     .map_err(|_| SimError::Tolerance)?;
                 let peaks = crate::dynamics::peaks::of_pulse(&pulse);
+                if let Some(v) = &self.vertical {
+                    let pair = match *v {
+                        VerticalPulseNorm::Ratio(r) => PulsePair::proportional(pulse, r),
+                        VerticalPulseNorm::Pulse { pulse: q, delay_s } => {
+                            crate::dynamics::Pulse::new(q.shape, q.a_p, q.omega_p)
+                                .ok()
+                                .map(|v| PulsePair::new(pulse, v, delay_s))
+                        }
+                    }
+                    .ok_or(SimError::Tolerance)?;
+                    pga_v = Some(pair.vertical.amplitude.abs());
+                    let problem = Problem {
+                        block,
+                        pulse: pair,
+                        formulation,
+                    };
+                    (simulate(&problem, &options)?, peaks)
+                } else {
+                    let problem = Problem {
+                        block,
+                        pulse,
+                        formulation,
+                    };
+                    (simulate(&problem, &options)?, peaks)
+                }
+            }
+            (None, Some(g)) if g.vertical.is_some() => {
+                let pair = g.pair().and_then(Result::ok).ok_or(SimError::Tolerance)?;
+                let peaks = crate::dynamics::peaks::of_record(&pair.horizontal);
+                pga_v = Some(
+                    pair.vertical
+                        .samples()
+                        .iter()
+                        .fold(0.0f64, |m, a| m.max(a.abs())),
+                );
                 let problem = Problem {
                     block,
-                    pulse,
+                    pulse: pair,
                     formulation,
                 };
                 (simulate(&problem, &options)?, peaks)
@@ -379,7 +477,8 @@ impl TimeHistoryJob {
             }
             (None, None) => return Err(SimError::Tolerance),
         };
-        Ok(self.document(r, GroundPeaksDoc::new(&peaks, self.block.g)))
+        let g = self.block.g;
+        Ok(self.document(r, GroundPeaksDoc::new(&peaks, g).with_vertical(pga_v, g)))
     }
 
     /// The result document of response `r`.
@@ -411,8 +510,14 @@ impl TimeHistoryJob {
             peak_theta_over_alpha: r.peak_theta_over_alpha,
             peak_friction_demand: r.friction.and_then(|f| f.peak),
             peak_friction_demand_time: r.friction.and_then(|f| f.peak_time),
-            lift_off: r.friction.map(|f| f.first_lift_off.is_some()),
-            lift_off_time: r.friction.and_then(|f| f.first_lift_off),
+            lift_off: r
+                .friction
+                .map(|f| f.first_lift_off.is_some() || r.lift_off.is_some())
+                .or(r.lift_off.map(|_| true)),
+            lift_off_time: match (r.friction.and_then(|f| f.first_lift_off), r.lift_off) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            },
             friction_demand_followed_until: r
                 .friction
                 .and_then(|f| f.followed_until)
@@ -486,11 +591,15 @@ impl crate::jobs::kind::Kind for TimeHistory {
         if let Some(m) = &job.ground_motion {
             found.extend(record_warnings(m, "/ground_motion"));
             found.extend(coarse_dt_warning(m.dt, job.block.p, "/ground_motion"));
-            found.extend(never_rocks_warning(
-                m,
-                &job.block,
-                job.formulation == crate::dynamics::Formulation::Linear,
-            ));
+            // (A vertical acceleration moves the threshold: the PGA alone
+            // does not tell.)
+            if m.vertical.is_none() {
+                found.extend(never_rocks_warning(
+                    m,
+                    &job.block,
+                    job.formulation == crate::dynamics::Formulation::Linear,
+                ));
+            }
         }
         found
     }

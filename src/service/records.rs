@@ -38,8 +38,9 @@ fn record_slots(spec: &Value) -> Vec<String> {
 }
 
 /// Fields a record named by id may have beside `record`: a suite's member
-/// its `name`.
-const BESIDE_RECORD: [&str; 2] = ["record", "name"];
+/// its `name`, a time history's record its `vertical` acceleration (kept as
+/// given).
+const BESIDE_RECORD: [&str; 3] = ["record", "name", "vertical"];
 
 /// The tenant's records named in `spec` read into it; returns the spec and
 /// the ids named (in order, without repeats). A `file` is refused: only
@@ -108,6 +109,7 @@ pub async fn resolve(
         let name = at
             .starts_with("/ground_motions/")
             .then(|| given("name").cloned().unwrap_or(Value::String(row.name)));
+        let vertical = given("vertical").cloned();
         let pga_g = acc.iter().fold(0.0f64, |m, a| m.max(a.abs())) / crate::records::G_M_S2;
         let replacement = tokio::task::spawn_blocking(move || {
             let mut motion = json!({"dt": dt, "acc": acc, "unit": "m/s2"});
@@ -117,6 +119,9 @@ pub async fn resolve(
             }
             if let Some(name) = name {
                 motion["name"] = name;
+            }
+            if let Some(vertical) = vertical {
+                motion["vertical"] = vertical;
             }
             motion
         })

@@ -194,6 +194,25 @@ async fn a_spec_naming_a_record_is_the_spec_embedding_its_samples() {
         assert_eq!(a["result"], b["result"]);
         assert_eq!(a["status"], "succeeded", "{a}");
     }
+    // A time history's record keeps its vertical acceleration beside it.
+    let spec = json!({"kind": "time_history", "block": {"alpha": 0.15, "p": 2.0, "eta": 0.9}});
+    let (mut named, mut inline) = (spec.clone(), spec);
+    named["ground_motion"] = json!({"record": id, "vertical": {"ratio": -0.5}});
+    inline["ground_motion"] = embedded.clone();
+    inline["ground_motion"]["vertical"] = json!({"ratio": -0.5});
+    let (status, a, _) = app.post("/v1/jobs?wait=30", &named).await;
+    assert_eq!(status, 200, "{a}");
+    let (status, b, _) = app.post("/v1/jobs?wait=30", &inline).await;
+    assert_eq!(status, 200, "{b}");
+    assert_eq!(a["key"], b["key"], "one computation");
+    assert_eq!(
+        a["result"]["spec"]["ground_motion"]["vertical"],
+        json!({"ratio": -0.5})
+    );
+    assert!(
+        a["result"]["ground_peaks"]["pga_v_m_s2"].as_f64().is_some(),
+        "{a}"
+    );
     // A fragility suite names records too.
     let suite = json!({"kind": "fragility", "block": {"alpha": 0.2, "p": 2.0},
         "ground_motions": [{"record": id}], "stripes": [0.3, 0.6], "samples": 64, "seed": 7});

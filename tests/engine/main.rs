@@ -20,3 +20,4 @@ mod survival;
 #[path = "../common/synthetic.rs"]
 mod synthetic;
 mod tracking;
+mod vertical;

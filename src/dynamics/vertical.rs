@@ -1,0 +1,830 @@
+//! Ground motion with a vertical component ü_v (positive up) beside the
+//! horizontal ü_g: a pair of pulses, or a pair of records on the same samples.
+//!
+//! In the block's frame the vertical acceleration adds to gravity: eq. 12
+//! becomes
+//!
+//! ```text
+//! θ̈ = −p² { (1 + ü_v/g) sin(α sgn θ − θ) + (ü_g/g) cos(α sgn θ − θ) }
+//! ```
+//!
+//! (the linear eq. 50 likewise, with 1 + ü_v/g on the restoring term); rocking
+//! starts once |ü_g| exceeds (g + ü_v) tan α ((g + ü_v) α linear), towards the
+//! side the ground pushes the block to; the reactions (eqs. 2–3, 16–19) carry
+//! g + ü_v; impacts keep Housner's η (eqs. 13–15). Where g + ü_v ≤ 0 nothing
+//! holds the block on the ground ([`Forcing::next_weightless`]).
+//!
+//! The threshold is crossed where s ü_g − k ü_v = k g (s = ±1 the sign of
+//! ü_g, k = tan α or α). On a pair of records both sides are linear between
+//! samples, and the crossing is solved there in closed form. On a pair of
+//! pulses they are located by bisection on the pieces between the turning
+//! points of either pulse, where each is monotone: there the ends bound s ü_g
+//! − k ü_v from above, pieces that cannot reach the level are passed over,
+//! and the first crossing is found to the last bit.
+
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+use super::block::Block;
+use super::equations::{Formulation, RockingRhs, Threshold};
+use super::exact::LinearSegment;
+use super::excitation::{Exceedance, Pulse, Wave};
+use super::forcing::{Forcing, Record, RecordError, RecordRhs};
+use super::integrator::{Rhs, State};
+
+/// A right-hand side's ground term ü/g at t (zero when free).
+pub trait GroundTerm {
+    /// ü/g at `t` (no support check).
+    fn over_g(&self, t: f64) -> f64;
+}
+
+impl GroundTerm for RockingRhs {
+    #[inline]
+    fn over_g(&self, t: f64) -> f64 {
+        self.ground(t)
+    }
+}
+
+impl GroundTerm for RecordRhs<'_> {
+    #[inline]
+    fn over_g(&self, t: f64) -> f64 {
+        self.ground(t)
+    }
+}
+
+/// The right-hand side of the rocking equation under ü_g and ü_v.
+#[derive(Clone, Copy, Debug)]
+pub struct VerticalRhs<R> {
+    formulation: Formulation,
+    p2: f64,
+    alpha: f64,
+    side: f64,
+    horizontal: R,
+    vertical: R,
+    /// Where each component acts, s (zero outside).
+    h_support: (f64, f64),
+    v_support: (f64, f64),
+    /// The vertical component's own time starts this late, s.
+    delay: f64,
+}
+
+impl<R: GroundTerm> VerticalRhs<R> {
+    /// (ü_g/g, 1 + ü_v/g) at t.
+    #[inline]
+    pub fn ground(&self, t: f64) -> (f64, f64) {
+        let u = if t >= self.h_support.0 && t <= self.h_support.1 {
+            self.horizontal.over_g(t)
+        } else {
+            0.0
+        };
+        let v = if t >= self.v_support.0 && t <= self.v_support.1 {
+            self.vertical.over_g(t - self.delay)
+        } else {
+            0.0
+        };
+        (u, 1.0 + v)
+    }
+}
+
+impl<R: GroundTerm> Rhs for VerticalRhs<R> {
+    #[inline]
+    fn eval(&self, t: f64, y: State) -> State {
+        let (u, weight) = self.ground(t);
+        [
+            y[1],
+            self.formulation
+                .angular_acceleration_weighted(self.p2, self.alpha, self.side, y[0], u, weight),
+        ]
+    }
+}
+
+/// The infimum of {t ∈ [lo, hi] : f(t) > level}, given f(lo) ≤ level and
+/// `upper(a, b)` ≥ f on every [a, b] inside; `None` if f stays at or below
+/// the level (a window narrower than the spacing of floating-point times is
+/// passed over). Left halves first: the first crossing, not any.
+fn first_above<F: Fn(f64) -> f64, U: Fn(f64, f64) -> f64>(
+    f: &F,
+    upper: &U,
+    lo: f64,
+    hi: f64,
+    level: f64,
+) -> Option<f64> {
+    if upper(lo, hi) <= level {
+        return None;
+    }
+    let mid = 0.5 * (lo + hi);
+    if !(mid > lo && mid < hi) {
+        return (f(hi) > level).then_some(hi);
+    }
+    if let Some(t) = first_above(f, upper, lo, mid, level) {
+        return Some(t);
+    }
+    if f(mid) > level {
+        return Some(mid);
+    }
+    first_above(f, upper, mid, hi, level)
+}
+
+/// A horizontal pulse and a vertical one whose own time starts `delay`
+/// seconds later (ü_v(t) = vertical(t − delay)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PulsePair {
+    /// ü_g.
+    pub horizontal: Pulse,
+    /// ü_v, from `delay` on.
+    pub vertical: Pulse,
+    /// Start of the vertical pulse, s (≥ 0).
+    pub delay: f64,
+    /// End of the later of the two, s.
+    end: f64,
+}
+
+/// The times where a pulse starting at `shift` turns (its extrema inside, its
+/// ends), pushed onto `out`: between two of them ü is continuous and monotone.
+fn turning_points(p: &Pulse, shift: f64, out: &mut Vec<f64>) {
+    out.push(shift);
+    out.push(shift + p.duration);
+    match p.wave {
+        Wave::Cosine if p.carrier > 0.0 => {
+            // cos(ω t + φ) turns where ω t + φ = mπ.
+            let mut m = (p.phase / PI).floor() + 1.0;
+            loop {
+                let t = (m * PI - p.phase) / p.carrier;
+                if t >= p.duration {
+                    break;
+                }
+                if t > 0.0 {
+                    out.push(shift + t);
+                }
+                m += 1.0;
+            }
+        }
+        Wave::Cosine => {}
+        _ => out.extend(p.extrema.as_slice().iter().map(|t| t + shift)),
+    }
+}
+
+impl PulsePair {
+    /// ü_g = `horizontal`, ü_v = `vertical` from `delay` s on.
+    pub fn new(horizontal: Pulse, vertical: Pulse, delay: f64) -> Self {
+        let delay = delay.max(0.0);
+        PulsePair {
+            horizontal,
+            vertical,
+            delay,
+            end: horizontal.duration.max(delay + vertical.duration),
+        }
+    }
+
+    /// ü_v = `ratio`·ü_g, in phase; `None` for a ratio of 0 (no vertical
+    /// motion) or one that is not finite.
+    pub fn proportional(horizontal: Pulse, ratio: f64) -> Option<Self> {
+        (ratio != 0.0 && ratio.is_finite()).then(|| {
+            PulsePair::new(
+                horizontal,
+                horizontal.with_amplitude(ratio * horizontal.amplitude),
+                0.0,
+            )
+        })
+    }
+
+    /// ü_g on a piece whose inside holds `mid` (continued to the piece's ends).
+    #[inline]
+    fn h_on(&self, t: f64, mid: f64) -> f64 {
+        if (0.0..=self.horizontal.duration).contains(&mid) {
+            self.horizontal.amplitude * self.horizontal.unit(t)
+        } else {
+            0.0
+        }
+    }
+
+    /// ü_v on a piece whose inside holds `mid` (continued to the piece's ends).
+    #[inline]
+    fn v_on(&self, t: f64, mid: f64) -> f64 {
+        let (tv, mv) = (t - self.delay, mid - self.delay);
+        if (0.0..=self.vertical.duration).contains(&mv) {
+            self.vertical.amplitude * self.vertical.unit(tv)
+        } else {
+            0.0
+        }
+    }
+
+    /// The pieces' ends after `from` (sorted, the motion's end last).
+    fn cuts_after(&self, from: f64) -> Vec<f64> {
+        let mut cuts = Vec::with_capacity(16);
+        turning_points(&self.horizontal, 0.0, &mut cuts);
+        turning_points(&self.vertical, self.delay, &mut cuts);
+        cuts.retain(|&t| t > from && t <= self.end);
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup();
+        cuts
+    }
+
+    /// The first crossing on [a, b] (with f(a) ≤ level on both sides) of
+    /// s ü_g − k ü_v above `level`, side s = ±1 first, or where that falls
+    /// back to or below it (`back`).
+    fn crossing_on(&self, a: f64, b: f64, s: f64, k: f64, level: f64, back: bool) -> Option<f64> {
+        let mid = 0.5 * (a + b);
+        let sign = if back { -1.0 } else { 1.0 };
+        let f = |t: f64| sign * (s * self.h_on(t, mid) - k * self.v_on(t, mid));
+        // Each component is monotone on the piece: its ends bound it.
+        let upper = |x: f64, y: f64| {
+            let (h0, h1) = (s * self.h_on(x, mid), s * self.h_on(y, mid));
+            let (v0, v1) = (k * self.v_on(x, mid), k * self.v_on(y, mid));
+            if back {
+                v0.max(v1) - h0.min(h1)
+            } else {
+                h0.max(h1) - v0.min(v1)
+            }
+        };
+        first_above(&f, &upper, a, b, sign * level)
+    }
+}
+
+impl Forcing for PulsePair {
+    type Rhs<'a> = VerticalRhs<RockingRhs>;
+
+    const VERTICAL: bool = true;
+
+    fn rhs(
+        &self,
+        formulation: Formulation,
+        block: &Block,
+        side: f64,
+        forced: bool,
+    ) -> VerticalRhs<RockingRhs> {
+        VerticalRhs {
+            formulation,
+            p2: block.frequency_parameter().powi(2),
+            alpha: block.slenderness(),
+            side,
+            horizontal: RockingRhs::new(formulation, block, &self.horizontal, side, forced),
+            vertical: RockingRhs::new(formulation, block, &self.vertical, side, forced),
+            h_support: (0.0, self.horizontal.duration),
+            v_support: (self.delay, self.delay + self.vertical.duration),
+            delay: self.delay,
+        }
+    }
+
+    fn linear_segment(
+        _rhs: &VerticalRhs<RockingRhs>,
+        _t0: f64,
+        _y0: State,
+    ) -> Option<(LinearSegment, f64)> {
+        None
+    }
+
+    #[inline]
+    fn acceleration(&self, t: f64) -> f64 {
+        self.horizontal.acceleration(t)
+    }
+
+    #[inline]
+    fn vertical_acceleration(&self, t: f64) -> f64 {
+        self.vertical.acceleration(t - self.delay)
+    }
+
+    fn duration(&self) -> f64 {
+        self.end
+    }
+
+    fn next_exceedance(&self, from: f64, threshold: f64) -> Option<Exceedance> {
+        self.horizontal.next_exceedance(from, threshold)
+    }
+
+    fn next_rocking(&self, from: f64, threshold: &Threshold) -> Option<Exceedance> {
+        let (k, level) = (threshold.factor, threshold.level);
+        let from = from.max(0.0);
+        if from >= self.end {
+            return None;
+        }
+        let cuts = self.cuts_after(from);
+        // The start and the sign s of ü_g there.
+        let mut found = None;
+        let mut a = from;
+        for (i, &b) in cuts.iter().enumerate() {
+            let mid = 0.5 * (a + b);
+            let f = |t: f64, s: f64| s * self.h_on(t, mid) - k * self.v_on(t, mid);
+            let first = [1.0, -1.0]
+                .into_iter()
+                .filter_map(|s| {
+                    if f(a, s) > level {
+                        Some((a, s))
+                    } else {
+                        self.crossing_on(a, b, s, k, level, false).map(|t| (t, s))
+                    }
+                })
+                .min_by(|x, y| x.0.total_cmp(&y.0));
+            if let Some(start) = first {
+                found = Some((start, i));
+                break;
+            }
+            a = b;
+        }
+        let ((start, s), i) = found?;
+        // The window closes where s ü_g − k ü_v falls back to k g.
+        let mut a = start;
+        let mut end = self.end;
+        for &b in &cuts[i..] {
+            if let Some(t) = self.crossing_on(a, b, s, k, level, true) {
+                end = t;
+                break;
+            }
+            a = b;
+        }
+        Some(Exceedance {
+            start,
+            end: end.max(start),
+            side: -s,
+        })
+    }
+
+    fn rocks_before(&self, from: f64, until: f64, threshold: &Threshold) -> bool {
+        self.next_rocking(from, threshold)
+            .is_some_and(|e| e.start <= until)
+    }
+
+    fn next_weightless(&self, from: f64, gravity: f64) -> Option<f64> {
+        // ü_v < −g: a window of |ü_v| > g where ü_v is negative.
+        let mut own = (from - self.delay).max(0.0);
+        for _ in 0..64 {
+            let e = self.vertical.next_exceedance(own, gravity)?;
+            if e.side > 0.0 {
+                return Some(e.start + self.delay);
+            }
+            if e.end <= own {
+                return None;
+            }
+            own = e.end;
+        }
+        None
+    }
+
+    #[inline]
+    fn breakpoint_after(&self, t: f64) -> f64 {
+        // The ends of either pulse: inside, both are smooth.
+        [
+            self.horizontal.duration,
+            self.delay,
+            self.delay + self.vertical.duration,
+        ]
+        .into_iter()
+        .filter(|&b| b > t)
+        .fold(f64::INFINITY, f64::min)
+    }
+
+    fn resolving_frequency(&self) -> f64 {
+        self.horizontal
+            .resolving_frequency()
+            .max(self.vertical.resolving_frequency())
+    }
+
+    fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64) {
+        self.horizontal.peak_between(ta, tb)
+    }
+
+    fn rest_demand_peak(&self, ta: f64, tb: f64, gravity: f64) -> (f64, f64) {
+        let demand = |t: f64, mid: f64| {
+            let fz = gravity + self.v_on(t, mid);
+            if fz > 0.0 {
+                self.h_on(t, mid).abs() / fz
+            } else {
+                f64::INFINITY
+            }
+        };
+        let mut best = (f64::NEG_INFINITY, ta);
+        let mut a = ta;
+        let mut cuts: Vec<f64> = self
+            .cuts_after(ta)
+            .into_iter()
+            .filter(|&c| c < tb)
+            .collect();
+        cuts.push(tb);
+        for &b in &cuts {
+            if b < a {
+                continue;
+            }
+            let mid = 0.5 * (a + b);
+            let n = 32;
+            let at = |j: usize| a + (b - a) * j as f64 / n as f64;
+            let mut k_best = 0;
+            let mut v_best = f64::NEG_INFINITY;
+            for j in 0..=n {
+                let v = demand(at(j), mid);
+                if v > v_best {
+                    (k_best, v_best) = (j, v);
+                }
+            }
+            let (lo, hi) = (at(k_best.saturating_sub(1)), at((k_best + 1).min(n)));
+            let (t, v) = golden_max(lo, hi, |t| demand(t, mid));
+            let cand = if v > v_best {
+                (v, t)
+            } else {
+                (v_best, at(k_best))
+            };
+            if cand.0 > best.0 {
+                best = cand;
+            }
+            a = b;
+        }
+        if best.0 == f64::NEG_INFINITY {
+            (0.0, ta)
+        } else {
+            best
+        }
+    }
+}
+
+/// Golden-section search for the maximum of `f` on `[lo, hi]`.
+fn golden_max<F: Fn(f64) -> f64>(mut lo: f64, mut hi: f64, f: F) -> (f64, f64) {
+    const R: f64 = 0.618_033_988_749_894_8;
+    let mut x1 = hi - R * (hi - lo);
+    let mut x2 = lo + R * (hi - lo);
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..60 {
+        if f1 < f2 {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + R * (hi - lo);
+            f2 = f(x2);
+        } else {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - R * (hi - lo);
+            f1 = f(x1);
+        }
+        if hi - lo <= 1e-14 * hi.abs().max(1e-300) {
+            break;
+        }
+    }
+    if f1 > f2 { (x1, f1) } else { (x2, f2) }
+}
+
+/// A horizontal record and a vertical one on the same samples (the shorter
+/// given padded with zeros), linear between samples.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordPair {
+    /// ü_g.
+    pub horizontal: Record,
+    /// ü_v.
+    pub vertical: Record,
+}
+
+/// Why a pair of records cannot be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PairError {
+    /// Both records must share the sampling interval.
+    #[error(
+        "the vertical record's dt ({vertical} s) differs from the horizontal one's ({horizontal} s)"
+    )]
+    Interval {
+        /// The horizontal dt, s.
+        horizontal: f64,
+        /// The vertical dt, s.
+        vertical: f64,
+    },
+    /// A record is not valid.
+    #[error(transparent)]
+    Record(#[from] RecordError),
+    /// Neither vertical samples nor a non-zero ratio.
+    #[error("a vertical record needs samples or a non-zero ratio")]
+    Empty,
+}
+
+/// `samples` followed by zeros up to `n`.
+fn padded(samples: &[f64], n: usize) -> Arc<[f64]> {
+    let mut out = samples.to_vec();
+    out.resize(n.max(samples.len()), 0.0);
+    out.into()
+}
+
+impl RecordPair {
+    /// ü_g = `horizontal`, ü_v = `vertical`, taken every `dt` seconds; the
+    /// shorter is padded with zeros.
+    pub fn new(horizontal: Record, vertical: Record) -> Result<Self, PairError> {
+        if horizontal.dt() != vertical.dt() {
+            return Err(PairError::Interval {
+                horizontal: horizontal.dt(),
+                vertical: vertical.dt(),
+            });
+        }
+        let n = horizontal.samples().len().max(vertical.samples().len());
+        let dt = horizontal.dt();
+        Ok(RecordPair {
+            horizontal: Record::new(padded(horizontal.samples(), n), dt)?,
+            vertical: Record::new(padded(vertical.samples(), n), dt)?,
+        })
+    }
+
+    /// ü_v = `ratio`·ü_g; `None` for a ratio of 0 or one that is not finite.
+    pub fn proportional(horizontal: Record, ratio: f64) -> Option<Self> {
+        (ratio != 0.0 && ratio.is_finite()).then(|| RecordPair {
+            vertical: horizontal.scaled(ratio),
+            horizontal,
+        })
+    }
+
+    #[inline]
+    fn dt(&self) -> f64 {
+        self.horizontal.dt()
+    }
+
+    #[inline]
+    fn end(&self) -> f64 {
+        self.horizontal.duration()
+    }
+
+    /// The piece `[t_j, t_{j+1}]` holding t (clamped to the record).
+    #[inline]
+    fn piece(&self, t: f64) -> usize {
+        let j = (t / self.dt()).floor();
+        let last = self.horizontal.samples().len() - 2;
+        if j <= 0.0 { 0 } else { (j as usize).min(last) }
+    }
+
+    /// The first time at or after `from` (in the record) where the line
+    /// through the values `value(j)` of the samples exceeds `level`, the
+    /// value at `from` being `at_from`; with the piece holding it.
+    fn first_over<V: Fn(usize) -> f64>(
+        &self,
+        from: f64,
+        at_from: f64,
+        value: V,
+        level: f64,
+    ) -> Option<(f64, usize)> {
+        if at_from > level {
+            return Some((from, self.piece(from)));
+        }
+        let dt = self.dt();
+        let n = self.horizontal.samples().len();
+        let (mut ta, mut fa) = (from, at_from);
+        for j in self.piece(from)..n - 1 {
+            let tb = (j + 1) as f64 * dt;
+            let fb = value(j + 1);
+            if fb > level {
+                let s = ((level - fa) / (fb - fa)).clamp(0.0, 1.0);
+                return Some(((ta + s * (tb - ta)).max(from), j));
+            }
+            (ta, fa) = (tb, fb);
+        }
+        None
+    }
+}
+
+impl Forcing for RecordPair {
+    type Rhs<'a> = VerticalRhs<RecordRhs<'a>>;
+
+    const VERTICAL: bool = true;
+
+    fn rhs<'a>(
+        &'a self,
+        formulation: Formulation,
+        block: &Block,
+        side: f64,
+        forced: bool,
+    ) -> VerticalRhs<RecordRhs<'a>> {
+        let end = self.end();
+        VerticalRhs {
+            formulation,
+            p2: block.frequency_parameter().powi(2),
+            alpha: block.slenderness(),
+            side,
+            horizontal: self.horizontal.rhs(formulation, block, side, forced),
+            vertical: self.vertical.rhs(formulation, block, side, forced),
+            h_support: (0.0, end),
+            v_support: (0.0, end),
+            delay: 0.0,
+        }
+    }
+
+    fn linear_segment(
+        _rhs: &VerticalRhs<RecordRhs<'_>>,
+        _t0: f64,
+        _y0: State,
+    ) -> Option<(LinearSegment, f64)> {
+        None
+    }
+
+    #[inline]
+    fn acceleration(&self, t: f64) -> f64 {
+        self.horizontal.acceleration(t)
+    }
+
+    #[inline]
+    fn vertical_acceleration(&self, t: f64) -> f64 {
+        self.vertical.acceleration(t)
+    }
+
+    fn duration(&self) -> f64 {
+        self.end()
+    }
+
+    fn next_exceedance(&self, from: f64, threshold: f64) -> Option<Exceedance> {
+        self.horizontal.next_exceedance(from, threshold)
+    }
+
+    fn next_rocking(&self, from: f64, threshold: &Threshold) -> Option<Exceedance> {
+        let (k, level) = (threshold.factor, threshold.level);
+        let (a, b) = (self.horizontal.samples(), self.vertical.samples());
+        let mut from = from.max(0.0);
+        loop {
+            if from >= self.end() {
+                return None;
+            }
+            let (h0, v0) = (self.acceleration(from), self.vertical_acceleration(from));
+            let start = [1.0, -1.0]
+                .into_iter()
+                .filter_map(|s| {
+                    self.first_over(from, s * h0 - k * v0, |j| s * a[j] - k * b[j], level)
+                        .map(|(t, j)| (t, j, s))
+                })
+                .min_by(|x, y| x.0.total_cmp(&y.0));
+            let (start, _, s) = start?;
+            if start >= self.end() {
+                return None;
+            }
+            // The window closes where s ü_g − k ü_v falls back to k g.
+            // At the start the line is at the level (or above, at `from`).
+            let at_start =
+                (k * self.vertical_acceleration(start) - s * self.acceleration(start)).min(-level);
+            let end = self
+                .first_over(start, at_start, |j| -(s * a[j] - k * b[j]), -level)
+                .map_or(self.end(), |(t, _)| t);
+            if end > start {
+                return Some(Exceedance {
+                    start,
+                    end,
+                    side: -s,
+                });
+            }
+            // A window narrower than the time resolution: look past it.
+            from = self.breakpoint_after(start);
+        }
+    }
+
+    fn rocks_before(&self, from: f64, until: f64, threshold: &Threshold) -> bool {
+        self.next_rocking(from, threshold)
+            .is_some_and(|e| e.start <= until)
+    }
+
+    fn next_weightless(&self, from: f64, gravity: f64) -> Option<f64> {
+        let from = from.max(0.0);
+        if from > self.end() {
+            return None;
+        }
+        let b = self.vertical.samples();
+        // −ü_v ≥ g, the crossing of the line from above.
+        let at_from = -self.vertical_acceleration(from);
+        if at_from >= gravity {
+            return Some(from);
+        }
+        self.first_over(from, at_from, |j| -b[j], gravity)
+            .map(|(t, _)| t)
+            .or_else(|| {
+                // A last sample exactly at −g.
+                (-b[b.len() - 1] >= gravity).then(|| self.end())
+            })
+    }
+
+    #[inline]
+    fn breakpoint_after(&self, t: f64) -> f64 {
+        self.horizontal.breakpoint_after(t)
+    }
+
+    fn resolving_frequency(&self) -> f64 {
+        self.horizontal.resolving_frequency()
+    }
+
+    fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64) {
+        self.horizontal.peak_between(ta, tb)
+    }
+
+    /// On each piece |ü_g|/(g + ü_v) is a ratio of lines (where g + ü_v >
+    /// 0): monotone but for a minimum where ü_g = 0, so its maximum is at a
+    /// sample or an end.
+    fn rest_demand_peak(&self, ta: f64, tb: f64, gravity: f64) -> (f64, f64) {
+        let demand = |t: f64| {
+            let fz = gravity + self.vertical_acceleration(t);
+            if fz > 0.0 {
+                self.acceleration(t).abs() / fz
+            } else {
+                f64::INFINITY
+            }
+        };
+        let mut best = (demand(ta), ta);
+        let b = (demand(tb), tb);
+        if b.0 > best.0 {
+            best = b;
+        }
+        let (lo, hi) = (ta.max(0.0), tb.min(self.end()));
+        if lo < hi {
+            let dt = self.dt();
+            let first = (lo / dt).ceil() as usize;
+            let last = ((hi / dt).floor() as usize).min(self.horizontal.samples().len() - 1);
+            for j in first..=last {
+                let t = j as f64 * dt;
+                let d = demand(t);
+                if d > best.0 {
+                    best = (d, t);
+                }
+            }
+        }
+        best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::PulseShape;
+
+    fn block() -> Block {
+        Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid")
+    }
+
+    #[test]
+    fn a_pulse_pair_starts_rocking_where_the_threshold_carries_the_vertical() {
+        // ü_g = a sin(ω t), ü_v = r ü_g: the start solves a sin ψ = k g/(1 − k r).
+        let b = block();
+        for f in [Formulation::Linear, Formulation::Nonlinear] {
+            let th = f.threshold(&b);
+            let k = th.factor;
+            let a = 4.0 * th.level;
+            let h = Pulse::new(PulseShape::OneSine, a, 5.0).expect("valid");
+            for r in [-1.0, -0.5, 0.5, 1.0] {
+                let pair = PulsePair::proportional(h, r).expect("non-zero");
+                let e = pair.next_rocking(0.0, &th).expect("rocks");
+                let expect = (k * b.gravity() / (1.0 - k * r) / a).asin() / 5.0;
+                assert!(
+                    (e.start - expect).abs() < 1e-13,
+                    "{f:?} r={r}: {e:?} vs {expect}"
+                );
+                assert_eq!(e.side, -1.0);
+                // It closes symmetrically about the crest at π/(2ω).
+                let crest = std::f64::consts::FRAC_PI_2 / 5.0;
+                assert!((e.end - (2.0 * crest - expect)).abs() < 1e-12, "{e:?}");
+                // The negative half: −a sin ψ·(1 + k r) = k g.
+                let e2 = pair.next_rocking(e.end, &th).expect("second window");
+                let expect2 = PI / 5.0 + (k * b.gravity() / (1.0 + k * r) / a).asin() / 5.0;
+                assert!((e2.start - expect2).abs() < 1e-12, "{e2:?} vs {expect2}");
+                assert_eq!(e2.side, 1.0);
+            }
+        }
+    }
+
+    #[test]
+    fn a_record_pair_starts_rocking_on_the_line_in_closed_form() {
+        // ü_g from 0 to 2 k g, ü_v from 0 to −g/2 over [0, 1]: the start solves
+        // 2 k g t = k (g − g t/2), t = 1/2.5.
+        let b = block();
+        let th = Formulation::Nonlinear.threshold(&b);
+        let (k, g) = (th.factor, b.gravity());
+        let h = Record::new(vec![0.0, 2.0 * k * g, 0.0].into(), 1.0).expect("valid");
+        let v = Record::new(vec![0.0, -0.5 * g].into(), 1.0).expect("valid");
+        let pair = RecordPair::new(h, v).expect("same dt");
+        assert_eq!(pair.vertical.samples(), &[0.0, -0.5 * g, 0.0]);
+        let e = pair.next_rocking(0.0, &th).expect("rocks");
+        assert!((e.start - 0.4).abs() < 1e-15, "{e:?}");
+        assert_eq!(e.side, -1.0);
+        // Back down on [1, 2]: 2 k g (2 − t) = k (g − g (2 − t)/2), t = 2 − 1/2.5.
+        assert!((e.end - 1.6).abs() < 1e-15, "{e:?}");
+        assert!(pair.next_weightless(0.0, g).is_none());
+        let deep = Record::new(vec![0.0, -2.0 * g].into(), 1.0).expect("valid");
+        let pair = RecordPair::new(pair.horizontal.clone(), deep).expect("same dt");
+        assert!((pair.next_weightless(0.0, g).expect("falls away") - 0.5).abs() < 1e-15);
+        let other = Record::new(vec![0.0, 1.0].into(), 0.5).expect("valid");
+        assert!(RecordPair::new(pair.horizontal.clone(), other).is_err());
+    }
+
+    #[test]
+    fn a_delayed_vertical_pulse_falls_away_where_it_passes_minus_g() {
+        let g = 9.81;
+        let h = Pulse::new(PulseShape::OneSine, 3.0, 2.0).expect("valid");
+        // −2g cos(3 t') from t' = t − 0.4: below −g for 3 t' < π/3.
+        let v = Pulse::new(PulseShape::OneCosine, -2.0 * g, 3.0).expect("valid");
+        let pair = PulsePair::new(h, v, 0.4);
+        assert_eq!(pair.next_weightless(0.0, g), Some(0.4));
+        let later = pair.next_weightless(0.5, g).expect("again");
+        assert_eq!(later, 0.5);
+        let second = pair
+            .next_weightless(0.4 + PI / 9.0 + 1e-9, g)
+            .expect("the last crest");
+        assert!((second - (0.4 + (2.0 * PI - PI / 3.0) / 3.0)).abs() < 1e-12);
+        assert_eq!(pair.duration(), PI);
+        assert_eq!(pair.vertical_acceleration(0.3), 0.0);
+        assert_eq!(pair.vertical_acceleration(0.4), -2.0 * g);
+    }
+
+    #[test]
+    fn the_first_crossing_is_found_among_several() {
+        // f = sin(t) on [0, 10] above 0.5: first at π/6, not 2π + π/6; the
+        // bound from |f′| ≤ 1.
+        let f = |t: f64| t.sin();
+        let upper = |a: f64, b: f64| 0.5 * (f(a) + f(b)) + 0.5 * (b - a);
+        let t = first_above(&f, &upper, 0.0, 10.0, 0.5).expect("crosses");
+        assert!((t - PI / 6.0).abs() < 1e-15, "{t}");
+        assert!(first_above(&f, &upper, 0.0, 10.0, 1.5).is_none());
+    }
+}

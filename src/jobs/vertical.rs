@@ -1,0 +1,390 @@
+//! The vertical ground motion of a time history: beside a pulse
+//! (`"vertical"`: `{"ratio": r}` or a pulse of its own) and inside a record
+//! (`"ground_motion": {…, "vertical": {"ratio": r} or samples}`).
+//!
+//! No vertical motion at all (a ratio of 0, a record of zeros) is the same
+//! job as none given: normalised away, it leaves the canonical spec, the
+//! cache key and every result as they are without it.
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use super::names::tag;
+use super::spec::{
+    BlockNorm, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, ShapeParams, SpecError,
+    family_of, validate_ground_motion, validate_pulse,
+};
+
+/// Largest |ratio| of ü_v to ü_g accepted.
+pub const MAX_VERTICAL_RATIO: f64 = 100.0;
+/// Longest delay of a vertical pulse accepted, s.
+pub const MAX_VERTICAL_DELAY_S: f64 = 1e6;
+
+/// The vertical ground acceleration (positive up) beside a pulse: either
+/// `{"ratio": r}` (ü_v = r·ü_g, in phase, either sign) or a pulse of its own,
+/// given as `pulse` is (type, a frequency, an amplitude), starting
+/// `delay_s` after the horizontal one.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VerticalPulseSpec {
+    /// ü_v/ü_g (−100 to 100; 0 is no vertical motion). Alone.
+    #[schema(minimum = -100.0, maximum = 100.0)]
+    pub ratio: Option<f64>,
+    /// Start of the vertical pulse after the horizontal one's, s (default 0).
+    #[schema(minimum = 0.0, maximum = 1e6)]
+    pub delay_s: Option<f64>,
+    /// The vertical pulse's family, as for `pulse`.
+    #[serde(rename = "type", alias = "shape")]
+    #[schema(value_type = Option<crate::jobs::schema::PulseTypeInput>)]
+    pub kind: Option<String>,
+    /// Displacement cycles of a Type-Cn pulse.
+    #[schema(minimum = 1, maximum = 1000)]
+    pub n: Option<u32>,
+    /// Ricker only: symmetric (default) or its derivative.
+    pub symmetric: Option<bool>,
+    /// Mavroeidis–Papageorgiou only: γ.
+    #[schema(exclusive_minimum = 1.0, maximum = 20.0)]
+    pub gamma: Option<f64>,
+    /// Mavroeidis–Papageorgiou only: ν, rad.
+    pub nu: Option<f64>,
+    /// Circular frequency, rad/s.
+    #[schema(exclusive_minimum = 0.0)]
+    pub omega_p: Option<f64>,
+    /// Frequency, Hz.
+    #[schema(exclusive_minimum = 0.0)]
+    pub frequency_hz: Option<f64>,
+    /// Its ω/p.
+    #[schema(minimum = 1e-3, maximum = 1e4)]
+    pub omega_ratio: Option<f64>,
+    /// Rectangular only: duration, s.
+    #[schema(exclusive_minimum = 0.0)]
+    pub duration_s: Option<f64>,
+    /// Amplitude, m/s² (positive up).
+    pub a_p: Option<f64>,
+    /// Amplitude, g.
+    pub a_p_g: Option<f64>,
+    /// Amplitude, α g.
+    #[schema(minimum = -1e8, maximum = 1e8)]
+    pub a_p_alpha_g: Option<f64>,
+}
+
+impl VerticalPulseSpec {
+    /// The pulse fields, as a pulse spec.
+    fn pulse(&self) -> PulseSpec {
+        PulseSpec {
+            kind: self.kind.clone(),
+            n: self.n,
+            symmetric: self.symmetric,
+            gamma: self.gamma,
+            nu: self.nu,
+            omega_p: self.omega_p,
+            frequency_hz: self.frequency_hz,
+            omega_ratio: self.omega_ratio,
+            duration_s: self.duration_s,
+            a_p: self.a_p,
+            a_p_g: self.a_p_g,
+            a_p_alpha_g: self.a_p_alpha_g,
+        }
+    }
+
+    /// The first pulse field given, by name.
+    fn first_pulse_field(&self) -> Option<&'static str> {
+        let p = self.pulse();
+        [
+            (p.kind.is_some(), "type"),
+            (p.n.is_some(), "n"),
+            (p.symmetric.is_some(), "symmetric"),
+            (p.gamma.is_some(), "gamma"),
+            (p.nu.is_some(), "nu"),
+            (p.omega_p.is_some(), "omega_p"),
+            (p.frequency_hz.is_some(), "frequency_hz"),
+            (p.omega_ratio.is_some(), "omega_ratio"),
+            (p.duration_s.is_some(), "duration_s"),
+            (p.a_p.is_some(), "a_p"),
+            (p.a_p_g.is_some(), "a_p_g"),
+            (p.a_p_alpha_g.is_some(), "a_p_alpha_g"),
+            (self.delay_s.is_some(), "delay_s"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name))
+    }
+}
+
+/// A ratio ü_v/ü_g, checked; `None` for 0 (no vertical motion).
+fn ratio_at(r: f64, pointer: String) -> Result<Option<f64>, SpecError> {
+    if !(r.is_finite() && r.abs() <= MAX_VERTICAL_RATIO) {
+        return Err(SpecError::at(
+            pointer,
+            format!("must be a finite number with |ratio| <= {MAX_VERTICAL_RATIO}"),
+        ));
+    }
+    Ok((r != 0.0).then_some(r))
+}
+
+/// The vertical motion beside a pulse, normalised.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(into = "VerticalPulseDoc", try_from = "VerticalPulseDoc")]
+pub enum VerticalPulseNorm {
+    /// ü_v = r·ü_g.
+    Ratio(f64),
+    /// A pulse of its own.
+    Pulse {
+        /// The pulse (its ω_p and a_p, m/s², positive up).
+        pulse: PulseNorm,
+        /// Its start after the horizontal pulse's, s.
+        delay_s: f64,
+    },
+}
+
+/// [`VerticalPulseNorm`] as documents hold it: `{"ratio": r}`, or the
+/// pulse's fields with `delay_s`.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, utoipa::ToSchema)]
+pub struct VerticalPulseDoc {
+    /// ü_v/ü_g.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ratio: Option<f64>,
+    /// Family name.
+    #[serde(rename = "type", skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
+    /// Cycles (cn only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub n: Option<u32>,
+    /// Symmetric wavelet or its derivative (ricker only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub symmetric: Option<bool>,
+    /// γ (mavroeidis_papageorgiou only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gamma: Option<f64>,
+    /// ν, rad (mavroeidis_papageorgiou only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nu: Option<f64>,
+    /// ω_p, rad/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub omega_p: Option<f64>,
+    /// a_p, m/s².
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a_p: Option<f64>,
+    /// Start after the horizontal pulse, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub delay_s: Option<f64>,
+}
+
+impl From<VerticalPulseNorm> for VerticalPulseDoc {
+    fn from(v: VerticalPulseNorm) -> Self {
+        match v {
+            VerticalPulseNorm::Ratio(r) => VerticalPulseDoc {
+                ratio: Some(r),
+                ..Default::default()
+            },
+            VerticalPulseNorm::Pulse { pulse, delay_s } => VerticalPulseDoc {
+                ratio: None,
+                kind: Some(pulse.kind.to_string()),
+                n: pulse.n,
+                symmetric: pulse.symmetric,
+                gamma: pulse.gamma,
+                nu: pulse.nu,
+                omega_p: Some(pulse.omega_p),
+                a_p: Some(pulse.a_p),
+                delay_s: Some(delay_s),
+            },
+        }
+    }
+}
+
+impl TryFrom<VerticalPulseDoc> for VerticalPulseNorm {
+    type Error = String;
+
+    fn try_from(d: VerticalPulseDoc) -> Result<Self, String> {
+        if let Some(r) = d.ratio {
+            return Ok(VerticalPulseNorm::Ratio(r));
+        }
+        let (Some(kind), Some(omega_p), Some(a_p)) = (d.kind, d.omega_p, d.a_p) else {
+            return Err("a vertical pulse needs ratio, or type, omega_p and a_p".to_string());
+        };
+        let params = ShapeParams {
+            n: d.n,
+            symmetric: d.symmetric,
+            gamma: d.gamma,
+            nu: d.nu,
+        };
+        let shape = family_of(&kind, params)?;
+        Ok(VerticalPulseNorm::Pulse {
+            pulse: PulseNorm::of(shape, omega_p, a_p),
+            delay_s: d.delay_s.unwrap_or(0.0),
+        })
+    }
+}
+
+/// Validates the vertical motion beside a pulse, at `base`; `None` for no
+/// vertical motion (a ratio of 0).
+pub fn validate_vertical_pulse(
+    spec: &VerticalPulseSpec,
+    block: &BlockNorm,
+    base: &str,
+) -> Result<Option<VerticalPulseNorm>, SpecError> {
+    if let Some(r) = spec.ratio {
+        if let Some(other) = spec.first_pulse_field() {
+            return Err(SpecError::at(
+                format!("{base}/{other}"),
+                "give either ratio alone, or a pulse of its own (type, a frequency, an amplitude, optionally delay_s)",
+            ));
+        }
+        return Ok(ratio_at(r, format!("{base}/ratio"))?.map(VerticalPulseNorm::Ratio));
+    }
+    if spec.kind.is_none() {
+        return Err(SpecError::at(
+            format!("{base}/type"),
+            "missing field: give ratio (ü_v = ratio·ü_g), or a pulse of its own (type, a frequency, an amplitude)",
+        ));
+    }
+    let delay_s = spec.delay_s.unwrap_or(0.0);
+    if !(delay_s.is_finite() && (0.0..=MAX_VERTICAL_DELAY_S).contains(&delay_s)) {
+        return Err(SpecError::at(
+            format!("{base}/delay_s"),
+            format!("must satisfy 0 <= delay_s <= {MAX_VERTICAL_DELAY_S:e} (s)"),
+        ));
+    }
+    let (pulse, _) = validate_pulse(&spec.pulse(), block, base)?;
+    Ok(Some(VerticalPulseNorm::Pulse { pulse, delay_s }))
+}
+
+/// The vertical acceleration of a record (positive up): `{"ratio": r}`, or
+/// samples taken with the horizontal record's `dt` (the shorter of the two
+/// is padded with zeros).
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VerticalRecordSpec {
+    /// ü_v/ü_g (−100 to 100; 0 is no vertical motion). Alone.
+    #[schema(minimum = -100.0, maximum = 100.0)]
+    pub ratio: Option<f64>,
+    /// Sampling interval, s: the horizontal record's (default; another is refused).
+    #[schema(minimum = 1e-5, maximum = 1.0)]
+    pub dt: Option<f64>,
+    /// Accelerations at t_k = k·dt, positive up.
+    #[schema(min_items = 2, max_items = 1_000_000)]
+    pub acc: Option<Vec<f64>>,
+    /// Unit of `acc`: "g" | "m/s2" | "cm/s2" (also "gal").
+    #[schema(value_type = Option<crate::jobs::schema::UnitInput>)]
+    pub unit: Option<String>,
+    /// The samples' PGA above 5 g in their unit is intended.
+    pub allow_large_pga: Option<bool>,
+}
+
+/// The vertical acceleration of a record, normalised: a ratio, or samples
+/// in m/s² on the horizontal record's dt.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct VerticalRecordNorm {
+    /// ü_v/ü_g.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ratio: Option<f64>,
+    /// Sampling interval, s (the horizontal record's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    /// Accelerations, m/s².
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "serialize_samples",
+        deserialize_with = "deserialize_samples"
+    )]
+    #[schema(value_type = Option<Vec<f64>>)]
+    pub acc: Option<Arc<[f64]>>,
+    /// "m/s2" with samples.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<crate::jobs::schema::MetresPerSecondSquared>)]
+    pub unit: Option<tag::MetresPerSecondSquared>,
+}
+
+fn serialize_samples<S: serde::Serializer>(
+    v: &Option<Arc<[f64]>>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    match v {
+        Some(v) => s.collect_seq(v.iter()),
+        None => s.serialize_none(),
+    }
+}
+
+fn deserialize_samples<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Option<Arc<[f64]>>, D::Error> {
+    Option::<Vec<f64>>::deserialize(d).map(|v| v.map(Arc::from))
+}
+
+/// Validates a record and its vertical acceleration, at `base`: the record
+/// as [`validate_ground_motion`] does, the vertical samples likewise (at
+/// `base/vertical`), on the same dt. A ratio of 0 and samples all zero are
+/// no vertical motion.
+pub fn validate_record_with_vertical(
+    spec: &GroundMotionSpec,
+    block: &BlockNorm,
+    base: &str,
+) -> Result<GroundMotionNorm, SpecError> {
+    let horizontal = GroundMotionSpec {
+        vertical: None,
+        ..spec.clone()
+    };
+    let (mut norm, _) = validate_ground_motion(&horizontal, block, base)?;
+    let Some(v) = &spec.vertical else {
+        return Ok(norm);
+    };
+    let at = format!("{base}/vertical");
+    if let Some(r) = v.ratio {
+        let other = [
+            (v.dt.is_some(), "dt"),
+            (v.acc.is_some(), "acc"),
+            (v.unit.is_some(), "unit"),
+            (v.allow_large_pga.is_some(), "allow_large_pga"),
+        ]
+        .into_iter()
+        .find_map(|(given, name)| given.then_some(name));
+        if let Some(other) = other {
+            return Err(SpecError::at(
+                format!("{at}/{other}"),
+                "give either ratio alone, or the vertical samples (acc, unit, optionally dt)",
+            ));
+        }
+        norm.vertical = ratio_at(r, format!("{at}/ratio"))?.map(|r| VerticalRecordNorm {
+            ratio: Some(r),
+            dt: None,
+            acc: None,
+            unit: None,
+        });
+        return Ok(norm);
+    }
+    if v.acc.is_none() {
+        return Err(SpecError::at(
+            format!("{at}/acc"),
+            "missing field: give ratio (ü_v = ratio·ü_g), or the vertical samples (acc, unit)",
+        ));
+    }
+    if let Some(dt) = v.dt
+        && dt != norm.dt
+    {
+        return Err(SpecError::at(
+            format!("{at}/dt"),
+            format!(
+                "must be the horizontal record's dt ({} s; got {dt} s): resample one of them",
+                norm.dt
+            ),
+        ));
+    }
+    let samples = GroundMotionSpec {
+        dt: Some(norm.dt),
+        acc: v.acc.clone(),
+        unit: v.unit.clone(),
+        allow_large_pga: v.allow_large_pga,
+        ..Default::default()
+    };
+    let (vertical, _) = validate_ground_motion(&samples, block, &at)?;
+    if vertical.acc.iter().any(|&a| a != 0.0) {
+        norm.vertical = Some(VerticalRecordNorm {
+            ratio: None,
+            dt: Some(vertical.dt),
+            acc: Some(vertical.acc),
+            unit: Some(tag::MetresPerSecondSquared),
+        });
+    }
+    Ok(norm)
+}

@@ -1,0 +1,372 @@
+//! Vertical ground motion: a constant vertical acceleration a_v is the same
+//! block under gravity g + a_v (α kept, p scaled by √((g + a_v)/g)); rocking
+//! starts where |ü_g| = (g + ü_v)·k, known in closed form on linear ramps
+//! and under a proportional pulse; a ground falling away faster than g ends
+//! the history with lift-off at that time; and no vertical motion (a ratio
+//! of 0, a record of zeros) is the job without one, result and cache key.
+
+use crate::synthetic::synthetic;
+use serde_json::{Value, json};
+use topple::dynamics::{
+    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Record, RecordPair, Response,
+    Solver, simulate,
+};
+use topple::jobs::Job;
+use topple::jobs::key::{cache_key, canonical_spec};
+
+const G: f64 = 9.81;
+
+fn block() -> Block {
+    Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid block")
+}
+
+/// The same block under gravity g + a_v.
+fn under_gravity(b: &Block, a_v: f64) -> Block {
+    let g2 = b.gravity() + a_v;
+    Block::new(
+        b.slenderness(),
+        b.frequency_parameter() * (g2 / b.gravity()).sqrt(),
+        Some(b.restitution()),
+        b.friction(),
+        Some(g2),
+    )
+    .expect("valid block")
+}
+
+fn dop853() -> Solver {
+    Solver::RungeKutta {
+        method: Method::Dop853,
+        rtol: 1e-12,
+        atol: 1e-14,
+    }
+}
+
+/// The one-sine pulse a_p sin(ω_p t) sampled at t_k = k T/n, k = 0..n.
+fn sampled(pulse: &Pulse, n: usize) -> Record {
+    let dt = pulse.duration / n as f64;
+    let acc: Vec<f64> = (0..=n)
+        .map(|k| pulse.amplitude * (pulse.circular_frequency * k as f64 * dt).sin())
+        .collect();
+    Record::new(acc.into(), dt).expect("valid record")
+}
+
+/// The impacts of `r` faster than `v_min`, rad/s: those of the rocking, not
+/// of a chattering tail (whose summation starts at a speed that scales with p).
+fn rocking_impacts(r: &Response, v_min: f64) -> Vec<f64> {
+    r.impacts
+        .iter()
+        .filter(|i| i.velocity_before.abs() > v_min)
+        .map(|i| i.time)
+        .collect()
+}
+
+#[test]
+fn a_constant_vertical_acceleration_is_another_gravity() {
+    let b = block();
+    let one_sine = |level: f64, ratio: f64| {
+        let a = level * b.slenderness() * G;
+        sampled(
+            &Pulse::new(PulseShape::OneSine, a, ratio * b.frequency_parameter()).expect("valid"),
+            400,
+        )
+    };
+    // (Ending at rest: padded with zeros, a record ending elsewhere would
+    // ramp down to zero over one more interval.)
+    let mut noisy = synthetic(7, 1200, 0.01, 0.6 * G, 0.5, 5.0);
+    noisy.push(0.0);
+    let noisy = Record::new(noisy.into(), 0.01).expect("valid record");
+    // (name, horizontal record): a pulse as a record, overturning or not, and a record.
+    let cases = [
+        ("one-sine 3 αg, ω/p = 2", one_sine(3.0, 2.0)),
+        ("one-sine 8 αg, ω/p = 4", one_sine(8.0, 4.0)),
+        ("one-sine 1.6 αg, ω/p = 1", one_sine(1.6, 1.0)),
+        ("synthetic record", noisy),
+    ];
+    let mut compared = 0;
+    let mut overturned = 0;
+    for (name, h) in &cases {
+        for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+            for a_v in [0.3 * G, -0.3 * G] {
+                // A constant vertical record far longer than the motion.
+                let n = (120.0 / h.dt()) as usize;
+                let v = Record::new(vec![a_v; n].into(), h.dt()).expect("valid");
+                let pair = RecordPair::new(h.clone(), v).expect("same dt");
+                let mut options = Options::history(dop853());
+                options.max_free_impacts = 200;
+                let with = simulate(
+                    &Problem {
+                        block: b,
+                        pulse: pair,
+                        formulation,
+                    },
+                    &options,
+                )
+                .expect("runs");
+                let heavier = under_gravity(&b, a_v);
+                let reference = simulate(
+                    &Problem {
+                        block: heavier,
+                        pulse: h.clone(),
+                        formulation,
+                    },
+                    &options,
+                )
+                .expect("runs");
+                let what = format!("{name}, {formulation:?}, a_v = {a_v}");
+                assert_eq!(with.rocked, reference.rocked, "{what}");
+                assert_eq!(with.overturned, reference.overturned, "{what}");
+                assert_eq!(with.mode, reference.mode, "{what}");
+                assert!(with.lift_off.is_none(), "{what}");
+                let (s0, s1) = (with.rocking_start, reference.rocking_start);
+                assert!(
+                    (s0.unwrap_or(0.0) - s1.unwrap_or(0.0)).abs() < 1e-9,
+                    "{what}: {s0:?} {s1:?}"
+                );
+                let p_max = heavier.frequency_parameter().max(b.frequency_parameter());
+                let v_min = 1e-3 * p_max * b.slenderness();
+                let (i0, i1) = (
+                    rocking_impacts(&with, v_min),
+                    rocking_impacts(&reference, v_min),
+                );
+                assert_eq!(i0.len(), i1.len(), "{what}: {i0:?} {i1:?}");
+                for (x, y) in i0.iter().zip(&i1) {
+                    assert!((x - y).abs() < 1e-9, "{what}: impact at {x} vs {y}");
+                }
+                if let (Some(x), Some(y)) = (with.overturn_time, reference.overturn_time) {
+                    assert!((x - y).abs() < 1e-9, "{what}: overturn at {x} vs {y}");
+                }
+                // The motion ended before the vertical record did.
+                assert!(with.end_time < 119.0, "{what}: {}", with.end_time);
+                compared += i0.len();
+                overturned += usize::from(with.overturned);
+            }
+        }
+    }
+    assert!(compared > 20, "{compared} impacts compared");
+    assert!((2..16).contains(&overturned), "{overturned} overturned");
+}
+
+/// The result of a time-history spec.
+fn run(spec: &Value) -> Value {
+    let job = Job::from_value(spec).expect("valid spec");
+    let Job::TimeHistory(h) = job else {
+        panic!("a time history")
+    };
+    serde_json::to_value(h.run().expect("runs")).expect("serialises")
+}
+
+fn history(extra: Value) -> Value {
+    let mut spec = json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9}});
+    for (k, v) in extra.as_object().expect("an object") {
+        spec[k] = v.clone();
+    }
+    spec
+}
+
+#[test]
+fn rocking_starts_where_the_ground_beats_g_plus_the_vertical() {
+    let alpha: f64 = 0.25;
+    for (formulation, k) in [("nonlinear", alpha.tan()), ("linear", alpha)] {
+        // A ramp ü_g = 2kg·t under a ramp ü_v = −g t/2 on [0, 1] (dt = 1):
+        // 2kg t = k(g − g t/2) at t = 0.4, where without the vertical
+        // it is 0.5.
+        let spec = history(json!({
+            "formulation": formulation,
+            "ground_motion": {"dt": 1.0, "unit": "m/s2", "acc": [0.0, 2.0 * k * G, 0.0],
+                              "vertical": {"acc": [0.0, -0.5 * G], "unit": "m/s2"}}
+        }));
+        let doc = run(&spec);
+        let start = doc["rocking_start"].as_f64().expect("rocks");
+        assert!((start - 0.4).abs() < 1e-14, "{formulation}: {start}");
+        // A one-sine a sin(ω t) with ü_v = r ü_g: a sin(ω t)(1 − k r) = k g.
+        for r in [-1.0, -0.5, 0.5, 1.0] {
+            let a = 5.0 * k * G;
+            let spec = history(json!({
+                "formulation": formulation,
+                "pulse": {"type": "one_sine", "omega_p": 6.0, "a_p": a},
+                "vertical": {"ratio": r}
+            }));
+            let doc = run(&spec);
+            let start = doc["rocking_start"].as_f64().expect("rocks");
+            let expect = (k * G / (1.0 - k * r) / a).asin() / 6.0;
+            assert!(
+                (start - expect).abs() < 1e-13,
+                "{formulation} r = {r}: {start} vs {expect}"
+            );
+            assert_eq!(
+                doc["ground_peaks"]["pga_v_m_s2"].as_f64(),
+                Some(a * r.abs())
+            );
+        }
+    }
+}
+
+#[test]
+fn a_ground_falling_faster_than_g_lifts_the_block_off() {
+    // ü_v falls from 0 to −2g over [0, 1]: g + ü_v = 0 at t = 0.5.
+    let spec = history(json!({
+        "ground_motion": {"dt": 0.25, "unit": "m/s2", "acc": [0.0, 0.5, 1.0, 0.5, 0.0],
+                          "vertical": {"acc": [0.0, -0.5 * G, -G, -1.5 * G, -2.0 * G], "unit": "m/s2"}}
+    }));
+    let doc = run(&spec);
+    assert_eq!(doc["lift_off"], json!(true));
+    let t = doc["lift_off_time"].as_f64().expect("a time");
+    assert!((t - 0.5).abs() < 1e-15, "{t}");
+    assert_eq!(doc["overturned"], json!(false));
+    assert_eq!(doc["mode"], Value::Null);
+    assert_eq!(doc["end_time"].as_f64(), Some(t));
+    assert_eq!(doc["peak_friction_demand"], Value::Null);
+    let warnings = doc["warnings"].as_array().expect("warnings");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w["kind"] == "lift_off" && w["t"].as_f64() == Some(t)),
+        "{warnings:?}"
+    );
+    // A vertical pulse of its own, −1.5 g cos(ω t'), from t = 0.3: below −g
+    // from its start, while the block rocks under the horizontal pulse.
+    let spec = history(json!({
+        "pulse": {"type": "one_sine", "omega_p": 8.0, "a_p_alpha_g": 6.0},
+        "vertical": {"type": "one_cosine", "omega_p": 4.0, "a_p_g": -1.5, "delay_s": 0.3},
+        "outputs": {"reactions": false}
+    }));
+    let doc = run(&spec);
+    assert_eq!(doc["rocked"], json!(true));
+    assert_eq!(doc["lift_off"], json!(true));
+    assert_eq!(doc["lift_off_time"].as_f64(), Some(0.3));
+    assert_eq!(doc["overturned"], json!(false));
+}
+
+/// `doc` without what varies from run to run (wall times).
+fn steady(mut doc: Value) -> Value {
+    doc["numerics"]["wall_time_s"] = Value::Null;
+    doc["engine"] = Value::Null;
+    doc
+}
+
+#[test]
+fn no_vertical_motion_is_the_job_without_one() {
+    let pulse = json!({"type": "one_sine", "omega_ratio": 3.0, "a_p_alpha_g": 4.0});
+    let acc = synthetic(3, 500, 0.01, 0.5, 0.5, 4.0);
+    let record = json!({"dt": 0.01, "unit": "g", "acc": acc});
+    let mut zero_record = record.clone();
+    zero_record["vertical"] = json!({"acc": vec![0.0; 800], "unit": "g"});
+    let mut zero_ratio = record.clone();
+    zero_ratio["vertical"] = json!({"ratio": 0.0});
+    let pairs = [
+        (
+            history(json!({"pulse": pulse, "outputs": {"series": 50}})),
+            history(json!({"pulse": pulse, "vertical": {"ratio": 0}, "outputs": {"series": 50}})),
+        ),
+        (
+            history(json!({"ground_motion": record})),
+            history(json!({"ground_motion": zero_record})),
+        ),
+        (
+            history(json!({"ground_motion": record, "formulation": "linear"})),
+            history(json!({"ground_motion": zero_ratio, "formulation": "linear"})),
+        ),
+    ];
+    for (plain, zero) in &pairs {
+        let (a, b) = (
+            Job::from_value(plain).expect("valid"),
+            Job::from_value(zero).expect("valid"),
+        );
+        assert_eq!(canonical_spec(&a), canonical_spec(&b));
+        assert_eq!(cache_key(&a), cache_key(&b));
+        assert_eq!(steady(run(plain)), steady(run(zero)));
+    }
+    // With a vertical motion the key differs and the canonical spec holds it.
+    let with = history(json!({"pulse": pulse, "vertical": {"ratio": 0.5}}));
+    let job = Job::from_value(&with).expect("valid");
+    assert_ne!(
+        cache_key(&job),
+        cache_key(&Job::from_value(&pairs[0].0).expect("valid"))
+    );
+    assert!(canonical_spec(&job).contains(r#""vertical":{"ratio":0.5}"#));
+}
+
+/// The JSON pointer of the error a spec is refused with.
+fn refused_at(spec: &Value) -> String {
+    match Job::from_value(spec) {
+        Ok(_) => panic!("accepted: {spec}"),
+        Err(e) => e.pointer,
+    }
+}
+
+#[test]
+fn vertical_specs_are_checked_field_by_field() {
+    let pulse = json!({"type": "one_sine", "omega_ratio": 3.0, "a_p_alpha_g": 4.0});
+    let record = |vertical: Value| {
+        history(
+            json!({"ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, 0.0],
+                                         "vertical": vertical}}),
+        )
+    };
+    let cases = [
+        (
+            record(json!({"dt": 0.02, "acc": [0.0, 0.1], "unit": "g"})),
+            "/ground_motion/vertical/dt",
+        ),
+        (
+            record(json!({"ratio": 0.5, "acc": [0.0, 0.1]})),
+            "/ground_motion/vertical/acc",
+        ),
+        (
+            record(json!({"acc": [0.0, 0.1]})),
+            "/ground_motion/vertical/unit",
+        ),
+        (
+            record(json!({"ratio": 1e9})),
+            "/ground_motion/vertical/ratio",
+        ),
+        (
+            history(
+                json!({"pulse": pulse, "vertical": {"ratio": 0.5}, "formulation": "linear",
+                           "solver": {"method": "exact"}}),
+            ),
+            "/solver/method",
+        ),
+        (
+            history(json!({"pulse": pulse, "vertical": {"ratio": 0.5, "omega_p": 3.0}})),
+            "/vertical/omega_p",
+        ),
+        (
+            history(json!({"pulse": pulse, "vertical": {"type": "one_sine", "a_p_g": 0.5}})),
+            "/vertical",
+        ),
+        (
+            history(
+                json!({"pulse": pulse, "vertical": {"type": "one_sine", "omega_p": 3.0,
+                                                        "a_p_g": 0.5, "delay_s": -1}}),
+            ),
+            "/vertical/delay_s",
+        ),
+        (
+            history(
+                json!({"ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3]},
+                           "vertical": {"ratio": 0.5}}),
+            ),
+            "/vertical",
+        ),
+        (
+            json!({"kind": "record_spectrum", "block": {"alpha": 0.2},
+                   "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, 0.0],
+                                     "vertical": {"ratio": 0.5}},
+                   "R_m": [1.0], "pga_g": {"to": 1.0}}),
+            "/ground_motion/vertical",
+        ),
+    ];
+    for (spec, pointer) in &cases {
+        let at = refused_at(spec);
+        assert!(at.starts_with(pointer), "{spec}: {at} vs {pointer}");
+    }
+    // The linear formulation with vertical motion defaults to dop853.
+    let Job::TimeHistory(h) = Job::from_value(&history(
+        json!({"pulse": pulse, "vertical": {"ratio": 0.5}, "formulation": "linear"}),
+    ))
+    .expect("valid") else {
+        panic!("a time history")
+    };
+    assert_eq!(h.solver.solver().name(), "dop853");
+}
