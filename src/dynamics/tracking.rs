@@ -753,13 +753,26 @@ fn maximise<F: FnMut(f64) -> [f64; 2]>(
     best
 }
 
-/// Golden-section search for the maximum of `f` on `[lo, hi]`.
-fn golden_max<F: Fn(f64) -> f64>(mut lo: f64, mut hi: f64, f: F) -> (f64, f64) {
+/// Golden-section search for the maximum of `f` on `[lo, hi]`: 40
+/// reductions at most (a span shrinks by 0.618 each), or a span of 1e-14
+/// relative.
+fn golden_max<F: Fn(f64) -> f64>(lo: f64, hi: f64, f: F) -> (f64, f64) {
+    golden_max_in(lo, hi, 40, f)
+}
+
+/// Golden-section search for the maximum of `f` on `[lo, hi]` in at most
+/// `steps` reductions, or down to a span of 1e-14 relative.
+pub(crate) fn golden_max_in<F: Fn(f64) -> f64>(
+    mut lo: f64,
+    mut hi: f64,
+    steps: usize,
+    f: F,
+) -> (f64, f64) {
     const R: f64 = 0.618_033_988_749_894_8;
     let mut x1 = hi - R * (hi - lo);
     let mut x2 = lo + R * (hi - lo);
     let (mut f1, mut f2) = (f(x1), f(x2));
-    for _ in 0..40 {
+    for _ in 0..steps {
         if f1 < f2 {
             lo = x1;
             x1 = x2;

@@ -416,7 +416,7 @@ impl Forcing for PulsePair {
                 }
             }
             let (lo, hi) = (at(k_best.saturating_sub(1)), at((k_best + 1).min(n)));
-            let (t, v) = golden_max(lo, hi, |t| demand(t, mid));
+            let (t, v) = super::tracking::golden_max_in(lo, hi, 60, |t| demand(t, mid));
             let cand = if v > v_best {
                 (v, t)
             } else {
@@ -433,33 +433,6 @@ impl Forcing for PulsePair {
             best
         }
     }
-}
-
-/// Golden-section search for the maximum of `f` on `[lo, hi]`.
-fn golden_max<F: Fn(f64) -> f64>(mut lo: f64, mut hi: f64, f: F) -> (f64, f64) {
-    const R: f64 = 0.618_033_988_749_894_8;
-    let mut x1 = hi - R * (hi - lo);
-    let mut x2 = lo + R * (hi - lo);
-    let (mut f1, mut f2) = (f(x1), f(x2));
-    for _ in 0..60 {
-        if f1 < f2 {
-            lo = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = lo + R * (hi - lo);
-            f2 = f(x2);
-        } else {
-            hi = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = hi - R * (hi - lo);
-            f1 = f(x1);
-        }
-        if hi - lo <= 1e-14 * hi.abs().max(1e-300) {
-            break;
-        }
-    }
-    if f1 > f2 { (x1, f1) } else { (x2, f2) }
 }
 
 /// A horizontal record and a vertical one on the same samples (the shorter
