@@ -27,6 +27,7 @@ pub mod split;
 pub mod survival;
 pub mod time_history;
 pub mod vertical;
+pub mod vertical_record;
 pub mod warning;
 
 pub use error::{JobError, SpecError};

@@ -931,7 +931,7 @@ pub struct GroundMotionSpec {
     /// Time histories only: the vertical ground acceleration (positive up),
     /// `{"ratio": r}` (ü_v = r·ü_g) or samples on the same dt
     /// (`{"acc": [...], "unit": ...}`; the shorter record is padded with zeros).
-    pub vertical: Option<super::vertical::VerticalRecordSpec>,
+    pub vertical: Option<super::vertical_record::VerticalRecordSpec>,
 }
 
 pub use crate::records::{MAX_RECORD_SAMPLES, RECORD_DT_RANGE};
@@ -953,7 +953,7 @@ pub struct GroundMotionNorm {
     pub unit: tag::MetresPerSecondSquared,
     /// The vertical acceleration (time histories only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub vertical: Option<super::vertical::VerticalRecordNorm>,
+    pub vertical: Option<super::vertical_record::VerticalRecordNorm>,
 }
 
 fn serialize_samples<S: serde::Serializer>(v: &Arc<[f64]>, s: S) -> Result<S::Ok, S::Error> {
