@@ -5,7 +5,8 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use topple::dynamics::{
-    Block, Formulation, Method, Options, Problem, Pulse, PulseShape, Record, Solver, simulate,
+    Block, Forcing, Formulation, Method, Options, Problem, Pulse, PulsePair, PulseShape, Record,
+    RecordPair, Solver, simulate,
 };
 
 #[path = "../tests/common/synthetic.rs"]
@@ -164,5 +165,78 @@ fn record(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, engine, pulses, record);
+/// `block` under `motion`, nonlinear.
+fn nonlinear<G: Forcing>(block: Block, motion: G) -> Problem<G> {
+    Problem {
+        block,
+        pulse: motion,
+        formulation: Formulation::Nonlinear,
+    }
+}
+
+/// The same simulations with and without a vertical ground motion, side by
+/// side: the locomotive under the reference one-sine pulse alone, with
+/// ü_v = 0.5 ü_g, and with a one-sine vertical pulse of its own (twice the
+/// frequency, 0.5 a_p, 0.1 s late); a slender block (α = 0.15, p = 1.5) under
+/// a 20-s synthetic record alone, with ü_v = 0.5 ü_g, and with a vertical
+/// record of its own (another seed, peak 0.6 g). Nonlinear, dop853 at rtol
+/// 1e-8; `outcome` what spectra run, `full` what a time history runs (peak,
+/// friction demand, impacts).
+fn vertical(c: &mut Criterion) {
+    let mut g = c.benchmark_group("vertical");
+    g.sample_size(20);
+    let solver = rk(Method::Dop853, 1e-8);
+    let (outcome, full) = (Options::outcome(solver), Options::history(solver));
+    let block = Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid");
+    let horizontal = Pulse::new(PulseShape::OneSine, 4.0 * 0.25 * 9.81, 5.0 * 2.14).expect("valid");
+    let own = Pulse::new(PulseShape::OneSine, 0.5 * 4.0 * 0.25 * 9.81, 10.0 * 2.14).expect("valid");
+    let alone = nonlinear(block, horizontal);
+    let ratio = nonlinear(
+        block,
+        PulsePair::proportional(horizontal, 0.5).expect("non-zero"),
+    );
+    let pair = nonlinear(block, PulsePair::new(horizontal, own, 0.1));
+    for (tag, options) in [("outcome", &outcome), ("full", &full)] {
+        g.bench_function(format!("pulse/none/{tag}"), |b| {
+            b.iter(|| simulate(black_box(&alone), black_box(options)))
+        });
+        g.bench_function(format!("pulse/ratio/{tag}"), |b| {
+            b.iter(|| simulate(black_box(&ratio), black_box(options)))
+        });
+        g.bench_function(format!("pulse/own/{tag}"), |b| {
+            b.iter(|| simulate(black_box(&pair), black_box(options)))
+        });
+    }
+    let slender = Block::new(0.15, 1.5, Some(0.9), None, None).expect("valid");
+    let h = Record::new(
+        synthetic(7, 2_000, 0.01, 3.0 * 0.15 * 9.81, 1.0, 8.0).into(),
+        0.01,
+    )
+    .expect("valid");
+    let v = Record::new(
+        synthetic(11, 2_000, 0.01, 0.6 * 9.81, 1.0, 15.0).into(),
+        0.01,
+    )
+    .expect("valid");
+    let alone = nonlinear(slender, h.clone());
+    let ratio = nonlinear(
+        slender,
+        RecordPair::proportional(h.clone(), 0.5).expect("non-zero"),
+    );
+    let pair = nonlinear(slender, RecordPair::new(h, v).expect("same dt"));
+    for (tag, options) in [("outcome", &outcome), ("full", &full)] {
+        g.bench_function(format!("record/none/{tag}"), |b| {
+            b.iter(|| simulate(black_box(&alone), black_box(options)))
+        });
+        g.bench_function(format!("record/ratio/{tag}"), |b| {
+            b.iter(|| simulate(black_box(&ratio), black_box(options)))
+        });
+        g.bench_function(format!("record/own/{tag}"), |b| {
+            b.iter(|| simulate(black_box(&pair), black_box(options)))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, engine, pulses, record, vertical);
 criterion_main!(benches);

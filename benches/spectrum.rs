@@ -20,6 +20,7 @@ fn request(frequencies: usize, formulation: Formulation, solver: Solver) -> Spec
         tolerance: 1e-4,
         scan_step: 0.02,
         principal_relative_width: 0.01,
+        vertical_ratio: None,
     }
 }
 

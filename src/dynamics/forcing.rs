@@ -86,6 +86,14 @@ pub trait Forcing: Clone + std::fmt::Debug {
         None
     }
 
+    /// The vertical acceleration's slope over `[ta, tb]`, m/s³, where
+    /// [`linear_over`](Forcing::linear_over) finds the motion linear there
+    /// (zero without a vertical component).
+    #[inline]
+    fn vertical_jerk_over(&self, _ta: f64, _tb: f64) -> f64 {
+        0.0
+    }
+
     /// max |ü_g| over `[ta, tb]` and where it is reached.
     fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64);
 

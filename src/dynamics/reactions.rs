@@ -79,6 +79,9 @@ pub struct ReactionRates {
     pub ratio: f64,
     /// d(f_x/f_z)/dt = `ratio_rate[0] + ratio_rate[1] · jerk` (while f_z > 0).
     pub ratio_rate: [f64; 2],
+    /// The parts of d(f_x/m)/dt, d(f_z/m)/dt and d(f_x/f_z)/dt per unit
+    /// vertical jerk (d ü_v/dt, m/s³): zero without a vertical motion.
+    pub vertical_rate: [f64; 3],
 }
 
 impl ReactionRates {
@@ -97,7 +100,17 @@ impl ReactionRates {
                 (fx_rate[0] * fz - fx * fz_rate[0]) * inv_fz2,
                 (fx_rate[1] * fz - fx * fz_rate[1]) * inv_fz2,
             ],
+            vertical_rate: [0.0; 3],
         }
+    }
+
+    /// [`ReactionRates::new`] with the rates' parts per unit vertical jerk,
+    /// `fx_v` and `fz_v`.
+    #[inline]
+    fn with_vertical(mut self, fx_v: f64, fz_v: f64) -> Self {
+        let inv_fz2 = 1.0 / (self.fz * self.fz);
+        self.vertical_rate = [fx_v, fz_v, (fx_v * self.fz - self.fx * fz_v) * inv_fz2];
+        self
     }
 
     /// (f_x/f_z, its time derivative) under the ground jerk `jerk`, m/s³
@@ -172,6 +185,60 @@ impl ReactionModel {
             [r * (jerk_0 * cp + rest_x), 1.0 + r * jerk_1 * cp],
             [r * (jerk_0 * sp + rest_z), r * jerk_1 * sp],
         )
+    }
+
+    /// [`ReactionModel::rates`] under a vertical ground acceleration
+    /// `vertical` (ü_v, m/s², positive up), whose jerk d ü_v/dt enters the
+    /// rates through [`ReactionRates::vertical_rate`]. The values are those
+    /// of [`reactions_per_mass_vertical`], to the last bit.
+    ///
+    /// With w = 1 + ü_v/g, θ̈ is eq. 12 (eq. 50) with w on the restoring
+    /// term, and its rate gains the part of ẇ = (d ü_v/dt)/g:
+    ///
+    /// ```text
+    /// linear:    θ⃛ = p² (w θ̇ − u̇ + ẇ (θ − α s)),
+    /// nonlinear: θ⃛ = p² (θ̇ (w cos ϕ − u sin ϕ) − u̇ cos ϕ − ẇ sin ϕ),
+    /// ḟ_z/m = d ü_v/dt + R (θ⃛ sin ϕ − 3 θ̈ θ̇ cos ϕ − θ̇³ sin ϕ).
+    /// ```
+    #[inline]
+    pub fn rates_vertical(
+        &self,
+        side: f64,
+        theta: f64,
+        theta_dot: f64,
+        ground: f64,
+        vertical: f64,
+    ) -> ReactionRates {
+        let (g, p2, r) = (self.g, self.p2, self.r);
+        let u = ground / g;
+        let weight = 1.0 + vertical / g;
+        let (sp, cp) = (self.alpha * side - theta).sin_cos();
+        let w = theta_dot;
+        let w2 = w * w;
+        // θ̈, and θ⃛ = jerk_0 + jerk_1 · (d ü_g/dt) + jerk_v · (d ü_v/dt).
+        let (acc, jerk_0, jerk_1, jerk_v) = match self.formulation {
+            Formulation::Linear => (
+                p2 * (weight * (theta - self.alpha * side) - u),
+                p2 * weight * w,
+                self.jerk_gain,
+                -self.jerk_gain * (theta - self.alpha * side),
+            ),
+            Formulation::Nonlinear => (
+                -p2 * (weight * sp + u * cp),
+                p2 * w * (weight * cp - u * sp),
+                self.jerk_gain * cp,
+                self.jerk_gain * sp,
+            ),
+        };
+        let rest_x = 3.0 * acc * w * sp - w2 * w * cp;
+        let rest_z = -3.0 * acc * w * cp - w2 * w * sp;
+        ReactionRates::new(
+            ground + r * (acc * cp + w2 * sp),
+            g + vertical + r * (acc * sp - w2 * cp),
+            [r * (jerk_0 * cp + rest_x), 1.0 + r * jerk_1 * cp],
+            [r * (jerk_0 * sp + rest_z), r * jerk_1 * sp],
+        )
+        .with_vertical(r * jerk_v * cp, 1.0 + r * jerk_v * sp)
     }
 }
 
@@ -254,6 +321,81 @@ mod tests {
                 let fd = (xp / zp - xm / zm) / (2.0 * h);
                 assert!((fd - dq).abs() < 1e-6 * scale, "{formulation:?} {fd} {dq}");
             }
+        }
+    }
+
+    #[test]
+    fn vertical_reaction_rates_are_the_derivatives_along_the_motion() {
+        // As above, both ground components linear in time: ü_g + j t, ü_v + k t.
+        let b = block();
+        let p2 = b.frequency_parameter().powi(2);
+        let g = b.gravity();
+        for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+            let model = ReactionModel::new(formulation, &b);
+            for &(side, th, w, ug, uv, jerk, vjerk) in &[
+                (-1.0, -0.1, -0.3, 5.0, 2.0, 40.0, -30.0),
+                (1.0, 0.2, 0.4, -3.0, -4.0, -250.0, 120.0),
+                (1.0, 0.05, -0.9, 2.0, 0.0, 0.0, 60.0),
+            ] {
+                let r = model.rates_vertical(side, th, w, ug, uv);
+                let (fx, fz) = reactions_per_mass_vertical(formulation, &b, side, th, w, ug, uv);
+                assert_eq!((r.fx, r.fz), (fx, fz));
+                let acc = |th: f64, ug: f64, uv: f64| {
+                    formulation.angular_acceleration_weighted(
+                        p2,
+                        b.slenderness(),
+                        side,
+                        th,
+                        ug / g,
+                        1.0 + uv / g,
+                    )
+                };
+                let e = 1e-6;
+                let a0 = acc(th, ug, uv);
+                let a3 = (acc(th + w * e, ug + jerk * e, uv + vjerk * e)
+                    - acc(th - w * e, ug - jerk * e, uv - vjerk * e))
+                    / (2.0 * e);
+                let at = |t: f64| {
+                    let th_t = th + w * t + a0 * t * t / 2.0 + a3 * t * t * t / 6.0;
+                    let w_t = w + a0 * t + a3 * t * t / 2.0;
+                    reactions_per_mass_vertical(
+                        formulation,
+                        &b,
+                        side,
+                        th_t,
+                        w_t,
+                        ug + jerk * t,
+                        uv + vjerk * t,
+                    )
+                };
+                let h = 1e-5;
+                let (xp, zp) = at(h);
+                let (xm, zm) = at(-h);
+                let [vx, vz, vq] = r.vertical_rate;
+                let dfx = r.fx_rate[0] + r.fx_rate[1] * jerk + vx * vjerk;
+                let dfz = r.fz_rate[0] + r.fz_rate[1] * jerk + vz * vjerk;
+                let scale = 1.0 + jerk.abs() + vjerk.abs();
+                let fd_x = (xp - xm) / (2.0 * h);
+                let fd_z = (zp - zm) / (2.0 * h);
+                assert!(
+                    (fd_x - dfx).abs() < 1e-6 * scale,
+                    "{formulation:?} {fd_x} {dfx}"
+                );
+                assert!(
+                    (fd_z - dfz).abs() < 1e-6 * scale,
+                    "{formulation:?} {fd_z} {dfz}"
+                );
+                let (q, dq) = r.ratio(jerk);
+                assert_eq!(q, fx / fz);
+                let fd = (xp / zp - xm / zm) / (2.0 * h);
+                let dq = dq + vq * vjerk;
+                assert!((fd - dq).abs() < 1e-6 * scale, "{formulation:?} {fd} {dq}");
+            }
+            // Without a vertical motion, the rates of the plain model.
+            let plain = model.rates(1.0, 0.1, 0.2, 3.0);
+            let mut v = model.rates_vertical(1.0, 0.1, 0.2, 3.0, 0.0);
+            v.vertical_rate = [0.0; 3];
+            assert_eq!(v, plain);
         }
     }
 

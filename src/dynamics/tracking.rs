@@ -14,8 +14,10 @@
 //! [`interior_max`]) and then located as a root of the derivative. Elsewhere
 //! (a pulse) the piece is sampled densely enough for the forcing and the block
 //! and the maxima refined by golden-section search around the best sample.
-//! Under a vertical ground motion every piece is sampled so, and the
-//! reactions carry g + ü_v ([`reactions_per_mass_vertical`]).
+//! Under a vertical ground motion the reactions carry g + ü_v
+//! ([`reactions_per_mass_vertical`]); a pair of records is linear in both
+//! components over a sample interval, and its pieces are followed as a
+//! record's, the demand's rate carrying the vertical jerk too.
 
 use super::block::Block;
 use super::equations::Formulation;
@@ -191,9 +193,11 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         }
         // Free rocking feels no ground at all.
         let linear = if forced {
-            self.pulse.linear_over(ta, tb)
+            self.pulse
+                .linear_over(ta, tb)
+                .map(|h| [h, self.pulse.vertical_jerk_over(ta, tb)])
         } else {
-            Some(0.0)
+            Some([0.0; 2])
         };
         if let Some(jerk) = linear {
             self.rocking_linear(start, end, side, forced, jerk, &eval);
@@ -278,18 +282,38 @@ impl<'a, G: Forcing> Tracker<'a, G> {
     /// The demand and its rate at `(t, y)` on `side`.
     #[inline]
     fn demand_at(&self, t: f64, y: State, side: f64, forced: bool) -> Demand {
-        Demand::new(&self.model.rates(side, y[0], y[1], self.ground(t, forced)))
+        let ground = self.ground(t, forced);
+        if G::VERTICAL {
+            let vertical = self.vertical(t, forced);
+            Demand::new(
+                &self
+                    .model
+                    .rates_vertical(side, y[0], y[1], ground, vertical),
+            )
+        } else {
+            Demand::new(&self.model.rates(side, y[0], y[1], ground))
+        }
     }
 
     /// |θ| (as sθ) and the demand with their rates at `(t, y)`, the ground's
-    /// jerk being `jerk`; the demand only when `demand` (NaN otherwise).
+    /// jerks (horizontal, vertical) being `jerk`; the demand only when
+    /// `demand` (NaN otherwise).
     #[inline(always)]
-    fn probe(&self, t: f64, y: State, side: f64, forced: bool, jerk: f64, demand: bool) -> Probe {
+    fn probe(
+        &self,
+        t: f64,
+        y: State,
+        side: f64,
+        forced: bool,
+        jerk: [f64; 2],
+        demand: bool,
+    ) -> Probe {
         let d = demand.then(|| self.demand_at(t, y, side, forced));
         Probe::new(t, y, side, jerk, d.as_ref())
     }
 
-    /// A piece over which the ground acceleration is linear (slope `jerk`).
+    /// A piece over which the ground acceleration is linear (slopes `jerk`:
+    /// horizontal, vertical).
     ///
     /// Samples: both ends (their states given) and, for a piece longer than
     /// 1/(2p), enough interior points for the block's time scale (pτ ≤ 1/2
@@ -311,7 +335,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         end: (f64, State),
         side: f64,
         forced: bool,
-        jerk: f64,
+        jerk: [f64; 2],
         eval: &E,
     ) {
         let (ta, tb) = (start.0, end.0);
@@ -388,7 +412,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         b: &Probe,
         side: f64,
         forced: bool,
-        jerk: f64,
+        jerk: [f64; 2],
         eval: &E,
     ) -> bool {
         let demand = |t: f64| self.probe(t, eval(t), side, forced, jerk, true).demand;
@@ -571,9 +595,9 @@ struct Probe {
 
 impl Probe {
     /// The probe at `(t, y)` on `side` with the demand `demand` there (NaN
-    /// without it), the ground's jerk being `jerk`.
+    /// without it), the ground's jerks being `jerk` (horizontal, vertical).
     #[inline]
-    fn new(t: f64, y: State, side: f64, jerk: f64, demand: Option<&Demand>) -> Self {
+    fn new(t: f64, y: State, side: f64, jerk: [f64; 2], demand: Option<&Demand>) -> Self {
         let lean = [side * y[0], side * y[1]];
         let demand = match demand {
             None => [f64::NAN; 2],
@@ -588,8 +612,9 @@ impl Probe {
 #[derive(Clone, Copy, Debug)]
 struct Demand {
     ratio: f64,
-    /// d(f_x/f_z)/dt = rate[0] + rate[1] · jerk.
+    /// d(f_x/f_z)/dt = rate[0] + rate[1] · jerk + rate_v · vertical jerk.
     rate: [f64; 2],
+    rate_v: f64,
     /// f_z ≤ 0.
     lifted: bool,
 }
@@ -599,6 +624,7 @@ impl Demand {
     const LIFTED: Demand = Demand {
         ratio: f64::INFINITY,
         rate: [0.0; 2],
+        rate_v: 0.0,
         lifted: true,
     };
 
@@ -607,18 +633,23 @@ impl Demand {
         Demand {
             ratio: r.ratio,
             rate: r.ratio_rate,
+            rate_v: r.vertical_rate[2],
             lifted: r.fz <= 0.0 || r.fz.is_nan(),
         }
     }
 
-    /// [|f_x/f_z|, its rate] under the jerk `jerk`; [∞, 0] once lifted off.
+    /// [|f_x/f_z|, its rate] under the jerks `jerk` (horizontal, vertical);
+    /// [∞, 0] once lifted off.
     #[inline]
-    fn with_jerk(&self, jerk: f64) -> [f64; 2] {
+    fn with_jerk(&self, jerk: [f64; 2]) -> [f64; 2] {
         if self.lifted {
             // Lift-off: no friction sustains pure rocking.
             return [f64::INFINITY, 0.0];
         }
-        let rate = self.rate[0] + self.rate[1] * jerk;
+        let mut rate = self.rate[0] + self.rate[1] * jerk[0];
+        if jerk[1] != 0.0 {
+            rate += self.rate_v * jerk[1];
+        }
         [
             self.ratio.abs(),
             if self.ratio < 0.0 { -rate } else { rate },

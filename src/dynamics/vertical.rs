@@ -670,6 +670,17 @@ impl Forcing for RecordPair {
         self.horizontal.resolving_frequency()
     }
 
+    /// Both components are linear over one sample interval.
+    #[inline]
+    fn linear_over(&self, ta: f64, tb: f64) -> Option<f64> {
+        self.horizontal.linear_over(ta, tb)
+    }
+
+    #[inline]
+    fn vertical_jerk_over(&self, ta: f64, tb: f64) -> f64 {
+        self.vertical.linear_over(ta, tb).unwrap_or(0.0)
+    }
+
     fn peak_between(&self, ta: f64, tb: f64) -> (f64, f64) {
         self.horizontal.peak_between(ta, tb)
     }

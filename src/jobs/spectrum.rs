@@ -68,6 +68,9 @@ pub struct SpectrumSpec {
     pub principal_relative_width: Option<f64>,
     /// Solver.
     pub solver: Option<SolverSpec>,
+    /// The vertical ground acceleration (positive up) as a share of the
+    /// horizontal one at every amplitude: `{"ratio": r}`, ü_v = r·ü_g.
+    pub vertical: Option<super::vertical::VerticalPulseSpec>,
 }
 
 /// The pulse family of a spectrum, normalised.
@@ -188,6 +191,10 @@ pub struct SpectrumJob {
     pub principal_relative_width: f64,
     /// Solver.
     pub solver: SolverNorm,
+    /// ü_v = r·ü_g (positive up), when given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
+    pub vertical: Option<super::vertical::VerticalPulseNorm>,
 }
 
 fn positive_in(v: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> Result<f64, SpecError> {
@@ -207,10 +214,13 @@ impl SpectrumSpec {
         let block = super::spec::the_block(self.block.as_ref())?;
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver = super::spec::validate_solver_for(
+        let vertical =
+            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
+        let solver = super::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             pulse.shape().is_sinusoidal(),
+            vertical.is_some(),
             "/solver",
         )?;
         // Frequencies in any unit, normalised to ω_p/p: one job, one cache key.
@@ -299,6 +309,7 @@ impl SpectrumSpec {
             scan_step_alpha_g: step,
             principal_relative_width: principal,
             solver,
+            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
         })
     }
 }
@@ -452,6 +463,12 @@ pub struct FrequencyDoc {
     /// Linear one-sine mode-2 boundary from the corrected eq. 47 (linear one-sine only).
     #[schema(required = true)]
     pub closed_form_mode2_alpha_g: Option<f64>,
+    /// With a vertical motion: from this amplitude (αg) on, the ground falls
+    /// away faster than gravity (g + ü_v ≤ 0) and the block leaves it. The
+    /// line is scanned up to just below it and claims nothing above
+    /// (absent when the ground never does up to a_max).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lift_off_above_alpha_g: Option<f64>,
     /// ω_p, rad/s (ω_p/p × p).
     #[serde(default)]
     #[schema(required = true)]
@@ -566,6 +583,14 @@ fn intervals(d: &Derived) -> Vec<[f64; 2]> {
 }
 
 impl SpectrumJob {
+    /// ü_v/ü_g, when the job has a vertical motion.
+    pub fn vertical_ratio(&self) -> Option<f64> {
+        match self.vertical {
+            Some(super::vertical::VerticalPulseNorm::Ratio(r)) => Some(r),
+            _ => None,
+        }
+    }
+
     /// Runs the job under `control`.
     pub fn run(
         &self,
@@ -583,6 +608,7 @@ impl SpectrumJob {
             tolerance: self.tolerance,
             scan_step: self.scan_step_alpha_g,
             principal_relative_width: self.principal_relative_width,
+            vertical_ratio: self.vertical_ratio(),
         };
         let s = overturning_spectrum(&req, control)?;
         let alpha = self.block.alpha;
@@ -616,6 +642,7 @@ impl SpectrumJob {
                 },
                 eq21_alpha_g: l.eq21,
                 closed_form_mode2_alpha_g: l.mode2_closed_form,
+                lift_off_above_alpha_g: l.lift_off_above,
                 omega_p: l.omega_ratio * self.block.p,
                 frequency_hz: l.omega_ratio * self.block.p / std::f64::consts::TAU,
                 min_overturn_g: l.derived.min_overturn.map(|a| a * self.block.alpha),

@@ -7,7 +7,7 @@ use super::names::{EngineDoc, tag};
 use super::numerics::NumericsDoc;
 use super::spec::{
     BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, SolverNorm,
-    SolverSpec, SpecError, parse_formulation, validate_pulse, validate_solver_for,
+    SolverSpec, SpecError, parse_formulation, validate_pulse,
 };
 use super::vertical::{
     VerticalPulseNorm, VerticalPulseSpec, validate_record_with_vertical, validate_vertical_pulse,
@@ -146,24 +146,17 @@ impl TimeHistorySpec {
         let with_vertical =
             vertical.is_some() || ground_motion.as_ref().is_some_and(|g| g.vertical.is_some());
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        if with_vertical
-            && self
-                .solver
-                .as_ref()
-                .and_then(|s| s.method.as_deref())
-                .is_some_and(|m| m.eq_ignore_ascii_case("exact"))
-        {
-            return Err(SpecError::at(
-                "/solver/method",
-                "the exact solver has no closed form under vertical ground motion (the linear equation's coefficient 1 + ü_v/g varies in time): use dop853 (the default) or dopri5",
-            ));
-        }
         // The closed form covers the sinusoidal pulses and every record
         // (linear between samples); a wavelet has none, nor any motion with
         // a vertical component.
-        let closed_form = !with_vertical && pulse.as_ref().is_none_or(|p| p.shape.is_sinusoidal());
-        let solver =
-            validate_solver_for(self.solver.as_ref(), formulation, closed_form, "/solver")?;
+        let closed_form = pulse.as_ref().is_none_or(|p| p.shape.is_sinusoidal());
+        let solver = super::vertical::validate_solver_with_vertical(
+            self.solver.as_ref(),
+            formulation,
+            closed_form,
+            with_vertical,
+            "/solver",
+        )?;
         let out = self.outputs.clone().unwrap_or_default();
         let series = out.series.unwrap_or(0);
         if series > MAX_SERIES_POINTS {

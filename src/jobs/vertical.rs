@@ -10,10 +10,11 @@ use serde::{Deserialize, Serialize};
 
 use super::names::tag;
 use super::spec::{
-    BlockNorm, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, ShapeParams, SpecError,
-    family_of, validate_ground_motion, validate_pulse,
+    BlockNorm, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, ShapeParams, SolverNorm,
+    SolverSpec, SpecError, family_of, validate_ground_motion, validate_pulse, validate_solver_for,
 };
 pub use super::vertical_record::{VerticalRecordNorm, VerticalRecordSpec};
+use crate::dynamics::Formulation;
 
 /// Largest |ratio| of ü_v to ü_g accepted.
 pub const MAX_VERTICAL_RATIO: f64 = 100.0;
@@ -246,6 +247,55 @@ pub fn validate_vertical_pulse(
     }
     let (pulse, _) = validate_pulse(&spec.pulse(), block, base)?;
     Ok(Some(VerticalPulseNorm::Pulse { pulse, delay_s }))
+}
+
+/// The solver of a job, at `base` (`/solver`): a vertical motion has no
+/// closed form (the linear equation's coefficient 1 + ü_v/g varies in time),
+/// so `exact` is refused naming `base/method` and the default is dop853;
+/// without one, as [`validate_solver_for`] decides.
+pub fn validate_solver_with_vertical(
+    spec: Option<&SolverSpec>,
+    formulation: Formulation,
+    closed_form: bool,
+    with_vertical: bool,
+    base: &str,
+) -> Result<SolverNorm, SpecError> {
+    if with_vertical
+        && spec
+            .and_then(|s| s.method.as_deref())
+            .is_some_and(|m| m.eq_ignore_ascii_case("exact"))
+    {
+        return Err(SpecError::at(
+            format!("{base}/method"),
+            "the exact solver has no closed form under vertical ground motion (the linear equation's coefficient 1 + ü_v/g varies in time): use dop853 (the default) or dopri5",
+        ));
+    }
+    validate_solver_for(spec, formulation, closed_form && !with_vertical, base)
+}
+
+/// Validates the vertical motion of a kind that scales its ground motion
+/// (spectra, forensic queries, fragility): `{"ratio": r}`, ü_v = r ü_g at
+/// every level; `None` without one (absent, or a ratio of 0).
+pub fn validate_vertical_ratio(
+    spec: Option<&VerticalPulseSpec>,
+    base: &str,
+) -> Result<Option<f64>, SpecError> {
+    let Some(spec) = spec else {
+        return Ok(None);
+    };
+    if let Some(other) = spec.first_pulse_field() {
+        return Err(SpecError::at(
+            format!("{base}/{other}"),
+            "this kind scales its ground motion, and the vertical with it: give {\"ratio\": r} (ü_v = r·ü_g at every level); a vertical pulse of its own is taken by time_history jobs",
+        ));
+    }
+    match spec.ratio {
+        Some(r) => ratio_at(r, format!("{base}/ratio")),
+        None => Err(SpecError::at(
+            format!("{base}/ratio"),
+            "missing field: give ratio (ü_v = ratio·ü_g)",
+        )),
+    }
 }
 
 /// Validates a record and its vertical acceleration, at `base`: the record

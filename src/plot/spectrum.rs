@@ -52,6 +52,9 @@ pub const CLASS_MODE1: usize = 1;
 pub const CLASS_MODE2: usize = 2;
 /// Rocks and survives (left white).
 pub const CLASS_SAFE: usize = 3;
+/// The ground falls away faster than gravity: the block leaves it, no
+/// verdict (under a vertical motion only).
+pub const CLASS_LIFT_OFF: usize = 4;
 
 /// Whether a region class is overturning.
 pub fn overturns(class: usize) -> bool {
@@ -63,6 +66,7 @@ pub fn fill(class: usize) -> RGBColor {
     match class {
         CLASS_MODE1 => tint(MODE1, 0.68),
         CLASS_MODE2 => tint(MODE2, 0.55),
+        CLASS_LIFT_OFF => RGBColor(186, 200, 222),
         _ => NO_ROCKING,
     }
 }
@@ -89,6 +93,12 @@ pub fn region_legend(used: impl Fn(usize) -> bool, no_rocking: &str) -> Legend {
     );
     if used(CLASS_NO_ROCKING) {
         legend.entry(Swatch::Fill(fill(CLASS_NO_ROCKING)), no_rocking);
+    }
+    if used(CLASS_LIFT_OFF) {
+        legend.entry(
+            Swatch::Fill(fill(CLASS_LIFT_OFF)),
+            "lift-off: g + ü_v ≤ 0, the block leaves the ground (not computed)",
+        );
     }
     legend
 }
@@ -242,11 +252,21 @@ pub fn drawing(result: &SpectrumResult) -> Result<Drawing, String> {
                 hi: l.threshold_alpha_g,
                 class: CLASS_NO_ROCKING,
             }];
-            for (lo, hi, mode) in frequency_regions(l, a_max) {
+            // Under a vertical motion nothing is claimed from the level
+            // where the block would leave the ground.
+            let top = l.lift_off_above_alpha_g.map_or(a_max, |v| v.min(a_max));
+            for (lo, hi, mode) in frequency_regions(l, top) {
                 bands.push(Band {
                     lo,
                     hi,
                     class: if mode == 2 { CLASS_MODE2 } else { CLASS_MODE1 },
+                });
+            }
+            if top < a_max {
+                bands.push(Band {
+                    lo: top,
+                    hi: a_max,
+                    class: CLASS_LIFT_OFF,
                 });
             }
             let bands = tile(0.0, a_max, &bands, CLASS_SAFE);

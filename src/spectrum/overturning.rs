@@ -5,11 +5,13 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::dynamics::{Block, Formulation, Problem, Pulse, PulseShape, Solver};
+use crate::dynamics::{Block, Formulation, Problem, Pulse, PulsePair, PulseShape, Solver};
 
 use super::closed_form::{eq21_minimum, linear_one_sine_mode2_boundary};
 use super::control::Control;
-use super::scan::{Direction, Line, ModeChange, Scalable, ScanError, ScanStats, Transition};
+use super::scan::{
+    Direction, Line, ModeChange, Scalable, ScanError, ScanStats, Transition, lift_off_level,
+};
 
 /// What to compute.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,6 +35,8 @@ pub struct SpectrumRequest {
     /// The principal view drops bands and safe intervals narrower than this
     /// fraction of their amplitude.
     pub principal_relative_width: f64,
+    /// A vertical ground acceleration ü_v = r ü_g (positive up), in phase.
+    pub vertical_ratio: Option<f64>,
 }
 
 /// The derived quantities of one frequency.
@@ -69,6 +73,10 @@ pub struct FrequencyLine {
     pub eq21: Option<f64>,
     /// Closed-form linear one-sine mode-2 boundary (corrected eq. 47), αg.
     pub mode2_closed_form: Option<f64>,
+    /// Under a vertical motion: from this level (αg) on the ground falls
+    /// away faster than gravity (g + ü_v ≤ 0) and the block leaves it; the
+    /// line is scanned up to just below it, and claims nothing above.
+    pub lift_off_above: Option<f64>,
 }
 
 /// A whole spectrum.
@@ -261,32 +269,76 @@ pub fn overturning_spectrum(
     control: &Control,
 ) -> Result<Spectrum, ScanError> {
     let started = Instant::now();
-    let threshold = threshold_alpha_g(req.formulation, &req.block);
-    let problems = req
+    let pulses = req
         .omega_ratios
         .iter()
         .map(|&ratio| {
-            let pulse = Pulse::new(
+            Pulse::new(
                 req.shape,
                 req.block.slenderness() * req.block.gravity(),
                 ratio * req.block.frequency_parameter(),
             )
-            .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
-            Ok(Problem {
-                block: req.block,
-                pulse,
-                formulation: req.formulation,
-            })
+            .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))
         })
         .collect::<Result<Vec<_>, ScanError>>()?;
+    let threshold = threshold_alpha_g(req.formulation, &req.block);
+    let (lines, stats) = match req.vertical_ratio {
+        None => lines_of(req, pulses, threshold, control)?,
+        Some(r) => {
+            // Rocking can start on the side where ü_v = r ü_g lightens the
+            // block: |ü_g| (1 + |r| k) > k g.
+            let k = req
+                .formulation
+                .rocking_threshold_of(req.block.slenderness(), 1.0);
+            let pairs = pulses
+                .into_iter()
+                .map(|p| {
+                    PulsePair::proportional(p, r)
+                        .ok_or(ScanError::Simulation(crate::dynamics::SimError::Tolerance))
+                })
+                .collect::<Result<Vec<_>, ScanError>>()?;
+            lines_of(req, pairs, threshold / (1.0 + r.abs() * k), control)?
+        }
+    };
+    Ok(Spectrum {
+        lines,
+        stats,
+        wall_time: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// The lines of a spectrum of `motions` (one per frequency of `req`, at 1 αg)
+/// scanned from `threshold` αg; a vertical motion ends each line's scan below
+/// the level where the block would leave the ground.
+fn lines_of<G: Scalable + Sync>(
+    req: &SpectrumRequest,
+    motions: Vec<G>,
+    threshold: f64,
+    control: &Control,
+) -> Result<(Vec<FrequencyLine>, ScanStats), ScanError> {
+    // (The level is the same for every frequency: the vertical motion's
+    // extremes scale with the amplitude, whatever the pulse's length.)
+    let lift = motions
+        .first()
+        .and_then(|m| lift_off_level(m, &req.block, req.a_max));
+    let to = lift.map_or(req.a_max, |(lo, _)| lo.max(threshold));
+    let problems: Vec<Problem<G>> = motions
+        .into_iter()
+        .map(|pulse| Problem {
+            block: req.block,
+            pulse,
+            formulation: req.formulation,
+        })
+        .collect();
     let grid = ScanGrid {
         from: threshold,
-        to: req.a_max,
+        to,
         step: req.scan_step,
         tolerance: req.tolerance,
         principal_relative_width: req.principal_relative_width,
     };
     let (scans, stats) = scan_lines(&problems, req.solver, &grid, control)?;
+    let plain = !G::VERTICAL;
     let lines = req
         .omega_ratios
         .iter()
@@ -299,21 +351,19 @@ pub fn overturning_spectrum(
             derived: scan.derived,
             principal_transitions: scan.principal_transitions,
             principal: scan.principal,
-            eq21: eq21_minimum(req.shape, ratio),
-            mode2_closed_form: if req.shape == PulseShape::OneSine
+            eq21: eq21_minimum(req.shape, ratio).filter(|_| plain),
+            mode2_closed_form: if plain
+                && req.shape == PulseShape::OneSine
                 && req.formulation == Formulation::Linear
             {
                 linear_one_sine_mode2_boundary(ratio)
             } else {
                 None
             },
+            lift_off_above: lift.map(|(_, hi)| hi),
         })
         .collect();
-    Ok(Spectrum {
-        lines,
-        stats,
-        wall_time: started.elapsed().as_secs_f64(),
-    })
+    Ok((lines, stats))
 }
 
 /// Minimum, safe intervals and the all-overturn level from ordered transitions.

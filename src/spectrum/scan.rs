@@ -16,7 +16,8 @@
 //! neighbouring scan points, can be missed.
 
 use crate::dynamics::{
-    Block, Forcing, Options, Problem, Pulse, Record, SimError, Solver, simulate,
+    Block, Forcing, Options, Problem, Pulse, PulsePair, Record, RecordPair, SimError, Solver,
+    simulate,
 };
 
 use super::control::{Canceled, Control};
@@ -143,6 +144,76 @@ impl Scalable for Record {
             self.clone()
         }
     }
+}
+
+impl Scalable for PulsePair {
+    /// Both pulses scaled by one factor: the horizontal one's amplitude at
+    /// `level` α g, the vertical one's in proportion (a vertical motion given
+    /// relative to the horizontal one stays so).
+    fn at_level(&self, level: f64, block: &Block) -> Self {
+        let a = level * block.slenderness() * block.gravity();
+        let factor = a / self.horizontal.amplitude;
+        PulsePair::new(
+            self.horizontal.with_amplitude(a),
+            self.vertical
+                .with_amplitude(self.vertical.amplitude * factor),
+            self.delay,
+        )
+    }
+}
+
+impl Scalable for RecordPair {
+    /// Both records scaled by one factor: the horizontal one's PGA at `level`
+    /// α g (a horizontal record without motion leaves the pair as it is).
+    fn at_level(&self, level: f64, block: &Block) -> Self {
+        let pga = self
+            .horizontal
+            .samples()
+            .iter()
+            .fold(0.0f64, |m, a| m.max(a.abs()));
+        if pga > 0.0 {
+            let factor = level * block.slenderness() * block.gravity() / pga;
+            RecordPair {
+                horizontal: self.horizontal.scaled(factor),
+                vertical: self.vertical.scaled(factor),
+            }
+        } else {
+            self.clone()
+        }
+    }
+}
+
+/// The lowest level (α g) from which a ground motion scaled by
+/// [`Scalable::at_level`] falls away faster than gravity somewhere
+/// (g + ü_v ≤ 0: the block leaves the ground, [`Forcing::next_weightless`]),
+/// as a bracket `(lo, hi)` of width at most `to`·1e-12, `lo` still on the
+/// ground; `None` when it does not up to `to` (always without a vertical
+/// motion). The vertical acceleration scales with the level, so that once it
+/// reaches −g it does at every level above.
+pub fn lift_off_level<G: Scalable>(motion: &G, block: &Block, to: f64) -> Option<(f64, f64)> {
+    if !G::VERTICAL {
+        return None;
+    }
+    let g = block.gravity();
+    let lifts = |level: f64| {
+        motion
+            .at_level(level, block)
+            .next_weightless(0.0, g)
+            .is_some()
+    };
+    if !lifts(to) {
+        return None;
+    }
+    let (mut lo, mut hi) = (0.0, to);
+    while hi - lo > to * 1e-12 {
+        let mid = 0.5 * (lo + hi);
+        if lifts(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some((lo, hi))
 }
 
 /// One line of the spectrum (constant ω_p/p for a pulse, constant p for a

@@ -40,6 +40,7 @@ fn spectrum(
         tolerance,
         scan_step: 0.02,
         principal_relative_width: 0.01,
+        vertical_ratio: None,
     };
     overturning_spectrum(&req, &Control::new())
         .expect("computes")

@@ -53,6 +53,7 @@ fn spectrum_with(
         tolerance: 1e-4,
         scan_step: 0.02,
         principal_relative_width: 0.01,
+        vertical_ratio: None,
     };
     overturning_spectrum(&req, &Control::new())
         .expect("computes")
@@ -324,6 +325,7 @@ fn nonlinear_comb_near_the_threshold_at_omega_ratio_0_25_has_bands_whose_impacts
         tolerance: 1e-5,
         scan_step: 0.02,
         principal_relative_width: 0.01,
+        vertical_ratio: None,
     };
     let line = &overturning_spectrum(&req, &Control::new())
         .expect("computes")
@@ -387,6 +389,7 @@ fn a_large_spectrum_stops_soon_after_cancellation() {
         tolerance: 1e-4,
         scan_step: 0.02,
         principal_relative_width: 0.01,
+        vertical_ratio: None,
     };
     let control = Control::new();
     let (stopped_at, outcome) = std::thread::scope(|s| {

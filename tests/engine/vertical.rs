@@ -135,6 +135,15 @@ fn a_constant_vertical_acceleration_is_another_gravity() {
                 if let (Some(x), Some(y)) = (with.overturn_time, reference.overturn_time) {
                     assert!((x - y).abs() < 1e-9, "{what}: overturn at {x} vs {y}");
                 }
+                // The friction demand, f_x/f_z, is the heavier block's.
+                let demand = |r: &Response| r.friction.as_ref().and_then(|f| f.peak);
+                if !with.overturned {
+                    let (d0, d1) = (demand(&with), demand(&reference));
+                    let (d0, d1) = (d0.expect("followed"), d1.expect("followed"));
+                    assert!((d0 - d1).abs() < 1e-9 * d1.max(1.0), "{what}: {d0} {d1}");
+                    let (p0, p1) = (with.peak_theta_over_alpha, reference.peak_theta_over_alpha);
+                    assert!((p0 - p1).abs() < 1e-9, "{what}: {p0} {p1}");
+                }
                 // The motion ended before the vertical record did.
                 assert!(with.end_time < 119.0, "{what}: {}", with.end_time);
                 compared += i0.len();
@@ -144,6 +153,57 @@ fn a_constant_vertical_acceleration_is_another_gravity() {
     }
     assert!(compared > 20, "{compared} impacts compared");
     assert!((2..16).contains(&overturned), "{overturned} overturned");
+}
+
+#[test]
+fn the_demand_under_a_pair_of_records_is_their_densest_sample_and_no_more() {
+    // Both components linear between samples: the pieces are followed with
+    // the demand's exact rate, the peak located inside a piece. Checked
+    // against the demand sampled every 1e-4 s (the series' own reaction
+    // ratio, evaluated from the state): never above the reported peak, and
+    // within what a 1e-4-s grid can miss of it.
+    let b = Block::new(0.2, 2.0, Some(0.9), None, None).expect("valid");
+    let h = Record::new(synthetic(3, 1000, 0.01, 0.5 * G, 0.5, 6.0).into(), 0.01).expect("valid");
+    for (v_seed, v_peak) in [(5, 0.4 * G), (9, 0.6 * G)] {
+        let v = Record::new(
+            synthetic(v_seed, 1000, 0.01, v_peak, 1.0, 12.0).into(),
+            0.01,
+        )
+        .expect("valid");
+        for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+            let problem = Problem {
+                block: b,
+                pulse: RecordPair::new(h.clone(), v.clone()).expect("same dt"),
+                formulation,
+            };
+            let mut options = Options::history(dop853());
+            options.max_free_impacts = 0;
+            let coarse = simulate(&problem, &options).expect("runs");
+            let end = coarse.end_time;
+            options.series_at = Some(
+                (0..=(end / 1e-4) as usize)
+                    .map(|k| k as f64 * 1e-4)
+                    .collect(),
+            );
+            let fine = simulate(&problem, &options).expect("runs");
+            let what = format!("seed {v_seed}, {formulation:?}");
+            assert!(coarse.rocked && coarse.lift_off.is_none(), "{what}");
+            let f = coarse.friction.as_ref().expect("followed");
+            let peak = f.peak.unwrap_or_else(|| {
+                panic!("{what}: {f:?} {:?} {}", coarse.overturned, coarse.end_time)
+            });
+            let series = fine.series.as_ref().expect("a series");
+            let sampled = series
+                .reaction_ratio
+                .as_ref()
+                .expect("reactions")
+                .iter()
+                .flatten()
+                .fold(0.0_f64, |m, d| m.max(d.abs()));
+            assert!(sampled <= peak * (1.0 + 1e-9), "{what}: {sampled} > {peak}");
+            assert!(sampled >= peak * (1.0 - 1e-3), "{what}: {sampled} ≪ {peak}");
+        }
+    }
 }
 
 /// The result of a time-history spec.
@@ -369,4 +429,88 @@ fn vertical_specs_are_checked_field_by_field() {
         panic!("a time history")
     };
     assert_eq!(h.solver.solver().name(), "dop853");
+}
+
+/// A spectrum job's result.
+fn spectrum(extra: Value) -> Value {
+    let mut spec = json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+        "pulse": {"type": "one_sine"}, "omega_ratio": [2.0, 5.0], "a_max_alpha_g": 12,
+        "scan_step_alpha_g": 0.05, "tolerance": 1e-6});
+    for (k, v) in extra.as_object().expect("an object") {
+        spec[k] = v.clone();
+    }
+    let Job::Spectrum(s) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a spectrum")
+    };
+    serde_json::to_value(s.run(&topple::spectrum::Control::new()).expect("runs"))
+        .expect("serialises")
+}
+
+#[test]
+fn a_spectrum_under_a_vertical_ratio_scans_from_the_lowered_threshold_to_lift_off() {
+    use topple::dynamics::PulsePair;
+    let b = block();
+    let alpha = b.slenderness();
+    for r in [0.5, -0.5] {
+        let doc = spectrum(json!({"vertical": {"ratio": r}}));
+        assert_eq!(doc["spec"]["vertical"], json!({"ratio": r}));
+        for line in doc["spectrum"].as_array().expect("lines") {
+            // Rocking can start where ü_v = r ü_g lightens the block:
+            // a_p (1 + |r| tan α) = g tan α.
+            let from = line["threshold_alpha_g"].as_f64().expect("threshold");
+            let expected = alpha.tan() / alpha / (1.0 + 0.5 * alpha.tan());
+            assert!((from - expected).abs() < 1e-12, "{from} {expected}");
+            // A one-sine reaches −a_p and +a_p: ü_v = −g at a_p = g/|r|, 8 αg.
+            let lift = line["lift_off_above_alpha_g"].as_f64().expect("lift-off");
+            assert!((lift - 1.0 / (0.5 * alpha)).abs() < 1e-9, "{lift}");
+            assert!(line["eq21_alpha_g"].is_null());
+            // Every transition separates what a time history of the pair
+            // finds on either side of its bracket.
+            let ratio = line["omega_ratio"].as_f64().expect("ratio");
+            let transitions = line["transitions"].as_array().expect("transitions");
+            assert!(!transitions.is_empty(), "r = {r}, ω_p/p = {ratio}");
+            for t in transitions {
+                let lo = t["bracket"][0].as_f64().expect("lo");
+                let hi = t["bracket"][1].as_f64().expect("hi");
+                assert!(hi < lift);
+                let outcome = |level: f64| {
+                    let h = Pulse::new(
+                        PulseShape::OneSine,
+                        level * alpha * G,
+                        ratio * b.frequency_parameter(),
+                    )
+                    .expect("valid");
+                    let problem = Problem {
+                        block: b,
+                        pulse: PulsePair::proportional(h, r).expect("non-zero"),
+                        formulation: Formulation::Nonlinear,
+                    };
+                    simulate(&problem, &Options::outcome(dop853()))
+                        .expect("runs")
+                        .overturned
+                };
+                assert_ne!(outcome(lo), outcome(hi), "r = {r}, ω_p/p = {ratio}: {t}");
+            }
+        }
+    }
+    // A ratio of 0 is the spectrum without one, to the bit.
+    let none = spectrum(json!({}));
+    let zero = spectrum(json!({"vertical": {"ratio": 0.0}}));
+    assert_eq!(none["spectrum"], zero["spectrum"]);
+    assert!(none["spectrum"][0].get("lift_off_above_alpha_g").is_none());
+    // The exact solver is refused, naming the field.
+    let bad = Job::from_value(
+        &json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14},
+        "pulse": {"type": "one_sine"}, "formulation": "linear", "omega_ratio": [2.0],
+        "solver": {"method": "exact"}, "vertical": {"ratio": 0.3}}),
+    )
+    .expect_err("refused");
+    assert_eq!(bad.pointer, "/solver/method", "{bad}");
+    let own = Job::from_value(
+        &json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14},
+        "pulse": {"type": "one_sine"}, "omega_ratio": [2.0],
+        "vertical": {"type": "one_sine", "omega_p": 3.0, "a_p_g": 0.2}}),
+    )
+    .expect_err("refused");
+    assert_eq!(own.pointer, "/vertical/type", "{own}");
 }

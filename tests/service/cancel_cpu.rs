@@ -33,7 +33,15 @@ fn deleting_a_running_spectrum_returns_the_cpu_to_idle() {
         j["status"] == "running" && j["progress"].as_f64().unwrap_or(0.0) > 0.0
     });
     assert_eq!(running["status"], "running");
-    let busy = usage(pid, Duration::from_millis(300));
+    // (On a loaded machine a window may find the server waiting for a core:
+    // the best of a few windows.)
+    let mut busy = 0.0_f64;
+    for _ in 0..10 {
+        busy = busy.max(usage(pid, Duration::from_millis(300)));
+        if busy > 0.8 {
+            break;
+        }
+    }
     assert!(
         busy > 0.8,
         "the spectrum should keep a core busy, used {busy:.2}"
