@@ -137,6 +137,10 @@ pub struct PulsePair {
     pub delay: f64,
     /// End of the later of the two, s.
     end: f64,
+    /// ü_v/ü_g when the vertical pulse is the horizontal one scaled (in
+    /// phase, no delay): the rocking windows and the demand at rest then
+    /// follow from the horizontal pulse alone, in closed form.
+    ratio: Option<f64>,
 }
 
 /// The times where a pulse starting at `shift` turns (its extrema inside, its
@@ -173,14 +177,29 @@ impl PulsePair {
             vertical,
             delay,
             end: horizontal.duration.max(delay + vertical.duration),
+            ratio: None,
+        }
+    }
+
+    /// Both pulses' amplitudes times `factor` (a proportional pair stays one).
+    pub fn scaled(&self, factor: f64) -> Self {
+        PulsePair {
+            horizontal: self
+                .horizontal
+                .with_amplitude(self.horizontal.amplitude * factor),
+            vertical: self
+                .vertical
+                .with_amplitude(self.vertical.amplitude * factor),
+            ..*self
         }
     }
 
     /// ü_v = `ratio`·ü_g, in phase; `None` for a ratio of 0 (no vertical
     /// motion) or one that is not finite.
     pub fn proportional(horizontal: Pulse, ratio: f64) -> Option<Self> {
-        (ratio != 0.0 && ratio.is_finite()).then(|| {
-            PulsePair::new(
+        (ratio != 0.0 && ratio.is_finite()).then(|| PulsePair {
+            ratio: Some(ratio),
+            ..PulsePair::new(
                 horizontal,
                 horizontal.with_amplitude(ratio * horizontal.amplitude),
                 0.0,
@@ -207,6 +226,42 @@ impl PulsePair {
         } else {
             0.0
         }
+    }
+
+    /// [`Forcing::next_rocking`] of a proportional pair, ü_v = r ü_g: where
+    /// ü_g > 0 the block rocks once ü_g (1 − k r) > k g, where ü_g < 0 once
+    /// |ü_g| (1 + k r) > k g: windows of |ü_g| over a level of each sign,
+    /// found by the horizontal pulse's own closed form
+    /// ([`Pulse::next_exceedance`]) at the lower level, and within a window
+    /// of the sign whose level is higher, at that one.
+    fn proportional_rocking(&self, from: f64, k: f64, level: f64, r: f64) -> Option<Exceedance> {
+        // The level of each sign of ü_g (infinite where it cannot rock).
+        let of = |d: f64| if d > 0.0 { level / d } else { f64::INFINITY };
+        let (up, down) = (of(1.0 - k * r), of(1.0 + k * r));
+        let (low, high) = (up.min(down), up.max(down));
+        // Side −1 is ü_g > 0.
+        let low_side = if up <= down { -1.0 } else { 1.0 };
+        let h = &self.horizontal;
+        let mut from = from;
+        // At most one pass per half-wave of the pulse.
+        for _ in 0..100_000 {
+            let w = h.next_exceedance(from, low)?;
+            if w.side == low_side || low == high {
+                return Some(w);
+            }
+            // A lobe of the other sign: rocking only where it passes its own,
+            // higher, level.
+            if let Some(v) = h.next_exceedance(w.start, high)
+                && v.start < w.end
+            {
+                return Some(v);
+            }
+            if w.end <= from {
+                return None;
+            }
+            from = w.end;
+        }
+        None
     }
 
     /// The pieces' ends after `from` (sorted, the motion's end last).
@@ -298,6 +353,9 @@ impl Forcing for PulsePair {
         if from >= self.end {
             return None;
         }
+        if let Some(r) = self.ratio {
+            return self.proportional_rocking(from, k, level, r);
+        }
         let cuts = self.cuts_after(from);
         // The start and the sign s of ü_g there.
         let mut found = None;
@@ -384,6 +442,30 @@ impl Forcing for PulsePair {
     }
 
     fn rest_demand_peak(&self, ta: f64, tb: f64, gravity: f64) -> (f64, f64) {
+        if let Some(r) = self.ratio {
+            // |ü_g|/(g + r ü_g) grows with |ü_g| on either sign of ü_g: its
+            // maximum is at an end or where ü_g turns.
+            let demand = |t: f64| {
+                let u = self.horizontal.acceleration(t);
+                let fz = gravity + r * u;
+                if fz > 0.0 {
+                    u.abs() / fz
+                } else {
+                    f64::INFINITY
+                }
+            };
+            let mut cuts = Vec::with_capacity(16);
+            turning_points(&self.horizontal, 0.0, &mut cuts);
+            return cuts
+                .into_iter()
+                .filter(|&t| t > ta && t < tb)
+                .chain([ta, tb])
+                .map(|t| (demand(t), t))
+                .fold(
+                    (f64::NEG_INFINITY, ta),
+                    |b, c| if c.0 > b.0 { c } else { b },
+                );
+        }
         let demand = |t: f64, mid: f64| {
             let fz = gravity + self.v_on(t, mid);
             if fz > 0.0 {
@@ -726,6 +808,57 @@ mod tests {
 
     fn block() -> Block {
         Block::new(0.25, 2.14, Some(0.9), None, None).expect("valid")
+    }
+
+    #[test]
+    fn a_proportional_pair_finds_the_windows_and_demand_of_the_general_search() {
+        // The closed form of ü_v = r ü_g against the bisection on monotone
+        // pieces that any pair takes (the same pulses, not marked proportional).
+        let b = block();
+        let g = b.gravity();
+        for shape in [
+            PulseShape::OneSine,
+            PulseShape::OneCosine,
+            PulseShape::Cn(3),
+            PulseShape::Ricker { symmetric: true },
+        ] {
+            for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+                let threshold = formulation.threshold(&b);
+                for (level, r) in [(1.5, 0.5), (1.5, -0.5), (3.0, 1.2), (1.2, -2.0), (0.9, 0.8)] {
+                    let h = Pulse::new(shape, level * threshold.level, 6.0).expect("valid");
+                    let fast = PulsePair::proportional(h, r).expect("non-zero");
+                    let slow = PulsePair::new(h, h.with_amplitude(r * h.amplitude), 0.0);
+                    let mut from = 0.0;
+                    let mut windows = 0;
+                    loop {
+                        let (x, y) = (
+                            fast.next_rocking(from, &threshold),
+                            slow.next_rocking(from, &threshold),
+                        );
+                        let what =
+                            format!("{shape:?} {formulation:?} level {level} r {r} from {from}");
+                        match (x, y) {
+                            (None, None) => break,
+                            (Some(x), Some(y)) => {
+                                assert!((x.start - y.start).abs() < 1e-12, "{what}: {x:?} {y:?}");
+                                assert!((x.end - y.end).abs() < 1e-12, "{what}: {x:?} {y:?}");
+                                assert_eq!(x.side, y.side, "{what}");
+                                windows += 1;
+                                from = x.end.max(x.start) + 1e-9;
+                            }
+                            _ => panic!("{what}: {x:?} {y:?}"),
+                        }
+                    }
+                    let (d0, t0) = fast.rest_demand_peak(0.0, fast.duration(), g);
+                    let (d1, _) = slow.rest_demand_peak(0.0, slow.duration(), g);
+                    assert!(
+                        (d0 - d1).abs() <= 1e-9 * d1.abs().max(1.0) || d0 == d1,
+                        "{shape:?} {formulation:?} {level} {r}: {d0} at {t0} vs {d1}"
+                    );
+                    assert!(windows > 0 || level < 1.0, "{shape:?} {level} {r}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -152,13 +152,7 @@ impl Scalable for PulsePair {
     /// relative to the horizontal one stays so).
     fn at_level(&self, level: f64, block: &Block) -> Self {
         let a = level * block.slenderness() * block.gravity();
-        let factor = a / self.horizontal.amplitude;
-        PulsePair::new(
-            self.horizontal.with_amplitude(a),
-            self.vertical
-                .with_amplitude(self.vertical.amplitude * factor),
-            self.delay,
-        )
+        self.scaled(a / self.horizontal.amplitude)
     }
 }
 
