@@ -155,9 +155,15 @@ enum Command {
     /// Read a record file (PEER AT2, CSV or whitespace columns, JSON) and
     /// print it as a job spec's `ground_motion` (`dt`, `acc` in m/s², `unit`)
     /// on stdout; its metadata (one line of JSON) and warnings on stderr.
+    /// With `--vertical`, a second file is the vertical component (positive
+    /// up) on the same dt, printed as the `ground_motion`'s `vertical`.
     Record {
         /// The file, or - for standard input.
         file: String,
+        /// The vertical component's file (positive up), read with the same
+        /// options; its dt must be the horizontal one's.
+        #[arg(long, value_name = "FILE")]
+        vertical: Option<String>,
         /// at2 | csv | json (detected from the content when absent).
         #[arg(long)]
         format: Option<String>,
@@ -264,32 +270,78 @@ fn run(spec_path: &str, plot: Option<&str>, format: &str) -> Result<(), (u8, Str
     Ok(())
 }
 
-/// `topple record`: the file as a job spec's `ground_motion`.
-#[allow(clippy::too_many_arguments)]
+/// `topple record`: the file (and its vertical component's) as a job
+/// spec's `ground_motion`.
 fn record(
     file: &str,
-    format: Option<&str>,
-    unit: Option<&str>,
-    dt: Option<f64>,
-    time_column: Option<&str>,
-    acc_column: Option<&str>,
-    name: Option<String>,
-    allow_large_pga: bool,
+    vertical: Option<&str>,
+    options: &topple::records::OptionTexts<'_>,
 ) -> Result<(), (u8, String)> {
-    use topple::records::{OptionTexts, RecordMeta};
-    let text = read_spec(file).map_err(|e| (2, e))?;
-    let opts = OptionTexts {
-        format,
-        unit,
-        dt,
-        time_column,
-        acc_column,
-        name: name.as_deref(),
-        allow_large_pga,
+    use serde_json::{Value, json};
+    let opts = options
+        .read()
+        .map_err(|e| (2, format!("--{}: {}", e.field.replace('_', "-"), e.message)))?;
+    let horizontal = read_record_file(file, &opts)?;
+    let vertical = vertical
+        .map(|v| {
+            // The vertical component keeps the name its file gives.
+            let opts = topple::records::ReadOptions {
+                name: None,
+                ..opts.clone()
+            };
+            read_record_file(v, &opts).map(|r| (v, r))
+        })
+        .transpose()?;
+    if let Some((path, v)) = &vertical
+        && v.dt != horizontal.dt
+    {
+        return Err((
+            2,
+            format!(
+                "{path}: the vertical record's dt ({} s) is not the horizontal one's ({} s, {file}): resample one of them",
+                v.dt, horizontal.dt
+            ),
+        ));
     }
-    .read()
-    .map_err(|e| (2, format!("--{}: {}", e.field.replace('_', "-"), e.message)))?;
-    let record = topple::records::read(&text, &opts).map_err(|e| {
+    let allow_large_pga = options.allow_large_pga;
+    let mut motion = json!({"dt": horizontal.dt, "acc": horizontal.acc, "unit": "m/s2"});
+    if allow_large_pga {
+        motion["allow_large_pga"] = Value::Bool(true);
+    }
+    let mut lines = vec![(None, &horizontal)];
+    if let Some((path, v)) = &vertical {
+        let mut samples = json!({"acc": v.acc, "unit": "m/s2", "dt": v.dt});
+        if allow_large_pga {
+            samples["allow_large_pga"] = Value::Bool(true);
+        }
+        motion["vertical"] = samples;
+        lines.push((Some(*path), v));
+    }
+    for (path, r) in lines {
+        let meta = topple::records::RecordMeta::of(r).map_err(|e| (1, e))?;
+        eprintln!(
+            "{}",
+            serde_json::to_string(&meta).map_err(|e| (1, e.to_string()))?
+        );
+        let at = path
+            .map(|p| format!("{p} (vertical): "))
+            .unwrap_or_default();
+        for w in &r.warnings {
+            eprintln!("topple: warning: {at}{} ({})", w.message, w.kind);
+        }
+    }
+    let _ = writeln!(std::io::stdout().lock(), "{motion}");
+    Ok(())
+}
+
+/// The record file at `file` (or standard input for -), read with `opts`;
+/// a failure names the file and line, or the flag to give.
+fn read_record_file(
+    file: &str,
+    opts: &topple::records::ReadOptions,
+) -> Result<topple::records::RecordFile, (u8, String)> {
+    let text = read_spec(file).map_err(|e| (2, e))?;
+    topple::records::read(&text, opts).map_err(|e| {
         let at = match (e.field.as_str(), e.line) {
             ("body", Some(line)) => format!("{file}: line {line}"),
             ("body", None) => file.to_string(),
@@ -297,19 +349,7 @@ fn record(
             (f, _) => format!("--{}", f.replace('_', "-")),
         };
         (2, format!("cannot read the record: {at}: {}", e.message))
-    })?;
-    let meta = RecordMeta::of(&record).map_err(|e| (1, e))?;
-    let meta_line = serde_json::to_string(&meta).map_err(|e| (1, e.to_string()))?;
-    let mut motion = serde_json::json!({"dt": record.dt, "acc": record.acc, "unit": "m/s2"});
-    if allow_large_pga {
-        motion["allow_large_pga"] = serde_json::Value::Bool(true);
-    }
-    eprintln!("{meta_line}");
-    for w in &record.warnings {
-        eprintln!("topple: warning: {} ({})", w.message, w.kind);
-    }
-    let _ = writeln!(std::io::stdout().lock(), "{motion}");
-    Ok(())
+    })
 }
 
 fn seconds(v: f64, name: &str) -> Result<std::time::Duration, (u8, String)> {
@@ -553,6 +593,7 @@ fn main() -> ExitCode {
         Command::Token { name } => token(&name),
         Command::Record {
             file,
+            vertical,
             format,
             unit,
             dt,
@@ -562,13 +603,16 @@ fn main() -> ExitCode {
             allow_large_pga,
         } => record(
             &file,
-            format.as_deref(),
-            unit.as_deref(),
-            dt,
-            time_column.as_deref(),
-            acc_column.as_deref(),
-            name,
-            allow_large_pga,
+            vertical.as_deref(),
+            &topple::records::OptionTexts {
+                format: format.as_deref(),
+                unit: unit.as_deref(),
+                dt,
+                time_column: time_column.as_deref(),
+                acc_column: acc_column.as_deref(),
+                name: name.as_deref(),
+                allow_large_pga,
+            },
         ),
         Command::Openapi => {
             let _ = write!(std::io::stdout().lock(), "{}", topple::api::openapi_yaml());

@@ -132,13 +132,19 @@ pub fn to_csv(result: &JobResult) -> String {
     out
 }
 
-/// The columns of a time history's series: (key, header).
-const SERIES_COLUMNS: [(&str, &str); 5] = [
+/// The columns of a time history's series: (key, header). The vertical
+/// ground acceleration (under a vertical ground motion only) comes last, as
+/// columns added later do.
+const SERIES_COLUMNS: [(&str, &str); 6] = [
     ("t", "t_s"),
     ("theta", "theta_rad"),
     ("theta_dot", "theta_dot_rad_per_s"),
     ("ground_acceleration", "ground_acceleration_m_per_s2"),
     ("fx_over_fz", "fx_over_fz"),
+    (
+        "ground_vertical_acceleration",
+        "ground_vertical_acceleration_m_per_s2",
+    ),
 ];
 
 /// One column of a series: samples, or samples that may be missing.
@@ -174,6 +180,11 @@ fn time_history(r: &TimeHistoryResult, out: &mut String) {
             Column::Samples(&s.theta_dot),
             Column::Samples(&s.ground_acceleration),
             Column::Gappy(s.fx_over_fz.as_deref().unwrap_or_default()),
+            Column::Samples(
+                s.ground_vertical_acceleration
+                    .as_deref()
+                    .unwrap_or_default(),
+            ),
         ];
         let present: Vec<usize> = (0..data.len()).filter(|&i| data[i].len() > 0).collect();
         if !present.is_empty() {
@@ -217,7 +228,7 @@ fn time_history(r: &TimeHistoryResult, out: &mut String) {
         return;
     }
     let peaks = &r.ground_peaks;
-    let cols: [(&str, String); 23] = [
+    let mut cols: Vec<(&str, String)> = vec![
         ("rocked", cell(&r.rocked)),
         ("overturned", cell(&r.overturned)),
         ("mode", cell(&r.mode)),
@@ -251,8 +262,16 @@ fn time_history(r: &TimeHistoryResult, out: &mut String) {
         ("pgd_m", cell(&peaks.pgd_m)),
         ("pgv_over_pga_s", cell(&peaks.pgv_over_pga_s)),
     ];
-    row(out, &cols.each_ref().map(|c| c.0.to_string()));
-    row(out, &cols.map(|c| c.1));
+    // Under a vertical ground motion only: its peak.
+    if peaks.pga_v_m_s2.is_some() || peaks.pga_v_g.is_some() {
+        cols.push(("pga_v_m_per_s2", cell(&peaks.pga_v_m_s2)));
+        cols.push(("pga_v_g", cell(&peaks.pga_v_g)));
+    }
+    row(
+        out,
+        &cols.iter().map(|c| c.0.to_string()).collect::<Vec<_>>(),
+    );
+    row(out, &cols.into_iter().map(|c| c.1).collect::<Vec<_>>());
 }
 
 /// A survive ↔ overturn transition as the cells of its row: its levels
@@ -756,6 +775,8 @@ struct Columns<'a> {
     ground_acceleration: Option<&'a serde_json::value::RawValue>,
     #[serde(borrow)]
     fx_over_fz: Option<&'a serde_json::value::RawValue>,
+    #[serde(borrow)]
+    ground_vertical_acceleration: Option<&'a serde_json::value::RawValue>,
 }
 
 /// JSON's whitespace.
@@ -777,6 +798,7 @@ impl SeriesRows {
             columns.theta_dot,
             columns.ground_acceleration,
             columns.fx_over_fz,
+            columns.ground_vertical_acceleration,
         ];
         let mut headers = Vec::new();
         let mut next = Vec::new();
@@ -943,6 +965,7 @@ mod tests {
             theta: vec![0.0, -0.01, -0.02],
             theta_dot: vec![0.0, -0.1, -0.2],
             ground_acceleration: vec![0.0, 1.0, 2.0],
+            ground_vertical_acceleration: None,
             fx_over_fz: Some(vec![Some(0.0), Some(0.25), None]),
         });
         let csv = th_table(&r);
@@ -958,6 +981,41 @@ mod tests {
         assert!(
             csv.starts_with("t_s,theta_rad,theta_dot_rad_per_s,ground_acceleration_m_per_s2\n")
         );
+    }
+
+    #[test]
+    fn a_vertical_ground_motion_adds_its_column_at_the_end() {
+        let spec = TIME_HISTORY.replace(r#""outputs":"#, r#""vertical":{"ratio":-0.6},"outputs":"#);
+        let r = match typed(&spec) {
+            JobResult::TimeHistory(r) => *r,
+            other => panic!("not a time history: {:?}", other.job_kind()),
+        };
+        let s = r.series.clone().expect("a series");
+        let vertical = s
+            .ground_vertical_acceleration
+            .clone()
+            .expect("the vertical acceleration");
+        assert_eq!(vertical.len(), s.t.len());
+        let csv = th_table(&r);
+        let l = lines(&csv);
+        assert_eq!(
+            l[0],
+            "t_s,theta_rad,theta_dot_rad_per_s,ground_acceleration_m_per_s2,fx_over_fz,ground_vertical_acceleration_m_per_s2"
+        );
+        assert_eq!(l.len(), s.t.len() + 1);
+        for k in 0..s.t.len() {
+            let last = l[k + 1].rsplit(',').next().expect("a field");
+            assert_eq!(last, cell(&vertical[k]), "row {k}");
+        }
+        // ü_v = −0.6 ü_g while the pulse lasts: some rows hold both.
+        assert!(vertical.iter().any(|v| *v != 0.0));
+        // The table read row by row from the stored document is the same.
+        let text = serde_json::to_string(&r).expect("json");
+        for piece in [1, 64, 1 << 16] {
+            assert_eq!(streamed(&text, piece).as_deref(), Some(csv.as_str()));
+        }
+        // Without a vertical motion there is no such column.
+        assert!(!th_table(&time_history_result()).contains("vertical"));
     }
 
     #[test]
@@ -1001,6 +1059,7 @@ mod tests {
             theta: vec![],
             theta_dot: vec![],
             ground_acceleration: vec![],
+            ground_vertical_acceleration: None,
             fx_over_fz: None,
         });
         r.impacts = None;
@@ -1586,6 +1645,7 @@ mod tests {
             theta: vec![],
             theta_dot: vec![-5.0, 0.30000000000000004],
             ground_acceleration: vec![f64::NAN],
+            ground_vertical_acceleration: None,
             fx_over_fz: Some(vec![Some(f64::INFINITY), None, Some(0.3)]),
         });
         assert_eq!(
@@ -1628,6 +1688,7 @@ mod tests {
             theta: theta.clone(),
             theta_dot: theta,
             ground_acceleration: t,
+            ground_vertical_acceleration: None,
             fx_over_fz: Some(ratio),
         });
         let whole = th_table(&long);

@@ -66,6 +66,9 @@ pub struct Series {
     pub theta_dot: Vec<f64>,
     /// Ground acceleration ü_g, m/s².
     pub ground_acceleration: Vec<f64>,
+    /// Vertical ground acceleration ü_v (positive up), m/s²: present under a
+    /// vertical ground motion only.
+    pub vertical_acceleration: Option<Vec<f64>>,
     /// f_x/f_z (present when reactions are asked for); `None` at samples
     /// where pure rocking is impossible (from the first lift-off on).
     pub reaction_ratio: Option<Vec<Option<f64>>>,

@@ -82,6 +82,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             theta: Vec::with_capacity(n),
             theta_dot: Vec::with_capacity(n),
             ground_acceleration: Vec::with_capacity(n),
+            vertical_acceleration: G::VERTICAL.then(|| Vec::with_capacity(n)),
             reaction_ratio: req.reactions.then(|| Vec::with_capacity(n)),
         };
         Tracker {
@@ -537,6 +538,12 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         self.series.theta.push(y[0]);
         self.series.theta_dot.push(y[1]);
         self.series.ground_acceleration.push(ground);
+        if G::VERTICAL {
+            let vertical = self.vertical(t, forced);
+            if let Some(v) = self.series.vertical_acceleration.as_mut() {
+                v.push(vertical);
+            }
+        }
         if self.series.reaction_ratio.is_some() {
             let ratio = match side {
                 Some(s) => {

@@ -400,6 +400,16 @@ pub mod rules {
         ]})
     }
 
+    /// A record's vertical acceleration: a ratio alone, samples, or a
+    /// stored record named by id alone (a file is for `topple run` only).
+    fn vertical_ratio_samples_or_stored_record() -> Value {
+        json!({"oneOf": [
+            {"allOf": [given("ratio"), none_of(&["dt", "acc", "unit", "allow_large_pga", "record", "file"])]},
+            {"allOf": [given("acc"), given("unit"), none_of(&["ratio", "record", "file"])]},
+            {"allOf": [given("record"), none_of(&["ratio", "dt", "acc", "unit", "allow_large_pga", "file"])]},
+        ]})
+    }
+
     /// The rules, by schema name.
     fn table() -> Vec<(&'static str, Vec<Value>)> {
         let frequency = ["omega_ratio", "omega_p", "frequency_hz"];
@@ -494,6 +504,10 @@ pub mod rules {
             ),
             ("GroundMotionSpec", vec![samples_or_stored_record()]),
             ("NamedMotionSpec", vec![samples_or_stored_record()]),
+            (
+                "VerticalRecordSpec",
+                vec![vertical_ratio_samples_or_stored_record()],
+            ),
             (
                 "RecordSpectrumSpec",
                 vec![exactly_one(&["p", "R_m"]), exactly_one(&["scale", "pga_g"])],

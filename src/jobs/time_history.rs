@@ -24,7 +24,7 @@ pub const MAX_SERIES_POINTS: usize = 1_000_000;
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputsSpec {
-    /// Number of uniformly spaced samples of (t, θ, θ̇, ü_g, f_x/f_z); none by default (at most 1e6).
+    /// Number of uniformly spaced samples of (t, θ, θ̇, ü_g, f_x/f_z, and ü_v under a vertical ground motion); none by default (at most 1e6).
     #[schema(maximum = 1_000_000)]
     pub series: Option<usize>,
     /// Follow the base reactions (peak friction demand, warnings); default true.
@@ -307,6 +307,9 @@ pub struct SeriesDoc {
     pub theta_dot: Vec<f64>,
     /// ü_g, m/s².
     pub ground_acceleration: Vec<f64>,
+    /// ü_v (positive up), m/s²: under a vertical ground motion only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ground_vertical_acceleration: Option<Vec<f64>>,
     /// f_x/f_z; null where pure rocking is impossible (f_z ≤ 0, from the
     /// first lift-off on).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -522,6 +525,7 @@ impl TimeHistoryJob {
                 theta: s.theta,
                 theta_dot: s.theta_dot,
                 ground_acceleration: s.ground_acceleration,
+                ground_vertical_acceleration: s.vertical_acceleration,
                 fx_over_fz: s.reaction_ratio,
             }),
             numerics: NumericsDoc::from(&r.numerics),
@@ -595,5 +599,113 @@ impl crate::jobs::kind::Kind for TimeHistory {
             }
         }
         found
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::Forcing;
+    use serde_json::json;
+
+    /// The result of the time-history spec `doc`.
+    fn run(doc: serde_json::Value) -> TimeHistoryResult {
+        serde_json::from_value::<TimeHistorySpec>(doc)
+            .expect("a spec")
+            .validate()
+            .expect("a valid spec")
+            .run()
+            .expect("a result")
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 1e-12 * b.abs().max(1e-9)
+    }
+
+    fn pulse_spec(vertical: Option<serde_json::Value>) -> serde_json::Value {
+        let mut doc = json!({"kind": "time_history",
+            "block": {"alpha": 0.2, "p": 2.0, "eta": 0.9},
+            "pulse": {"type": "one_sine", "omega_ratio": 4.0, "a_p_alpha_g": 3.0},
+            "outputs": {"series": 300, "duration": 4.0}});
+        if let Some(v) = vertical {
+            doc["vertical"] = v;
+        }
+        doc
+    }
+
+    #[test]
+    fn the_series_carries_the_vertical_acceleration_only_with_a_vertical_motion() {
+        let plain = run(pulse_spec(None));
+        let s = plain.series.as_ref().expect("a series");
+        assert_eq!(s.ground_vertical_acceleration, None);
+        let text = serde_json::to_string(&plain).expect("json");
+        assert!(!text.contains("ground_vertical_acceleration"));
+
+        // ü_v = r·ü_g at every sample.
+        let r = -0.4;
+        let ratio = run(pulse_spec(Some(json!({"ratio": r}))));
+        let s = ratio.series.as_ref().expect("a series");
+        let v = s.ground_vertical_acceleration.as_ref().expect("ü_v");
+        assert_eq!(v.len(), s.t.len());
+        assert!(v.iter().any(|a| *a != 0.0));
+        for (k, (&av, &ag)) in v.iter().zip(&s.ground_acceleration).enumerate() {
+            assert!(close(av, r * ag), "sample {k}: {av} vs {}", r * ag);
+        }
+        let text = serde_json::to_string(&ratio).expect("json");
+        let back: TimeHistoryResult = serde_json::from_str(&text).expect("reads back");
+        assert_eq!(back.series, ratio.series);
+    }
+
+    #[test]
+    fn a_delayed_vertical_pulse_is_sampled_where_it_acts() {
+        let delay = 0.5;
+        let result = run(pulse_spec(Some(json!({"type": "one_sine",
+            "omega_p": 12.0, "a_p_g": 0.3, "delay_s": delay}))));
+        let s = result.series.as_ref().expect("a series");
+        let v = s.ground_vertical_acceleration.as_ref().expect("ü_v");
+        let pulse = crate::dynamics::Pulse::new(
+            crate::dynamics::PulseShape::OneSine,
+            0.3 * result.spec.block.g,
+            12.0,
+        )
+        .expect("a pulse");
+        let mut acting = 0;
+        for (&t, &a) in s.t.iter().zip(v) {
+            if t < delay || t > delay + pulse.duration {
+                assert_eq!(a, 0.0, "still at t = {t}");
+            } else {
+                acting += 1;
+                assert!(close(a, pulse.acceleration(t - delay)), "t = {t}: {a}");
+            }
+        }
+        assert!(acting > 10, "{acting} samples while it acts");
+    }
+
+    #[test]
+    fn a_vertical_record_is_sampled_from_its_samples() {
+        let dt = 0.01;
+        let h: Vec<f64> = (0..400)
+            .map(|k| 3.0 * (f64::from(k) * dt * 9.0).sin())
+            .collect();
+        let v: Vec<f64> = (0..250)
+            .map(|k| -2.0 * (f64::from(k) * dt * 5.0).cos())
+            .collect();
+        let result = run(json!({"kind": "time_history",
+            "block": {"alpha": 0.2, "p": 2.0, "eta": 0.9},
+            "ground_motion": {"dt": dt, "acc": h, "unit": "m/s2",
+                              "vertical": {"acc": v, "unit": "m/s2"}},
+            "outputs": {"series": 333}}));
+        let s = result.series.as_ref().expect("a series");
+        let sampled = s.ground_vertical_acceleration.as_ref().expect("ü_v");
+        let record = crate::dynamics::Record::new(v.into(), dt).expect("a record");
+        for (&t, &a) in s.t.iter().zip(sampled) {
+            // Padded with zeros past its end.
+            let expected = if t <= 249.0 * dt {
+                record.acceleration(t)
+            } else {
+                0.0
+            };
+            assert!((a - expected).abs() <= 1e-12, "t = {t}: {a} vs {expected}");
+        }
     }
 }

@@ -316,6 +316,18 @@ pub fn validate_record_with_vertical(
         return Ok(norm);
     };
     let at = format!("{base}/vertical");
+    if v.record.is_some() {
+        return Err(SpecError::at(
+            format!("{at}/record"),
+            "names a stored record, which only the service reads (POST /v1/records): offline, give the samples or a file",
+        ));
+    }
+    if v.file.is_some() {
+        return Err(SpecError::at(
+            format!("{at}/file"),
+            "a file is read by `topple run` only: upload it (POST /v1/records) and name it with {\"record\": id}",
+        ));
+    }
     if let Some(r) = v.ratio {
         let other = [
             (v.dt.is_some(), "dt"),

@@ -1,6 +1,6 @@
 //! The vertical acceleration inside a record, as given and normalised
-//! (`"ground_motion": {…, "vertical": {"ratio": r} or samples}`); validated
-//! by [`super::vertical`].
+//! (`"ground_motion": {…, "vertical": {"ratio": r}, samples, a stored
+//! record by id or a file}`); validated by [`super::vertical`].
 
 use std::sync::Arc;
 
@@ -10,7 +10,9 @@ use super::names::tag;
 
 /// The vertical acceleration of a record (positive up): `{"ratio": r}`, or
 /// samples taken with the horizontal record's `dt` (the shorter of the two
-/// is padded with zeros).
+/// is padded with zeros), given as `acc` and `unit`, as a stored record's id
+/// (`record`; the service reads it) or as a file (`file`; `topple run`
+/// reads it).
 #[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct VerticalRecordSpec {
@@ -28,6 +30,15 @@ pub struct VerticalRecordSpec {
     pub unit: Option<String>,
     /// The samples' PGA above 5 g in their unit is intended.
     pub allow_large_pga: Option<bool>,
+    /// A stored record (`POST /v1/records`), by id, instead of the samples:
+    /// the same computation as the spec holding its samples (its dt must be
+    /// the horizontal record's).
+    #[schema(pattern = "^[0-9a-f]{32}$")]
+    pub record: Option<String>,
+    /// A record file read by `topple run` (offline only; the service refuses
+    /// it): `{"file": "path", "format"?, "unit"?, "dt"?, "time_column"?,
+    /// "acc_column"?}` as for `topple record`.
+    pub file: Option<String>,
 }
 
 /// The vertical acceleration of a record, normalised: a ratio, or samples

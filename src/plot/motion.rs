@@ -92,6 +92,97 @@ impl Motion {
     }
 }
 
+/// The vertical ground acceleration ü_v (positive up) of a time-history
+/// spec, as a figure draws it beside the horizontal [`Motion`].
+pub enum Vertical {
+    /// ü_v = r·ü_g.
+    Ratio(f64),
+    /// A motion of its own (a pulse, or a record's vertical samples),
+    /// starting `delay` s after the horizontal one.
+    Own {
+        /// The vertical motion, in its own time.
+        motion: Motion,
+        /// Its start, s.
+        delay: f64,
+    },
+}
+
+impl Vertical {
+    /// The vertical motion of `spec`, if it has one the figure can draw.
+    pub fn of(spec: &TimeHistoryJob) -> Option<Vertical> {
+        use crate::jobs::vertical::VerticalPulseNorm;
+        if let Some(g) = &spec.ground_motion {
+            let v = g.vertical.as_ref()?;
+            return match (&v.acc, v.ratio) {
+                (Some(acc), _) => (acc.len() >= 2 && g.dt > 0.0).then(|| Vertical::Own {
+                    motion: Motion::Record {
+                        dt: g.dt,
+                        acc: acc.clone(),
+                    },
+                    delay: 0.0,
+                }),
+                (None, Some(r)) => Some(Vertical::Ratio(r)),
+                (None, None) => None,
+            };
+        }
+        match spec.vertical.as_ref()? {
+            VerticalPulseNorm::Ratio(r) => Some(Vertical::Ratio(*r)),
+            VerticalPulseNorm::Pulse { pulse, delay_s } => {
+                Pulse::new(pulse.shape, pulse.a_p, pulse.omega_p)
+                    .ok()
+                    .map(|p| Vertical::Own {
+                        motion: Motion::Pulse(Box::new(p)),
+                        delay: *delay_s,
+                    })
+            }
+        }
+    }
+
+    /// When the vertical ground stops moving, s (under `horizontal`).
+    pub fn end(&self, horizontal: &Motion) -> f64 {
+        match self {
+            Vertical::Ratio(_) => horizontal.duration(),
+            Vertical::Own { motion, delay } => delay + motion.duration(),
+        }
+    }
+
+    /// The largest |ü_v|, m/s² (under `horizontal`).
+    pub fn peak(&self, horizontal: &Motion) -> f64 {
+        match self {
+            Vertical::Ratio(r) => r.abs() * horizontal.peak(),
+            Vertical::Own { motion, .. } => motion.peak(),
+        }
+    }
+
+    /// ü_v/g over [t0, t1] (under `horizontal`), drawn as [`Motion::curve`]
+    /// draws ü_g/g.
+    pub fn curve(&self, horizontal: &Motion, t0: f64, t1: f64, g: f64) -> Vec<(f64, f64)> {
+        match self {
+            Vertical::Ratio(r) => horizontal
+                .curve(t0, t1, g)
+                .into_iter()
+                .map(|(t, a)| (t, r * a))
+                .collect(),
+            // In its own time: still ground before it starts, then a step
+            // to its first value.
+            Vertical::Own { motion, delay } => {
+                let mut out: Vec<(f64, f64)> = motion
+                    .curve(t0 - delay, t1 - delay, g)
+                    .into_iter()
+                    .map(|(t, a)| (t + delay, a))
+                    .collect();
+                if let Some(k) = out.iter().position(|p| p.0 >= *delay)
+                    && k > 0
+                    && out[k].1 != 0.0
+                {
+                    out.insert(k, (*delay, 0.0));
+                }
+                out
+            }
+        }
+    }
+}
+
 /// A record's samples over [t0, t1] (the two samples around each end
 /// included, so the drawn line reaches the ends), ü_g/g.
 fn record_curve(dt: f64, acc: &[f64], t0: f64, t1: f64, g: f64) -> Vec<(f64, f64)> {
@@ -187,6 +278,64 @@ mod tests {
         let mut bare = spec;
         bare.ground_motion = None;
         assert!(Motion::of(&bare).is_none());
+    }
+
+    #[test]
+    fn a_vertical_motion_is_drawn_in_its_own_time_or_as_a_ratio() {
+        let base = json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14},
+                          "pulse": {"type": "one_sine", "a_p": 7.4, "omega_p": 10.7}});
+        let mut own = base.clone();
+        own["vertical"] = json!({"type": "one_sine", "a_p": 3.0, "omega_p": 20.0, "delay_s": 0.25});
+        let spec = job(own);
+        let h = Motion::of(&spec).expect("pulse");
+        let v = Vertical::of(&spec).expect("vertical");
+        let pulse = Pulse::new(crate::dynamics::PulseShape::OneSine, 3.0, 20.0).expect("pulse");
+        assert!((v.end(&h) - (0.25 + pulse.duration)).abs() < 1e-12);
+        let c = v.curve(&h, 0.0, 1.0, 2.0);
+        assert!(c.iter().any(|p| p.1 != 0.0));
+        for &(t, a) in &c {
+            let expected = if (0.25..=0.25 + pulse.duration).contains(&t) {
+                pulse.acceleration(t - 0.25) / 2.0
+            } else {
+                0.0
+            };
+            assert!((a - expected).abs() < 1e-9, "t = {t}: {a} vs {expected}");
+        }
+        assert_eq!(c.first().map(|p| p.0), Some(0.0));
+        assert_eq!(c.last(), Some(&(1.0, 0.0)));
+        // A pulse starting at its amplitude steps up where it starts.
+        let mut cosine = base.clone();
+        cosine["vertical"] =
+            json!({"type": "one_cosine", "a_p": 3.0, "omega_p": 20.0, "delay_s": 0.25});
+        let c = Vertical::of(&job(cosine))
+            .expect("vertical")
+            .curve(&h, 0.0, 1.0, 2.0);
+        let k = c.iter().position(|p| p.1 != 0.0).expect("moves");
+        assert_eq!(c[k - 1], (0.25, 0.0));
+        assert!(
+            (c[k].0 - 0.25).abs() < 1e-12 && (c[k].1 - 1.5).abs() < 1e-12,
+            "{:?}",
+            c[k]
+        );
+        // A ratio: the horizontal curve scaled.
+        let mut ratio = base;
+        ratio["vertical"] = json!({"ratio": -0.5});
+        let spec = job(ratio);
+        let v = Vertical::of(&spec).expect("vertical");
+        let scaled: Vec<(f64, f64)> = h
+            .curve(0.0, 1.0, 2.0)
+            .into_iter()
+            .map(|(t, a)| (t, -0.5 * a))
+            .collect();
+        assert_eq!(v.curve(&h, 0.0, 1.0, 2.0), scaled);
+        assert_eq!(v.peak(&h), 0.5 * h.peak());
+        // None without one.
+        assert!(
+            Vertical::of(&job(json!({"kind": "time_history",
+            "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine", "a_p": 7.4, "omega_p": 10.7}})))
+            .is_none()
+        );
     }
 
     #[test]

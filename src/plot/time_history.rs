@@ -13,7 +13,7 @@
 
 use plotters::prelude::*;
 
-use super::motion::Motion;
+use super::motion::{Motion, Vertical};
 use super::style::{
     Area, Drawn, INK, LEGEND, Legend, MUTED, Marker, PULSE, REST, Swatch, draw_legend_columns,
     fmt_num, legend_height, mode_colour, text,
@@ -56,6 +56,13 @@ const RATIO: RGBColor = RGBColor(150, 80, 20);
 const GROUND: RGBColor = RGBColor(90, 90, 90);
 /// Colour of the rotation.
 const THETA: RGBColor = RGBColor(31, 78, 160);
+/// Colour of the vertical ground acceleration.
+const VERTICAL: RGBColor = RGBColor(120, 70, 150);
+/// Axis description of the vertical ground acceleration's panel.
+const VERTICAL_DESC: &str = "ü_v / g";
+/// A vertical ground acceleration down to −`FALLING` g has its panel
+/// show the level −g (where the ground falls away).
+const FALLING: f64 = 0.5;
 
 /// What the figure asks of a result without a series.
 pub const NO_SERIES: &str = "no series in this result: add \"outputs\": {\"series\": 500} to the spec for θ(t), θ̇(t) and f_x/f_z(t)";
@@ -161,6 +168,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
     let mu = spec.block.mu;
     let linear = spec.formulation == Formulation::Linear;
     let motion = Motion::of(spec);
+    let vertical = Vertical::of(spec);
     let series = result.series.as_ref();
     let t: &[f64] = series.map_or(&[], |s| &s.t);
     let simulated = Some(result.end_time)
@@ -168,8 +176,9 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         .unwrap_or(1.0);
     // Under a record the axis runs to its end, however early the block
     // stopped: the record did not end there.
-    let record_end = match &motion {
-        Some(m @ Motion::Record { .. }) => Some(m.duration()),
+    let record_end = match (&motion, &vertical) {
+        (Some(m @ Motion::Record { .. }), Some(v)) => Some(m.duration().max(v.end(m))),
+        (Some(m @ Motion::Record { .. }), None) => Some(m.duration()),
         _ => None,
     };
     let t_end = record_end.map_or(simulated, |r| r.max(simulated));
@@ -242,6 +251,29 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
     // Ground acceleration reaches the rocking threshold at g tan α (α g linearised).
     let threshold = if linear { alpha } else { alpha.tan() };
     let ground_from_motion = motion.as_ref().map(|m| m.curve(from, to, g));
+    // ü_v/g from the spec (as ü_g), else from the series.
+    let vertical_from_motion = match (&motion, &vertical) {
+        (Some(m), Some(v)) => Some(v.curve(m, from, to, g)),
+        _ => None,
+    };
+    let vertical_panel = |line: Vec<(f64, f64)>, label: &str| {
+        // ü_v = −g, where the ground falls away and the block leaves it,
+        // is shown once the ground falls at half that.
+        let falls = line.iter().any(|p| p.1 <= -FALLING);
+        Panel {
+            desc: VERTICAL_DESC.into(),
+            label: format!("vertical ground acceleration ü_v/g, positive up{label}"),
+            colour: VERTICAL,
+            line,
+            points: Vec::new(),
+            scale: Scale::Symmetric {
+                floor: if falls { 1.1 } else { 0.1 },
+            },
+            refs: if falls { vec![-1.0] } else { Vec::new() },
+            impacts: false,
+            end: None,
+        }
+    };
     let mut panels = Vec::new();
     let mut clipped_ratio = None;
     let mut ratio_end = None;
@@ -289,6 +321,12 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                 impacts: false,
                 end: None,
             });
+        }
+        let vertical_line = vertical_from_motion
+            .clone()
+            .or_else(|| s.ground_vertical_acceleration.as_deref().map(|v| zip(v, g)));
+        if let Some(line) = vertical_line.filter(|l| !l.is_empty()) {
+            panels.push(vertical_panel(line, ""));
         }
         panels.push(Panel {
             desc: "θ / α".into(),
@@ -373,6 +411,15 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                 end: None,
             });
         }
+        if let (Some(motion), Some(line)) = (&motion, vertical_from_motion) {
+            panels.push(vertical_panel(
+                line,
+                match motion {
+                    Motion::Pulse(_) => " (from the spec)",
+                    Motion::Record { .. } => " (the record)",
+                },
+            ));
+        }
         if !impacts.is_empty() {
             let mut points = Vec::new();
             for &(t, before, after) in &impacts {
@@ -448,6 +495,12 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
     } else {
         "ü_g = ±g\u{a0}tan\u{a0}α (rocking starts)".to_string()
     });
+    if panels
+        .iter()
+        .any(|p| p.desc == VERTICAL_DESC && !p.refs.is_empty())
+    {
+        refs.push("ü_v = −g (the ground falls away)".into());
+    }
     if panels.iter().any(|p| p.desc == "f_x / f_z") {
         refs.push("f_x/f_z = ±tan\u{a0}α".into());
         if let Some(m) = mu {
@@ -537,6 +590,36 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         }
         _ => None,
     };
+    if let (Some(m), Some(v)) = (&motion, &vertical) {
+        let peak = v.peak(m);
+        legend.note(match (v, &spec.ground_motion) {
+            (Vertical::Ratio(r), _) => format!(
+                "vertical: ü_v = {} ü_g, peak |ü_v| = {} g",
+                fmt_num(*r, 4),
+                fmt_num(peak / g, 3)
+            ),
+            (Vertical::Own { motion: own, .. }, Some(_)) => format!(
+                "vertical record: {} samples, peak |ü_v| = {} g",
+                match own {
+                    Motion::Record { acc, .. } => acc.len(),
+                    Motion::Pulse(_) => 0,
+                },
+                fmt_num(peak / g, 3)
+            ),
+            (Vertical::Own { motion: own, delay }, None) => format!(
+                "vertical pulse: a_v = {} g, {} ≤ t ≤ {} s",
+                fmt_num(
+                    match own {
+                        Motion::Pulse(p) => p.amplitude,
+                        Motion::Record { .. } => peak,
+                    } / g,
+                    4
+                ),
+                fmt_num(*delay, 4),
+                fmt_num(delay + own.duration(), 4)
+            ),
+        });
+    }
     legend.note(format!(
         "{} formulation, solver {}",
         spec.formulation.name(),
@@ -681,7 +764,7 @@ fn draw(
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use super::{GROUND, RATIO, THETA, TimeHistoryResult, response_end, zoom_end};
+    use super::{GROUND, RATIO, THETA, TimeHistoryResult, VERTICAL, response_end, zoom_end};
     use crate::jobs::JobResult;
     use crate::plot::style::{REST, fmt_num};
     use crate::plot::tests::{hex, shapes, x_extent};
@@ -963,6 +1046,66 @@ pub(crate) mod tests {
         assert_eq!(response_end(8.0, 40.0), Some(8.8));
         assert_eq!(response_end(15.0, 30.0), None);
         assert_eq!(response_end(0.0, 40.0), None);
+    }
+
+    /// A one-sine pulse with the vertical motion `vertical`, `series` samples.
+    fn with_vertical(vertical: &str, series: usize) -> TimeHistoryResult {
+        computed(&format!(
+            r#"{{"kind": "time_history", "block": {{"alpha": 0.25, "p": 2.14, "eta": 0.9}},
+                "pulse": {{"type": "one_sine", "omega_ratio": 4, "a_p_alpha_g": 3.2}},
+                "vertical": {vertical}, "outputs": {{"series": {series}, "duration": 5}}}}"#
+        ))
+    }
+
+    #[test]
+    fn a_vertical_ground_motion_is_drawn_under_the_horizontal_one() {
+        let result = with_vertical(r#"{"ratio": -0.5}"#, 400);
+        let svg = super::svg(&result, None).expect("svg");
+        let text = text_of(&svg).replace('\u{a0}', " ");
+        for needle in [
+            "ü_v / g",
+            "vertical ground acceleration ü_v/g, positive up",
+            "vertical: ü_v = -0.5 ü_g, peak |ü_v| = 0.4 g",
+        ] {
+            assert!(text.contains(needle), "missing {needle:?} in {text}");
+        }
+        // Down to −0.4 g only: no level −g.
+        assert!(!text.contains("ü_v = −g"), "{text}");
+        let falling = super::svg(&with_vertical(r#"{"ratio": 1.0}"#, 400), None).expect("svg");
+        assert!(text_of(&falling).contains("ü_v = −g (the ground falls away)"));
+        // Its curve spans the time axis as the horizontal one does, in the
+        // panel below it.
+        let ground = shapes(&svg, "polyline", &format!("stroke=\"{}\"", hex(GROUND)));
+        let vertical = shapes(&svg, "polyline", &format!("stroke=\"{}\"", hex(VERTICAL)));
+        assert!(!vertical.is_empty(), "a ü_v curve");
+        let (g, v) = (x_extent(&ground), x_extent(&vertical));
+        assert!(
+            (g.0 - v.0).abs() < 1.0 && (g.1 - v.1).abs() < 1.0,
+            "{g:?} {v:?}"
+        );
+        let top = |l: &[Vec<(f64, f64)>]| l.iter().flatten().fold(f64::INFINITY, |m, p| m.min(p.1));
+        assert!(top(&vertical) > top(&ground), "ü_v below ü_g");
+        // Without a vertical motion nothing of it is drawn.
+        let plain = super::svg(&fig7(200), None).expect("svg");
+        assert!(!plain.contains("ü_v"));
+        assert!(!plain.contains(&hex(VERTICAL)));
+    }
+
+    #[test]
+    fn a_vertical_pulse_of_its_own_is_drawn_where_it_acts_with_or_without_series() {
+        let vertical = r#"{"type": "one_cosine", "omega_p": 14, "a_p_g": 0.5, "delay_s": 0.3}"#;
+        for series in [400, 0] {
+            let result = with_vertical(vertical, series);
+            let svg = super::svg(&result, None).expect("svg");
+            let text = text_of(&svg).replace('\u{a0}', " ");
+            let end = fmt_num(0.3 + std::f64::consts::TAU / 14.0, 4);
+            let note = format!("vertical pulse: a_v = 0.5 g, 0.3 ≤ t ≤ {end} s");
+            assert!(text.contains(&note), "missing {note:?} in {text}");
+            assert!(text.contains("ü_v / g"), "{text}");
+            if series == 0 {
+                assert!(text.contains("positive up (from the spec)"), "{text}");
+            }
+        }
     }
 
     #[test]

@@ -22,10 +22,14 @@ const FILE_OPTIONS: [&str; 9] = [
     "record_name",
 ];
 
-/// Reads every `{"file": …}` of `spec`'s `ground_motion` and
-/// `ground_motions` with `read_file` and puts its samples (m/s²) in its
-/// place; returns the records' warnings, each prefixed with where it was.
-/// An error's `field` is the JSON pointer into `spec` of what is at fault.
+/// Where a time history's record holds its vertical acceleration.
+const VERTICAL: &str = "/ground_motion/vertical";
+
+/// Reads every `{"file": …}` of `spec`'s `ground_motion` (and of its
+/// `vertical` acceleration) and `ground_motions` with `read_file` and puts
+/// its samples (m/s²) in its place; returns the records' warnings, each
+/// prefixed with where it was. An error's `field` is the JSON pointer into
+/// `spec` of what is at fault.
 pub fn embed_files(
     spec: &mut Value,
     read_file: impl Fn(&str) -> Result<String, String>,
@@ -33,6 +37,8 @@ pub fn embed_files(
     let mut slots = Vec::new();
     if spec.get("ground_motion").is_some_and(Value::is_object) {
         slots.push("/ground_motion".to_string());
+        // Read after the horizontal record (whose `vertical` it keeps).
+        slots.push(VERTICAL.to_string());
     }
     if let Some(list) = spec.get("ground_motions").and_then(Value::as_array) {
         slots.extend((0..list.len()).map(|i| format!("/ground_motions/{i}")));
@@ -48,12 +54,24 @@ pub fn embed_files(
         let path = path
             .as_str()
             .ok_or_else(|| ReadError::new(format!("{at}/file"), "must be a path (a string)"))?;
-        if let Some(other) = slot.keys().find(|k| !FILE_OPTIONS.contains(&k.as_str())) {
+        // Beside a time history's record file: its vertical acceleration
+        // (kept as given); beside a vertical one: no name.
+        let allowed = |k: &str| match at.as_str() {
+            "/ground_motion" => FILE_OPTIONS.contains(&k) || k == "vertical",
+            VERTICAL => FILE_OPTIONS.contains(&k) && !matches!(k, "name" | "record_name"),
+            _ => FILE_OPTIONS.contains(&k),
+        };
+        if let Some(other) = slot.keys().find(|k| !allowed(k)) {
+            let options: Vec<&str> = FILE_OPTIONS[1..8]
+                .iter()
+                .copied()
+                .filter(|k| allowed(k))
+                .collect();
             return Err(ReadError::new(
                 format!("{at}/{other}"),
                 format!(
                     "a file brings its own samples: beside `file` give only {}",
-                    FILE_OPTIONS[1..8].join(", ")
+                    options.join(", ")
                 ),
             ));
         }
@@ -116,6 +134,9 @@ pub fn embed_files(
         let mut motion = json!({"dt": file.dt, "acc": file.acc, "unit": "m/s2"});
         if allow_large_pga {
             motion["allow_large_pga"] = Value::Bool(true);
+        }
+        if let Some(vertical) = slot.get("vertical").filter(|_| at == "/ground_motion") {
+            motion["vertical"] = vertical.clone();
         }
         if at.starts_with("/ground_motions/") {
             motion["name"] = slot

@@ -96,37 +96,19 @@ pub async fn resolve(
             .into());
         }
         let row = store.get_record(tenant, &id).await?;
-        let samples = store.record_samples(tenant, &id).await?;
-        let (Some(row), Some((dt, acc))) = (row, samples) else {
-            return Err(SpecError::at(
-                format!("{at}/record"),
-                format!("no record {id}: upload it first (POST /v1/records); GET /v1/records lists yours"),
-            )
-            .into());
+        let Some(row) = row else {
+            return Err(unknown(&at, &id).into());
         };
+        let mut motion = stored_motion(store, tenant, &id, &at).await?;
         // A suite's member is named: as the spec names it, or as the record
         // was uploaded.
-        let name = at
-            .starts_with("/ground_motions/")
-            .then(|| given("name").cloned().unwrap_or(Value::String(row.name)));
-        let vertical = given("vertical").cloned();
-        let pga_g = acc.iter().fold(0.0f64, |m, a| m.max(a.abs())) / crate::records::G_M_S2;
-        let replacement = tokio::task::spawn_blocking(move || {
-            let mut motion = json!({"dt": dt, "acc": acc, "unit": "m/s2"});
-            // The stored record passed the PGA check when it was uploaded.
-            if pga_g > crate::records::PGA_IMPLAUSIBLE_G {
-                motion["allow_large_pga"] = Value::Bool(true);
-            }
-            if let Some(name) = name {
-                motion["name"] = name;
-            }
-            if let Some(vertical) = vertical {
-                motion["vertical"] = vertical;
-            }
-            motion
-        })
-        .await
-        .map_err(|e| StoreError::Corrupt(format!("reading record {id} stopped: {e}")))?;
+        if at.starts_with("/ground_motions/") {
+            motion["name"] = given("name").cloned().unwrap_or(Value::String(row.name));
+        }
+        if let Some(vertical) = given("vertical").cloned() {
+            motion["vertical"] = vertical;
+        }
+        let replacement = motion;
         if let Some(slot) = spec.pointer_mut(&at) {
             *slot = replacement;
         }
@@ -134,7 +116,104 @@ pub async fn resolve(
             named.push(id);
         }
     }
+    if let Some(id) = resolve_vertical(store, tenant, &mut spec).await?
+        && !named.contains(&id)
+    {
+        named.push(id);
+    }
     Ok((spec, named))
+}
+
+/// Where a time history's record holds its vertical acceleration.
+const VERTICAL: &str = "/ground_motion/vertical";
+
+/// The stored record named as a time history's vertical acceleration
+/// (`"ground_motion": {…, "vertical": {"record": id}}`) read into the spec
+/// as its samples on their own dt (another dt than the horizontal record's
+/// is refused when the spec is validated, at `/ground_motion/vertical/dt`);
+/// returns the id named. A `file` is refused, as beside a horizontal record.
+async fn resolve_vertical(
+    store: &dyn JobStore,
+    tenant: &str,
+    spec: &mut Value,
+) -> Result<Option<String>, ResolveError> {
+    let Some(slot) = spec.pointer(VERTICAL).and_then(Value::as_object) else {
+        return Ok(None);
+    };
+    let given = |k: &str| slot.get(k).filter(|v| !v.is_null());
+    if given("file").is_some() {
+        return Err(SpecError::at(
+            format!("{VERTICAL}/file"),
+            "a file is read by `topple run` only: upload it (POST /v1/records) and name it with {\"record\": id}",
+        )
+        .into());
+    }
+    let Some(id) = given("record") else {
+        return Ok(None);
+    };
+    let id = id
+        .as_str()
+        .filter(|s| is_record_id(s))
+        .ok_or_else(|| {
+            SpecError::at(
+                format!("{VERTICAL}/record"),
+                "must be a record id: 32 hexadecimal digits, as POST /v1/records answers",
+            )
+        })?
+        .to_string();
+    if let Some(other) = slot
+        .iter()
+        .find(|(k, v)| !v.is_null() && k.as_str() != "record")
+        .map(|(k, _)| k)
+    {
+        return Err(SpecError::at(
+            format!("{VERTICAL}/{other}"),
+            "a stored record brings its own samples, dt and unit: name it with {\"record\": id} alone",
+        )
+        .into());
+    }
+    if store.get_record(tenant, &id).await?.is_none() {
+        return Err(unknown(VERTICAL, &id).into());
+    }
+    let motion = stored_motion(store, tenant, &id, VERTICAL).await?;
+    if let Some(slot) = spec.pointer_mut(VERTICAL) {
+        *slot = motion;
+    }
+    Ok(Some(id))
+}
+
+/// No record `id` of the tenant, named at `at`.
+fn unknown(at: &str, id: &str) -> SpecError {
+    SpecError::at(
+        format!("{at}/record"),
+        format!("no record {id}: upload it first (POST /v1/records); GET /v1/records lists yours"),
+    )
+}
+
+/// The samples of the tenant's stored record `id` (named at `at`) as a
+/// spec holds them: `{"dt", "acc", "unit": "m/s2"}`, with
+/// `allow_large_pga` when its PGA is above the plausible (the stored record
+/// passed that check when it was uploaded).
+async fn stored_motion(
+    store: &dyn JobStore,
+    tenant: &str,
+    id: &str,
+    at: &str,
+) -> Result<Value, ResolveError> {
+    let Some((dt, acc)) = store.record_samples(tenant, id).await? else {
+        return Err(unknown(at, id).into());
+    };
+    let pga_g = acc.iter().fold(0.0f64, |m, a| m.max(a.abs())) / crate::records::G_M_S2;
+    let id = id.to_string();
+    tokio::task::spawn_blocking(move || {
+        let mut motion = json!({"dt": dt, "acc": acc, "unit": "m/s2"});
+        if pga_g > crate::records::PGA_IMPLAUSIBLE_G {
+            motion["allow_large_pga"] = Value::Bool(true);
+        }
+        motion
+    })
+    .await
+    .map_err(|e| StoreError::Corrupt(format!("reading record {id} stopped: {e}")).into())
 }
 
 /// Whether `s` is a record id: 32 lowercase hexadecimal digits.

@@ -235,6 +235,111 @@ async fn a_spec_naming_a_record_is_the_spec_embedding_its_samples() {
     app.stop().await;
 }
 
+/// A time history's vertical acceleration named as a stored record is the
+/// spec holding its samples; its series and CSV carry it; an unknown record,
+/// another dt, a field beside the id and a file are named.
+#[tokio::test]
+async fn a_vertical_record_named_by_id_is_the_spec_embedding_its_samples() {
+    let app = spawn_app("records-vertical").await;
+    let dt = 0.01;
+    let h = motion_g(600, dt);
+    // The vertical: shorter, another shape (padded with zeros).
+    let v: Vec<f64> = motion_g(500, dt).iter().map(|a| -0.6 * a).collect();
+    let (status, rh, _) = upload(&app, "", at2(&h, dt)).await;
+    assert_eq!(status, 201, "{rh}");
+    let (status, rv, _) = upload(&app, "", csv(&v, dt)).await;
+    assert_eq!(status, 201, "{rv}");
+    let (hid, vid) = (
+        rh["id"].as_str().expect("id").to_string(),
+        rv["id"].as_str().expect("id").to_string(),
+    );
+    let (_, samples) = app.get(&format!("/v1/records/{vid}?format=json")).await;
+    let spec = json!({"kind": "time_history", "block": {"alpha": 0.15, "p": 2.0, "eta": 0.9},
+                      "outputs": {"series": 200}});
+    let mut named = spec.clone();
+    named["ground_motion"] = json!({"record": hid, "vertical": {"record": vid}});
+    let mut inline = spec.clone();
+    inline["ground_motion"] = json!({"record": hid,
+        "vertical": {"dt": samples["dt"], "acc": samples["acc"], "unit": "m/s2"}});
+    let (status, a, _) = app.post("/v1/jobs?wait=30", &named).await;
+    assert_eq!(status, 200, "{a}");
+    assert_eq!(a["status"], "succeeded", "{a}");
+    let (status, b, _) = app.post("/v1/jobs?wait=30", &inline).await;
+    assert_eq!(status, 200, "{b}");
+    assert_eq!(a["key"], b["key"], "one computation");
+    assert_eq!(b["cached"], true);
+    assert_eq!(a["result"], b["result"]);
+    let result = &a["result"];
+    assert_eq!(
+        result["spec"]["ground_motion"]["vertical"]["acc"], samples["acc"],
+        "{result}"
+    );
+    let pga_v = samples["acc"]
+        .as_array()
+        .expect("samples")
+        .iter()
+        .filter_map(Value::as_f64)
+        .fold(0.0f64, |m, a| m.max(a.abs()));
+    assert_eq!(result["ground_peaks"]["pga_v_m_s2"].as_f64(), Some(pga_v));
+    // The series carries ü_v: at t = 0 the record's first sample, and
+    // zero once both records are over.
+    let series = &result["series"];
+    let uv = series["ground_vertical_acceleration"]
+        .as_array()
+        .expect("ü_v in the series");
+    let t = series["t"].as_array().expect("t");
+    assert_eq!(uv.len(), t.len());
+    assert_eq!(uv[0], samples["acc"][0]);
+    assert!(uv.iter().filter_map(Value::as_f64).any(|a| a != 0.0));
+    // The CSV adds its column at the end.
+    let job = a["id"].as_str().expect("job id");
+    let (status, _, table) = app
+        .get_text(&format!("/v1/jobs/{job}/result?format=csv"))
+        .await;
+    assert_eq!(status, 200);
+    let header = table.lines().next().unwrap_or("");
+    assert!(
+        header.ends_with(",ground_vertical_acceleration_m_per_s2"),
+        "{header}"
+    );
+    assert_eq!(table.lines().count(), t.len() + 1);
+
+    // A vertical record on another dt; an unknown one; fields beside it; a file.
+    let (status, other, _) = upload(&app, "", at2(&motion_g(800, 0.005), 0.005)).await;
+    assert_eq!(status, 201, "{other}");
+    let other = other["id"].as_str().expect("id").to_string();
+    for (vertical, pointer) in [
+        (json!({"record": other}), "/ground_motion/vertical/dt"),
+        (
+            json!({"record": "0".repeat(32)}),
+            "/ground_motion/vertical/record",
+        ),
+        (json!({"record": "nope"}), "/ground_motion/vertical/record"),
+        (
+            json!({"record": vid, "unit": "g"}),
+            "/ground_motion/vertical/unit",
+        ),
+        (
+            json!({"record": vid, "ratio": 0.5}),
+            "/ground_motion/vertical/ratio",
+        ),
+        (json!({"file": "v.at2"}), "/ground_motion/vertical/file"),
+    ] {
+        for horizontal in [
+            json!({"record": hid}),
+            json!({"dt": dt, "acc": h, "unit": "g"}),
+        ] {
+            let mut spec = spec.clone();
+            spec["ground_motion"] = horizontal;
+            spec["ground_motion"]["vertical"] = vertical.clone();
+            let (status, problem, _) = app.post("/v1/jobs", &spec).await;
+            assert_eq!(status, 422, "{problem}");
+            assert_eq!(problem["pointer"], pointer, "{problem}");
+        }
+    }
+    app.stop().await;
+}
+
 #[tokio::test]
 async fn a_record_in_use_by_a_live_job_is_not_deleted() {
     let app = spawn_app_with("records-delete", |c| c.workers = 1).await;

@@ -1039,11 +1039,53 @@ def check_time_history_record(page, base, rec):
     if not motion.startswith(want):
         raise Failure(f"the summary of a time history on a record says {motion!r}, not {want!r}")
     page.screenshot(os.path.join(OUT, "page-time-history-record.png"))
+    # Its vertical component, pasted: sent inside the record, in the series,
+    # the CSV and the figure.
+    page.choose("#f-vert", "samples")
+    page.type_into("#f-vert-text", "0, 0.05, 0.1, -0.05, 0")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    vertical = raw.get("ground_motion", {}).get("vertical")
+    if vertical != {"acc": [0, 0.05, 0.1, -0.05, 0], "unit": "g"} or "vertical" in raw:
+        raise Failure(f"the time history with a vertical record is {raw}")
+    page.click("input[name=kind][value=time_history]")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "time history with a vertical record")
+    log(f"time history with a vertical record {job_id}")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    pga_v = (result.get("ground_peaks") or {}).get("pga_v_g")
+    if pga_v is None or abs(pga_v - 0.1) > 1e-9 or "ground_vertical_acceleration" not in (result.get("series") or {}):
+        raise Failure(f"the vertical record is not the result's: {result.get('ground_peaks')}")
+    header = http_get(f"{base}/v1/jobs/{job_id}/result?format=csv")[2].decode().splitlines()[0]
+    if not header.endswith(",ground_vertical_acceleration_m_per_s2"):
+        raise Failure(f"the CSV of a time history with a vertical record has the columns {header!r}")
+    wait_plot(page, "time history with a vertical record")
+    status, _, svg = http_get(f"{base}/v1/jobs/{job_id}/plot.svg")
+    if status != 200 or "ü_v / g" not in svg.decode():
+        raise Failure(f"the figure of a time history with a vertical record: {status}, no ü_v panel")
+    page.choose("#f-vert", "")
     page.click("input[name=th-by][value=pulse]")
     page.click("#show-json")
     raw = json.loads(page.js("document.getElementById('f-raw').value"))
-    if "ground_motion" in raw or raw.get("pulse", {}).get("type") != "one_sine":
+    if "ground_motion" in raw or raw.get("pulse", {}).get("type") != "one_sine" or "vertical" in raw:
         raise Failure(f"back on a pulse, the time history is {raw}")
+    # Beside a pulse: a ratio, sent only when chosen; no samples of its own.
+    page.click("input[name=kind][value=time_history]")
+    if not page.js("document.getElementById('f-vert-own').hidden"):
+        raise Failure("beside a pulse, the page offers vertical samples")
+    page.choose("#f-vert", "ratio")
+    page.type_into("#f-vert-ratio", "-0.3")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    if raw.get("vertical") != {"ratio": -0.3} or "ground_motion" in raw:
+        raise Failure(f"a pulse with a vertical ratio is {raw}")
+    page.click("input[name=kind][value=time_history]")
+    page.choose("#f-vert", "")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    if "vertical" in raw:
+        raise Failure(f"without a vertical motion the time history is {raw}")
     page.click("input[name=kind][value=time_history]")
 
 

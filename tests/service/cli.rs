@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use serde_json::Value;
+use serde_json::{Value, json};
 
 const VALID: &str = r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14,"eta":0.9,"mu":0.7},"pulse":{"type":"one_sine","omega_ratio":5.0,"a_p_alpha_g":4.0},"formulation":"linear","solver":{"method":"exact"},"outputs":{"series":50,"reactions":true}}"#;
 
@@ -769,5 +769,106 @@ fn a_record_file_that_cannot_be_read_names_the_flag_or_the_line() {
     assert_rejected_at(
         r#"{"kind":"time_history","block":{"alpha":0.2,"p":2.0},"ground_motion":{"record":"0123456789abcdef0123456789abcdef"}}"#,
         "/ground_motion/record",
+    );
+}
+
+/// A CSV of `n` vertical samples (g) every `dt` s, with a time column.
+fn vertical_csv(n: usize, dt: f64) -> String {
+    let mut text = String::from("t,acc_g\n");
+    for k in 0..n {
+        let t = k as f64 * dt;
+        let a = -0.2 * (-((t - 3.0) / 1.5).powi(2)).exp() * (7.0 * t).sin();
+        text.push_str(&format!("{t:.4},{a:.5}\n"));
+    }
+    text
+}
+
+/// `topple record H --vertical V` prints both components as one
+/// `ground_motion`; `topple run` reads the same two files named in a spec
+/// as the same computation; another dt is one line naming both.
+#[test]
+fn a_three_component_set_is_read_as_a_record_with_its_vertical() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let at2 = root.join("specs/records/ridge_station_090.at2");
+    let v_path = temp_path("vertical.csv");
+    std::fs::write(&v_path, vertical_csv(2000, 0.01)).expect("write");
+    let out = topple()
+        .arg("record")
+        .arg(&at2)
+        .arg("--vertical")
+        .arg(&v_path)
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let motion: Value = serde_json::from_slice(&out.stdout).expect("a ground_motion");
+    assert_eq!(motion["dt"], 0.01);
+    assert_eq!(motion["acc"].as_array().map(Vec::len), Some(3000));
+    let vertical = &motion["vertical"];
+    assert_eq!(vertical["unit"], "m/s2");
+    assert_eq!(vertical["dt"], 0.01);
+    let acc = vertical["acc"].as_array().expect("vertical samples");
+    assert_eq!(acc.len(), 2000);
+    // In m/s², from g.
+    let text = vertical_csv(2000, 0.01);
+    let third: f64 = text
+        .lines()
+        .nth(3)
+        .and_then(|l| l.split(',').nth(1))
+        .and_then(|a| a.parse().ok())
+        .expect("a sample");
+    assert!((acc[2].as_f64().expect("a number") - third * 9.81).abs() < 1e-12);
+    // One metadata line per file, the horizontal first.
+    let err = stderr(&out);
+    let metas: Vec<Value> = err
+        .lines()
+        .filter_map(|l| serde_json::from_str(l).ok())
+        .collect();
+    assert_eq!(metas.len(), 2, "{err}");
+    assert_eq!(metas[0]["samples"], 3000);
+    assert_eq!(metas[1]["samples"], 2000);
+
+    // The same files named in a spec: the same computation.
+    let base = json!({"kind": "time_history", "block": {"alpha": 0.2, "p": 2.0, "eta": 0.9},
+                      "outputs": {"series": 100}});
+    let mut by_files = base.clone();
+    by_files["ground_motion"] = json!({"file": at2, "vertical": {"file": v_path}});
+    let mut by_samples = base;
+    by_samples["ground_motion"] = motion;
+    let strip = |mut v: Value| {
+        v["numerics"]["wall_time_s"] = Value::Null;
+        v
+    };
+    let a = strip(result_json(&run_file(&by_files.to_string(), &[])));
+    let b = strip(result_json(&run_file(&by_samples.to_string(), &[])));
+    assert_eq!(a, b);
+    assert!(
+        a["series"]["ground_vertical_acceleration"].is_array(),
+        "{a}"
+    );
+
+    // Another dt: one line naming it.
+    std::fs::write(&v_path, vertical_csv(2000, 0.005)).expect("write");
+    let out = topple()
+        .arg("record")
+        .arg(&at2)
+        .arg("--vertical")
+        .arg(&v_path)
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    let line = one_line_failure(&out);
+    assert!(
+        line.contains("dt (0.005 s)") && line.contains("(0.01 s"),
+        "{line}"
+    );
+    // … and so in a spec, at the vertical record's dt.
+    let mut spec = json!({"kind": "time_history", "block": {"alpha": 0.2, "p": 2.0}});
+    spec["ground_motion"] = json!({"file": at2, "vertical": {"file": v_path}});
+    assert_rejected_at(&spec.to_string(), "/ground_motion/vertical/dt");
+    let _ = std::fs::remove_file(&v_path);
+    // A stored record is the service's to read.
+    assert_rejected_at(
+        r#"{"kind":"time_history","block":{"alpha":0.2,"p":2.0},"ground_motion":{"dt":0.01,"unit":"g","acc":[0,0.1,0.2],"vertical":{"record":"0123456789abcdef0123456789abcdef"}}}"#,
+        "/ground_motion/vertical/record",
     );
 }

@@ -414,15 +414,31 @@ fn survival_rows() {
 /// A time history: a row per sample of its series; without one, a row per
 /// impact; without impacts, a one-row summary.
 fn time_history_rows() {
+    time_history_rows_of(TIME_HISTORY, false);
+    // Under a vertical ground motion: its series and its peak too.
+    let vertical = TIME_HISTORY.replace(r#""outputs":"#, r#""vertical":{"ratio":0.4},"outputs":"#);
+    time_history_rows_of(&vertical, true);
+}
+
+/// The rows of the time history of `spec`, with a vertical ground motion
+/// or without.
+fn time_history_rows_of(spec: &str, vertical: bool) {
     // The series: a row per sample.
-    const SAMPLE: &[(&str, &str)] = &[
+    let mut sample = vec![
         ("/t", "t_s"),
         ("/theta", "theta_rad"),
         ("/theta_dot", "theta_dot_rad_per_s"),
         ("/ground_acceleration", "ground_acceleration_m_per_s2"),
         ("/fx_over_fz", "fx_over_fz"),
     ];
-    let (mut doc, csv) = document_and_table(TIME_HISTORY);
+    if vertical {
+        sample.push((
+            "/ground_vertical_acceleration",
+            "ground_vertical_acceleration_m_per_s2",
+        ));
+    }
+    let sample = sample.as_slice();
+    let (mut doc, csv) = document_and_table(spec);
     let series = doc["series"].as_object().expect("a series").clone();
     let samples: Vec<Value> = (0..items(&series["t"]).len())
         .map(|k| {
@@ -436,7 +452,7 @@ fn time_history_rows() {
         .collect();
     let rows: Vec<Vec<Part>> = samples
         .iter()
-        .map(|s| vec![part(Some(s), SAMPLE)])
+        .map(|s| vec![part(Some(s), sample)])
         .collect();
     holds_every_field(&csv, &rows, &[]);
 
@@ -458,7 +474,7 @@ fn time_history_rows() {
     holds_every_field(&csv, &rows, &["impact"]);
 
     // Without impacts either: the one-row summary of the document.
-    const SUMMARY: &[(&str, &str)] = &[
+    let mut summary = vec![
         ("/rocked", "rocked"),
         ("/overturned", "overturned"),
         ("/mode", "mode"),
@@ -486,6 +502,10 @@ fn time_history_rows() {
         ("/ground_peaks/pgd_m", "pgd_m"),
         ("/ground_peaks/pgv_over_pga_s", "pgv_over_pga_s"),
     ];
+    if vertical {
+        summary.push(("/ground_peaks/pga_v_m_s2", "pga_v_m_per_s2"));
+        summary.push(("/ground_peaks/pga_v_g", "pga_v_g"));
+    }
     if let Some(fields) = doc.as_object_mut() {
         fields.remove("impacts");
     }
@@ -493,7 +513,7 @@ fn time_history_rows() {
     let document = ["/kind", "/numerics", "/spec", "/engine"];
     let summary = Part {
         of: Some(&doc),
-        columns: SUMMARY,
+        columns: &summary,
         not_the_rows: &document,
     };
     holds_every_field(&csv, &[vec![summary]], &[]);
