@@ -134,8 +134,9 @@ pub fn to_csv(result: &JobResult) -> String {
 
 /// The columns of a time history's series: (key, header). The vertical
 /// ground acceleration (under a vertical ground motion only) comes last, as
-/// columns added later do.
-const SERIES_COLUMNS: [(&str, &str); 6] = [
+/// columns added later do, in m/s² and in g (`ug_v_g`, worked out from the
+/// first with the block's g).
+const SERIES_COLUMNS: [(&str, &str); 7] = [
     ("t", "t_s"),
     ("theta", "theta_rad"),
     ("theta_dot", "theta_dot_rad_per_s"),
@@ -145,6 +146,7 @@ const SERIES_COLUMNS: [(&str, &str); 6] = [
         "ground_vertical_acceleration",
         "ground_vertical_acceleration_m_per_s2",
     ),
+    ("ug_v_g", "ug_v_g"),
 ];
 
 /// One column of a series: samples, or samples that may be missing.
@@ -174,6 +176,14 @@ impl Column<'_> {
 /// The series when there is one; else the impacts; else a one-row summary.
 fn time_history(r: &TimeHistoryResult, out: &mut String) {
     if let Some(s) = &r.series {
+        let g = r.spec.block.g;
+        let in_g: Vec<f64> = s
+            .ground_vertical_acceleration
+            .as_deref()
+            .unwrap_or_default()
+            .iter()
+            .map(|a| a / g)
+            .collect();
         let data = [
             Column::Samples(&s.t),
             Column::Samples(&s.theta),
@@ -185,6 +195,7 @@ fn time_history(r: &TimeHistoryResult, out: &mut String) {
                     .as_deref()
                     .unwrap_or_default(),
             ),
+            Column::Samples(&in_g),
         ];
         let present: Vec<usize> = (0..data.len()).filter(|&i| data[i].len() > 0).collect();
         if !present.is_empty() {
@@ -792,6 +803,11 @@ impl SeriesRows {
             return None;
         }
         let columns: Columns<'_> = serde_json::from_str(head.series?.get()).ok()?;
+        // A vertical motion's column in g is worked out, not copied: such a
+        // table is rendered whole ([`to_csv`]).
+        if columns.ground_vertical_acceleration.is_some() {
+            return None;
+        }
         let raw = [
             columns.t,
             columns.theta,
@@ -1000,20 +1016,22 @@ mod tests {
         let l = lines(&csv);
         assert_eq!(
             l[0],
-            "t_s,theta_rad,theta_dot_rad_per_s,ground_acceleration_m_per_s2,fx_over_fz,ground_vertical_acceleration_m_per_s2"
+            "t_s,theta_rad,theta_dot_rad_per_s,ground_acceleration_m_per_s2,fx_over_fz,ground_vertical_acceleration_m_per_s2,ug_v_g"
         );
         assert_eq!(l.len(), s.t.len() + 1);
+        let g = r.spec.block.g;
         for k in 0..s.t.len() {
-            let last = l[k + 1].rsplit(',').next().expect("a field");
-            assert_eq!(last, cell(&vertical[k]), "row {k}");
+            let mut fields = l[k + 1].rsplit(',');
+            let in_g = fields.next().expect("a field");
+            let m_s2 = fields.next().expect("a field");
+            assert_eq!(m_s2, cell(&vertical[k]), "row {k}");
+            assert_eq!(in_g, cell(&(vertical[k] / g)), "row {k}");
         }
         // ü_v = −0.6 ü_g while the pulse lasts: some rows hold both.
         assert!(vertical.iter().any(|v| *v != 0.0));
-        // The table read row by row from the stored document is the same.
+        // Not streamed from the stored document: its column in g is worked out.
         let text = serde_json::to_string(&r).expect("json");
-        for piece in [1, 64, 1 << 16] {
-            assert_eq!(streamed(&text, piece).as_deref(), Some(csv.as_str()));
-        }
+        assert!(SeriesRows::of(&text).is_none());
         // Without a vertical motion there is no such column.
         assert!(!th_table(&time_history_result()).contains("vertical"));
     }

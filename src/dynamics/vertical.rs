@@ -66,6 +66,9 @@ pub struct VerticalRhs<R> {
     v_support: (f64, f64),
     /// The vertical component's own time starts this late, s.
     delay: f64,
+    /// ü_v/ü_g of a proportional pair: the vertical term is the horizontal
+    /// one's times this, not evaluated again.
+    ratio: Option<f64>,
 }
 
 impl<R: GroundTerm> VerticalRhs<R> {
@@ -77,6 +80,9 @@ impl<R: GroundTerm> VerticalRhs<R> {
         } else {
             0.0
         };
+        if let Some(r) = self.ratio {
+            return (u, 1.0 + r * u);
+        }
         let v = if t >= self.v_support.0 && t <= self.v_support.1 {
             self.vertical.over_g(t - self.delay)
         } else {
@@ -318,6 +324,7 @@ impl Forcing for PulsePair {
             h_support: (0.0, self.horizontal.duration),
             v_support: (self.delay, self.delay + self.vertical.duration),
             delay: self.delay,
+            ratio: self.ratio,
         }
     }
 
@@ -651,6 +658,7 @@ impl Forcing for RecordPair {
             h_support: (0.0, end),
             v_support: (0.0, end),
             delay: 0.0,
+            ratio: None,
         }
     }
 
