@@ -360,6 +360,18 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
         lines.len(),
         if lines.len() == 1 { "y" } else { "ies" }
     ));
+    if let Some(r) = spec.vertical_ratio() {
+        let lift = lines.iter().find_map(|l| l.lift_off_above_alpha_g);
+        legend.note(format!(
+            "vertical ground motion ü_v = {} ü_g (positive up): rocking from {} αg{}",
+            fmt_num(r, 3),
+            fmt_num(lines[0].threshold_alpha_g, 4),
+            lift.map_or(String::new(), |v| format!(
+                "; the block leaves the ground from {} αg",
+                fmt_num(v, 4)
+            ))
+        ));
+    }
     legend.note(format!(
         "shading: every overturning band of the result, those narrower than {} % of the axis drawn that tall; each frequency a cell reaching half-way to the next",
         fmt_num(MIN_VISIBLE * 100.0, 2)
@@ -367,9 +379,11 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
     legend.note("top axis: f_p = (ω_p/p)·p/2π; right axis: a_p in g = α × a_p/(αg)");
 
     let title = format!(
-        "Overturning spectrum: {} pulse, {} formulation",
+        "Overturning spectrum: {} pulse, {} formulation{}",
         shape_title(spec.pulse.shape()),
-        spec.formulation.name()
+        spec.formulation.name(),
+        spec.vertical_ratio()
+            .map_or(String::new(), |r| format!(", ü_v = {} ü_g", fmt_num(r, 3)))
     );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
