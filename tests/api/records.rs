@@ -291,7 +291,7 @@ async fn a_vertical_record_named_by_id_is_the_spec_embedding_its_samples() {
     assert_eq!(uv.len(), t.len());
     assert_eq!(uv[0], samples["acc"][0]);
     assert!(uv.iter().filter_map(Value::as_f64).any(|a| a != 0.0));
-    // The CSV adds its column at the end.
+    // The CSV adds its columns at the end: m/s², and g.
     let job = a["id"].as_str().expect("job id");
     let (status, _, table) = app
         .get_text(&format!("/v1/jobs/{job}/result?format=csv"))
@@ -299,7 +299,7 @@ async fn a_vertical_record_named_by_id_is_the_spec_embedding_its_samples() {
     assert_eq!(status, 200);
     let header = table.lines().next().unwrap_or("");
     assert!(
-        header.ends_with(",ground_vertical_acceleration_m_per_s2"),
+        header.ends_with(",ground_vertical_acceleration_m_per_s2,ug_v_g"),
         "{header}"
     );
     assert_eq!(table.lines().count(), t.len() + 1);
