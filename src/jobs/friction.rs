@@ -51,6 +51,9 @@ pub struct FrictionSpec {
     pub a_p_g: Option<RangeSpec>,
     /// Solver.
     pub solver: Option<SolverSpec>,
+    /// The vertical ground acceleration (positive up) as a share of the
+    /// horizontal one at every amplitude: `{"ratio": r}`, ü_v = r·ü_g.
+    pub vertical: Option<super::vertical::VerticalPulseSpec>,
 }
 
 /// A validated friction-spectrum job.
@@ -74,6 +77,10 @@ pub struct FrictionJob {
     pub a_alpha_g: Vec<f64>,
     /// Solver.
     pub solver: SolverNorm,
+    /// ü_v = r·ü_g (positive up), when given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
+    pub vertical: Option<super::vertical::VerticalPulseNorm>,
 }
 
 impl FrictionSpec {
@@ -82,10 +89,13 @@ impl FrictionSpec {
         let block = super::spec::the_block(self.block.as_ref())?;
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver = super::spec::validate_solver_for(
+        let vertical =
+            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
+        let solver = super::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             pulse.shape().is_sinusoidal(),
+            vertical.is_some(),
             "/solver",
         )?;
         // The frequency and the amplitudes in any unit, normalised to ω_p/p and αg.
@@ -151,6 +161,7 @@ impl FrictionSpec {
             omega_ratio,
             a_alpha_g,
             solver,
+            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
         })
     }
 }
@@ -233,6 +244,7 @@ impl FrictionJob {
             solver: self.solver.solver(),
             omega_ratio: self.omega_ratio,
             levels: self.a_alpha_g.clone(),
+            vertical_ratio: self.vertical.as_ref().and_then(|v| v.ratio()),
         };
         let s = friction_spectrum(&req, control)?;
         let tan = block.slenderness().tan();

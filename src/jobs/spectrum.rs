@@ -585,10 +585,7 @@ fn intervals(d: &Derived) -> Vec<[f64; 2]> {
 impl SpectrumJob {
     /// ü_v/ü_g, when the job has a vertical motion.
     pub fn vertical_ratio(&self) -> Option<f64> {
-        match self.vertical {
-            Some(super::vertical::VerticalPulseNorm::Ratio(r)) => Some(r),
-            _ => None,
-        }
+        self.vertical.as_ref().and_then(|v| v.ratio())
     }
 
     /// Runs the job under `control`.

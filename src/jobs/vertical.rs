@@ -137,6 +137,16 @@ pub enum VerticalPulseNorm {
     },
 }
 
+impl VerticalPulseNorm {
+    /// ü_v/ü_g when the vertical motion is given as a ratio.
+    pub fn ratio(&self) -> Option<f64> {
+        match *self {
+            VerticalPulseNorm::Ratio(r) => Some(r),
+            VerticalPulseNorm::Pulse { .. } => None,
+        }
+    }
+}
+
 /// [`VerticalPulseNorm`] as documents hold it: `{"ratio": r}`, or the
 /// pulse's fields with `delay_s`.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, utoipa::ToSchema)]

@@ -6,7 +6,8 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::dynamics::{
-    Block, Formulation, Options, Problem, Pulse, PulseShape, SimError, Solver, simulate,
+    Block, Formulation, Options, Problem, Pulse, PulsePair, PulseShape, Response, SimError, Solver,
+    simulate,
 };
 
 use super::control::Control;
@@ -27,6 +28,8 @@ pub struct FrictionRequest {
     pub omega_ratio: f64,
     /// Amplitudes a_p/(αg).
     pub levels: Vec<f64>,
+    /// A vertical ground acceleration ü_v = r ü_g (positive up), in phase.
+    pub vertical_ratio: Option<f64>,
 }
 
 /// The demand at one amplitude.
@@ -44,7 +47,8 @@ pub struct FrictionPoint {
     pub overturned: bool,
     /// Mode.
     pub mode: Option<u8>,
-    /// First time f_z ≤ 0, if any.
+    /// First time f_z ≤ 0, if any: while rocking, or (under a vertical
+    /// motion) where the ground falls away faster than gravity.
     pub lift_off: Option<f64>,
     /// The demand was followed up to this time only (the block was then bound
     /// to overturn: its fall is not counted).
@@ -83,14 +87,25 @@ pub fn friction_spectrum(
             .map_err(|_| ScanError::Simulation(SimError::Tolerance))?;
             let mut opts = Options::history(req.solver);
             opts.record_impacts = false;
-            let r = simulate(
-                &Problem {
-                    block: req.block,
-                    pulse,
-                    formulation: req.formulation,
-                },
-                &opts,
-            )?;
+            let r: Response = match req.vertical_ratio {
+                None => simulate(
+                    &Problem {
+                        block: req.block,
+                        pulse,
+                        formulation: req.formulation,
+                    },
+                    &opts,
+                )?,
+                Some(ratio) => simulate(
+                    &Problem {
+                        block: req.block,
+                        pulse: PulsePair::proportional(pulse, ratio)
+                            .ok_or(ScanError::Simulation(SimError::Tolerance))?,
+                        formulation: req.formulation,
+                    },
+                    &opts,
+                )?,
+            };
             control.add_done(1);
             // A block that never rocks needs at most its at-rest demand, which
             // the tracker always reports; the fallback is never taken.
@@ -112,14 +127,20 @@ pub fn friction_spectrum(
                 events: r.numerics.events,
                 max_error_estimate: r.numerics.error_estimate,
             };
+            // The ground falling away faster than gravity lifts the block
+            // off as surely as f_z → 0⁺ while rocking: no demand is finite.
+            let lift_off = match (f.first_lift_off, r.lift_off) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
             Ok((
                 FrictionPoint {
                     level,
-                    peak_demand: f.peak,
+                    peak_demand: f.peak.filter(|_| r.lift_off.is_none()),
                     initiation_demand: f.initiation,
                     overturned: r.overturned,
                     mode: r.mode.map(|m| m.number()),
-                    lift_off: f.first_lift_off,
+                    lift_off,
                     followed_until: f.followed_until.filter(|_| r.overturned),
                 },
                 stats,

@@ -514,3 +514,64 @@ fn a_spectrum_under_a_vertical_ratio_scans_from_the_lowered_threshold_to_lift_of
     .expect_err("refused");
     assert_eq!(own.pointer, "/vertical/type", "{own}");
 }
+
+#[test]
+fn a_friction_spectrum_under_a_vertical_ratio_is_its_time_histories_demand() {
+    // Each amplitude's demand is the peak |f_x/f_z| of the time history of
+    // the pair at that amplitude; from the amplitude where ü_v reaches −g
+    // (8 αg for r = 0.5 and a one-sine) the block leaves the ground: lift-off,
+    // no finite demand.
+    let levels = [1.5, 3.0, 7.5, 8.5];
+    let spec = json!({"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+        "pulse": {"type": "one_sine"}, "omega_ratio": 4.0, "a_alpha_g": levels,
+        "vertical": {"ratio": 0.5}});
+    let Job::FrictionSpectrum(f) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a friction spectrum")
+    };
+    let doc = serde_json::to_value(f.run(&topple::spectrum::Control::new()).expect("runs"))
+        .expect("serialises");
+    let points = doc["points"].as_array().expect("points");
+    for (point, level) in points.iter().zip(levels) {
+        let history = run(&history(json!({
+            "pulse": {"type": "one_sine", "omega_ratio": 4.0, "a_p_alpha_g": level},
+            "vertical": {"ratio": 0.5}, "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9, "mu": 10.0}
+        })));
+        let peak = point["peak_friction_demand"].as_f64();
+        let expected = history["peak_friction_demand"].as_f64();
+        if level > 8.0 {
+            assert_eq!(point["lift_off"], true, "{point}");
+            assert_eq!(history["lift_off"], true, "{history}");
+        }
+        // Lifted off (the ground falling away, or f_z → 0⁺ while rocking)
+        // in both, or in neither with the same demand.
+        let lifted = history["lift_off"] == true || history["lift_off_time"].is_number();
+        assert_eq!(point["lift_off"], lifted, "{level}: {point} {history}");
+        match (peak, expected) {
+            (None, None) => assert!(lifted, "{level}: {point}"),
+            (Some(peak), Some(expected)) => assert!(
+                (peak - expected).abs() <= 1e-6 * expected,
+                "{level}: {peak} vs {expected}"
+            ),
+            _ => panic!("{level}: {point} vs {history}"),
+        }
+    }
+    assert!(
+        points
+            .iter()
+            .filter(|p| p["peak_friction_demand"].is_number())
+            .count()
+            >= 2
+    );
+    // Without a vertical motion the demand at 3 αg is another.
+    let plain = json!({"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+        "pulse": {"type": "one_sine"}, "omega_ratio": 4.0, "a_alpha_g": [3.0]});
+    let Job::FrictionSpectrum(f) = Job::from_value(&plain).expect("valid spec") else {
+        panic!("a friction spectrum")
+    };
+    let plain = serde_json::to_value(f.run(&topple::spectrum::Control::new()).expect("runs"))
+        .expect("serialises");
+    assert_ne!(
+        plain["points"][0]["peak_friction_demand"],
+        points[1]["peak_friction_demand"]
+    );
+}
