@@ -117,6 +117,9 @@ pub struct ForensicSpec {
     pub tolerance_g: Option<f64>,
     /// Solver.
     pub solver: Option<SolverSpec>,
+    /// The vertical ground acceleration (positive up) as a share of the
+    /// horizontal one at every amplitude or scale: `{"ratio": r}`, ü_v = r·ü_g.
+    pub vertical: Option<super::vertical::VerticalPulseSpec>,
 }
 
 /// An observation, validated.
@@ -163,6 +166,10 @@ pub struct ForensicJob {
     pub tolerance_g: f64,
     /// Solver.
     pub solver: SolverNorm,
+    /// ü_v = r·ü_g (positive up), when given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
+    pub vertical: Option<super::vertical::VerticalPulseNorm>,
     /// A task's lines and levels (absent: the whole query).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
@@ -278,10 +285,13 @@ impl ForensicSpec {
             }
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver = super::spec::validate_solver_for(
+        let vertical =
+            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
+        let solver = super::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             pulse.shape().is_sinusoidal(),
+            vertical.is_some(),
             "/solver",
         )?;
         let observations = self.observations()?;
@@ -402,6 +412,7 @@ impl ForensicSpec {
             scan_step_g,
             tolerance_g,
             solver,
+            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
             part: None,
         })
     }
@@ -422,8 +433,15 @@ impl ForensicSpec {
             }
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver =
-            super::spec::validate_solver_for(self.solver.as_ref(), formulation, true, "/solver")?;
+        let vertical =
+            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
+        let solver = super::vertical::validate_solver_with_vertical(
+            self.solver.as_ref(),
+            formulation,
+            true,
+            vertical.is_some(),
+            "/solver",
+        )?;
         let observations = self.observations()?;
         let g = common_g(&observations).ok_or_else(|| {
             SpecError::at(
@@ -496,6 +514,7 @@ impl ForensicSpec {
             scan_step_g,
             tolerance_g,
             solver,
+            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
             part: None,
         })
     }
@@ -751,6 +770,12 @@ pub struct ForensicResult {
     pub per_observation: Option<Vec<RecordObservationSet>>,
     /// Overall bounds.
     pub bounds: Bounds,
+    /// Under a vertical motion: from this amplitude (g; a pulse's peak, or
+    /// the scaled record's PGA) the ground falls away faster than gravity
+    /// (g + ü_v ≤ 0) and the block leaves it. The query is answered up to
+    /// just below it (`a_p_g`/`pga_g` end there) and claims nothing above.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lift_off_above_g: Option<f64>,
     /// Numerics.
     pub numerics: ForensicNumerics,
     /// The normalised spec.
@@ -766,18 +791,64 @@ pub struct ForensicResult {
 }
 
 impl ForensicJob {
-    /// The amplitudes examined, g: a pulse's peak, or the scaled record's PGA.
+    /// The amplitudes examined, g: a pulse's peak, or the scaled record's
+    /// PGA; under a vertical motion, up to just below the amplitude where the
+    /// ground falls away faster than gravity ([`ForensicJob::lift_off_g`]).
     pub fn range_g(&self) -> AmplitudeRange {
-        self.a_p_g
+        let range = self
+            .a_p_g
             .or(self.pga_g)
-            .unwrap_or(AmplitudeRange { from: 0.0, to: 0.0 })
+            .unwrap_or(AmplitudeRange { from: 0.0, to: 0.0 });
+        match self.lift_off_g() {
+            Some((lo, _)) => AmplitudeRange {
+                from: range.from,
+                to: range.to.min(lo).max(range.from),
+            },
+            None => range,
+        }
+    }
+
+    /// ü_v/ü_g, when the query has a vertical motion.
+    pub fn vertical_ratio(&self) -> Option<f64> {
+        self.vertical.as_ref().and_then(|v| v.ratio())
+    }
+
+    /// Under a vertical motion ü_v = r ü_g: the amplitude (g; a pulse's
+    /// peak, or the scaled record's PGA) from which the ground falls away
+    /// faster than gravity somewhere (g + ü_v ≤ 0) and the block leaves it,
+    /// bracketed `(lo, hi)`; `None` when it does not within the range asked
+    /// (or without a vertical motion). The same for every block: it is the
+    /// ground's.
+    pub fn lift_off_g(&self) -> Option<(f64, f64)> {
+        use crate::dynamics::{Block, Pulse, PulsePair, RecordPair};
+        use crate::spectrum::scan::lift_off_level;
+        let r = self.vertical_ratio()?;
+        let asked = self.a_p_g.or(self.pga_g)?;
+        // Any block of slenderness 1 under the observations' g: levels in g.
+        let g = self.observations.first()?.block.g;
+        let unit = Block::new(1.0, 1.0, None, None, Some(g)).ok()?;
+        let (lo, hi) = match (&self.ground_motion, &self.pulse) {
+            (Some(gm), _) => {
+                let pair = RecordPair::proportional(gm.record().ok()?, r)?;
+                lift_off_level(&pair, &unit, asked.to)?
+            }
+            (None, Some(family)) => {
+                let pulse = Pulse::new(family.shape(), g, 1.0).ok()?;
+                let pair = PulsePair::proportional(pulse, r)?;
+                lift_off_level(&pair, &unit, asked.to)?
+            }
+            (None, None) => return None,
+        };
+        Some((lo, hi))
     }
 
     /// The scale factors examined by a record query: `pga_g` over the
     /// record's PGA (in the g every block shares); `None` for a pulse query.
     pub fn scale(&self) -> Option<ScaleRangeNorm> {
         let gm = self.ground_motion.as_ref()?;
-        let range = self.pga_g?;
+        self.pga_g?;
+        // (Under a vertical motion, up to just below the lift-off.)
+        let range = self.range_g();
         let peak_g = pga(&gm.acc) / common_g(&self.observations)?;
         Some(ScaleRangeNorm {
             from: range.from / peak_g,
@@ -873,6 +944,7 @@ impl ForensicJob {
             consistent_pga_g: None,
             per_observation: None,
             bounds,
+            lift_off_above_g: self.lift_off_g().map(|(_, hi)| hi),
             numerics: ForensicNumerics {
                 cost: ScanCost::new(&self.solver, stats),
                 tolerance_g: self.tolerance_g,

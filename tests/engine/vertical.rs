@@ -575,3 +575,102 @@ fn a_friction_spectrum_under_a_vertical_ratio_is_its_time_histories_demand() {
         points[1]["peak_friction_demand"]
     );
 }
+
+#[test]
+fn a_forensic_query_under_a_vertical_ratio_answers_below_lift_off_only() {
+    use topple::dynamics::PulsePair;
+    // A block seen overturned and one seen standing, one-sine pulses at
+    // 1 Hz with ü_v = 0.5 ü_g: the ground falls away faster than gravity
+    // from a_p = 2 g (ü_v = −g), which ends the range asked (to 3 g).
+    let spec = json!({"kind": "forensic", "pulse": {"type": "one_sine"},
+        "observations": [
+            {"name": "down", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9}, "overturned": true},
+            {"name": "up", "block": {"alpha": 0.4, "p": 2.0, "eta": 0.9}, "overturned": false}],
+        "frequency_hz": [1.0], "a_p_g": {"from": 0.05, "to": 3.0},
+        "vertical": {"ratio": 0.5}});
+    let Job::Forensic(f) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a forensic query")
+    };
+    let doc = serde_json::to_value(f.run(&topple::spectrum::Control::new()).expect("runs"))
+        .expect("serialises");
+    let lift = doc["lift_off_above_g"].as_f64().expect("lift-off");
+    assert!((lift - 2.0).abs() < 1e-9, "{lift}");
+    let to = doc["a_p_g"]["to"].as_f64().expect("range");
+    assert!(to < 2.0 && to > 2.0 - 1e-9, "{to}");
+    let consistent = doc["frequencies"][0]["consistent_g"]
+        .as_array()
+        .expect("intervals");
+    assert!(!consistent.is_empty(), "{doc}");
+    // Every consistent interval holds what time histories of the pair say
+    // of both blocks at its middle, and none reaches the lift-off.
+    for iv in consistent {
+        let (lo, hi) = (iv[0].as_f64().expect("lo"), iv[1].as_f64().expect("hi"));
+        assert!(hi <= to, "{iv}");
+        let a_g = 0.5 * (lo + hi);
+        for (alpha, p, seen) in [(0.25, 2.14, true), (0.4, 2.0, false)] {
+            let b = Block::new(alpha, p, Some(0.9), None, None).expect("valid");
+            let h = Pulse::new(PulseShape::OneSine, a_g * G, std::f64::consts::TAU).expect("valid");
+            let r = simulate(
+                &Problem {
+                    block: b,
+                    pulse: PulsePair::proportional(h, 0.5).expect("non-zero"),
+                    formulation: Formulation::Nonlinear,
+                },
+                &Options::outcome(dop853()),
+            )
+            .expect("runs");
+            assert_eq!(r.overturned, seen, "α = {alpha} at {a_g} g");
+        }
+    }
+    // Without the vertical the answer is another.
+    let mut plain = spec.clone();
+    plain.as_object_mut().expect("object").remove("vertical");
+    let Job::Forensic(f) = Job::from_value(&plain).expect("valid spec") else {
+        panic!("a forensic query")
+    };
+    let plain = serde_json::to_value(f.run(&topple::spectrum::Control::new()).expect("runs"))
+        .expect("serialises");
+    assert!(plain.get("lift_off_above_g").is_none());
+    assert_ne!(
+        plain["frequencies"][0]["consistent_g"],
+        doc["frequencies"][0]["consistent_g"]
+    );
+}
+
+#[test]
+fn a_record_forensic_query_under_a_vertical_ratio_stops_at_the_lift_off_scale() {
+    // ü_v = −0.5 ü_g: the ground falls away faster than gravity at the
+    // scale s where 0.5 s max(ü_g) = g, the record's largest positive sample.
+    let acc: Vec<f64> = (0..300)
+        .map(|k| {
+            let t = k as f64 * 0.01;
+            0.4 * (std::f64::consts::TAU * 2.0 * t).sin() * (-t / 1.5).exp()
+        })
+        .collect();
+    let largest = acc.iter().copied().fold(f64::MIN, f64::max);
+    let pga = acc.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+    let spec = json!({"kind": "forensic",
+        "observations": [
+            {"name": "tall", "overturned": true, "block": {"alpha": 0.2, "p": 2.2}},
+            {"name": "squat", "overturned": false, "block": {"alpha": 0.3, "p": 1.6}}],
+        "scale": {"to": 8}, "scan_step_g": 0.02,
+        "ground_motion": {"dt": 0.01, "unit": "g", "acc": acc},
+        "vertical": {"ratio": -0.5}});
+    let Job::Forensic(f) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a forensic query")
+    };
+    let doc = serde_json::to_value(f.run(&topple::spectrum::Control::new()).expect("runs"))
+        .expect("serialises");
+    let scale = 1.0 / (0.5 * largest);
+    let lift = doc["lift_off_above_g"].as_f64().expect("lift-off");
+    assert!(
+        (lift - scale * pga).abs() < 1e-9,
+        "{lift} vs {}",
+        scale * pga
+    );
+    let to = doc["scale"]["to"].as_f64().expect("scale range");
+    assert!(to < scale && to > scale * (1.0 - 1e-9), "{to} vs {scale}");
+    for iv in doc["consistent_scale"].as_array().expect("intervals") {
+        assert!(iv[1].as_f64().expect("hi") <= to, "{iv}");
+    }
+}

@@ -88,6 +88,7 @@ pub fn result(
         consistent_pga_g: Some(all),
         per_observation: Some(per_observation),
         bounds,
+        lift_off_above_g: job.lift_off_g().map(|(_, hi)| hi),
         numerics: ForensicNumerics {
             cost: ScanCost::new(&job.solver, stats),
             tolerance_g: job.tolerance_g,

@@ -9,7 +9,7 @@
 //! assemble into what one task finds.
 
 use super::{AmplitudeRange, ForensicJob, ForensicResult, Intervals, overturning_set};
-use crate::dynamics::{Block, Problem, Pulse, SimError};
+use crate::dynamics::{Block, Problem, Pulse, PulsePair, RecordPair, SimError};
 use crate::jobs::JobError;
 use crate::jobs::cost;
 use crate::jobs::kind::Size;
@@ -60,6 +60,15 @@ impl ForensicJob {
                 let block = o.block.block().map_err(bad_block)?;
                 let alpha = block.slenderness();
                 let threshold = threshold_alpha_g(self.formulation, &block);
+                // Under ü_v = r ü_g rocking can start where the vertical
+                // lightens the block: |ü_g| (1 + |r| k) > k g.
+                let threshold = match self.vertical_ratio() {
+                    Some(r) => {
+                        let k = self.formulation.rocking_threshold_of(alpha, 1.0);
+                        threshold / (1.0 + r.abs() * k)
+                    }
+                    None => threshold,
+                };
                 // From the threshold, whatever `from` is: the state at the
                 // range's start is then known, not assumed.
                 let grid = (to / alpha > threshold).then(|| ScanGrid {
@@ -168,14 +177,29 @@ impl ForensicJob {
         match (&self.ground_motion, self.pulse) {
             (Some(gm), _) => {
                 let record = gm.record().map_err(|_| bad_block(SimError::Tolerance))?;
-                let problems: Vec<_> = lines
-                    .map(|_| Problem {
-                        block: scan.block,
-                        pulse: record.clone(),
-                        formulation: self.formulation,
-                    })
-                    .collect();
-                scan_parts::run(PART_KIND, part, &problems, solver, &grid, control)
+                let on = |motion| Problem {
+                    block: scan.block,
+                    pulse: motion,
+                    formulation: self.formulation,
+                };
+                match self.vertical_ratio() {
+                    None => {
+                        let problems: Vec<_> = lines.map(|_| on(record.clone())).collect();
+                        scan_parts::run(PART_KIND, part, &problems, solver, &grid, control)
+                    }
+                    Some(r) => {
+                        let pair = RecordPair::proportional(record, r)
+                            .ok_or_else(|| bad_block(SimError::Tolerance))?;
+                        let problems: Vec<_> = lines
+                            .map(|_| Problem {
+                                block: scan.block,
+                                pulse: pair.clone(),
+                                formulation: self.formulation,
+                            })
+                            .collect();
+                        scan_parts::run(PART_KIND, part, &problems, solver, &grid, control)
+                    }
+                }
             }
             (None, Some(family)) => {
                 let p = scan.block.frequency_parameter();
@@ -197,7 +221,23 @@ impl ForensicJob {
                         })
                     })
                     .collect::<Result<Vec<_>, ScanError>>()?;
-                scan_parts::run(PART_KIND, part, &problems, solver, &grid, control)
+                match self.vertical_ratio() {
+                    None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
+                    Some(r) => {
+                        let pairs = problems
+                            .into_iter()
+                            .map(|q| {
+                                Ok(Problem {
+                                    block: q.block,
+                                    pulse: PulsePair::proportional(q.pulse, r)
+                                        .ok_or_else(|| bad_block(SimError::Tolerance))?,
+                                    formulation: q.formulation,
+                                })
+                            })
+                            .collect::<Result<Vec<_>, ScanError>>()?;
+                        scan_parts::run(PART_KIND, part, &pairs, solver, &grid, control)
+                    }
+                }
             }
             (None, None) => Err(bad_block(SimError::Tolerance)),
         }
