@@ -135,6 +135,9 @@ pub struct RecordSpectrumSpec {
     pub principal_relative_width: Option<f64>,
     /// Solver.
     pub solver: Option<SolverSpec>,
+    /// The vertical ground acceleration (positive up) as a share of the
+    /// horizontal one at every scale: `{"ratio": r}`, ü_v = r·ü_g.
+    pub vertical: Option<super::vertical::VerticalPulseSpec>,
 }
 
 /// The block of a record spectrum, normalised: everything but its size.
@@ -183,6 +186,10 @@ pub struct RecordSpectrumJob {
     pub principal_relative_width: f64,
     /// Solver.
     pub solver: SolverNorm,
+    /// ü_v = r·ü_g (positive up), when given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
+    pub vertical: Option<super::vertical::VerticalPulseNorm>,
     /// A task's sizes and levels (absent: the whole job).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
@@ -248,8 +255,15 @@ impl RecordSpectrumSpec {
             ));
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let solver =
-            super::spec::validate_solver_for(self.solver.as_ref(), formulation, true, "/solver")?;
+        let vertical =
+            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
+        let solver = super::vertical::validate_solver_with_vertical(
+            self.solver.as_ref(),
+            formulation,
+            true,
+            vertical.is_some(),
+            "/solver",
+        )?;
         let g = block.g;
         let names = ["p", "R_m"];
         let (sizes, which) = at_most_one(
@@ -295,7 +309,12 @@ impl RecordSpectrumSpec {
             from: from * to_scale,
             to: to * to_scale,
         };
-        let threshold = threshold_alpha_g_of(formulation, block.alpha, g);
+        let threshold = lowered(
+            threshold_alpha_g_of(formulation, block.alpha, g),
+            formulation,
+            block.alpha,
+            vertical,
+        );
         let level_to = scale.to / unit;
         if level_to <= threshold {
             return Err(SpecError::at(
@@ -371,6 +390,7 @@ impl RecordSpectrumSpec {
             scan_step,
             principal_relative_width: principal,
             solver,
+            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
             part: None,
         })
     }
@@ -499,6 +519,11 @@ pub struct RecordSpectrumResult {
     pub record: RecordDoc,
     /// One entry per block size, in the order of `spec.p`.
     pub spectrum: Vec<SizeDoc>,
+    /// Under a vertical motion: from this scale factor the ground falls away
+    /// faster than gravity (g + ü_v ≤ 0) and the block leaves it; every size
+    /// is scanned up to just below it and claims nothing above.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lift_off_above_scale: Option<f64>,
     /// Cost and accuracy.
     pub numerics: RecordSpectrumNumerics,
     /// The normalised spec.
@@ -525,9 +550,30 @@ impl RecordSpectrumJob {
         )
     }
 
-    /// The rocking threshold of every block size, αg.
+    /// The rocking threshold of every block size, αg (under ü_v = r ü_g,
+    /// where the vertical lightens the block).
     pub fn threshold_alpha_g(&self) -> f64 {
-        threshold_alpha_g_of(self.formulation, self.block.alpha, self.block.g)
+        lowered(
+            threshold_alpha_g_of(self.formulation, self.block.alpha, self.block.g),
+            self.formulation,
+            self.block.alpha,
+            self.vertical_ratio(),
+        )
+    }
+
+    /// ü_v/ü_g, when the job has a vertical motion.
+    pub fn vertical_ratio(&self) -> Option<f64> {
+        self.vertical.as_ref().and_then(|v| v.ratio())
+    }
+
+    /// Under ü_v = r ü_g: the level (scaled PGA in α g) from which the
+    /// ground falls away faster than gravity (g + ü_v ≤ 0), bracketed; `None`
+    /// when it does not up to `scale.to` (or without a vertical motion).
+    pub fn lift_off_level(&self) -> Option<(f64, f64)> {
+        let r = self.vertical_ratio()?;
+        let pair = crate::dynamics::RecordPair::proportional(self.record().ok()?, r)?;
+        let block = self.block_at(1.0).ok()?;
+        crate::spectrum::scan::lift_off_level(&pair, &block, self.scale.to / self.unit_scale())
     }
 
     /// s_α = αg/PGA: the scale factor of one level (scaled PGA of α g).
@@ -543,7 +589,10 @@ impl RecordSpectrumJob {
             // From the threshold whatever `scale.from` is: a line that already
             // overturns at `from` would otherwise lose where overturning begins.
             from: threshold,
-            to: self.scale.to / unit,
+            // Under a vertical motion, up to just below the lift-off.
+            to: self
+                .lift_off_level()
+                .map_or(self.scale.to / unit, |(lo, _)| lo.max(threshold)),
             step: self.scan_step / unit,
             tolerance: self.tolerance / unit,
             principal_relative_width: self.principal_relative_width,
@@ -557,7 +606,7 @@ impl RecordSpectrumJob {
     }
 
     /// The record as the engine takes it.
-    fn record(&self) -> Result<crate::dynamics::Record, ScanError> {
+    pub fn record(&self) -> Result<crate::dynamics::Record, ScanError> {
         self.ground_motion
             .record()
             .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))
@@ -591,7 +640,24 @@ impl RecordSpectrumJob {
             solver: self.solver.solver(),
             grid: self.grid(),
         };
-        let s = record_spectrum(&req, control)?;
+        let s = match self.vertical_ratio() {
+            None => record_spectrum(&req, control)?,
+            Some(r) => {
+                let pair = crate::dynamics::RecordPair::proportional(req.record.clone(), r)
+                    .ok_or(ScanError::Simulation(SimError::Tolerance))?;
+                record_spectrum(
+                    &RecordSpectrumRequest {
+                        record: pair,
+                        block: req.block,
+                        ps: req.ps.clone(),
+                        formulation: req.formulation,
+                        solver: req.solver,
+                        grid: req.grid,
+                    },
+                    control,
+                )?
+            }
+        };
         self.result(&s.lines, &s.stats, s.wall_time, None)
     }
 
@@ -679,6 +745,7 @@ impl RecordSpectrumJob {
                 duration_s: (n - 1) as f64 * self.ground_motion.dt,
             },
             spectrum,
+            lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to_scale(hi)),
             numerics: RecordSpectrumNumerics {
                 cost: ScanCost::new(&self.solver, stats),
                 tolerance: self.tolerance,
@@ -693,6 +760,15 @@ impl RecordSpectrumJob {
             warnings: Vec::new(),
             engine: None,
         })
+    }
+}
+
+/// `threshold` (α g) under ü_v = r ü_g: rocking can start where the vertical
+/// lightens the block, |ü_g| (1 + |r| k) > k g; unchanged without one.
+fn lowered(threshold: f64, formulation: Formulation, alpha: f64, ratio: Option<f64>) -> f64 {
+    match ratio {
+        Some(r) => threshold / (1.0 + r.abs() * formulation.rocking_threshold_of(alpha, 1.0)),
+        None => threshold,
     }
 }
 

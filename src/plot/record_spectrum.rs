@@ -10,8 +10,8 @@ use plotters::prelude::*;
 use super::bands::{Band, MIN_VISIBLE, tile, widen};
 use super::render;
 use super::spectrum::{
-    CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, Crossing, fill, overturns,
-    region_legend, regions_of,
+    CLASS_LIFT_OFF, CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, Crossing, fill,
+    overturns, region_legend, regions_of,
 };
 use super::style::{
     Drawn, INK, LEGEND_WIDTH, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, draw_legend,
@@ -122,11 +122,21 @@ pub fn drawing(result: &RecordSpectrumResult) -> Result<Drawing, String> {
                 hi: l.threshold_scale.min(s_max),
                 class: CLASS_NO_ROCKING,
             }];
-            bands.extend(regions(l, s_max).into_iter().map(|(lo, hi, mode)| Band {
+            // Under a vertical motion nothing is claimed from the scale
+            // where the block would leave the ground.
+            let top = result.lift_off_above_scale.map_or(s_max, |v| v.min(s_max));
+            bands.extend(regions(l, top).into_iter().map(|(lo, hi, mode)| Band {
                 lo,
                 hi,
                 class: if mode == 2 { CLASS_MODE2 } else { CLASS_MODE1 },
             }));
+            if top < s_max {
+                bands.push(Band {
+                    lo: top,
+                    hi: s_max,
+                    class: CLASS_LIFT_OFF,
+                });
+            }
             let bands = tile(0.0, s_max, &bands, CLASS_SAFE);
             Bar {
                 r_m: l.r_m,

@@ -9,15 +9,18 @@ use std::time::Instant;
 use crate::dynamics::block::BlockError;
 use crate::dynamics::{Block, Formulation, Problem, Record, SimError, Solver};
 
+use super::scan::Scalable;
+
 use super::control::Control;
 use super::overturning::{LineScan, ScanGrid, scan_lines};
 use super::scan::{ScanError, ScanStats};
 
 /// What to compute.
 #[derive(Clone, Debug, PartialEq)]
-pub struct RecordSpectrumRequest {
-    /// The record, as given (the scan scales it).
-    pub record: Record,
+pub struct RecordSpectrumRequest<G = Record> {
+    /// The record, as given (the scan scales it): a [`Record`], or a
+    /// [`RecordPair`](crate::dynamics::RecordPair) with its vertical.
+    pub record: G,
     /// The block; its frequency parameter is replaced by each of `ps`.
     pub block: Block,
     /// Block frequency parameters p, rad/s.
@@ -42,12 +45,12 @@ pub struct RecordSpectrum {
 }
 
 /// Computes the spectrum, in parallel over block sizes and chunks of levels.
-pub fn record_spectrum(
-    req: &RecordSpectrumRequest,
+pub fn record_spectrum<G: Scalable + Sync + Clone>(
+    req: &RecordSpectrumRequest<G>,
     control: &Control,
 ) -> Result<RecordSpectrum, ScanError> {
     let started = Instant::now();
-    let problems: Vec<Problem<Record>> = req
+    let problems: Vec<Problem<G>> = req
         .ps
         .iter()
         .map(|&p| {

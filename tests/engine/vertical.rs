@@ -674,3 +674,67 @@ fn a_record_forensic_query_under_a_vertical_ratio_stops_at_the_lift_off_scale() 
         assert!(iv[1].as_f64().expect("hi") <= to, "{iv}");
     }
 }
+
+#[test]
+fn a_record_spectrum_under_a_vertical_ratio_scans_below_lift_off() {
+    use topple::dynamics::RecordPair;
+    // A decaying 2-Hz sine; ü_v = 0.5 ü_g falls to −g at the scale where
+    // 0.5 s |min ü_g| = g.
+    let acc: Vec<f64> = (0..300)
+        .map(|k| {
+            let t = k as f64 * 0.01;
+            0.4 * (std::f64::consts::TAU * 2.0 * t).sin() * (-t / 1.5).exp()
+        })
+        .collect();
+    let lowest = acc.iter().copied().fold(f64::MAX, f64::min);
+    let spec = json!({"kind": "record_spectrum", "block": {"alpha": 0.2, "eta": 0.9},
+        "p": [1.5, 2.5], "scale": {"from": 0.5, "to": 8},
+        "ground_motion": {"dt": 0.01, "unit": "g", "acc": acc},
+        "vertical": {"ratio": 0.5}});
+    let Job::RecordSpectrum(job) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a record spectrum")
+    };
+    let result = job.run(&topple::spectrum::Control::new()).expect("runs");
+    let doc = serde_json::to_value(&result).expect("serialises");
+    let lift = doc["lift_off_above_scale"].as_f64().expect("lift-off");
+    let expected = 1.0 / (0.5 * -lowest);
+    assert!(
+        (lift - expected).abs() < 1e-9 * expected,
+        "{lift} vs {expected}"
+    );
+    // Every transition below it, and each separates what time histories of
+    // the pair find on either side of its bracket.
+    let record = job.record().expect("a record");
+    let mut checked = 0;
+    for (size, p) in doc["spectrum"]
+        .as_array()
+        .expect("sizes")
+        .iter()
+        .zip([1.5, 2.5])
+    {
+        let b = Block::new(0.2, p, Some(0.9), None, None).expect("valid");
+        for t in size["transitions"].as_array().expect("transitions") {
+            let (lo, hi) = (
+                t["bracket"][0].as_f64().expect("lo"),
+                t["bracket"][1].as_f64().expect("hi"),
+            );
+            assert!(hi < lift, "{t}");
+            let outcome = |s: f64| {
+                let problem = Problem {
+                    block: b,
+                    pulse: RecordPair::proportional(record.scaled(s), 0.5).expect("non-zero"),
+                    formulation: Formulation::Nonlinear,
+                };
+                simulate(&problem, &Options::outcome(dop853()))
+                    .expect("runs")
+                    .overturned
+            };
+            assert_ne!(outcome(lo), outcome(hi), "p = {p}: {t}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 0);
+    // The figure shades the lift-off and says so.
+    let svg = topple::plot::record_spectrum::svg(&result).expect("a figure");
+    assert!(svg.contains("lift-off"), "no lift-off in the legend");
+}

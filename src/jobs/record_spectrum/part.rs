@@ -35,14 +35,24 @@ pub fn parts(job: &RecordSpectrumJob, per_size: f64, budget: f64, max_tasks: usi
 /// Scans the sizes and levels of `part`.
 pub fn run(job: &RecordSpectrumJob, part: Part, control: &Control) -> Result<PartDoc, ScanError> {
     let problems = job.problems(&job.p[part.range()])?;
-    scan_parts::run(
-        PART_KIND,
-        part,
-        &problems,
-        job.solver.solver(),
-        &job.grid(),
-        control,
-    )
+    let (solver, grid) = (job.solver.solver(), job.grid());
+    match job.vertical_ratio() {
+        None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
+        Some(r) => {
+            let pairs = problems
+                .into_iter()
+                .map(|q| {
+                    Ok(crate::dynamics::Problem {
+                        block: q.block,
+                        pulse: crate::dynamics::RecordPair::proportional(q.pulse, r)
+                            .ok_or(ScanError::Simulation(crate::dynamics::SimError::Tolerance))?,
+                        formulation: q.formulation,
+                    })
+                })
+                .collect::<Result<Vec<_>, ScanError>>()?;
+            scan_parts::run(PART_KIND, part, &pairs, solver, &grid, control)
+        }
+    }
 }
 
 /// What the parts found on each size of `job` (in the order of `p`), their
