@@ -188,6 +188,18 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
         );
     }
     legend.note(block_text(spec.block.alpha, spec.block.eta));
+    if let Some(r) = spec.vertical_ratio() {
+        legend.note(format!(
+            "vertical ground motion ü_v = {} ü_g (positive up){}",
+            fmt_num(r, 3),
+            result
+                .lift_off_above_scale
+                .map_or(String::new(), |s| format!(
+                    "; the block leaves the ground from scale {}",
+                    fmt_num(s, 4)
+                ))
+        ));
+    }
     let r = &result.record;
     legend.note(format!(
         "record: {} samples, dt = {} s; PGA {} g, PGV {} m/s, PGD {} m (unscaled)",
@@ -213,7 +225,13 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
     legend.note("right axis: the scaled record's PGA = scale × PGA");
 
     let (x0, x1) = drawn.x_range;
-    let title = format!("Rocking spectrum of a record: {formulation} formulation");
+    let title = match spec.vertical_ratio() {
+        None => format!("Rocking spectrum of a record: {formulation} formulation"),
+        Some(r) => format!(
+            "Rocking spectrum of a record: {formulation} formulation, ü_v = {} ü_g",
+            fmt_num(r, 3)
+        ),
+    };
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
         let mut builder = ChartBuilder::on(&chart_area);

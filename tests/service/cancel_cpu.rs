@@ -34,7 +34,8 @@ fn deleting_a_running_spectrum_returns_the_cpu_to_idle() {
     });
     assert_eq!(running["status"], "running");
     // (On a loaded machine a window may find the server waiting for a core:
-    // the best of a few windows.)
+    // the best of a few windows, and half a core is busy enough to tell a
+    // running spectrum from an idle server, which the check below needs.)
     let mut busy = 0.0_f64;
     for _ in 0..10 {
         busy = busy.max(usage(pid, Duration::from_millis(300)));
@@ -43,7 +44,7 @@ fn deleting_a_running_spectrum_returns_the_cpu_to_idle() {
         }
     }
     assert!(
-        busy > 0.8,
+        busy > 0.5,
         "the spectrum should keep a core busy, used {busy:.2}"
     );
 
