@@ -22,7 +22,9 @@ use super::time_history::GroundPeaksDoc;
 use crate::dynamics::block::BlockError;
 use crate::dynamics::{Block, Formulation, SimError, peaks};
 use crate::spectrum::Control;
-use crate::spectrum::overturning::{Derived, LineScan, ScanGrid, threshold_alpha_g_of};
+use crate::spectrum::overturning::{
+    Derived, LineScan, ScanGrid, threshold_alpha_g_of, threshold_under_ratio,
+};
 use crate::spectrum::record::{RecordSpectrumRequest, record_spectrum};
 use crate::spectrum::scan::ScanStats;
 
@@ -309,7 +311,7 @@ impl RecordSpectrumSpec {
             from: from * to_scale,
             to: to * to_scale,
         };
-        let threshold = lowered(
+        let threshold = threshold_under_ratio(
             threshold_alpha_g_of(formulation, block.alpha, g),
             formulation,
             block.alpha,
@@ -553,7 +555,7 @@ impl RecordSpectrumJob {
     /// The rocking threshold of every block size, αg (under ü_v = r ü_g,
     /// where the vertical lightens the block).
     pub fn threshold_alpha_g(&self) -> f64 {
-        lowered(
+        threshold_under_ratio(
             threshold_alpha_g_of(self.formulation, self.block.alpha, self.block.g),
             self.formulation,
             self.block.alpha,
@@ -760,15 +762,6 @@ impl RecordSpectrumJob {
             warnings: Vec::new(),
             engine: None,
         })
-    }
-}
-
-/// `threshold` (α g) under ü_v = r ü_g: rocking can start where the vertical
-/// lightens the block, |ü_g| (1 + |r| k) > k g; unchanged without one.
-fn lowered(threshold: f64, formulation: Formulation, alpha: f64, ratio: Option<f64>) -> f64 {
-    match ratio {
-        Some(r) => threshold / (1.0 + r.abs() * formulation.rocking_threshold_of(alpha, 1.0)),
-        None => threshold,
     }
 }
 

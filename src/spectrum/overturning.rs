@@ -95,6 +95,21 @@ pub fn threshold_alpha_g(formulation: Formulation, block: &Block) -> f64 {
     threshold_alpha_g_of(formulation, block.slenderness(), block.gravity())
 }
 
+/// `threshold` (α g) under a vertical motion ü_v = r ü_g (`ratio`): rocking
+/// can start on the side where the vertical lightens the block, once
+/// |ü_g| (1 + |r| k) > k g (k = tan α, or α linear); unchanged without one.
+pub fn threshold_under_ratio(
+    threshold: f64,
+    formulation: Formulation,
+    slenderness: f64,
+    ratio: Option<f64>,
+) -> f64 {
+    match ratio {
+        Some(r) => threshold / (1.0 + r.abs() * formulation.rocking_threshold_of(slenderness, 1.0)),
+        None => threshold,
+    }
+}
+
 /// Rocking threshold in units of αg of any block of slenderness α under
 /// gravity g, whatever its size.
 pub fn threshold_alpha_g_of(formulation: Formulation, slenderness: f64, gravity: f64) -> f64 {
@@ -285,11 +300,6 @@ pub fn overturning_spectrum(
     let (lines, stats) = match req.vertical_ratio {
         None => lines_of(req, pulses, threshold, control)?,
         Some(r) => {
-            // Rocking can start on the side where ü_v = r ü_g lightens the
-            // block: |ü_g| (1 + |r| k) > k g.
-            let k = req
-                .formulation
-                .rocking_threshold_of(req.block.slenderness(), 1.0);
             let pairs = pulses
                 .into_iter()
                 .map(|p| {
@@ -297,7 +307,9 @@ pub fn overturning_spectrum(
                         .ok_or(ScanError::Simulation(crate::dynamics::SimError::Tolerance))
                 })
                 .collect::<Result<Vec<_>, ScanError>>()?;
-            lines_of(req, pairs, threshold / (1.0 + r.abs() * k), control)?
+            let from =
+                threshold_under_ratio(threshold, req.formulation, req.block.slenderness(), Some(r));
+            lines_of(req, pairs, from, control)?
         }
     };
     Ok(Spectrum {

@@ -15,7 +15,7 @@ use crate::jobs::cost;
 use crate::jobs::kind::Size;
 use crate::jobs::scan_parts::{self, Group, Part, PartDoc};
 use crate::spectrum::Control;
-use crate::spectrum::overturning::{Found, ScanGrid, threshold_alpha_g};
+use crate::spectrum::overturning::{Found, ScanGrid, threshold_alpha_g, threshold_under_ratio};
 use crate::spectrum::scan::{ScanError, ScanStats};
 
 /// The kind of a forensic query's part document.
@@ -59,16 +59,12 @@ impl ForensicJob {
             .map(|o| {
                 let block = o.block.block().map_err(bad_block)?;
                 let alpha = block.slenderness();
-                let threshold = threshold_alpha_g(self.formulation, &block);
-                // Under ü_v = r ü_g rocking can start where the vertical
-                // lightens the block: |ü_g| (1 + |r| k) > k g.
-                let threshold = match self.vertical_ratio() {
-                    Some(r) => {
-                        let k = self.formulation.rocking_threshold_of(alpha, 1.0);
-                        threshold / (1.0 + r.abs() * k)
-                    }
-                    None => threshold,
-                };
+                let threshold = threshold_under_ratio(
+                    threshold_alpha_g(self.formulation, &block),
+                    self.formulation,
+                    alpha,
+                    self.vertical_ratio(),
+                );
                 // From the threshold, whatever `from` is: the state at the
                 // range's start is then known, not assumed.
                 let grid = (to / alpha > threshold).then(|| ScanGrid {
