@@ -17,16 +17,8 @@ pub fn reactions_per_mass(
     theta_dot: f64,
     ground: f64,
 ) -> (f64, f64) {
-    let g = block.gravity();
-    let p2 = block.frequency_parameter().powi(2);
-    let r = block.half_diagonal();
-    let acc = formulation.angular_acceleration(p2, block.slenderness(), side, theta, ground / g);
-    let (sp, cp) = (block.slenderness() * side - theta).sin_cos();
-    let w2 = theta_dot * theta_dot;
-    (
-        ground + r * (acc * cp + w2 * sp),
-        g + r * (acc * sp - w2 * cp),
-    )
+    // No vertical motion: weight 1 and g + 0 are the plain equations to the bit.
+    reactions_per_mass_vertical(formulation, block, side, theta, theta_dot, ground, 0.0)
 }
 
 /// [`reactions_per_mass`] under a vertical ground acceleration `vertical`
