@@ -35,6 +35,14 @@ fn contains(set: &[(f64, f64)], a: f64) -> bool {
     set.iter().any(|&(lo, hi)| a >= lo && a <= hi)
 }
 
+/// How many separate consistent intervals the frequencies hold in all.
+fn envelope_count(frequencies: &[ForensicFrequency]) -> usize {
+    frequencies
+        .iter()
+        .map(|f| intervals(&f.consistent_g).len())
+        .sum()
+}
+
 /// The colour of an observation.
 pub fn colour(k: usize) -> RGBColor {
     OBSERVATIONS[k % OBSERVATIONS.len()]
@@ -194,10 +202,23 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         );
     }
     if let (Some(lo), Some(hi)) = (min_g, max_g) {
+        let count = envelope_count(frequencies);
+        let with_any = frequencies
+            .iter()
+            .filter(|f| !intervals(&f.consistent_g).is_empty())
+            .count();
         legend.entry(
             Swatch::Dashed(INK, 2),
             format!(
-                "bounds: {}–{} g{}",
+                "{}: {}–{} g{}",
+                if count > 1 {
+                    format!(
+                        "envelope of {count} consistent intervals at {with_any} of {} frequencies",
+                        frequencies.len()
+                    )
+                } else {
+                    "consistent".to_string()
+                },
                 fmt_num(lo, 3),
                 fmt_num(hi, 3),
                 f_bounds.map_or(String::new(), |(a, b)| format!(
@@ -206,6 +227,11 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
                     fmt_num(b, 3)
                 ))
             ),
+        );
+    }
+    if min_g.is_some() && envelope_count(frequencies) > 1 {
+        legend.note(
+            "not every pulse inside the envelope is consistent: only the filled cells are (CSV lists each interval)",
         );
     }
     for (name, o) in names.iter().zip(observations) {
@@ -306,12 +332,12 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
             let room = 0.06 * (to - from);
             chart.draw_series([
                 label(
-                    format!("max {} g", fmt_num(hi, 3)),
+                    format!("highest {} g", fmt_num(hi, 3)),
                     (fa, hi),
                     hi < to - room,
                 ),
                 label(
-                    format!("min {} g", fmt_num(lo, 3)),
+                    format!("lowest {} g", fmt_num(lo, 3)),
                     (fa, lo),
                     lo < from + room,
                 ),
@@ -400,9 +426,12 @@ mod tests {
             "consistent with every",
             "locomotive overturned",
             "transformer survived",
-            "max 2.8 g",
-            "min 0.4 g",
-            "bounds: 0.4–2.8 g",
+            "highest 2.8 g",
+            "lowest 0.4 g",
+            "envelope of 6 consistent",
+            "intervals at 6 of 6",
+            "frequencies: 0.4–2.8 g at",
+            "not every pulse inside the envelope",
             "6 frequencies",
             "amplitudes 0.1–5 g",
         ] {

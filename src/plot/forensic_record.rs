@@ -138,19 +138,39 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         },
     );
     if let (Some(lo), Some(hi)) = (lo, hi) {
-        legend.entry(
-            Swatch::Dashed(INK, 2),
-            format!(
-                "bounds: scale {}–{}{}",
-                fmt_num(lo, 4),
-                fmt_num(hi, 4),
-                pga_g.map_or(String::new(), |p| format!(
-                    " (PGA {}–{} g)",
-                    fmt_num(lo * p, 3),
-                    fmt_num(hi * p, 3)
-                ))
-            ),
-        );
+        let all = intervals(result.consistent_scale.as_deref().unwrap_or_default());
+        let pga = |a: f64, b: f64| {
+            pga_g.map_or(String::new(), |p| {
+                format!(" (PGA {}–{} g)", fmt_num(a * p, 3), fmt_num(b * p, 3))
+            })
+        };
+        if all.len() > 1 {
+            let measure: f64 = all.iter().map(|(a, b)| b - a).sum();
+            legend.entry(
+                Swatch::Dashed(INK, 2),
+                format!(
+                    "envelope of {} separate consistent intervals: lowest {}, highest {}{}",
+                    all.len(),
+                    fmt_num(lo, 4),
+                    fmt_num(hi, 4),
+                    pga(lo, hi)
+                ),
+            );
+            legend.note(format!(
+                "not every scale inside the envelope is consistent: the intervals are {} wide in all (CSV lists each)",
+                fmt_num(measure, 4)
+            ));
+        } else {
+            legend.entry(
+                Swatch::Dashed(INK, 2),
+                format!(
+                    "consistent: scale {}–{}{}, one interval",
+                    fmt_num(lo, 4),
+                    fmt_num(hi, 4),
+                    pga(lo, hi)
+                ),
+            );
+        }
     }
     for (name, o) in names.iter().zip(observations) {
         legend.note(format!("{name}: {}", block_text(&o.block)));
@@ -261,8 +281,16 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
                     + Text::new(s, (0, dy), text(LEGEND, INK).pos(Pos::new(HPos::Center, v)))
             };
             chart.draw_series([
-                label(format!("max {}", fmt_num(hi, 4)), (x, hi), hi < to - room),
-                label(format!("min {}", fmt_num(lo, 4)), (x, lo), lo < from + room),
+                label(
+                    format!("highest {}", fmt_num(hi, 4)),
+                    (x, hi),
+                    hi < to - room,
+                ),
+                label(
+                    format!("lowest {}", fmt_num(lo, 4)),
+                    (x, lo),
+                    lo < from + room,
+                ),
             ])?;
         }
         draw_legend(&side, &legend)
@@ -328,8 +356,13 @@ mod tests {
             "locomotive overturned",
             "transformer survived",
             "all",
-            "max 3.26",
-            "min 0.7",
+            "highest 3.26",
+            "lowest 0.7",
+            "envelope of 2 separate",
+            "consistent intervals: lowest",
+            "0.7, highest 3.26 (PGA",
+            "not every scale inside the envelope",
+            "1.11 wide in all",
             "0.35–1.63 g",
             "record: 101 samples",
         ] {
@@ -343,6 +376,22 @@ mod tests {
     }
 
     #[test]
+    fn one_interval_is_called_one_and_several_an_envelope() {
+        let mut one = sample();
+        one.consistent_scale = Some(vec![[0.7, 1.42]]);
+        one.bounds.max_scale = Some(1.42);
+        let svg = super::svg(&one).expect("svg");
+        assert!(svg.contains("consistent: scale 0.7–1.42"), "{svg}");
+        assert!(
+            !svg.contains("envelope"),
+            "a single interval is no envelope"
+        );
+        let several = super::svg(&sample()).expect("svg");
+        assert!(several.contains("envelope of 2 separate"));
+        assert!(!several.contains("consistent: scale"));
+    }
+
+    #[test]
     fn the_computed_bounds_are_framed() {
         let r = computed();
         let (lo, hi) = (
@@ -352,8 +401,11 @@ mod tests {
         assert!(lo < hi, "{lo} < {hi}");
         let svg = super::svg(&r).expect("svg");
         let fmt = |v: f64| crate::plot::style::fmt_num(v, 4);
-        assert!(svg.contains(&format!("max {}", fmt(hi))), "max {hi}");
-        assert!(svg.contains(&format!("min {}", fmt(lo))), "min {lo}");
+        assert!(
+            svg.contains(&format!("highest {}", fmt(hi))),
+            "highest {hi}"
+        );
+        assert!(svg.contains(&format!("lowest {}", fmt(lo))), "lowest {lo}");
     }
 
     #[test]
