@@ -593,35 +593,41 @@ fn forensic(r: &ForensicResult, out: &mut String) {
 }
 
 /// A fragility: a row per stripe (intensity in the result's `im`).
+/// Under a vertical motion a last column `lift_off` counts the samples
+/// without a verdict (p is over the others; empty when none was decided).
 fn fragility(r: &FragilityResult, out: &mut String) {
-    row(
-        out,
-        &[
-            r.im.name(),
-            "n",
-            "overturned",
-            "p",
-            "p_lo_95",
-            "p_hi_95",
-            "mode_1",
-            "mode_2",
-        ]
-        .map(String::from),
-    );
+    let lift_off = r.stripes.iter().any(|s| s.lift_off.is_some());
+    let mut head: Vec<String> = [
+        r.im.name(),
+        "n",
+        "overturned",
+        "p",
+        "p_lo_95",
+        "p_hi_95",
+        "mode_1",
+        "mode_2",
+    ]
+    .map(String::from)
+    .to_vec();
+    if lift_off {
+        head.push("lift_off".into());
+    }
+    row(out, &head);
     for s in &r.stripes {
-        row(
-            out,
-            &[
-                cell(&s.im),
-                cell(&s.n),
-                cell(&s.overturned),
-                cell(&s.p),
-                cell(&s.interval_95[0]),
-                cell(&s.interval_95[1]),
-                cell(&s.mode_1),
-                cell(&s.mode_2),
-            ],
-        );
+        let mut cells = vec![
+            cell(&s.im),
+            cell(&s.n),
+            cell(&s.overturned),
+            cell(&s.p),
+            cell(&s.interval_95[0]),
+            cell(&s.interval_95[1]),
+            cell(&s.mode_1),
+            cell(&s.mode_2),
+        ];
+        if lift_off {
+            cells.push(cell(&s.lift_off));
+        }
+        row(out, &cells);
     }
 }
 
@@ -1316,6 +1322,27 @@ mod tests {
         );
     }
 
+    /// Under a vertical motion a last column counts the lift-offs, and a
+    /// stripe whose every sample lifted off has an empty p and interval.
+    #[test]
+    fn fragility_rows_count_lift_offs_under_a_vertical_motion() {
+        let JobResult::Fragility(r) = typed(
+            r#"{"kind":"fragility","block":{"alpha":0.2,"p":2.0},"pulse":{"type":"one_sine","frequency_hz":0.8},"vertical":{"ratio":-0.5},"stripes":[0.3,3.0],"samples":4,"seed":1}"#,
+        ) else {
+            panic!("a fragility")
+        };
+        let csv = to_csv(&JobResult::Fragility(r.clone()));
+        let l = lines(&csv);
+        assert_eq!(
+            l[0],
+            "pga_g,n,overturned,p,p_lo_95,p_hi_95,mode_1,mode_2,lift_off"
+        );
+        assert_eq!(r.stripes[0].lift_off, Some(0));
+        assert!(l[1].ends_with(",0"), "{}", l[1]);
+        assert_eq!(r.stripes[1].lift_off, Some(4), "{:?}", r.stripes[1]);
+        assert_eq!(l[2], "3.0,4,0,,,,0,0,4");
+    }
+
     #[test]
     fn fragility_rows_per_stripe() {
         let JobResult::Fragility(mut r) = typed(FRAGILITY) else {
@@ -1348,6 +1375,7 @@ mod tests {
             interval_95: [0.23, 0.35],
             mode_1: 58,
             mode_2: 0,
+            lift_off: None,
         }];
         r.im = Im::PgvMS;
         let csv = to_csv(&JobResult::Fragility(r));

@@ -8,7 +8,15 @@
 //! Reproducible whatever the split: stripe k's samples come in chunks of
 //! [`CHUNK`], chunk c drawing from its own ChaCha8 stream seeded by (seed, k,
 //! c); sample j of a chunk always takes the same four uniforms (α or b, p or
-//! h, η, frequency), so a result depends on the spec only.
+//! h, η, frequency) — a fifth when the vertical ratio is a distribution — so
+//! a result depends on the spec only, and a campaign under a fixed vertical
+//! ratio simulates the very blocks and pulses of the one without.
+//!
+//! Under a vertical ground motion (ü_v = r ü_g, or a suite's records with
+//! their own vertical component) a sample whose ground falls away faster
+//! than g lifts off: pure rocking has no verdict on it, so it is counted
+//! apart (`lift_off`) and each stripe's probability is taken over the
+//! samples decided.
 
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{Rng, SeedableRng};
@@ -22,11 +30,13 @@ use super::names::{EngineDoc, Im, tag};
 use super::range::RangeSpec;
 use super::spec::{
     BlockNorm, GroundMotionNorm, GroundMotionSpec, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    parse_formulation, parse_shape, validate_ground_motion,
+    parse_formulation, parse_shape,
 };
 use super::spectrum::PulseFamily;
 use crate::dynamics::block::housner_restitution;
-use crate::dynamics::{Block, Formulation, Options, Problem, Pulse, Record, simulate};
+use crate::dynamics::{
+    Block, Formulation, Options, Problem, Pulse, PulsePair, Record, RecordPair, Response, simulate,
+};
 use crate::probability::fragility::{Stripe, fit_lognormal, log_likelihood, wilson};
 use crate::probability::normal;
 use crate::spectrum::Control;
@@ -170,6 +180,26 @@ pub struct NamedMotionSpec {
     pub file: Option<String>,
     /// A PGA above 5 g in the samples' unit is intended.
     pub allow_large_pga: Option<bool>,
+    /// Its vertical acceleration (positive up): samples on its dt, a stored
+    /// record by id, or `{"ratio": r}`; scaled with it.
+    pub vertical: Option<super::vertical::VerticalRecordSpec>,
+}
+
+/// The vertical ground motion of a campaign as users write it.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct UncertainVerticalSpec {
+    /// ü_v/ü_g (−100 to 100), in phase with the horizontal motion: a number
+    /// or a distribution (each sample draws its own).
+    #[schema(required = true, value_type = UncertainInput)]
+    pub ratio: Option<Value>,
+}
+
+/// The vertical ground motion of a campaign, normalised.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct UncertainVerticalNorm {
+    /// ü_v/ü_g.
+    pub ratio: UncertainNorm,
 }
 
 /// The spec as users write it.
@@ -188,6 +218,10 @@ pub struct FragilitySpec {
     /// of a stripe takes record j mod N.
     #[schema(min_items = 1, max_items = 100)]
     pub ground_motions: Option<Vec<NamedMotionSpec>>,
+    /// The vertical ground acceleration as a share of the horizontal one,
+    /// `{"ratio": r}` (r a number or a distribution), for the pulse family
+    /// or every record of the suite; scaled with the stripe's intensity.
+    pub vertical: Option<UncertainVerticalSpec>,
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
@@ -271,6 +305,9 @@ pub struct FragilityJob {
     /// The suite.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ground_motions: Option<Vec<NamedMotionNorm>>,
+    /// ü_v = r ü_g (absent: none, or each record's own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertical: Option<UncertainVerticalNorm>,
     /// "linear" | "nonlinear".
     #[serde(with = "super::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
@@ -392,6 +429,30 @@ impl FragilitySpec {
             }
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let vertical = match &self.vertical {
+            None => None,
+            Some(v) => {
+                let ratio = uncertain(
+                    Some(v.ratio.as_ref().ok_or_else(|| {
+                        SpecError::at(
+                            "/vertical/ratio",
+                            "missing field: give ratio (ü_v = ratio·ü_g), a number or a distribution",
+                        )
+                    })?),
+                    "/vertical/ratio",
+                    (
+                        -super::vertical::MAX_VERTICAL_RATIO,
+                        super::vertical::MAX_VERTICAL_RATIO,
+                    ),
+                    false,
+                    "ü_v/ü_g",
+                )?;
+                // A fixed ratio of 0 is no vertical motion.
+                ratio
+                    .filter(|r| *r != UncertainNorm::Fixed(0.0))
+                    .map(|ratio| UncertainVerticalNorm { ratio })
+            }
+        };
         let (pulse, ground_motions, closed_form) = match (&self.pulse, &self.ground_motions) {
             (Some(_), Some(_)) => {
                 return Err(SpecError::at(
@@ -488,7 +549,13 @@ impl FragilitySpec {
                     .enumerate()
                     .map(|(i, m)| {
                         let at = format!("/ground_motions/{i}");
-                        let (motion, _) = validate_ground_motion(
+                        if m.vertical.is_some() && self.vertical.is_some() {
+                            return Err(SpecError::at(
+                                format!("{at}/vertical"),
+                                "give each record's vertical motion, or one ratio for all (/vertical), not both",
+                            ));
+                        }
+                        let motion = super::vertical::validate_record_with_vertical(
                             &GroundMotionSpec {
                                 dt: m.dt,
                                 acc: m.acc.clone(),
@@ -496,7 +563,7 @@ impl FragilitySpec {
                                 record: m.record.clone(),
                                 file: m.file.clone(),
                                 allow_large_pga: m.allow_large_pga,
-                                vertical: None,
+                                vertical: m.vertical.clone(),
                             },
                             &nominal,
                             &at,
@@ -529,10 +596,16 @@ impl FragilitySpec {
                 (None, Some(motions), true)
             }
         };
-        let solver = super::spec::validate_solver_for(
+        let with_vertical = vertical.is_some()
+            || ground_motions
+                .iter()
+                .flatten()
+                .any(|m| m.motion.vertical.is_some());
+        let solver = super::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             closed_form,
+            with_vertical,
             "/solver",
         )?;
         let im = match self.im.as_deref() {
@@ -577,6 +650,7 @@ impl FragilitySpec {
             block,
             pulse,
             ground_motions,
+            vertical,
             formulation,
             im,
             stripes,
@@ -631,14 +705,35 @@ pub struct StripeResult {
     pub n: u64,
     /// How many toppled.
     pub overturned: u64,
-    /// overturned / n.
+    /// overturned / the samples decided (n − lift_off); null when none was.
+    #[serde(deserialize_with = "nan_for_null_one")]
+    #[schema(value_type = Option<f64>)]
     pub p: f64,
-    /// 95 % Wilson score interval of p.
+    /// 95 % Wilson score interval of p (nulls when no sample was decided).
+    #[serde(deserialize_with = "nan_for_null")]
+    #[schema(value_type = [Option<f64>; 2])]
     pub interval_95: [f64; 2],
     /// Topplings after at least one impact (mode 1).
     pub mode_1: u64,
     /// Topplings without impact (mode 2).
     pub mode_2: u64,
+    /// Under a vertical ground motion: samples whose ground fell away faster
+    /// than g (lift-off), with no verdict on overturning and left out of p
+    /// and the fit. Absent without a vertical motion.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lift_off: Option<u64>,
+}
+
+impl StripeResult {
+    /// The samples with a verdict.
+    pub fn decided(&self) -> u64 {
+        self.n - self.lift_off.unwrap_or(0)
+    }
+}
+
+/// A number that was NaN, serialised as null.
+fn nan_for_null_one<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// A point of the fitted curve and its bootstrap band.
@@ -754,6 +849,39 @@ fn uniform(rng: &mut ChaCha8Rng) -> f64 {
     ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
 }
 
+/// A record of the suite, ready to scale.
+struct SuiteRecord {
+    /// ü_g.
+    record: Record,
+    /// Its own ü_v, on the same samples.
+    vertical: Option<Record>,
+    /// Its PGA (m/s²) or PGV (m/s).
+    per_unit: f64,
+}
+
+/// What one sample did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Verdict {
+    /// Still standing at the end.
+    Stands,
+    /// Toppled, in mode 1 (after an impact) or 2 (without one).
+    Topples(u8),
+    /// The ground fell away faster than g: no verdict.
+    LiftOff,
+}
+
+impl Verdict {
+    fn of(r: &Response) -> Verdict {
+        if r.lift_off.is_some() {
+            Verdict::LiftOff
+        } else if r.overturned {
+            Verdict::Topples(r.mode.map_or(0, |m| m.number()))
+        } else {
+            Verdict::Stands
+        }
+    }
+}
+
 /// What some units of a stripe counted.
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct StripeCounts {
@@ -765,6 +893,13 @@ pub struct StripeCounts {
     pub mode_1: u64,
     /// Toppled without one.
     pub mode_2: u64,
+    /// Lifted off (no verdict).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub lift_off: u64,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 impl StripeCounts {
@@ -773,6 +908,12 @@ impl StripeCounts {
         self.overturned += other.overturned;
         self.mode_1 += other.mode_1;
         self.mode_2 += other.mode_2;
+        self.lift_off += other.lift_off;
+    }
+
+    /// The samples with a verdict.
+    fn decided(&self) -> u64 {
+        self.n - self.lift_off
     }
 }
 
@@ -821,17 +962,21 @@ impl FragilityJob {
         Ok(Block::new(alpha, p, Some(eta), None, Some(b.g))?)
     }
 
-    /// Whether one sample topples, and its mode.
+    /// What one sample does: stands, topples (and its mode), or lifts off
+    /// (the ground falls away faster than g: no verdict). `ratio` is its
+    /// ü_v/ü_g, when the campaign has one.
     fn sample(
         &self,
         im: f64,
         j: usize,
         u: [f64; 4],
-        records: &[(Record, f64)],
-    ) -> Result<Option<u8>, SampleError> {
+        ratio: Option<f64>,
+        records: &[SuiteRecord],
+    ) -> Result<Verdict, SampleError> {
         let block = self.block_at([u[0], u[1], u[2]])?;
         let options = Options::outcome(self.solver.solver());
         let formulation = self.formulation;
+        let ratio = ratio.filter(|r| *r != 0.0);
         let r = if let Some(pulse) = &self.pulse {
             let omega = match (&pulse.omega_p, &pulse.omega_ratio) {
                 (Some(w), _) => w.at(u[3]),
@@ -844,27 +989,61 @@ impl FragilityJob {
             } else {
                 im / unit.peak_velocity()
             };
-            let problem = Problem {
-                block,
-                pulse: unit.with_amplitude(a_p),
-                formulation,
-            };
-            simulate(&problem, &options)?
+            let pulse = unit.with_amplitude(a_p);
+            match ratio.and_then(|r| PulsePair::proportional(pulse, r)) {
+                Some(pair) => simulate(
+                    &Problem {
+                        block,
+                        pulse: pair,
+                        formulation,
+                    },
+                    &options,
+                )?,
+                None => simulate(
+                    &Problem {
+                        block,
+                        pulse,
+                        formulation,
+                    },
+                    &options,
+                )?,
+            }
         } else {
-            let (record, per_unit) = &records[j % records.len()];
+            let suite = &records[j % records.len()];
             let factor = if self.im == Im::PgaG {
-                im * block.gravity() / per_unit
+                im * block.gravity() / suite.per_unit
             } else {
-                im / per_unit
+                im / suite.per_unit
             };
-            let problem = Problem {
-                block,
-                pulse: record.scaled(factor),
-                formulation,
+            let record = suite.record.scaled(factor);
+            let pair = match (&suite.vertical, ratio) {
+                (Some(v), _) => Some(RecordPair {
+                    horizontal: record.clone(),
+                    vertical: v.scaled(factor),
+                }),
+                (None, Some(r)) => RecordPair::proportional(record.clone(), r),
+                (None, None) => None,
             };
-            simulate(&problem, &options)?
+            match pair {
+                Some(pair) => simulate(
+                    &Problem {
+                        block,
+                        pulse: pair,
+                        formulation,
+                    },
+                    &options,
+                )?,
+                None => simulate(
+                    &Problem {
+                        block,
+                        pulse: record,
+                        formulation,
+                    },
+                    &options,
+                )?,
+            }
         };
-        Ok(r.overturned.then(|| r.mode.map_or(0, |m| m.number())))
+        Ok(Verdict::of(&r))
     }
 
     /// Chunks of [`CHUNK`] samples per stripe.
@@ -878,23 +1057,44 @@ impl FragilityJob {
         self.stripes.len() * self.chunks()
     }
 
-    /// Each record of the suite with its PGA (m/s²) or PGV (m/s): what one
-    /// unit of scale gives.
-    fn records(&self) -> Vec<(Record, f64)> {
+    /// Each record of the suite with its vertical component (padded to the
+    /// same length) and its PGA (m/s²) or PGV (m/s): what one unit of scale
+    /// gives.
+    fn records(&self) -> Vec<SuiteRecord> {
         self.ground_motions
             .iter()
             .flatten()
             .filter_map(|m| {
-                let record = m.motion.record().ok()?;
+                let (record, vertical) = match m.motion.pair() {
+                    Some(pair) => {
+                        let pair = pair.ok()?;
+                        (pair.horizontal, Some(pair.vertical))
+                    }
+                    None => (m.motion.record().ok()?, None),
+                };
                 let peaks = crate::dynamics::peaks::of_record(&record);
                 let per_unit = if self.im == Im::PgaG {
                     peaks.pga
                 } else {
                     peaks.pgv
                 };
-                (per_unit > 0.0).then_some((record, per_unit))
+                (per_unit > 0.0).then_some(SuiteRecord {
+                    record,
+                    vertical,
+                    per_unit,
+                })
             })
             .collect()
+    }
+
+    /// Whether its samples may lift off: a vertical motion is given.
+    pub fn has_vertical(&self) -> bool {
+        self.vertical.is_some()
+            || self
+                .ground_motions
+                .iter()
+                .flatten()
+                .any(|m| m.motion.vertical.is_some())
     }
 
     /// Samples of the suite's longest record (0 for a pulse family).
@@ -975,21 +1175,31 @@ impl FragilityJob {
                         uniform(&mut rng),
                         uniform(&mut rng),
                     ];
-                    let outcome = self.sample(self.stripes[k], j, u, &records).map_err(|e| {
-                        JobError::AtSample {
+                    // A fifth uniform only for a distributed ratio: a fixed
+                    // one (or none) keeps every other sample's stream.
+                    let ratio = self.vertical.map(|v| match v.ratio {
+                        UncertainNorm::Fixed(r) => r,
+                        d => d.at(uniform(&mut rng)),
+                    });
+                    let outcome = self
+                        .sample(self.stripes[k], j, u, ratio, &records)
+                        .map_err(|e| JobError::AtSample {
                             stripe: k,
                             level: format!("{} {}", self.stripes[k], self.im),
                             sample: j,
                             source: Box::new(e),
-                        }
-                    })?;
+                        })?;
                     counts.n += 1;
-                    if let Some(mode) = outcome {
-                        counts.overturned += 1;
-                        if mode == 2 {
-                            counts.mode_2 += 1;
-                        } else {
-                            counts.mode_1 += 1;
+                    match outcome {
+                        Verdict::Stands => {}
+                        Verdict::LiftOff => counts.lift_off += 1,
+                        Verdict::Topples(mode) => {
+                            counts.overturned += 1;
+                            if mode == 2 {
+                                counts.mode_2 += 1;
+                            } else {
+                                counts.mode_1 += 1;
+                            }
                         }
                     }
                     control.add_done(1);
@@ -1098,20 +1308,32 @@ impl FragilityJob {
             .iter()
             .zip(per_stripe)
             .map(|(&im, c)| {
-                let (lo, hi) = wilson(c.overturned, c.n, Z95);
+                // Over the samples decided (all of them without a vertical
+                // motion); none decided: no probability (null).
+                let decided = c.decided();
+                let (lo, hi) = if decided > 0 {
+                    wilson(c.overturned, decided, Z95)
+                } else {
+                    (f64::NAN, f64::NAN)
+                };
                 StripeResult {
                     im,
                     n: c.n,
                     overturned: c.overturned,
-                    p: c.overturned as f64 / c.n as f64,
+                    p: if decided > 0 {
+                        c.overturned as f64 / decided as f64
+                    } else {
+                        f64::NAN
+                    },
                     interval_95: [lo, hi],
                     mode_1: c.mode_1,
                     mode_2: c.mode_2,
+                    lift_off: self.has_vertical().then_some(c.lift_off),
                 }
             })
             .collect();
-        // Monotone in rising intensity.
-        let mut order: Vec<&StripeResult> = stripes.iter().collect();
+        // Monotone in rising intensity (stripes with a probability).
+        let mut order: Vec<&StripeResult> = stripes.iter().filter(|s| s.p.is_finite()).collect();
         order.sort_by(|a, b| a.im.total_cmp(&b.im));
         let falls_at: Vec<f64> = order
             .windows(2)
@@ -1120,9 +1342,10 @@ impl FragilityJob {
             .collect();
         let counts: Vec<Stripe> = stripes
             .iter()
+            .filter(|s| s.decided() > 0)
             .map(|s| Stripe {
                 im: s.im,
-                n: s.n,
+                n: s.decided(),
                 k: s.overturned,
             })
             .collect();

@@ -197,6 +197,17 @@ pub fn inputs(result: &FragilityResult) -> Vec<String> {
             if n == 1 { "" } else { "s" }
         ));
     }
+    if let Some(v) = &spec.vertical {
+        lines.push(uncertain_text("ü_v/ü_g", &v.ratio, "", 1.0));
+    }
+    if let Some(suite) = &spec.ground_motions {
+        let own = suite.iter().filter(|m| m.motion.vertical.is_some()).count();
+        if own > 0 {
+            lines.push(format!(
+                "{own} of the records with a vertical component of their own, scaled with them"
+            ));
+        }
+    }
     lines.push(format!(
         "{} formulation, solver {}",
         spec.formulation.name(),
@@ -249,11 +260,21 @@ fn draw_inputs(area: &Area, lines: &[Vec<String>]) -> Drawn {
 
 /// The figure of a `fragility` result.
 pub fn svg(result: &FragilityResult) -> Result<String, String> {
+    // Stripes with a probability (under a vertical motion, one whose every
+    // sample lifted off has none: marked apart).
     let stripes: Vec<(f64, f64, f64, f64)> = result
         .stripes
         .iter()
+        .filter(|s| s.p.is_finite())
         .map(|s| (s.im, s.p, s.interval_95[0], s.interval_95[1]))
         .collect();
+    let undecided: Vec<f64> = result
+        .stripes
+        .iter()
+        .filter(|s| !s.p.is_finite())
+        .map(|s| s.im)
+        .collect();
+    let lifted: u64 = result.stripes.iter().filter_map(|s| s.lift_off).sum();
     let Some((lo, hi)) = computed_range(result) else {
         return Err("the result has no stripes".into());
     };
@@ -308,6 +329,24 @@ pub fn svg(result: &FragilityResult) -> Result<String, String> {
             "falls below the stripe before (safe regions)",
         );
     }
+    if !undecided.is_empty() {
+        legend.entry(
+            Swatch::Mark(Marker::Cross, MUTED),
+            "every sample lifted off: no verdict",
+        );
+    }
+    if lifted > 0 {
+        let first = result
+            .stripes
+            .iter()
+            .filter(|s| s.lift_off.unwrap_or(0) > 0)
+            .map(|s| s.im)
+            .fold(f64::INFINITY, f64::min);
+        legend.note(format!(
+            "lift-off (the ground falls away faster than g): {lifted} samples from {} on, without a verdict; each P is over the samples decided",
+            with_unit(first, unit)
+        ));
+    }
     if fit.is_some() {
         legend.note("the empirical points are the answer, the fit a summary");
     }
@@ -357,6 +396,11 @@ pub fn svg(result: &FragilityResult) -> Result<String, String> {
                     .iter()
                     .filter(|s| falls.contains(&s.0))
                     .map(|&(x, p, _, _)| marker((x, p), Marker::Ring, 11, MODE1)),
+            )?;
+            chart.draw_series(
+                undecided
+                    .iter()
+                    .map(|&x| marker((x, 0.5), Marker::Cross, 8, MUTED)),
             )?;
             let (upper, lower) = side.split_vertically(legend_h);
             draw_legend(&upper, &legend)?;
@@ -420,6 +464,7 @@ mod tests {
             interval_95,
             mode_1: overturned,
             mode_2: 0,
+            lift_off: None,
         };
         doc.stripes = vec![
             stripe(0.4, 20, [0.06, 0.15]),
@@ -498,6 +543,33 @@ mod tests {
         let svg = super::svg(&doc).expect("svg");
         assert!(words(&svg).contains("20 samples per stripe, seed 42"));
         assert!(svg.contains("PGA (g)"));
+    }
+
+    /// Under ü_v = −0.5 ü_g the strongest stripes lift off: they are drawn
+    /// as crosses (no probability), the lift-offs and the ratio are named,
+    /// and no number of the drawing is NaN.
+    #[test]
+    fn stripes_that_lifted_off_are_marked_and_named() {
+        let doc = fragility(
+            r#"{"kind": "fragility", "block": {"alpha": 0.2, "p": 2.0},
+            "pulse": {"type": "one_sine", "frequency_hz": 0.8},
+            "vertical": {"ratio": -0.5},
+            "stripes": [0.3, 0.6, 2.2, 3.0], "samples": 8, "seed": 1}"#,
+        );
+        let undecided = doc.stripes.iter().filter(|s| s.decided() == 0).count();
+        assert!(undecided >= 1, "{:?}", doc.stripes);
+        let svg = super::svg(&doc).expect("svg");
+        let text = words(&svg);
+        assert!(text.contains("every sample lifted off"), "{text}");
+        assert!(text.contains("lift-off (the ground falls away"), "{text}");
+        assert!(
+            text.contains("ü_v/ü_g = -0.5") || text.contains("ü_v/ü_g = −0.5"),
+            "{text}"
+        );
+        assert!(!svg.contains("NaN"), "a NaN drawn");
+        // One cross per stripe without a verdict, plus the legend's.
+        let cross = hex(MUTED);
+        assert!(svg.matches(&cross).count() > undecided, "crosses");
     }
 
     /// The fit is drawn solid over the stripes' intensities only, and

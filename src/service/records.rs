@@ -116,34 +116,36 @@ pub async fn resolve(
             named.push(id);
         }
     }
-    if let Some(id) = resolve_vertical(store, tenant, &mut spec).await?
-        && !named.contains(&id)
-    {
-        named.push(id);
+    for at in record_slots(&spec) {
+        if let Some(id) =
+            resolve_vertical(store, tenant, &mut spec, &format!("{at}/vertical")).await?
+            && !named.contains(&id)
+        {
+            named.push(id);
+        }
     }
     Ok((spec, named))
 }
 
-/// Where a time history's record holds its vertical acceleration.
-const VERTICAL: &str = "/ground_motion/vertical";
-
-/// The stored record named as a time history's vertical acceleration
-/// (`"ground_motion": {…, "vertical": {"record": id}}`) read into the spec
-/// as its samples on their own dt (another dt than the horizontal record's
-/// is refused when the spec is validated, at `/ground_motion/vertical/dt`);
-/// returns the id named. A `file` is refused, as beside a horizontal record.
+/// The stored record named as a record's vertical acceleration at `at`
+/// (`"ground_motion": {…, "vertical": {"record": id}}`, or a suite member's)
+/// read into the spec as its samples on their own dt (another dt than the
+/// horizontal record's is refused when the spec is validated, at
+/// `…/vertical/dt`); returns the id named. A `file` is refused, as beside a
+/// horizontal record.
 async fn resolve_vertical(
     store: &dyn JobStore,
     tenant: &str,
     spec: &mut Value,
+    at: &str,
 ) -> Result<Option<String>, ResolveError> {
-    let Some(slot) = spec.pointer(VERTICAL).and_then(Value::as_object) else {
+    let Some(slot) = spec.pointer(at).and_then(Value::as_object) else {
         return Ok(None);
     };
     let given = |k: &str| slot.get(k).filter(|v| !v.is_null());
     if given("file").is_some() {
         return Err(SpecError::at(
-            format!("{VERTICAL}/file"),
+            format!("{at}/file"),
             "a file is read by `topple run` only: upload it (POST /v1/records) and name it with {\"record\": id}",
         )
         .into());
@@ -156,7 +158,7 @@ async fn resolve_vertical(
         .filter(|s| is_record_id(s))
         .ok_or_else(|| {
             SpecError::at(
-                format!("{VERTICAL}/record"),
+                format!("{at}/record"),
                 "must be a record id: 32 hexadecimal digits, as POST /v1/records answers",
             )
         })?
@@ -167,16 +169,16 @@ async fn resolve_vertical(
         .map(|(k, _)| k)
     {
         return Err(SpecError::at(
-            format!("{VERTICAL}/{other}"),
+            format!("{at}/{other}"),
             "a stored record brings its own samples, dt and unit: name it with {\"record\": id} alone",
         )
         .into());
     }
     if store.get_record(tenant, &id).await?.is_none() {
-        return Err(unknown(VERTICAL, &id).into());
+        return Err(unknown(at, &id).into());
     }
-    let motion = stored_motion(store, tenant, &id, VERTICAL).await?;
-    if let Some(slot) = spec.pointer_mut(VERTICAL) {
+    let motion = stored_motion(store, tenant, &id, at).await?;
+    if let Some(slot) = spec.pointer_mut(at) {
         *slot = motion;
     }
     Ok(Some(id))

@@ -79,6 +79,7 @@ BAD = [
     ("misspelt pulse type", edit(TH, pulse__type="one_sin"), "/pulse/type"),
     ("vertical ratio beyond 100", edit(SP, vertical={"ratio": 1e3}), "/vertical/ratio"),
     ("unknown field in vertical", edit(SP, vertical={"ratio": 0.5, "phase": 1.0}), "/vertical/phase"),
+    ("a fragility's vertical pulse of its own", edit(FG, vertical={"type": "one_sine"}), "/vertical/type"),
     ("unknown field", edit(TH, omega=3.0), "/omega"),
     ("unknown block field", edit(TH, block__beta=1.0), "/block/beta"),
     ("a string for a number", edit(TH, block__alpha="0.2"), "/block/alpha"),
@@ -251,6 +252,9 @@ SERVER_ONLY = [
                                                                "a_p_g": 0.2}), "/vertical/type"),
     ("exact under a vertical ratio", edit(SP, formulation="linear", solver={"method": "exact"},
                                          vertical={"ratio": 0.3}), "/solver/method"),
+    ("a fragility's vertical ratio beyond 100", edit(FG, vertical={"ratio": 1e3}), "/vertical/ratio"),
+    ("a fragility's vertical ratio distribution beyond 100",
+     edit(FG, vertical={"ratio": {"dist": "uniform", "min": -200.0, "max": 0.5}}), "/vertical/ratio/min"),
 ]
 
 # Valid variants, beyond the shipped specs: every unit, both block forms,
@@ -309,6 +313,9 @@ GOOD = [
     ("forensic with a vertical ratio", edit(FO, vertical={"ratio": 0.5})),
     ("forensic on a record with a vertical ratio", edit(FOR, vertical={"ratio": 0.5})),
     ("record spectrum with a vertical ratio", edit(RS, vertical={"ratio": 0.5})),
+    ("fragility with a vertical ratio", edit(FG, vertical={"ratio": -0.5})),
+    ("fragility with a distributed vertical ratio",
+     edit(FG, vertical={"ratio": {"dist": "uniform", "min": -0.5, "max": 0.5}})),
     ("forensic with a block and a_p", edit(FO, observations=[
         {"block": {"alpha": 0.2, "p": 2.0}, "overturned": False}], a_p_g=DELETE,
         a_p={"from": 1.0, "to": 3.0})),

@@ -329,3 +329,158 @@ fn parts_that_do_not_tile_the_job_are_an_error_and_a_part_is_not_submitted() {
     let e = Job::from_task(&task).expect_err("out of range");
     assert_eq!(e.pointer, "/part");
 }
+
+/// The verdict of a time history of the block (α, p) under a one-sine of
+/// `hz` and `a_g` g with ü_v = `ratio` ü_g: `None` for a lift-off.
+fn verdict_under_ratio(alpha: f64, p: f64, hz: f64, a_g: f64, ratio: f64) -> Option<bool> {
+    let doc = run(&json!({"kind": "time_history",
+        "block": {"alpha": alpha, "p": p},
+        "pulse": {"type": "one_sine", "frequency_hz": hz, "a_p_g": a_g},
+        "vertical": {"ratio": ratio},
+        "formulation": "nonlinear",
+        "outputs": {"reactions": false, "impacts": false, "max_free_impacts": 0}}));
+    if doc["lift_off"] == json!(true) {
+        None
+    } else {
+        Some(doc["overturned"].as_bool().expect("flag"))
+    }
+}
+
+/// Without spread, under ü_v = r ü_g every sample of a stripe does what the
+/// time history of the pair does: topples, stands, or lifts off — counted
+/// apart, left out of p (null when every sample lifted off) and of the fit.
+#[test]
+fn a_fixed_vertical_ratio_counts_each_stripe_as_its_time_history_and_lift_offs_apart() {
+    let stripes = [0.2, 0.3, 0.4, 0.5, 0.7, 0.9, 1.2, 2.2, 3.0];
+    for ratio in [0.5, -0.5] {
+        let doc = run(
+            &json!({"kind": "fragility", "block": {"alpha": 0.2, "p": 2.0},
+            "pulse": {"type": "one_sine", "frequency_hz": 0.8},
+            "vertical": {"ratio": ratio},
+            "stripes": stripes, "samples": 10, "seed": 7}),
+        );
+        let mut lifted = 0;
+        for (s, &im) in doc["stripes"]
+            .as_array()
+            .expect("stripes")
+            .iter()
+            .zip(&stripes)
+        {
+            assert_eq!(s["n"].as_u64(), Some(10));
+            match verdict_under_ratio(0.2, 2.0, 0.8, im, ratio) {
+                None => {
+                    lifted += 1;
+                    assert_eq!(s["lift_off"].as_u64(), Some(10), "{s}");
+                    assert_eq!(s["overturned"].as_u64(), Some(0), "{s}");
+                    assert_eq!(s["p"], Value::Null, "{s}");
+                    assert_eq!(s["interval_95"], json!([null, null]), "{s}");
+                }
+                Some(topples) => {
+                    assert_eq!(s["lift_off"].as_u64(), Some(0), "{s}");
+                    let k = if topples { 10 } else { 0 };
+                    assert_eq!(
+                        s["overturned"].as_u64(),
+                        Some(k),
+                        "{im} g, r = {ratio}: {s}"
+                    );
+                    assert_eq!(s["p"].as_f64(), Some(k as f64 / 10.0), "{s}");
+                }
+            }
+        }
+        // Under r < 0 the ground falls as the pulse's first half pushes:
+        // from 2 g on it falls faster than g before the block can topple.
+        if ratio < 0.0 {
+            assert!(lifted >= 1, "r = {ratio}: no stripe lifted off");
+        }
+        // Reads back into its type (p null included).
+        let typed = topple::jobs::JobResult::from_value(doc.clone()).expect("reads");
+        let topple::jobs::JobResult::Fragility(f) = typed else {
+            panic!("a fragility")
+        };
+        assert_eq!(
+            f.stripes.iter().filter(|s| s.decided() == 0).count(),
+            lifted
+        );
+    }
+}
+
+/// A fixed ratio draws no uniform of its own: a ratio of 0 is the job
+/// without one (bit for bit, spec and all), and a distributed ratio whose
+/// every value lifts the block off at a stripe counts every sample there.
+#[test]
+fn a_vertical_ratio_of_zero_is_no_vertical_motion_and_a_distributed_one_is_drawn() {
+    let base = json!({"kind": "fragility",
+        "block": {"alpha": {"dist": "uniform", "min": 0.15, "max": 0.25}, "p": 2.0},
+        "pulse": {"type": "one_sine", "frequency_hz": 0.8},
+        "stripes": [0.3, 0.6], "samples": 70, "seed": 5});
+    let mut zero = base.clone();
+    zero["vertical"] = json!({"ratio": 0.0});
+    let (a, b) = (run(&base), run(&zero));
+    assert_eq!(a["stripes"], b["stripes"]);
+    assert_eq!(a["spec"], b["spec"]);
+    assert!(a["stripes"][0].get("lift_off").is_none());
+
+    // Every |r| in [0.7, 0.9] lifts the block off at 2.5 g (|r| ü_g < −g
+    // once per sine), every one in [0.05, 0.1] never does.
+    for (range, lifts) in [([0.7, 0.9], true), ([0.05, 0.1], false)] {
+        let mut spec = base.clone();
+        spec["vertical"] = json!({"ratio": {"dist": "uniform", "min": range[0], "max": range[1]}});
+        spec["stripes"] = json!([2.5]);
+        let doc = run(&spec);
+        let s = &doc["stripes"][0];
+        let lift_off = s["lift_off"].as_u64().expect("counted");
+        let overturned = s["overturned"].as_u64().expect("counted");
+        if lifts {
+            // Each sample lifts off unless it toppled first.
+            assert_eq!(lift_off + overturned, 70, "{s}");
+            assert!(lift_off > 0, "{s}");
+        } else {
+            assert_eq!(lift_off, 0, "{s}");
+        }
+        // Drawn from the spec alone: the same again.
+        assert_eq!(run(&spec)["stripes"], doc["stripes"]);
+    }
+}
+
+/// A suite's records may carry their own vertical component, scaled with
+/// them: a record whose vertical is its horizontal times r is the suite
+/// under `"vertical": {"ratio": r}`, and both at once are refused.
+#[test]
+fn a_suite_record_with_its_own_vertical_is_scaled_with_it() {
+    let acc: Vec<f64> = (0..400)
+        .map(|k| {
+            let t = f64::from(k) * 0.01;
+            (std::f64::consts::TAU * 1.3 * t).sin() * (-0.5 * t).exp()
+        })
+        .collect();
+    let ratio = -0.4;
+    let vertical: Vec<f64> = acc.iter().map(|a| ratio * a).collect();
+    let with_ratio = json!({"kind": "fragility", "block": {"alpha": 0.2, "p": 2.0},
+        "ground_motions": [{"name": "a", "dt": 0.01, "acc": acc, "unit": "g"}],
+        "vertical": {"ratio": ratio},
+        "stripes": [0.3, 0.6, 1.5, 3.0], "samples": 4, "seed": 2});
+    let own = json!({"kind": "fragility", "block": {"alpha": 0.2, "p": 2.0},
+        "ground_motions": [{"name": "a", "dt": 0.01, "acc": acc, "unit": "g",
+            "vertical": {"acc": vertical, "unit": "g"}}],
+        "stripes": [0.3, 0.6, 1.5, 3.0], "samples": 4, "seed": 2});
+    let (a, b) = (run(&with_ratio), run(&own));
+    assert_eq!(a["stripes"], b["stripes"]);
+    assert!(
+        a["stripes"][3]["lift_off"].as_u64().is_some_and(|n| n > 0),
+        "{}",
+        a["stripes"][3]
+    );
+    let mut both = own.clone();
+    both["vertical"] = json!({"ratio": 0.3});
+    let err = Job::from_value(&both).expect_err("refused");
+    assert_eq!(err.pointer, "/ground_motions/0/vertical", "{err}");
+    let mut exact = with_ratio.clone();
+    exact["solver"] = json!({"method": "exact"});
+    exact["formulation"] = json!("linear");
+    let err = Job::from_value(&exact).expect_err("refused");
+    assert_eq!(err.pointer, "/solver/method", "{err}");
+    let mut bad = with_ratio.clone();
+    bad["vertical"] = json!({"ratio": {"dist": "uniform", "min": -200.0, "max": 0.5}});
+    let err = Job::from_value(&bad).expect_err("refused");
+    assert_eq!(err.pointer, "/vertical/ratio/min", "{err}");
+}
