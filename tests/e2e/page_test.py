@@ -1397,6 +1397,24 @@ def check_fragility_geometry(page, base):
     if not summary.get("Highest P(topple)", "").endswith(f"at PGA {js_fmt(top['im'])} g"):
         raise Failure(f"the highest probability is not given with its stripe {top['im']} g: {summary}")
     page.screenshot(os.path.join(OUT, "page-fragility-geometry.png"))
+    # Under ü_v = −0.5 ü_g: the ratio is sent as typed, and the samples whose
+    # ground falls away faster than g (from 2 g) are named in the summary.
+    page.type_into("#f-vr", "-0.5")
+    page.type_into("#f-fg-to", "3")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "fragility under a vertical ratio")
+    sent = page.last_submission()
+    if sent.get("vertical") != {"ratio": -0.5}:
+        raise Failure(f"the vertical ratio was sent as {sent.get('vertical')!r}")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    lifted = sum(s.get("lift_off", 0) for s in result["stripes"])
+    summary = summary_of(page)
+    if lifted and "Lift-off (no verdict)" not in summary:
+        raise Failure(f"{lifted} lift-offs, not in the summary: {summary}")
+    log(f"fragility under ü_v = -0.5 ü_g {job_id}: {lifted} lift-offs")
+    page.type_into("#f-vr", "")
+    page.type_into("#f-fg-to", "1.5")
     page.click("input[name=fg-block-by][value=params]")
     page.click("input[name=kind][value=time_history]")
 
