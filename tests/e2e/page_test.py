@@ -1061,6 +1061,9 @@ def check_time_history_record(page, base, rec):
     if not header.endswith(",ground_vertical_acceleration_m_per_s2,ug_v_g"):
         raise Failure(f"the CSV of a time history with a vertical record has the columns {header!r}")
     wait_plot(page, "time history with a vertical record")
+    said = summary_of(page).get("Vertical ground motion", "")
+    if said != "a record of its own: PGA_v 0.1 g":
+        raise Failure(f"the summary of a time history with a vertical record says {said!r}")
     status, _, svg = http_get(f"{base}/v1/jobs/{job_id}/plot.svg")
     if status != 200 or "ü_v / g" not in svg.decode():
         raise Failure(f"the figure of a time history with a vertical record: {status}, no ü_v panel")
