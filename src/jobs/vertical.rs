@@ -6,6 +6,8 @@
 //! job as none given: normalised away, it leaves the canonical spec, the
 //! cache key and every result as they are without it.
 
+use std::sync::Arc;
+
 use serde::{Deserialize, Serialize};
 
 use super::names::tag;
@@ -14,7 +16,9 @@ use super::spec::{
     SolverSpec, SpecError, family_of, validate_ground_motion, validate_pulse, validate_solver_for,
 };
 pub use super::vertical_record::{VerticalRecordNorm, VerticalRecordSpec};
-use crate::dynamics::Formulation;
+use crate::dynamics::{Block, Formulation, Record, RecordPair, SimError};
+use crate::spectrum::overturning::{threshold_under_ratio, threshold_under_samples};
+use crate::spectrum::scan::{ScanError, lift_off_level, lift_off_scale};
 
 /// Largest |ratio| of ü_v to ü_g accepted.
 pub const MAX_VERTICAL_RATIO: f64 = 100.0;
@@ -395,4 +399,120 @@ pub fn validate_record_with_vertical(
         });
     }
     Ok(norm)
+}
+
+/// Validates the record of a kind that scales it (record spectra, record
+/// forensic queries) with its vertical motion: a top-level `vertical`
+/// (`{"ratio": r}`, at `/vertical`) or the record's own
+/// (`ground_motion.vertical`: `{"ratio": r}`, the same as the top-level one,
+/// or samples on the record's dt), not both (refused naming
+/// `base/vertical`). A ratio, wherever given, is returned as the job's
+/// `vertical` (one canonical form); samples stay in the record. Ratios of 0
+/// and samples all zero are no vertical motion.
+pub fn validate_scaled_record(
+    top: Option<&VerticalPulseSpec>,
+    spec: &GroundMotionSpec,
+    block: &BlockNorm,
+    base: &str,
+) -> Result<(GroundMotionNorm, Option<VerticalPulseNorm>), SpecError> {
+    if top.is_some() && spec.vertical.is_some() {
+        return Err(SpecError::at(
+            format!("{base}/vertical"),
+            "the vertical motion is given twice: give either the top-level vertical {\"ratio\": r} or the record's own (ground_motion.vertical: {\"ratio\": r} or samples)",
+        ));
+    }
+    let ratio = validate_vertical_ratio(top, "/vertical")?;
+    let mut norm = validate_record_with_vertical(spec, block, base)?;
+    let own_ratio = norm.vertical.as_ref().and_then(|v| v.ratio);
+    if own_ratio.is_some() {
+        norm.vertical = None;
+    }
+    Ok((norm, ratio.or(own_ratio).map(VerticalPulseNorm::Ratio)))
+}
+
+/// The vertical motion of a kind that scales its ground motion (spectra,
+/// forensic queries, record spectra) as its scan lines take it: both
+/// components scale by one factor along the amplitude or scale axis.
+#[derive(Clone, Copy, Debug)]
+pub enum ScaledVertical<'a> {
+    /// ü_v = r·ü_g.
+    Ratio(f64),
+    /// A record's own vertical samples, m/s², on its dt.
+    Samples(&'a Arc<[f64]>),
+}
+
+impl<'a> ScaledVertical<'a> {
+    /// The vertical motion of a job: its `vertical` ratio, or its record's
+    /// own samples; `None` without one.
+    pub fn of(
+        vertical: Option<&VerticalPulseNorm>,
+        ground_motion: Option<&'a GroundMotionNorm>,
+    ) -> Option<Self> {
+        if let Some(r) = vertical.and_then(VerticalPulseNorm::ratio) {
+            return Some(ScaledVertical::Ratio(r));
+        }
+        let samples = ground_motion?.vertical.as_ref()?.acc.as_ref()?;
+        Some(ScaledVertical::Samples(samples))
+    }
+
+    /// ü_v/ü_g, for a ratio.
+    pub fn ratio(&self) -> Option<f64> {
+        match *self {
+            ScaledVertical::Ratio(r) => Some(r),
+            ScaledVertical::Samples(_) => None,
+        }
+    }
+
+    /// The rocking threshold `threshold` (α g, of the horizontal motion's
+    /// peak) lowered by the vertical motion, for a block of `slenderness`
+    /// under the horizontal samples `horizontal` (records only): exact for
+    /// a ratio ([`threshold_under_ratio`]) and for samples
+    /// ([`threshold_under_samples`]).
+    pub fn threshold(
+        &self,
+        threshold: f64,
+        formulation: Formulation,
+        slenderness: f64,
+        horizontal: &[f64],
+    ) -> f64 {
+        match *self {
+            ScaledVertical::Ratio(r) => {
+                threshold_under_ratio(threshold, formulation, slenderness, Some(r))
+            }
+            ScaledVertical::Samples(v) => {
+                threshold_under_samples(threshold, formulation, slenderness, horizontal, v)
+            }
+        }
+    }
+
+    /// The record `record` with this vertical motion.
+    pub fn record_pair(&self, record: Record) -> Result<RecordPair, ScanError> {
+        let bad = || ScanError::Simulation(SimError::Tolerance);
+        match *self {
+            ScaledVertical::Ratio(r) => RecordPair::proportional(record, r).ok_or_else(bad),
+            ScaledVertical::Samples(v) => {
+                let vertical = Record::new(v.clone(), record.dt()).map_err(|_| bad())?;
+                RecordPair::new(record, vertical).map_err(|_| bad())
+            }
+        }
+    }
+
+    /// The level (the record's PGA in α g of `block`) from which the ground
+    /// falls away faster than gravity under `record` scaled with this
+    /// vertical motion, bracketed, when it does up to `to`: by bisection
+    /// under a ratio ([`lift_off_level`]), in closed form under samples
+    /// ([`lift_off_scale`]).
+    pub fn record_lift_off(&self, record: &Record, block: &Block, to: f64) -> Option<(f64, f64)> {
+        match *self {
+            ScaledVertical::Ratio(_) => {
+                lift_off_level(&self.record_pair(record.clone()).ok()?, block, to)
+            }
+            ScaledVertical::Samples(v) => {
+                let pga = record.samples().iter().fold(0.0f64, |m, a| m.max(a.abs()));
+                let level = pga / (block.slenderness() * block.gravity());
+                let (lo, hi) = lift_off_scale(v, block.gravity())?;
+                (hi * level <= to).then_some((lo * level, hi * level))
+            }
+        }
+    }
 }

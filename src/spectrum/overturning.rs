@@ -110,6 +110,34 @@ pub fn threshold_under_ratio(
     }
 }
 
+/// `threshold` (α g, of a record's PGA) under a record's own vertical
+/// samples, both scaled by one factor c: the ground motion is linear between
+/// samples, so c ü_g s − k c ü_v (side s = ±1, k = tan α, or α linear) peaks
+/// at a sample, and rocking can start once c max_j (|h_j| − k v_j) > k g
+/// (the shorter record padded with zeros). In levels of the horizontal PGA:
+/// `threshold` · PGA / max_j (|h_j| − k v_j); infinite when no sample can
+/// rock at any scale. Exact, as [`threshold_under_ratio`] is for a ratio.
+pub fn threshold_under_samples(
+    threshold: f64,
+    formulation: Formulation,
+    slenderness: f64,
+    horizontal: &[f64],
+    vertical: &[f64],
+) -> f64 {
+    let k = formulation.rocking_threshold_of(slenderness, 1.0);
+    let n = horizontal.len().max(vertical.len());
+    let at = |x: &[f64], j: usize| x.get(j).copied().unwrap_or(0.0);
+    let demand = (0..n)
+        .map(|j| at(horizontal, j).abs() - k * at(vertical, j))
+        .fold(f64::NEG_INFINITY, f64::max);
+    let pga = horizontal.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    if demand > 0.0 {
+        threshold * pga / demand
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Rocking threshold in units of αg of any block of slenderness α under
 /// gravity g, whatever its size.
 pub fn threshold_alpha_g_of(formulation: Formulation, slenderness: f64, gravity: f64) -> f64 {

@@ -413,6 +413,7 @@ fn vertical_specs_are_checked_field_by_field() {
             json!({"kind": "record_spectrum", "block": {"alpha": 0.2},
                    "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, 0.0],
                                      "vertical": {"ratio": 0.5}},
+                   "vertical": {"ratio": 0.5},
                    "R_m": [1.0], "pga_g": {"to": 1.0}}),
             "/ground_motion/vertical",
         ),
@@ -737,4 +738,317 @@ fn a_record_spectrum_under_a_vertical_ratio_scans_below_lift_off() {
     // The figure shades the lift-off and says so.
     let svg = topple::plot::record_spectrum::svg(&result).expect("a figure");
     assert!(svg.contains("lift-off"), "no lift-off in the legend");
+}
+
+/// A decaying 2-Hz sine in g (the horizontal record of the record tests).
+fn decaying_sine() -> Vec<f64> {
+    (0..300)
+        .map(|k| {
+            let t = k as f64 * 0.01;
+            0.4 * (std::f64::consts::TAU * 2.0 * t).sin() * (-t / 1.5).exp()
+        })
+        .collect()
+}
+
+/// A vertical record of its own in g: a 5-Hz cosine, shorter than the
+/// horizontal one (padded with zeros), falling lower than it rises.
+fn own_vertical() -> Vec<f64> {
+    (0..250)
+        .map(|k| {
+            let t = k as f64 * 0.01;
+            0.25 * (std::f64::consts::TAU * 5.0 * t).cos() * (-t).exp() - 0.05
+        })
+        .collect()
+}
+
+/// The scale from which a block of slenderness α can rock under the pair
+/// of records (g): k / max_j(|h_j| − k v_j), k = tan α, the shorter padded.
+fn rocking_scale(h: &[f64], v: &[f64], alpha: f64) -> f64 {
+    let k = alpha.tan();
+    let n = h.len().max(v.len());
+    let at = |x: &[f64], j: usize| x.get(j).copied().unwrap_or(0.0);
+    k / (0..n)
+        .map(|j| at(h, j).abs() - k * at(v, j))
+        .fold(f64::MIN, f64::max)
+}
+
+/// The pair of records (g, converted to m/s²) scaled by `s`.
+fn record_pair_at(h: &[f64], v: &[f64], s: f64) -> RecordPair {
+    let of = |x: &[f64]| {
+        Record::new(x.iter().map(|a| a * G * s).collect::<Vec<_>>().into(), 0.01).expect("a record")
+    };
+    RecordPair::new(of(h), of(v)).expect("a pair")
+}
+
+#[test]
+fn a_record_spectrum_under_its_own_vertical_samples_scans_from_their_threshold_to_lift_off() {
+    let (acc, vertical) = (decaying_sine(), own_vertical());
+    let lowest = vertical.iter().copied().fold(f64::MAX, f64::min);
+    let spec = json!({"kind": "record_spectrum", "block": {"alpha": 0.2, "eta": 0.9},
+        "p": [1.5, 2.5], "scale": {"from": 0.5, "to": 8},
+        "ground_motion": {"dt": 0.01, "unit": "g", "acc": acc,
+                          "vertical": {"acc": vertical, "unit": "g"}}});
+    let Job::RecordSpectrum(job) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a record spectrum")
+    };
+    let result = job.run(&topple::spectrum::Control::new()).expect("runs");
+    let doc = serde_json::to_value(&result).expect("serialises");
+    // Lift-off where g + s·min(v) = 0.
+    let lift = doc["lift_off_above_scale"].as_f64().expect("lift-off");
+    let expected = 1.0 / -lowest;
+    assert!(
+        (lift - expected).abs() < 1e-12 * expected,
+        "{lift} vs {expected}"
+    );
+    // The threshold in closed form, and time histories of the pair agree:
+    // no rocking just below it, rocking just above.
+    let threshold = rocking_scale(&acc, &vertical, 0.2);
+    let at = doc["spectrum"][0]["threshold_scale"]
+        .as_f64()
+        .expect("threshold");
+    assert!(
+        (at - threshold).abs() < 1e-12 * threshold,
+        "{at} vs {threshold}"
+    );
+    let plain_threshold = 0.2_f64.tan() / acc.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+    assert!(
+        threshold < plain_threshold,
+        "the vertical lightens the block"
+    );
+    let b = Block::new(0.2, 1.5, Some(0.9), None, None).expect("valid");
+    let rocked = |s: f64| {
+        let problem = Problem {
+            block: b,
+            pulse: record_pair_at(&acc, &vertical, s),
+            formulation: Formulation::Nonlinear,
+        };
+        simulate(&problem, &Options::outcome(dop853()))
+            .expect("runs")
+            .rocked
+    };
+    assert!(!rocked(threshold * (1.0 - 1e-6)) && rocked(threshold * (1.0 + 1e-6)));
+    // Every transition below the lift-off, and each separates what time
+    // histories of the pair find on either side of its bracket.
+    let mut checked = 0;
+    for (size, p) in doc["spectrum"]
+        .as_array()
+        .expect("sizes")
+        .iter()
+        .zip([1.5, 2.5])
+    {
+        let b = Block::new(0.2, p, Some(0.9), None, None).expect("valid");
+        for t in size["transitions"].as_array().expect("transitions") {
+            let (lo, hi) = (
+                t["bracket"][0].as_f64().expect("lo"),
+                t["bracket"][1].as_f64().expect("hi"),
+            );
+            assert!(hi < lift, "{t}");
+            let outcome = |s: f64| {
+                let problem = Problem {
+                    block: b,
+                    pulse: record_pair_at(&acc, &vertical, s),
+                    formulation: Formulation::Nonlinear,
+                };
+                simulate(&problem, &Options::outcome(dop853()))
+                    .expect("runs")
+                    .overturned
+            };
+            assert_ne!(outcome(lo), outcome(hi), "p = {p}: {t}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 0);
+    // The figure names the record's own vertical motion and the lift-off.
+    let svg = topple::plot::record_spectrum::svg(&result).expect("a figure");
+    assert!(svg.contains("own vertical"), "no vertical in the figure");
+    assert!(svg.contains("lift-off"), "no lift-off in the legend");
+}
+
+#[test]
+fn a_record_forensic_query_under_its_own_vertical_samples_stops_at_their_lift_off() {
+    let (acc, vertical) = (decaying_sine(), own_vertical());
+    let lowest = vertical.iter().copied().fold(f64::MAX, f64::min);
+    let pga = acc.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+    let spec = json!({"kind": "forensic",
+        "observations": [
+            {"name": "tall", "overturned": true, "block": {"alpha": 0.2, "p": 2.2}},
+            {"name": "squat", "overturned": false, "block": {"alpha": 0.3, "p": 1.6}}],
+        "scale": {"to": 8}, "scan_step_g": 0.02, "tolerance_g": 1e-6,
+        "ground_motion": {"dt": 0.01, "unit": "g", "acc": acc,
+                          "vertical": {"acc": vertical, "unit": "g"}}});
+    let Job::Forensic(f) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a forensic query")
+    };
+    let doc = serde_json::to_value(f.run(&topple::spectrum::Control::new()).expect("runs"))
+        .expect("serialises");
+    let scale = 1.0 / -lowest;
+    let lift = doc["lift_off_above_g"].as_f64().expect("lift-off");
+    assert!(
+        (lift - scale * pga).abs() < 1e-12 * scale * pga,
+        "{lift} vs {}",
+        scale * pga
+    );
+    let to = doc["scale"]["to"].as_f64().expect("scale range");
+    assert!(to < scale && to > scale * (1.0 - 1e-9), "{to} vs {scale}");
+    // Each observation's threshold in closed form; its overturning scales
+    // end at transitions bracketed within the tolerance (1e-6 g of PGA):
+    // time histories of the pair differ on either side.
+    let step = 2e-6 / pga;
+    let mut checked = 0;
+    for (o, (alpha, p)) in [(0.2, 2.2), (0.3, 1.6)].into_iter().enumerate() {
+        let set = &doc["per_observation"][o];
+        let threshold = rocking_scale(&acc, &vertical, alpha);
+        let at = set["threshold_scale"].as_f64().expect("threshold");
+        assert!(
+            (at - threshold).abs() < 1e-12 * threshold,
+            "{at} vs {threshold}"
+        );
+        let b = Block::new(alpha, p, None, None, None).expect("valid");
+        let outcome = |s: f64| {
+            let problem = Problem {
+                block: b,
+                pulse: record_pair_at(&acc, &vertical, s),
+                formulation: Formulation::Nonlinear,
+            };
+            simulate(&problem, &Options::outcome(dop853()))
+                .expect("runs")
+                .overturned
+        };
+        for iv in set["overturning_scale"].as_array().expect("intervals") {
+            let (a, z) = (iv[0].as_f64().expect("from"), iv[1].as_f64().expect("to"));
+            assert!(z <= to, "{iv}");
+            for end in [a, z] {
+                if end < to * (1.0 - 1e-9) {
+                    assert_ne!(
+                        outcome(end - step),
+                        outcome(end + step),
+                        "{o}: {iv} at {end}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > 0, "{doc}");
+}
+
+#[test]
+fn record_kinds_without_vertical_motion_are_the_jobs_without_one() {
+    let acc = decaying_sine();
+    let record = json!({"dt": 0.01, "unit": "g", "acc": acc});
+    let mut zeros = record.clone();
+    zeros["vertical"] = json!({"acc": vec![0.0; 400], "unit": "g"});
+    let mut zero_ratio = record.clone();
+    zero_ratio["vertical"] = json!({"ratio": 0});
+    let spectrum = |gm: &Value| {
+        json!({"kind": "record_spectrum", "block": {"alpha": 0.2, "eta": 0.9},
+            "p": [2.5], "scale": {"to": 4}, "ground_motion": gm})
+    };
+    let forensic = |gm: &Value| {
+        json!({"kind": "forensic", "scale": {"to": 4}, "scan_step_g": 0.02,
+            "observations": [{"name": "a", "overturned": true,
+                              "block": {"alpha": 0.2, "p": 2.2}}],
+            "ground_motion": gm})
+    };
+    let result = |job: &Job| {
+        match job {
+            Job::RecordSpectrum(j) => {
+                serde_json::to_value(j.run(&topple::spectrum::Control::new()).expect("runs"))
+            }
+            Job::Forensic(j) => {
+                serde_json::to_value(j.run(&topple::spectrum::Control::new()).expect("runs"))
+            }
+            _ => panic!("a record kind"),
+        }
+        .expect("serialises")
+    };
+    for kind in [spectrum, forensic] {
+        let plain = Job::from_value(&kind(&record)).expect("valid");
+        for zero in [&zeros, &zero_ratio] {
+            let zero = Job::from_value(&kind(zero)).expect("valid");
+            assert_eq!(canonical_spec(&plain), canonical_spec(&zero));
+            assert_eq!(cache_key(&plain), cache_key(&zero));
+            assert_eq!(steady(result(&plain)), steady(result(&zero)));
+        }
+        // The record's own ratio is the top-level one; samples are a
+        // different job.
+        let mut own = record.clone();
+        own["vertical"] = json!({"ratio": 0.5});
+        let mut top = kind(&record);
+        top["vertical"] = json!({"ratio": 0.5});
+        let (own, top) = (
+            Job::from_value(&kind(&own)).expect("valid"),
+            Job::from_value(&top).expect("valid"),
+        );
+        assert_eq!(canonical_spec(&own), canonical_spec(&top));
+        assert_eq!(cache_key(&own), cache_key(&top));
+        let mut samples = record.clone();
+        samples["vertical"] = json!({"acc": own_vertical(), "unit": "g"});
+        let samples = Job::from_value(&kind(&samples)).expect("valid");
+        assert_ne!(cache_key(&samples), cache_key(&plain));
+        assert_ne!(cache_key(&samples), cache_key(&top));
+    }
+}
+
+#[test]
+fn record_kinds_check_their_vertical_samples_field_by_field() {
+    let acc = decaying_sine();
+    let with = |kind: &str, vertical: Value, extra: Value| {
+        let mut spec = match kind {
+            "record_spectrum" => json!({"kind": "record_spectrum",
+                "block": {"alpha": 0.2}, "p": [2.5], "scale": {"to": 4}}),
+            _ => json!({"kind": "forensic", "scale": {"to": 4},
+                "observations": [{"name": "a", "overturned": true,
+                                  "block": {"alpha": 0.2, "p": 2.2}}]}),
+        };
+        spec["ground_motion"] = json!({"dt": 0.01, "unit": "g", "acc": acc, "vertical": vertical});
+        for (k, v) in extra.as_object().expect("an object") {
+            spec[k] = v.clone();
+        }
+        spec
+    };
+    let samples = json!({"acc": [0.0, -0.1, 0.0], "unit": "g"});
+    for kind in ["record_spectrum", "forensic"] {
+        let cases = [
+            (
+                with(kind, samples.clone(), json!({"vertical": {"ratio": 0.5}})),
+                "/ground_motion/vertical",
+            ),
+            (
+                with(
+                    kind,
+                    json!({"dt": 0.02, "acc": [0.0, 0.1], "unit": "g"}),
+                    json!({}),
+                ),
+                "/ground_motion/vertical/dt",
+            ),
+            (
+                with(kind, json!({"acc": [0.0, 0.1]}), json!({})),
+                "/ground_motion/vertical/unit",
+            ),
+            (
+                with(kind, json!({"unit": "g"}), json!({})),
+                "/ground_motion/vertical/acc",
+            ),
+            (
+                with(kind, json!({"acc": [0.0, 1e9], "unit": "g"}), json!({})),
+                "/ground_motion/vertical/acc/1",
+            ),
+            (
+                with(kind, json!({"ratio": 0.5, "unit": "g"}), json!({})),
+                "/ground_motion/vertical/unit",
+            ),
+            (
+                with(
+                    kind,
+                    samples.clone(),
+                    json!({"formulation": "linear", "solver": {"method": "exact"}}),
+                ),
+                "/solver/method",
+            ),
+        ];
+        for (spec, pointer) in &cases {
+            assert_eq!(&refused_at(spec), pointer, "{kind}: {spec}");
+        }
+    }
 }
