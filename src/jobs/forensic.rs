@@ -287,7 +287,7 @@ impl ForensicSpec {
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let vertical =
-            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
+            super::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
         let solver = super::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
@@ -413,7 +413,7 @@ impl ForensicSpec {
             scan_step_g,
             tolerance_g,
             solver,
-            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
+            vertical,
             part: None,
         })
     }
@@ -830,7 +830,7 @@ impl ForensicJob {
     /// (or without a vertical motion). The same for every block: it is the
     /// ground's.
     pub fn lift_off_g(&self) -> Option<(f64, f64)> {
-        use crate::dynamics::{Block, Pulse, PulsePair};
+        use crate::dynamics::{Block, Pulse};
         use crate::spectrum::scan::lift_off_level;
         let vertical = self.scaled_vertical()?;
         let asked = self.a_p_g.or(self.pga_g)?;
@@ -840,9 +840,10 @@ impl ForensicJob {
         let (lo, hi) = match (&self.ground_motion, &self.pulse) {
             (Some(gm), _) => vertical.record_lift_off(&gm.record().ok()?, &unit, asked.to)?,
             (None, Some(family)) => {
-                let r = vertical.ratio()?;
+                // (The same at every frequency: the vertical motion's
+                // extremes scale with the amplitude, whatever its length.)
                 let pulse = Pulse::new(family.shape(), g, 1.0).ok()?;
-                let pair = PulsePair::proportional(pulse, r)?;
+                let pair = vertical.pulse_pair(pulse)?.ok()?;
                 lift_off_level(&pair, &unit, asked.to)?
             }
             (None, None) => return None,

@@ -267,6 +267,7 @@ fn vertical_text(spec: &RecordSpectrumJob) -> Option<String> {
             "ü_v: the record's own vertical, scaled with it (PGA_v {} g unscaled)",
             fmt_num(pga(v) / spec.block.g, 4)
         )),
+        ScaledVertical::Pulse(_) => None,
     }
 }
 

@@ -513,7 +513,7 @@ fn a_spectrum_under_a_vertical_ratio_scans_from_the_lowered_threshold_to_lift_of
         "vertical": {"type": "one_sine", "omega_p": 3.0, "a_p_g": 0.2}}),
     )
     .expect_err("refused");
-    assert_eq!(own.pointer, "/vertical/type", "{own}");
+    assert_eq!(own.pointer, "/vertical/a_p_g", "{own}");
 }
 
 #[test]
@@ -1051,4 +1051,206 @@ fn record_kinds_check_their_vertical_samples_field_by_field() {
             assert_eq!(&refused_at(spec), pointer, "{kind}: {spec}");
         }
     }
+}
+
+#[test]
+fn a_spectrum_under_a_vertical_pulse_of_its_own_scans_from_its_bound_to_lift_off() {
+    let b = block();
+    let alpha = b.slenderness();
+    // A one-sine twice as fast as each horizontal pulse, a_v = −0.4 a_p,
+    // 0.1 s later.
+    let vertical = json!({"type": "one_sine", "amplitude_ratio": -0.4,
+                          "frequency_ratio": 2.0, "delay_s": 0.1});
+    let doc = spectrum(json!({ "vertical": vertical }));
+    assert_eq!(doc["spec"]["vertical"], vertical);
+    let pair = |level: f64, ratio: f64| {
+        let w = ratio * b.frequency_parameter();
+        let h = Pulse::new(PulseShape::OneSine, level * alpha * G, w).expect("valid");
+        let v = Pulse::new(PulseShape::OneSine, -0.4 * level * alpha * G, 2.0 * w).expect("valid");
+        topple::dynamics::PulsePair::new(h, v, 0.1)
+    };
+    for line in doc["spectrum"].as_array().expect("lines") {
+        // The scan starts at the bound a_p (1 + 0.4 tan α) = g tan α.
+        let from = line["threshold_alpha_g"].as_f64().expect("threshold");
+        let expected = alpha.tan() / alpha / (1.0 + 0.4 * alpha.tan());
+        assert!((from - expected).abs() < 1e-12, "{from} {expected}");
+        // The vertical one-sine reaches −|a_v|: ü_v = −g at a_p = g/0.4.
+        let lift = line["lift_off_above_alpha_g"].as_f64().expect("lift-off");
+        assert!((lift - 1.0 / (0.4 * alpha)).abs() < 1e-9, "{lift}");
+        let ratio = line["omega_ratio"].as_f64().expect("ratio");
+        let transitions = line["transitions"].as_array().expect("transitions");
+        assert!(!transitions.is_empty(), "ω_p/p = {ratio}");
+        for t in transitions {
+            let lo = t["bracket"][0].as_f64().expect("lo");
+            let hi = t["bracket"][1].as_f64().expect("hi");
+            assert!(hi < lift);
+            let outcome = |level: f64| {
+                let problem = Problem {
+                    block: b,
+                    pulse: pair(level, ratio),
+                    formulation: Formulation::Nonlinear,
+                };
+                simulate(&problem, &Options::outcome(dop853()))
+                    .expect("runs")
+                    .overturned
+            };
+            assert_ne!(outcome(lo), outcome(hi), "ω_p/p = {ratio}: {t}");
+        }
+    }
+    // The same vertical motion as a ratio is another job.
+    let spec = |vertical: Value| {
+        json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine"}, "omega_ratio": [2.0], "vertical": vertical})
+    };
+    let as_pulse = Job::from_value(&spec(json!({"type": "one_sine", "amplitude_ratio": 0.5,
+        "frequency_ratio": 1.0})))
+    .expect("valid");
+    let as_ratio = Job::from_value(&spec(json!({"ratio": 0.5}))).expect("valid");
+    assert_ne!(cache_key(&as_pulse), cache_key(&as_ratio));
+    assert_ne!(canonical_spec(&as_pulse), canonical_spec(&as_ratio));
+    // An amplitude ratio of 0 is the spectrum without one, to the bit.
+    let none = spectrum(json!({}));
+    let zero = spectrum(
+        json!({"vertical": {"type": "ricker", "amplitude_ratio": 0.0,
+                                            "omega_p": 5.0}}),
+    );
+    assert_eq!(steady(none.clone()), steady(zero));
+    let plain = Job::from_value(&spec(Value::Null)).expect("valid");
+    let zero = Job::from_value(&spec(json!({"type": "one_sine", "amplitude_ratio": 0,
+        "frequency_hz": 2.0})))
+    .expect("valid");
+    assert_eq!(canonical_spec(&plain), canonical_spec(&zero));
+    assert_eq!(cache_key(&plain), cache_key(&zero));
+}
+
+#[test]
+fn a_pulse_forensic_query_under_a_vertical_pulse_of_its_own_answers_below_lift_off() {
+    // One-sine pulses at 1 Hz under a falling vertical half-sine at 3 rad/s,
+    // a_v = −0.4 a_p: the ground falls away faster than gravity from
+    // a_p = g/0.4 = 2.5 g, inside the range asked (to 3 g).
+    let spec = json!({"kind": "forensic", "pulse": {"type": "one_sine"},
+        "observations": [
+            {"name": "down", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9}, "overturned": true},
+            {"name": "up", "block": {"alpha": 0.4, "p": 2.0, "eta": 0.9}, "overturned": false}],
+        "frequency_hz": [1.0], "a_p_g": {"from": 0.05, "to": 3.0},
+        "vertical": {"type": "half_sine", "amplitude_ratio": -0.4, "omega_p": 3.0}});
+    let Job::Forensic(f) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a forensic query")
+    };
+    let doc = serde_json::to_value(f.run(&topple::spectrum::Control::new()).expect("runs"))
+        .expect("serialises");
+    let lift = doc["lift_off_above_g"].as_f64().expect("lift-off");
+    assert!((lift - 2.5).abs() < 1e-9, "{lift}");
+    let to = doc["a_p_g"]["to"].as_f64().expect("range");
+    assert!(to < 2.5 && to > 2.5 - 1e-9, "{to}");
+    let consistent = doc["frequencies"][0]["consistent_g"]
+        .as_array()
+        .expect("intervals");
+    assert!(!consistent.is_empty(), "{doc}");
+    for iv in consistent {
+        let (lo, hi) = (iv[0].as_f64().expect("lo"), iv[1].as_f64().expect("hi"));
+        assert!(hi <= to, "{iv}");
+        let a_g = 0.5 * (lo + hi);
+        for (alpha, p, seen) in [(0.25, 2.14, true), (0.4, 2.0, false)] {
+            let b = Block::new(alpha, p, Some(0.9), None, None).expect("valid");
+            let h = Pulse::new(PulseShape::OneSine, a_g * G, std::f64::consts::TAU).expect("valid");
+            let v = Pulse::new(PulseShape::HalfSine, -0.4 * a_g * G, 3.0).expect("valid");
+            let r = simulate(
+                &Problem {
+                    block: b,
+                    pulse: topple::dynamics::PulsePair::new(h, v, 0.0),
+                    formulation: Formulation::Nonlinear,
+                },
+                &Options::outcome(dop853()),
+            )
+            .expect("runs");
+            assert_eq!(r.overturned, seen, "α = {alpha} at {a_g} g");
+        }
+    }
+    // An amplitude ratio of 0 is the query without one.
+    let mut zero = spec.clone();
+    zero["vertical"]["amplitude_ratio"] = json!(0);
+    let mut plain = spec.clone();
+    plain.as_object_mut().expect("object").remove("vertical");
+    let (zero, plain) = (
+        Job::from_value(&zero).expect("valid"),
+        Job::from_value(&plain).expect("valid"),
+    );
+    assert_eq!(canonical_spec(&zero), canonical_spec(&plain));
+    assert_eq!(cache_key(&zero), cache_key(&plain));
+}
+
+#[test]
+fn a_vertical_pulse_of_its_own_in_scaled_kinds_is_checked_field_by_field() {
+    let spectrum = |vertical: Value, extra: Value| {
+        let mut spec = json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine"}, "omega_ratio": [2.0], "vertical": vertical});
+        for (k, v) in extra.as_object().expect("an object") {
+            spec[k] = v.clone();
+        }
+        spec
+    };
+    let forensic = |vertical: Value| {
+        json!({"kind": "forensic", "pulse": {"type": "one_sine"},
+            "observations": [{"name": "a", "overturned": true,
+                              "block": {"alpha": 0.25, "p": 2.14}}],
+            "frequency_hz": [1.0], "a_p_g": {"from": 0.05, "to": 1.0}, "vertical": vertical})
+    };
+    let own = |extra: Value| {
+        let mut v = json!({"type": "one_sine", "amplitude_ratio": 0.3, "frequency_ratio": 2.0});
+        for (k, x) in extra.as_object().expect("an object") {
+            v[k] = x.clone();
+        }
+        v
+    };
+    let mut no_amplitude = own(json!({}));
+    no_amplitude
+        .as_object_mut()
+        .expect("object")
+        .remove("amplitude_ratio");
+    let mut no_frequency = own(json!({}));
+    no_frequency
+        .as_object_mut()
+        .expect("object")
+        .remove("frequency_ratio");
+    let cases = [
+        (own(json!({"a_p": 2.0})), "/vertical/a_p"),
+        (own(json!({"a_p_g": 0.2})), "/vertical/a_p_g"),
+        (own(json!({"a_p_alpha_g": 1.0})), "/vertical/a_p_alpha_g"),
+        (own(json!({"omega_ratio": 1.0})), "/vertical/omega_ratio"),
+        (own(json!({"omega_p": 3.0})), "/vertical/frequency_ratio"),
+        (
+            own(json!({"amplitude_ratio": 1e9})),
+            "/vertical/amplitude_ratio",
+        ),
+        (
+            own(json!({"frequency_ratio": 0.0})),
+            "/vertical/frequency_ratio",
+        ),
+        (own(json!({"delay_s": -1.0})), "/vertical/delay_s"),
+        (own(json!({"type": "sawtooth"})), "/vertical/type"),
+        (no_amplitude, "/vertical/amplitude_ratio"),
+        (no_frequency, "/vertical/frequency_ratio"),
+        (
+            json!({"ratio": 0.5, "amplitude_ratio": 0.5}),
+            "/vertical/amplitude_ratio",
+        ),
+    ];
+    for (vertical, pointer) in &cases {
+        for spec in [
+            spectrum(vertical.clone(), json!({})),
+            forensic(vertical.clone()),
+        ] {
+            assert_eq!(&refused_at(&spec), pointer, "{spec}");
+        }
+    }
+    let exact = spectrum(
+        own(json!({})),
+        json!({"formulation": "linear", "solver": {"method": "exact"}}),
+    );
+    assert_eq!(refused_at(&exact), "/solver/method");
+    // A time history's vertical pulse has its own amplitude and frequency.
+    let history = history(json!({"pulse": {"type": "one_sine", "omega_ratio": 3.0,
+        "a_p_alpha_g": 4.0}, "vertical": own(json!({}))}));
+    assert_eq!(refused_at(&history), "/vertical/amplitude_ratio");
 }

@@ -9,7 +9,7 @@
 //! assemble into what one task finds.
 
 use super::{AmplitudeRange, ForensicJob, ForensicResult, Intervals, overturning_set};
-use crate::dynamics::{Block, Problem, Pulse, PulsePair, SimError};
+use crate::dynamics::{Block, Problem, Pulse, SimError};
 use crate::jobs::JobError;
 use crate::jobs::cost;
 use crate::jobs::kind::Size;
@@ -217,16 +217,17 @@ impl ForensicJob {
                         })
                     })
                     .collect::<Result<Vec<_>, ScanError>>()?;
-                match self.vertical_ratio() {
+                match self.scaled_vertical() {
                     None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
-                    Some(r) => {
+                    Some(v) => {
                         let pairs = problems
                             .into_iter()
                             .map(|q| {
                                 Ok(Problem {
                                     block: q.block,
-                                    pulse: PulsePair::proportional(q.pulse, r)
-                                        .ok_or_else(|| bad_block(SimError::Tolerance))?,
+                                    pulse: v
+                                        .pulse_pair(q.pulse)
+                                        .ok_or_else(|| bad_block(SimError::Tolerance))??,
                                     formulation: q.formulation,
                                 })
                             })
