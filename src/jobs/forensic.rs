@@ -117,8 +117,10 @@ pub struct ForensicSpec {
     /// Solver.
     pub solver: Option<SolverSpec>,
     /// The vertical ground acceleration (positive up) as a share of the
-    /// horizontal one at every amplitude or scale: `{"ratio": r}`, ü_v = r·ü_g
-    /// (a record query also takes the record's own vertical samples as
+    /// horizontal one at every amplitude or scale: `{"ratio": r}`, ü_v = r·ü_g;
+    /// a pulse query also takes a pulse of its own scaled with each pulse
+    /// (`type`, `amplitude_ratio`, `frequency_ratio` | `omega_p` |
+    /// `frequency_hz`, `delay_s`), as spectra do (a record query also takes the record's own vertical samples as
     /// `ground_motion.vertical`, scaled with it; not both).
     pub vertical: Option<super::vertical::VerticalPulseSpec>,
 }

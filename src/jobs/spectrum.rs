@@ -68,8 +68,10 @@ pub struct SpectrumSpec {
     pub principal_relative_width: Option<f64>,
     /// Solver.
     pub solver: Option<SolverSpec>,
-    /// The vertical ground acceleration (positive up) as a share of the
-    /// horizontal one at every amplitude: `{"ratio": r}`, ü_v = r·ü_g.
+    /// The vertical ground acceleration (positive up), scaled with each
+    /// pulse: `{"ratio": r}` (ü_v = r·ü_g), or a pulse of its own `{"type",
+    /// "amplitude_ratio" (a_v/a_p), "frequency_ratio" (ω_v/ω_p) | "omega_p" |
+    /// "frequency_hz", "delay_s"?}`.
     pub vertical: Option<super::vertical::VerticalPulseSpec>,
 }
 
