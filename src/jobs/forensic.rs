@@ -21,7 +21,6 @@ use super::record_spectrum::{ScaleRangeNorm, ScaleRangeSpec, pga};
 use super::spec::{
     BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, OMEGA_RATIO_RANGE, PulseSpec,
     SolverNorm, SolverSpec, SpecError, at_most_one, in_one_unit, parse_formulation, validate_block,
-    validate_ground_motion,
 };
 use super::spectrum::{PulseFamily, ScanCost, validate_family};
 use crate::dynamics::Formulation;
@@ -118,7 +117,11 @@ pub struct ForensicSpec {
     /// Solver.
     pub solver: Option<SolverSpec>,
     /// The vertical ground acceleration (positive up) as a share of the
-    /// horizontal one at every amplitude or scale: `{"ratio": r}`, ü_v = r·ü_g.
+    /// horizontal one at every amplitude or scale: `{"ratio": r}`, ü_v = r·ü_g;
+    /// a pulse query also takes a pulse of its own scaled with each pulse
+    /// (`type`, `amplitude_ratio`, `frequency_ratio` | `omega_p` |
+    /// `frequency_hz`, `delay_s`), as spectra do (a record query also takes the record's own vertical samples as
+    /// `ground_motion.vertical`, scaled with it; not both).
     pub vertical: Option<super::vertical::VerticalPulseSpec>,
 }
 
@@ -286,7 +289,7 @@ impl ForensicSpec {
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let vertical =
-            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
+            super::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
         let solver = super::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
@@ -412,7 +415,7 @@ impl ForensicSpec {
             scan_step_g,
             tolerance_g,
             solver,
-            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
+            vertical,
             part: None,
         })
     }
@@ -433,15 +436,6 @@ impl ForensicSpec {
             }
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let vertical =
-            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
-        let solver = super::vertical::validate_solver_with_vertical(
-            self.solver.as_ref(),
-            formulation,
-            true,
-            vertical.is_some(),
-            "/solver",
-        )?;
         let observations = self.observations()?;
         let g = common_g(&observations).ok_or_else(|| {
             SpecError::at(
@@ -455,7 +449,19 @@ impl ForensicSpec {
             .map(|o| &o.block)
             .min_by(|a, b| a.alpha.total_cmp(&b.alpha))
             .ok_or_else(|| SpecError::at("/observations", "give at least one observation"))?;
-        let (ground_motion, _) = validate_ground_motion(gm, weakest, "/ground_motion")?;
+        let (ground_motion, vertical) = super::vertical::validate_scaled_record(
+            self.vertical.as_ref(),
+            gm,
+            weakest,
+            "/ground_motion",
+        )?;
+        let solver = super::vertical::validate_solver_with_vertical(
+            self.solver.as_ref(),
+            formulation,
+            true,
+            vertical.is_some() || ground_motion.vertical.is_some(),
+            "/solver",
+        )?;
         let peak_g = pga(&ground_motion.acc) / g;
         if peak_g == 0.0 {
             return Err(SpecError::at(
@@ -514,7 +520,7 @@ impl ForensicSpec {
             scan_step_g,
             tolerance_g,
             solver,
-            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
+            vertical,
             part: None,
         })
     }
@@ -808,9 +814,15 @@ impl ForensicJob {
         }
     }
 
-    /// ü_v/ü_g, when the query has a vertical motion.
+    /// ü_v/ü_g, when the query has a vertical motion given as a ratio.
     pub fn vertical_ratio(&self) -> Option<f64> {
         self.vertical.as_ref().and_then(|v| v.ratio())
+    }
+
+    /// The vertical motion scaled with the ground motion (a ratio, or a
+    /// record's own samples), when the query has one.
+    pub fn scaled_vertical(&self) -> Option<super::vertical::ScaledVertical<'_>> {
+        super::vertical::ScaledVertical::of(self.vertical.as_ref(), self.ground_motion.as_ref())
     }
 
     /// Under a vertical motion ü_v = r ü_g: the amplitude (g; a pulse's
@@ -820,21 +832,20 @@ impl ForensicJob {
     /// (or without a vertical motion). The same for every block: it is the
     /// ground's.
     pub fn lift_off_g(&self) -> Option<(f64, f64)> {
-        use crate::dynamics::{Block, Pulse, PulsePair, RecordPair};
+        use crate::dynamics::{Block, Pulse};
         use crate::spectrum::scan::lift_off_level;
-        let r = self.vertical_ratio()?;
+        let vertical = self.scaled_vertical()?;
         let asked = self.a_p_g.or(self.pga_g)?;
         // Any block of slenderness 1 under the observations' g: levels in g.
         let g = self.observations.first()?.block.g;
         let unit = Block::new(1.0, 1.0, None, None, Some(g)).ok()?;
         let (lo, hi) = match (&self.ground_motion, &self.pulse) {
-            (Some(gm), _) => {
-                let pair = RecordPair::proportional(gm.record().ok()?, r)?;
-                lift_off_level(&pair, &unit, asked.to)?
-            }
+            (Some(gm), _) => vertical.record_lift_off(&gm.record().ok()?, &unit, asked.to)?,
             (None, Some(family)) => {
+                // (The same at every frequency: the vertical motion's
+                // extremes scale with the amplitude, whatever its length.)
                 let pulse = Pulse::new(family.shape(), g, 1.0).ok()?;
-                let pair = PulsePair::proportional(pulse, r)?;
+                let pair = vertical.pulse_pair(pulse)?.ok()?;
                 lift_off_level(&pair, &unit, asked.to)?
             }
             (None, None) => return None,

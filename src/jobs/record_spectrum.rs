@@ -15,16 +15,15 @@ use super::names::{EngineDoc, tag};
 use super::range::RangeSpec;
 use super::spec::{
     BlockSpec, GroundMotionNorm, GroundMotionSpec, SolverNorm, SolverSpec, SpecError, at_most_one,
-    in_one_unit, parse_formulation, validate_block, validate_ground_motion,
+    in_one_unit, parse_formulation, validate_block,
 };
 use super::spectrum::ScanCost;
 use super::time_history::GroundPeaksDoc;
+use super::vertical::ScaledVertical;
 use crate::dynamics::block::BlockError;
 use crate::dynamics::{Block, Formulation, SimError, peaks};
 use crate::spectrum::Control;
-use crate::spectrum::overturning::{
-    Derived, LineScan, ScanGrid, threshold_alpha_g_of, threshold_under_ratio,
-};
+use crate::spectrum::overturning::{Derived, LineScan, ScanGrid, threshold_alpha_g_of};
 use crate::spectrum::record::{RecordSpectrumRequest, record_spectrum};
 use crate::spectrum::scan::ScanStats;
 
@@ -138,7 +137,9 @@ pub struct RecordSpectrumSpec {
     /// Solver.
     pub solver: Option<SolverSpec>,
     /// The vertical ground acceleration (positive up) as a share of the
-    /// horizontal one at every scale: `{"ratio": r}`, ü_v = r·ü_g.
+    /// horizontal one at every scale: `{"ratio": r}`, ü_v = r·ü_g (or give
+    /// the record's own vertical samples as `ground_motion.vertical`, scaled
+    /// with it; not both).
     pub vertical: Option<super::vertical::VerticalPulseSpec>,
 }
 
@@ -208,6 +209,23 @@ pub fn size_of_p(p: f64, g: f64) -> f64 {
     3.0 * g / (4.0 * p * p)
 }
 
+/// The rocking threshold, αg of the record's PGA, of a block of slenderness
+/// `alpha` under gravity `g`, lowered by the vertical motion (a ratio, or the
+/// record's own samples) where it lightens the block.
+fn threshold_of(
+    formulation: Formulation,
+    alpha: f64,
+    g: f64,
+    ground_motion: &GroundMotionNorm,
+    vertical: Option<&super::vertical::VerticalPulseNorm>,
+) -> f64 {
+    let threshold = threshold_alpha_g_of(formulation, alpha, g);
+    match ScaledVertical::of(vertical, Some(ground_motion)) {
+        Some(v) => v.threshold(threshold, formulation, alpha, &ground_motion.acc),
+        None => threshold,
+    }
+}
+
 /// The peak ground acceleration of `acc` (its largest magnitude).
 pub fn pga(acc: &[f64]) -> f64 {
     acc.iter().fold(0.0f64, |m, a| m.max(a.abs()))
@@ -248,7 +266,12 @@ impl RecordSpectrumSpec {
                 "missing field: {\"dt\", \"acc\", \"unit\"}",
             )
         })?;
-        let (ground_motion, _) = validate_ground_motion(gm, &block, "/ground_motion")?;
+        let (ground_motion, vertical) = super::vertical::validate_scaled_record(
+            self.vertical.as_ref(),
+            gm,
+            &block,
+            "/ground_motion",
+        )?;
         let peak = pga(&ground_motion.acc);
         if peak == 0.0 {
             return Err(SpecError::at(
@@ -257,13 +280,11 @@ impl RecordSpectrumSpec {
             ));
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let vertical =
-            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
         let solver = super::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             true,
-            vertical.is_some(),
+            vertical.is_some() || ground_motion.vertical.is_some(),
             "/solver",
         )?;
         let g = block.g;
@@ -311,11 +332,12 @@ impl RecordSpectrumSpec {
             from: from * to_scale,
             to: to * to_scale,
         };
-        let threshold = threshold_under_ratio(
-            threshold_alpha_g_of(formulation, block.alpha, g),
+        let threshold = threshold_of(
             formulation,
             block.alpha,
-            vertical,
+            g,
+            &ground_motion,
+            vertical.as_ref(),
         );
         let level_to = scale.to / unit;
         if level_to <= threshold {
@@ -392,7 +414,7 @@ impl RecordSpectrumSpec {
             scan_step,
             principal_relative_width: principal,
             solver,
-            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
+            vertical,
             part: None,
         })
     }
@@ -552,30 +574,39 @@ impl RecordSpectrumJob {
         )
     }
 
-    /// The rocking threshold of every block size, αg (under ü_v = r ü_g,
-    /// where the vertical lightens the block).
+    /// The rocking threshold of every block size, αg (lowered where the
+    /// vertical motion lightens the block).
     pub fn threshold_alpha_g(&self) -> f64 {
-        threshold_under_ratio(
-            threshold_alpha_g_of(self.formulation, self.block.alpha, self.block.g),
+        threshold_of(
             self.formulation,
             self.block.alpha,
-            self.vertical_ratio(),
+            self.block.g,
+            &self.ground_motion,
+            self.vertical.as_ref(),
         )
     }
 
-    /// ü_v/ü_g, when the job has a vertical motion.
+    /// ü_v/ü_g, when the job has a vertical motion given as a ratio.
     pub fn vertical_ratio(&self) -> Option<f64> {
         self.vertical.as_ref().and_then(|v| v.ratio())
     }
 
-    /// Under ü_v = r ü_g: the level (scaled PGA in α g) from which the
+    /// The vertical motion scaled with the record (a ratio, or the record's
+    /// own samples), when the job has one.
+    pub fn scaled_vertical(&self) -> Option<ScaledVertical<'_>> {
+        ScaledVertical::of(self.vertical.as_ref(), Some(&self.ground_motion))
+    }
+
+    /// Under a vertical motion: the level (scaled PGA in α g) from which the
     /// ground falls away faster than gravity (g + ü_v ≤ 0), bracketed; `None`
     /// when it does not up to `scale.to` (or without a vertical motion).
     pub fn lift_off_level(&self) -> Option<(f64, f64)> {
-        let r = self.vertical_ratio()?;
-        let pair = crate::dynamics::RecordPair::proportional(self.record().ok()?, r)?;
         let block = self.block_at(1.0).ok()?;
-        crate::spectrum::scan::lift_off_level(&pair, &block, self.scale.to / self.unit_scale())
+        self.scaled_vertical()?.record_lift_off(
+            &self.record().ok()?,
+            &block,
+            self.scale.to / self.unit_scale(),
+        )
     }
 
     /// s_α = αg/PGA: the scale factor of one level (scaled PGA of α g).
@@ -642,11 +673,10 @@ impl RecordSpectrumJob {
             solver: self.solver.solver(),
             grid: self.grid(),
         };
-        let s = match self.vertical_ratio() {
+        let s = match self.scaled_vertical() {
             None => record_spectrum(&req, control)?,
-            Some(r) => {
-                let pair = crate::dynamics::RecordPair::proportional(req.record.clone(), r)
-                    .ok_or(ScanError::Simulation(SimError::Tolerance))?;
+            Some(v) => {
+                let pair = v.record_pair(req.record.clone())?;
                 record_spectrum(
                     &RecordSpectrumRequest {
                         record: pair,

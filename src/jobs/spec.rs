@@ -928,9 +928,11 @@ pub struct GroundMotionSpec {
     /// record is refused as a likely unit mistake). Not part of the
     /// computation: it does not change the cache key.
     pub allow_large_pga: Option<bool>,
-    /// Time histories only: the vertical ground acceleration (positive up),
-    /// `{"ratio": r}` (ü_v = r·ü_g) or samples on the same dt
-    /// (`{"acc": [...], "unit": ...}`; the shorter record is padded with zeros).
+    /// Time histories, record spectra and record forensic queries: the
+    /// vertical ground acceleration (positive up), `{"ratio": r}` (ü_v =
+    /// r·ü_g) or samples on the same dt (`{"acc": [...], "unit": ...}`; the
+    /// shorter record is padded with zeros), scaled with the record where
+    /// the kind scales it.
     pub vertical: Option<super::vertical_record::VerticalRecordSpec>,
 }
 
@@ -951,7 +953,8 @@ pub struct GroundMotionNorm {
     /// Always "m/s2".
     #[schema(value_type = crate::jobs::schema::MetresPerSecondSquared)]
     pub unit: tag::MetresPerSecondSquared,
-    /// The vertical acceleration (time histories only).
+    /// The vertical acceleration (samples; a ratio is the job's `vertical`
+    /// in the kinds that scale the record).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vertical: Option<super::vertical_record::VerticalRecordNorm>,
 }

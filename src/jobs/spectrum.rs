@@ -68,8 +68,10 @@ pub struct SpectrumSpec {
     pub principal_relative_width: Option<f64>,
     /// Solver.
     pub solver: Option<SolverSpec>,
-    /// The vertical ground acceleration (positive up) as a share of the
-    /// horizontal one at every amplitude: `{"ratio": r}`, ü_v = r·ü_g.
+    /// The vertical ground acceleration (positive up), scaled with each
+    /// pulse: `{"ratio": r}` (ü_v = r·ü_g), or a pulse of its own `{"type",
+    /// "amplitude_ratio" (a_v/a_p), "frequency_ratio" (ω_v/ω_p) | "omega_p" |
+    /// "frequency_hz", "delay_s"?}`.
     pub vertical: Option<super::vertical::VerticalPulseSpec>,
 }
 
@@ -215,7 +217,7 @@ impl SpectrumSpec {
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let vertical =
-            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
+            super::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
         let solver = super::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
@@ -309,7 +311,7 @@ impl SpectrumSpec {
             scan_step_alpha_g: step,
             principal_relative_width: principal,
             solver,
-            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
+            vertical,
         })
     }
 }
@@ -433,7 +435,8 @@ pub struct FrequencyDoc {
     pub ground: PulseScalesDoc,
     /// ω_p/p.
     pub omega_ratio: f64,
-    /// Rocking threshold, αg.
+    /// Rocking threshold, αg (under a vertical pulse of its own: where the
+    /// scan starts, a lower bound of it, a_p (1 + k |a_v/a_p|) = k g).
     pub threshold_alpha_g: f64,
     /// `threshold_alpha_g` in g.
     #[serde(default)]
@@ -607,7 +610,10 @@ impl SpectrumJob {
             principal_relative_width: self.principal_relative_width,
             vertical_ratio: self.vertical_ratio(),
         };
-        let s = overturning_spectrum(&req, control)?;
+        let s = match self.vertical.as_ref().and_then(|v| v.scaled_pulse()) {
+            Some(v) => crate::spectrum::overturning::overturning_spectrum_under(&req, &v, control)?,
+            None => overturning_spectrum(&req, control)?,
+        };
         let alpha = self.block.alpha;
         let spectrum = s
             .lines

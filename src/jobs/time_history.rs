@@ -427,6 +427,7 @@ impl TimeHistoryJob {
                                 .ok()
                                 .map(|v| PulsePair::new(pulse, v, delay_s))
                         }
+                        VerticalPulseNorm::Scaled(v) => v.pair(pulse).ok(),
                     }
                     .ok_or(SimError::Tolerance)?;
                     pga_v = Some(pair.vertical.amplitude.abs());

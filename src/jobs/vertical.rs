@@ -6,15 +6,22 @@
 //! job as none given: normalised away, it leaves the canonical spec, the
 //! cache key and every result as they are without it.
 
+use std::sync::Arc;
+
 use serde::{Deserialize, Serialize};
 
 use super::names::tag;
 use super::spec::{
     BlockNorm, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, ShapeParams, SolverNorm,
-    SolverSpec, SpecError, family_of, validate_ground_motion, validate_pulse, validate_solver_for,
+    SolverSpec, SpecError, family_of, parse_shape, validate_ground_motion, validate_pulse,
+    validate_solver_for,
 };
 pub use super::vertical_record::{VerticalRecordNorm, VerticalRecordSpec};
-use crate::dynamics::Formulation;
+use crate::dynamics::{Block, Formulation, Pulse, PulsePair, Record, RecordPair, SimError};
+use crate::spectrum::overturning::{
+    VerticalFrequency, VerticalPulse, threshold_under_ratio, threshold_under_samples,
+};
+use crate::spectrum::scan::{ScanError, lift_off_level, lift_off_scale};
 
 /// Largest |ratio| of ü_v to ü_g accepted.
 pub const MAX_VERTICAL_RATIO: f64 = 100.0;
@@ -67,6 +74,16 @@ pub struct VerticalPulseSpec {
     /// Amplitude, α g.
     #[schema(minimum = -1e8, maximum = 1e8)]
     pub a_p_alpha_g: Option<f64>,
+    /// Spectra and pulse forensic queries: a_v/a_p, the vertical pulse's
+    /// amplitude relative to each horizontal pulse's (either sign; 0 is no
+    /// vertical motion).
+    #[schema(minimum = -100.0, maximum = 100.0)]
+    pub amplitude_ratio: Option<f64>,
+    /// Spectra and pulse forensic queries: ω_v/ω_p, the vertical pulse's
+    /// frequency relative to each horizontal pulse's (or give `omega_p` or
+    /// `frequency_hz`, the same for every pulse).
+    #[schema(minimum = 1e-3, maximum = 1e4)]
+    pub frequency_ratio: Option<f64>,
 }
 
 impl VerticalPulseSpec {
@@ -104,6 +121,8 @@ impl VerticalPulseSpec {
             (p.a_p.is_some(), "a_p"),
             (p.a_p_g.is_some(), "a_p_g"),
             (p.a_p_alpha_g.is_some(), "a_p_alpha_g"),
+            (self.amplitude_ratio.is_some(), "amplitude_ratio"),
+            (self.frequency_ratio.is_some(), "frequency_ratio"),
             (self.delay_s.is_some(), "delay_s"),
         ]
         .into_iter()
@@ -135,6 +154,9 @@ pub enum VerticalPulseNorm {
         /// Its start after the horizontal pulse's, s.
         delay_s: f64,
     },
+    /// A pulse of its own scaled with each horizontal pulse of a kind that
+    /// scales its ground motion (a_v = k a_p; ω_v absolute or ω_v/ω_p).
+    Scaled(VerticalPulse),
 }
 
 impl VerticalPulseNorm {
@@ -142,7 +164,15 @@ impl VerticalPulseNorm {
     pub fn ratio(&self) -> Option<f64> {
         match *self {
             VerticalPulseNorm::Ratio(r) => Some(r),
-            VerticalPulseNorm::Pulse { .. } => None,
+            VerticalPulseNorm::Pulse { .. } | VerticalPulseNorm::Scaled(_) => None,
+        }
+    }
+
+    /// The vertical pulse scaled with each horizontal one, when given so.
+    pub fn scaled_pulse(&self) -> Option<VerticalPulse> {
+        match *self {
+            VerticalPulseNorm::Scaled(v) => Some(v),
+            _ => None,
         }
     }
 }
@@ -175,6 +205,12 @@ pub struct VerticalPulseDoc {
     /// a_p, m/s².
     #[serde(skip_serializing_if = "Option::is_none")]
     pub a_p: Option<f64>,
+    /// a_v/a_p (a pulse scaled with each horizontal one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplitude_ratio: Option<f64>,
+    /// ω_v/ω_p (a pulse scaled with each horizontal one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frequency_ratio: Option<f64>,
     /// Start after the horizontal pulse, s.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub delay_s: Option<f64>,
@@ -197,7 +233,27 @@ impl From<VerticalPulseNorm> for VerticalPulseDoc {
                 omega_p: Some(pulse.omega_p),
                 a_p: Some(pulse.a_p),
                 delay_s: Some(delay_s),
+                ..Default::default()
             },
+            VerticalPulseNorm::Scaled(v) => {
+                let family = PulseNorm::of(v.shape, 0.0, 0.0);
+                let (omega_p, frequency_ratio) = match v.frequency {
+                    VerticalFrequency::Omega(w) => (Some(w), None),
+                    VerticalFrequency::Ratio(x) => (None, Some(x)),
+                };
+                VerticalPulseDoc {
+                    kind: Some(family.kind.to_string()),
+                    n: family.n,
+                    symmetric: family.symmetric,
+                    gamma: family.gamma,
+                    nu: family.nu,
+                    omega_p,
+                    amplitude_ratio: Some(v.amplitude_ratio),
+                    frequency_ratio,
+                    delay_s: Some(v.delay),
+                    ..Default::default()
+                }
+            }
         }
     }
 }
@@ -208,6 +264,25 @@ impl TryFrom<VerticalPulseDoc> for VerticalPulseNorm {
     fn try_from(d: VerticalPulseDoc) -> Result<Self, String> {
         if let Some(r) = d.ratio {
             return Ok(VerticalPulseNorm::Ratio(r));
+        }
+        if let (Some(kind), Some(k)) = (&d.kind, d.amplitude_ratio) {
+            let params = ShapeParams {
+                n: d.n,
+                symmetric: d.symmetric,
+                gamma: d.gamma,
+                nu: d.nu,
+            };
+            let frequency = match (d.omega_p, d.frequency_ratio) {
+                (Some(w), None) => VerticalFrequency::Omega(w),
+                (None, Some(x)) => VerticalFrequency::Ratio(x),
+                _ => return Err("a scaled vertical pulse needs omega_p or frequency_ratio".into()),
+            };
+            return Ok(VerticalPulseNorm::Scaled(VerticalPulse {
+                shape: family_of(kind, params)?,
+                amplitude_ratio: k,
+                frequency,
+                delay: d.delay_s.unwrap_or(0.0),
+            }));
         }
         let (Some(kind), Some(omega_p), Some(a_p)) = (d.kind, d.omega_p, d.a_p) else {
             return Err("a vertical pulse needs ratio, or type, omega_p and a_p".to_string());
@@ -248,6 +323,24 @@ pub fn validate_vertical_pulse(
             "missing field: give ratio (ü_v = ratio·ü_g), or a pulse of its own (type, a frequency, an amplitude)",
         ));
     }
+    for (given, name) in [
+        (spec.amplitude_ratio.is_some(), "amplitude_ratio"),
+        (spec.frequency_ratio.is_some(), "frequency_ratio"),
+    ] {
+        if given {
+            return Err(SpecError::at(
+                format!("{base}/{name}"),
+                "relative to the horizontal pulse only in kinds that scale it (spectra, forensic queries): a time history's vertical pulse has its own amplitude (a_p, a_p_g, a_p_alpha_g) and frequency (omega_p, frequency_hz, omega_ratio)",
+            ));
+        }
+    }
+    let delay_s = validate_delay(spec, base)?;
+    let (pulse, _) = validate_pulse(&spec.pulse(), block, base)?;
+    Ok(Some(VerticalPulseNorm::Pulse { pulse, delay_s }))
+}
+
+/// The delay of a vertical pulse, at `base/delay_s` (default 0).
+fn validate_delay(spec: &VerticalPulseSpec, base: &str) -> Result<f64, SpecError> {
     let delay_s = spec.delay_s.unwrap_or(0.0);
     if !(delay_s.is_finite() && (0.0..=MAX_VERTICAL_DELAY_S).contains(&delay_s)) {
         return Err(SpecError::at(
@@ -255,8 +348,119 @@ pub fn validate_vertical_pulse(
             format!("must satisfy 0 <= delay_s <= {MAX_VERTICAL_DELAY_S:e} (s)"),
         ));
     }
-    let (pulse, _) = validate_pulse(&spec.pulse(), block, base)?;
-    Ok(Some(VerticalPulseNorm::Pulse { pulse, delay_s }))
+    Ok(delay_s)
+}
+
+/// Validates the vertical motion of a kind that scales a pulse (spectra,
+/// pulse forensic queries), at `base`: `{"ratio": r}` (ü_v = r·ü_g), or a
+/// pulse of its own scaled with each horizontal pulse: `type` (and its
+/// family's parameters), `amplitude_ratio` k (a_v = k·a_p, either sign), a
+/// frequency (`omega_p` or `frequency_hz`, absolute; or `frequency_ratio`,
+/// ω_v/ω_p of each pulse) and optionally `delay_s`. Absolute amplitudes
+/// (`a_p`, `a_p_g`, `a_p_alpha_g`), `omega_ratio` and `duration_s` are
+/// refused naming them; `None` without a vertical motion (absent, or a
+/// ratio or amplitude ratio of 0).
+pub fn validate_scaled_vertical(
+    spec: Option<&VerticalPulseSpec>,
+    base: &str,
+) -> Result<Option<VerticalPulseNorm>, SpecError> {
+    let Some(v) = spec else {
+        return Ok(None);
+    };
+    if v.ratio.is_some() || v.kind.is_none() {
+        if v.ratio.is_none() {
+            return Err(SpecError::at(
+                format!("{base}/ratio"),
+                "missing field: give ratio (ü_v = ratio·ü_g), or a pulse of its own (type, amplitude_ratio, omega_p | frequency_hz | frequency_ratio, optionally delay_s)",
+            ));
+        }
+        return Ok(validate_vertical_ratio(spec, base)?.map(VerticalPulseNorm::Ratio));
+    }
+    for (given, name, what) in [
+        (v.a_p.is_some(), "a_p", "amplitude"),
+        (v.a_p_g.is_some(), "a_p_g", "amplitude"),
+        (v.a_p_alpha_g.is_some(), "a_p_alpha_g", "amplitude"),
+        (v.omega_ratio.is_some(), "omega_ratio", "frequency"),
+        (v.duration_s.is_some(), "duration_s", "frequency"),
+    ] {
+        if given {
+            return Err(SpecError::at(
+                format!("{base}/{name}"),
+                format!(
+                    "this kind scales its pulses, and the vertical one with each: give its {what} relative to the horizontal pulse's (amplitude_ratio: a_v/a_p; frequency_ratio: ω_v/ω_p, or an absolute omega_p or frequency_hz)"
+                ),
+            ));
+        }
+    }
+    let family = PulseSpec {
+        kind: v.kind.clone(),
+        n: v.n,
+        symmetric: v.symmetric,
+        gamma: v.gamma,
+        nu: v.nu,
+        ..Default::default()
+    };
+    let shape = parse_shape(&family, base)?;
+    let k = v.amplitude_ratio.ok_or_else(|| {
+        SpecError::at(
+            format!("{base}/amplitude_ratio"),
+            "missing field: a_v/a_p, the vertical pulse's amplitude relative to each horizontal pulse's",
+        )
+    })?;
+    let k = ratio_at(k, format!("{base}/amplitude_ratio"))?;
+    let frequency = match (v.omega_p, v.frequency_hz, v.frequency_ratio) {
+        (Some(w), None, None) => VerticalFrequency::Omega(positive(w, format!("{base}/omega_p"))?),
+        (None, Some(f), None) => VerticalFrequency::Omega(
+            std::f64::consts::TAU * positive(f, format!("{base}/frequency_hz"))?,
+        ),
+        (None, None, Some(x)) => {
+            if !(x.is_finite() && (1e-3..=1e4).contains(&x)) {
+                return Err(SpecError::at(
+                    format!("{base}/frequency_ratio"),
+                    "must satisfy 1e-3 <= frequency_ratio <= 1e4",
+                ));
+            }
+            VerticalFrequency::Ratio(x)
+        }
+        (None, None, None) => {
+            return Err(SpecError::at(
+                format!("{base}/frequency_ratio"),
+                "missing field: the vertical pulse's frequency, as frequency_ratio (ω_v/ω_p) or an absolute omega_p or frequency_hz",
+            ));
+        }
+        (_, _, x) => {
+            let second = if x.is_some() {
+                "frequency_ratio"
+            } else {
+                "frequency_hz"
+            };
+            return Err(SpecError::at(
+                format!("{base}/{second}"),
+                "give one frequency: omega_p, frequency_hz or frequency_ratio",
+            ));
+        }
+    };
+    let delay = validate_delay(v, base)?;
+    Ok(k.map(|amplitude_ratio| {
+        VerticalPulseNorm::Scaled(VerticalPulse {
+            shape,
+            amplitude_ratio,
+            frequency,
+            delay,
+        })
+    }))
+}
+
+/// A positive finite number, or the field named.
+fn positive(x: f64, pointer: String) -> Result<f64, SpecError> {
+    if x.is_finite() && x > 0.0 && x <= 1e6 {
+        Ok(x)
+    } else {
+        Err(SpecError::at(
+            pointer,
+            "must be a finite number in (0, 1e6]",
+        ))
+    }
 }
 
 /// The solver of a job, at `base` (`/solver`): a vertical motion has no
@@ -395,4 +599,139 @@ pub fn validate_record_with_vertical(
         });
     }
     Ok(norm)
+}
+
+/// Validates the record of a kind that scales it (record spectra, record
+/// forensic queries) with its vertical motion: a top-level `vertical`
+/// (`{"ratio": r}`, at `/vertical`) or the record's own
+/// (`ground_motion.vertical`: `{"ratio": r}`, the same as the top-level one,
+/// or samples on the record's dt), not both (refused naming
+/// `base/vertical`). A ratio, wherever given, is returned as the job's
+/// `vertical` (one canonical form); samples stay in the record. Ratios of 0
+/// and samples all zero are no vertical motion.
+pub fn validate_scaled_record(
+    top: Option<&VerticalPulseSpec>,
+    spec: &GroundMotionSpec,
+    block: &BlockNorm,
+    base: &str,
+) -> Result<(GroundMotionNorm, Option<VerticalPulseNorm>), SpecError> {
+    if top.is_some() && spec.vertical.is_some() {
+        return Err(SpecError::at(
+            format!("{base}/vertical"),
+            "the vertical motion is given twice: give either the top-level vertical {\"ratio\": r} or the record's own (ground_motion.vertical: {\"ratio\": r} or samples)",
+        ));
+    }
+    let ratio = validate_vertical_ratio(top, "/vertical")?;
+    let mut norm = validate_record_with_vertical(spec, block, base)?;
+    let own_ratio = norm.vertical.as_ref().and_then(|v| v.ratio);
+    if own_ratio.is_some() {
+        norm.vertical = None;
+    }
+    Ok((norm, ratio.or(own_ratio).map(VerticalPulseNorm::Ratio)))
+}
+
+/// The vertical motion of a kind that scales its ground motion (spectra,
+/// forensic queries, record spectra) as its scan lines take it: both
+/// components scale by one factor along the amplitude or scale axis.
+#[derive(Clone, Copy, Debug)]
+pub enum ScaledVertical<'a> {
+    /// ü_v = r·ü_g.
+    Ratio(f64),
+    /// A pulse of its own scaled with each horizontal pulse.
+    Pulse(VerticalPulse),
+    /// A record's own vertical samples, m/s², on its dt.
+    Samples(&'a Arc<[f64]>),
+}
+
+impl<'a> ScaledVertical<'a> {
+    /// The vertical motion of a job: its `vertical` ratio, or its record's
+    /// own samples; `None` without one.
+    pub fn of(
+        vertical: Option<&VerticalPulseNorm>,
+        ground_motion: Option<&'a GroundMotionNorm>,
+    ) -> Option<Self> {
+        match vertical {
+            Some(VerticalPulseNorm::Ratio(r)) => return Some(ScaledVertical::Ratio(*r)),
+            Some(VerticalPulseNorm::Scaled(v)) => return Some(ScaledVertical::Pulse(*v)),
+            _ => {}
+        }
+        let samples = ground_motion?.vertical.as_ref()?.acc.as_ref()?;
+        Some(ScaledVertical::Samples(samples))
+    }
+
+    /// ü_v/ü_g, for a ratio.
+    pub fn ratio(&self) -> Option<f64> {
+        match *self {
+            ScaledVertical::Ratio(r) => Some(r),
+            ScaledVertical::Pulse(_) | ScaledVertical::Samples(_) => None,
+        }
+    }
+
+    /// The rocking threshold `threshold` (α g, of the horizontal motion's
+    /// peak) lowered by the vertical motion, for a block of `slenderness`
+    /// under the horizontal samples `horizontal` (records only): exact for
+    /// a ratio ([`threshold_under_ratio`]) and for samples
+    /// ([`threshold_under_samples`]); a lower bound under a pulse of its own
+    /// ([`VerticalPulse::scan_from`]), where a scan starts.
+    pub fn threshold(
+        &self,
+        threshold: f64,
+        formulation: Formulation,
+        slenderness: f64,
+        horizontal: &[f64],
+    ) -> f64 {
+        match *self {
+            ScaledVertical::Ratio(r) => {
+                threshold_under_ratio(threshold, formulation, slenderness, Some(r))
+            }
+            ScaledVertical::Pulse(v) => v.scan_from(threshold, formulation, slenderness),
+            ScaledVertical::Samples(v) => {
+                threshold_under_samples(threshold, formulation, slenderness, horizontal, v)
+            }
+        }
+    }
+
+    /// The pulse `pulse` with this vertical motion (`None` for samples).
+    pub fn pulse_pair(&self, pulse: Pulse) -> Option<Result<PulsePair, ScanError>> {
+        match *self {
+            ScaledVertical::Ratio(r) => Some(
+                PulsePair::proportional(pulse, r).ok_or(ScanError::Simulation(SimError::Tolerance)),
+            ),
+            ScaledVertical::Pulse(v) => Some(v.pair(pulse)),
+            ScaledVertical::Samples(_) => None,
+        }
+    }
+
+    /// The record `record` with this vertical motion.
+    pub fn record_pair(&self, record: Record) -> Result<RecordPair, ScanError> {
+        let bad = || ScanError::Simulation(SimError::Tolerance);
+        match *self {
+            ScaledVertical::Ratio(r) => RecordPair::proportional(record, r).ok_or_else(bad),
+            ScaledVertical::Samples(v) => {
+                let vertical = Record::new(v.clone(), record.dt()).map_err(|_| bad())?;
+                RecordPair::new(record, vertical).map_err(|_| bad())
+            }
+            ScaledVertical::Pulse(_) => Err(bad()),
+        }
+    }
+
+    /// The level (the record's PGA in α g of `block`) from which the ground
+    /// falls away faster than gravity under `record` scaled with this
+    /// vertical motion, bracketed, when it does up to `to`: by bisection
+    /// under a ratio ([`lift_off_level`]), in closed form under samples
+    /// ([`lift_off_scale`]).
+    pub fn record_lift_off(&self, record: &Record, block: &Block, to: f64) -> Option<(f64, f64)> {
+        match *self {
+            ScaledVertical::Ratio(_) => {
+                lift_off_level(&self.record_pair(record.clone()).ok()?, block, to)
+            }
+            ScaledVertical::Samples(v) => {
+                let pga = record.samples().iter().fold(0.0f64, |m, a| m.max(a.abs()));
+                let level = pga / (block.slenderness() * block.gravity());
+                let (lo, hi) = lift_off_scale(v, block.gravity())?;
+                (hi * level <= to).then_some((lo * level, hi * level))
+            }
+            ScaledVertical::Pulse(_) => None,
+        }
+    }
 }

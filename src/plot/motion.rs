@@ -135,6 +135,7 @@ impl Vertical {
                         delay: *delay_s,
                     })
             }
+            VerticalPulseNorm::Scaled(_) => None,
         }
     }
 

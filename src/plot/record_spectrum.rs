@@ -17,7 +17,7 @@ use super::style::{
     Drawn, INK, LEGEND_WIDTH, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, draw_legend,
     fmt_num, marker, mesh, scaled_pga_axis,
 };
-use crate::jobs::record_spectrum::{RecordSpectrumResult, SizeDoc};
+use crate::jobs::record_spectrum::{RecordSpectrumJob, RecordSpectrumResult, SizeDoc, pga};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -188,10 +188,9 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
         );
     }
     legend.note(block_text(spec.block.alpha, spec.block.eta));
-    if let Some(r) = spec.vertical_ratio() {
+    if let Some(v) = vertical_text(spec) {
         legend.note(format!(
-            "vertical ground motion ü_v = {} ü_g (positive up){}",
-            fmt_num(r, 3),
+            "vertical ground motion {v} (positive up){}",
             result
                 .lift_off_above_scale
                 .map_or(String::new(), |s| format!(
@@ -225,12 +224,9 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
     legend.note("right axis: the scaled record's PGA = scale × PGA");
 
     let (x0, x1) = drawn.x_range;
-    let title = match spec.vertical_ratio() {
+    let title = match vertical_text(spec) {
         None => format!("Rocking spectrum of a record: {formulation} formulation"),
-        Some(r) => format!(
-            "Rocking spectrum of a record: {formulation} formulation, ü_v = {} ü_g",
-            fmt_num(r, 3)
-        ),
+        Some(v) => format!("Rocking spectrum of a record: {formulation} formulation, {v}"),
     };
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
@@ -259,6 +255,20 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
         )?;
         draw_legend(&side, &legend)
     })
+}
+
+/// The vertical motion of a record spectrum, as its figure names it:
+/// "ü_v = r ü_g", or the record's own vertical samples (their unscaled peak).
+fn vertical_text(spec: &RecordSpectrumJob) -> Option<String> {
+    use crate::jobs::vertical::ScaledVertical;
+    match spec.scaled_vertical()? {
+        ScaledVertical::Ratio(r) => Some(format!("ü_v = {} ü_g", fmt_num(r, 3))),
+        ScaledVertical::Samples(v) => Some(format!(
+            "ü_v: the record's own vertical, scaled with it (PGA_v {} g unscaled)",
+            fmt_num(pga(v) / spec.block.g, 4)
+        )),
+        ScaledVertical::Pulse(_) => None,
+    }
 }
 
 #[cfg(test)]

@@ -360,11 +360,15 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
         lines.len(),
         if lines.len() == 1 { "y" } else { "ies" }
     ));
-    if let Some(r) = spec.vertical_ratio() {
+    if let Some(v) = vertical_text(spec) {
         let lift = lines.iter().find_map(|l| l.lift_off_above_alpha_g);
+        let from = if spec.vertical_ratio().is_some() {
+            "rocking from"
+        } else {
+            "scanned from"
+        };
         legend.note(format!(
-            "vertical ground motion ü_v = {} ü_g (positive up): rocking from {} αg{}",
-            fmt_num(r, 3),
+            "vertical ground motion {v} (positive up): {from} {} αg{}",
             fmt_num(lines[0].threshold_alpha_g, 4),
             lift.map_or(String::new(), |v| format!(
                 "; the block leaves the ground from {} αg",
@@ -382,8 +386,7 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
         "Overturning spectrum: {} pulse, {} formulation{}",
         shape_title(spec.pulse.shape()),
         spec.formulation.name(),
-        spec.vertical_ratio()
-            .map_or(String::new(), |r| format!(", ü_v = {} ü_g", fmt_num(r, 3)))
+        vertical_text(spec).map_or(String::new(), |v| format!(", {v}"))
     );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
@@ -439,6 +442,31 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
         }
         draw_legend(&side, &legend)
     })
+}
+
+/// The vertical motion of a spectrum, as its figure names it: "ü_v = r ü_g",
+/// or its own pulse (a_v = k a_p; ω_v absolute or relative to ω_p; delay).
+fn vertical_text(spec: &SpectrumJob) -> Option<String> {
+    use crate::jobs::vertical::VerticalPulseNorm;
+    use crate::spectrum::overturning::VerticalFrequency;
+    match spec.vertical.as_ref()? {
+        VerticalPulseNorm::Ratio(r) => Some(format!("ü_v = {} ü_g", fmt_num(*r, 3))),
+        VerticalPulseNorm::Scaled(v) => Some(format!(
+            "ü_v: a {} pulse, a_v = {} a_p, {}{}",
+            shape_title(v.shape),
+            fmt_num(v.amplitude_ratio, 3),
+            match v.frequency {
+                VerticalFrequency::Omega(w) => format!("ω_v = {} rad/s", fmt_num(w, 4)),
+                VerticalFrequency::Ratio(x) => format!("ω_v = {} ω_p", fmt_num(x, 4)),
+            },
+            if v.delay > 0.0 {
+                format!(", {} s later", fmt_num(v.delay, 4))
+            } else {
+                String::new()
+            }
+        )),
+        VerticalPulseNorm::Pulse { .. } => None,
+    }
 }
 
 #[cfg(test)]

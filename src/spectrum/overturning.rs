@@ -110,6 +110,34 @@ pub fn threshold_under_ratio(
     }
 }
 
+/// `threshold` (α g, of a record's PGA) under a record's own vertical
+/// samples, both scaled by one factor c: the ground motion is linear between
+/// samples, so c ü_g s − k c ü_v (side s = ±1, k = tan α, or α linear) peaks
+/// at a sample, and rocking can start once c max_j (|h_j| − k v_j) > k g
+/// (the shorter record padded with zeros). In levels of the horizontal PGA:
+/// `threshold` · PGA / max_j (|h_j| − k v_j); infinite when no sample can
+/// rock at any scale. Exact, as [`threshold_under_ratio`] is for a ratio.
+pub fn threshold_under_samples(
+    threshold: f64,
+    formulation: Formulation,
+    slenderness: f64,
+    horizontal: &[f64],
+    vertical: &[f64],
+) -> f64 {
+    let k = formulation.rocking_threshold_of(slenderness, 1.0);
+    let n = horizontal.len().max(vertical.len());
+    let at = |x: &[f64], j: usize| x.get(j).copied().unwrap_or(0.0);
+    let demand = (0..n)
+        .map(|j| at(horizontal, j).abs() - k * at(vertical, j))
+        .fold(f64::NEG_INFINITY, f64::max);
+    let pga = horizontal.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    if demand > 0.0 {
+        threshold * pga / demand
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Rocking threshold in units of αg of any block of slenderness α under
 /// gravity g, whatever its size.
 pub fn threshold_alpha_g_of(formulation: Formulation, slenderness: f64, gravity: f64) -> f64 {
@@ -278,14 +306,64 @@ pub fn scan_range<G: Scalable + Sync>(
     Ok((per_line, stats))
 }
 
-/// Computes the spectrum, in parallel over frequencies and amplitude chunks.
-pub fn overturning_spectrum(
-    req: &SpectrumRequest,
-    control: &Control,
-) -> Result<Spectrum, ScanError> {
-    let started = Instant::now();
-    let pulses = req
-        .omega_ratios
+/// The frequency of a vertical pulse of its own beside a line's pulse.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum VerticalFrequency {
+    /// ω_v, rad/s, whatever the line.
+    Omega(f64),
+    /// ω_v/ω_p of each line's pulse.
+    Ratio(f64),
+}
+
+/// A vertical pulse of its own (positive up) beside each line's horizontal
+/// pulse, scaled with it: a_v = `amplitude_ratio`·a_p (either sign), starting
+/// `delay` s after it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VerticalPulse {
+    /// Its family.
+    pub shape: PulseShape,
+    /// a_v/a_p.
+    pub amplitude_ratio: f64,
+    /// Its frequency.
+    pub frequency: VerticalFrequency,
+    /// Its start after the horizontal pulse's, s.
+    pub delay: f64,
+}
+
+impl VerticalPulse {
+    /// The pair of `horizontal` and this vertical pulse.
+    pub fn pair(&self, horizontal: Pulse) -> Result<PulsePair, ScanError> {
+        let omega = match self.frequency {
+            VerticalFrequency::Omega(w) => w,
+            VerticalFrequency::Ratio(x) => x * horizontal.circular_frequency,
+        };
+        let vertical = Pulse::new(
+            self.shape,
+            self.amplitude_ratio * horizontal.amplitude,
+            omega,
+        )
+        .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
+        Ok(PulsePair::new(horizontal, vertical, self.delay))
+    }
+
+    /// Where a scan under this vertical pulse starts: every pulse's peak
+    /// |ü| is its amplitude, so s ü_g − k ü_v ≤ a_p (1 + k |a_v/a_p|) and no
+    /// block rocks below [`threshold_under_ratio`] of |a_v/a_p|: a lower
+    /// bound of the rocking threshold (reached when the peaks coincide with
+    /// opposite signs, as under a ratio), not the threshold itself.
+    pub fn scan_from(&self, threshold: f64, formulation: Formulation, slenderness: f64) -> f64 {
+        threshold_under_ratio(
+            threshold,
+            formulation,
+            slenderness,
+            Some(self.amplitude_ratio),
+        )
+    }
+}
+
+/// The pulse of each line of `req` at 1 αg.
+fn line_pulses(req: &SpectrumRequest) -> Result<Vec<Pulse>, ScanError> {
+    req.omega_ratios
         .iter()
         .map(|&ratio| {
             Pulse::new(
@@ -295,7 +373,42 @@ pub fn overturning_spectrum(
             )
             .map_err(|_| ScanError::Simulation(crate::dynamics::SimError::Tolerance))
         })
+        .collect::<Result<Vec<_>, ScanError>>()
+}
+
+/// The spectrum of `req` under a vertical pulse of its own beside each
+/// line's pulse (`req.vertical_ratio` is not used), scanned from
+/// [`VerticalPulse::scan_from`] to just below the lift-off.
+pub fn overturning_spectrum_under(
+    req: &SpectrumRequest,
+    vertical: &VerticalPulse,
+    control: &Control,
+) -> Result<Spectrum, ScanError> {
+    let started = Instant::now();
+    let pairs = line_pulses(req)?
+        .into_iter()
+        .map(|p| vertical.pair(p))
         .collect::<Result<Vec<_>, ScanError>>()?;
+    let from = vertical.scan_from(
+        threshold_alpha_g(req.formulation, &req.block),
+        req.formulation,
+        req.block.slenderness(),
+    );
+    let (lines, stats) = lines_of(req, pairs, from, control)?;
+    Ok(Spectrum {
+        lines,
+        stats,
+        wall_time: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// Computes the spectrum, in parallel over frequencies and amplitude chunks.
+pub fn overturning_spectrum(
+    req: &SpectrumRequest,
+    control: &Control,
+) -> Result<Spectrum, ScanError> {
+    let started = Instant::now();
+    let pulses = line_pulses(req)?;
     let threshold = threshold_alpha_g(req.formulation, &req.block);
     let (lines, stats) = match req.vertical_ratio {
         None => lines_of(req, pulses, threshold, control)?,

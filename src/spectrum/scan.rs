@@ -210,6 +210,20 @@ pub fn lift_off_level<G: Scalable>(motion: &G, block: &Block, to: f64) -> Option
     Some((lo, hi))
 }
 
+/// The lowest scale factor of vertical samples `vertical` (m/s², positive
+/// up) from which the ground falls away faster than gravity at a sample
+/// (g + c v_j ≤ 0: c = g / max_j(−v_j); linear between samples, so nowhere
+/// before), as a bracket `(lo, hi)`, `hi` that closed form and `lo` a
+/// relative 1e-12 below it (still on the ground); `None` when no sample is
+/// negative. [`lift_off_level`] without the bisection.
+pub fn lift_off_scale(vertical: &[f64], gravity: f64) -> Option<(f64, f64)> {
+    let fall = vertical.iter().fold(0.0f64, |m, &v| m.max(-v));
+    (fall > 0.0).then(|| {
+        let hi = gravity / fall;
+        (hi * (1.0 - 1e-12), hi)
+    })
+}
+
 /// One line of the spectrum (constant ω_p/p for a pulse, constant p for a
 /// record): the problem whose ground motion is scaled per point.
 pub struct Line<'a, G: Scalable = Pulse> {

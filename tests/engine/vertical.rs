@@ -413,6 +413,7 @@ fn vertical_specs_are_checked_field_by_field() {
             json!({"kind": "record_spectrum", "block": {"alpha": 0.2},
                    "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, 0.0],
                                      "vertical": {"ratio": 0.5}},
+                   "vertical": {"ratio": 0.5},
                    "R_m": [1.0], "pga_g": {"to": 1.0}}),
             "/ground_motion/vertical",
         ),
@@ -512,7 +513,7 @@ fn a_spectrum_under_a_vertical_ratio_scans_from_the_lowered_threshold_to_lift_of
         "vertical": {"type": "one_sine", "omega_p": 3.0, "a_p_g": 0.2}}),
     )
     .expect_err("refused");
-    assert_eq!(own.pointer, "/vertical/type", "{own}");
+    assert_eq!(own.pointer, "/vertical/a_p_g", "{own}");
 }
 
 #[test]
@@ -737,4 +738,519 @@ fn a_record_spectrum_under_a_vertical_ratio_scans_below_lift_off() {
     // The figure shades the lift-off and says so.
     let svg = topple::plot::record_spectrum::svg(&result).expect("a figure");
     assert!(svg.contains("lift-off"), "no lift-off in the legend");
+}
+
+/// A decaying 2-Hz sine in g (the horizontal record of the record tests).
+fn decaying_sine() -> Vec<f64> {
+    (0..300)
+        .map(|k| {
+            let t = k as f64 * 0.01;
+            0.4 * (std::f64::consts::TAU * 2.0 * t).sin() * (-t / 1.5).exp()
+        })
+        .collect()
+}
+
+/// A vertical record of its own in g: a 5-Hz cosine, shorter than the
+/// horizontal one (padded with zeros), falling lower than it rises.
+fn own_vertical() -> Vec<f64> {
+    (0..250)
+        .map(|k| {
+            let t = k as f64 * 0.01;
+            0.25 * (std::f64::consts::TAU * 5.0 * t).cos() * (-t).exp() - 0.05
+        })
+        .collect()
+}
+
+/// The scale from which a block of slenderness α can rock under the pair
+/// of records (g): k / max_j(|h_j| − k v_j), k = tan α, the shorter padded.
+fn rocking_scale(h: &[f64], v: &[f64], alpha: f64) -> f64 {
+    let k = alpha.tan();
+    let n = h.len().max(v.len());
+    let at = |x: &[f64], j: usize| x.get(j).copied().unwrap_or(0.0);
+    k / (0..n)
+        .map(|j| at(h, j).abs() - k * at(v, j))
+        .fold(f64::MIN, f64::max)
+}
+
+/// The pair of records (g, converted to m/s²) scaled by `s`.
+fn record_pair_at(h: &[f64], v: &[f64], s: f64) -> RecordPair {
+    let of = |x: &[f64]| {
+        Record::new(x.iter().map(|a| a * G * s).collect::<Vec<_>>().into(), 0.01).expect("a record")
+    };
+    RecordPair::new(of(h), of(v)).expect("a pair")
+}
+
+#[test]
+fn a_record_spectrum_under_its_own_vertical_samples_scans_from_their_threshold_to_lift_off() {
+    let (acc, vertical) = (decaying_sine(), own_vertical());
+    let lowest = vertical.iter().copied().fold(f64::MAX, f64::min);
+    let spec = json!({"kind": "record_spectrum", "block": {"alpha": 0.2, "eta": 0.9},
+        "p": [1.5, 2.5], "scale": {"from": 0.5, "to": 8},
+        "ground_motion": {"dt": 0.01, "unit": "g", "acc": acc,
+                          "vertical": {"acc": vertical, "unit": "g"}}});
+    let Job::RecordSpectrum(job) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a record spectrum")
+    };
+    let result = job.run(&topple::spectrum::Control::new()).expect("runs");
+    let doc = serde_json::to_value(&result).expect("serialises");
+    // Lift-off where g + s·min(v) = 0.
+    let lift = doc["lift_off_above_scale"].as_f64().expect("lift-off");
+    let expected = 1.0 / -lowest;
+    assert!(
+        (lift - expected).abs() < 1e-12 * expected,
+        "{lift} vs {expected}"
+    );
+    // The threshold in closed form, and time histories of the pair agree:
+    // no rocking just below it, rocking just above.
+    let threshold = rocking_scale(&acc, &vertical, 0.2);
+    let at = doc["spectrum"][0]["threshold_scale"]
+        .as_f64()
+        .expect("threshold");
+    assert!(
+        (at - threshold).abs() < 1e-12 * threshold,
+        "{at} vs {threshold}"
+    );
+    let plain_threshold = 0.2_f64.tan() / acc.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+    assert!(
+        threshold < plain_threshold,
+        "the vertical lightens the block"
+    );
+    let b = Block::new(0.2, 1.5, Some(0.9), None, None).expect("valid");
+    let rocked = |s: f64| {
+        let problem = Problem {
+            block: b,
+            pulse: record_pair_at(&acc, &vertical, s),
+            formulation: Formulation::Nonlinear,
+        };
+        simulate(&problem, &Options::outcome(dop853()))
+            .expect("runs")
+            .rocked
+    };
+    assert!(!rocked(threshold * (1.0 - 1e-6)) && rocked(threshold * (1.0 + 1e-6)));
+    // Every transition below the lift-off, and each separates what time
+    // histories of the pair find on either side of its bracket.
+    let mut checked = 0;
+    for (size, p) in doc["spectrum"]
+        .as_array()
+        .expect("sizes")
+        .iter()
+        .zip([1.5, 2.5])
+    {
+        let b = Block::new(0.2, p, Some(0.9), None, None).expect("valid");
+        for t in size["transitions"].as_array().expect("transitions") {
+            let (lo, hi) = (
+                t["bracket"][0].as_f64().expect("lo"),
+                t["bracket"][1].as_f64().expect("hi"),
+            );
+            assert!(hi < lift, "{t}");
+            let outcome = |s: f64| {
+                let problem = Problem {
+                    block: b,
+                    pulse: record_pair_at(&acc, &vertical, s),
+                    formulation: Formulation::Nonlinear,
+                };
+                simulate(&problem, &Options::outcome(dop853()))
+                    .expect("runs")
+                    .overturned
+            };
+            assert_ne!(outcome(lo), outcome(hi), "p = {p}: {t}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 0);
+    // The figure names the record's own vertical motion and the lift-off.
+    let svg = topple::plot::record_spectrum::svg(&result).expect("a figure");
+    assert!(svg.contains("own vertical"), "no vertical in the figure");
+    assert!(svg.contains("lift-off"), "no lift-off in the legend");
+}
+
+#[test]
+fn a_record_forensic_query_under_its_own_vertical_samples_stops_at_their_lift_off() {
+    let (acc, vertical) = (decaying_sine(), own_vertical());
+    let lowest = vertical.iter().copied().fold(f64::MAX, f64::min);
+    let pga = acc.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+    let spec = json!({"kind": "forensic",
+        "observations": [
+            {"name": "tall", "overturned": true, "block": {"alpha": 0.2, "p": 2.2}},
+            {"name": "squat", "overturned": false, "block": {"alpha": 0.3, "p": 1.6}}],
+        "scale": {"to": 8}, "scan_step_g": 0.02, "tolerance_g": 1e-6,
+        "ground_motion": {"dt": 0.01, "unit": "g", "acc": acc,
+                          "vertical": {"acc": vertical, "unit": "g"}}});
+    let Job::Forensic(f) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a forensic query")
+    };
+    let doc = serde_json::to_value(f.run(&topple::spectrum::Control::new()).expect("runs"))
+        .expect("serialises");
+    let scale = 1.0 / -lowest;
+    let lift = doc["lift_off_above_g"].as_f64().expect("lift-off");
+    assert!(
+        (lift - scale * pga).abs() < 1e-12 * scale * pga,
+        "{lift} vs {}",
+        scale * pga
+    );
+    let to = doc["scale"]["to"].as_f64().expect("scale range");
+    assert!(to < scale && to > scale * (1.0 - 1e-9), "{to} vs {scale}");
+    // Each observation's threshold in closed form; its overturning scales
+    // end at transitions bracketed within the tolerance (1e-6 g of PGA):
+    // time histories of the pair differ on either side.
+    let step = 2e-6 / pga;
+    let mut checked = 0;
+    for (o, (alpha, p)) in [(0.2, 2.2), (0.3, 1.6)].into_iter().enumerate() {
+        let set = &doc["per_observation"][o];
+        let threshold = rocking_scale(&acc, &vertical, alpha);
+        let at = set["threshold_scale"].as_f64().expect("threshold");
+        assert!(
+            (at - threshold).abs() < 1e-12 * threshold,
+            "{at} vs {threshold}"
+        );
+        let b = Block::new(alpha, p, None, None, None).expect("valid");
+        let outcome = |s: f64| {
+            let problem = Problem {
+                block: b,
+                pulse: record_pair_at(&acc, &vertical, s),
+                formulation: Formulation::Nonlinear,
+            };
+            simulate(&problem, &Options::outcome(dop853()))
+                .expect("runs")
+                .overturned
+        };
+        for iv in set["overturning_scale"].as_array().expect("intervals") {
+            let (a, z) = (iv[0].as_f64().expect("from"), iv[1].as_f64().expect("to"));
+            assert!(z <= to, "{iv}");
+            for end in [a, z] {
+                if end < to * (1.0 - 1e-9) {
+                    assert_ne!(
+                        outcome(end - step),
+                        outcome(end + step),
+                        "{o}: {iv} at {end}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > 0, "{doc}");
+}
+
+#[test]
+fn record_kinds_without_vertical_motion_are_the_jobs_without_one() {
+    let acc = decaying_sine();
+    let record = json!({"dt": 0.01, "unit": "g", "acc": acc});
+    let mut zeros = record.clone();
+    zeros["vertical"] = json!({"acc": vec![0.0; 400], "unit": "g"});
+    let mut zero_ratio = record.clone();
+    zero_ratio["vertical"] = json!({"ratio": 0});
+    let spectrum = |gm: &Value| {
+        json!({"kind": "record_spectrum", "block": {"alpha": 0.2, "eta": 0.9},
+            "p": [2.5], "scale": {"to": 4}, "ground_motion": gm})
+    };
+    let forensic = |gm: &Value| {
+        json!({"kind": "forensic", "scale": {"to": 4}, "scan_step_g": 0.02,
+            "observations": [{"name": "a", "overturned": true,
+                              "block": {"alpha": 0.2, "p": 2.2}}],
+            "ground_motion": gm})
+    };
+    let result = |job: &Job| {
+        match job {
+            Job::RecordSpectrum(j) => {
+                serde_json::to_value(j.run(&topple::spectrum::Control::new()).expect("runs"))
+            }
+            Job::Forensic(j) => {
+                serde_json::to_value(j.run(&topple::spectrum::Control::new()).expect("runs"))
+            }
+            _ => panic!("a record kind"),
+        }
+        .expect("serialises")
+    };
+    for kind in [spectrum, forensic] {
+        let plain = Job::from_value(&kind(&record)).expect("valid");
+        for zero in [&zeros, &zero_ratio] {
+            let zero = Job::from_value(&kind(zero)).expect("valid");
+            assert_eq!(canonical_spec(&plain), canonical_spec(&zero));
+            assert_eq!(cache_key(&plain), cache_key(&zero));
+            assert_eq!(steady(result(&plain)), steady(result(&zero)));
+        }
+        // The record's own ratio is the top-level one; samples are a
+        // different job.
+        let mut own = record.clone();
+        own["vertical"] = json!({"ratio": 0.5});
+        let mut top = kind(&record);
+        top["vertical"] = json!({"ratio": 0.5});
+        let (own, top) = (
+            Job::from_value(&kind(&own)).expect("valid"),
+            Job::from_value(&top).expect("valid"),
+        );
+        assert_eq!(canonical_spec(&own), canonical_spec(&top));
+        assert_eq!(cache_key(&own), cache_key(&top));
+        let mut samples = record.clone();
+        samples["vertical"] = json!({"acc": own_vertical(), "unit": "g"});
+        let samples = Job::from_value(&kind(&samples)).expect("valid");
+        assert_ne!(cache_key(&samples), cache_key(&plain));
+        assert_ne!(cache_key(&samples), cache_key(&top));
+    }
+}
+
+#[test]
+fn record_kinds_check_their_vertical_samples_field_by_field() {
+    let acc = decaying_sine();
+    let with = |kind: &str, vertical: Value, extra: Value| {
+        let mut spec = match kind {
+            "record_spectrum" => json!({"kind": "record_spectrum",
+                "block": {"alpha": 0.2}, "p": [2.5], "scale": {"to": 4}}),
+            _ => json!({"kind": "forensic", "scale": {"to": 4},
+                "observations": [{"name": "a", "overturned": true,
+                                  "block": {"alpha": 0.2, "p": 2.2}}]}),
+        };
+        spec["ground_motion"] = json!({"dt": 0.01, "unit": "g", "acc": acc, "vertical": vertical});
+        for (k, v) in extra.as_object().expect("an object") {
+            spec[k] = v.clone();
+        }
+        spec
+    };
+    let samples = json!({"acc": [0.0, -0.1, 0.0], "unit": "g"});
+    for kind in ["record_spectrum", "forensic"] {
+        let cases = [
+            (
+                with(kind, samples.clone(), json!({"vertical": {"ratio": 0.5}})),
+                "/ground_motion/vertical",
+            ),
+            (
+                with(
+                    kind,
+                    json!({"dt": 0.02, "acc": [0.0, 0.1], "unit": "g"}),
+                    json!({}),
+                ),
+                "/ground_motion/vertical/dt",
+            ),
+            (
+                with(kind, json!({"acc": [0.0, 0.1]}), json!({})),
+                "/ground_motion/vertical/unit",
+            ),
+            (
+                with(kind, json!({"unit": "g"}), json!({})),
+                "/ground_motion/vertical/acc",
+            ),
+            (
+                with(kind, json!({"acc": [0.0, 1e9], "unit": "g"}), json!({})),
+                "/ground_motion/vertical/acc/1",
+            ),
+            (
+                with(kind, json!({"ratio": 0.5, "unit": "g"}), json!({})),
+                "/ground_motion/vertical/unit",
+            ),
+            (
+                with(
+                    kind,
+                    samples.clone(),
+                    json!({"formulation": "linear", "solver": {"method": "exact"}}),
+                ),
+                "/solver/method",
+            ),
+        ];
+        for (spec, pointer) in &cases {
+            assert_eq!(&refused_at(spec), pointer, "{kind}: {spec}");
+        }
+    }
+}
+
+#[test]
+fn a_spectrum_under_a_vertical_pulse_of_its_own_scans_from_its_bound_to_lift_off() {
+    let b = block();
+    let alpha = b.slenderness();
+    // A one-sine twice as fast as each horizontal pulse, a_v = −0.4 a_p,
+    // 0.1 s later.
+    let vertical = json!({"type": "one_sine", "amplitude_ratio": -0.4,
+                          "frequency_ratio": 2.0, "delay_s": 0.1});
+    let doc = spectrum(json!({ "vertical": vertical }));
+    assert_eq!(doc["spec"]["vertical"], vertical);
+    let pair = |level: f64, ratio: f64| {
+        let w = ratio * b.frequency_parameter();
+        let h = Pulse::new(PulseShape::OneSine, level * alpha * G, w).expect("valid");
+        let v = Pulse::new(PulseShape::OneSine, -0.4 * level * alpha * G, 2.0 * w).expect("valid");
+        topple::dynamics::PulsePair::new(h, v, 0.1)
+    };
+    for line in doc["spectrum"].as_array().expect("lines") {
+        // The scan starts at the bound a_p (1 + 0.4 tan α) = g tan α.
+        let from = line["threshold_alpha_g"].as_f64().expect("threshold");
+        let expected = alpha.tan() / alpha / (1.0 + 0.4 * alpha.tan());
+        assert!((from - expected).abs() < 1e-12, "{from} {expected}");
+        // The vertical one-sine reaches −|a_v|: ü_v = −g at a_p = g/0.4.
+        let lift = line["lift_off_above_alpha_g"].as_f64().expect("lift-off");
+        assert!((lift - 1.0 / (0.4 * alpha)).abs() < 1e-9, "{lift}");
+        let ratio = line["omega_ratio"].as_f64().expect("ratio");
+        let transitions = line["transitions"].as_array().expect("transitions");
+        assert!(!transitions.is_empty(), "ω_p/p = {ratio}");
+        for t in transitions {
+            let lo = t["bracket"][0].as_f64().expect("lo");
+            let hi = t["bracket"][1].as_f64().expect("hi");
+            assert!(hi < lift);
+            let outcome = |level: f64| {
+                let problem = Problem {
+                    block: b,
+                    pulse: pair(level, ratio),
+                    formulation: Formulation::Nonlinear,
+                };
+                simulate(&problem, &Options::outcome(dop853()))
+                    .expect("runs")
+                    .overturned
+            };
+            assert_ne!(outcome(lo), outcome(hi), "ω_p/p = {ratio}: {t}");
+        }
+    }
+    // The same vertical motion as a ratio is another job.
+    let spec = |vertical: Value| {
+        json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine"}, "omega_ratio": [2.0], "vertical": vertical})
+    };
+    let as_pulse = Job::from_value(&spec(json!({"type": "one_sine", "amplitude_ratio": 0.5,
+        "frequency_ratio": 1.0})))
+    .expect("valid");
+    let as_ratio = Job::from_value(&spec(json!({"ratio": 0.5}))).expect("valid");
+    assert_ne!(cache_key(&as_pulse), cache_key(&as_ratio));
+    assert_ne!(canonical_spec(&as_pulse), canonical_spec(&as_ratio));
+    // An amplitude ratio of 0 is the spectrum without one, to the bit.
+    let none = spectrum(json!({}));
+    let zero = spectrum(
+        json!({"vertical": {"type": "ricker", "amplitude_ratio": 0.0,
+                                            "omega_p": 5.0}}),
+    );
+    assert_eq!(steady(none.clone()), steady(zero));
+    let plain = Job::from_value(&spec(Value::Null)).expect("valid");
+    let zero = Job::from_value(&spec(json!({"type": "one_sine", "amplitude_ratio": 0,
+        "frequency_hz": 2.0})))
+    .expect("valid");
+    assert_eq!(canonical_spec(&plain), canonical_spec(&zero));
+    assert_eq!(cache_key(&plain), cache_key(&zero));
+}
+
+#[test]
+fn a_pulse_forensic_query_under_a_vertical_pulse_of_its_own_answers_below_lift_off() {
+    // One-sine pulses at 1 Hz under a falling vertical half-sine at 3 rad/s,
+    // a_v = −0.4 a_p: the ground falls away faster than gravity from
+    // a_p = g/0.4 = 2.5 g, inside the range asked (to 3 g).
+    let spec = json!({"kind": "forensic", "pulse": {"type": "one_sine"},
+        "observations": [
+            {"name": "down", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9}, "overturned": true},
+            {"name": "up", "block": {"alpha": 0.4, "p": 2.0, "eta": 0.9}, "overturned": false}],
+        "frequency_hz": [1.0], "a_p_g": {"from": 0.05, "to": 3.0},
+        "vertical": {"type": "half_sine", "amplitude_ratio": -0.4, "omega_p": 3.0}});
+    let Job::Forensic(f) = Job::from_value(&spec).expect("valid spec") else {
+        panic!("a forensic query")
+    };
+    let doc = serde_json::to_value(f.run(&topple::spectrum::Control::new()).expect("runs"))
+        .expect("serialises");
+    let lift = doc["lift_off_above_g"].as_f64().expect("lift-off");
+    assert!((lift - 2.5).abs() < 1e-9, "{lift}");
+    let to = doc["a_p_g"]["to"].as_f64().expect("range");
+    assert!(to < 2.5 && to > 2.5 - 1e-9, "{to}");
+    let consistent = doc["frequencies"][0]["consistent_g"]
+        .as_array()
+        .expect("intervals");
+    assert!(!consistent.is_empty(), "{doc}");
+    for iv in consistent {
+        let (lo, hi) = (iv[0].as_f64().expect("lo"), iv[1].as_f64().expect("hi"));
+        assert!(hi <= to, "{iv}");
+        let a_g = 0.5 * (lo + hi);
+        for (alpha, p, seen) in [(0.25, 2.14, true), (0.4, 2.0, false)] {
+            let b = Block::new(alpha, p, Some(0.9), None, None).expect("valid");
+            let h = Pulse::new(PulseShape::OneSine, a_g * G, std::f64::consts::TAU).expect("valid");
+            let v = Pulse::new(PulseShape::HalfSine, -0.4 * a_g * G, 3.0).expect("valid");
+            let r = simulate(
+                &Problem {
+                    block: b,
+                    pulse: topple::dynamics::PulsePair::new(h, v, 0.0),
+                    formulation: Formulation::Nonlinear,
+                },
+                &Options::outcome(dop853()),
+            )
+            .expect("runs");
+            assert_eq!(r.overturned, seen, "α = {alpha} at {a_g} g");
+        }
+    }
+    // An amplitude ratio of 0 is the query without one.
+    let mut zero = spec.clone();
+    zero["vertical"]["amplitude_ratio"] = json!(0);
+    let mut plain = spec.clone();
+    plain.as_object_mut().expect("object").remove("vertical");
+    let (zero, plain) = (
+        Job::from_value(&zero).expect("valid"),
+        Job::from_value(&plain).expect("valid"),
+    );
+    assert_eq!(canonical_spec(&zero), canonical_spec(&plain));
+    assert_eq!(cache_key(&zero), cache_key(&plain));
+}
+
+#[test]
+fn a_vertical_pulse_of_its_own_in_scaled_kinds_is_checked_field_by_field() {
+    let spectrum = |vertical: Value, extra: Value| {
+        let mut spec = json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine"}, "omega_ratio": [2.0], "vertical": vertical});
+        for (k, v) in extra.as_object().expect("an object") {
+            spec[k] = v.clone();
+        }
+        spec
+    };
+    let forensic = |vertical: Value| {
+        json!({"kind": "forensic", "pulse": {"type": "one_sine"},
+            "observations": [{"name": "a", "overturned": true,
+                              "block": {"alpha": 0.25, "p": 2.14}}],
+            "frequency_hz": [1.0], "a_p_g": {"from": 0.05, "to": 1.0}, "vertical": vertical})
+    };
+    let own = |extra: Value| {
+        let mut v = json!({"type": "one_sine", "amplitude_ratio": 0.3, "frequency_ratio": 2.0});
+        for (k, x) in extra.as_object().expect("an object") {
+            v[k] = x.clone();
+        }
+        v
+    };
+    let mut no_amplitude = own(json!({}));
+    no_amplitude
+        .as_object_mut()
+        .expect("object")
+        .remove("amplitude_ratio");
+    let mut no_frequency = own(json!({}));
+    no_frequency
+        .as_object_mut()
+        .expect("object")
+        .remove("frequency_ratio");
+    let cases = [
+        (own(json!({"a_p": 2.0})), "/vertical/a_p"),
+        (own(json!({"a_p_g": 0.2})), "/vertical/a_p_g"),
+        (own(json!({"a_p_alpha_g": 1.0})), "/vertical/a_p_alpha_g"),
+        (own(json!({"omega_ratio": 1.0})), "/vertical/omega_ratio"),
+        (own(json!({"omega_p": 3.0})), "/vertical/frequency_ratio"),
+        (
+            own(json!({"amplitude_ratio": 1e9})),
+            "/vertical/amplitude_ratio",
+        ),
+        (
+            own(json!({"frequency_ratio": 0.0})),
+            "/vertical/frequency_ratio",
+        ),
+        (own(json!({"delay_s": -1.0})), "/vertical/delay_s"),
+        (own(json!({"type": "sawtooth"})), "/vertical/type"),
+        (no_amplitude, "/vertical/amplitude_ratio"),
+        (no_frequency, "/vertical/frequency_ratio"),
+        (
+            json!({"ratio": 0.5, "amplitude_ratio": 0.5}),
+            "/vertical/amplitude_ratio",
+        ),
+    ];
+    for (vertical, pointer) in &cases {
+        for spec in [
+            spectrum(vertical.clone(), json!({})),
+            forensic(vertical.clone()),
+        ] {
+            assert_eq!(&refused_at(&spec), pointer, "{spec}");
+        }
+    }
+    let exact = spectrum(
+        own(json!({})),
+        json!({"formulation": "linear", "solver": {"method": "exact"}}),
+    );
+    assert_eq!(refused_at(&exact), "/solver/method");
+    // A time history's vertical pulse has its own amplitude and frequency.
+    let history = history(json!({"pulse": {"type": "one_sine", "omega_ratio": 3.0,
+        "a_p_alpha_g": 4.0}, "vertical": own(json!({}))}));
+    assert_eq!(refused_at(&history), "/vertical/amplitude_ratio");
 }

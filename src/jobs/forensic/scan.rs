@@ -9,13 +9,13 @@
 //! assemble into what one task finds.
 
 use super::{AmplitudeRange, ForensicJob, ForensicResult, Intervals, overturning_set};
-use crate::dynamics::{Block, Problem, Pulse, PulsePair, RecordPair, SimError};
+use crate::dynamics::{Block, Problem, Pulse, SimError};
 use crate::jobs::JobError;
 use crate::jobs::cost;
 use crate::jobs::kind::Size;
 use crate::jobs::scan_parts::{self, Group, Part, PartDoc};
 use crate::spectrum::Control;
-use crate::spectrum::overturning::{Found, ScanGrid, threshold_alpha_g, threshold_under_ratio};
+use crate::spectrum::overturning::{Found, ScanGrid, threshold_alpha_g};
 use crate::spectrum::scan::{ScanError, ScanStats};
 
 /// The kind of a forensic query's part document.
@@ -54,17 +54,18 @@ impl ForensicJob {
     /// Every observation's block and grid.
     pub fn observation_scans(&self) -> Result<Vec<ObservationScan>, ScanError> {
         let AmplitudeRange { to, .. } = self.range_g();
+        // A record's samples (its threshold under its own vertical samples).
+        let horizontal: &[f64] = self.ground_motion.as_ref().map_or(&[], |g| &g.acc);
         self.observations
             .iter()
             .map(|o| {
                 let block = o.block.block().map_err(bad_block)?;
                 let alpha = block.slenderness();
-                let threshold = threshold_under_ratio(
-                    threshold_alpha_g(self.formulation, &block),
-                    self.formulation,
-                    alpha,
-                    self.vertical_ratio(),
-                );
+                let threshold = threshold_alpha_g(self.formulation, &block);
+                let threshold = match self.scaled_vertical() {
+                    Some(v) => v.threshold(threshold, self.formulation, alpha, horizontal),
+                    None => threshold,
+                };
                 // From the threshold, whatever `from` is: the state at the
                 // range's start is then known, not assumed.
                 let grid = (to / alpha > threshold).then(|| ScanGrid {
@@ -178,14 +179,13 @@ impl ForensicJob {
                     pulse: motion,
                     formulation: self.formulation,
                 };
-                match self.vertical_ratio() {
+                match self.scaled_vertical() {
                     None => {
                         let problems: Vec<_> = lines.map(|_| on(record.clone())).collect();
                         scan_parts::run(PART_KIND, part, &problems, solver, &grid, control)
                     }
-                    Some(r) => {
-                        let pair = RecordPair::proportional(record, r)
-                            .ok_or_else(|| bad_block(SimError::Tolerance))?;
+                    Some(v) => {
+                        let pair = v.record_pair(record)?;
                         let problems: Vec<_> = lines
                             .map(|_| Problem {
                                 block: scan.block,
@@ -217,16 +217,17 @@ impl ForensicJob {
                         })
                     })
                     .collect::<Result<Vec<_>, ScanError>>()?;
-                match self.vertical_ratio() {
+                match self.scaled_vertical() {
                     None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
-                    Some(r) => {
+                    Some(v) => {
                         let pairs = problems
                             .into_iter()
                             .map(|q| {
                                 Ok(Problem {
                                     block: q.block,
-                                    pulse: PulsePair::proportional(q.pulse, r)
-                                        .ok_or_else(|| bad_block(SimError::Tolerance))?,
+                                    pulse: v
+                                        .pulse_pair(q.pulse)
+                                        .ok_or_else(|| bad_block(SimError::Tolerance))??,
                                     formulation: q.formulation,
                                 })
                             })

@@ -36,16 +36,15 @@ pub fn parts(job: &RecordSpectrumJob, per_size: f64, budget: f64, max_tasks: usi
 pub fn run(job: &RecordSpectrumJob, part: Part, control: &Control) -> Result<PartDoc, ScanError> {
     let problems = job.problems(&job.p[part.range()])?;
     let (solver, grid) = (job.solver.solver(), job.grid());
-    match job.vertical_ratio() {
+    match job.scaled_vertical() {
         None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
-        Some(r) => {
+        Some(v) => {
             let pairs = problems
                 .into_iter()
                 .map(|q| {
                     Ok(crate::dynamics::Problem {
                         block: q.block,
-                        pulse: crate::dynamics::RecordPair::proportional(q.pulse, r)
-                            .ok_or(ScanError::Simulation(crate::dynamics::SimError::Tolerance))?,
+                        pulse: v.record_pair(q.pulse)?,
                         formulation: q.formulation,
                     })
                 })
