@@ -393,6 +393,66 @@ impl Pulse {
         }
     }
 
+    /// The waveform of unit amplitude and its slope d/dt at `t` (no support
+    /// check): −ω sin(ω t + φ) for the cosine; for the Ricker wavelets, with
+    /// x = cτ², W′ = D = (−6cτ + 4c²τ³)e^(−x) and D′ = c(−6 + 24x − 8x²)e^(−x);
+    /// for Mavroeidis–Papageorgiou, f_p times the shape's jerk.
+    #[inline]
+    pub fn unit_and_slope(&self, t: f64) -> (f64, f64) {
+        match self.wave {
+            Wave::Cosine => {
+                let (s, c) = (self.carrier * t + self.phase).sin_cos();
+                (c, -self.carrier * s)
+            }
+            Wave::Ricker {
+                c,
+                t0,
+                symmetric,
+                scale,
+            } => {
+                let tau = t - t0;
+                let x = c * tau * tau;
+                let e = (-x).exp();
+                let d = (-6.0 * c * tau + 4.0 * c * c * tau * tau * tau) * e;
+                if symmetric {
+                    ((1.0 - 2.0 * x) * e, d)
+                } else {
+                    let slope = c * (-6.0 + 24.0 * x - 8.0 * x * x) * e;
+                    (d * scale, slope * scale)
+                }
+            }
+            Wave::MavroeidisPapageorgiou { rate, shape, scale } => {
+                let x = rate * t;
+                (scale * shape.acceleration(x), scale * rate * shape.jerk(x))
+            }
+        }
+    }
+
+    /// A bound on |d²/dt²| of the unit waveform over the support, where one
+    /// is known in closed form: ω² for the cosine; for the Ricker wavelets,
+    /// with u = √c τ and max |u|ⁿe^(−u²) = (n/2)^(n/2) e^(−n/2), the triangle
+    /// inequality on W″ = c(−6 + 24u² − 8u⁴)e^(−u²) and on
+    /// D″ = c^(3/2)(60u − 80u³ + 16u⁵)e^(−u²). `None` for
+    /// Mavroeidis–Papageorgiou.
+    pub fn unit_curvature_bound(&self) -> Option<f64> {
+        // max |u|ⁿ e^(−u²).
+        let peak = |n: f64| (0.5 * n).powf(0.5 * n) * (-0.5 * n).exp();
+        match self.wave {
+            Wave::Cosine => Some(self.carrier * self.carrier),
+            Wave::Ricker {
+                c,
+                symmetric,
+                scale,
+                ..
+            } => Some(if symmetric {
+                c * (6.0 + 24.0 * peak(2.0) + 8.0 * peak(4.0))
+            } else {
+                scale * c * c.sqrt() * (60.0 * peak(1.0) + 80.0 * peak(3.0) + 16.0 * peak(5.0))
+            }),
+            Wave::MavroeidisPapageorgiou { .. } => None,
+        }
+    }
+
     /// Phase χ = ω t + φ at time t.
     #[inline]
     pub fn phase_at(&self, t: f64) -> f64 {

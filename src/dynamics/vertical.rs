@@ -131,6 +131,68 @@ fn first_above<F: Fn(f64) -> f64, U: Fn(f64, f64) -> f64>(
     first_above(f, upper, mid, hi, level)
 }
 
+/// Steps of [`first_above_curved`] before it hands over to bisection.
+const CURVED_STEPS: usize = 200;
+
+/// The infimum of {t ∈ [lo, hi] : f(t) > level} as [`first_above`], given
+/// f(lo) ≤ level and |f″| ≤ `curvature` on [lo, hi]; `f_slope` gives f and
+/// f′. From x with f(x) ≤ level the parabola f(x) + f′(x)τ + ½Mτ² bounds f
+/// from above, so f stays at or below the level until its first root τ:
+/// stepping by τ never passes a crossing, and at a simple one it is Newton's
+/// step from below (quadratic). `Err(x)` when the steps stall short of the
+/// end (f touching the level), f being at or below it on [lo, x]: the
+/// caller goes on from x by bisection.
+fn first_above_curved<F: Fn(f64) -> (f64, f64)>(
+    f_slope: &F,
+    curvature: f64,
+    lo: f64,
+    hi: f64,
+    level: f64,
+) -> Result<Option<f64>, f64> {
+    let at_end = || (f_slope(hi).0 > level).then_some(hi);
+    let mut x = lo;
+    let mut stalls = 0;
+    for _ in 0..CURVED_STEPS {
+        let (value, slope) = f_slope(x);
+        let gap = level - value;
+        if gap < 0.0 {
+            return Ok(Some(x));
+        }
+        // The smallest τ > 0 with −gap + f′τ + ½Mτ² = 0 (none: infinite).
+        let root = (slope * slope + 2.0 * curvature * gap).sqrt();
+        let tau = if slope > 0.0 {
+            2.0 * gap / (slope + root)
+        } else if curvature > 0.0 {
+            (root - slope) / curvature
+        } else {
+            f64::INFINITY
+        };
+        let next = x + tau;
+        if !(next < hi) {
+            return Ok(at_end());
+        }
+        if next > x {
+            x = next;
+            continue;
+        }
+        // A step below half an ulp: the crossing is at the next time, or f
+        // only touches the level here.
+        let up = x.next_up();
+        if up >= hi {
+            return Ok(at_end());
+        }
+        if f_slope(up).0 > level {
+            return Ok(Some(up));
+        }
+        x = up;
+        stalls += 1;
+        if stalls > 4 {
+            break;
+        }
+    }
+    Err(x)
+}
+
 /// A horizontal pulse and a vertical one whose own time starts `delay`
 /// seconds later (ü_v(t) = vertical(t − delay)).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -234,6 +296,43 @@ impl PulsePair {
         }
     }
 
+    /// (ü_g, dü_g/dt) on a piece whose inside holds `mid`.
+    #[inline]
+    fn h_slope_on(&self, t: f64, mid: f64) -> (f64, f64) {
+        let p = &self.horizontal;
+        if (0.0..=p.duration).contains(&mid) {
+            let (u, du) = p.unit_and_slope(t);
+            (p.amplitude * u, p.amplitude * du)
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    /// (ü_v, dü_v/dt) on a piece whose inside holds `mid`.
+    #[inline]
+    fn v_slope_on(&self, t: f64, mid: f64) -> (f64, f64) {
+        let p = &self.vertical;
+        if (0.0..=p.duration).contains(&(mid - self.delay)) {
+            let (u, du) = p.unit_and_slope(t - self.delay);
+            (p.amplitude * u, p.amplitude * du)
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    /// A bound on |s ü_g″ − k ü_v″| on a piece whose inside holds `mid`;
+    /// `None` where a pulse acting there has none in closed form.
+    fn curvature_on(&self, mid: f64, k: f64) -> Option<f64> {
+        let bound = |p: &Pulse, own: f64| {
+            if (0.0..=p.duration).contains(&own) {
+                p.unit_curvature_bound().map(|m| p.amplitude.abs() * m)
+            } else {
+                Some(0.0)
+            }
+        };
+        Some(bound(&self.horizontal, mid)? + k.abs() * bound(&self.vertical, mid - self.delay)?)
+    }
+
     /// [`Forcing::next_rocking`] of a proportional pair, ü_v = r ü_g: where
     /// ü_g > 0 the block rocks once ü_g (1 − k r) > k g, where ü_g < 0 once
     /// |ü_g| (1 + k r) > k g: windows of |ü_g| over a level of each sign,
@@ -283,12 +382,41 @@ impl PulsePair {
 
     /// The first crossing on [a, b] (with f(a) ≤ level on both sides) of
     /// s ü_g − k ü_v above `level`, side s = ±1 first, or where that falls
-    /// back to or below it (`back`).
+    /// back to or below it (`back`). Where both pulses have a curvature
+    /// bound it is stepped to from below ([`first_above_curved`]);
+    /// otherwise, or from where that stalls, bisected.
     fn crossing_on(&self, a: f64, b: f64, s: f64, k: f64, level: f64, back: bool) -> Option<f64> {
         let mid = 0.5 * (a + b);
         let sign = if back { -1.0 } else { 1.0 };
+        let Some(curvature) = self.curvature_on(mid, k) else {
+            return self.bisected_crossing(a, b, mid, s, k, level, back);
+        };
+        let f_slope = |t: f64| {
+            let ((h, dh), (v, dv)) = (self.h_slope_on(t, mid), self.v_slope_on(t, mid));
+            (sign * (s * h - k * v), sign * (s * dh - k * dv))
+        };
+        match first_above_curved(&f_slope, curvature, a, b, sign * level) {
+            Ok(t) => t,
+            Err(x) => self.bisected_crossing(x, b, mid, s, k, level, back),
+        }
+    }
+
+    /// [`crossing_on`](Self::crossing_on) by bisection ([`first_above`]) on
+    /// [a, b] inside the piece holding `mid`, where each component is
+    /// monotone: its ends bound it.
+    #[allow(clippy::too_many_arguments)]
+    fn bisected_crossing(
+        &self,
+        a: f64,
+        b: f64,
+        mid: f64,
+        s: f64,
+        k: f64,
+        level: f64,
+        back: bool,
+    ) -> Option<f64> {
+        let sign = if back { -1.0 } else { 1.0 };
         let f = |t: f64| sign * (s * self.h_on(t, mid) - k * self.v_on(t, mid));
-        // Each component is monotone on the piece: its ends bound it.
         let upper = |x: f64, y: f64| {
             let (h0, h1) = (s * self.h_on(x, mid), s * self.h_on(y, mid));
             let (v0, v1) = (k * self.v_on(x, mid), k * self.v_on(y, mid));
@@ -940,6 +1068,84 @@ mod tests {
         assert_eq!(pair.duration(), PI);
         assert_eq!(pair.vertical_acceleration(0.3), 0.0);
         assert_eq!(pair.vertical_acceleration(0.4), -2.0 * g);
+    }
+
+    #[test]
+    fn stepping_to_a_crossing_finds_what_bisection_finds() {
+        // On every piece of pairs of pulses of their own (several families,
+        // frequencies, delays, levels), each crossing of s ü_g − k ü_v, up
+        // and back, stepped to from below against the bisection's, and the
+        // last bit of time there.
+        let b = block();
+        let g = b.gravity();
+        let shapes = [
+            PulseShape::OneSine,
+            PulseShape::OneCosine,
+            PulseShape::Cn(2),
+            PulseShape::HalfSine,
+            PulseShape::Rectangular,
+            PulseShape::Ricker { symmetric: true },
+            PulseShape::Ricker { symmetric: false },
+        ];
+        let mut found = 0;
+        for formulation in [Formulation::Linear, Formulation::Nonlinear] {
+            let th = formulation.threshold(&b);
+            let (k, level) = (th.factor, th.level);
+            for (i, &hs) in shapes.iter().enumerate() {
+                for (j, &vs) in shapes.iter().enumerate() {
+                    let (ah, av) = (
+                        (1.5 + 0.7 * i as f64) * level,
+                        (0.3 + 0.25 * j as f64) * g * if (i + j) % 2 == 0 { 1.0 } else { -1.0 },
+                    );
+                    let h = Pulse::new(hs, ah, 4.0 + i as f64).expect("valid");
+                    let v = Pulse::new(vs, av, 3.0 + 2.5 * j as f64).expect("valid");
+                    for delay in [0.0, 0.13, 0.7] {
+                        let pair = PulsePair::new(h, v, delay);
+                        let mut a = 0.0;
+                        for c in pair.cuts_after(0.0) {
+                            let mid = 0.5 * (a + c);
+                            for s in [1.0, -1.0] {
+                                let f = s * pair.h_on(a, mid) - k * pair.v_on(a, mid);
+                                let back = f > level;
+                                let x = pair.crossing_on(a, c, s, k, level, back);
+                                let y = pair.bisected_crossing(a, c, mid, s, k, level, back);
+                                let what = format!(
+                                    "{formulation:?} {hs:?} {vs:?} delay {delay} [{a}, {c}] s {s} back {back}"
+                                );
+                                match (x, y) {
+                                    (None, None) => {}
+                                    (Some(x), Some(y)) => {
+                                        assert!((x - y).abs() < 1e-12, "{what}: {x} vs {y}");
+                                        found += 1;
+                                    }
+                                    _ => panic!("{what}: {x:?} vs {y:?}"),
+                                }
+                            }
+                            a = c;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(found > 500, "{found} crossings");
+    }
+
+    #[test]
+    fn stepping_from_below_never_passes_the_first_of_close_crossings() {
+        // f = sin(t) − ε t² on [0, π]: 0.5 is crossed on the way up and
+        // down; |f″| ≤ 1 + 2ε. The first, to the last bit.
+        let eps = 0.01;
+        let f = |t: f64| (t.sin() - eps * t * t, t.cos() - 2.0 * eps * t);
+        let first = first_above_curved(&f, 1.0 + 2.0 * eps, 0.0, PI, 0.5)
+            .expect("no stall")
+            .expect("crosses");
+        assert!(f(first).0 > 0.5 && f(first.next_down()).0 <= 0.5, "{first}");
+        assert!(first < 1.0, "{first}");
+        // A crest below the level: none.
+        assert_eq!(
+            first_above_curved(&f, 1.0 + 2.0 * eps, 0.0, PI, 0.99),
+            Ok(None)
+        );
     }
 
     #[test]
