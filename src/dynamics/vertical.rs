@@ -168,7 +168,8 @@ fn first_above_curved<F: Fn(f64) -> (f64, f64)>(
             f64::INFINITY
         };
         let next = x + tau;
-        if !(next < hi) {
+        // (A NaN step ends the search as one past the piece does.)
+        if next.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
             return Ok(at_end());
         }
         if next > x {
