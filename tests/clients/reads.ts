@@ -47,8 +47,9 @@ export function summary(view: S["JobView"]): string {
     }
     case "fragility": {
       const stripe = r.stripes[0];
-      const p: number = stripe.p;
-      const lo: number = stripe.interval_95[0];
+      // null only under a vertical motion, for a stripe whose every sample lifted off.
+      const p: number | null = stripe.p;
+      const lo: number | null = stripe.interval_95[0];
       const median: number | undefined = r.lognormal?.median;
       return `${p} ${lo} ${median} ${r.monotone}`;
     }
