@@ -707,7 +707,7 @@ pub struct StripeResult {
     pub overturned: u64,
     /// overturned / the samples decided (n − lift_off); null when none was.
     #[serde(deserialize_with = "nan_for_null_one")]
-    #[schema(value_type = Option<f64>)]
+    #[schema(value_type = Option<f64>, required = true)]
     pub p: f64,
     /// 95 % Wilson score interval of p (nulls when no sample was decided).
     #[serde(deserialize_with = "nan_for_null")]
