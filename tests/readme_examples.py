@@ -152,7 +152,10 @@ def main():
             if not serves and server is None:
                 server = subprocess.Popen(
                     [binary, "serve", "--addr", f"127.0.0.1:{ports[0]}",
-                     "--database", f"sqlite://{work}/topple.db"],
+                     "--database", f"sqlite://{work}/topple.db",
+                     # A debug build computes the record spectrum of the records
+                     # example in about a minute: let ?wait= hold that long.
+                     "--max-wait", "300"],
                     cwd=work, env=env, stdout=log, stderr=log, start_new_session=True)
                 if not ready(ports[0]):
                     failures.append((line, "the examples' server did not become ready"))
