@@ -849,6 +849,24 @@ fn uniform(rng: &mut ChaCha8Rng) -> f64 {
     ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
 }
 
+/// One simulation of `block` under `ground` (a motion, or a pair with its
+/// vertical component).
+fn run<G: crate::dynamics::Forcing>(
+    block: Block,
+    ground: G,
+    formulation: Formulation,
+    options: &Options,
+) -> Result<Response, crate::dynamics::SimError> {
+    simulate(
+        &Problem {
+            block,
+            pulse: ground,
+            formulation,
+        },
+        options,
+    )
+}
+
 /// A record of the suite, ready to scale.
 struct SuiteRecord {
     /// ü_g.
@@ -991,22 +1009,8 @@ impl FragilityJob {
             };
             let pulse = unit.with_amplitude(a_p);
             match ratio.and_then(|r| PulsePair::proportional(pulse, r)) {
-                Some(pair) => simulate(
-                    &Problem {
-                        block,
-                        pulse: pair,
-                        formulation,
-                    },
-                    &options,
-                )?,
-                None => simulate(
-                    &Problem {
-                        block,
-                        pulse,
-                        formulation,
-                    },
-                    &options,
-                )?,
+                Some(pair) => run(block, pair, formulation, &options)?,
+                None => run(block, pulse, formulation, &options)?,
             }
         } else {
             let suite = &records[j % records.len()];
@@ -1025,22 +1029,8 @@ impl FragilityJob {
                 (None, None) => None,
             };
             match pair {
-                Some(pair) => simulate(
-                    &Problem {
-                        block,
-                        pulse: pair,
-                        formulation,
-                    },
-                    &options,
-                )?,
-                None => simulate(
-                    &Problem {
-                        block,
-                        pulse: record,
-                        formulation,
-                    },
-                    &options,
-                )?,
+                Some(pair) => run(block, pair, formulation, &options)?,
+                None => run(block, record, formulation, &options)?,
             }
         };
         Ok(Verdict::of(&r))
