@@ -176,8 +176,9 @@ fn nonlinear<G: Forcing>(block: Block, motion: G) -> Problem<G> {
 
 /// The same simulations with and without a vertical ground motion, side by
 /// side: the locomotive under the reference one-sine pulse alone, with
-/// ü_v = 0.5 ü_g, and with a one-sine vertical pulse of its own (twice the
-/// frequency, 0.5 a_p, 0.1 s late); a slender block (α = 0.15, p = 1.5) under
+/// ü_v = 0.5 ü_g, with a one-sine vertical pulse of its own (twice the
+/// frequency, 0.5 a_p, 0.1 s late), and with ü_v = 0.5 ü_g given as a pulse of
+/// its own (`own_same`: the ratio's steps through the general path); a slender block (α = 0.15, p = 1.5) under
 /// a 20-s synthetic record alone, with ü_v = 0.5 ü_g, and with a vertical
 /// record of its own (another seed, peak 0.6 g). Nonlinear, dop853 at rtol
 /// 1e-8; `outcome` what spectra run, `full` what a time history runs (peak,
@@ -196,6 +197,16 @@ fn vertical(c: &mut Criterion) {
         PulsePair::proportional(horizontal, 0.5).expect("non-zero"),
     );
     let pair = nonlinear(block, PulsePair::new(horizontal, own, 0.1));
+    // The ratio's motion given as a pulse of its own: the same steps, through
+    // the general path.
+    let same = nonlinear(
+        block,
+        PulsePair::new(
+            horizontal,
+            horizontal.with_amplitude(0.5 * horizontal.amplitude),
+            0.0,
+        ),
+    );
     for (tag, options) in [("outcome", &outcome), ("full", &full)] {
         g.bench_function(format!("pulse/none/{tag}"), |b| {
             b.iter(|| simulate(black_box(&alone), black_box(options)))
@@ -205,6 +216,9 @@ fn vertical(c: &mut Criterion) {
         });
         g.bench_function(format!("pulse/own/{tag}"), |b| {
             b.iter(|| simulate(black_box(&pair), black_box(options)))
+        });
+        g.bench_function(format!("pulse/own_same/{tag}"), |b| {
+            b.iter(|| simulate(black_box(&same), black_box(options)))
         });
     }
     let slender = Block::new(0.15, 1.5, Some(0.9), None, None).expect("valid");

@@ -51,8 +51,10 @@ pub struct FrictionSpec {
     pub a_p_g: Option<RangeSpec>,
     /// Solver.
     pub solver: Option<SolverSpec>,
-    /// The vertical ground acceleration (positive up) as a share of the
-    /// horizontal one at every amplitude: `{"ratio": r}`, ü_v = r·ü_g.
+    /// The vertical ground acceleration (positive up), scaled with each
+    /// pulse: `{"ratio": r}` (ü_v = r·ü_g), or a pulse of its own (`type`,
+    /// `amplitude_ratio` a_v/a_p, `frequency_ratio` ω_v/ω_p or an absolute
+    /// `omega_p`/`frequency_hz`, optional `delay_s`).
     pub vertical: Option<super::vertical::VerticalPulseSpec>,
 }
 
@@ -77,7 +79,7 @@ pub struct FrictionJob {
     pub a_alpha_g: Vec<f64>,
     /// Solver.
     pub solver: SolverNorm,
-    /// ü_v = r·ü_g (positive up), when given.
+    /// The vertical motion (positive up), when given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
     pub vertical: Option<super::vertical::VerticalPulseNorm>,
@@ -90,7 +92,7 @@ impl FrictionSpec {
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let vertical =
-            super::vertical::validate_vertical_ratio(self.vertical.as_ref(), "/vertical")?;
+            super::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
         let solver = super::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
@@ -161,7 +163,7 @@ impl FrictionSpec {
             omega_ratio,
             a_alpha_g,
             solver,
-            vertical: vertical.map(super::vertical::VerticalPulseNorm::Ratio),
+            vertical,
         })
     }
 }
@@ -244,7 +246,8 @@ impl FrictionJob {
             solver: self.solver.solver(),
             omega_ratio: self.omega_ratio,
             levels: self.a_alpha_g.clone(),
-            vertical_ratio: self.vertical.as_ref().and_then(|v| v.ratio()),
+            vertical: super::vertical::ScaledVertical::of(self.vertical.as_ref(), None)
+                .and_then(|v| v.of_pulses()),
         };
         let s = friction_spectrum(&req, control)?;
         let tan = block.slenderness().tan();

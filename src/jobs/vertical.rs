@@ -19,7 +19,7 @@ use super::spec::{
 pub use super::vertical_record::{VerticalRecordNorm, VerticalRecordSpec};
 use crate::dynamics::{Block, Formulation, Pulse, PulsePair, Record, RecordPair, SimError};
 use crate::spectrum::overturning::{
-    VerticalFrequency, VerticalPulse, threshold_under_ratio, threshold_under_samples,
+    PulseVertical, VerticalFrequency, VerticalPulse, threshold_under_ratio, threshold_under_samples,
 };
 use crate::spectrum::scan::{ScanError, lift_off_level, lift_off_scale};
 
@@ -691,15 +691,18 @@ impl<'a> ScaledVertical<'a> {
         }
     }
 
-    /// The pulse `pulse` with this vertical motion (`None` for samples).
-    pub fn pulse_pair(&self, pulse: Pulse) -> Option<Result<PulsePair, ScanError>> {
+    /// The vertical motion beside a pulse (`None` for samples).
+    pub fn of_pulses(&self) -> Option<PulseVertical> {
         match *self {
-            ScaledVertical::Ratio(r) => Some(
-                PulsePair::proportional(pulse, r).ok_or(ScanError::Simulation(SimError::Tolerance)),
-            ),
-            ScaledVertical::Pulse(v) => Some(v.pair(pulse)),
+            ScaledVertical::Ratio(r) => Some(PulseVertical::Ratio(r)),
+            ScaledVertical::Pulse(v) => Some(PulseVertical::Pulse(v)),
             ScaledVertical::Samples(_) => None,
         }
+    }
+
+    /// The pulse `pulse` with this vertical motion (`None` for samples).
+    pub fn pulse_pair(&self, pulse: Pulse) -> Option<Result<PulsePair, ScanError>> {
+        self.of_pulses().map(|v| v.pair(pulse))
     }
 
     /// The record `record` with this vertical motion.

@@ -250,6 +250,13 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         fmt_num(from, 3),
         fmt_num(to, 3)
     ));
+    if let Some(v) = result.spec.scaled_vertical() {
+        let g = observations.first().map_or(9.81, |o| o.block.g);
+        legend.note(format!(
+            "vertical ground motion {} (positive up), scaled with each pulse",
+            super::scaled_vertical_text(&v, g)
+        ));
+    }
     legend.note(if xs.len() > 1 {
         format!(
             "each computed frequency is a cell reaching half-way to its neighbours; the map spans the computed {}–{} Hz; nothing is interpolated between frequencies",
@@ -494,6 +501,35 @@ mod tests {
         let expected = left + (2.625 - 0.25) / (3.0 - 0.25) * (end - left);
         assert!((green - expected).abs() <= 1.0, "{green} vs {expected}");
         assert!(svg.contains("interpolated"));
+    }
+
+    #[test]
+    fn the_map_names_its_vertical_motion() {
+        for (vertical, needle) in [
+            (r#"{"ratio": -0.4}"#, "ü_v = -0.4 ü_g"),
+            (
+                r#"{"type": "one_sine", "amplitude_ratio": 0.5, "frequency_ratio": 2, "delay_s": 0.1}"#,
+                "ü_v: a one-sine pulse, a_v = 0.5 a_p, ω_v = 2 ω_p, 0.1 s later",
+            ),
+        ] {
+            let spec = format!(
+                r#"{{"kind": "forensic", "pulse": {{"type": "one_sine"}},
+                "observations": [{{"name": "locomotive",
+                    "block": {{"alpha": 0.25, "p": 2.14, "eta": 0.9}}, "overturned": true}}],
+                "frequency_hz": [1.0], "a_p_g": {{"from": 0.1, "to": 1.0}},
+                "vertical": {vertical}}}"#
+            );
+            let JobResult::Forensic(r) = typed(&spec) else {
+                panic!("not a forensic result")
+            };
+            let words = crate::plot::tests::words(&super::svg(&r).expect("draws"));
+            assert!(
+                words.contains(&format!("vertical ground motion {needle} (positive up)")),
+                "{needle} missing: {words}"
+            );
+        }
+        let svg = super::svg(&computed_small()).expect("draws");
+        assert!(!svg.contains("ü_v"), "no vertical motion named without one");
     }
 
     #[test]

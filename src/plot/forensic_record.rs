@@ -184,6 +184,13 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
             fmt_num(r.peaks.pgv_m_s, 4),
         ));
     }
+    if let Some(v) = result.spec.scaled_vertical() {
+        let g = observations.first().map_or(9.81, |o| o.block.g);
+        legend.note(format!(
+            "vertical ground motion {} (positive up)",
+            super::scaled_vertical_text(&v, g)
+        ));
+    }
     legend.note(format!(
         "{formulation} formulation; each column is one computed observation, the last their intersection"
     ));

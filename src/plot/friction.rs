@@ -176,6 +176,11 @@ pub fn svg(result: &FrictionResult) -> Result<String, String> {
         "{pulse} pulse, ω_p/p = {ratio}, {} formulation",
         spec.formulation.name()
     ));
+    let vertical = crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None)
+        .map(|v| super::scaled_vertical_text(&v, spec.block.g));
+    if let Some(v) = &vertical {
+        legend.note(format!("vertical ground motion {v} (positive up)"));
+    }
     legend.note(format!(
         "right axis: μ_min = tan α × left axis (tan α = {})",
         fmt_num(tan, 3)
@@ -187,7 +192,10 @@ pub fn svg(result: &FrictionResult) -> Result<String, String> {
         ));
     }
 
-    let title = format!("Friction needed for pure rocking: {pulse} pulse, ω_p/p = {ratio}");
+    let title = format!(
+        "Friction needed for pure rocking: {pulse} pulse, ω_p/p = {ratio}{}",
+        vertical.map_or(String::new(), |v| format!(", {v}"))
+    );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
         let chart = ChartBuilder::on(&chart_area)
@@ -352,6 +360,24 @@ pub(crate) mod tests {
         assert_eq!(lifted, [false, true]);
         let svg = super::svg(&result).expect("svg");
         assert!(svg.contains("lift-off (f_z → 0): demand"), "{svg}");
+    }
+
+    #[test]
+    fn the_figure_names_its_vertical_motion() {
+        let r = computed(
+            r#"{"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+                "pulse": {"type": "one_sine"}, "omega_ratio": 4, "a_alpha_g": [2, 3],
+                "vertical": {"type": "one_cosine", "amplitude_ratio": -0.3,
+                             "omega_p": 20}}"#,
+        );
+        let words = crate::plot::tests::words(&super::svg(&r).expect("draws"));
+        let needle = "ü_v: a one-cosine pulse, a_v = -0.3 a_p, ω_v = 20 rad/s";
+        assert_eq!(
+            words.matches(needle).count(),
+            2,
+            "title and legend: {words}"
+        );
+        assert!(!super::svg(&sample()).expect("draws").contains("ü_v"));
     }
 
     #[test]

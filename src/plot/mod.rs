@@ -142,6 +142,37 @@ pub(crate) fn block_text(b: &BlockNorm) -> String {
     parts.join(", ")
 }
 
+/// The vertical motion of a kind that scales its ground motion, as its
+/// figures name it: "ü_v = r ü_g", a pulse of its own (a_v = k a_p; ω_v
+/// absolute or relative to ω_p; its delay), or a record's own vertical
+/// samples (their unscaled peak, in g of `g` m/s²).
+pub(crate) fn scaled_vertical_text(v: &crate::jobs::vertical::ScaledVertical, g: f64) -> String {
+    use crate::jobs::vertical::ScaledVertical;
+    use crate::spectrum::overturning::VerticalFrequency;
+    use style::fmt_num;
+    match v {
+        ScaledVertical::Ratio(r) => format!("ü_v = {} ü_g", fmt_num(*r, 3)),
+        ScaledVertical::Pulse(v) => format!(
+            "ü_v: a {} pulse, a_v = {} a_p, {}{}",
+            shape_title(v.shape),
+            fmt_num(v.amplitude_ratio, 3),
+            match v.frequency {
+                VerticalFrequency::Omega(w) => format!("ω_v = {} rad/s", fmt_num(w, 4)),
+                VerticalFrequency::Ratio(x) => format!("ω_v = {} ω_p", fmt_num(x, 4)),
+            },
+            if v.delay > 0.0 {
+                format!(", {} s later", fmt_num(v.delay, 4))
+            } else {
+                String::new()
+            }
+        ),
+        ScaledVertical::Samples(s) => format!(
+            "ü_v: the record's own vertical, scaled with it (PGA_v {} g unscaled)",
+            fmt_num(crate::jobs::record_spectrum::pga(s) / g, 4)
+        ),
+    }
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -178,6 +209,16 @@ pub(crate) mod tests {
     }
 
     /// `#RRGGBB` of a colour, as the SVG writes it.
+    /// The words an SVG shows, in document order, lines wrapped by the
+    /// legend joined by a space.
+    pub(crate) fn words(svg: &str) -> String {
+        svg.split('>')
+            .filter_map(|piece| piece.split('<').next())
+            .flat_map(str::split_whitespace)
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+
     pub(crate) fn hex(c: RGBColor) -> String {
         format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
     }

@@ -17,7 +17,7 @@ use super::style::{
     Drawn, INK, LEGEND_WIDTH, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, draw_legend,
     fmt_num, marker, mesh, scaled_pga_axis,
 };
-use crate::jobs::record_spectrum::{RecordSpectrumJob, RecordSpectrumResult, SizeDoc, pga};
+use crate::jobs::record_spectrum::{RecordSpectrumJob, RecordSpectrumResult, SizeDoc};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -257,18 +257,10 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
     })
 }
 
-/// The vertical motion of a record spectrum, as its figure names it:
-/// "ü_v = r ü_g", or the record's own vertical samples (their unscaled peak).
+/// The vertical motion of a record spectrum, as its figure names it.
 fn vertical_text(spec: &RecordSpectrumJob) -> Option<String> {
-    use crate::jobs::vertical::ScaledVertical;
-    match spec.scaled_vertical()? {
-        ScaledVertical::Ratio(r) => Some(format!("ü_v = {} ü_g", fmt_num(r, 3))),
-        ScaledVertical::Samples(v) => Some(format!(
-            "ü_v: the record's own vertical, scaled with it (PGA_v {} g unscaled)",
-            fmt_num(pga(v) / spec.block.g, 4)
-        )),
-        ScaledVertical::Pulse(_) => None,
-    }
+    spec.scaled_vertical()
+        .map(|v| super::scaled_vertical_text(&v, spec.block.g))
 }
 
 #[cfg(test)]

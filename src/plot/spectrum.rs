@@ -444,29 +444,10 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
     })
 }
 
-/// The vertical motion of a spectrum, as its figure names it: "ü_v = r ü_g",
-/// or its own pulse (a_v = k a_p; ω_v absolute or relative to ω_p; delay).
+/// The vertical motion of a spectrum, as its figure names it.
 fn vertical_text(spec: &SpectrumJob) -> Option<String> {
-    use crate::jobs::vertical::VerticalPulseNorm;
-    use crate::spectrum::overturning::VerticalFrequency;
-    match spec.vertical.as_ref()? {
-        VerticalPulseNorm::Ratio(r) => Some(format!("ü_v = {} ü_g", fmt_num(*r, 3))),
-        VerticalPulseNorm::Scaled(v) => Some(format!(
-            "ü_v: a {} pulse, a_v = {} a_p, {}{}",
-            shape_title(v.shape),
-            fmt_num(v.amplitude_ratio, 3),
-            match v.frequency {
-                VerticalFrequency::Omega(w) => format!("ω_v = {} rad/s", fmt_num(w, 4)),
-                VerticalFrequency::Ratio(x) => format!("ω_v = {} ω_p", fmt_num(x, 4)),
-            },
-            if v.delay > 0.0 {
-                format!(", {} s later", fmt_num(v.delay, 4))
-            } else {
-                String::new()
-            }
-        )),
-        VerticalPulseNorm::Pulse { .. } => None,
-    }
+    crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None)
+        .map(|v| super::scaled_vertical_text(&v, spec.block.g))
 }
 
 #[cfg(test)]

@@ -6,11 +6,11 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::dynamics::{
-    Block, Formulation, Options, Problem, Pulse, PulsePair, PulseShape, Response, SimError, Solver,
-    simulate,
+    Block, Formulation, Options, Problem, Pulse, PulseShape, Response, SimError, Solver, simulate,
 };
 
 use super::control::Control;
+use super::overturning::PulseVertical;
 use super::scan::{ScanError, ScanStats};
 
 /// What to compute.
@@ -28,8 +28,8 @@ pub struct FrictionRequest {
     pub omega_ratio: f64,
     /// Amplitudes a_p/(αg).
     pub levels: Vec<f64>,
-    /// A vertical ground acceleration ü_v = r ü_g (positive up), in phase.
-    pub vertical_ratio: Option<f64>,
+    /// A vertical ground acceleration (positive up) scaled with each pulse.
+    pub vertical: Option<PulseVertical>,
 }
 
 /// The demand at one amplitude.
@@ -87,7 +87,7 @@ pub fn friction_spectrum(
             .map_err(|_| ScanError::Simulation(SimError::Tolerance))?;
             let mut opts = Options::history(req.solver);
             opts.record_impacts = false;
-            let r: Response = match req.vertical_ratio {
+            let r: Response = match req.vertical {
                 None => simulate(
                     &Problem {
                         block: req.block,
@@ -96,11 +96,10 @@ pub fn friction_spectrum(
                     },
                     &opts,
                 )?,
-                Some(ratio) => simulate(
+                Some(vertical) => simulate(
                     &Problem {
                         block: req.block,
-                        pulse: PulsePair::proportional(pulse, ratio)
-                            .ok_or(ScanError::Simulation(SimError::Tolerance))?,
+                        pulse: vertical.pair(pulse)?,
                         formulation: req.formulation,
                     },
                     &opts,

@@ -361,6 +361,27 @@ impl VerticalPulse {
     }
 }
 
+/// The vertical motion beside each pulse of a scan, scaled with it: ü_v =
+/// r ü_g, or a pulse of its own whose amplitude is a share of each a_p.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PulseVertical {
+    /// ü_v = r·ü_g, in phase.
+    Ratio(f64),
+    /// A pulse of its own.
+    Pulse(VerticalPulse),
+}
+
+impl PulseVertical {
+    /// `horizontal` with this vertical motion.
+    pub fn pair(&self, horizontal: Pulse) -> Result<PulsePair, ScanError> {
+        match *self {
+            PulseVertical::Ratio(r) => PulsePair::proportional(horizontal, r)
+                .ok_or(ScanError::Simulation(crate::dynamics::SimError::Tolerance)),
+            PulseVertical::Pulse(v) => v.pair(horizontal),
+        }
+    }
+}
+
 /// The pulse of each line of `req` at 1 αg.
 fn line_pulses(req: &SpectrumRequest) -> Result<Vec<Pulse>, ScanError> {
     req.omega_ratios

@@ -359,7 +359,7 @@ fn friction_demand_grows_with_the_amplitude_and_starts_at_tan_alpha() {
         solver: dop853(),
         omega_ratio: 15.7 / 2.14,
         levels: vec![2.0, 4.0, 6.0, 8.9],
-        vertical_ratio: None,
+        vertical: None,
     };
     let s = friction_spectrum(&req, &Control::new()).expect("computes");
     let tan = 0.25f64.tan();

@@ -516,33 +516,32 @@ fn a_spectrum_under_a_vertical_ratio_scans_from_the_lowered_threshold_to_lift_of
     assert_eq!(own.pointer, "/vertical/a_p_g", "{own}");
 }
 
-#[test]
-fn a_friction_spectrum_under_a_vertical_ratio_is_its_time_histories_demand() {
-    // Each amplitude's demand is the peak |f_x/f_z| of the time history of
-    // the pair at that amplitude; from the amplitude where ü_v reaches −g
-    // (8 αg for r = 0.5 and a one-sine) the block leaves the ground: lift-off,
-    // no finite demand.
-    let levels = [1.5, 3.0, 7.5, 8.5];
+/// The friction spectrum of the locomotive's one-sine family at ω_p/p = 4
+/// over `levels` (αg) under `vertical`, each point checked against the time
+/// history of the pair at its amplitude (`history_vertical(level)`): the
+/// same peak |f_x/f_z| (1e-6), or lift-off in both. Returns the points.
+fn friction_points_are_their_histories(
+    levels: &[f64],
+    vertical: Value,
+    history_vertical: impl Fn(f64) -> Value,
+) -> Vec<Value> {
     let spec = json!({"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
         "pulse": {"type": "one_sine"}, "omega_ratio": 4.0, "a_alpha_g": levels,
-        "vertical": {"ratio": 0.5}});
+        "vertical": vertical});
     let Job::FrictionSpectrum(f) = Job::from_value(&spec).expect("valid spec") else {
         panic!("a friction spectrum")
     };
     let doc = serde_json::to_value(f.run(&topple::spectrum::Control::new()).expect("runs"))
         .expect("serialises");
-    let points = doc["points"].as_array().expect("points");
-    for (point, level) in points.iter().zip(levels) {
+    let points = doc["points"].as_array().expect("points").clone();
+    for (point, &level) in points.iter().zip(levels) {
         let history = run(&history(json!({
             "pulse": {"type": "one_sine", "omega_ratio": 4.0, "a_p_alpha_g": level},
-            "vertical": {"ratio": 0.5}, "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9, "mu": 10.0}
+            "vertical": history_vertical(level),
+            "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9, "mu": 10.0}
         })));
         let peak = point["peak_friction_demand"].as_f64();
         let expected = history["peak_friction_demand"].as_f64();
-        if level > 8.0 {
-            assert_eq!(point["lift_off"], true, "{point}");
-            assert_eq!(history["lift_off"], true, "{history}");
-        }
         // Lifted off (the ground falling away, or f_z → 0⁺ while rocking)
         // in both, or in neither with the same demand.
         let lifted = history["lift_off"] == true || history["lift_off_time"].is_number();
@@ -556,6 +555,65 @@ fn a_friction_spectrum_under_a_vertical_ratio_is_its_time_histories_demand() {
             _ => panic!("{level}: {point} vs {history}"),
         }
     }
+    points
+}
+
+#[test]
+fn a_friction_spectrum_under_a_vertical_pulse_of_its_own_is_its_time_histories_demand() {
+    // A one-sine vertical at twice the frequency, half the amplitude, 0.1 s
+    // late: it reaches −g from 8 αg (0.5 × 8 × 0.25 g = g).
+    let levels = [1.5, 3.0, 7.5, 8.5];
+    let points = friction_points_are_their_histories(
+        &levels,
+        json!({"type": "one_sine", "amplitude_ratio": 0.5, "frequency_ratio": 2.0, "delay_s": 0.1}),
+        |level| {
+            json!({"type": "one_sine", "omega_ratio": 8.0, "a_p_alpha_g": 0.5 * level,
+                   "delay_s": 0.1})
+        },
+    );
+    // Below, bounded demands; at 7.5 αg f_z reaches 0 while the block rocks
+    // (at 0.33 s), before the ground itself falls away faster than g.
+    assert!(
+        points[..2]
+            .iter()
+            .all(|p| p["peak_friction_demand"].is_number())
+    );
+    for p in &points[2..] {
+        assert_eq!(p["lift_off"], true, "{p}");
+    }
+    // A pulse of its own identical to ü_v = 0.5 ü_g is that ratio.
+    let same = friction_points_are_their_histories(
+        &levels[..2],
+        json!({"type": "one_sine", "amplitude_ratio": 0.5, "frequency_ratio": 1.0}),
+        |_| json!({"ratio": 0.5}),
+    );
+    let ratio = friction_points_are_their_histories(
+        &levels[..3],
+        json!({"ratio": 0.5}),
+        |_| json!({"ratio": 0.5}),
+    );
+    for (a, b) in same.iter().zip(&ratio) {
+        let (a, b) = (
+            a["peak_friction_demand"].as_f64().expect("bounded"),
+            b["peak_friction_demand"].as_f64().expect("bounded"),
+        );
+        assert!((a - b).abs() <= 1e-7 * b, "{a} vs {b}");
+    }
+}
+
+#[test]
+fn a_friction_spectrum_under_a_vertical_ratio_is_its_time_histories_demand() {
+    // Each amplitude's demand is the peak |f_x/f_z| of the time history of
+    // the pair at that amplitude; from the amplitude where ü_v reaches −g
+    // (8 αg for r = 0.5 and a one-sine) the block leaves the ground: lift-off,
+    // no finite demand.
+    let levels = [1.5, 3.0, 7.5, 8.5];
+    let points = friction_points_are_their_histories(
+        &levels,
+        json!({"ratio": 0.5}),
+        |_| json!({"ratio": 0.5}),
+    );
+    assert_eq!(points[3]["lift_off"], true, "{}", points[3]);
     assert!(
         points
             .iter()
@@ -1237,9 +1295,13 @@ fn a_vertical_pulse_of_its_own_in_scaled_kinds_is_checked_field_by_field() {
         ),
     ];
     for (vertical, pointer) in &cases {
+        let friction = json!({"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine"}, "omega_ratio": 2.0, "a_alpha_g": [2.0],
+            "vertical": vertical});
         for spec in [
             spectrum(vertical.clone(), json!({})),
             forensic(vertical.clone()),
+            friction,
         ] {
             assert_eq!(&refused_at(&spec), pointer, "{spec}");
         }
