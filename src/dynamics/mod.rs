@@ -17,6 +17,7 @@ pub mod reactions;
 pub mod response;
 pub mod separatrix;
 pub mod simulate;
+pub mod sliding;
 pub mod tracking;
 pub mod vertical;
 
