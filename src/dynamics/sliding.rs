@@ -352,6 +352,82 @@ mod tests {
     }
 
     #[test]
+    fn each_slide_balances_kinetic_energy_and_the_work_of_friction() {
+        // In the ground's absolute frame the block's velocity is v_g + ẋ; a
+        // slide starts and ends with ẋ = 0, and the only horizontal force on
+        // the block is friction, −s μ_k m g: ½(v_g(t1)² − v_g(t0)²) =
+        // −s μ_k g (Δu_g + Δx). Of that work, μ_k g |Δx| is dissipated.
+        let mut slides = 0;
+        for (shape, a_g, omega, mu, mu_k) in [
+            (PulseShape::OneSine, 0.6, 6.0, 0.2, 0.2),
+            (PulseShape::OneSine, 1.5, 3.0, 0.3, 0.25),
+            (PulseShape::OneCosine, 0.8, 8.0, 0.25, 0.15),
+            (PulseShape::Ricker { symmetric: true }, 1.0, 5.0, 0.3, 0.3),
+            (PulseShape::Cn(3), 0.9, 10.0, 0.2, 0.1),
+        ] {
+            let pulse = Pulse::new(shape, a_g * G, omega).expect("valid");
+            let s = slide(&pulse, G, Friction::new(mu, Some(mu_k)).expect("valid"));
+            assert!(!s.slides.is_empty(), "{shape:?} slides");
+            for w in &s.slides {
+                let ((v0, u0), _) = pulse.kinematics(w.from);
+                let ((v1, u1), _) = pulse.kinematics(w.to);
+                let kinetic = 0.5 * (v1 * v1 - v0 * v0);
+                let work = -w.direction * mu_k * G * (u1 - u0 + w.x_to - w.x_from);
+                let scale = kinetic.abs().max(work.abs()).max(1e-12);
+                assert!(
+                    (kinetic - work).abs() <= 1e-9 * scale,
+                    "{shape:?} {w:?}: {kinetic} vs {work}"
+                );
+                // x moves the slide's way: friction dissipates μ_k g |Δx|.
+                assert!(w.direction * (w.x_to - w.x_from) >= 0.0, "{w:?}");
+                slides += 1;
+            }
+            // A reversal starts where the last slide ends; otherwise the
+            // block sticks in between.
+            for pair in s.slides.windows(2) {
+                assert!(pair[1].from >= pair[0].to);
+                assert_eq!(pair[1].x_from, pair[0].x_to);
+            }
+            assert_eq!(s.residual, s.slides.last().expect("one").x_to);
+        }
+        assert!(slides >= 8, "{slides} slides");
+    }
+
+    #[test]
+    fn a_vertical_pulse_presses_or_lightens_the_block() {
+        // ü_v = r ü_g in phase: slipping where |ü_g| > μ (g + r ü_g). A
+        // ratio of 0 is the block without one; a ground falling faster than
+        // g lifts the block off.
+        let h = Pulse::new(PulseShape::OneSine, 0.6 * G, 6.0).expect("valid");
+        let f = Friction::new(0.2, None).expect("valid");
+        let alone = slide(&h, G, f);
+        let lighter = slide(&PulsePair::proportional(h, -0.5).expect("ratio"), G, f);
+        let heavier = slide(&PulsePair::proportional(h, 0.5).expect("ratio"), G, f);
+        // Forward ground acceleration first: the block slides backward, the
+        // farther the lighter the ground's forward push makes it; the pulse's
+        // second half turns it round at once (its stop is a reversal).
+        assert!(lighter.peak > alone.peak && alone.peak > heavier.peak);
+        for s in [&alone, &lighter, &heavier] {
+            assert_eq!(s.slides.len(), 2, "{s:?}");
+            assert_eq!((s.slides[0].direction, s.slides[1].direction), (-1.0, 1.0));
+            assert_eq!(s.slides[1].from, s.slides[0].to);
+            assert_eq!(s.peak, -s.slides[0].x_to);
+        }
+        // The first slip where 0.6 g sin(ω t) = 0.2 (g − 0.5·0.6 g sin(ω t)).
+        let start = |s: &Sliding| s.slides[0].from;
+        let expected = (0.2f64 / (0.6 * (1.0 + 0.2 * 0.5))).asin() / 6.0;
+        assert!(
+            (start(&lighter) - expected).abs() < 1e-12,
+            "{}",
+            start(&lighter)
+        );
+        let falling = PulsePair::proportional(h, -2.0).expect("ratio");
+        let lifted = slide(&falling, G, f);
+        let l = lifted.lift_off.expect("lifts off");
+        assert!((l - (1.0f64 / 1.2).asin() / 6.0).abs() < 1e-9, "{l}");
+    }
+
+    #[test]
     fn below_the_static_coefficient_the_block_sticks() {
         let pulse = Pulse::new(PulseShape::OneSine, 0.19 * G, 5.0).expect("valid");
         let s = slide(&pulse, G, Friction::new(0.2, None).expect("valid"));
