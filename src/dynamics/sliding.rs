@@ -106,7 +106,8 @@ pub struct Slide {
 pub struct Sliding {
     /// The slides in time order (a reversal starts one where the last ends).
     pub slides: Vec<Slide>,
-    /// Displacement relative to the ground at the end, m.
+    /// Displacement relative to the ground at the end (where it lifts off,
+    /// if it does: a slide cut short there is not in `slides`), m.
     pub residual: f64,
     /// max |x|, m (x is monotone within a slide: reached at a slide's end).
     pub peak: f64,
