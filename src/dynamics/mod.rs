@@ -5,6 +5,7 @@
 
 pub mod block;
 pub mod chatter;
+pub mod contact;
 pub mod equations;
 pub mod events;
 pub mod exact;
