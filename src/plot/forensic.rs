@@ -221,11 +221,11 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
                 },
                 fmt_num(lo, 3),
                 fmt_num(hi, 3),
-                f_bounds.map_or(String::new(), |(a, b)| format!(
-                    " at {}–{} Hz",
-                    fmt_num(a, 3),
-                    fmt_num(b, 3)
-                ))
+                f_bounds.map_or(String::new(), |(a, b)| if fmt_num(a, 3) == fmt_num(b, 3) {
+                    format!(" at {} Hz", fmt_num(a, 3))
+                } else {
+                    format!(" at {}–{} Hz", fmt_num(a, 3), fmt_num(b, 3))
+                })
             ),
         );
     }
@@ -530,6 +530,12 @@ mod tests {
         }
         let svg = super::svg(&computed_small()).expect("draws");
         assert!(!svg.contains("ü_v"), "no vertical motion named without one");
+        // One frequency is named once, not as a range from it to itself.
+        let words = crate::plot::tests::words(&svg);
+        assert!(
+            words.contains(" at 1 Hz") && !words.contains("1–1 Hz"),
+            "{words}"
+        );
     }
 
     #[test]

@@ -194,7 +194,10 @@ pub fn svg(result: &FrictionResult) -> Result<String, String> {
 
     let title = format!(
         "Friction needed for pure rocking: {pulse} pulse, ω_p/p = {ratio}{}",
-        vertical.map_or(String::new(), |v| format!(", {v}"))
+        crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None).map_or(
+            String::new(),
+            |v| format!(", {}", super::scaled_vertical_title(&v))
+        )
     );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
@@ -372,12 +375,13 @@ pub(crate) mod tests {
         );
         let words = crate::plot::tests::words(&super::svg(&r).expect("draws"));
         let needle = "ü_v: a one-cosine pulse, a_v = -0.3 a_p, ω_v = 20 rad/s";
-        assert_eq!(
-            words.matches(needle).count(),
-            2,
-            "title and legend: {words}"
+        assert_eq!(words.matches(needle).count(), 1, "the legend: {words}");
+        assert!(
+            words.contains("ω_p/p = 4, with a vertical pulse of its own"),
+            "the title: {words}"
         );
         assert!(!super::svg(&sample()).expect("draws").contains("ü_v"));
+        assert!(!super::svg(&sample()).expect("draws").contains("vertical"));
     }
 
     #[test]

@@ -31,7 +31,7 @@ pub use window::Window;
 
 /// Revision of the figures' drawing: part of a figure's entity tag, so a
 /// figure cached under an older drawing is not taken for the new one.
-pub const FIGURES_REVISION: u32 = 5;
+pub const FIGURES_REVISION: u32 = 6;
 
 /// Why a figure cannot be drawn.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -170,6 +170,18 @@ pub(crate) fn scaled_vertical_text(v: &crate::jobs::vertical::ScaledVertical, g:
             "ü_v: the record's own vertical, scaled with it (PGA_v {} g unscaled)",
             fmt_num(crate::jobs::record_spectrum::pga(s) / g, 4)
         ),
+    }
+}
+
+/// The same vertical motion as a title names it, short enough for one line
+/// (the legend gives [`scaled_vertical_text`]): "ü_v = r ü_g", "with a
+/// vertical pulse of its own" or "with the record's own vertical".
+pub(crate) fn scaled_vertical_title(v: &crate::jobs::vertical::ScaledVertical) -> String {
+    use crate::jobs::vertical::ScaledVertical;
+    match v {
+        ScaledVertical::Ratio(r) => format!("ü_v = {} ü_g", style::fmt_num(*r, 3)),
+        ScaledVertical::Pulse(_) => "with a vertical pulse of its own".into(),
+        ScaledVertical::Samples(_) => "with the record's own vertical".into(),
     }
 }
 

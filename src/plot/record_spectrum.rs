@@ -224,7 +224,10 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
     legend.note("right axis: the scaled record's PGA = scale × PGA");
 
     let (x0, x1) = drawn.x_range;
-    let title = match vertical_text(spec) {
+    let title = match spec
+        .scaled_vertical()
+        .map(|v| super::scaled_vertical_title(&v))
+    {
         None => format!("Rocking spectrum of a record: {formulation} formulation"),
         Some(v) => format!("Rocking spectrum of a record: {formulation} formulation, {v}"),
     };

@@ -386,7 +386,10 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
         "Overturning spectrum: {} pulse, {} formulation{}",
         shape_title(spec.pulse.shape()),
         spec.formulation.name(),
-        vertical_text(spec).map_or(String::new(), |v| format!(", {v}"))
+        crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None).map_or(
+            String::new(),
+            |v| format!(", {}", super::scaled_vertical_title(&v))
+        )
     );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
