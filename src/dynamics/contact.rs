@@ -57,12 +57,7 @@ impl Mode {
 /// start rocking without sliding when the ground acceleration there is
 /// `ground` (m/s², |ground| ≥ tan α g_z).
 pub fn rocking_onset_demand(slenderness: f64, g_z: f64, ground: f64) -> f64 {
-    let a = slenderness;
-    let lam = ground.abs();
-    let excess = lam / (g_z * a.tan()) - 1.0;
-    let num = lam - 0.75 * g_z * a.cos() * a.sin() * excess;
-    let den = g_z + 0.75 * g_z * a.sin().powi(2) * excess;
-    num / den
+    super::reactions::initiation_demand_under(slenderness, g_z, ground)
 }
 
 /// The mode a block at rest enters at the instant the ground first moves
@@ -226,12 +221,15 @@ mod tests {
             Some((0.0, Mode::SlideRock))
         );
         assert_eq!(onset(&jump, &block, f(0.2), 0.0), Some((0.0, Mode::Slide)));
-        // Eq. 7 at g_z = g is the engine's eq. 7 at rest.
-        for a in [2.6, 4.0, 9.0, 20.0] {
-            assert_eq!(
-                rocking_onset_demand(0.25, 9.81, a),
-                crate::dynamics::reactions::initiation_demand(&block, a)
-            );
+        // Eq. 7 at the rocking threshold is eq. 8, tan α, whatever the
+        // gravity; it depends on a/g_z only (the same block, heavier).
+        for g_z in [3.0, 9.81, 15.0] {
+            let tan = 0.25f64.tan();
+            assert!((rocking_onset_demand(0.25, g_z, tan * g_z) - tan).abs() < 1e-15);
+            for a in [2.6, 4.0, 9.0, 20.0] {
+                let d = rocking_onset_demand(0.25, g_z, a * g_z / 9.81);
+                assert!((d - rocking_onset_demand(0.25, 9.81, a)).abs() < 1e-14);
+            }
         }
     }
 }

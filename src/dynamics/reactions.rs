@@ -248,8 +248,14 @@ pub fn eq20_ratio(block: &Block, side: f64, theta: f64, theta_dot: f64, ground: 
 /// one-cosine pulse, where λ a_p = a_p): the ground acceleration there is
 /// `ground` (= λ a_p, signed).
 pub fn initiation_demand(block: &Block, ground: f64) -> f64 {
-    let a = block.slenderness();
-    let g = block.gravity();
+    initiation_demand_under(block.slenderness(), block.gravity(), ground)
+}
+
+/// Eq. 7 with gravity `g` (m/s²; g + ü_v under a vertical motion) for a
+/// block of slenderness `a`: the friction it needs to start rocking
+/// without sliding when the ground acceleration there is `ground` (m/s²,
+/// |ground| ≥ tan α g).
+pub fn initiation_demand_under(a: f64, g: f64, ground: f64) -> f64 {
     let lam = ground.abs();
     let excess = lam / (g * a.tan()) - 1.0;
     let num = lam - 0.75 * g * a.cos() * a.sin() * excess;
