@@ -500,7 +500,7 @@ pub fn validate_vertical_ratio(
     if let Some(other) = spec.first_pulse_field() {
         return Err(SpecError::at(
             format!("{base}/{other}"),
-            "this kind scales its ground motion, and the vertical with it: give {\"ratio\": r} (ü_v = r·ü_g at every level); a vertical pulse of its own is taken by time_history jobs",
+            "this kind scales its ground motion, and the vertical with it: give {\"ratio\": r} (ü_v = r·ü_g at every level); a vertical pulse of its own is taken beside pulses (time histories, spectra, friction spectra, pulse forensic queries), and a record's own vertical samples in ground_motion.vertical",
         ));
     }
     match spec.ratio {
