@@ -41,7 +41,13 @@ pub fn embed_files(
         slots.push(VERTICAL.to_string());
     }
     if let Some(list) = spec.get("ground_motions").and_then(Value::as_array) {
-        slots.extend((0..list.len()).map(|i| format!("/ground_motions/{i}")));
+        // Each suite record, then its own vertical component.
+        slots.extend((0..list.len()).flat_map(|i| {
+            [
+                format!("/ground_motions/{i}"),
+                format!("/ground_motions/{i}/vertical"),
+            ]
+        }));
     }
     let mut warnings = Vec::new();
     for at in slots {
@@ -56,10 +62,13 @@ pub fn embed_files(
             .ok_or_else(|| ReadError::new(format!("{at}/file"), "must be a path (a string)"))?;
         // Beside a time history's record file: its vertical acceleration
         // (kept as given); beside a vertical one: no name.
-        let allowed = |k: &str| match at.as_str() {
-            "/ground_motion" => FILE_OPTIONS.contains(&k) || k == "vertical",
-            VERTICAL => FILE_OPTIONS.contains(&k) && !matches!(k, "name" | "record_name"),
-            _ => FILE_OPTIONS.contains(&k),
+        let is_vertical = at.ends_with("/vertical");
+        let allowed = |k: &str| {
+            if is_vertical {
+                FILE_OPTIONS.contains(&k) && !matches!(k, "name" | "record_name")
+            } else {
+                FILE_OPTIONS.contains(&k) || k == "vertical"
+            }
         };
         if let Some(other) = slot.keys().find(|k| !allowed(k)) {
             let options: Vec<&str> = FILE_OPTIONS[1..8]
@@ -135,10 +144,10 @@ pub fn embed_files(
         if allow_large_pga {
             motion["allow_large_pga"] = Value::Bool(true);
         }
-        if let Some(vertical) = slot.get("vertical").filter(|_| at == "/ground_motion") {
+        if let Some(vertical) = slot.get("vertical").filter(|_| !is_vertical) {
             motion["vertical"] = vertical.clone();
         }
-        if at.starts_with("/ground_motions/") {
+        if at.starts_with("/ground_motions/") && !is_vertical {
             motion["name"] = slot
                 .get("name")
                 .cloned()
@@ -150,4 +159,55 @@ pub fn embed_files(
         }
     }
     Ok(warnings)
+}
+
+#[cfg(test)]
+mod tests {
+    use serde_json::json;
+
+    /// A two-column CSV (t, acceleration in g) of `n` samples at 0.01 s.
+    fn csv(n: usize, scale: f64) -> String {
+        let mut text = String::from("t,acc_g\n");
+        for k in 0..n {
+            let t = k as f64 * 0.01;
+            text.push_str(&format!("{t:.4},{:.5}\n", scale * (7.0 * t).sin()));
+        }
+        text
+    }
+
+    #[test]
+    fn a_suite_records_vertical_file_is_read_beside_it() {
+        let mut spec = json!({"kind": "fragility", "ground_motions": [
+            {"file": "h.csv", "name": "one", "vertical": {"file": "v.csv"}},
+            {"file": "h.csv"}]});
+        let read = |path: &str| -> Result<String, String> {
+            match path {
+                "h.csv" => Ok(csv(300, 0.3)),
+                "v.csv" => Ok(csv(200, -0.2)),
+                other => Err(format!("no {other}")),
+            }
+        };
+        super::embed_files(&mut spec, read).expect("reads");
+        let first = &spec["ground_motions"][0];
+        assert_eq!(first["name"], "one");
+        assert_eq!(first["acc"].as_array().map(Vec::len), Some(300));
+        let vertical = &first["vertical"];
+        assert_eq!(vertical["acc"].as_array().map(Vec::len), Some(200));
+        assert_eq!(vertical["dt"], 0.01);
+        // In m/s², from g; no name of its own.
+        let a = vertical["acc"][1].as_f64().expect("a sample");
+        assert!((a - (-0.2f64 * (0.07f64).sin() * 1e5).round() / 1e5 * 9.81).abs() < 1e-12);
+        assert_eq!(vertical.get("name"), None);
+        assert_eq!(spec["ground_motions"][1].get("vertical"), None);
+        // A name beside a vertical file, or a file that cannot be read, is
+        // named at its pointer.
+        let mut named = json!({"ground_motions": [{"file": "h.csv",
+            "vertical": {"file": "v.csv", "name": "v"}}]});
+        let e = super::embed_files(&mut named, read).expect_err("refused");
+        assert_eq!(e.field, "/ground_motions/0/vertical/name");
+        let mut missing = json!({"ground_motions": [{"file": "h.csv",
+            "vertical": {"file": "w.csv"}}]});
+        let e = super::embed_files(&mut missing, read).expect_err("refused");
+        assert_eq!(e.field, "/ground_motions/0/vertical/file");
+    }
 }
