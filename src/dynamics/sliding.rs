@@ -143,8 +143,7 @@ impl<G: Kinematics> Leg<'_, G> {
     /// x at `t`.
     fn displacement(&self, t: f64) -> f64 {
         let tau = t - self.t0;
-        let ((vg, ug), (vv, uv)) = self.forcing.kinematics(t);
-        let _ = (vg, vv);
+        let ((_, ug), (_, uv)) = self.forcing.kinematics(t);
         let ((vg0, ug0), (vv0, uv0)) = self.at0;
         self.x0 + self.v0 * tau
             - (ug - ug0 - vg0 * tau)
