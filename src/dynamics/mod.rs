@@ -6,6 +6,7 @@
 pub mod block;
 pub mod chatter;
 pub mod contact;
+pub mod coulomb;
 pub mod equations;
 pub mod events;
 pub mod exact;
@@ -18,6 +19,7 @@ pub mod reactions;
 pub mod response;
 pub mod separatrix;
 pub mod simulate;
+pub mod slide_rock;
 pub mod sliding;
 pub mod tracking;
 pub mod vertical;

@@ -120,7 +120,7 @@ pub struct Sliding {
 
 /// The state of a slide of direction `s` started at `t0` from (x0, v0):
 /// (x, ẋ) at `t`, from the ground's kinematics in closed form.
-struct Leg<'a, G> {
+pub(crate) struct Leg<'a, G> {
     forcing: &'a G,
     g: f64,
     mu_k: f64,
@@ -132,7 +132,29 @@ struct Leg<'a, G> {
     at0: ((f64, f64), (f64, f64)),
 }
 
-impl<G: Kinematics> Leg<'_, G> {
+impl<'a, G: Kinematics> Leg<'a, G> {
+    /// A slide of direction `s` from (`x0`, `v0`) at `t0`.
+    pub(crate) fn new(
+        forcing: &'a G,
+        g: f64,
+        mu_k: f64,
+        s: f64,
+        t0: f64,
+        x0: f64,
+        v0: f64,
+    ) -> Self {
+        Leg {
+            forcing,
+            g,
+            mu_k,
+            s,
+            t0,
+            x0,
+            v0,
+            at0: forcing.kinematics(t0),
+        }
+    }
+
     /// ẋ at `t`.
     fn velocity(&self, t: f64) -> f64 {
         let ((vg, _), (vv, _)) = self.forcing.kinematics(t);
@@ -141,7 +163,7 @@ impl<G: Kinematics> Leg<'_, G> {
     }
 
     /// x at `t`.
-    fn displacement(&self, t: f64) -> f64 {
+    pub(crate) fn displacement(&self, t: f64) -> f64 {
         let tau = t - self.t0;
         let ((_, ug), (_, uv)) = self.forcing.kinematics(t);
         let ((vg0, ug0), (vv0, uv0)) = self.at0;
@@ -240,7 +262,7 @@ pub fn slide<G: Kinematics>(forcing: &G, gravity: f64, friction: Friction) -> Sl
 /// grows only inside the windows of side s where −s ü_g > μ_k (g + ü_v)
 /// (`drive`); each stretch between them is searched in turn, and after the
 /// motion's end ẍ = −s μ_k g is constant: the stop is in closed form.
-fn stop<G: Kinematics>(leg: &Leg<'_, G>, drive: &Threshold) -> f64 {
+pub(crate) fn stop<G: Kinematics>(leg: &Leg<'_, G>, drive: &Threshold) -> f64 {
     let end = leg.forcing.duration();
     let mut a = leg.t0;
     loop {

@@ -238,8 +238,26 @@ fn turning_points(p: &Pulse, shift: f64, out: &mut Vec<f64>) {
 }
 
 impl PulsePair {
-    /// ü_g = `horizontal`, ü_v = `vertical` from `delay` s on.
+    /// ü_g = `horizontal`, ü_v = `vertical` from `delay` s on. A vertical
+    /// pulse of the horizontal's very shape, frequency and time is the
+    /// horizontal one times the ratio of their amplitudes: the pair is then
+    /// proportional ([`PulsePair::proportional`]), its vertical term read off
+    /// the horizontal one rather than evaluated again.
     pub fn new(horizontal: Pulse, vertical: Pulse, delay: f64) -> Self {
+        let pair = PulsePair::unmarked(horizontal, vertical, delay);
+        let same_shape = pair.delay == 0.0
+            && horizontal.amplitude != 0.0
+            && vertical.with_amplitude(horizontal.amplitude) == horizontal;
+        let ratio = vertical.amplitude / horizontal.amplitude;
+        PulsePair {
+            ratio: (same_shape && ratio != 0.0 && ratio.is_finite()).then_some(ratio),
+            ..pair
+        }
+    }
+
+    /// The pair as given, its vertical pulse evaluated on its own whatever
+    /// its shape.
+    fn unmarked(horizontal: Pulse, vertical: Pulse, delay: f64) -> Self {
         let delay = delay.max(0.0);
         PulsePair {
             horizontal,
@@ -268,7 +286,7 @@ impl PulsePair {
     pub fn proportional(horizontal: Pulse, ratio: f64) -> Option<Self> {
         (ratio != 0.0 && ratio.is_finite()).then(|| PulsePair {
             ratio: Some(ratio),
-            ..PulsePair::new(
+            ..PulsePair::unmarked(
                 horizontal,
                 horizontal.with_amplitude(ratio * horizontal.amplitude),
                 0.0,
@@ -964,7 +982,12 @@ mod tests {
                 for (level, r) in [(1.5, 0.5), (1.5, -0.5), (3.0, 1.2), (1.2, -2.0), (0.9, 0.8)] {
                     let h = Pulse::new(shape, level * threshold.level, 6.0).expect("valid");
                     let fast = PulsePair::proportional(h, r).expect("non-zero");
-                    let slow = PulsePair::new(h, h.with_amplitude(r * h.amplitude), 0.0);
+                    let slow = PulsePair::unmarked(h, h.with_amplitude(r * h.amplitude), 0.0);
+                    let marked = PulsePair::new(h, h.with_amplitude(r * h.amplitude), 0.0).ratio;
+                    assert!(
+                        marked.is_some_and(|m| (m - r).abs() <= 1e-15 * r.abs()),
+                        "a vertical pulse of the horizontal's shape is proportional: {marked:?}"
+                    );
                     let mut from = 0.0;
                     let mut windows = 0;
                     loop {

@@ -1,0 +1,1017 @@
+//! The motion of a block on a floor with Coulomb friction: a chain of
+//! contact modes ([`Mode`]), each transition an event located on the
+//! solution.
+//!
+//! - **stick** → the first instant either threshold is passed
+//!   ([`contact::onset`]): rock, slide or slide-rock by eq. 7;
+//! - **rock** (pivot holds, eq. 12 with g + ü_v) → **slide-rock** where the
+//!   friction it needs, |f_x|/f_z (eqs. 16–20), first exceeds μ_s; → an
+//!   impact at θ = 0; → overturning at |θ| = π/2; → lift-off where f_z ≤ 0;
+//! - **slide-rock** ([`slide_rock`]) → **rock** where the pivot's slip
+//!   velocity returns to 0 and the pivot can hold (else it slides back);
+//!   → an impact, overturning, lift-off (N ≤ 0) as rocking;
+//! - **slide** (flat, [`sliding`]) → **stick** where it stops; a flat slide
+//!   tips into slide-rock at once where μ_k > tan α;
+//! - an **impact** ([`slide_rock::impact`]): the landing corner holds
+//!   (Housner's η) or slides; a block whose rotation after it is below the
+//!   rest velocity lands flat — sticking, or sliding on;
+//! - **flight**: where the floor would have to pull (f_z or N ≤ 0, or
+//!   g + ü_v ≤ 0) the block leaves it; the history ends there (lift-off).
+//!
+//! After the ground motion ends the block moves freely through the same
+//! events until it rests or overturns. Sticking impacts of a chattering
+//! rock are summed in closed form ([`settle`]).
+//!
+//! Sampled events (the friction limit, the slip's return to 0, a vanishing
+//! normal force) are detected on the step's dense output at
+//! [`SAMPLES`] points, bisected on it, and placed by secant corrections on
+//! full Runge–Kutta steps from the step's start.
+
+use super::Block;
+use super::chatter::settle;
+use super::contact::{Mode, onset};
+use super::equations::{Formulation, Threshold};
+use super::events::{Poly, first_nonpositive};
+use super::integrator::{
+    DenseStep, MAX_DEGREE, Method, Rhs, State, Stepper, StepperStats, single_step,
+};
+use super::reactions::reactions_per_mass_vertical;
+use super::response::OverturnMode;
+use super::simulate::{REST_VELOCITY, SimError};
+use super::slide_rock::{self, SlideRockLeg, SlideRockRhs};
+use super::sliding::{self, Friction, Kinematics};
+
+/// Points per step at which sampled events are looked for.
+pub const SAMPLES: usize = 8;
+
+/// A safeguard on the impacts of one history.
+const MAX_IMPACTS: u64 = 1_000_000;
+
+/// One stretch of a mode.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModeSpan {
+    /// The mode.
+    pub mode: Mode,
+    /// Start, s.
+    pub from: f64,
+    /// End, s.
+    pub to: f64,
+    /// The direction the base slips in relative to the ground (slide,
+    /// slide-rock: +1 towards +x), none otherwise.
+    pub direction: Option<f64>,
+    /// The base's slip at the start and the end, m.
+    pub slip: (f64, f64),
+}
+
+/// An impact with friction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactImpact {
+    /// Time, s.
+    pub t: f64,
+    /// θ̇ before and after, rad/s.
+    pub theta_dot: (f64, f64),
+    /// Whether the landing corner held.
+    pub sticking: bool,
+}
+
+/// The history of a block on a Coulomb floor.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactResponse {
+    /// The mode the block first left rest in (`None`: it never moved).
+    pub initial_mode: Option<Mode>,
+    /// The modes in time order (consecutive stretches of one mode merged).
+    pub modes: Vec<ModeSpan>,
+    /// Whether it overturned.
+    pub overturned: bool,
+    /// When |θ| reached π/2.
+    pub overturn_time: Option<f64>,
+    /// The side it overturned to: +1 about the corner at +b (θ > 0).
+    pub overturn_side: Option<f64>,
+    /// The paper's modes: after impacts, or without any.
+    pub overturn_mode: Option<OverturnMode>,
+    /// Impacts, in order (those of summed chattering are counted only).
+    pub impacts: Vec<ContactImpact>,
+    /// All impacts, summed chattering included.
+    pub impact_count: u64,
+    /// When the block left the floor (the history ends there).
+    pub lift_off: Option<f64>,
+    /// Time it came to rest for good.
+    pub rest_time: Option<f64>,
+    /// End of the history, s.
+    pub end_time: f64,
+    /// max |slip| of the base on the floor, m.
+    pub peak_slide: f64,
+    /// The base's slip at the end, m (positive towards +x).
+    pub residual_slide: f64,
+    /// Time spent sliding or slide-rocking, s.
+    pub time_sliding: f64,
+    /// max |θ|/α.
+    pub peak_theta_over_alpha: f64,
+    /// Integrator counters.
+    pub stats: StepperStats,
+    /// Events located.
+    pub events: u64,
+}
+
+/// How the block moves between events.
+#[derive(Clone, Copy, Debug)]
+enum Phase {
+    Stick,
+    /// Flat, sliding at `velocity` (its sign the direction; 0 with
+    /// `direction` from the ground's push).
+    Slide {
+        direction: f64,
+        velocity: f64,
+    },
+    Rock {
+        side: f64,
+        y: State,
+    },
+    SlideRock {
+        side: f64,
+        sigma: f64,
+        y: State,
+        slip_velocity: f64,
+    },
+}
+
+/// How a leg ended.
+#[derive(Clone, Copy, Debug)]
+enum LegEnd {
+    /// θ returned to 0.
+    Impact(f64, State),
+    /// |θ| reached π/2.
+    Overturn(f64, State),
+    /// Sampled event `k` became positive.
+    Sampled(usize, f64, State),
+    /// The leg's end (a kink of the forcing or its end).
+    Reached(f64, State),
+}
+
+struct Driver<'a, G> {
+    block: Block,
+    forcing: &'a G,
+    friction: Friction,
+    method: Method,
+    rtol: f64,
+    atol: f64,
+    h_hint: f64,
+    out: ContactResponse,
+    weightless: Option<f64>,
+}
+
+/// Simulates `block` on a floor with `friction` under `forcing` from rest,
+/// with the Runge–Kutta pair `method` at (`rtol`, `atol`), to rest,
+/// overturning or lift-off.
+pub fn simulate_contact<G: Kinematics>(
+    block: &Block,
+    forcing: &G,
+    friction: Friction,
+    method: Method,
+    rtol: f64,
+    atol: f64,
+) -> Result<ContactResponse, SimError> {
+    if !(rtol >= 1e-14 && rtol.is_finite() && atol > 0.0 && atol.is_finite()) {
+        return Err(SimError::Tolerance);
+    }
+    let mut d = Driver {
+        block: *block,
+        forcing,
+        friction,
+        method,
+        rtol,
+        atol,
+        h_hint: 0.0,
+        out: ContactResponse {
+            initial_mode: None,
+            modes: Vec::new(),
+            overturned: false,
+            overturn_time: None,
+            overturn_side: None,
+            overturn_mode: None,
+            impacts: Vec::new(),
+            impact_count: 0,
+            lift_off: None,
+            rest_time: None,
+            end_time: forcing.duration(),
+            peak_slide: 0.0,
+            residual_slide: 0.0,
+            time_sliding: 0.0,
+            peak_theta_over_alpha: 0.0,
+            stats: StepperStats::default(),
+            events: 0,
+        },
+        weightless: forcing.next_weightless(0.0, block.gravity()),
+    };
+    d.run()?;
+    Ok(d.out)
+}
+
+impl<G: Kinematics> Driver<'_, G> {
+    fn g_z(&self, t: f64) -> f64 {
+        self.block.gravity() + self.forcing.vertical_acceleration(t)
+    }
+
+    /// Appends `mode` over [from, to] (merged with a preceding stretch of it
+    /// in the same direction; a stick of no duration, a reversal, is not a
+    /// stretch).
+    fn span(
+        &mut self,
+        mode: Mode,
+        (from, to): (f64, f64),
+        direction: Option<f64>,
+        slip: (f64, f64),
+    ) {
+        if mode == Mode::Stick && to <= from {
+            return;
+        }
+        if let Some(last) = self.out.modes.last_mut()
+            && last.mode == mode
+            && last.direction == direction
+            && last.to >= from
+        {
+            last.to = last.to.max(to);
+            last.slip.1 = slip.1;
+            return;
+        }
+        self.out.modes.push(ModeSpan {
+            mode,
+            from,
+            to,
+            direction,
+            slip,
+        });
+    }
+
+    fn slid(&mut self, x: f64) {
+        self.out.peak_slide = self.out.peak_slide.max(x.abs());
+        self.out.residual_slide = x;
+    }
+
+    fn lift_off(&mut self, t: f64) {
+        self.out.lift_off = Some(t);
+        self.out.end_time = t;
+        let x = self.out.residual_slide;
+        self.span(Mode::Flight, (t, t), None, (x, x));
+    }
+
+    fn run(&mut self) -> Result<(), SimError> {
+        let block = self.block;
+        let duration = self.forcing.duration();
+        let v_rest = REST_VELOCITY * block.frequency_parameter() * block.slenderness();
+        let tan = block.slenderness().tan();
+        let (mut t, mut x) = (0.0f64, 0.0f64);
+        let mut phase = Phase::Stick;
+        loop {
+            if self.out.impact_count > MAX_IMPACTS {
+                return Err(SimError::ImpactLimit);
+            }
+            match phase {
+                Phase::Stick => {
+                    let next = onset(self.forcing, &block, self.friction, t);
+                    let Some((t1, mode)) = next else {
+                        let end = t.max(duration);
+                        self.span(Mode::Stick, (t, end), None, (x, x));
+                        if self.out.initial_mode.is_some() {
+                            self.out.rest_time = Some(t);
+                        }
+                        self.out.end_time = end;
+                        return Ok(());
+                    };
+                    self.span(Mode::Stick, (t, t1), None, (x, x));
+                    self.out.events += 1;
+                    self.out.initial_mode.get_or_insert(mode);
+                    t = t1;
+                    let push = -self.forcing.acceleration(t).signum();
+                    let side = if push == 0.0 { 1.0 } else { push };
+                    phase = match mode {
+                        Mode::Flight => {
+                            self.lift_off(t);
+                            return Ok(());
+                        }
+                        Mode::Rock => Phase::Rock {
+                            side,
+                            y: [0.0, 0.0],
+                        },
+                        Mode::Slide if self.friction.kinetic_coefficient > tan => {
+                            Phase::SlideRock {
+                                side,
+                                sigma: side,
+                                y: [0.0, 0.0],
+                                slip_velocity: 0.0,
+                            }
+                        }
+                        Mode::Slide => Phase::Slide {
+                            direction: side,
+                            velocity: 0.0,
+                        },
+                        Mode::SlideRock | Mode::Stick => self.slide_rock_from_rest(t, side),
+                    };
+                }
+                Phase::Slide {
+                    direction,
+                    velocity,
+                } => {
+                    let (end, x_end) = self.flat_slide(t, x, direction, velocity);
+                    self.span(Mode::Slide, (t, end), Some(direction), (x, x_end));
+                    self.out.time_sliding += end - t;
+                    self.slid(x_end);
+                    (t, x) = (end, x_end);
+                    if self.out.lift_off.is_some() {
+                        return Ok(());
+                    }
+                    self.out.events += 1;
+                    phase = Phase::Stick;
+                }
+                Phase::Rock { side, y } => {
+                    let (next, t1) = self.rock(t, side, y, v_rest)?;
+                    self.span(Mode::Rock, (t, t1), None, (x, x));
+                    t = t1;
+                    match next {
+                        Some(p) => phase = p,
+                        None => return Ok(()),
+                    }
+                }
+                Phase::SlideRock {
+                    side,
+                    sigma,
+                    y,
+                    slip_velocity,
+                } => {
+                    let (next, t1, x1) =
+                        self.slide_rock(t, x, side, sigma, y, slip_velocity, v_rest)?;
+                    self.span(Mode::SlideRock, (t, t1), Some(sigma), (x, x1));
+                    self.out.time_sliding += t1 - t;
+                    self.slid(x1);
+                    (t, x) = (t1, x1);
+                    match next {
+                        Some(p) => phase = p,
+                        None => return Ok(()),
+                    }
+                }
+            }
+        }
+    }
+
+    /// The slide-rock a block at rest on `side` enters at `t` (its pivot
+    /// slipping the way its acceleration takes it), or rock where no slip
+    /// is consistent (Painlevé: the pivot holds).
+    fn slide_rock_from_rest(&self, t: f64, side: f64) -> Phase {
+        match self.slip_direction(t, side, [0.0, 0.0]) {
+            Some(sigma) => Phase::SlideRock {
+                side,
+                sigma,
+                y: [0.0, 0.0],
+                slip_velocity: 0.0,
+            },
+            None => Phase::Rock {
+                side,
+                y: [0.0, 0.0],
+            },
+        }
+    }
+
+    /// The direction σ a pivot at rest in state `y` on `side` slips in: the
+    /// one whose slide-rock acceleration of the pivot has its sign.
+    fn slip_direction(&self, t: f64, side: f64, y: State) -> Option<f64> {
+        let (alpha, r) = (self.block.slenderness(), self.block.half_diagonal());
+        let mu = self.friction.kinetic_coefficient;
+        let g_z = self.g_z(t);
+        let ug = self.forcing.acceleration(t);
+        let accel = |sigma: f64| {
+            let kappa = sigma * mu;
+            let acc = slide_rock::angular_acceleration(alpha, r, side, kappa, g_z, y[0], y[1])?;
+            let n = slide_rock::normal_per_mass(alpha, r, side, g_z, y[0], y, acc);
+            let (s, c) = (side * alpha - y[0]).sin_cos();
+            Some(-ug - kappa * n - r * s * y[1] * y[1] - r * c * acc)
+        };
+        // The rock's friction demand points the way the floor must push;
+        // the pivot slips the other way (at the limit its acceleration
+        // starts from 0: the sign of the demand decides).
+        let (fx, _) = self.reactions(t, side, y);
+        let sigma = if fx > 0.0 { -1.0 } else { 1.0 };
+        accel(sigma).map(|_| sigma)
+    }
+
+    fn reactions(&self, t: f64, side: f64, y: State) -> (f64, f64) {
+        reactions_per_mass_vertical(
+            Formulation::Nonlinear,
+            &self.block,
+            side,
+            y[0],
+            y[1],
+            self.forcing.acceleration(t),
+            self.forcing.vertical_acceleration(t),
+        )
+    }
+
+    /// A flat slide from `t` at slip `x` until it stops: (end, slip there).
+    fn flat_slide(&mut self, t: f64, x: f64, direction: f64, velocity: f64) -> (f64, f64) {
+        let g = self.block.gravity();
+        let leg = sliding::Leg::new(
+            self.forcing,
+            g,
+            self.friction.kinetic_coefficient,
+            direction,
+            t,
+            x,
+            velocity,
+        );
+        let drive = Threshold {
+            level: self.friction.kinetic_coefficient * g,
+            factor: self.friction.kinetic_coefficient,
+            gravity: g,
+        };
+        let end = sliding::stop(&leg, &drive);
+        if let Some(l) = self.weightless.filter(|&l| l >= t && l < end) {
+            self.lift_off(l);
+            return (l, leg.displacement(l));
+        }
+        (end, leg.displacement(end))
+    }
+
+    /// A rocking stretch from `t` on `side` in state `y`: the next phase
+    /// (`None`: the history ended) and when.
+    fn rock(
+        &mut self,
+        t: f64,
+        side: f64,
+        y: State,
+        v_rest: f64,
+    ) -> Result<(Option<Phase>, f64), SimError> {
+        let mu_s = self.friction.static_coefficient;
+        let block = self.block;
+        // Already beyond the friction limit (after an impact, or at once).
+        let (fx, fz) = self.reactions(t, side, y);
+        if fz <= 0.0 {
+            self.lift_off(t);
+            return Ok((None, t));
+        }
+        if fx.abs() > mu_s * fz
+            && let Some(sigma) = self.slip_direction(t, side, y)
+        {
+            return Ok((
+                Some(Phase::SlideRock {
+                    side,
+                    sigma,
+                    y,
+                    slip_velocity: 0.0,
+                }),
+                t,
+            ));
+        }
+        let forcing = self.forcing;
+        let events = |t: f64, y: State| {
+            let (fx, fz) = reactions_per_mass_vertical(
+                Formulation::Nonlinear,
+                &block,
+                side,
+                y[0],
+                y[1],
+                forcing.acceleration(t),
+                forcing.vertical_acceleration(t),
+            );
+            [fx.abs() - mu_s * fz, -fz]
+        };
+        let end = self.leg(
+            |forced| forcing.rhs(Formulation::Nonlinear, &block, side, forced),
+            side,
+            t,
+            y,
+            &events,
+        )?;
+        match end {
+            LegEnd::Impact(t1, y1) => Ok((self.impact(t1, side, y1[1], 0.0, v_rest), t1)),
+            LegEnd::Overturn(t1, _) => {
+                self.overturn(t1, side);
+                Ok((None, t1))
+            }
+            LegEnd::Sampled(k, t1, y1) => {
+                self.out.events += 1;
+                let (_, fz) = self.reactions(t1, side, y1);
+                if k == 1 || fz <= 0.0 {
+                    self.lift_off(t1);
+                    return Ok((None, t1));
+                }
+                Ok((self.slip(t1, side, y1), t1))
+            }
+            LegEnd::Reached(t1, _) => {
+                // The ground falls away (g + ü_v ≤ 0).
+                self.lift_off(t1);
+                Ok((None, t1))
+            }
+        }
+    }
+
+    /// The pivot of a rocking block starts to slip at `t`.
+    fn slip(&self, t: f64, side: f64, y: State) -> Option<Phase> {
+        Some(match self.slip_direction(t, side, y) {
+            Some(sigma) => Phase::SlideRock {
+                side,
+                sigma,
+                y,
+                slip_velocity: 0.0,
+            },
+            // No slip is consistent (Painlevé): the pivot holds.
+            None => Phase::Rock { side, y },
+        })
+    }
+
+    fn overturn(&mut self, t: f64, side: f64) {
+        self.out.overturned = true;
+        self.out.overturn_time = Some(t);
+        self.out.overturn_side = Some(side);
+        self.out.overturn_mode = Some(if self.out.impact_count > 0 {
+            OverturnMode::AfterImpacts(self.out.impact_count)
+        } else {
+            OverturnMode::WithoutImpact
+        });
+        self.out.end_time = t;
+        self.out.peak_theta_over_alpha = self
+            .out
+            .peak_theta_over_alpha
+            .max(std::f64::consts::FRAC_PI_2 / self.block.slenderness());
+    }
+
+    /// The impact at `t` of a block on `side` with θ̇ = `theta_dot` whose
+    /// pivot slips at `slip_velocity`: the phase after it.
+    fn impact(
+        &mut self,
+        t: f64,
+        side: f64,
+        theta_dot: f64,
+        slip_velocity: f64,
+        v_rest: f64,
+    ) -> Option<Phase> {
+        let f = self.friction;
+        let hit = slide_rock::impact(
+            &self.block,
+            f.static_coefficient,
+            f.kinetic_coefficient,
+            side,
+            theta_dot,
+            slip_velocity,
+        );
+        self.out.impact_count += 1;
+        self.out.events += 1;
+        if self.out.impacts.len() < super::simulate::MAX_LISTED_IMPACTS {
+            self.out.impacts.push(ContactImpact {
+                t,
+                theta_dot: (theta_dot, hit.theta_dot),
+                sticking: hit.sticking,
+            });
+        }
+        let new_side = -side;
+        let forced = t < self.forcing.duration();
+        if hit.sticking && hit.theta_dot.abs() > v_rest {
+            // A chattering rock settles in closed form.
+            if let Some(settled) = settle(
+                Formulation::Nonlinear,
+                &self.block,
+                self.forcing,
+                forced,
+                t,
+                hit.theta_dot,
+                v_rest,
+            ) {
+                self.out.impact_count += settled.impacts;
+                let x = self.out.residual_slide;
+                self.span(Mode::Rock, (t, settled.rest_time), None, (x, x));
+                self.out.rest_time = Some(settled.rest_time);
+                return self.rest_after(settled.rest_time);
+            }
+        }
+        if hit.theta_dot.abs() <= v_rest || hit.theta_dot * new_side < 0.0 {
+            // Lands flat.
+            if hit.slip_velocity == 0.0 {
+                return self.rest_after(t);
+            }
+            let direction = hit.slip_velocity.signum();
+            return Some(if f.kinetic_coefficient > self.block.slenderness().tan() {
+                Phase::SlideRock {
+                    side: direction,
+                    sigma: direction,
+                    y: [0.0, 0.0],
+                    slip_velocity: hit.slip_velocity,
+                }
+            } else {
+                Phase::Slide {
+                    direction,
+                    velocity: hit.slip_velocity,
+                }
+            });
+        }
+        let y = [0.0, hit.theta_dot];
+        Some(if hit.sticking {
+            Phase::Rock { side: new_side, y }
+        } else {
+            Phase::SlideRock {
+                side: new_side,
+                sigma: hit.slip_velocity.signum(),
+                y,
+                slip_velocity: hit.slip_velocity,
+            }
+        })
+    }
+
+    /// At rest on the floor at `t`.
+    fn rest_after(&mut self, _t: f64) -> Option<Phase> {
+        Some(Phase::Stick)
+    }
+
+    /// A slide-rock stretch: the next phase, when, and the slip there.
+    #[allow(clippy::too_many_arguments)]
+    fn slide_rock(
+        &mut self,
+        t: f64,
+        x: f64,
+        side: f64,
+        sigma: f64,
+        y: State,
+        slip_velocity: f64,
+        v_rest: f64,
+    ) -> Result<(Option<Phase>, f64, f64), SimError> {
+        let block = self.block;
+        let (alpha, r, g) = (block.slenderness(), block.half_diagonal(), block.gravity());
+        let kappa = sigma * self.friction.kinetic_coefficient;
+        if slide_rock::angular_acceleration(alpha, r, side, kappa, self.g_z(t), y[0], y[1])
+            .is_none()
+        {
+            // Painlevé: the pivot holds.
+            return Ok((Some(Phase::Rock { side, y }), t, x));
+        }
+        let forcing = self.forcing;
+        let leg = SlideRockLeg::new(forcing, &block, side, kappa, t, y, x, slip_velocity);
+        let events = |t: f64, y: State| {
+            let g_z = g + forcing.vertical_acceleration(t);
+            let acc = slide_rock::angular_acceleration(alpha, r, side, kappa, g_z, y[0], y[1])
+                .unwrap_or(0.0);
+            let n = slide_rock::normal_per_mass(alpha, r, side, g_z, y[0], y, acc);
+            [-sigma * leg.slip(t, y).1, -n]
+        };
+        let end = self.leg(
+            |forced| SlideRockRhs {
+                forcing,
+                forced,
+                alpha,
+                r,
+                g,
+                side,
+                kappa,
+            },
+            side,
+            t,
+            y,
+            &events,
+        )?;
+        match end {
+            LegEnd::Impact(t1, y1) => {
+                let (x1, v1) = leg.slip(t1, y1);
+                Ok((self.impact(t1, side, y1[1], v1, v_rest), t1, x1))
+            }
+            LegEnd::Overturn(t1, y1) => {
+                let (x1, _) = leg.slip(t1, y1);
+                self.overturn(t1, side);
+                Ok((None, t1, x1))
+            }
+            LegEnd::Sampled(0, t1, y1) => {
+                // The slip stops: the pivot holds if it can.
+                self.out.events += 1;
+                let (x1, _) = leg.slip(t1, y1);
+                let (fx, fz) = self.reactions(t1, side, y1);
+                if fz <= 0.0 {
+                    self.lift_off(t1);
+                    return Ok((None, t1, x1));
+                }
+                let next = if fx.abs() <= self.friction.static_coefficient * fz {
+                    Phase::Rock { side, y: y1 }
+                } else {
+                    match self.slip_direction(t1, side, y1) {
+                        Some(s) => Phase::SlideRock {
+                            side,
+                            sigma: s,
+                            y: y1,
+                            slip_velocity: 0.0,
+                        },
+                        None => Phase::Rock { side, y: y1 },
+                    }
+                };
+                Ok((Some(next), t1, x1))
+            }
+            LegEnd::Sampled(_, t1, y1) | LegEnd::Reached(t1, y1) => {
+                let (x1, _) = leg.slip(t1, y1);
+                self.lift_off(t1);
+                Ok((None, t1, x1))
+            }
+        }
+    }
+
+    /// Integrates from (t, y) on `side` with the right-hand side `make(forced)`
+    /// until θ returns to 0, |θ| reaches π/2, an armed sampled event turns
+    /// positive (armed once it has been negative), or the ground falls away.
+    fn leg<R: Rhs, M: Fn(bool) -> R, E: Fn(f64, State) -> [f64; 2]>(
+        &mut self,
+        make: M,
+        side: f64,
+        t0: f64,
+        y0: State,
+        events: &E,
+    ) -> Result<LegEnd, SimError> {
+        let duration = self.forcing.duration();
+        let s = side;
+        let mut t = t0;
+        let mut y = y0;
+        let mut armed = {
+            let e = events(t0, y0);
+            [e[0] < 0.0, e[1] < 0.0]
+        };
+        // The impact is looked for once θ has left 0.
+        let mut left_zero = s * y0[0] > 0.0;
+        let stop_at = self
+            .weightless
+            .filter(|&l| l >= t0)
+            .unwrap_or(f64::INFINITY);
+        loop {
+            let forced = t < duration;
+            let rhs = make(forced);
+            let mut stepper = Stepper::new(
+                self.method,
+                self.rtol,
+                self.atol,
+                &rhs,
+                t,
+                y,
+                f64::INFINITY,
+                self.h_hint,
+            );
+            let segment_end = if forced {
+                duration.min(stop_at)
+            } else {
+                stop_at
+            };
+            loop {
+                if stepper.t >= segment_end {
+                    break;
+                }
+                let mut target = segment_end;
+                if forced {
+                    target = target.min(self.forcing.breakpoint_after(stepper.t));
+                }
+                let step = stepper.step(&rhs, target)?;
+                // Impact and overturning on the dense output's polynomial.
+                let mut g = Poly {
+                    c: [0.0; MAX_DEGREE + 1],
+                    len: step.len,
+                };
+                let mut top = g;
+                for k in 0..step.len {
+                    g.c[k] = s * step.coeffs[0][k];
+                    top.c[k] = -s * step.coeffs[0][k];
+                }
+                top.c[0] += std::f64::consts::FRAC_PI_2;
+                let impact = if left_zero {
+                    first_nonpositive(&g)
+                } else {
+                    None
+                };
+                let over = first_nonpositive(&top);
+                let mut first: Option<(f64, u8)> = match (impact, over) {
+                    (Some(i), Some(o)) if o < i => Some((o, 1)),
+                    (Some(i), _) => Some((i, 0)),
+                    (None, Some(o)) => Some((o, 1)),
+                    (None, None) => None,
+                };
+                // Sampled events up to there.
+                let limit = first.map_or(1.0, |f| f.0);
+                if let Some((k, sigma)) = self.sampled(&step, events, &mut armed, limit) {
+                    first = Some((sigma, 2 + k as u8));
+                }
+                let theta_peak = step.y1[0].abs().max(step.y0[0].abs());
+                self.out.peak_theta_over_alpha = self
+                    .out
+                    .peak_theta_over_alpha
+                    .max(theta_peak / self.block.slenderness());
+                if let Some((sigma, kind)) = first {
+                    let (te, ye) = self.refine(&rhs, &step, sigma, kind, s, events);
+                    self.out.stats.absorb(&stepper.stats);
+                    self.h_hint = stepper.next_step_size();
+                    return Ok(match kind {
+                        0 => LegEnd::Impact(te, ye),
+                        1 => LegEnd::Overturn(te, ye),
+                        k => LegEnd::Sampled(usize::from(k - 2), te, ye),
+                    });
+                }
+                if s * step.y1[0] > 0.0 {
+                    left_zero = true;
+                }
+            }
+            self.out.stats.absorb(&stepper.stats);
+            self.h_hint = stepper.next_step_size();
+            (t, y) = (stepper.t, stepper.y);
+            if t >= stop_at {
+                return Ok(LegEnd::Reached(t, y));
+            }
+        }
+    }
+
+    /// The first armed sampled event turning positive on the step before
+    /// `limit` (σ): (which, σ), bisected on the dense output.
+    fn sampled<E: Fn(f64, State) -> [f64; 2]>(
+        &self,
+        step: &DenseStep,
+        events: &E,
+        armed: &mut [bool; 2],
+        limit: f64,
+    ) -> Option<(usize, f64)> {
+        let at = |sigma: f64| events(step.t0 + sigma * step.h, step.at_sigma(sigma));
+        let mut prev = 0.0;
+        for i in 1..=SAMPLES {
+            let sigma = (i as f64 / SAMPLES as f64).min(limit);
+            let e = at(sigma);
+            let mut hit: Option<(usize, f64)> = None;
+            for k in 0..2 {
+                if armed[k] && e[k] > 0.0 {
+                    // Bisect [prev, sigma] for this event.
+                    let (mut a, mut b) = (prev, sigma);
+                    for _ in 0..64 {
+                        let m = 0.5 * (a + b);
+                        if m <= a || m >= b {
+                            break;
+                        }
+                        if at(m)[k] > 0.0 {
+                            b = m;
+                        } else {
+                            a = m;
+                        }
+                    }
+                    if hit.is_none_or(|h| b < h.1) {
+                        hit = Some((k, b));
+                    }
+                }
+            }
+            if hit.is_some() {
+                return hit;
+            }
+            for k in 0..2 {
+                if e[k] < 0.0 {
+                    armed[k] = true;
+                }
+            }
+            if sigma >= limit {
+                break;
+            }
+            prev = sigma;
+        }
+        None
+    }
+
+    /// Places the event `kind` found at `sigma` of `step` by corrections on
+    /// full Runge–Kutta steps from the step's start: Newton on θ for an
+    /// impact or overturning, the secant on the sampled event's value.
+    #[allow(clippy::too_many_arguments)]
+    fn refine<R: Rhs, E: Fn(f64, State) -> [f64; 2]>(
+        &mut self,
+        rhs: &R,
+        step: &DenseStep,
+        sigma: f64,
+        kind: u8,
+        s: f64,
+        events: &E,
+    ) -> (f64, State) {
+        let full = |this: &mut Self, t: f64| {
+            let (y, n) = single_step(this.method, rhs, step.t0, step.y0, t - step.t0);
+            this.out.stats.rhs_evals += u64::from(n);
+            y
+        };
+        let mut t = step.t0 + sigma * step.h;
+        let mut y = full(self, t);
+        if kind < 2 {
+            let level = if kind == 0 {
+                0.0
+            } else {
+                std::f64::consts::FRAC_PI_2
+            };
+            for _ in 0..3 {
+                if y[1] == 0.0 {
+                    break;
+                }
+                let dt = -(s * y[0] - level) / (s * y[1]);
+                let t_new = (t + dt).clamp(step.t0, step.t1());
+                if t_new == t {
+                    break;
+                }
+                t = t_new;
+                y = full(self, t);
+            }
+            return (t, y);
+        }
+        let k = usize::from(kind - 2);
+        // Secant on e_k with the dense output's bracket as a fallback.
+        let (mut ta, mut ea) = {
+            let ta = (t - 1e-3 * step.h).max(step.t0);
+            let ya = full(self, ta);
+            (ta, events(ta, ya)[k])
+        };
+        let mut eb = events(t, y)[k];
+        for _ in 0..4 {
+            if eb == ea {
+                break;
+            }
+            let t_new = (t - eb * (t - ta) / (eb - ea)).clamp(step.t0, step.t1());
+            if t_new == t {
+                break;
+            }
+            (ta, ea) = (t, eb);
+            t = t_new;
+            y = full(self, t);
+            eb = events(t, y)[k];
+        }
+        (t, y)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::sliding::slide;
+    use crate::dynamics::{Pulse, PulseShape};
+
+    /// The paper's locomotive.
+    fn locomotive() -> Block {
+        Block::new(0.25, 2.14, None, None, None).expect("valid")
+    }
+
+    fn one_sine(block: &Block, level: f64) -> Pulse {
+        let a = level * block.slenderness() * block.gravity();
+        Pulse::new(PulseShape::OneSine, a, 3.0 * block.frequency_parameter()).expect("valid")
+    }
+
+    fn run(block: &Block, pulse: &Pulse, mu: f64) -> ContactResponse {
+        let f = Friction::new(mu, None).expect("valid");
+        simulate_contact(block, pulse, f, Method::Dop853, 1e-10, 1e-12).expect("runs")
+    }
+
+    #[test]
+    fn a_block_that_cannot_rock_slides_as_the_pure_sliding_closed_forms() {
+        // μ = 0.2 < tan α: it slides from |ü_g| = μ g, sticks at 1.25 s and
+        // 1.47 s, 0.02 m and 0.45 m from where it stood, and stands.
+        let b = locomotive();
+        for (level, stop, residual) in [(2.0, 1.25, 0.02), (4.0, 1.47, 0.45)] {
+            let pulse = one_sine(&b, level);
+            let r = run(&b, &pulse, 0.2);
+            let alone = slide(
+                &pulse,
+                b.gravity(),
+                Friction::new(0.2, None).expect("valid"),
+            );
+            assert_eq!(r.initial_mode, Some(Mode::Slide));
+            assert!(!r.overturned && r.impacts.is_empty() && r.peak_theta_over_alpha == 0.0);
+            let slides: Vec<_> = r.modes.iter().filter(|m| m.mode == Mode::Slide).collect();
+            assert_eq!(slides.len(), alone.slides.len(), "{:?}", r.modes);
+            for (m, s) in slides.iter().zip(&alone.slides) {
+                assert_eq!(
+                    (m.from, m.to, m.direction),
+                    (s.from, s.to, Some(s.direction))
+                );
+            }
+            assert_eq!(r.residual_slide, alone.residual);
+            assert_eq!(r.peak_slide, alone.peak);
+            assert!((r.time_sliding - alone.time_sliding).abs() < 1e-12);
+            let end = r.rest_time.expect("rests");
+            assert!((end - stop).abs() < 0.005, "stops at {end}");
+            assert!(
+                (r.residual_slide.abs() - residual).abs() < 0.005,
+                "{}",
+                r.residual_slide
+            );
+        }
+    }
+
+    #[test]
+    fn on_mu_0_3_the_locomotive_slides_while_rocking_and_overturns_the_other_way() {
+        // Pure rocking: mode 2 towards θ < 0 at 2.39 s, no impact. On μ =
+        // 0.3 the pivot slides 0.28 m, which caps the rotation; one impact,
+        // and it overturns towards θ > 0 at 2.86 s.
+        let b = locomotive();
+        let r = run(&b, &one_sine(&b, 4.0), 0.3);
+        assert_eq!(r.initial_mode, Some(Mode::Rock));
+        assert!(r.overturned);
+        assert_eq!(r.overturn_side, Some(1.0));
+        assert_eq!(r.impact_count, 1);
+        assert_eq!(r.overturn_mode, Some(OverturnMode::AfterImpacts(1)));
+        let t = r.overturn_time.expect("overturns");
+        assert!((t - 2.86).abs() < 0.005, "{t}");
+        let first = r
+            .modes
+            .iter()
+            .position(|m| m.mode == Mode::SlideRock)
+            .expect("slide-rocks");
+        assert_eq!(r.modes[first + 1].mode, Mode::Rock);
+        // Its slip while rocking, before the impact.
+        let slip_before_impact = r.modes[first].slip.1;
+        assert!(
+            (slip_before_impact.abs() - 0.28).abs() < 0.005,
+            "{slip_before_impact}"
+        );
+    }
+}
