@@ -272,11 +272,21 @@ fn time_history(r: &TimeHistoryResult, out: &mut String) {
         ("pgv_m_per_s", cell(&peaks.pgv_m_s)),
         ("pgd_m", cell(&peaks.pgd_m)),
         ("pgv_over_pga_s", cell(&peaks.pgv_over_pga_s)),
+        ("overturn_direction", cell(&r.overturn_direction)),
     ];
     // Under a vertical ground motion only: its peak.
     if peaks.pga_v_m_s2.is_some() || peaks.pga_v_g.is_some() {
         cols.push(("pga_v_m_per_s2", cell(&peaks.pga_v_m_s2)));
         cols.push(("pga_v_g", cell(&peaks.pga_v_g)));
+    }
+    // On a Coulomb floor only: how it moved on it.
+    if r.contact_model.is_some() {
+        cols.push(("contact_model", cell(&r.contact_model)));
+        cols.push(("answered_by", cell(&r.answered_by)));
+        cols.push(("initial_mode", cell(&r.initial_mode)));
+        cols.push(("peak_slide_m", cell(&r.peak_slide_m)));
+        cols.push(("residual_slide_m", cell(&r.residual_slide_m)));
+        cols.push(("time_sliding_s", cell(&r.time_sliding_s)));
     }
     row(
         out,
@@ -1089,6 +1099,7 @@ mod tests {
         r.impacts = None;
         r.rocked = false;
         r.overturned = false;
+        r.overturn_direction = None;
         r.mode = None;
         r.impact_count = 0;
         r.rocking_start = None;
@@ -1112,8 +1123,8 @@ mod tests {
             lines(&th_table(&r)),
             vec![
                 "rocked,overturned,mode,impact_count,rocking_start_s,overturn_time_s,rest_time_s,end_time_s,peak_theta_over_alpha,peak_friction_demand,initiation_friction_demand,lift_off,lift_off_time_s,\
-                 rocking_starts,chatter_impacts_summed,decided_at_s,peak_friction_demand_time_s,friction_demand_followed_until_s,pga_m_per_s2,pga_g,pgv_m_per_s,pgd_m,pgv_over_pga_s",
-                "false,false,,0,,,,1.0,0.0,,,,,0,0,1.0,,,6.13125,0.625,0.43,0.07,0.07",
+                 rocking_starts,chatter_impacts_summed,decided_at_s,peak_friction_demand_time_s,friction_demand_followed_until_s,pga_m_per_s2,pga_g,pgv_m_per_s,pgd_m,pgv_over_pga_s,overturn_direction",
+                "false,false,,0,,,,1.0,0.0,,,,,0,0,1.0,,,6.13125,0.625,0.43,0.07,0.07,",
             ]
         );
         r.overturned = true;
@@ -1124,9 +1135,10 @@ mod tests {
         (r.rocking_starts, r.chatter_impacts_summed, r.decided_at) = (1, 3, 0.5);
         r.peak_friction_demand_time = Some(0.25);
         r.friction_demand_followed_until = Some(0.6);
+        r.overturn_direction = Some(-1.0);
         assert_eq!(
             lines(&th_table(&r))[1],
-            "false,true,2,0,,0.75,,1.0,0.0,0.3,,false,,1,3,0.5,0.25,0.6,6.13125,0.625,0.43,0.07,0.07"
+            "false,true,2,0,,0.75,,1.0,0.0,0.3,,false,,1,3,0.5,0.25,0.6,6.13125,0.625,0.43,0.07,0.07,-1.0"
         );
     }
 

@@ -44,6 +44,10 @@ use super::sliding::{self, Friction, Kinematics};
 /// Points per step at which sampled events are looked for.
 pub const SAMPLES: usize = 8;
 
+/// Most impacts at one instant (a sliding impact turning the rotation
+/// back strikes the other corner).
+const MAX_CHAINED: u32 = 1_000;
+
 /// A safeguard on the impacts of one history.
 const MAX_IMPACTS: u64 = 1_000_000;
 
@@ -148,6 +152,21 @@ enum LegEnd {
     Reached(f64, State),
 }
 
+impl LegEnd {
+    fn state(&self) -> (f64, State) {
+        match *self {
+            LegEnd::Impact(t, y)
+            | LegEnd::Overturn(t, y)
+            | LegEnd::Sampled(_, t, y)
+            | LegEnd::Reached(t, y) => (t, y),
+        }
+    }
+
+    fn time(&self) -> f64 {
+        self.state().0
+    }
+}
+
 struct Driver<'a, G> {
     block: Block,
     forcing: &'a G,
@@ -158,6 +177,8 @@ struct Driver<'a, G> {
     h_hint: f64,
     out: ContactResponse,
     weightless: Option<f64>,
+    /// Where a chattering rock summed in closed form comes to rest.
+    settled_at: Option<f64>,
 }
 
 /// Simulates `block` on a floor with `friction` under `forcing` from rest,
@@ -202,6 +223,7 @@ pub fn simulate_contact<G: Kinematics>(
             events: 0,
         },
         weightless: forcing.next_weightless(0.0, block.gravity()),
+        settled_at: None,
     };
     d.run()?;
     Ok(d.out)
@@ -213,8 +235,8 @@ impl<G: Kinematics> Driver<'_, G> {
     }
 
     /// Appends `mode` over [from, to] (merged with a preceding stretch of it
-    /// in the same direction; a stick of no duration, a reversal, is not a
-    /// stretch).
+    /// in the same direction; no stretch of no duration but flight — a stick
+    /// of none is a reversal).
     fn span(
         &mut self,
         mode: Mode,
@@ -222,7 +244,7 @@ impl<G: Kinematics> Driver<'_, G> {
         direction: Option<f64>,
         slip: (f64, f64),
     ) {
-        if mode == Mode::Stick && to <= from {
+        if mode != Mode::Flight && to <= from {
             return;
         }
         if let Some(last) = self.out.modes.last_mut()
@@ -268,6 +290,9 @@ impl<G: Kinematics> Driver<'_, G> {
             }
             match phase {
                 Phase::Stick => {
+                    if let Some(rest) = self.settled_at.take() {
+                        t = t.max(rest);
+                    }
                     let next = onset(self.forcing, &block, self.friction, t);
                     let Some((t1, mode)) = next else {
                         let end = t.max(duration);
@@ -325,7 +350,6 @@ impl<G: Kinematics> Driver<'_, G> {
                 }
                 Phase::Rock { side, y } => {
                     let (next, t1) = self.rock(t, side, y, v_rest)?;
-                    self.span(Mode::Rock, (t, t1), None, (x, x));
                     t = t1;
                     match next {
                         Some(p) => phase = p,
@@ -340,9 +364,6 @@ impl<G: Kinematics> Driver<'_, G> {
                 } => {
                     let (next, t1, x1) =
                         self.slide_rock(t, x, side, sigma, y, slip_velocity, v_rest)?;
-                    self.span(Mode::SlideRock, (t, t1), Some(sigma), (x, x1));
-                    self.out.time_sliding += t1 - t;
-                    self.slid(x1);
                     (t, x) = (t1, x1);
                     match next {
                         Some(p) => phase = p,
@@ -480,6 +501,8 @@ impl<G: Kinematics> Driver<'_, G> {
             y,
             &events,
         )?;
+        let x = self.out.residual_slide;
+        self.span(Mode::Rock, (t, end.time()), None, (x, x));
         match end {
             LegEnd::Impact(t1, y1) => Ok((self.impact(t1, side, y1[1], 0.0, v_rest), t1)),
             LegEnd::Overturn(t1, _) => {
@@ -544,22 +567,37 @@ impl<G: Kinematics> Driver<'_, G> {
         v_rest: f64,
     ) -> Option<Phase> {
         let f = self.friction;
-        let hit = slide_rock::impact(
-            &self.block,
-            f.static_coefficient,
-            f.kinetic_coefficient,
-            side,
-            theta_dot,
-            slip_velocity,
-        );
-        self.out.impact_count += 1;
-        self.out.events += 1;
-        if self.out.impacts.len() < super::simulate::MAX_LISTED_IMPACTS {
-            self.out.impacts.push(ContactImpact {
-                t,
-                theta_dot: (theta_dot, hit.theta_dot),
-                sticking: hit.sticking,
-            });
+        let (mut side, mut theta_dot, mut slip_velocity) = (side, theta_dot, slip_velocity);
+        let mut hit;
+        let mut chained = 0;
+        loop {
+            hit = slide_rock::impact(
+                &self.block,
+                f.static_coefficient,
+                f.kinetic_coefficient,
+                side,
+                theta_dot,
+                slip_velocity,
+            );
+            self.out.impact_count += 1;
+            self.out.events += 1;
+            if self.out.impacts.len() < super::simulate::MAX_LISTED_IMPACTS {
+                self.out.impacts.push(ContactImpact {
+                    t,
+                    theta_dot: (theta_dot, hit.theta_dot),
+                    sticking: hit.sticking,
+                });
+            }
+            // A sliding impact may turn the rotation back towards the corner
+            // that just left: that corner, still on the floor, is struck in
+            // turn (same instant, the roles swapped), until the rotation
+            // leaves the floor or dies out.
+            chained += 1;
+            if hit.theta_dot * side > 0.0 && hit.theta_dot.abs() > v_rest && chained < MAX_CHAINED {
+                (side, theta_dot, slip_velocity) = (-side, hit.theta_dot, hit.slip_velocity);
+                continue;
+            }
+            break;
         }
         let new_side = -side;
         let forced = t < self.forcing.duration();
@@ -577,14 +615,14 @@ impl<G: Kinematics> Driver<'_, G> {
                 self.out.impact_count += settled.impacts;
                 let x = self.out.residual_slide;
                 self.span(Mode::Rock, (t, settled.rest_time), None, (x, x));
-                self.out.rest_time = Some(settled.rest_time);
-                return self.rest_after(settled.rest_time);
+                self.settled_at = Some(settled.rest_time);
+                return Some(Phase::Stick);
             }
         }
         if hit.theta_dot.abs() <= v_rest || hit.theta_dot * new_side < 0.0 {
             // Lands flat.
             if hit.slip_velocity == 0.0 {
-                return self.rest_after(t);
+                return Some(Phase::Stick);
             }
             let direction = hit.slip_velocity.signum();
             return Some(if f.kinetic_coefficient > self.block.slenderness().tan() {
@@ -612,11 +650,6 @@ impl<G: Kinematics> Driver<'_, G> {
                 slip_velocity: hit.slip_velocity,
             }
         })
-    }
-
-    /// At rest on the floor at `t`.
-    fn rest_after(&mut self, _t: f64) -> Option<Phase> {
-        Some(Phase::Stick)
     }
 
     /// A slide-rock stretch: the next phase, when, and the slip there.
@@ -664,6 +697,11 @@ impl<G: Kinematics> Driver<'_, G> {
             y,
             &events,
         )?;
+        let (t1, y1) = end.state();
+        let (x1, _) = leg.slip(t1, y1);
+        self.span(Mode::SlideRock, (t, t1), Some(sigma), (x, x1));
+        self.out.time_sliding += t1 - t;
+        self.slid(x1);
         match end {
             LegEnd::Impact(t1, y1) => {
                 let (x1, v1) = leg.slip(t1, y1);
@@ -725,8 +763,11 @@ impl<G: Kinematics> Driver<'_, G> {
             let e = events(t0, y0);
             [e[0] < 0.0, e[1] < 0.0]
         };
-        // The impact is looked for once θ has left 0.
-        let mut left_zero = s * y0[0] > 0.0;
+        // A leg leaving θ = 0 with a velocity (after an impact) has a simple
+        // root of s θ at the step's start, exactly: `first_nonpositive`
+        // factors it out and finds the return even within the first step.
+        // From rest the impact is looked for once θ has left 0.
+        let mut left_zero = y0[0] != 0.0 || y0[1] != 0.0;
         let stop_at = self
             .weightless
             .filter(|&l| l >= t0)
@@ -786,11 +827,11 @@ impl<G: Kinematics> Driver<'_, G> {
                 if let Some((k, sigma)) = self.sampled(&step, events, &mut armed, limit) {
                     first = Some((sigma, 2 + k as u8));
                 }
-                let theta_peak = step.y1[0].abs().max(step.y0[0].abs());
-                self.out.peak_theta_over_alpha = self
-                    .out
-                    .peak_theta_over_alpha
-                    .max(theta_peak / self.block.slenderness());
+                let upto = first.map_or(1.0, |f| f.0);
+                self.peak_on(&step, upto);
+                if s * step.y1[0] > 0.0 {
+                    left_zero = true;
+                }
                 if let Some((sigma, kind)) = first {
                     let (te, ye) = self.refine(&rhs, &step, sigma, kind, s, events);
                     self.out.stats.absorb(&stepper.stats);
@@ -801,9 +842,6 @@ impl<G: Kinematics> Driver<'_, G> {
                         k => LegEnd::Sampled(usize::from(k - 2), te, ye),
                     });
                 }
-                if s * step.y1[0] > 0.0 {
-                    left_zero = true;
-                }
             }
             self.out.stats.absorb(&stepper.stats);
             self.h_hint = stepper.next_step_size();
@@ -812,6 +850,29 @@ impl<G: Kinematics> Driver<'_, G> {
                 return Ok(LegEnd::Reached(t, y));
             }
         }
+    }
+
+    /// max |θ| on the step up to `upto` (σ): at its ends, and where the
+    /// dense output's θ̇ changes sign inside.
+    fn peak_on(&mut self, step: &DenseStep, upto: f64) {
+        let mut peak = step.y0[0].abs().max(step.at_sigma(upto)[0].abs());
+        if step.y0[1] * step.at_sigma(upto)[1] < 0.0 {
+            let (mut a, mut b) = (0.0, upto);
+            let sign = step.y0[1].signum();
+            for _ in 0..60 {
+                let m = 0.5 * (a + b);
+                if step.at_sigma(m)[1] * sign > 0.0 {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            peak = peak.max(step.at_sigma(0.5 * (a + b))[0].abs());
+        }
+        self.out.peak_theta_over_alpha = self
+            .out
+            .peak_theta_over_alpha
+            .max(peak.min(std::f64::consts::FRAC_PI_2) / self.block.slenderness());
     }
 
     /// The first armed sampled event turning positive on the step before
@@ -1013,5 +1074,88 @@ mod tests {
             (slip_before_impact.abs() - 0.28).abs() < 0.005,
             "{slip_before_impact}"
         );
+    }
+
+    #[test]
+    fn where_the_pivot_always_holds_the_modes_follow_pure_rocking() {
+        // μ = 10 is never reached by these rocking histories: every impact
+        // and the rest time agree with the pure-rocking engine to its
+        // tolerance, and the chattering tails sum to the same count.
+        use crate::dynamics::{Formulation, Options, Problem, Solver, simulate};
+        let b = locomotive();
+        let g = b.gravity();
+        for (shape, level, ratio) in [
+            (PulseShape::OneSine, 3.0, 6.0),
+            (PulseShape::OneCosine, 2.0, 4.0),
+            (PulseShape::Cn(3), 4.0, 5.0),
+        ] {
+            let pulse =
+                Pulse::new(shape, level * b.slenderness().tan() * g, ratio * 2.14).expect("valid");
+            let r = run(&b, &pulse, 10.0);
+            let solver = Solver::RungeKutta {
+                method: Method::Dop853,
+                rtol: 1e-10,
+                atol: 1e-12,
+            };
+            let problem = Problem {
+                block: b,
+                pulse,
+                formulation: Formulation::Nonlinear,
+            };
+            let p = simulate(&problem, &Options::history(solver)).expect("runs");
+            assert!(!r.overturned && !p.overturned, "{shape:?}");
+            assert_eq!(r.impact_count, p.impact_count, "{shape:?}");
+            for (a, q) in r.impacts.iter().zip(&p.impacts) {
+                assert!(
+                    (a.t - q.time).abs() < 1e-9,
+                    "{shape:?}: {} vs {}",
+                    a.t,
+                    q.time
+                );
+                assert!((a.theta_dot.1 - q.velocity_after).abs() < 1e-9);
+                assert!(a.sticking);
+            }
+            let (x, y) = (r.rest_time.expect("rests"), p.rest_time.expect("rests"));
+            assert!((x - y).abs() < 1e-8, "{shape:?}: {x} vs {y}");
+            assert!((r.peak_theta_over_alpha - p.peak_theta_over_alpha).abs() < 1e-9);
+            assert_eq!(r.peak_slide, 0.0);
+            assert_eq!(r.initial_mode, Some(Mode::Rock));
+        }
+    }
+
+    #[test]
+    fn no_impact_gains_energy_and_a_holding_corner_gives_housners_eta() {
+        for alpha in [0.1, 0.25, 0.45] {
+            let b = Block::new(alpha, 2.0, None, None, None).expect("valid");
+            for mu in [0.05, 0.2, 0.5, 1.0] {
+                for side in [1.0, -1.0] {
+                    for w in [0.01, 0.5, 3.0] {
+                        for slip in [-2.0, -0.3, 0.0, 0.3, 2.0] {
+                            let theta_dot = -side * w;
+                            let hit = slide_rock::impact(&b, mu, 0.8 * mu, side, theta_dot, slip);
+                            let (before, after) = hit.energy;
+                            assert!(
+                                after <= before * (1.0 + 1e-12),
+                                "α {alpha} μ {mu} s {side} θ̇ {theta_dot} slip {slip}: {before} → {after}"
+                            );
+                            if hit.sticking {
+                                assert_eq!(hit.slip_velocity, 0.0);
+                            } else {
+                                // The landing corner slides on the way its
+                                // impulse could not stop.
+                                assert!(hit.slip_velocity != 0.0);
+                            }
+                            if slip == 0.0 && mu >= 1.0 {
+                                assert!(hit.sticking, "α {alpha} θ̇ {theta_dot}");
+                                assert!(
+                                    (hit.theta_dot - b.restitution() * theta_dot).abs()
+                                        < 1e-15 * w.max(1.0)
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 }

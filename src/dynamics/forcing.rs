@@ -17,7 +17,7 @@
 //! ([`super::vertical`]); without one, the trait's vertical methods are the
 //! horizontal ones and cost nothing.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use super::block::Block;
 use super::equations::{Formulation, RockingRhs, Threshold};
@@ -224,8 +224,11 @@ pub enum RecordError {
     Sample(usize),
 }
 
+/// (velocity, displacement) of the ground at each sample of a record.
+type SampleKinematics = Box<[(f64, f64)]>;
+
 /// A sampled ground-acceleration record, linear between samples.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Record {
     /// Samples a_k = ü_g(k·dt), m/s².
     samples: Arc<[f64]>,
@@ -233,6 +236,15 @@ pub struct Record {
     dt: f64,
     /// (N − 1)·dt, s.
     end: f64,
+    /// Ground velocity and displacement at each sample (from rest at
+    /// t = 0), made when first asked for ([`Record::kinematics`]).
+    at_samples: Arc<OnceLock<SampleKinematics>>,
+}
+
+impl PartialEq for Record {
+    fn eq(&self, other: &Self) -> bool {
+        self.samples == other.samples && self.dt == other.dt && self.end == other.end
+    }
 }
 
 impl Record {
@@ -248,7 +260,48 @@ impl Record {
             return Err(RecordError::Sample(k));
         }
         let end = (samples.len() - 1) as f64 * dt;
-        Ok(Record { samples, dt, end })
+        Ok(Record {
+            samples,
+            dt,
+            end,
+            at_samples: Arc::default(),
+        })
+    }
+
+    /// The ground's velocity and displacement at `t` (m/s, m) from rest at
+    /// t = 0: the exact integrals of the acceleration, linear between
+    /// samples (velocity quadratic, displacement cubic on each piece;
+    /// constant velocity after the record's end).
+    pub fn kinematics(&self, t: f64) -> (f64, f64) {
+        if t <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let dt = self.dt;
+        let table = self.at_samples.get_or_init(|| {
+            let mut out = Vec::with_capacity(self.samples.len());
+            let (mut v, mut u) = (0.0f64, 0.0f64);
+            out.push((v, u));
+            for w in self.samples.windows(2) {
+                let (a0, a1) = (w[0], w[1]);
+                u += v * dt + dt * dt * (a0 / 3.0 + a1 / 6.0);
+                v += 0.5 * dt * (a0 + a1);
+                out.push((v, u));
+            }
+            out.into_boxed_slice()
+        });
+        if t >= self.end {
+            let (v, u) = table[table.len() - 1];
+            return (v, u + v * (t - self.end));
+        }
+        let k = self.piece(t);
+        let (v0, u0) = table[k];
+        let (a0, a1) = (self.samples[k], self.samples[k + 1]);
+        let tau = t - self.time(k);
+        let slope = (a1 - a0) / dt;
+        (
+            v0 + a0 * tau + 0.5 * slope * tau * tau,
+            u0 + v0 * tau + 0.5 * a0 * tau * tau + slope * tau * tau * tau / 6.0,
+        )
     }
 
     /// The samples, m/s².
@@ -265,7 +318,9 @@ impl Record {
     pub fn scaled(&self, factor: f64) -> Record {
         Record {
             samples: self.samples.iter().map(|a| a * factor).collect(),
-            ..self.clone()
+            dt: self.dt,
+            end: self.end,
+            at_samples: Arc::default(),
         }
     }
 
@@ -579,6 +634,45 @@ mod tests {
         assert!(r.next_exceedance(0.0, 3.0).is_none());
         assert!(r.exceeds_before(0.0, 0.06, 1.0));
         assert!(!r.exceeds_before(0.0, 0.04, 1.0));
+    }
+
+    #[test]
+    fn a_records_kinematics_are_the_exact_integrals_of_its_lines() {
+        // A ramp a(t) = 2 t + 1 sampled every 0.1 s is its own interpolant:
+        // v = t² + t, u = t³/3 + t²/2 to rounding; past the end v is constant.
+        let r = record(
+            &(0..11)
+                .map(|k| 2.0 * (k as f64 * 0.1) + 1.0)
+                .collect::<Vec<_>>(),
+            0.1,
+        );
+        for t in [0.0, 0.05, 0.1, 0.37, 0.999, 1.0] {
+            let (v, u) = r.kinematics(t);
+            assert!((v - (t * t + t)).abs() < 1e-14, "{t}: {v}");
+            assert!(
+                (u - (t * t * t / 3.0 + t * t / 2.0)).abs() < 1e-14,
+                "{t}: {u}"
+            );
+        }
+        let (v, u) = r.kinematics(1.5);
+        assert!((v - 2.0).abs() < 1e-14 && (u - (1.0 / 3.0 + 0.5 + 2.0 * 0.5)).abs() < 1e-13);
+        // A one-sine pulse sampled finely: its closed-form motion to O(dt²).
+        let pulse = Pulse::new(crate::dynamics::PulseShape::OneSine, 3.0, 6.0).expect("valid");
+        let dt = 1e-3;
+        let n = (pulse.duration / dt) as usize + 1;
+        let r = record(
+            &(0..n)
+                .map(|k| pulse.acceleration(k as f64 * dt))
+                .collect::<Vec<_>>(),
+            dt,
+        );
+        for t in [0.1, 0.5, 0.9] {
+            let ((v, u), (v0, u0)) = (r.kinematics(t), pulse.ground_motion(t));
+            assert!(
+                (v - v0).abs() < 1e-5 && (u - u0).abs() < 1e-5,
+                "{t}: {v} {v0} {u} {u0}"
+            );
+        }
     }
 
     #[test]

@@ -148,6 +148,8 @@ pub struct Response {
     pub summed_impacts: u64,
     /// Time |θ| reaches π/2, when followed to the end.
     pub overturn_time: Option<f64>,
+    /// The side it overturns to, the sign of θ (+1: about the corner at +x).
+    pub overturn_side: Option<f64>,
     /// Time the block came to rest for good, when it did.
     pub rest_time: Option<f64>,
     /// Time at which the outcome became certain (the pulse end at the latest).

@@ -485,6 +485,7 @@ fn run<G: Forcing>(
         summed_impacts: 0,
         rocking_impacts: 0,
         overturn_time: None,
+        overturn_side: None,
         rest_time: None,
         decided_at: duration,
         end_time: duration,
@@ -514,6 +515,7 @@ fn run<G: Forcing>(
         rocking = Some((y0, side, true, 0.0));
     }
     let mut decision: Option<FreeOutcome> = None;
+    let mut decided_side: Option<f64> = None;
     let mut free_impacts: u64 = 0;
     let mut forced_impacts: u64 = 0;
 
@@ -665,6 +667,7 @@ fn run<G: Forcing>(
                 events += 1;
                 r.overturned = true;
                 r.overturn_time = Some(to);
+                r.overturn_side = Some(side);
                 r.end_time = to;
                 if forced {
                     r.decided_at = to;
@@ -681,11 +684,16 @@ fn run<G: Forcing>(
                     // Pulse end: from here on the outcome follows from the state.
                     events += 1;
                     let outcome = decide(formulation, &block, y[0], y[1], side);
+                    if let FreeOutcome::Overturns { impacts } = outcome {
+                        // Each impact turns the block over to the other side.
+                        decided_side = Some(if impacts % 2 == 0 { side } else { -side });
+                    }
                     r.decided_at = tr;
                     if options.stop_at_decision || options.max_free_impacts == 0 {
                         r.end_time = tr;
                         if let FreeOutcome::Overturns { impacts } = outcome {
                             r.overturned = true;
+                            r.overturn_side = decided_side;
                             r.impact_count += u64::from(impacts);
                             r.rocking_impacts += u64::from(impacts);
                         }
@@ -718,6 +726,7 @@ fn run<G: Forcing>(
                 r.warnings.push(Warning::NearSeparatrix);
             }
             r.overturned = decided;
+            r.overturn_side = if decided { decided_side } else { None };
             if !decided {
                 r.overturn_time = None;
             }

@@ -22,8 +22,8 @@
 
 use super::Pulse;
 use super::equations::Threshold;
-use super::forcing::Forcing;
-use super::vertical::PulsePair;
+use super::forcing::{Forcing, Record};
+use super::vertical::{PulsePair, RecordPair};
 
 /// Coulomb friction between block and floor.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,6 +83,20 @@ impl Kinematics for PulsePair {
             self.horizontal.ground_motion(t),
             self.vertical.ground_motion(t - self.delay),
         )
+    }
+}
+
+impl Kinematics for Record {
+    #[inline]
+    fn kinematics(&self, t: f64) -> ((f64, f64), (f64, f64)) {
+        (Record::kinematics(self, t), (0.0, 0.0))
+    }
+}
+
+impl Kinematics for RecordPair {
+    #[inline]
+    fn kinematics(&self, t: f64) -> ((f64, f64), (f64, f64)) {
+        (self.horizontal.kinematics(t), self.vertical.kinematics(t))
     }
 }
 

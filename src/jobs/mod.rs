@@ -1,6 +1,7 @@
 //! Jobs: the spec JSON users send (to `topple run` or the service), its
 //! validation into domain types, and the result documents.
 
+pub mod contact;
 pub mod cost;
 pub mod distribution;
 pub mod engine;

@@ -3,6 +3,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::contact::{
+    ContactDoc, ContactNorm, ContactSpec, ModeDoc, run_coulomb, validate_contact,
+};
 use super::names::{EngineDoc, tag};
 use super::numerics::NumericsDoc;
 use super::spec::{
@@ -15,6 +18,7 @@ use super::vertical::{
 pub use super::warning::WarningDoc;
 use crate::dynamics::PulsePair;
 use crate::dynamics::response::{Response, Warning};
+use crate::dynamics::sliding::Kinematics;
 use crate::dynamics::{Formulation, Options, Problem, SimError, simulate};
 
 /// Largest series accepted.
@@ -64,6 +68,10 @@ pub struct TimeHistorySpec {
     pub solver: Option<SolverSpec>,
     /// Extra outputs.
     pub outputs: Option<OutputsSpec>,
+    /// The contact with the floor: `{"model": "no_sliding"}` (pure rocking,
+    /// the default) or `{"model": "coulomb", "mu": μ, "mu_kinetic": μ_k}`
+    /// (the block sticks, slides, rocks, slide-rocks).
+    pub contact: Option<ContactSpec>,
 }
 
 /// Outputs, normalised.
@@ -108,6 +116,9 @@ pub struct TimeHistoryJob {
     pub solver: SolverNorm,
     /// Outputs.
     pub outputs: OutputsNorm,
+    /// Coulomb friction (absent: pure rocking).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactNorm>,
 }
 
 impl TimeHistorySpec {
@@ -157,8 +168,21 @@ impl TimeHistorySpec {
             with_vertical,
             "/solver",
         )?;
+        let contact = validate_contact(self.contact.as_ref(), formulation, "/contact")?;
         let out = self.outputs.clone().unwrap_or_default();
         let series = out.series.unwrap_or(0);
+        if contact.is_some() && series > 0 {
+            return Err(SpecError::at(
+                "/outputs/series",
+                "series are not sampled under the coulomb contact model yet: the result lists its modes (modes, with the slip at each change) and impacts; drop outputs.series, or run pure rocking (contact.model no_sliding)",
+            ));
+        }
+        if contact.is_some() && out.duration.is_some() {
+            return Err(SpecError::at(
+                "/outputs/duration",
+                "under the coulomb contact model the history is followed to rest, overturning or lift-off",
+            ));
+        }
         if series > MAX_SERIES_POINTS {
             return Err(SpecError::at(
                 "/outputs/series",
@@ -188,6 +212,7 @@ impl TimeHistorySpec {
                 max_free_impacts: out.max_free_impacts.unwrap_or(1_000),
                 duration: out.duration,
             },
+            contact,
         })
     }
 }
@@ -255,7 +280,7 @@ impl WarningDoc {
             Warning::Sliding(t) => (
                 "sliding",
                 Some(t),
-                format!("|f_x/f_z| exceeds mu at t = {t:.6} s: pure rocking is violated (the block would slide)"),
+                format!("|f_x/f_z| exceeds mu at t = {t:.6} s: pure rocking is violated (the block would slide); contact {{\"model\": \"coulomb\", \"mu\": mu}} follows the block as it slides"),
             ),
             Warning::LiftOff(t) => (
                 "lift_off",
@@ -356,7 +381,10 @@ pub struct TimeHistoryResult {
     pub peak_theta_over_alpha: f64,
     /// max |f_x/f_z| while rocking (minimum μ for pure rocking), when reactions
     /// are followed; null when the block lifts off (`lift_off`): no μ sustains
-    /// pure rocking there, the demand is unbounded.
+    /// pure rocking there, the demand is unbounded. Under the coulomb contact
+    /// model: pure rocking's demand where pure rocking answered (it stayed
+    /// within μ), null where the block slid (the floor's friction then acts
+    /// at its limit, μ_k).
     #[schema(required = true)]
     pub peak_friction_demand: Option<f64>,
     /// Time of that peak, s.
@@ -388,6 +416,35 @@ pub struct TimeHistoryResult {
     pub series: Option<SeriesDoc>,
     /// Cost and accuracy.
     pub numerics: NumericsDoc,
+    /// The side it overturned to: +1 rotating about the corner at +x
+    /// (θ > 0), −1 the other (present when it overturned).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub overturn_direction: Option<f64>,
+    /// Under the coulomb contact model: "coulomb".
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_model: Option<String>,
+    /// Coulomb: "pure_rocking" when the friction pure rocking needs never
+    /// exceeded μ (the answer is pure rocking's, to the bit), "modes"
+    /// otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub answered_by: Option<String>,
+    /// Coulomb: the mode the block first left rest in ("rock" | "slide" |
+    /// "slide_rock" | "flight"; absent: it never moved).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial_mode: Option<String>,
+    /// Coulomb: the modes in time order (stretches of one mode merged,
+    /// rocking ones across impacts).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modes: Option<Vec<ModeDoc>>,
+    /// Coulomb: max |slip| of the base on the floor, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peak_slide_m: Option<f64>,
+    /// Coulomb: the base's slip at the end, m (+ towards +x).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub residual_slide_m: Option<f64>,
+    /// Coulomb: time spent sliding or slide-rocking, s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_sliding_s: Option<f64>,
     /// The normalised spec that was run.
     pub spec: TimeHistoryJob,
     /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
@@ -436,14 +493,14 @@ impl TimeHistoryJob {
                         pulse: pair,
                         formulation,
                     };
-                    (simulate(&problem, &options)?, peaks)
+                    (self.respond(&problem, &options)?, peaks)
                 } else {
                     let problem = Problem {
                         block,
                         pulse,
                         formulation,
                     };
-                    (simulate(&problem, &options)?, peaks)
+                    (self.respond(&problem, &options)?, peaks)
                 }
             }
             (None, Some(g)) if g.vertical.is_some() => {
@@ -460,7 +517,7 @@ impl TimeHistoryJob {
                     pulse: pair,
                     formulation,
                 };
-                (simulate(&problem, &options)?, peaks)
+                (self.respond(&problem, &options)?, peaks)
             }
             (None, Some(g)) => {
                 let record = g.record().map_err(|_| SimError::Tolerance)?;
@@ -470,12 +527,42 @@ impl TimeHistoryJob {
                     pulse: record,
                     formulation,
                 };
-                (simulate(&problem, &options)?, peaks)
+                (self.respond(&problem, &options)?, peaks)
             }
             (None, None) => return Err(SimError::Tolerance),
         };
         let g = self.block.g;
-        Ok(self.document(r, GroundPeaksDoc::new(&peaks, g).with_vertical(pga_v, g)))
+        let (r, contact) = r;
+        let mut doc = self.document(r, GroundPeaksDoc::new(&peaks, g).with_vertical(pga_v, g));
+        if let Some(c) = contact {
+            doc.contact_model = Some(c.contact_model);
+            doc.answered_by = Some(c.answered_by);
+            doc.initial_mode = c.initial_mode;
+            doc.modes = Some(c.modes);
+            doc.peak_slide_m = Some(c.peak_slide_m);
+            doc.residual_slide_m = Some(c.residual_slide_m);
+            doc.time_sliding_s = Some(c.time_sliding_s);
+        }
+        Ok(doc)
+    }
+
+    /// One history: pure rocking, or on the Coulomb floor of the spec.
+    fn respond<G: Kinematics>(
+        &self,
+        problem: &Problem<G>,
+        options: &Options,
+    ) -> Result<(Response, Option<ContactDoc>), SimError> {
+        match &self.contact {
+            None => Ok((simulate(problem, options)?, None)),
+            Some(c) => {
+                let started = std::time::Instant::now();
+                let h = run_coulomb(problem, options, c.friction())?;
+                let doc = ContactDoc::new(&h);
+                let mut r = h.response;
+                r.numerics.wall_time = started.elapsed().as_secs_f64();
+                Ok((r, Some(doc)))
+            }
+        }
     }
 
     /// The result document of response `r`.
@@ -530,6 +617,14 @@ impl TimeHistoryJob {
                 fx_over_fz: s.reaction_ratio,
             }),
             numerics: NumericsDoc::from(&r.numerics),
+            overturn_direction: r.overturn_side,
+            contact_model: None,
+            answered_by: None,
+            initial_mode: None,
+            modes: None,
+            peak_slide_m: None,
+            residual_slide_m: None,
+            time_sliding_s: None,
             spec: self.clone(),
             engine: None,
         }
@@ -566,6 +661,13 @@ impl crate::jobs::kind::Kind for TimeHistory {
                 cost::pulse_simulation_s(&p.shape, job.formulation, job.solver.method)
             }
             (None, None) => 0.0,
+        };
+        // On a Coulomb floor: pure rocking first, then the modes, whose
+        // events cost more per step.
+        let cpu_s = if job.contact.is_some() {
+            4.0 * cpu_s
+        } else {
+            cpu_s
         };
         crate::jobs::kind::Size {
             series_points: job.outputs.series,

@@ -502,6 +502,7 @@ fn time_history_rows_of(spec: &str, vertical: bool) {
         ("/ground_peaks/pgv_m_s", "pgv_m_per_s"),
         ("/ground_peaks/pgd_m", "pgd_m"),
         ("/ground_peaks/pgv_over_pga_s", "pgv_over_pga_s"),
+        ("/overturn_direction", "overturn_direction"),
     ];
     if vertical {
         summary.push(("/ground_peaks/pga_v_m_s2", "pga_v_m_per_s2"));
