@@ -36,7 +36,7 @@ between the kinks of the ground motion:
   impulse (its whole velocity zero after, 5x5 impulse-momentum system) if
   |P_t| <= mu_s P_n, else a sliding one (P_t = sgn(P_t stick) mu_k P_n, its
   vertical velocity zero after). Then rock (sticking) or slide-rock on the
-  new corner (s = sign of its horizontal velocity); |w+| < 1e-9 p alpha
+  new corner (s = sign of its horizontal velocity); |w+| < 1e-12 p alpha
   lands flat (stick, or slide if the corner slips). A sliding impulse that
   turns the block back towards its old corner (that corner would go into
   the floor): by default that corner lands at once by the same rules
@@ -86,6 +86,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+# topple's rest velocity, relative to p alpha (README: chattering ends below it).
+REST = 1e-12
 G = 9.81
 RTOL, ATOL = 1e-12, 1e-13
 T_TOL, X_TOL, CHATTER_T_TOL = 1e-7, 1e-7, 1e-4
@@ -404,7 +406,7 @@ def simulate(case):
                 impacts.append({"t": t, "theta_dot_before": w_before, "theta_dot_after": y1[5],
                                 "sticking": bool(sticking)})
                 y = y1
-                if len(impacts) >= MAX_IMPACTS or abs(y[5]) < 1e-9 * p * alpha or j * y[5] > 0:
+                if len(impacts) >= MAX_IMPACTS or abs(y[5]) < REST * p * alpha or j * y[5] > 0:
                     break
                 # The impulse turned the block back towards the corner it
                 # came from (possible for a sliding impact): that corner would
@@ -415,7 +417,7 @@ def simulate(case):
             if len(impacts) >= MAX_IMPACTS:
                 out["undecided"] = True
                 break
-            if abs(y[5]) < 1e-9 * p * alpha or j * y[5] < 0:
+            if abs(y[5]) < REST * p * alpha or j * y[5] < 0:
                 u = y[3] + y[5] * blk.corner(j, 0.0)[1]
                 y = [y[0], blk.h, 0.0, u if not sticking else 0.0, 0.0, 0.0]
                 if sticking or u == 0.0:
@@ -427,6 +429,10 @@ def simulate(case):
                     tail = 2 * abs(y[5]) / (p * p * math.sin(alpha)) / (1 - eta)
                     raw.append(["rock", t, t + tail, None, slip("rock", j, y), slip("rock", j, y)])
                     out["rest_time"], out["chatter"] = t + tail, True
+                    # The impacts of the tail, each rebound eta times the last,
+                    # until one falls below the rest velocity.
+                    out["tail_impacts"] = math.ceil(
+                        math.log(REST * p * alpha / abs(y[5])) / math.log(eta))
                     t += tail
                     break
                 state = settle(t, y, "rock", j, 0.0)
@@ -434,7 +440,8 @@ def simulate(case):
                 state = settle(t, y, "slide_rock", j, sgn(blk.corner_velocity(j, y)[0]))
     modes = merge(raw)
     slips = [m["slip_to"] for m in modes]
-    out.update({"modes": modes, "impacts": impacts, "impact_count": len(impacts),
+    out.update({"modes": modes, "impacts": impacts,
+                "impact_count": len(impacts) + out.get("tail_impacts", 0),
                 "peak_slide": max([abs(s) for s in slips], default=0.0),
                 "residual_slide": slips[-1] if slips else 0.0, "end": end})
     return out

@@ -82,7 +82,7 @@ pub fn validate_contact(
         return Ok(None);
     };
     let model = spec.model.as_deref().unwrap_or("no_sliding");
-    match model.to_ascii_lowercase().as_str() {
+    match model {
         "no_sliding" => {
             if spec.mu.is_some() || spec.mu_kinetic.is_some() {
                 let field = if spec.mu.is_some() {

@@ -78,6 +78,9 @@ BAD = [
     ("misspelt formulation", edit(TH, formulation="nonlinaer"), "/formulation"),
     ("misspelt pulse type", edit(TH, pulse__type="one_sin"), "/pulse/type"),
     ("vertical ratio beyond 100", edit(SP, vertical={"ratio": 1e3}), "/vertical/ratio"),
+    ("misspelt contact model", edit(TH, contact={"model": "columb", "mu": 0.3}), "/contact/model"),
+    ("a negative friction coefficient", edit(TH, contact={"model": "coulomb", "mu": -0.3}), "/contact/mu"),
+    ("a contact field unknown", edit(TH, contact={"model": "coulomb", "mu": 0.3, "mu_s": 0.3}), "/contact/mu_s"),
     ("unknown field in vertical", edit(SP, vertical={"ratio": 0.5, "phase": 1.0}), "/vertical/phase"),
     ("a fragility's vertical pulse of its own", edit(FG, vertical={"type": "one_sine"}), "/vertical/type"),
     ("unknown field", edit(TH, omega=3.0), "/omega"),
@@ -255,6 +258,13 @@ SERVER_ONLY = [
     ("a friction spectrum's vertical pulse without its amplitude ratio",
      edit(FR, vertical={"type": "one_sine", "frequency_ratio": 2.0}), "/vertical/amplitude_ratio"),
     ("a fragility's vertical ratio beyond 100", edit(FG, vertical={"ratio": 1e3}), "/vertical/ratio"),
+    ("coulomb without mu", edit(TH, contact={"model": "coulomb"}), "/contact/mu"),
+    ("a kinetic coefficient above the static one",
+     edit(TH, contact={"model": "coulomb", "mu": 0.3, "mu_kinetic": 0.4}), "/contact/mu_kinetic"),
+    ("coulomb with the linear equations",
+     edit(TH, contact={"model": "coulomb", "mu": 0.3}, formulation="linear"), "/formulation"),
+    ("a friction coefficient under pure rocking", edit(TH, contact={"model": "no_sliding", "mu": 0.3}),
+     "/contact/mu"),
     ("a fragility's vertical ratio distribution beyond 100",
      edit(FG, vertical={"ratio": {"dist": "uniform", "min": -200.0, "max": 0.5}}), "/vertical/ratio/min"),
 ]
@@ -263,6 +273,8 @@ SERVER_ONLY = [
 # explicit nulls for optional fields.
 GOOD = [
     ("time history", TH),
+    ("on a coulomb floor", edit(TH, contact={"model": "coulomb", "mu": 0.3, "mu_kinetic": 0.25})),
+    ("pure rocking by name", edit(TH, contact={"model": "no_sliding"})),
     ("record by geometry", GM),
     ("cn with n", edit(TH, pulse__type="cn", pulse__n=2)),
     ("mavroeidis_papageorgiou with gamma and nu",
