@@ -561,7 +561,11 @@ def compare(mine, ref):
         return False, "lift_off", dt, dx
     if mine["impact_count"] != ref["impact_count"]:
         return False, "impact count", dt, dx
-    if [i["sticking"] for i in mine["impacts"]] != [i["sticking"] for i in ref["impacts"]]:
+    # Each lists the impacts it followed one by one; a chattering tail is
+    # summed (counted above, not listed) from a velocity of its own choosing,
+    # so the lists are compared over their common length.
+    n = min(len(mine["impacts"]), len(ref["impacts"]))
+    if [i["sticking"] for i in mine["impacts"][:n]] != [i["sticking"] for i in ref["impacts"][:n]]:
         return False, "impact kind", dt, dx
     if (mine["rest_time"] is None) != (ref["rest_time"] is None):
         return False, "rest", dt, dx

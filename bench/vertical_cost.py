@@ -38,19 +38,19 @@ def bench_binary():
     sys.exit("no engine bench binary built")
 
 
-def per_simulation(binary, case):
-    """Instructions per `simulate` call in the criterion case `case`."""
+def per_simulation(binary, case, group="vertical", root="topple::dynamics::simulate::simulate"):
+    """Instructions per call of `root` in the criterion case `group/case`."""
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "cg.out")
         subprocess.run(
             ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", binary,
-             "--bench", f"^vertical/{case}$", "--profile-time", "1"],
+             "--bench", f"^{group}/{case}$", "--profile-time", "1"],
             capture_output=True, check=True)
         annotated = subprocess.run(["callgrind_annotate", "--inclusive=yes", out],
                                    capture_output=True, text=True, check=True).stdout
         inclusive = None
         for line in annotated.splitlines():
-            if re.search(r"topple::dynamics::simulate::simulate( \[|$)", line.rstrip()):
+            if re.search(re.escape(root) + r"( \[|$)", line.rstrip()):
                 inclusive = int(line.split()[0].replace(",", ""))
                 break
         names, calls, callee = {}, 0, None
@@ -62,10 +62,10 @@ def per_simulation(binary, case):
                         names[m.group(2)] = m.group(3)
                     callee = names.get(m.group(2), "") if m.group(1) == "cfn" else None
                     continue
-                if line.startswith("calls=") and callee and callee.endswith("simulate::simulate"):
+                if line.startswith("calls=") and callee and callee.endswith(root.split("::", 1)[1]):
                     calls += int(line.split("=")[1].split()[0])
         if not inclusive or not calls:
-            sys.exit(f"{case}: no simulate calls found")
+            sys.exit(f"{case}: no {root} calls found")
         return inclusive / calls
 
 

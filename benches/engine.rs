@@ -197,8 +197,8 @@ fn vertical(c: &mut Criterion) {
         PulsePair::proportional(horizontal, 0.5).expect("non-zero"),
     );
     let pair = nonlinear(block, PulsePair::new(horizontal, own, 0.1));
-    // The ratio's motion given as a pulse of its own: the same steps, through
-    // the general path.
+    // The ratio's motion given as a pulse of its own (of the horizontal's
+    // shape, frequency and time: run as the ratio).
     let same = nonlinear(
         block,
         PulsePair::new(
@@ -252,5 +252,43 @@ fn vertical(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, engine, pulses, record, vertical);
+/// On a Coulomb floor beside pure rocking, the same case: a μ never reached
+/// (pure rocking answers, its friction demand followed), a block sliding
+/// flat, one slide-rocking.
+fn contact(c: &mut Criterion) {
+    use topple::dynamics::sliding::Friction;
+    use topple::jobs::contact::run_coulomb;
+    let mut g = c.benchmark_group("contact");
+    g.sample_size(20);
+    let options = Options::history(rk(Method::Dop853, 1e-8));
+    let block = Block::new(0.25, 2.14, None, None, None).expect("valid");
+    let tan = 0.25f64.tan();
+    let rests = nonlinear(
+        block,
+        Pulse::new(PulseShape::OneSine, 3.0 * tan * 9.81, 6.0 * 2.14).expect("valid"),
+    );
+    let strong = nonlinear(
+        block,
+        Pulse::new(PulseShape::OneSine, 4.0 * 0.25 * 9.81, 3.0 * 2.14).expect("valid"),
+    );
+    let mu = |m: f64| Friction::new(m, None).expect("valid");
+    g.bench_function("rests/no_sliding", |b| {
+        b.iter(|| simulate(black_box(&rests), black_box(&options)))
+    });
+    g.bench_function("rests/coulomb_mu_10", |b| {
+        b.iter(|| run_coulomb(black_box(&rests), black_box(&options), mu(10.0)))
+    });
+    g.bench_function("strong/no_sliding", |b| {
+        b.iter(|| simulate(black_box(&strong), black_box(&options)))
+    });
+    g.bench_function("strong/coulomb_mu_0.2_slides", |b| {
+        b.iter(|| run_coulomb(black_box(&strong), black_box(&options), mu(0.2)))
+    });
+    g.bench_function("strong/coulomb_mu_0.3_slide_rocks", |b| {
+        b.iter(|| run_coulomb(black_box(&strong), black_box(&options), mu(0.3)))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, engine, pulses, record, vertical, contact);
 criterion_main!(benches);
