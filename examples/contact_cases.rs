@@ -13,30 +13,11 @@ use serde_json::{Value, json};
 use topple::dynamics::coulomb::{ContactResponse, simulate_contact};
 use topple::dynamics::integrator::Method;
 use topple::dynamics::sliding::{Friction, Kinematics};
-use topple::dynamics::{Block, Pulse, PulsePair, PulseShape};
+use topple::dynamics::{Block, PulsePair};
 
-const G: f64 = 9.81;
-
-fn shape(name: &str) -> Result<PulseShape, String> {
-    Ok(match name {
-        "one_sine" => PulseShape::OneSine,
-        "one_cosine" => PulseShape::OneCosine,
-        "rectangular" => PulseShape::Rectangular,
-        "ricker" => PulseShape::Ricker { symmetric: true },
-        "c3" => PulseShape::Cn(3),
-        other => return Err(format!("unknown shape {other}")),
-    })
-}
-
-fn pulse(c: &Value) -> Result<Pulse, String> {
-    let num = |k: &str| c[k].as_f64().ok_or(format!("{k} missing"));
-    Pulse::new(
-        shape(c["shape"].as_str().ok_or("shape missing")?)?,
-        num("a_g")? * G,
-        num("omega")?,
-    )
-    .map_err(|e| e.to_string())
-}
+#[path = "cases/pulse.rs"]
+mod pulse_cases;
+use pulse_cases::{G, pulse};
 
 fn simulate<G: Kinematics>(
     block: &Block,

@@ -4,31 +4,12 @@
 //! one's slides, residual, peak and lift-off on stdout as JSON.
 
 use serde_json::{Value, json};
+use topple::dynamics::PulsePair;
 use topple::dynamics::sliding::{Friction, Sliding, slide};
-use topple::dynamics::{Pulse, PulsePair, PulseShape};
 
-const G: f64 = 9.81;
-
-fn shape(name: &str) -> Result<PulseShape, String> {
-    Ok(match name {
-        "one_sine" => PulseShape::OneSine,
-        "one_cosine" => PulseShape::OneCosine,
-        "rectangular" => PulseShape::Rectangular,
-        "ricker" => PulseShape::Ricker { symmetric: true },
-        "c3" => PulseShape::Cn(3),
-        other => return Err(format!("unknown shape {other}")),
-    })
-}
-
-fn pulse(c: &Value) -> Result<Pulse, String> {
-    let num = |k: &str| c[k].as_f64().ok_or(format!("{k} missing"));
-    Pulse::new(
-        shape(c["shape"].as_str().ok_or("shape missing")?)?,
-        num("a_g")? * G,
-        num("omega")?,
-    )
-    .map_err(|e| e.to_string())
-}
+#[path = "cases/pulse.rs"]
+mod pulse_cases;
+use pulse_cases::{G, pulse};
 
 fn run(c: &Value) -> Result<Sliding, String> {
     let num = |k: &str| c[k].as_f64().ok_or(format!("{k} missing"));

@@ -31,10 +31,8 @@ use super::Block;
 use super::chatter::settle;
 use super::contact::{Mode, onset};
 use super::equations::{Formulation, Threshold};
-use super::events::{Poly, first_nonpositive};
-use super::integrator::{
-    DenseStep, MAX_DEGREE, Method, Rhs, State, Stepper, StepperStats, single_step,
-};
+use super::events::{first_nonpositive, return_and_overturn};
+use super::integrator::{DenseStep, Method, Rhs, State, Stepper, StepperStats, single_step};
 use super::reactions::reactions_per_mass_vertical;
 use super::response::OverturnMode;
 use super::simulate::{REST_VELOCITY, SimError};
@@ -800,16 +798,7 @@ impl<G: Kinematics> Driver<'_, G> {
                 }
                 let step = stepper.step(&rhs, target)?;
                 // Impact and overturning on the dense output's polynomial.
-                let mut g = Poly {
-                    c: [0.0; MAX_DEGREE + 1],
-                    len: step.len,
-                };
-                let mut top = g;
-                for k in 0..step.len {
-                    g.c[k] = s * step.coeffs[0][k];
-                    top.c[k] = -s * step.coeffs[0][k];
-                }
-                top.c[0] += std::f64::consts::FRAC_PI_2;
+                let (g, top) = return_and_overturn(&step.coeffs[0], step.len, s);
                 let impact = if left_zero {
                     first_nonpositive(&g)
                 } else {

@@ -171,6 +171,24 @@ fn sign_changes(b: &[f64], len: usize) -> usize {
     changes
 }
 
+/// On a step's dense output of θ (`theta`: the coefficients of σ^k, `len`
+/// of them), for a block on side `s`: the polynomials whose first
+/// non-positive value marks a return to θ = 0 (s θ) and overturning
+/// (π/2 − s θ).
+pub fn return_and_overturn(theta: &[f64], len: usize, s: f64) -> (Poly, Poly) {
+    let mut back = Poly {
+        c: [0.0; MAX_DEGREE + 1],
+        len,
+    };
+    let mut top = back;
+    for (k, &c) in theta.iter().take(len).enumerate() {
+        back.c[k] = s * c;
+        top.c[k] = -s * c;
+    }
+    top.c[0] += std::f64::consts::FRAC_PI_2;
+    (back, top)
+}
+
 /// The smallest σ ∈ (0, 1] where `p(σ) ≤ 0`, for a polynomial that is positive
 /// just after σ = 0 (exactly-zero leading coefficients, i.e. a root at the start
 /// of the step, are factored out first). `None` if `p > 0` on (0, 1].

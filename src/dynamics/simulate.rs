@@ -26,11 +26,11 @@ use std::time::Instant;
 use super::block::Block;
 use super::chatter::settle;
 use super::equations::Formulation;
-use super::events::{Poly, first_nonpositive};
+use super::events::{first_nonpositive, return_and_overturn};
 use super::exact::{SegmentEnd, first_event};
 use super::excitation::Pulse;
 use super::forcing::Forcing;
-use super::integrator::{MAX_DEGREE, Method, State, StepError, Stepper, StepperStats, single_step};
+use super::integrator::{Method, State, StepError, Stepper, StepperStats, single_step};
 use super::reactions::{reactions_per_mass, reactions_per_mass_vertical};
 use super::response::{FrictionDemand, Impact, Numerics, OverturnMode, Response, Warning};
 use super::separatrix::{FreeOutcome, decide};
@@ -379,16 +379,7 @@ impl Engine {
                     return Err(e.into());
                 }
             };
-            let mut g = Poly {
-                c: [0.0; MAX_DEGREE + 1],
-                len: step.len,
-            };
-            let mut top = g;
-            for k in 0..step.len {
-                g.c[k] = s * step.coeffs[0][k];
-                top.c[k] = -s * step.coeffs[0][k];
-            }
-            top.c[0] += std::f64::consts::FRAC_PI_2;
+            let (g, top) = return_and_overturn(&step.coeffs[0], step.len, s);
             let impact = if armed { first_nonpositive(&g) } else { None };
             let over = first_nonpositive(&top);
             let event = match (impact, over) {
