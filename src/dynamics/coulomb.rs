@@ -46,6 +46,10 @@ pub const SAMPLES: usize = 8;
 /// back strikes the other corner).
 const MAX_CHAINED: u32 = 1_000;
 
+/// Periods 2π/p of free motion after the ground motion beyond which a
+/// history is a fault ([`SimError::FreeMotionUnended`]).
+const FREE_PERIODS: f64 = 10_000.0;
+
 /// A safeguard on the impacts of one history.
 const MAX_IMPACTS: u64 = 1_000_000;
 
@@ -770,6 +774,10 @@ impl<G: Kinematics> Driver<'_, G> {
             .weightless
             .filter(|&l| l >= t0)
             .unwrap_or(f64::INFINITY);
+        // A safeguard: free rocking loses energy at every impact and rests
+        // within tens of periods; this many is a fault, not motion.
+        let free_until =
+            duration + FREE_PERIODS * std::f64::consts::TAU / self.block.frequency_parameter();
         loop {
             let forced = t < duration;
             let rhs = make(forced);
@@ -795,6 +803,9 @@ impl<G: Kinematics> Driver<'_, G> {
                 let mut target = segment_end;
                 if forced {
                     target = target.min(self.forcing.breakpoint_after(stepper.t));
+                }
+                if !forced && stepper.t > free_until {
+                    return Err(SimError::FreeMotionUnended(free_until));
                 }
                 let step = stepper.step(&rhs, target)?;
                 // Impact and overturning on the dense output's polynomial.

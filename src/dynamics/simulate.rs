@@ -173,6 +173,12 @@ pub enum SimError {
     /// Chattering did not end.
     #[error("impact limit reached during the pulse")]
     ImpactLimit,
+    /// On a Coulomb floor the free motion after the ground motion came
+    /// neither to rest nor to overturning within this time (s).
+    #[error(
+        "the free motion on the coulomb floor did not end by t = {0} s (neither rest nor overturning)"
+    )]
+    FreeMotionUnended(f64),
     /// The block is not a valid one.
     #[error("invalid block: {0}")]
     Block(#[from] super::block::BlockError),
