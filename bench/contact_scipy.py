@@ -530,6 +530,12 @@ CASES = [
      "omega": 5.4977906618285655},
     {"alpha": 0.35, "p": 3.0, "mu": 0.39, "mu_k": 0.351, "shape": "c3", "a_g": 0.882497717321181,
      "omega": 6.069761841796002},
+    # a lift of micro-radians, shorter than a step, twice (just above the
+    # threshold); a slip that turns back at once after an impact, at the
+    # friction limit (the locomotive, omega = 10p, 1.76 alpha g)
+    _c(0.25, 2.14, 0.3, "one_sine", 1.0001, 3),
+    _c(0.25, 2.14, 0.3, "one_sine", 1.76 * 0.25, 10, tan_units=False),
+    _c(0.25, 2.14, 0.3, "one_sine", 2.225 * 0.25, 10, tan_units=False),
     # vertical: proportional and pulses of their own
     _c(0.25, 2.14, 0.3, "one_sine", 3.0, 3, ratio=0.5),
     _c(0.25, 2.14, 0.3, "one_sine", 3.0, 3, ratio=-0.5),

@@ -21,6 +21,7 @@ fn request(frequencies: usize, formulation: Formulation, solver: Solver) -> Spec
         scan_step: 0.02,
         principal_relative_width: 0.01,
         vertical_ratio: None,
+        friction: None,
     }
 }
 

@@ -181,6 +181,10 @@ struct Driver<'a, G> {
     weightless: Option<f64>,
     /// Where a chattering rock summed in closed form comes to rest.
     settled_at: Option<f64>,
+    /// A slip that stopped where it started: the pivot holds from there
+    /// (the friction limit is looked for once the demand has fallen back
+    /// within it), so that no mode is entered and left at one instant.
+    hold: bool,
 }
 
 /// Simulates `block` on a floor with `friction` under `forcing` from rest,
@@ -226,6 +230,7 @@ pub fn simulate_contact<G: Kinematics>(
         },
         weightless: forcing.next_weightless(0.0, block.gravity()),
         settled_at: None,
+        hold: false,
     };
     d.run()?;
     Ok(d.out)
@@ -470,7 +475,9 @@ impl<G: Kinematics> Driver<'_, G> {
             self.lift_off(t);
             return Ok((None, t));
         }
-        if fx.abs() > mu_s * fz
+        let hold = std::mem::take(&mut self.hold);
+        if !hold
+            && fx.abs() > mu_s * fz
             && let Some(sigma) = self.slip_direction(t, side, y)
         {
             return Ok((
@@ -502,6 +509,7 @@ impl<G: Kinematics> Driver<'_, G> {
             t,
             y,
             &events,
+            [false, false],
         )?;
         let x = self.out.residual_slide;
         self.span(Mode::Rock, (t, end.time()), None, (x, x));
@@ -698,6 +706,11 @@ impl<G: Kinematics> Driver<'_, G> {
             t,
             y,
             &events,
+            // A slip starting from 0 runs the way σ says (its acceleration
+            // has that sign): its stop is watched from the start, so that a
+            // slip that turns back before the first sample is not followed
+            // with the friction the wrong way.
+            [slip_velocity == 0.0, false],
         )?;
         let (t1, y1) = end.state();
         let (x1, _) = leg.slip(t1, y1);
@@ -724,6 +737,10 @@ impl<G: Kinematics> Driver<'_, G> {
                     return Ok((None, t1, x1));
                 }
                 let next = if fx.abs() <= self.friction.static_coefficient * fz {
+                    Phase::Rock { side, y: y1 }
+                } else if t1 - t <= 1e-12 * t.abs().max(1.0) {
+                    // Stopped where it started: the pivot holds.
+                    self.hold = true;
                     Phase::Rock { side, y: y1 }
                 } else {
                     match self.slip_direction(t1, side, y1) {
@@ -756,6 +773,7 @@ impl<G: Kinematics> Driver<'_, G> {
         t0: f64,
         y0: State,
         events: &E,
+        arm: [bool; 2],
     ) -> Result<LegEnd, SimError> {
         let duration = self.forcing.duration();
         let s = side;
@@ -763,13 +781,32 @@ impl<G: Kinematics> Driver<'_, G> {
         let mut y = y0;
         let mut armed = {
             let e = events(t0, y0);
-            [e[0] < 0.0, e[1] < 0.0]
+            [arm[0] || e[0] < 0.0, arm[1] || e[1] < 0.0]
         };
         // A leg leaving θ = 0 with a velocity (after an impact) has a simple
         // root of s θ at the step's start, exactly: `first_nonpositive`
         // factors it out and finds the return even within the first step.
-        // From rest the impact is looked for once θ has left 0.
+        // From rest the impact is looked for once θ has left 0 at a step's
+        // end, and at the latest once the ground no longer exceeds the
+        // rocking threshold (as under pure rocking: until then the block is
+        // driven away from θ = 0, and no step crosses that instant, so that
+        // a lift too small to outlast a step is not missed).
         let mut left_zero = y0[0] != 0.0 || y0[1] != 0.0;
+        let lift_until = if left_zero {
+            t0
+        } else {
+            let g = self.block.gravity();
+            let k = self.block.slenderness().tan();
+            let threshold = Threshold {
+                level: k * g,
+                factor: k,
+                gravity: g,
+            };
+            self.forcing
+                .next_rocking(t0, &threshold)
+                .filter(|w| w.start <= t0)
+                .map_or(t0, |w| w.end)
+        };
         let stop_at = self
             .weightless
             .filter(|&l| l >= t0)
@@ -803,6 +840,13 @@ impl<G: Kinematics> Driver<'_, G> {
                 let mut target = segment_end;
                 if forced {
                     target = target.min(self.forcing.breakpoint_after(stepper.t));
+                }
+                if !left_zero {
+                    if stepper.t >= lift_until {
+                        left_zero = true;
+                    } else {
+                        target = target.min(lift_until);
+                    }
                 }
                 if !forced && stepper.t > free_until {
                     return Err(SimError::FreeMotionUnended(free_until));
@@ -1088,6 +1132,9 @@ mod tests {
             (PulseShape::OneSine, 3.0, 6.0),
             (PulseShape::OneCosine, 2.0, 4.0),
             (PulseShape::Cn(3), 4.0, 5.0),
+            // Barely above the threshold: two lifts, each of micro-radians
+            // and shorter than a step, each ending in its own impact.
+            (PulseShape::OneSine, 1.0001, 3.0),
         ] {
             let pulse =
                 Pulse::new(shape, level * b.slenderness().tan() * g, ratio * 2.14).expect("valid");
@@ -1120,6 +1167,40 @@ mod tests {
             assert!((r.peak_theta_over_alpha - p.peak_theta_over_alpha).abs() < 1e-9);
             assert_eq!(r.peak_slide, 0.0);
             assert_eq!(r.initial_mode, Some(Mode::Rock));
+        }
+    }
+
+    #[test]
+    fn every_slip_runs_the_way_its_friction_opposes() {
+        // Friction does no positive work: over each stretch of slide or
+        // slide-rock the base slips the way the stretch says. A slip that
+        // turns back within a step once ran on with the friction the wrong
+        // way (the locomotive at 1.76 αg, ω_p/p = 10, overturned after
+        // slipping 2.9 m on a floor at rest).
+        let b = locomotive();
+        let g = b.gravity();
+        for (shape, ratio) in [
+            (PulseShape::OneSine, 10.0),
+            (PulseShape::OneSine, 3.0),
+            (PulseShape::OneCosine, 6.0),
+        ] {
+            for i in 0..=60 {
+                let level = 1.05 + 0.025 * f64::from(i);
+                let pulse =
+                    Pulse::new(shape, level * b.slenderness() * g, ratio * 2.14).expect("valid");
+                let r = run(&b, &pulse, 0.3);
+                for m in &r.modes {
+                    if let Some(d) = m.direction {
+                        assert!(
+                            (m.slip.1 - m.slip.0) * d >= -1e-12,
+                            "{shape:?} ω_p/p {ratio}, {level} αg: {m:?}"
+                        );
+                    }
+                }
+                if shape == PulseShape::OneSine && ratio == 10.0 {
+                    assert!(r.peak_slide < 0.05, "{level} αg: {}", r.peak_slide);
+                }
+            }
         }
     }
 

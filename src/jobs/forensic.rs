@@ -608,6 +608,7 @@ pub fn overturning_set(transitions: &[Transition], alpha: f64, from: f64, to: f6
                     out.push([lo, at]);
                 }
             }
+            Direction::LiftOff => {}
         }
     }
     if let Some(lo) = open {

@@ -671,6 +671,7 @@ impl RecordSpectrumJob {
             ps: self.p.clone(),
             formulation: self.formulation,
             solver: self.solver.solver(),
+            friction: None,
             grid: self.grid(),
         };
         let s = match self.scaled_vertical() {
@@ -684,6 +685,7 @@ impl RecordSpectrumJob {
                         ps: req.ps.clone(),
                         formulation: req.formulation,
                         solver: req.solver,
+                        friction: req.friction,
                         grid: req.grid,
                     },
                     control,
@@ -725,6 +727,7 @@ impl RecordSpectrumJob {
             direction: match t.direction {
                 Direction::Up => "up",
                 Direction::Down => "down",
+                Direction::LiftOff => "lift_off",
             }
             .to_string(),
             mode: t.mode,

@@ -14,11 +14,12 @@
 use serde::{Deserialize, Serialize};
 
 use crate::dynamics::Problem;
-use crate::dynamics::Solver;
 use crate::jobs::JobError;
 use crate::spectrum::Control;
 use crate::spectrum::overturning::{Found, ScanGrid, scan_range};
-use crate::spectrum::scan::{Direction, ModeChange, Scalable, ScanError, ScanStats, Transition};
+use crate::spectrum::scan::{
+    Direction, ModeChange, Model, Scalable, ScanError, ScanStats, Transition,
+};
 
 /// A task of a job of scan lines: lines `[from, to)` (of one [`Group`]),
 /// levels `[first, last]` (both included) of their scan grid.
@@ -49,6 +50,9 @@ pub struct Group {
 struct TransitionBits {
     at: u64,
     up: bool,
+    /// The block leaves the floor above (a Coulomb floor).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    lift: bool,
     mode: u8,
     impacts: u64,
     bracket: [u64; 2],
@@ -98,6 +102,7 @@ impl From<&Transition> for TransitionBits {
         TransitionBits {
             at: t.at.to_bits(),
             up: t.direction == Direction::Up,
+            lift: t.direction == Direction::LiftOff,
             mode: t.mode,
             impacts: t.impacts,
             bracket: [t.bracket.0.to_bits(), t.bracket.1.to_bits()],
@@ -109,7 +114,11 @@ impl From<&TransitionBits> for Transition {
     fn from(t: &TransitionBits) -> Self {
         Transition {
             at: f64::from_bits(t.at),
-            direction: if t.up { Direction::Up } else { Direction::Down },
+            direction: match (t.lift, t.up) {
+                (true, _) => Direction::LiftOff,
+                (false, true) => Direction::Up,
+                (false, false) => Direction::Down,
+            },
             mode: t.mode,
             impacts: t.impacts,
             bracket: (f64::from_bits(t.bracket[0]), f64::from_bits(t.bracket[1])),
@@ -268,12 +277,12 @@ pub fn run<G: Scalable + Sync>(
     kind: &str,
     part: Part,
     problems: &[Problem<G>],
-    solver: Solver,
+    model: Model,
     grid: &ScanGrid,
     control: &Control,
 ) -> Result<PartDoc, ScanError> {
     let started = std::time::Instant::now();
-    let (found, stats) = scan_range(problems, solver, grid, part.levels, control)?;
+    let (found, stats) = scan_range(problems, model, grid, part.levels, control)?;
     Ok(PartDoc {
         kind: kind.into(),
         part,

@@ -73,6 +73,11 @@ pub struct SpectrumSpec {
     /// "amplitude_ratio" (a_v/a_p), "frequency_ratio" (ω_v/ω_p) | "omega_p" |
     /// "frequency_hz", "delay_s"?}`.
     pub vertical: Option<super::vertical::VerticalPulseSpec>,
+    /// The contact with the floor: `{"model": "no_sliding"}` (pure rocking,
+    /// the default) or `{"model": "coulomb", "mu", "mu_kinetic"?}` (the block
+    /// may slide and slide-rock; every amplitude of every frequency is
+    /// followed on that floor).
+    pub contact: Option<super::contact::ContactSpec>,
 }
 
 /// The pulse family of a spectrum, normalised.
@@ -197,6 +202,9 @@ pub struct SpectrumJob {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
     pub vertical: Option<super::vertical::VerticalPulseNorm>,
+    /// Coulomb friction at the floor, when given (absent: pure rocking).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<super::contact::ContactNorm>,
 }
 
 fn positive_in(v: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> Result<f64, SpecError> {
@@ -225,6 +233,8 @@ impl SpectrumSpec {
             vertical.is_some(),
             "/solver",
         )?;
+        let contact =
+            super::contact::validate_contact(self.contact.as_ref(), formulation, "/contact")?;
         // Frequencies in any unit, normalised to ω_p/p: one job, one cache key.
         let p = block.p;
         let unit_g = block.alpha * block.g;
@@ -312,6 +322,7 @@ impl SpectrumSpec {
             principal_relative_width: principal,
             solver,
             vertical,
+            contact,
         })
     }
 }
@@ -345,6 +356,7 @@ impl TransitionDoc {
             direction: match t.direction {
                 Direction::Up => "up",
                 Direction::Down => "down",
+                Direction::LiftOff => "lift_off",
             }
             .to_string(),
             mode: t.mode,
@@ -467,9 +479,11 @@ pub struct FrequencyDoc {
     #[schema(required = true)]
     pub closed_form_mode2_alpha_g: Option<f64>,
     /// With a vertical motion: from this amplitude (αg) on, the ground falls
-    /// away faster than gravity (g + ü_v ≤ 0) and the block leaves it. The
-    /// line is scanned up to just below it and claims nothing above
-    /// (absent when the ground never does up to a_max).
+    /// away faster than gravity (g + ü_v ≤ 0) and the block leaves it. On a
+    /// Coulomb floor also: the lowest amplitude found (within the tolerance)
+    /// at which the normal force reaches 0 and the block leaves the floor.
+    /// The line is scanned up to just below it and claims nothing above
+    /// (absent when the block never leaves the floor up to a_max).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lift_off_above_alpha_g: Option<f64>,
     /// ω_p, rad/s (ω_p/p × p).
@@ -609,6 +623,7 @@ impl SpectrumJob {
             scan_step: self.scan_step_alpha_g,
             principal_relative_width: self.principal_relative_width,
             vertical_ratio: self.vertical_ratio(),
+            friction: self.contact.as_ref().map(|c| c.friction()),
         };
         let s = match self.vertical.as_ref().and_then(|v| v.scaled_pulse()) {
             Some(v) => crate::spectrum::overturning::overturning_spectrum_under(&req, &v, control)?,
@@ -702,12 +717,17 @@ impl crate::jobs::kind::Kind for Spectrum {
             cost::pulse_line_simulations(scan, job.scan_step_alpha_g, job.tolerance);
         let n = job.omega_ratio.len() as f64;
         let work = n * per_frequency;
+        // On a Coulomb floor each amplitude runs pure rocking to its end,
+        // then (where the friction is exceeded) the modes to rest:
+        // bench/contact_cost.py measures a μ = 0.3 spectrum at about 18×.
+        let per_simulation = if job.contact.is_some() { 18.0 } else { 1.0 };
         crate::jobs::kind::Size {
             series_points: 0,
             grid_points: (n * scan).min(usize::MAX as f64) as usize,
             work,
             record_work: 0.0,
             cpu_s: work
+                * per_simulation
                 * cost::pulse_simulation_s(&job.pulse.shape(), job.formulation, job.solver.method),
             lanes: n * (scan / 48.0).ceil(),
         }
@@ -794,6 +814,53 @@ mod tests {
         let e = spectrum(json!({"omega_p": [1e5]})).expect_err("out of range");
         assert_eq!(e.pointer, "/omega_p");
         assert!(e.message.contains("p = 2 rad/s"), "{}", e.message);
+    }
+
+    fn coulomb(mu: Option<f64>, alpha: f64, shape: &str, ratios: Value, a_max: f64) -> Value {
+        let mut spec = json!({"kind": "spectrum", "block": {"alpha": alpha, "p": 2.14},
+                              "pulse": {"type": shape}, "omega_ratio": ratios,
+                              "a_max_alpha_g": a_max, "tolerance": 1e-3, "scan_step_alpha_g": 0.05});
+        if let Some(mu) = mu {
+            spec["contact"] = json!({"model": "coulomb", "mu": mu});
+        }
+        let job = Job::from_value(&spec).expect("valid");
+        job.run(&Control::new()).expect("runs")
+    }
+
+    #[test]
+    fn a_coulomb_spectrum_follows_the_floor() {
+        // μ = 10 is never reached below these minima: the same lowest
+        // overturning amplitude as pure rocking.
+        let (pure, rough) = (
+            coulomb(None, 0.25, "one_sine", json!([2.0, 4.0]), 6.0),
+            coulomb(Some(10.0), 0.25, "one_sine", json!([2.0, 4.0]), 6.0),
+        );
+        for k in 0..2 {
+            let (a, b) = (
+                &pure["spectrum"][k]["min_overturn_alpha_g"],
+                &rough["spectrum"][k]["min_overturn_alpha_g"],
+            );
+            assert!(a.as_f64().is_some() && a == b, "{a} vs {b}");
+        }
+        assert_eq!(rough["spec"]["contact"]["mu"], 10.0);
+        // Below tan α the block only slides: nothing overturns.
+        let smooth = coulomb(Some(0.2), 0.25, "one_sine", json!([2.0, 4.0]), 6.0);
+        for line in smooth["spectrum"].as_array().expect("lines") {
+            assert!(line["min_overturn_alpha_g"].is_null(), "{line}");
+            assert!(line["transitions"].as_array().expect("list").is_empty());
+        }
+        // A squat block under strong one-cosine pulses leaves the floor
+        // (the normal force reaches 0): the line claims nothing above.
+        let squat = coulomb(Some(0.6), 0.4, "one_cosine", json!([2.0]), 10.0);
+        let line = &squat["spectrum"][0];
+        let lift = line["lift_off_above_alpha_g"]
+            .as_f64()
+            .expect("leaves the floor");
+        assert!(lift > 1.0 && lift < 10.0, "{lift}");
+        for t in line["transitions"].as_array().expect("list") {
+            assert!(t["bracket"][1].as_f64().expect("hi") <= lift, "{t}");
+            assert_ne!(t["direction"], "lift_off");
+        }
     }
 
     #[test]

@@ -5,12 +5,13 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use crate::dynamics::sliding::Friction;
 use crate::dynamics::{Block, Formulation, Problem, Pulse, PulsePair, PulseShape, Solver};
 
 use super::closed_form::{eq21_minimum, linear_one_sine_mode2_boundary};
 use super::control::Control;
 use super::scan::{
-    Direction, Line, ModeChange, Scalable, ScanError, ScanStats, Transition, lift_off_level,
+    Direction, Line, ModeChange, Model, Scalable, ScanError, ScanStats, Transition, lift_off_level,
 };
 
 /// What to compute.
@@ -37,6 +38,8 @@ pub struct SpectrumRequest {
     pub principal_relative_width: f64,
     /// A vertical ground acceleration ü_v = r ü_g (positive up), in phase.
     pub vertical_ratio: Option<f64>,
+    /// Coulomb friction at the floor; `None`: pure rocking.
+    pub friction: Option<Friction>,
 }
 
 /// The derived quantities of one frequency.
@@ -198,18 +201,22 @@ pub struct LineScan {
     pub principal_transitions: Vec<Transition>,
     /// Derived from the principal view.
     pub principal: Derived,
+    /// On a Coulomb floor: the lowest level found at which the block leaves
+    /// the floor, as a bracket (on the floor, off it); the line claims
+    /// nothing above its lower end.
+    pub lift_off: Option<(f64, f64)>,
 }
 
 /// Scans every problem (its ground motion scaled per level) over `grid`, in
 /// parallel over lines and chunks of levels; results in the order of `problems`.
 pub fn scan_lines<G: Scalable + Sync>(
     problems: &[Problem<G>],
-    solver: Solver,
+    model: Model,
     grid: &ScanGrid,
     control: &Control,
 ) -> Result<(Vec<LineScan>, ScanStats), ScanError> {
     let len = grid.points();
-    let (found, stats) = scan_range(problems, solver, grid, [0, len - 1], control)?;
+    let (found, stats) = scan_range(problems, model, grid, [0, len - 1], control)?;
     let lines = found
         .into_iter()
         .map(|(transitions, mode_changes)| grid.line(transitions, mode_changes))
@@ -241,15 +248,23 @@ impl ScanGrid {
     ) -> LineScan {
         transitions.sort_by(|a, b| a.at.total_cmp(&b.at));
         mode_changes.sort_by(|a, b| a.at.total_cmp(&b.at));
-        let derived = derive(&transitions, self.to);
-        let principal_transitions = principal(&transitions, self.to, self.principal_relative_width);
-        let principal = derive(&principal_transitions, self.to);
+        let lift_off = transitions
+            .iter()
+            .find(|t| t.direction == Direction::LiftOff)
+            .map(|t| t.bracket);
+        let to = lift_off.map_or(self.to, |(lo, _)| lo);
+        transitions.retain(|t| t.direction != Direction::LiftOff && t.bracket.1 <= to);
+        mode_changes.retain(|m| m.bracket.1 <= to);
+        let derived = derive(&transitions, to);
+        let principal_transitions = principal(&transitions, to, self.principal_relative_width);
+        let principal = derive(&principal_transitions, to);
         LineScan {
             transitions,
             mode_changes,
             derived,
             principal_transitions,
             principal,
+            lift_off,
         }
     }
 }
@@ -261,7 +276,7 @@ impl ScanGrid {
 /// of them: the ranges of a line, scanned apart, find what one scan finds.
 pub fn scan_range<G: Scalable + Sync>(
     problems: &[Problem<G>],
-    solver: Solver,
+    model: Model,
     grid: &ScanGrid,
     [first, last]: [usize; 2],
     control: &Control,
@@ -280,7 +295,7 @@ pub fn scan_range<G: Scalable + Sync>(
         .map(|&(f, c)| {
             let line = Line {
                 problem: problems[f].clone(),
-                solver,
+                model,
                 control,
             };
             let k0 = first + c * per_chunk;
@@ -483,7 +498,15 @@ fn lines_of<G: Scalable + Sync>(
         tolerance: req.tolerance,
         principal_relative_width: req.principal_relative_width,
     };
-    let (scans, stats) = scan_lines(&problems, req.solver, &grid, control)?;
+    let (scans, stats) = scan_lines(
+        &problems,
+        Model {
+            solver: req.solver,
+            friction: req.friction,
+        },
+        &grid,
+        control,
+    )?;
     let plain = !G::VERTICAL;
     let lines = req
         .omega_ratios
@@ -506,7 +529,12 @@ fn lines_of<G: Scalable + Sync>(
             } else {
                 None
             },
-            lift_off_above: lift.map(|(_, hi)| hi),
+            lift_off_above: match (lift, scan.lift_off) {
+                (Some((_, hi)), Some((lo, _))) if hi <= lo => Some(hi),
+                (_, Some((_, hi))) => Some(hi),
+                (Some((_, hi)), None) => Some(hi),
+                (None, None) => None,
+            },
         })
         .collect();
     Ok((lines, stats))
@@ -525,6 +553,7 @@ pub fn derive(transitions: &[Transition], a_max: f64) -> Derived {
                     safe.push((lo, t.at));
                 }
             }
+            Direction::LiftOff => {}
         }
     }
     if let Some(lo) = open {
@@ -556,6 +585,7 @@ pub fn principal(transitions: &[Transition], a_max: f64, rel: f64) -> Vec<Transi
                     bands.push((up, Some(*t)));
                 }
             }
+            Direction::LiftOff => {}
         }
     }
     if let Some(up) = pending {

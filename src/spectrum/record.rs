@@ -13,7 +13,8 @@ use super::scan::Scalable;
 
 use super::control::Control;
 use super::overturning::{LineScan, ScanGrid, scan_lines};
-use super::scan::{ScanError, ScanStats};
+use super::scan::{Model, ScanError, ScanStats};
+use crate::dynamics::sliding::Friction;
 
 /// What to compute.
 #[derive(Clone, Debug, PartialEq)]
@@ -29,6 +30,8 @@ pub struct RecordSpectrumRequest<G = Record> {
     pub formulation: Formulation,
     /// Solver.
     pub solver: Solver,
+    /// Coulomb friction at the floor; `None`: pure rocking.
+    pub friction: Option<Friction>,
     /// Levels examined: the scaled record's PGA in α g.
     pub grid: ScanGrid,
 }
@@ -62,7 +65,15 @@ pub fn record_spectrum<G: Scalable + Sync + Clone>(
         })
         .collect::<Result<_, BlockError>>()
         .map_err(SimError::from)?;
-    let (lines, stats) = scan_lines(&problems, req.solver, &req.grid, control)?;
+    let (lines, stats) = scan_lines(
+        &problems,
+        Model {
+            solver: req.solver,
+            friction: req.friction,
+        },
+        &req.grid,
+        control,
+    )?;
     Ok(RecordSpectrum {
         lines,
         stats,

@@ -15,6 +15,8 @@
 //! A band narrower than `h` with the same impact count on both sides, at both
 //! neighbouring scan points, can be missed.
 
+use crate::dynamics::floor::run_coulomb;
+use crate::dynamics::sliding::{Friction, Kinematics};
 use crate::dynamics::{
     Block, Forcing, Options, Problem, Pulse, PulsePair, Record, RecordPair, SimError, Solver,
     simulate,
@@ -33,6 +35,9 @@ pub struct Signature {
     /// impacts during the pulse (not the chattering that ends each episode, whose
     /// count drifts with the amplitude without changing the motion's shape).
     pub impacts: u64,
+    /// On a Coulomb floor: the block left the floor (the normal force
+    /// reached 0), where the history ends undecided.
+    pub lifted: bool,
 }
 
 /// Direction of a transition as the amplitude grows.
@@ -42,6 +47,10 @@ pub enum Direction {
     Up,
     /// A safe interval begins.
     Down,
+    /// On a Coulomb floor, the block leaves the floor from here on (the
+    /// bracket's upper end is a level where it does); the line claims
+    /// nothing above the lowest such bracket ([`crate::spectrum::overturning::ScanGrid::line`]).
+    LiftOff,
 }
 
 /// A change between surviving and overturning.
@@ -120,8 +129,27 @@ pub enum ScanError {
     },
 }
 
+/// How every simulation of a scan runs: its solver, and the floor (pure
+/// rocking, or Coulomb friction answered by [`run_coulomb`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Model {
+    /// Solver.
+    pub solver: Solver,
+    /// Coulomb friction; `None`: pure rocking.
+    pub friction: Option<Friction>,
+}
+
+impl From<Solver> for Model {
+    fn from(solver: Solver) -> Self {
+        Model {
+            solver,
+            friction: None,
+        }
+    }
+}
+
 /// A ground motion that a scan sets to a level of peak acceleration.
-pub trait Scalable: Forcing {
+pub trait Scalable: Forcing + Kinematics {
     /// The same motion with its peak acceleration at `level` α g (positive).
     fn at_level(&self, level: f64, block: &Block) -> Self;
 }
@@ -229,8 +257,8 @@ pub fn lift_off_scale(vertical: &[f64], gravity: f64) -> Option<(f64, f64)> {
 pub struct Line<'a, G: Scalable = Pulse> {
     /// Block, ground motion (scaled per point) and formulation.
     pub problem: Problem<G>,
-    /// Solver.
-    pub solver: Solver,
+    /// Solver and floor.
+    pub model: Model,
     /// Owner's control.
     pub control: &'a Control,
 }
@@ -245,8 +273,24 @@ impl<G: Scalable> Line<'_, G> {
             block,
             formulation: self.problem.formulation,
         };
-        let r = simulate(&problem, &Options::outcome(self.solver))
-            .map_err(|source| ScanError::At { level, source })?;
+        let options = Options::outcome(self.model.solver);
+        let (r, lifted) = match self.model.friction {
+            None => (simulate(&problem, &options), false),
+            Some(friction) => match run_coulomb(&problem, &options, friction) {
+                Ok(h) => (Ok(h.response), h.contact.lift_off.is_some()),
+                Err(e) => (Err(e), false),
+            },
+        };
+        let r = r.map_err(|source| ScanError::At { level, source })?;
+        if lifted {
+            // Undecided: one outcome, whatever the motion before it.
+            return Ok(Signature {
+                overturned: false,
+                mode: None,
+                impacts: 0,
+                lifted,
+            });
+        }
         stats.simulations += 1;
         stats.steps += r.numerics.steps_accepted;
         stats.rejected += r.numerics.steps_rejected;
@@ -261,6 +305,7 @@ impl<G: Scalable> Line<'_, G> {
             } else {
                 r.rocking_impacts
             },
+            lifted,
         })
     }
 
@@ -281,6 +326,10 @@ impl<G: Scalable> Line<'_, G> {
         let mut prev = (first, self.classify(first, stats)?);
         self.control.add_done(1);
         for level in levels {
+            if prev.1.lifted {
+                // Nothing above the block's leaving the floor is claimed.
+                break;
+            }
             let cur = (level, self.classify(level, stats)?);
             self.control.add_done(1);
             if cur.1 != prev.1 {
@@ -325,6 +374,18 @@ fn record(
     modes: &mut Vec<ModeChange>,
 ) {
     let at = 0.5 * (a.0 + b.0);
+    if a.1.lifted != b.1.lifted {
+        if b.1.lifted {
+            transitions.push(Transition {
+                at,
+                direction: Direction::LiftOff,
+                mode: 0,
+                impacts: 0,
+                bracket: (a.0, b.0),
+            });
+        }
+        return;
+    }
     match (a.1.overturned, b.1.overturned) {
         (false, true) => transitions.push(Transition {
             at,

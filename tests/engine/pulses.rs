@@ -41,6 +41,7 @@ fn spectrum(
         scan_step: 0.02,
         principal_relative_width: 0.01,
         vertical_ratio: None,
+        friction: None,
     };
     overturning_spectrum(&req, &Control::new())
         .expect("computes")

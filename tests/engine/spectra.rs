@@ -54,6 +54,7 @@ fn spectrum_with(
         scan_step: 0.02,
         principal_relative_width: 0.01,
         vertical_ratio: None,
+        friction: None,
     };
     overturning_spectrum(&req, &Control::new())
         .expect("computes")
@@ -326,6 +327,7 @@ fn nonlinear_comb_near_the_threshold_at_omega_ratio_0_25_has_bands_whose_impacts
         scan_step: 0.02,
         principal_relative_width: 0.01,
         vertical_ratio: None,
+        friction: None,
     };
     let line = &overturning_spectrum(&req, &Control::new())
         .expect("computes")
@@ -391,6 +393,7 @@ fn a_large_spectrum_stops_soon_after_cancellation() {
         scan_step: 0.02,
         principal_relative_width: 0.01,
         vertical_ratio: None,
+        friction: None,
     };
     let control = Control::new();
     let (stopped_at, outcome) = std::thread::scope(|s| {

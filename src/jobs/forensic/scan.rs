@@ -182,7 +182,7 @@ impl ForensicJob {
                 match self.scaled_vertical() {
                     None => {
                         let problems: Vec<_> = lines.map(|_| on(record.clone())).collect();
-                        scan_parts::run(PART_KIND, part, &problems, solver, &grid, control)
+                        scan_parts::run(PART_KIND, part, &problems, solver.into(), &grid, control)
                     }
                     Some(v) => {
                         let pair = v.record_pair(record)?;
@@ -193,7 +193,7 @@ impl ForensicJob {
                                 formulation: self.formulation,
                             })
                             .collect();
-                        scan_parts::run(PART_KIND, part, &problems, solver, &grid, control)
+                        scan_parts::run(PART_KIND, part, &problems, solver.into(), &grid, control)
                     }
                 }
             }
@@ -218,7 +218,9 @@ impl ForensicJob {
                     })
                     .collect::<Result<Vec<_>, ScanError>>()?;
                 match self.scaled_vertical() {
-                    None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
+                    None => {
+                        scan_parts::run(PART_KIND, part, &problems, solver.into(), &grid, control)
+                    }
                     Some(v) => {
                         let pairs = problems
                             .into_iter()
@@ -232,7 +234,7 @@ impl ForensicJob {
                                 })
                             })
                             .collect::<Result<Vec<_>, ScanError>>()?;
-                        scan_parts::run(PART_KIND, part, &pairs, solver, &grid, control)
+                        scan_parts::run(PART_KIND, part, &pairs, solver.into(), &grid, control)
                     }
                 }
             }

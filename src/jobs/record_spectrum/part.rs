@@ -37,7 +37,7 @@ pub fn run(job: &RecordSpectrumJob, part: Part, control: &Control) -> Result<Par
     let problems = job.problems(&job.p[part.range()])?;
     let (solver, grid) = (job.solver.solver(), job.grid());
     match job.scaled_vertical() {
-        None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
+        None => scan_parts::run(PART_KIND, part, &problems, solver.into(), &grid, control),
         Some(v) => {
             let pairs = problems
                 .into_iter()
@@ -49,7 +49,7 @@ pub fn run(job: &RecordSpectrumJob, part: Part, control: &Control) -> Result<Par
                     })
                 })
                 .collect::<Result<Vec<_>, ScanError>>()?;
-            scan_parts::run(PART_KIND, part, &pairs, solver, &grid, control)
+            scan_parts::run(PART_KIND, part, &pairs, solver.into(), &grid, control)
         }
     }
 }

@@ -1,0 +1,199 @@
+//! A history on a Coulomb floor, answered by the cheapest computation that
+//! is exact for it: pure rocking where the friction it needs never exceeds
+//! μ, the mode driver ([`super::coulomb`]) otherwise.
+//!
+//! Pure rocking runs first, following the friction it needs: where that
+//! never exceeds μ (eq. 7 at every start of rocking included), never lifts
+//! the block off, and μ ≥ tan α (a block with less slides before it could
+//! rock), pure rocking *is* the Coulomb answer, to the bit.
+
+use super::contact::Mode;
+use super::coulomb::{ContactResponse, ModeSpan, simulate_contact};
+use super::response::{Impact, Numerics, Response};
+use super::sliding::{Friction, Kinematics};
+use super::{Block, Options, Problem, SimError, Solver, simulate};
+
+/// Which computation answered a Coulomb history.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AnsweredBy {
+    /// Pure rocking held throughout (the friction it needs stayed within μ).
+    PureRocking,
+    /// The mode driver.
+    Modes,
+}
+
+/// A history on a Coulomb floor: the response in the pure-rocking shape
+/// (outcome, impacts, peaks, numerics) and the contact's own account.
+pub struct CoulombHistory {
+    /// Outcome, impacts, peaks, numerics.
+    pub response: Response,
+    /// Modes and sliding.
+    pub contact: ContactResponse,
+    /// Which computation answered.
+    pub answered_by: AnsweredBy,
+}
+
+/// Runs `problem` on a Coulomb floor with `friction` (`options` as for pure
+/// rocking; a Runge–Kutta solver).
+pub fn run_coulomb<G: Kinematics>(
+    problem: &Problem<G>,
+    options: &Options,
+    friction: Friction,
+) -> Result<CoulombHistory, SimError> {
+    let block = problem.block;
+    let Solver::RungeKutta { method, rtol, atol } = options.solver else {
+        return Err(SimError::ExactNeedsLinear);
+    };
+    if friction.static_coefficient >= block.slenderness().tan() {
+        let followed = Block::new(
+            block.slenderness(),
+            block.frequency_parameter(),
+            Some(block.restitution()),
+            Some(friction.static_coefficient),
+            Some(block.gravity()),
+        )?;
+        let pure = Problem {
+            block: followed,
+            ..problem.clone()
+        };
+        let with_demand = Options {
+            reactions: true,
+            stop_at_decision: false,
+            ..options.clone()
+        };
+        let r = simulate(&pure, &with_demand)?;
+        let held = r.lift_off.is_none()
+            && r.friction.is_some_and(|f| {
+                f.first_sliding.is_none()
+                    && f.first_lift_off.is_none()
+                    && f.followed_until.is_none()
+            })
+            && r.rocking_starts <= 1;
+        if held {
+            let contact = from_pure_rocking(&r);
+            return Ok(CoulombHistory {
+                response: r,
+                contact,
+                answered_by: AnsweredBy::PureRocking,
+            });
+        }
+    }
+    let c = simulate_contact(&block, &problem.pulse, friction, method, rtol, atol)?;
+    Ok(CoulombHistory {
+        response: to_response(&c, options, method.name(), rtol, atol),
+        contact: c,
+        answered_by: AnsweredBy::Modes,
+    })
+}
+
+/// The contact account of a history pure rocking answers: at rest, then
+/// rocking from its start to rest or overturning (one start at most).
+fn from_pure_rocking(r: &Response) -> ContactResponse {
+    let end = r.overturn_time.or(r.rest_time).unwrap_or(r.end_time);
+    let mut modes = Vec::new();
+    let span = |mode, from, to| ModeSpan {
+        mode,
+        from,
+        to,
+        direction: None,
+        slip: (0.0, 0.0),
+    };
+    match r.rocking_start {
+        Some(start) => {
+            if start > 0.0 {
+                modes.push(span(Mode::Stick, 0.0, start));
+            }
+            modes.push(span(Mode::Rock, start, end));
+            if let Some(rest) = r.rest_time
+                && r.end_time > rest
+            {
+                modes.push(span(Mode::Stick, rest, r.end_time));
+            }
+        }
+        None => modes.push(span(Mode::Stick, 0.0, r.end_time)),
+    }
+    ContactResponse {
+        initial_mode: r.rocking_start.map(|_| Mode::Rock),
+        modes,
+        overturned: r.overturned,
+        overturn_time: r.overturn_time,
+        overturn_side: r.overturn_side,
+        overturn_mode: r.mode,
+        impacts: Vec::new(),
+        impact_count: r.impact_count,
+        lift_off: None,
+        rest_time: r.rest_time,
+        end_time: r.end_time,
+        peak_slide: 0.0,
+        residual_slide: 0.0,
+        time_sliding: 0.0,
+        peak_theta_over_alpha: r.peak_theta_over_alpha,
+        stats: Default::default(),
+        events: r.numerics.events,
+    }
+}
+
+/// The pure-rocking shape of a Coulomb history.
+fn to_response(
+    c: &ContactResponse,
+    options: &Options,
+    method: &'static str,
+    rtol: f64,
+    atol: f64,
+) -> Response {
+    let rocks = |m: &ModeSpan| matches!(m.mode, Mode::Rock | Mode::SlideRock);
+    let starts = c
+        .modes
+        .windows(2)
+        .filter(|w| !rocks(&w[0]) && rocks(&w[1]))
+        .count()
+        + usize::from(c.modes.first().is_some_and(rocks));
+    let rocking_start = c.modes.iter().find(|m| rocks(m)).map(|m| m.from);
+    let mut warnings = Vec::new();
+    if let Some(t) = c.lift_off {
+        warnings.push(crate::dynamics::response::Warning::GroundFallsAway(t));
+    }
+    Response {
+        rocked: rocking_start.is_some(),
+        rocking_start,
+        rocking_starts: u32::try_from(starts).unwrap_or(u32::MAX),
+        overturned: c.overturned,
+        mode: c.overturn_mode,
+        impact_count: c.impact_count,
+        impacts: if options.record_impacts {
+            c.impacts
+                .iter()
+                .map(|i| Impact {
+                    time: i.t,
+                    velocity_before: i.theta_dot.0,
+                    velocity_after: i.theta_dot.1,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        },
+        rocking_impacts: c.impacts.len() as u64,
+        summed_impacts: c.impact_count.saturating_sub(c.impacts.len() as u64),
+        overturn_time: c.overturn_time,
+        overturn_side: c.overturn_side,
+        rest_time: c.rest_time,
+        decided_at: c.end_time,
+        end_time: c.end_time,
+        peak_theta_over_alpha: c.peak_theta_over_alpha,
+        friction: None,
+        lift_off: c.lift_off,
+        series: None,
+        warnings,
+        numerics: Numerics {
+            method,
+            rtol: Some(rtol),
+            atol: Some(atol),
+            steps_accepted: c.stats.accepted,
+            steps_rejected: c.stats.rejected,
+            rhs_evaluations: c.stats.rhs_evals,
+            events: c.events,
+            error_estimate: c.stats.local_error_sum,
+            wall_time: 0.0,
+        },
+    }
+}
