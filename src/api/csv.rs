@@ -1500,6 +1500,7 @@ mod tests {
                 consistent_pga_g: pga,
                 overturning_scale: vec![],
                 threshold_scale: if overturned { 0.5 } else { 0.25 },
+                lift_off_above_scale: None,
             }
         };
         r.consistent_scale = Some(vec![[0.7, 1.4], [2.8, 3.2]]);
@@ -1557,6 +1558,7 @@ mod tests {
                 .map(|(name, set)| ObservationSet {
                     name: (*name).into(),
                     consistent_g: set.clone(),
+                    lift_off_above_g: None,
                 })
                 .collect(),
         }

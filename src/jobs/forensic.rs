@@ -123,6 +123,10 @@ pub struct ForensicSpec {
     /// `frequency_hz`, `delay_s`), as spectra do (a record query also takes the record's own vertical samples as
     /// `ground_motion.vertical`, scaled with it; not both).
     pub vertical: Option<super::vertical::VerticalPulseSpec>,
+    /// The contact with the floor, the same for every observation:
+    /// `{"model": "no_sliding"}` (pure rocking, the default) or
+    /// `{"model": "coulomb", "mu", "mu_kinetic"?}`.
+    pub contact: Option<super::contact::ContactSpec>,
 }
 
 /// An observation, validated.
@@ -173,6 +177,9 @@ pub struct ForensicJob {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
     pub vertical: Option<super::vertical::VerticalPulseNorm>,
+    /// Coulomb friction at the floor, when given (absent: pure rocking).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<super::contact::ContactNorm>,
     /// A task's lines and levels (absent: the whole query).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
@@ -416,6 +423,11 @@ impl ForensicSpec {
             tolerance_g,
             solver,
             vertical,
+            contact: super::contact::validate_contact(
+                self.contact.as_ref(),
+                formulation,
+                "/contact",
+            )?,
             part: None,
         })
     }
@@ -521,6 +533,11 @@ impl ForensicSpec {
             tolerance_g,
             solver,
             vertical,
+            contact: super::contact::validate_contact(
+                self.contact.as_ref(),
+                formulation,
+                "/contact",
+            )?,
             part: None,
         })
     }
@@ -594,6 +611,32 @@ fn amplitude_grid(
 /// Intervals [lo, hi] of amplitude, g, sorted and disjoint.
 pub type Intervals = Vec<[f64; 2]>;
 
+/// What one line (an observation's block at one frequency, or under the
+/// record) decides, g.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LineSet {
+    /// Amplitudes at which the block overturns.
+    pub overturning: Intervals,
+    /// The line decides amplitudes up to here (the range asked, or on a
+    /// Coulomb floor the block's leaving the floor).
+    pub decided_to: f64,
+    /// On a Coulomb floor: the lowest amplitude found at which the block
+    /// leaves the floor.
+    pub lift_off_g: Option<f64>,
+}
+
+impl LineSet {
+    /// The amplitudes consistent with a block seen `overturned` (or
+    /// standing), from `from`.
+    pub fn consistent(&self, overturned: bool, from: f64) -> Intervals {
+        if overturned {
+            self.overturning.clone()
+        } else {
+            complement(&self.overturning, from, self.decided_to)
+        }
+    }
+}
+
 /// Where a line with `transitions` (of a block of slenderness `alpha`) overturns, in g, within
 /// `[from, to]`.
 pub fn overturning_set(transitions: &[Transition], alpha: f64, from: f64, to: f64) -> Intervals {
@@ -665,6 +708,11 @@ pub struct ObservationSet {
     pub name: String,
     /// Amplitudes consistent with it, g.
     pub consistent_g: Vec<[f64; 2]>,
+    /// On a Coulomb floor: from this amplitude (g, the lowest found within
+    /// the tolerance) its block leaves the floor; nothing above is claimed
+    /// consistent with it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lift_off_above_g: Option<f64>,
 }
 
 /// One pulse frequency of the answer.
@@ -716,6 +764,11 @@ pub struct RecordObservationSet {
     pub overturning_scale: Vec<[f64; 2]>,
     /// Scale factor at which its block starts to rock (PGA = g tan α, or g α linear).
     pub threshold_scale: f64,
+    /// On a Coulomb floor: from this scale factor (the lowest found within
+    /// the tolerance) its block leaves the floor; nothing above is claimed
+    /// consistent with it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lift_off_above_scale: Option<f64>,
 }
 
 /// Cost and accuracy.
@@ -873,7 +926,7 @@ impl ForensicJob {
     /// consistent with what was seen, intersected at each frequency.
     fn pulse_result(
         &self,
-        sets: &[Vec<Intervals>],
+        sets: &[Vec<LineSet>],
         stats: &ScanStats,
     ) -> Result<ForensicResult, ScanError> {
         let pulse = self
@@ -888,13 +941,7 @@ impl ForensicJob {
             .map(|(o, per_frequency)| {
                 per_frequency
                     .iter()
-                    .map(|over| {
-                        if o.overturned {
-                            over.clone()
-                        } else {
-                            complement(over, from, to)
-                        }
-                    })
+                    .map(|line| line.consistent(o.overturned, from))
                     .collect()
             })
             .collect();
@@ -908,11 +955,13 @@ impl ForensicJob {
                     .observations
                     .iter()
                     .zip(&consistent)
-                    .map(|(o, s)| {
+                    .zip(sets)
+                    .map(|((o, s), lines)| {
                         all = intersect(&all, &s[k]);
                         ObservationSet {
                             name: o.name.clone(),
                             consistent_g: s[k].clone(),
+                            lift_off_above_g: lines.get(k).and_then(|l| l.lift_off_g),
                         }
                     })
                     .collect();
@@ -1128,6 +1177,44 @@ mod unit_tests {
         assert_eq!(
             key(json!({"omega_ratio": [0.5, 1.0], "a_p_g": {"from": 0.1, "to": 1.5}})),
             reference
+        );
+    }
+
+    #[test]
+    fn on_a_floor_slicker_than_tan_alpha_no_pulse_overturns_a_block() {
+        // μ = 0.2 < tan 0.25: the block slides and never rocks, so a block
+        // seen overturned is consistent with no pulse, and one seen
+        // standing with all of them; μ = 10 answers as pure rocking.
+        let obs = |overturned: bool| json!([{"name": "a", "overturned": overturned, "block": {"alpha": 0.25, "p": 2.14}}]);
+        let axes = |contact: Value| {
+            json!({"frequency_hz": [0.5, 1.0], "a_p_g": {"from": 0.1, "to": 1.0},
+                   "tolerance_g": 1e-3, "scan_step_g": 0.01, "contact": contact})
+        };
+        let run = |overturned: bool, contact: Value| {
+            query(obs(overturned), axes(contact))
+                .expect("valid")
+                .run(&crate::spectrum::Control::new())
+                .expect("runs")
+        };
+        let slick = json!({"model": "coulomb", "mu": 0.2});
+        let down = run(true, slick.clone());
+        let up = run(false, slick);
+        for k in 0..2 {
+            assert_eq!(down["frequencies"][k]["consistent_g"], json!([]), "{down}");
+            assert_eq!(
+                up["frequencies"][k]["consistent_g"],
+                json!([[0.1, 1.0]]),
+                "{up}"
+            );
+        }
+        let pure = run(true, json!({"model": "no_sliding"}));
+        let rough = run(true, json!({"model": "coulomb", "mu": 10.0}));
+        assert_eq!(pure["frequencies"], rough["frequencies"]);
+        assert!(
+            !pure["frequencies"][1]["consistent_g"]
+                .as_array()
+                .expect("list")
+                .is_empty()
         );
     }
 

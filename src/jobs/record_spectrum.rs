@@ -141,6 +141,10 @@ pub struct RecordSpectrumSpec {
     /// the record's own vertical samples as `ground_motion.vertical`, scaled
     /// with it; not both).
     pub vertical: Option<super::vertical::VerticalPulseSpec>,
+    /// The contact with the floor: `{"model": "no_sliding"}` (pure rocking,
+    /// the default) or `{"model": "coulomb", "mu", "mu_kinetic"?}` (every
+    /// size at every scale followed on that floor).
+    pub contact: Option<super::contact::ContactSpec>,
 }
 
 /// The block of a record spectrum, normalised: everything but its size.
@@ -193,6 +197,9 @@ pub struct RecordSpectrumJob {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
     pub vertical: Option<super::vertical::VerticalPulseNorm>,
+    /// Coulomb friction at the floor, when given (absent: pure rocking).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<super::contact::ContactNorm>,
     /// A task's sizes and levels (absent: the whole job).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
@@ -250,7 +257,7 @@ impl RecordSpectrumSpec {
         if block_spec.mu.is_some() {
             return Err(SpecError::at(
                 "/block/mu",
-                "a record spectrum computes overturning only: mu is not used",
+                "a record spectrum computes overturning only: mu is not used (a floor with friction: contact {\"model\": \"coulomb\", \"mu\": …})",
             ));
         }
         let block = validate_block(
@@ -280,6 +287,8 @@ impl RecordSpectrumSpec {
             ));
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let contact =
+            super::contact::validate_contact(self.contact.as_ref(), formulation, "/contact")?;
         let solver = super::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
@@ -415,6 +424,7 @@ impl RecordSpectrumSpec {
             principal_relative_width: principal,
             solver,
             vertical,
+            contact,
             part: None,
         })
     }
@@ -499,6 +509,11 @@ pub struct SizeDoc {
     pub overturns_above_scale: Option<f64>,
     /// Without bands narrower than the principal relative width.
     pub principal: ScalePrincipalDoc,
+    /// On a Coulomb floor: the lowest scale found (within the tolerance) at
+    /// which the normal force reaches 0 and the block leaves the floor; this
+    /// size claims nothing above it (absent when it never does).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lift_off_above_scale: Option<f64>,
 }
 
 /// The record as given: its peaks and sampling.
@@ -591,8 +606,12 @@ impl RecordSpectrumJob {
         self.vertical.as_ref().and_then(|v| v.ratio())
     }
 
-    /// The vertical motion scaled with the record (a ratio, or the record's
-    /// own samples), when the job has one.
+    /// Coulomb friction at the floor, when the job has it.
+    pub fn friction(&self) -> Option<crate::dynamics::sliding::Friction> {
+        self.contact.as_ref().map(|c| c.friction())
+    }
+
+    /// The vertical motion scaled with the record, when the job has one.
     pub fn scaled_vertical(&self) -> Option<ScaledVertical<'_>> {
         ScaledVertical::of(self.vertical.as_ref(), Some(&self.ground_motion))
     }
@@ -671,7 +690,7 @@ impl RecordSpectrumJob {
             ps: self.p.clone(),
             formulation: self.formulation,
             solver: self.solver.solver(),
-            friction: None,
+            friction: self.friction(),
             grid: self.grid(),
         };
         let s = match self.scaled_vertical() {
@@ -768,6 +787,7 @@ impl RecordSpectrumJob {
                     safe_intervals: intervals(&l.principal),
                     overturns_above_scale: l.principal.overturns_above.map(to_scale),
                 },
+                lift_off_above_scale: l.lift_off.map(|(_, hi)| to_scale(hi)),
             })
             .collect();
         let n = self.ground_motion.acc.len();
@@ -842,7 +862,9 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
             grid_points: (n * points).min(usize::MAX as f64) as usize,
             work,
             record_work: work * job.ground_motion.acc.len() as f64,
-            cpu_s: work * super::cost::record_simulation_s(&job.ground_motion.acc),
+            cpu_s: work
+                * super::cost::record_simulation_s(&job.ground_motion.acc)
+                * super::cost::contact_factor(job.contact.as_ref()),
             lanes: n * (points / 48.0).ceil(),
         }
     }

@@ -717,10 +717,7 @@ impl crate::jobs::kind::Kind for Spectrum {
             cost::pulse_line_simulations(scan, job.scan_step_alpha_g, job.tolerance);
         let n = job.omega_ratio.len() as f64;
         let work = n * per_frequency;
-        // On a Coulomb floor each amplitude runs pure rocking to its end,
-        // then (where the friction is exceeded) the modes to rest:
-        // bench/contact_cost.py measures a μ = 0.3 spectrum at about 18×.
-        let per_simulation = if job.contact.is_some() { 18.0 } else { 1.0 };
+        let per_simulation = cost::contact_factor(job.contact.as_ref());
         crate::jobs::kind::Size {
             series_points: 0,
             grid_points: (n * scan).min(usize::MAX as f64) as usize,

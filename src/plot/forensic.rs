@@ -400,6 +400,7 @@ mod tests {
                 let set = |name: &str, consistent_g| ObservationSet {
                     name: name.into(),
                     consistent_g,
+                    lift_off_above_g: None,
                 };
                 ForensicFrequency {
                     frequency_hz: f,

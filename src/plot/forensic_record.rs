@@ -340,6 +340,7 @@ mod tests {
                 consistent_scale,
                 overturning_scale: Vec::new(),
                 threshold_scale,
+                lift_off_above_scale: None,
             }
         };
         r.per_observation = Some(vec![

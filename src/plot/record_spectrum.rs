@@ -312,6 +312,7 @@ mod tests {
             min_overturn_mode: Some(2),
             safe_intervals: vec![[1.5, 1.52]],
             overturns_above_scale: Some(1.52),
+            lift_off_above_scale: None,
             principal: ScalePrincipalDoc {
                 transitions: vec![transition(1.0, true, 2)],
                 min_overturn_scale: Some(1.0),

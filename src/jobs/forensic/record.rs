@@ -7,8 +7,8 @@
 
 use super::scan::ObservationScan;
 use super::{
-    AmplitudeRange, Bounds, ForensicJob, ForensicNumerics, ForensicResult, Intervals,
-    RecordObservationSet, complement, intersect,
+    AmplitudeRange, Bounds, ForensicJob, ForensicNumerics, ForensicResult, Intervals, LineSet,
+    RecordObservationSet, intersect,
 };
 use crate::dynamics::{SimError, peaks};
 use crate::jobs::names::{Excitation, tag};
@@ -24,7 +24,7 @@ pub fn result(
     job: &ForensicJob,
     gm: &GroundMotionNorm,
     scans: &[ObservationScan],
-    sets: &[Vec<Intervals>],
+    sets: &[Vec<LineSet>],
     stats: &ScanStats,
 ) -> Result<ForensicResult, ScanError> {
     let record = gm
@@ -43,12 +43,12 @@ pub fn result(
         .zip(scans)
         .zip(sets)
         .map(|((o, s), lines)| {
-            let overturning_g = lines.first().cloned().unwrap_or_default();
-            let consistent = if o.overturned {
-                overturning_g.clone()
-            } else {
-                complement(&overturning_g, from, to)
-            };
+            let line = lines.first().cloned().unwrap_or(LineSet {
+                decided_to: to,
+                ..LineSet::default()
+            });
+            let consistent = line.consistent(o.overturned, from);
+            let overturning_g = line.overturning;
             all = intersect(&all, &consistent);
             RecordObservationSet {
                 name: o.name.clone(),
@@ -57,6 +57,7 @@ pub fn result(
                 consistent_pga_g: consistent,
                 overturning_scale: to_scale(&overturning_g),
                 threshold_scale: s.threshold * s.alpha / peak_g,
+                lift_off_above_scale: line.lift_off_g.map(|a| a / peak_g),
             }
         })
         .collect();

@@ -8,7 +8,7 @@
 //! observation's lines and of their levels, and the tasks' transitions
 //! assemble into what one task finds.
 
-use super::{AmplitudeRange, ForensicJob, ForensicResult, Intervals, overturning_set};
+use super::{AmplitudeRange, ForensicJob, ForensicResult, LineSet, overturning_set};
 use crate::dynamics::{Block, Problem, Pulse, SimError};
 use crate::jobs::JobError;
 use crate::jobs::cost;
@@ -87,13 +87,13 @@ impl ForensicJob {
 
     /// CPU seconds of one simulation (the record's, or the pulse's).
     fn simulation_s(&self) -> f64 {
-        match (&self.ground_motion, &self.pulse) {
+        (match (&self.ground_motion, &self.pulse) {
             (Some(g), _) => cost::record_simulation_s(&g.acc),
             (None, Some(p)) => {
                 cost::pulse_simulation_s(&p.shape(), self.formulation, self.solver.method)
             }
             (None, None) => 0.0,
-        }
+        }) * cost::contact_factor(self.contact.as_ref())
     }
 
     /// Estimated simulations of a line of `points` levels on `grid`: scan
@@ -170,7 +170,10 @@ impl ForensicJob {
         let scan = scans.get(o).ok_or_else(|| bad_block(SimError::Tolerance))?;
         let grid = scan.grid.ok_or_else(|| bad_block(SimError::Tolerance))?;
         let lines = part.lines[0] - o * per..part.lines[1] - o * per;
-        let solver = self.solver.solver();
+        let solver = crate::spectrum::scan::Model {
+            solver: self.solver.solver(),
+            friction: self.contact.as_ref().map(|c| c.friction()),
+        };
         match (&self.ground_motion, self.pulse) {
             (Some(gm), _) => {
                 let record = gm.record().map_err(|_| bad_block(SimError::Tolerance))?;
@@ -182,7 +185,7 @@ impl ForensicJob {
                 match self.scaled_vertical() {
                     None => {
                         let problems: Vec<_> = lines.map(|_| on(record.clone())).collect();
-                        scan_parts::run(PART_KIND, part, &problems, solver.into(), &grid, control)
+                        scan_parts::run(PART_KIND, part, &problems, solver, &grid, control)
                     }
                     Some(v) => {
                         let pair = v.record_pair(record)?;
@@ -193,7 +196,7 @@ impl ForensicJob {
                                 formulation: self.formulation,
                             })
                             .collect();
-                        scan_parts::run(PART_KIND, part, &problems, solver.into(), &grid, control)
+                        scan_parts::run(PART_KIND, part, &problems, solver, &grid, control)
                     }
                 }
             }
@@ -218,9 +221,7 @@ impl ForensicJob {
                     })
                     .collect::<Result<Vec<_>, ScanError>>()?;
                 match self.scaled_vertical() {
-                    None => {
-                        scan_parts::run(PART_KIND, part, &problems, solver.into(), &grid, control)
-                    }
+                    None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
                     Some(v) => {
                         let pairs = problems
                             .into_iter()
@@ -234,7 +235,7 @@ impl ForensicJob {
                                 })
                             })
                             .collect::<Result<Vec<_>, ScanError>>()?;
-                        scan_parts::run(PART_KIND, part, &pairs, solver.into(), &grid, control)
+                        scan_parts::run(PART_KIND, part, &pairs, solver, &grid, control)
                     }
                 }
             }
@@ -303,11 +304,7 @@ impl ForensicJob {
     }
 
     /// Each observation's overturning set on each of its lines, g.
-    fn overturning_sets(
-        &self,
-        scans: &[ObservationScan],
-        found: Vec<Found>,
-    ) -> Vec<Vec<Intervals>> {
+    fn overturning_sets(&self, scans: &[ObservationScan], found: Vec<Found>) -> Vec<Vec<LineSet>> {
         let AmplitudeRange { from, to } = self.range_g();
         let per = self.lines_per_observation();
         let mut found = found.into_iter();
@@ -319,9 +316,28 @@ impl ForensicJob {
                         let (t, m) = found.next().unwrap_or_default();
                         match s.grid {
                             Some(grid) => {
-                                overturning_set(&grid.line(t, m).transitions, s.alpha, from, to)
+                                let line = grid.line(t, m);
+                                // On a Coulomb floor, nothing is decided
+                                // from where the block leaves the floor.
+                                let lift =
+                                    line.lift_off.map(|(lo, hi)| (lo * s.alpha, hi * s.alpha));
+                                let decided_to = lift.map_or(to, |(lo, _)| lo.clamp(from, to));
+                                LineSet {
+                                    overturning: overturning_set(
+                                        &line.transitions,
+                                        s.alpha,
+                                        from,
+                                        decided_to,
+                                    ),
+                                    decided_to,
+                                    lift_off_g: lift.map(|(_, hi)| hi),
+                                }
                             }
-                            None => Vec::new(),
+                            None => LineSet {
+                                overturning: Vec::new(),
+                                decided_to: to,
+                                lift_off_g: None,
+                            },
                         }
                     })
                     .collect()

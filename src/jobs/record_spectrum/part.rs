@@ -35,9 +35,13 @@ pub fn parts(job: &RecordSpectrumJob, per_size: f64, budget: f64, max_tasks: usi
 /// Scans the sizes and levels of `part`.
 pub fn run(job: &RecordSpectrumJob, part: Part, control: &Control) -> Result<PartDoc, ScanError> {
     let problems = job.problems(&job.p[part.range()])?;
-    let (solver, grid) = (job.solver.solver(), job.grid());
+    let grid = job.grid();
+    let solver = crate::spectrum::scan::Model {
+        solver: job.solver.solver(),
+        friction: job.friction(),
+    };
     match job.scaled_vertical() {
-        None => scan_parts::run(PART_KIND, part, &problems, solver.into(), &grid, control),
+        None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
         Some(v) => {
             let pairs = problems
                 .into_iter()
@@ -49,7 +53,7 @@ pub fn run(job: &RecordSpectrumJob, part: Part, control: &Control) -> Result<Par
                     })
                 })
                 .collect::<Result<Vec<_>, ScanError>>()?;
-            scan_parts::run(PART_KIND, part, &pairs, solver.into(), &grid, control)
+            scan_parts::run(PART_KIND, part, &pairs, solver, &grid, control)
         }
     }
 }
@@ -99,6 +103,11 @@ mod tests {
     use crate::jobs::Job;
 
     fn job(sizes: &str) -> RecordSpectrumJob {
+        job_on(sizes, "")
+    }
+
+    /// `job(sizes)` with `extra` fields (`,"contact":…`).
+    fn job_on(sizes: &str, extra: &str) -> RecordSpectrumJob {
         // Two cycles of a 2 Hz sine and a decaying tail: fragmented overturning sets.
         let acc: Vec<String> = (0..300)
             .map(|k| {
@@ -108,7 +117,7 @@ mod tests {
             })
             .collect();
         let spec = format!(
-            r#"{{"kind":"record_spectrum","block":{{"alpha":0.2}},"R_m":{sizes},"scale":{{"to":4}},"ground_motion":{{"dt":0.01,"unit":"g","acc":[{}]}}}}"#,
+            r#"{{"kind":"record_spectrum","block":{{"alpha":0.2}},"R_m":{sizes},"scale":{{"to":4}},"ground_motion":{{"dt":0.01,"unit":"g","acc":[{}]}}{extra}}}"#,
             acc.join(",")
         );
         match Job::parse(&spec).expect("valid") {
@@ -187,6 +196,47 @@ mod tests {
             assert!(a.abs_diff(w) <= meeting, "{a} vs {w}");
         }
         assert!(transitions_found > 2, "{transitions_found}");
+    }
+
+    #[test]
+    fn on_a_coulomb_floor_the_sizes_follow_it_and_parts_still_assemble() {
+        let control = Control::new();
+        let pure = job("[0.5, 2.0]").run(&control).expect("runs");
+        // μ = 10 is never reached before these blocks overturn.
+        let rough = job_on("[0.5, 2.0]", r#","contact":{"model":"coulomb","mu":10}"#);
+        let r = rough.run(&control).expect("runs");
+        for (a, b) in pure.spectrum.iter().zip(&r.spectrum) {
+            assert!(a.min_overturn_scale.is_some());
+            assert_eq!(a.min_overturn_scale, b.min_overturn_scale);
+        }
+        // μ = 0.15 < tan 0.2: the blocks slide and never overturn.
+        let slick = job_on("[0.5, 2.0]", r#","contact":{"model":"coulomb","mu":0.15}"#);
+        let s = slick.run(&control).expect("runs");
+        assert!(
+            s.spectrum.iter().all(|l| l.transitions.is_empty()),
+            "{:?}",
+            s.spectrum
+        );
+        // Split along the scale axis, the parts assemble to the whole.
+        let last = rough.grid().points() - 1;
+        let split = [
+            Part {
+                lines: [0, 2],
+                levels: [0, last / 3],
+            },
+            Part {
+                lines: [0, 2],
+                levels: [last / 3, last],
+            },
+        ];
+        let docs: Vec<PartDoc> = split
+            .iter()
+            .map(|&p| run(&rough, p, &control).expect("runs"))
+            .collect();
+        assert_eq!(
+            rough.result_of(&docs).expect("assembles").spectrum,
+            r.spectrum
+        );
     }
 
     #[test]
