@@ -222,6 +222,11 @@ pub struct FragilitySpec {
     /// `{"ratio": r}` (r a number or a distribution), for the pulse family
     /// or every record of the suite; scaled with the stripe's intensity.
     pub vertical: Option<UncertainVerticalSpec>,
+    /// The contact with the floor: `{"model": "no_sliding"}` (pure rocking,
+    /// the default) or `{"model": "coulomb", "mu", "mu_kinetic"?}` (every
+    /// sample followed on that floor; a sample whose block leaves the floor
+    /// counts as lift-off, no verdict).
+    pub contact: Option<super::contact::ContactSpec>,
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
@@ -323,6 +328,9 @@ pub struct FragilityJob {
     pub seed: u64,
     /// Solver.
     pub solver: SolverNorm,
+    /// Coulomb friction at the floor, when given (absent: pure rocking).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<super::contact::ContactNorm>,
     /// A task's units `[from, to)` of [`FragilityJob::units`] (absent: the
     /// whole job).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -657,6 +665,11 @@ impl FragilitySpec {
             samples,
             seed: self.seed.unwrap_or(1),
             solver,
+            contact: super::contact::validate_contact(
+                self.contact.as_ref(),
+                formulation,
+                "/contact",
+            )?,
             part: None,
         };
         if let Some([from, to]) = self.part {
@@ -850,21 +863,23 @@ fn uniform(rng: &mut ChaCha8Rng) -> f64 {
 }
 
 /// One simulation of `block` under `ground` (a motion, or a pair with its
-/// vertical component).
-fn run<G: crate::dynamics::Forcing>(
+/// vertical component), on a Coulomb floor when `friction` is given.
+fn run<G: crate::dynamics::sliding::Kinematics>(
     block: Block,
     ground: G,
     formulation: Formulation,
     options: &Options,
+    friction: Option<crate::dynamics::sliding::Friction>,
 ) -> Result<Response, crate::dynamics::SimError> {
-    simulate(
-        &Problem {
-            block,
-            pulse: ground,
-            formulation,
-        },
-        options,
-    )
+    let problem = Problem {
+        block,
+        pulse: ground,
+        formulation,
+    };
+    match friction {
+        None => simulate(&problem, options),
+        Some(f) => crate::dynamics::floor::run_coulomb(&problem, options, f).map(|h| h.response),
+    }
 }
 
 /// A record of the suite, ready to scale.
@@ -994,6 +1009,7 @@ impl FragilityJob {
         let block = self.block_at([u[0], u[1], u[2]])?;
         let options = Options::outcome(self.solver.solver());
         let formulation = self.formulation;
+        let friction = self.contact.as_ref().map(|c| c.friction());
         let ratio = ratio.filter(|r| *r != 0.0);
         let r = if let Some(pulse) = &self.pulse {
             let omega = match (&pulse.omega_p, &pulse.omega_ratio) {
@@ -1009,8 +1025,8 @@ impl FragilityJob {
             };
             let pulse = unit.with_amplitude(a_p);
             match ratio.and_then(|r| PulsePair::proportional(pulse, r)) {
-                Some(pair) => run(block, pair, formulation, &options)?,
-                None => run(block, pulse, formulation, &options)?,
+                Some(pair) => run(block, pair, formulation, &options, friction)?,
+                None => run(block, pulse, formulation, &options, friction)?,
             }
         } else {
             let suite = &records[j % records.len()];
@@ -1029,8 +1045,8 @@ impl FragilityJob {
                 (None, None) => None,
             };
             match pair {
-                Some(pair) => run(block, pair, formulation, &options)?,
-                None => run(block, record, formulation, &options)?,
+                Some(pair) => run(block, pair, formulation, &options, friction)?,
+                None => run(block, record, formulation, &options, friction)?,
             }
         };
         Ok(Verdict::of(&r))
@@ -1104,7 +1120,7 @@ impl FragilityJob {
     /// a record's whole shaking.
     pub fn simulation_s(&self) -> f64 {
         use super::cost;
-        match (&self.ground_motions, &self.pulse) {
+        (match (&self.ground_motions, &self.pulse) {
             (Some(suite), _) if !suite.is_empty() => {
                 0.6 * suite
                     .iter()
@@ -1120,7 +1136,7 @@ impl FragilityJob {
                 )
             }
             _ => 0.0,
-        }
+        }) * super::cost::contact_factor(self.contact.as_ref())
     }
 
     /// Simulations this job (or task) runs.

@@ -44,6 +44,41 @@ fn without_spread_it_is_the_deterministic_outcome_at_every_stripe() {
 }
 
 #[test]
+fn on_a_coulomb_floor_each_sample_is_the_time_history_on_it() {
+    // Without spread, each stripe is the Coulomb time history's outcome:
+    // on μ = 0.3 the locomotive slides and rocks; below tan α (μ = 0.2)
+    // it never overturns.
+    let stripes = [0.3, 0.5, 0.7, 1.0];
+    for mu in [0.2, 0.3] {
+        let doc = run(
+            &json!({"kind": "fragility", "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine", "omega_ratio": 3.0},
+            "contact": {"model": "coulomb", "mu": mu},
+            "stripes": stripes, "samples": 4, "seed": 3}),
+        );
+        assert_eq!(doc["spec"]["contact"]["mu"], mu);
+        for (s, &im) in doc["stripes"]
+            .as_array()
+            .expect("stripes")
+            .iter()
+            .zip(&stripes)
+        {
+            let th = run(&json!({"kind": "time_history",
+                "block": {"alpha": 0.25, "p": 2.14},
+                "pulse": {"type": "one_sine", "omega_ratio": 3.0, "a_p_g": im},
+                "contact": {"model": "coulomb", "mu": mu}}));
+            let over = th["overturned"].as_bool().expect("flag");
+            assert!(!(mu < 0.25 && over), "{th}");
+            assert_eq!(
+                s["overturned"].as_u64(),
+                Some(if over { 4 } else { 0 }),
+                "μ {mu}: {s}"
+            );
+        }
+    }
+}
+
+#[test]
 fn one_uncertain_slenderness_agrees_with_a_quadrature_of_time_histories() {
     // α uniform on [0.15, 0.25]: P(topple | a) = the measure of the α that
     // topple, found with 400 time histories on a midpoint grid.
