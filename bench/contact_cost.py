@@ -13,10 +13,10 @@ from vertical_cost import bench_binary, per_simulation
 
 CASES = [
     ("rests/no_sliding", "topple::dynamics::simulate::simulate"),
-    ("rests/coulomb_mu_10", "topple::jobs::contact::run_coulomb"),
+    ("rests/coulomb_mu_10", "topple::dynamics::floor::run_coulomb"),
     ("strong/no_sliding", "topple::dynamics::simulate::simulate"),
-    ("strong/coulomb_mu_0.2_slides", "topple::jobs::contact::run_coulomb"),
-    ("strong/coulomb_mu_0.3_slide_rocks", "topple::jobs::contact::run_coulomb"),
+    ("strong/coulomb_mu_0.2_slides", "topple::dynamics::floor::run_coulomb"),
+    ("strong/coulomb_mu_0.3_slide_rocks", "topple::dynamics::floor::run_coulomb"),
 ]
 
 

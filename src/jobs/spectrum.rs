@@ -78,6 +78,35 @@ pub struct SpectrumSpec {
     /// may slide and slide-rock; every amplitude of every frequency is
     /// followed on that floor).
     pub contact: Option<super::contact::ContactSpec>,
+    /// On a Coulomb floor: also the residual slide at `steps` amplitudes
+    /// a_max·k/steps (k = 1…steps) of every frequency, `{"steps": n}`
+    /// (1 to 1000, default 40).
+    pub residual_slide: Option<ResidualSlideSpec>,
+}
+
+/// The residual-slide spectrum asked for.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq, utoipa::ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ResidualSlideSpec {
+    /// Amplitudes per frequency (1 to 1000, default 40).
+    #[schema(minimum = 1, maximum = 1000)]
+    pub steps: Option<u32>,
+}
+
+/// Most amplitudes of a residual-slide line.
+pub const MAX_SLIDE_STEPS: u32 = 1000;
+
+/// The residual slide of one amplitude.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
+pub struct SlidePointDoc {
+    /// Amplitude, αg.
+    pub a_alpha_g: f64,
+    /// The base's slip at the end, m (+ towards +x).
+    pub residual_slide_m: f64,
+    /// max |slip|, m.
+    pub peak_slide_m: f64,
+    /// "stands" | "overturns" | "lift_off" (left the floor: no verdict).
+    pub outcome: String,
 }
 
 /// The pulse family of a spectrum, normalised.
@@ -205,6 +234,9 @@ pub struct SpectrumJob {
     /// Coulomb friction at the floor, when given (absent: pure rocking).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact: Option<super::contact::ContactNorm>,
+    /// Amplitudes of the residual-slide spectrum, when asked for.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub residual_slide_steps: Option<u32>,
 }
 
 fn positive_in(v: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> Result<f64, SpecError> {
@@ -235,6 +267,25 @@ impl SpectrumSpec {
         )?;
         let contact =
             super::contact::validate_contact(self.contact.as_ref(), formulation, "/contact")?;
+        let residual_slide_steps = match &self.residual_slide {
+            None => None,
+            Some(_) if contact.is_none() => {
+                return Err(SpecError::at(
+                    "/residual_slide",
+                    "a residual slide needs a floor the block can slide on: give contact {\"model\": \"coulomb\", \"mu\": …}",
+                ));
+            }
+            Some(r) => {
+                let steps = r.steps.unwrap_or(40);
+                if !(1..=MAX_SLIDE_STEPS).contains(&steps) {
+                    return Err(SpecError::at(
+                        "/residual_slide/steps",
+                        format!("must lie in [1, {MAX_SLIDE_STEPS}]"),
+                    ));
+                }
+                Some(steps)
+            }
+        };
         // Frequencies in any unit, normalised to ω_p/p: one job, one cache key.
         let p = block.p;
         let unit_g = block.alpha * block.g;
@@ -323,6 +374,7 @@ impl SpectrumSpec {
             solver,
             vertical,
             contact,
+            residual_slide_steps,
         })
     }
 }
@@ -502,6 +554,10 @@ pub struct FrequencyDoc {
     #[serde(default)]
     #[schema(required = true)]
     pub min_overturn_m_s2: Option<f64>,
+    /// On a Coulomb floor, when asked (`residual_slide`): the residual slide
+    /// at a_max·k/steps, k = 1…steps.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub residual_slide: Option<Vec<SlidePointDoc>>,
 }
 
 /// What a run of many simulations cost, and the accuracy of the worst one.
@@ -605,6 +661,87 @@ impl SpectrumJob {
         self.vertical.as_ref().and_then(|v| v.ratio())
     }
 
+    /// The residual-slide lines, one per frequency, when asked for (on a
+    /// Coulomb floor), and what they cost.
+    #[allow(clippy::type_complexity)]
+    fn residual_slides(
+        &self,
+        req: &SpectrumRequest,
+        control: &Control,
+    ) -> Result<Option<(Vec<Vec<SlidePointDoc>>, ScanStats)>, crate::spectrum::scan::ScanError>
+    {
+        use crate::dynamics::{Options, Problem, PulsePair};
+        use crate::spectrum::scan::ScanError;
+        use crate::spectrum::slide::{Fate, SlidePoint, residual_slide};
+        let (Some(steps), Some(friction)) = (self.residual_slide_steps, req.friction) else {
+            return Ok(None);
+        };
+        let levels: Vec<f64> = (1..=steps)
+            .map(|k| req.a_max * f64::from(k) / f64::from(steps))
+            .collect();
+        let bad = || ScanError::Simulation(SimError::Tolerance);
+        let pulses = req
+            .omega_ratios
+            .iter()
+            .map(|&ratio| {
+                Pulse::new(
+                    req.shape,
+                    req.block.slenderness() * req.block.gravity(),
+                    ratio * req.block.frequency_parameter(),
+                )
+                .map_err(|_| bad())
+            })
+            .collect::<Result<Vec<_>, ScanError>>()?;
+        fn on<G>(req: &SpectrumRequest, pulse: G) -> Problem<G> {
+            Problem {
+                block: req.block,
+                pulse,
+                formulation: req.formulation,
+            }
+        }
+        let options = Options::outcome(req.solver);
+        let own = self.vertical.as_ref().and_then(|v| v.scaled_pulse());
+        let (lines, stats) = match (own, req.vertical_ratio) {
+            (Some(v), _) => {
+                let pairs = pulses
+                    .into_iter()
+                    .map(|p| v.pair(p).map(|q| on(req, q)))
+                    .collect::<Result<Vec<_>, ScanError>>()?;
+                residual_slide(&pairs, &options, friction, &levels, control)?
+            }
+            (None, Some(r)) => {
+                let pairs = pulses
+                    .into_iter()
+                    .map(|p| {
+                        PulsePair::proportional(p, r)
+                            .map(|q| on(req, q))
+                            .ok_or_else(bad)
+                    })
+                    .collect::<Result<Vec<_>, ScanError>>()?;
+                residual_slide(&pairs, &options, friction, &levels, control)?
+            }
+            (None, None) => {
+                let problems: Vec<_> = pulses.into_iter().map(|q| on(req, q)).collect();
+                residual_slide(&problems, &options, friction, &levels, control)?
+            }
+        };
+        let doc = |p: &SlidePoint| SlidePointDoc {
+            a_alpha_g: p.level,
+            residual_slide_m: p.residual,
+            peak_slide_m: p.peak,
+            outcome: match p.fate {
+                Fate::Stands => "stands",
+                Fate::Overturns => "overturns",
+                Fate::LiftOff => "lift_off",
+            }
+            .to_string(),
+        };
+        Ok(Some((
+            lines.iter().map(|l| l.iter().map(doc).collect()).collect(),
+            stats,
+        )))
+    }
+
     /// Runs the job under `control`.
     pub fn run(
         &self,
@@ -630,10 +767,19 @@ impl SpectrumJob {
             None => overturning_spectrum(&req, control)?,
         };
         let alpha = self.block.alpha;
+        let mut stats = s.stats;
+        let mut slides = match self.residual_slides(&req, control)? {
+            Some((lines, slide_stats)) => {
+                stats.absorb(&slide_stats);
+                Some(lines.into_iter())
+            }
+            None => None,
+        };
         let spectrum = s
             .lines
             .iter()
             .map(|l| FrequencyDoc {
+                residual_slide: slides.as_mut().and_then(|lines| lines.next()),
                 omega_ratio: l.omega_ratio,
                 threshold_alpha_g: l.threshold,
                 threshold_g: l.threshold * alpha,
@@ -677,7 +823,7 @@ impl SpectrumJob {
             spectrum,
             numerics: SpectrumNumerics::new(
                 &self.solver,
-                &s.stats,
+                &stats,
                 self.tolerance,
                 self.scan_step_alpha_g,
                 s.wall_time,
@@ -713,8 +859,10 @@ impl crate::jobs::kind::Kind for Spectrum {
     fn size(job: &SpectrumJob) -> crate::jobs::kind::Size {
         use crate::jobs::cost;
         let scan = (job.a_max_alpha_g / job.scan_step_alpha_g).ceil();
+        // A residual-slide line adds its amplitudes, each a whole history.
         let per_frequency =
-            cost::pulse_line_simulations(scan, job.scan_step_alpha_g, job.tolerance);
+            cost::pulse_line_simulations(scan, job.scan_step_alpha_g, job.tolerance)
+                + f64::from(job.residual_slide_steps.unwrap_or(0));
         let n = job.omega_ratio.len() as f64;
         let work = n * per_frequency;
         let per_simulation = cost::contact_factor(job.contact.as_ref());
@@ -846,6 +994,37 @@ mod tests {
             assert!(line["min_overturn_alpha_g"].is_null(), "{line}");
             assert!(line["transitions"].as_array().expect("list").is_empty());
         }
+        // The residual slide on a grid of amplitudes: none below μg (nothing
+        // moves), the block's slip growing with the pulse above, as the
+        // history on that floor says.
+        let mut spec = json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine"}, "omega_ratio": [3.0], "a_max_alpha_g": 4.0,
+            "contact": {"model": "coulomb", "mu": 0.2}, "residual_slide": {"steps": 8}});
+        let doc = Job::from_value(&spec)
+            .expect("valid")
+            .run(&Control::new())
+            .expect("runs");
+        let line = doc["spectrum"][0]["residual_slide"]
+            .as_array()
+            .expect("asked");
+        assert_eq!(line.len(), 8);
+        let at = |k: usize| line[k]["residual_slide_m"].as_f64().expect("m");
+        assert_eq!(line[0]["a_alpha_g"], 0.5);
+        assert_eq!(at(0), 0.0, "0.5 αg = 0.125 g < μ g");
+        assert!(line.iter().all(|p| p["outcome"] == "stands"));
+        let th = Job::from_value(&json!({"kind": "time_history",
+            "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine", "omega_ratio": 3.0, "a_p_alpha_g": 4.0},
+            "contact": {"model": "coulomb", "mu": 0.2}}))
+        .expect("valid")
+        .run(&Control::new())
+        .expect("runs");
+        assert_eq!(at(7), th["residual_slide_m"].as_f64().expect("m"));
+        assert!(at(7).abs() > at(3).abs() && at(3).abs() > 0.0);
+        // Only on a floor the block can slide on.
+        spec.as_object_mut().expect("object").remove("contact");
+        let e = Job::from_value(&spec).expect_err("no floor");
+        assert_eq!(e.pointer, "/residual_slide");
         // A squat block under strong one-cosine pulses leaves the floor
         // (the normal force reaches 0): the line claims nothing above.
         let squat = coulomb(Some(0.6), 0.4, "one_cosine", json!([2.0]), 10.0);

@@ -7,6 +7,7 @@ pub mod friction;
 pub mod overturning;
 pub mod record;
 pub mod scan;
+pub mod slide;
 
 pub use control::{Canceled, Control};
 pub use overturning::{Spectrum, SpectrumRequest, overturning_spectrum};
