@@ -1,8 +1,12 @@
 //! Runs cases of a block on a Coulomb floor for `bench/contact_scipy.py`: a
 //! JSON array of cases on stdin — `alpha`, `p` (rad/s), `mu`, optional
-//! `mu_k`, the horizontal pulse `shape`, `a_g` (amplitude in g), `omega`
-//! (rad/s), and optionally `ratio` (ü_v = r ü_g) or a `vertical` pulse
-//! {`shape`, `a_g`, `omega`, `delay`} — each one's history on stdout as JSON:
+//! `mu_k`, and the ground motion: either the horizontal pulse `shape`, `a_g`
+//! (amplitude in g), `omega` (rad/s), optionally with `ratio` (ü_v = r ü_g)
+//! or a `vertical` pulse {`shape`, `a_g`, `omega`, `delay`}; or a horizontal
+//! record `record` {`dt` (s), `acc` (samples, m/s²)} (linear between
+//! samples, [`Record`]), optionally with `ratio` or a `vertical_record`
+//! {`dt` (the same), `acc`} of its own (the shorter padded with zeros,
+//! [`RecordPair`]) — each one's history on stdout as JSON:
 //! `initial_mode`, `modes` [{mode, from, to, direction, slip_from,
 //! slip_to}], `overturned`, `overturn_time`, `overturn_side`, `impacts`
 //! [{t, theta_dot_before, theta_dot_after, sticking}], `impact_count`,
@@ -13,7 +17,7 @@ use serde_json::{Value, json};
 use topple::dynamics::coulomb::{ContactResponse, simulate_contact};
 use topple::dynamics::integrator::Method;
 use topple::dynamics::sliding::{Friction, Kinematics};
-use topple::dynamics::{Block, PulsePair};
+use topple::dynamics::{Block, PulsePair, Record, RecordPair};
 
 #[path = "cases/pulse.rs"]
 mod pulse_cases;
@@ -27,11 +31,38 @@ fn simulate<G: Kinematics>(
     simulate_contact(block, forcing, f, Method::Dop853, 1e-12, 1e-14).map_err(|e| e.to_string())
 }
 
+/// The record `{dt, acc}` a case field describes.
+fn record(r: &Value) -> Result<Record, String> {
+    let dt = r["dt"].as_f64().ok_or("record dt missing")?;
+    let acc = r["acc"]
+        .as_array()
+        .ok_or("record acc missing")?
+        .iter()
+        .map(|a| a.as_f64().ok_or("record sample not a number"))
+        .collect::<Result<Vec<f64>, _>>()?;
+    Record::new(acc.into(), dt).map_err(|e| e.to_string())
+}
+
 fn run(c: &Value) -> Result<ContactResponse, String> {
     let num = |k: &str| c[k].as_f64().ok_or(format!("{k} missing"));
     let block =
         Block::new(num("alpha")?, num("p")?, None, None, Some(G)).map_err(|e| e.to_string())?;
     let f = Friction::new(num("mu")?, c["mu_k"].as_f64()).map_err(|e| e.to_string())?;
+    if c["record"].is_object() {
+        let h = record(&c["record"])?;
+        return if let Some(r) = c["ratio"].as_f64() {
+            simulate(&block, &RecordPair::proportional(h, r).ok_or("ratio 0")?, f)
+        } else if c["vertical_record"].is_object() {
+            let v = record(&c["vertical_record"])?;
+            simulate(
+                &block,
+                &RecordPair::new(h, v).map_err(|e| e.to_string())?,
+                f,
+            )
+        } else {
+            simulate(&block, &h, f)
+        };
+    }
     let h = pulse(c)?;
     if let Some(r) = c["ratio"].as_f64() {
         simulate(&block, &PulsePair::proportional(h, r).ok_or("ratio 0")?, f)

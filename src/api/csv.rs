@@ -136,7 +136,7 @@ pub fn to_csv(result: &JobResult) -> String {
 /// ground acceleration (under a vertical ground motion only) comes last, as
 /// columns added later do, in m/s² and in g (`ug_v_g`, worked out from the
 /// first with the block's g).
-const SERIES_COLUMNS: [(&str, &str); 7] = [
+const SERIES_COLUMNS: [(&str, &str); 9] = [
     ("t", "t_s"),
     ("theta", "theta_rad"),
     ("theta_dot", "theta_dot_rad_per_s"),
@@ -147,6 +147,8 @@ const SERIES_COLUMNS: [(&str, &str); 7] = [
         "ground_vertical_acceleration_m_per_s2",
     ),
     ("ug_v_g", "ug_v_g"),
+    ("slide_m", "slide_m"),
+    ("mode", "mode"),
 ];
 
 /// One column of a series: samples, or samples that may be missing.
@@ -154,6 +156,7 @@ const SERIES_COLUMNS: [(&str, &str); 7] = [
 enum Column<'a> {
     Samples(&'a [f64]),
     Gappy(&'a [Option<f64>]),
+    Text(&'a [String]),
 }
 
 impl Column<'_> {
@@ -161,6 +164,7 @@ impl Column<'_> {
         match self {
             Column::Samples(s) => s.len(),
             Column::Gappy(s) => s.len(),
+            Column::Text(s) => s.len(),
         }
     }
 
@@ -169,6 +173,7 @@ impl Column<'_> {
         match self {
             Column::Samples(s) => cell(&s.get(k)),
             Column::Gappy(s) => cell(&s.get(k).copied().flatten()),
+            Column::Text(s) => s.get(k).cloned().unwrap_or_default(),
         }
     }
 }
@@ -196,6 +201,8 @@ fn time_history(r: &TimeHistoryResult, out: &mut String) {
                     .unwrap_or_default(),
             ),
             Column::Samples(&in_g),
+            Column::Samples(s.slide_m.as_deref().unwrap_or_default()),
+            Column::Text(s.mode.as_deref().unwrap_or_default()),
         ];
         let present: Vec<usize> = (0..data.len()).filter(|&i| data[i].len() > 0).collect();
         if !present.is_empty() {
@@ -804,6 +811,8 @@ struct Columns<'a> {
     fx_over_fz: Option<&'a serde_json::value::RawValue>,
     #[serde(borrow)]
     ground_vertical_acceleration: Option<&'a serde_json::value::RawValue>,
+    #[serde(borrow)]
+    slide_m: Option<&'a serde_json::value::RawValue>,
 }
 
 /// JSON's whitespace.
@@ -822,6 +831,10 @@ impl SeriesRows {
         // A vertical motion's column in g is worked out, not copied: such a
         // table is rendered whole ([`to_csv`]).
         if columns.ground_vertical_acceleration.is_some() {
+            return None;
+        }
+        // Nor is a Coulomb history's (its modes are text): rendered whole.
+        if columns.slide_m.is_some() {
             return None;
         }
         let raw = [
@@ -999,6 +1012,8 @@ mod tests {
             ground_acceleration: vec![0.0, 1.0, 2.0],
             ground_vertical_acceleration: None,
             fx_over_fz: Some(vec![Some(0.0), Some(0.25), None]),
+            slide_m: None,
+            mode: None,
         });
         let csv = th_table(&r);
         let l = lines(&csv);
@@ -1095,6 +1110,8 @@ mod tests {
             ground_acceleration: vec![],
             ground_vertical_acceleration: None,
             fx_over_fz: None,
+            slide_m: None,
+            mode: None,
         });
         r.impacts = None;
         r.rocked = false;
@@ -1707,6 +1724,8 @@ mod tests {
             ground_acceleration: vec![f64::NAN],
             ground_vertical_acceleration: None,
             fx_over_fz: Some(vec![Some(f64::INFINITY), None, Some(0.3)]),
+            slide_m: None,
+            mode: None,
         });
         assert_eq!(
             th_table(&odd),
@@ -1750,6 +1769,8 @@ mod tests {
             ground_acceleration: t,
             ground_vertical_acceleration: None,
             fx_over_fz: Some(ratio),
+            slide_m: None,
+            mode: None,
         });
         let whole = th_table(&long);
         assert_eq!(whole.lines().count(), n + 1);

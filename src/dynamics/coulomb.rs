@@ -117,6 +117,49 @@ pub struct ContactResponse {
     pub stats: StepperStats,
     /// Events located.
     pub events: u64,
+    /// The history at the times asked for ([`simulate_contact_sampled`]).
+    pub series: Option<ContactSeries>,
+}
+
+/// A Coulomb history sampled at given times (those up to its end).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ContactSeries {
+    /// Time, s.
+    pub t: Vec<f64>,
+    /// θ, rad (0 while the block is flat: stick, slide, a chattering
+    /// tail summed in closed form).
+    pub theta: Vec<f64>,
+    /// θ̇, rad/s.
+    pub theta_dot: Vec<f64>,
+    /// The base's slip on the floor, m (+ towards +x).
+    pub slide: Vec<f64>,
+    /// The mode at each time.
+    pub mode: Vec<Mode>,
+}
+
+/// Sample times still to be filled, and what was filled.
+struct Sampler {
+    times: Vec<f64>,
+    next: usize,
+    out: ContactSeries,
+}
+
+impl Sampler {
+    /// Fills every time up to `upto` (included) with `state(t)` = (θ, θ̇, slip).
+    fn fill(&mut self, upto: f64, mode: Mode, state: impl Fn(f64) -> (f64, f64, f64)) {
+        while let Some(&t) = self.times.get(self.next) {
+            if t > upto {
+                break;
+            }
+            let (theta, theta_dot, slide) = state(t);
+            self.out.t.push(t);
+            self.out.theta.push(theta);
+            self.out.theta_dot.push(theta_dot);
+            self.out.slide.push(slide);
+            self.out.mode.push(mode);
+            self.next += 1;
+        }
+    }
 }
 
 /// How the block moves between events.
@@ -181,6 +224,8 @@ struct Driver<'a, G> {
     weightless: Option<f64>,
     /// Where a chattering rock summed in closed form comes to rest.
     settled_at: Option<f64>,
+    /// The series being sampled, when asked for.
+    sampler: Option<Sampler>,
     /// A slip that stopped where it started: the pivot holds from there
     /// (the friction limit is looked for once the demand has fallen back
     /// within it), so that no mode is entered and left at one instant.
@@ -197,6 +242,21 @@ pub fn simulate_contact<G: Kinematics>(
     method: Method,
     rtol: f64,
     atol: f64,
+) -> Result<ContactResponse, SimError> {
+    simulate_contact_sampled(block, forcing, friction, method, rtol, atol, None)
+}
+
+/// [`simulate_contact`], also sampling the history at `times` (sorted;
+/// those after its end are left out) into [`ContactResponse::series`]: θ
+/// and θ̇ on the integrator's dense output, the slip in closed form.
+pub fn simulate_contact_sampled<G: Kinematics>(
+    block: &Block,
+    forcing: &G,
+    friction: Friction,
+    method: Method,
+    rtol: f64,
+    atol: f64,
+    times: Option<Vec<f64>>,
 ) -> Result<ContactResponse, SimError> {
     if !(rtol >= 1e-14 && rtol.is_finite() && atol > 0.0 && atol.is_finite()) {
         return Err(SimError::Tolerance);
@@ -227,12 +287,27 @@ pub fn simulate_contact<G: Kinematics>(
             peak_theta_over_alpha: 0.0,
             stats: StepperStats::default(),
             events: 0,
+            series: None,
         },
         weightless: forcing.next_weightless(0.0, block.gravity()),
         settled_at: None,
+        sampler: times.map(|times| Sampler {
+            times,
+            next: 0,
+            out: ContactSeries::default(),
+        }),
         hold: false,
     };
     d.run()?;
+    if let Some(mut s) = d.sampler.take() {
+        // At the end: at rest where it stopped, or where it overturned or
+        // left the floor (the history ends there).
+        let x = d.out.residual_slide;
+        if !(d.out.overturned || d.out.lift_off.is_some()) {
+            s.fill(f64::INFINITY, Mode::Stick, |_| (0.0, 0.0, x));
+        }
+        d.out.series = Some(s.out);
+    }
     Ok(d.out)
 }
 
@@ -272,6 +347,13 @@ impl<G: Kinematics> Driver<'_, G> {
         });
     }
 
+    /// Samples the series (when asked for) up to `upto` with `state`.
+    fn fill(&mut self, upto: f64, mode: Mode, state: impl Fn(f64) -> (f64, f64, f64)) {
+        if let Some(s) = self.sampler.as_mut() {
+            s.fill(upto, mode, state);
+        }
+    }
+
     fn slid(&mut self, x: f64) {
         self.out.peak_slide = self.out.peak_slide.max(x.abs());
         self.out.residual_slide = x;
@@ -303,6 +385,7 @@ impl<G: Kinematics> Driver<'_, G> {
                     let next = onset(self.forcing, &block, self.friction, t);
                     let Some((t1, mode)) = next else {
                         let end = t.max(duration);
+                        self.fill(end, Mode::Stick, |_| (0.0, 0.0, x));
                         self.span(Mode::Stick, (t, end), None, (x, x));
                         if self.out.initial_mode.is_some() {
                             self.out.rest_time = Some(t);
@@ -310,6 +393,7 @@ impl<G: Kinematics> Driver<'_, G> {
                         self.out.end_time = end;
                         return Ok(());
                     };
+                    self.fill(t1, Mode::Stick, |_| (0.0, 0.0, x));
                     self.span(Mode::Stick, (t, t1), None, (x, x));
                     self.out.events += 1;
                     self.out.initial_mode.get_or_insert(mode);
@@ -452,9 +536,11 @@ impl<G: Kinematics> Driver<'_, G> {
         };
         let end = sliding::stop(&leg, &drive);
         if let Some(l) = self.weightless.filter(|&l| l >= t && l < end) {
+            self.fill(l, Mode::Slide, |t| (0.0, 0.0, leg.displacement(t)));
             self.lift_off(l);
             return (l, leg.displacement(l));
         }
+        self.fill(end, Mode::Slide, |t| (0.0, 0.0, leg.displacement(t)));
         (end, leg.displacement(end))
     }
 
@@ -469,6 +555,7 @@ impl<G: Kinematics> Driver<'_, G> {
     ) -> Result<(Option<Phase>, f64), SimError> {
         let mu_s = self.friction.static_coefficient;
         let block = self.block;
+        let x0 = self.out.residual_slide;
         // Already beyond the friction limit (after an impact, or at once).
         let (fx, fz) = self.reactions(t, side, y);
         if fz <= 0.0 {
@@ -510,6 +597,7 @@ impl<G: Kinematics> Driver<'_, G> {
             y,
             &events,
             [false, false],
+            (Mode::Rock, &|_, _| x0),
         )?;
         let x = self.out.residual_slide;
         self.span(Mode::Rock, (t, end.time()), None, (x, x));
@@ -624,6 +712,7 @@ impl<G: Kinematics> Driver<'_, G> {
             ) {
                 self.out.impact_count += settled.impacts;
                 let x = self.out.residual_slide;
+                self.fill(settled.rest_time, Mode::Rock, |_| (0.0, 0.0, x));
                 self.span(Mode::Rock, (t, settled.rest_time), None, (x, x));
                 self.settled_at = Some(settled.rest_time);
                 return Some(Phase::Stick);
@@ -711,6 +800,7 @@ impl<G: Kinematics> Driver<'_, G> {
             // slip that turns back before the first sample is not followed
             // with the friction the wrong way.
             [slip_velocity == 0.0, false],
+            (Mode::SlideRock, &|t, y| leg.slip(t, y).0),
         )?;
         let (t1, y1) = end.state();
         let (x1, _) = leg.slip(t1, y1);
@@ -766,6 +856,7 @@ impl<G: Kinematics> Driver<'_, G> {
     /// Integrates from (t, y) on `side` with the right-hand side `make(forced)`
     /// until θ returns to 0, |θ| reaches π/2, an armed sampled event turns
     /// positive (armed once it has been negative), or the ground falls away.
+    #[allow(clippy::too_many_arguments)]
     fn leg<R: Rhs, M: Fn(bool) -> R, E: Fn(f64, State) -> [f64; 2]>(
         &mut self,
         make: M,
@@ -774,6 +865,7 @@ impl<G: Kinematics> Driver<'_, G> {
         y0: State,
         events: &E,
         arm: [bool; 2],
+        (mode, slip): (Mode, &dyn Fn(f64, State) -> f64),
     ) -> Result<LegEnd, SimError> {
         let duration = self.forcing.duration();
         let s = side;
@@ -802,9 +894,11 @@ impl<G: Kinematics> Driver<'_, G> {
                 factor: k,
                 gravity: g,
             };
+            // (The window the onset found: it opens at t0, or within
+            // rounding after it where the search restarts inside a segment.)
             self.forcing
                 .next_rocking(t0, &threshold)
-                .filter(|w| w.start <= t0)
+                .filter(|w| w.start - t0 <= 1e-12 * t0.abs().max(1.0))
                 .map_or(t0, |w| w.end)
         };
         let stop_at = self
@@ -873,6 +967,10 @@ impl<G: Kinematics> Driver<'_, G> {
                 }
                 let upto = first.map_or(1.0, |f| f.0);
                 self.peak_on(&step, upto);
+                self.fill(step.t0 + upto * step.h, mode, |t| {
+                    let y = step.at_sigma(((t - step.t0) / step.h).clamp(0.0, 1.0));
+                    (y[0], y[1], slip(t, y))
+                });
                 if s * step.y1[0] > 0.0 {
                     left_zero = true;
                 }

@@ -8,7 +8,7 @@
 //! rock), pure rocking *is* the Coulomb answer, to the bit.
 
 use super::contact::Mode;
-use super::coulomb::{ContactResponse, ModeSpan, simulate_contact};
+use super::coulomb::{ContactResponse, ContactSeries, ModeSpan, simulate_contact_sampled};
 use super::response::{Impact, Numerics, Response};
 use super::sliding::{Friction, Kinematics};
 use super::{Block, Options, Problem, SimError, Solver, simulate};
@@ -78,9 +78,21 @@ pub fn run_coulomb<G: Kinematics>(
             });
         }
     }
-    let c = simulate_contact(&block, &problem.pulse, friction, method, rtol, atol)?;
+    let run = |times| {
+        simulate_contact_sampled(&block, &problem.pulse, friction, method, rtol, atol, times)
+    };
+    let c = match (&options.series_at, options.series_points) {
+        (Some(times), _) => run(Some(times.clone()))?,
+        (None, Some(n)) if n > 0 => {
+            // The series spans the history, known after a first pass.
+            let end = run(None)?.end_time;
+            let last = (n - 1).max(1) as f64;
+            run(Some((0..n).map(|k| end * k as f64 / last).collect()))?
+        }
+        _ => run(None)?,
+    };
     Ok(CoulombHistory {
-        response: to_response(&c, options, method.name(), rtol, atol),
+        response: to_response(&c, &problem.pulse, options, method.name(), rtol, atol),
         contact: c,
         answered_by: AnsweredBy::Modes,
     })
@@ -130,12 +142,34 @@ fn from_pure_rocking(r: &Response) -> ContactResponse {
         peak_theta_over_alpha: r.peak_theta_over_alpha,
         stats: Default::default(),
         events: r.numerics.events,
+        series: r.series.as_ref().map(|s| ContactSeries {
+            t: s.t.clone(),
+            theta: s.theta.clone(),
+            theta_dot: s.theta_dot.clone(),
+            slide: vec![0.0; s.t.len()],
+            mode: s
+                .t
+                .iter()
+                .zip(&s.theta)
+                .zip(&s.theta_dot)
+                .map(|((&t, &th), &w)| {
+                    let rocking = r.rocking_start.is_some_and(|t0| t >= t0)
+                        && r.rest_time.is_none_or(|t1| t < t1);
+                    if rocking || th != 0.0 || w != 0.0 {
+                        Mode::Rock
+                    } else {
+                        Mode::Stick
+                    }
+                })
+                .collect(),
+        }),
     }
 }
 
 /// The pure-rocking shape of a Coulomb history.
-fn to_response(
+fn to_response<G: Kinematics>(
     c: &ContactResponse,
+    forcing: &G,
     options: &Options,
     method: &'static str,
     rtol: f64,
@@ -182,7 +216,18 @@ fn to_response(
         peak_theta_over_alpha: c.peak_theta_over_alpha,
         friction: None,
         lift_off: c.lift_off,
-        series: None,
+        series: c.series.as_ref().map(|s| super::response::Series {
+            t: s.t.clone(),
+            theta: s.theta.clone(),
+            theta_dot: s.theta_dot.clone(),
+            ground_acceleration: s.t.iter().map(|&t| forcing.acceleration(t)).collect(),
+            vertical_acceleration: G::VERTICAL.then(|| {
+                s.t.iter()
+                    .map(|&t| forcing.vertical_acceleration(t))
+                    .collect()
+            }),
+            reaction_ratio: None,
+        }),
         warnings,
         numerics: Numerics {
             method,

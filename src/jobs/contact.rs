@@ -175,6 +175,10 @@ pub struct ContactDoc {
     pub residual_slide_m: f64,
     /// Time spent sliding or slide-rocking, s.
     pub time_sliding_s: f64,
+    /// The slip and the mode at each time of the series, when one was asked for.
+    #[serde(skip)]
+    #[schema(ignore)]
+    pub series: Option<(Vec<f64>, Vec<String>)>,
 }
 
 impl ContactDoc {
@@ -204,6 +208,12 @@ impl ContactDoc {
             peak_slide_m: c.peak_slide,
             residual_slide_m: c.residual_slide,
             time_sliding_s: c.time_sliding,
+            series: c.series.as_ref().map(|s| {
+                (
+                    s.slide.clone(),
+                    s.mode.iter().map(|m| m.name().to_string()).collect(),
+                )
+            }),
         }
     }
 }
@@ -308,6 +318,64 @@ mod tests {
     }
 
     #[test]
+    fn a_series_on_a_coulomb_floor_follows_the_modes_and_the_slip() {
+        // The locomotive on μ = 0.3 at 4 αg: stick, rock, slide-rock, one
+        // impact, overturning; and on μ = 0.2: a flat slide to rest.
+        for (mu, overturns) in [(0.3, true), (0.2, false)] {
+            let mut doc = spec(
+                json!({"type": "one_sine", "omega_ratio": 3.0, "a_p_alpha_g": 4.0}),
+                Some(json!({"model": "coulomb", "mu": mu})),
+            );
+            doc["outputs"] = json!({"series": 2001});
+            let r = run(doc);
+            assert_eq!(r.overturned, overturns);
+            let s = r.series.as_ref().expect("a series");
+            let (slide, mode) = (
+                s.slide_m.as_ref().expect("slip"),
+                s.mode.as_ref().expect("modes"),
+            );
+            let modes = r.modes.as_ref().expect("modes");
+            assert!(s.t.len() >= 2000, "{}", s.t.len());
+            for (k, &t) in s.t.iter().enumerate() {
+                // Each sample in the stretch that holds it (the ends shared).
+                let inside = modes
+                    .iter()
+                    .filter(|m| m.from <= t && t <= m.to)
+                    .any(|m| m.mode == mode[k]);
+                assert!(inside, "μ {mu}: t = {t}, {} not in {modes:?}", mode[k]);
+                if mode[k] == "stick" || mode[k] == "slide" {
+                    assert_eq!(s.theta[k], 0.0);
+                }
+            }
+            // The slip at the stretch ends, as the modes list it.
+            for m in modes {
+                for (at, want) in [(m.from, m.slide_from_m), (m.to, m.slide_to_m)] {
+                    if let Some(k) = s.t.iter().position(|&t| (t - at).abs() < 1e-12) {
+                        assert!(
+                            (slide[k] - want).abs() < 1e-9,
+                            "{at}: {} vs {want}",
+                            slide[k]
+                        );
+                    }
+                }
+            }
+            let peak = slide.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let want = r.peak_slide_m.expect("peak");
+            assert!(
+                peak <= want + 1e-12 && peak > 0.95 * want,
+                "{peak} vs {want}"
+            );
+            if !overturns {
+                let last = *slide.last().expect("samples");
+                assert_eq!(last, r.residual_slide_m.expect("residual"));
+            } else {
+                let theta = s.theta.last().expect("samples").abs();
+                assert!(theta > 1.0, "falling at the end: {theta}");
+            }
+        }
+    }
+
+    #[test]
     fn the_contact_field_is_checked_field_by_field() {
         let pulse = json!({"type": "one_sine", "a_p_alpha_g": 2.0, "omega_ratio": 3.0});
         let cases = [
@@ -326,9 +394,6 @@ mod tests {
         let mut linear = spec(pulse.clone(), Some(json!({"model": "coulomb", "mu": 0.3})));
         linear["formulation"] = json!("linear");
         assert_eq!(refused(linear), "/formulation");
-        let mut series = spec(pulse.clone(), Some(json!({"model": "coulomb", "mu": 0.3})));
-        series["outputs"] = json!({"series": 10});
-        assert_eq!(refused(series), "/outputs/series");
         // Pure rocking by name is the job without a contact field.
         let named = serde_json::from_value::<TimeHistorySpec>(spec(
             pulse.clone(),

@@ -171,12 +171,6 @@ impl TimeHistorySpec {
         let contact = validate_contact(self.contact.as_ref(), formulation, "/contact")?;
         let out = self.outputs.clone().unwrap_or_default();
         let series = out.series.unwrap_or(0);
-        if contact.is_some() && series > 0 {
-            return Err(SpecError::at(
-                "/outputs/series",
-                "series are not sampled under the coulomb contact model yet: the result lists its modes (modes, with the slip at each change) and impacts; drop outputs.series, or run pure rocking (contact.model no_sliding)",
-            ));
-        }
         if contact.is_some() && out.duration.is_some() {
             return Err(SpecError::at(
                 "/outputs/duration",
@@ -339,6 +333,14 @@ pub struct SeriesDoc {
     /// first lift-off on).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fx_over_fz: Option<Vec<Option<f64>>>,
+    /// On a Coulomb floor: the base's slip on the floor, m (+ towards +x).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slide_m: Option<Vec<f64>>,
+    /// On a Coulomb floor: the mode at each time ("stick" | "slide" |
+    /// "rock" | "slide_rock"; θ is 0 while flat, and while a chattering tail
+    /// summed in closed form settles).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mode: Option<Vec<String>>,
 }
 
 /// The result document of a time-history job.
@@ -542,6 +544,10 @@ impl TimeHistoryJob {
             doc.peak_slide_m = Some(c.peak_slide_m);
             doc.residual_slide_m = Some(c.residual_slide_m);
             doc.time_sliding_s = Some(c.time_sliding_s);
+            if let (Some(series), Some((slide, mode))) = (doc.series.as_mut(), c.series) {
+                series.slide_m = Some(slide);
+                series.mode = Some(mode);
+            }
         }
         Ok(doc)
     }
@@ -615,6 +621,8 @@ impl TimeHistoryJob {
                 ground_acceleration: s.ground_acceleration,
                 ground_vertical_acceleration: s.vertical_acceleration,
                 fx_over_fz: s.reaction_ratio,
+                slide_m: None,
+                mode: None,
             }),
             numerics: NumericsDoc::from(&r.numerics),
             overturn_direction: r.overturn_side,
