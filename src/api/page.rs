@@ -76,6 +76,51 @@ mod tests {
         }
     }
 
+    /// The floor's models offered are the ones the service takes, where
+    /// it takes a floor (time histories and spectra).
+    #[test]
+    fn the_form_offers_the_contact_models_the_service_takes() {
+        let fieldset = HTML
+            .split("<fieldset id=\"fs-contact\"")
+            .nth(1)
+            .and_then(|rest| rest.split("</fieldset>").next())
+            .expect("a fieldset for the floor");
+        assert!(fieldset.starts_with(" data-form data-kinds=\"time_history spectrum\""));
+        for id in ["f-c-mu", "f-c-muk"] {
+            assert!(fieldset.contains(&format!("id=\"{id}\"")), "no {id}");
+        }
+        let models: Vec<&str> = fieldset
+            .split("name=\"contact\" value=\"")
+            .skip(1)
+            .filter_map(|rest| rest.split('"').next())
+            .collect();
+        assert_eq!(models, ["no_sliding", "coulomb"]);
+        for model in models {
+            let mut contact = serde_json::json!({"model": model});
+            if model == "coulomb" {
+                contact["mu"] = serde_json::json!(0.3);
+            }
+            for (kind, rest) in [
+                (
+                    "time_history",
+                    serde_json::json!({"pulse": {"type": "one_sine", "omega_ratio": 3, "a_p_alpha_g": 4}}),
+                ),
+                (
+                    "spectrum",
+                    serde_json::json!({"pulse": {"type": "one_sine"}, "omega_ratio": {"from": 1, "to": 2, "steps": 1}}),
+                ),
+            ] {
+                let mut spec = serde_json::json!({"kind": kind, "block": {"alpha": 0.25, "p": 2.14},
+                    "formulation": "nonlinear", "contact": contact});
+                if let (Some(spec), Some(rest)) = (spec.as_object_mut(), rest.as_object()) {
+                    spec.extend(rest.clone());
+                }
+                let taken = crate::jobs::Job::parse(&spec.to_string());
+                assert!(taken.is_ok(), "{kind} on {model}: {:?}", taken.err());
+            }
+        }
+    }
+
     #[test]
     fn self_contained() {
         for external in [

@@ -183,6 +183,8 @@ pub enum Swatch {
     Mark(Marker, RGBColor),
     /// A line through a marker.
     LineMark(RGBColor, Marker),
+    /// A dashed line through a marker: values known at the markers only.
+    DashedMark(RGBColor, Marker),
     /// No swatch: the label is a heading.
     Heading,
 }
@@ -385,6 +387,10 @@ fn draw_entry(area: &Area, left: i32, y: i32, swatch: Swatch, lines: &[String]) 
                 vec![(x0, mid), (x1, mid)],
                 c.stroke_width(2),
             ))?;
+            area.draw(&marker::<_, SVGBackend>((centre, mid), kind, 10, c))?;
+        }
+        Swatch::DashedMark(c, kind) => {
+            dashed(area, (x0, mid), (x1, mid), c.stroke_width(2))?;
             area.draw(&marker::<_, SVGBackend>((centre, mid), kind, 10, c))?;
         }
         Swatch::Heading => {}

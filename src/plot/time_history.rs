@@ -10,18 +10,25 @@
 //! (θ = 0, its friction demand ü_g/g) to the end, and when it stopped early
 //! a column at left shows its response larger. A window draws the span asked
 //! for instead.
+//!
+//! On a Coulomb floor a band along each time axis shades the block's modes
+//! (rocking, sliding, slide-rocking, flight; sticking unshaded), and a panel
+//! gives the base's slip where the result knows it: at each change of mode.
 
 use plotters::prelude::*;
 
 use super::motion::{Motion, Vertical};
 use super::style::{
     Area, Drawn, INK, LEGEND, Legend, MUTED, Marker, PULSE, REST, Swatch, draw_legend_columns,
-    fmt_num, legend_height, mode_colour, text,
+    fmt_num, legend_height, mode_colour, text, tint,
 };
-use super::time_panel::{End, Mark, Panel, Place, Scale, Shared, Span, ZOOMED, crop, draw_panel};
+use super::time_panel::{
+    Band, End, Mark, Panel, Place, Scale, Shared, Span, ZOOMED, crop, draw_panel,
+};
 use super::window::Window;
 use super::{block_text, render, shape_title};
 use crate::dynamics::Formulation;
+use crate::jobs::contact::{ContactNorm, ModeDoc};
 use crate::jobs::time_history::TimeHistoryResult;
 
 const WIDTH: u32 = 1120;
@@ -63,9 +70,111 @@ const VERTICAL_DESC: &str = "ü_v / g";
 /// A vertical ground acceleration down to −`FALLING` g has its panel
 /// show the level −g (where the ground falls away).
 const FALLING: f64 = 0.5;
+/// Colour of the base's slip at the changes of mode.
+const SLIP: RGBColor = RGBColor(175, 55, 30);
+/// Axis description of the slip's panel.
+const SLIP_DESC: &str = "slip (m)";
+/// The modes of a block on a Coulomb floor, in the order the legend lists them.
+const MODES: [&str; 5] = ["stick", "rock", "slide", "slide_rock", "flight"];
 
 /// What the figure asks of a result without a series.
 pub const NO_SERIES: &str = "no series in this result: add \"outputs\": {\"series\": 500} to the spec for θ(t), θ̇(t) and f_x/f_z(t)";
+/// What the figure says of a history on a Coulomb floor without a series.
+pub const NO_SERIES_COULOMB: &str = "no series in this result: its modes, its impacts and the slip at each change of mode are drawn";
+
+/// How a mode of a block on a Coulomb floor shows in the band along the
+/// time axis: its fill (none while it sticks) and its legend label.
+fn mode_band(mode: &str) -> (Option<RGBColor>, String) {
+    match mode {
+        "stick" => (None, "sticking (no band along the time axis)".into()),
+        "rock" => (Some(tint(RGBColor(86, 180, 233), 0.55)), "rocking".into()),
+        "slide" => (Some(tint(RGBColor(213, 94, 0), 0.45)), "sliding".into()),
+        "slide_rock" => (
+            Some(tint(RGBColor(204, 121, 167), 0.7)),
+            "sliding while rocking (slide-rock)".into(),
+        ),
+        "flight" => (
+            Some(tint(RGBColor(0, 158, 115), 0.5)),
+            "in flight (off the floor)".into(),
+        ),
+        other => (Some(tint(MUTED, 0.4)), other.replace('_', " ")),
+    }
+}
+
+/// The base's slip on the floor where the result knows it: at the start of
+/// the first mode and at each change of mode after it, (t, m).
+fn slip_at_changes(modes: &[ModeDoc]) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(modes.len() + 1);
+    for m in modes {
+        let start = (m.from, m.slide_from_m);
+        if out.last() != Some(&start) {
+            out.push(start);
+        }
+        out.push((m.to, m.slide_to_m));
+    }
+    out.retain(|q| q.0.is_finite() && q.1.is_finite());
+    out
+}
+
+/// "towards +x" or "towards −x", the way `value` points (None at 0).
+fn towards(value: f64) -> Option<&'static str> {
+    if value > 0.0 {
+        Some("towards +x")
+    } else if value < 0.0 {
+        Some("towards −x")
+    } else {
+        None
+    }
+}
+
+/// The notes of a history on the Coulomb floor `contact`: the friction, how
+/// the block first moved, its slip, the side it overturned to.
+fn coulomb_notes(result: &TimeHistoryResult, contact: &ContactNorm) -> Vec<String> {
+    let mut notes = vec![if contact.mu_kinetic < contact.mu {
+        format!(
+            "floor: Coulomb friction, μ = {} (static), μ_k = {} (kinetic)",
+            fmt_num(contact.mu, 3),
+            fmt_num(contact.mu_kinetic, 3)
+        )
+    } else {
+        format!("floor: Coulomb friction, μ = {}", fmt_num(contact.mu, 3))
+    }];
+    if result.answered_by.as_deref() == Some("pure_rocking") {
+        notes.push(
+            "the friction pure rocking needs never exceeds μ: the block rocks without sliding"
+                .into(),
+        );
+    }
+    notes.push(match result.initial_mode.as_deref() {
+        None => "the block never moved".into(),
+        Some("rock") => "it first moved by rocking".into(),
+        Some("slide") => "it first moved by sliding".into(),
+        Some("slide_rock") => "it first moved by sliding while rocking".into(),
+        Some("flight") => "it first moved by leaving the floor".into(),
+        Some(other) => format!("it first moved by {}", other.replace('_', " ")),
+    });
+    if let (Some(peak), Some(residual)) = (result.peak_slide_m, result.residual_slide_m) {
+        if peak > 0.0 {
+            let way = towards(residual).map_or(String::new(), |w| format!(" ({w})"));
+            let time = result.time_sliding_s.map_or(String::new(), |t| {
+                format!(", {} s sliding or slide-rocking", fmt_num(t, 3))
+            });
+            notes.push(format!(
+                "slip of the base: peak |slip| = {} m, residual {} m{way}{time}",
+                fmt_num(peak, 3),
+                fmt_num(residual, 3)
+            ));
+        } else {
+            notes.push("the base never slipped".into());
+        }
+    }
+    if result.overturned
+        && let Some(side) = result.overturn_direction.and_then(towards)
+    {
+        notes.push(format!("overturned {side}"));
+    }
+    notes
+}
 
 /// The end of a span showing the pulse (lasting `duration`) and the first
 /// impacts, when the pulse takes less than a quarter of a history ending at
@@ -250,6 +359,17 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
 
     // Ground acceleration reaches the rocking threshold at g tan α (α g linearised).
     let threshold = if linear { alpha } else { alpha.tan() };
+    // On a Coulomb floor with μ < tan α a block at rest starts to slide at
+    // μ g, before it could rock (without a vertical motion).
+    let sliding_level = spec
+        .contact
+        .as_ref()
+        .map(|c| c.mu)
+        .filter(|m| vertical.is_none() && *m < alpha.tan());
+    let mut ground_refs = vec![threshold, -threshold];
+    ground_refs.extend(sliding_level.iter().flat_map(|m| [*m, -*m]));
+    let modes: &[ModeDoc] = result.modes.as_deref().unwrap_or(&[]);
+    let slip = slip_at_changes(modes);
     let ground_from_motion = motion.as_ref().map(|m| m.curve(from, to, g));
     // ü_v/g from the spec (as ü_g), else from the series.
     let vertical_from_motion = match (&motion, &vertical) {
@@ -265,6 +385,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             label: format!("vertical ground acceleration ü_v/g, positive up{label}"),
             colour: VERTICAL,
             line,
+            dashed: false,
             points: Vec::new(),
             scale: Scale::Symmetric {
                 floor: if falls { 1.1 } else { 0.1 },
@@ -313,11 +434,12 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                 label: "ground acceleration ü_g/g".into(),
                 colour: GROUND,
                 line: ground,
+                dashed: false,
                 points: Vec::new(),
                 scale: Scale::Symmetric {
                     floor: threshold * 1.3,
                 },
-                refs: vec![threshold, -threshold],
+                refs: ground_refs.clone(),
                 impacts: false,
                 end: None,
             });
@@ -333,6 +455,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             label: format!("rotation θ/α (α = {} rad)", fmt_num(alpha, 3)),
             colour: THETA,
             line: theta,
+            dashed: false,
             points: Vec::new(),
             scale: Scale::Symmetric { floor: 1.25 },
             refs: vec![1.0, -1.0],
@@ -345,6 +468,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                 label: format!("angular velocity θ̇/p (p = {} rad/s)", fmt_num(p, 3)),
                 colour: RGBColor(0, 120, 120),
                 line: theta_dot,
+                dashed: false,
                 points: Vec::new(),
                 scale: Scale::Symmetric { floor: 0.1 },
                 refs: Vec::new(),
@@ -385,6 +509,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                 label: "friction demand f_x/f_z".into(),
                 colour: RATIO,
                 line,
+                dashed: false,
                 points: Vec::new(),
                 scale: Scale::Capped { floor, cap },
                 refs,
@@ -402,11 +527,12 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                 },
                 colour: GROUND,
                 line: ground,
+                dashed: false,
                 points: Vec::new(),
                 scale: Scale::Symmetric {
                     floor: threshold * 1.3,
                 },
-                refs: vec![threshold, -threshold],
+                refs: ground_refs.clone(),
                 impacts: false,
                 end: None,
             });
@@ -431,6 +557,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                 label: "θ̇/p before (○) and after (●) each impact".into(),
                 colour: RGBColor(0, 120, 120),
                 line: Vec::new(),
+                dashed: false,
                 points,
                 scale: Scale::Symmetric { floor: 0.05 },
                 refs: Vec::new(),
@@ -438,11 +565,26 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                 end: None,
             });
         }
-        if panels.is_empty() {
+        if panels.is_empty() && slip.is_empty() {
             return Err(format!(
                 "nothing to draw: {NO_SERIES} (the result has no impacts and its spec no ground motion)"
             ));
         }
+    }
+
+    if !slip.is_empty() {
+        panels.push(Panel {
+            desc: SLIP_DESC.into(),
+            label: "slip at mode changes (m, + towards +x): the base's slip on the floor, known at the markers only; the dashed line joins them".into(),
+            colour: SLIP,
+            line: slip.clone(),
+            dashed: true,
+            points: slip.iter().map(|&q| (q, Marker::Dot)).collect(),
+            scale: Scale::Symmetric { floor: 0.01 },
+            refs: Vec::new(),
+            impacts: false,
+            end: None,
+        });
     }
 
     let overturned = result.overturned;
@@ -466,17 +608,32 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             format!("0–{} s, drawn larger at left", fmt_num(z, 3)),
         );
     }
+    // The modes that occur, each with its fill in the band.
+    let mut occurring: Vec<&str> = Vec::new();
+    for m in modes {
+        if !occurring.contains(&m.mode.as_str()) {
+            occurring.push(&m.mode);
+        }
+    }
+    occurring.sort_by_key(|m| MODES.iter().position(|k| k == m).unwrap_or(MODES.len()));
+    for name in occurring {
+        let (fill, label) = mode_band(name);
+        let swatch = fill.map_or(Swatch::Boxed(WHITE, MUTED), Swatch::Fill);
+        legend.entry(swatch, format!("mode: {label}"));
+    }
     for panel in &panels {
-        let swatch = if panel.line.is_empty() {
+        let swatch = if panel.dashed {
+            Swatch::DashedMark(panel.colour, Marker::Dot)
+        } else if panel.line.is_empty() {
             Swatch::Mark(Marker::Dot, panel.colour)
         } else {
             Swatch::Line(panel.colour, 2)
         };
         legend.entry(swatch, panel.label.clone());
     }
-    if let (Some(end), Some(panel)) = (&ratio_end, panels.last()) {
+    if let Some(end) = &ratio_end {
         legend.entry(
-            Swatch::Mark(Marker::Ring, panel.colour),
+            Swatch::Mark(Marker::Ring, RATIO),
             match end.label.as_str() {
                 "bound to overturn" => format!(
                     "f_x/f_z stops at t = {} s: the block is bound to overturn (its fall is not counted)",
@@ -500,6 +657,12 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         .any(|p| p.desc == VERTICAL_DESC && !p.refs.is_empty())
     {
         refs.push("ü_v = −g (the ground falls away)".into());
+    }
+    if let Some(m) = sliding_level {
+        refs.push(format!(
+            "ü_g = ±μg = ±{}\u{a0}g (sliding starts)",
+            fmt_num(m, 3)
+        ));
     }
     if panels.iter().any(|p| p.desc == "f_x / f_z") {
         refs.push("f_x/f_z = ±tan\u{a0}α".into());
@@ -625,6 +788,11 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         spec.formulation.name(),
         spec.solver.method.name()
     ));
+    if let Some(contact) = &spec.contact {
+        for note in coulomb_notes(result, contact) {
+            legend.note(note);
+        }
+    }
     let n = result.impact_count;
     let summed = result.chatter_impacts_summed;
     let plural = if n == 1 { "" } else { "s" };
@@ -656,7 +824,11 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         });
     }
     if series.is_none() {
-        legend.note(NO_SERIES);
+        legend.note(if spec.contact.is_some() {
+            NO_SERIES_COULOMB
+        } else {
+            NO_SERIES
+        });
     }
 
     let title = match (&spec.pulse, record_peak) {
@@ -678,6 +850,16 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         motion_end: motion.as_ref().map(Motion::duration),
         impacts: impact_times,
         marks,
+        bands: modes
+            .iter()
+            .filter_map(|m| {
+                mode_band(&m.mode).0.map(|colour| Band {
+                    from: m.from,
+                    to: m.to,
+                    colour,
+                })
+            })
+            .collect(),
     };
     let layout = Layout::new(panels.len(), !spans[0].1.is_empty(), &legend);
     render((WIDTH, layout.height), &title, |area| {
@@ -764,10 +946,15 @@ fn draw(
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use super::{GROUND, RATIO, THETA, TimeHistoryResult, VERTICAL, response_end, zoom_end};
+    use super::{
+        GROUND, MODES, NO_SERIES_COULOMB, RATIO, SLIP, THETA, TimeHistoryResult, VERTICAL,
+        mode_band, response_end, slip_at_changes, zoom_end,
+    };
     use crate::jobs::JobResult;
+    use crate::jobs::contact::ModeDoc;
     use crate::plot::style::{REST, fmt_num};
     use crate::plot::tests::{hex, shapes, x_extent};
+    use crate::plot::time_panel::BAND_HEIGHT;
     use crate::plot::window::Window;
     use plotters::style::RGBColor;
 
@@ -954,12 +1141,10 @@ pub(crate) mod tests {
         ))
     }
 
-    /// The polylines of `svg` in `colour` whose every point lies right of
-    /// `left` px and above the time axis' description (the legend is
-    /// below it).
-    fn lines_right_of(svg: &str, colour: RGBColor, left: f64) -> Vec<Vec<(f64, f64)>> {
-        let axis = svg
-            .split("<text")
+    /// The y (px) of the time axis' description in `svg`: the legend is
+    /// below it.
+    fn axis_y(svg: &str) -> f64 {
+        svg.split("<text")
             .find(|t| t.contains(">\nt (s)\n<"))
             .and_then(|t| {
                 t.split(" y=\"")
@@ -969,7 +1154,14 @@ pub(crate) mod tests {
                     .parse::<f64>()
                     .ok()
             })
-            .expect("a time axis");
+            .expect("a time axis")
+    }
+
+    /// The polylines of `svg` in `colour` whose every point lies right of
+    /// `left` px and above the time axis' description (the legend is
+    /// below it).
+    fn lines_right_of(svg: &str, colour: RGBColor, left: f64) -> Vec<Vec<(f64, f64)>> {
+        let axis = axis_y(svg);
         let stroke = format!("stroke=\"{}\"", hex(colour));
         shapes(svg, "polyline", &stroke)
             .into_iter()
@@ -1117,5 +1309,180 @@ pub(crate) mod tests {
         // Overturning at 5.931 s is outside the window: not marked.
         assert!(!svg.contains("overturns (mode 1)"));
         assert_ne!(svg, super::svg(&result, None).expect("svg"));
+    }
+
+    /// The rectangles (x, y, width, height, px) of `svg` filled with
+    /// `colour` above the time axis' description: in the panels, not in
+    /// the legend.
+    fn filled_rects(svg: &str, colour: RGBColor) -> Vec<[f64; 4]> {
+        let axis = axis_y(svg);
+        let fill = format!("fill=\"{}\"", hex(colour));
+        svg.split("<rect ")
+            .skip(1)
+            .filter_map(|rest| rest.split('>').next())
+            .filter(|tag| tag.contains(&fill))
+            .map(|tag| format!(" {tag}"))
+            .filter_map(|tag| {
+                let attr = |name: &str| -> Option<f64> {
+                    tag.split(&format!(" {name}=\""))
+                        .nth(1)?
+                        .split('"')
+                        .next()?
+                        .parse()
+                        .ok()
+                };
+                Some([attr("x")?, attr("y")?, attr("width")?, attr("height")?])
+            })
+            .filter(|r| r[1] < axis)
+            .collect()
+    }
+
+    /// A one-sine pulse of 4 αg at ω_p/p = 3, on a floor of friction
+    /// `contact` (None: pure rocking).
+    fn one_sine_on(contact: Option<&str>) -> TimeHistoryResult {
+        let contact = contact.map_or(String::new(), |c| format!(r#", "contact": {c}"#));
+        computed(&format!(
+            r#"{{"kind": "time_history", "block": {{"alpha": 0.25, "p": 2.14}},
+                "pulse": {{"type": "one_sine", "omega_ratio": 3.0, "a_p_alpha_g": 4.0}}{contact}}}"#
+        ))
+    }
+
+    #[test]
+    fn on_a_coulomb_floor_the_modes_are_banded_and_the_slip_marked_at_each_change() {
+        let result = one_sine_on(Some(r#"{"model": "coulomb", "mu": 0.3}"#));
+        let modes = result.modes.as_deref().expect("modes");
+        let occurring = |name: &str| modes.iter().any(|m| m.mode == name);
+        assert!(occurring("rock") && occurring("slide_rock"), "{modes:?}");
+        let svg = super::svg(&result, None).expect("svg");
+        let text = text_of(&svg).replace('\u{a0}', " ");
+        for needle in [
+            "slip (m)",
+            "slip at mode changes (m, + towards +x)",
+            "known at the markers only",
+            "mode: sticking (no band along the time axis)",
+            "mode: rocking",
+            "mode: sliding while rocking (slide-rock)",
+            "floor: Coulomb friction, μ = 0.3",
+            "it first moved by rocking",
+            "slip of the base: peak |slip| = 0.295 m, residual -0.239 m (towards −x)",
+            "overturned towards +x",
+        ] {
+            assert!(text.contains(needle), "missing {needle:?} in {text}");
+        }
+        // Never asks for the series the coulomb model refuses.
+        assert!(text.contains(NO_SERIES_COULOMB), "{text}");
+        assert!(!svg.contains("outputs"));
+        // The modes absent from the history are not in the legend.
+        assert_eq!(text.matches("mode: sliding").count(), 1, "{text}");
+        assert!(!text.contains("in flight"));
+        // Each shaded mode: a band of its stretches along the bottom of
+        // each of the three panels (ü_g, θ̇ at its one impact, slip).
+        assert_eq!(result.impacts.as_ref().map(Vec::len), Some(1));
+        for name in ["rock", "slide_rock"] {
+            let colour = mode_band(name).0.expect("shaded");
+            let rects = filled_rects(&svg, colour);
+            let visible = modes
+                .iter()
+                .filter(|m| m.mode == name && m.to - m.from > 0.01)
+                .count();
+            assert!(rects.len() >= 3 * visible, "{name}: {rects:?}");
+            assert!(rects.iter().all(|r| r[3] <= f64::from(BAND_HEIGHT)));
+        }
+        assert!(filled_rects(&svg, mode_band("slide").0.expect("shaded")).is_empty());
+        // The slip: a marker at each change (and at the start and end), in
+        // time order, joined by a dashed line (many short pieces).
+        let slip = slip_at_changes(modes);
+        assert_eq!(slip.len(), modes.len() + 1);
+        let axis = axis_y(&svg);
+        let markers: Vec<(f64, f64)> = shapes(&svg, "polygon", &format!("fill=\"{}\"", hex(SLIP)))
+            .into_iter()
+            .filter(|m| m.iter().all(|p| p.1 < axis))
+            .map(|m| {
+                let n = m.len() as f64;
+                let (x, y) = m.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
+                (x / n, y / n)
+            })
+            .collect();
+        assert_eq!(markers.len(), slip.len(), "{markers:?}");
+        assert!(markers.windows(2).all(|w| w[0].0 <= w[1].0));
+        // It ends slipped towards −x: below where it started.
+        let (first, last) = (markers[0], markers[markers.len() - 1]);
+        assert!(last.1 > first.1 + 20.0, "{first:?} {last:?}");
+        let dashes = shapes(&svg, "polyline", &format!("stroke=\"{}\"", hex(SLIP)));
+        assert!(dashes.len() > 2 * slip.len(), "{}", dashes.len());
+        // The band lies under the values: the lowest slip marker clears the
+        // top of the slip panel's band.
+        let band_top = filled_rects(&svg, mode_band("rock").0.expect("shaded"))
+            .iter()
+            .map(|r| r[1])
+            .fold(0.0, f64::max);
+        let lowest = markers.iter().map(|m| m.1).fold(0.0, f64::max);
+        assert!(lowest + 5.0 <= band_top, "{lowest} {band_top}");
+    }
+
+    #[test]
+    fn pure_rocking_has_no_bands_and_no_slip() {
+        let result = one_sine_on(None);
+        assert!(result.modes.is_none());
+        let svg = super::svg(&result, None).expect("svg");
+        for name in MODES {
+            if let Some(colour) = mode_band(name).0 {
+                assert!(filled_rects(&svg, colour).is_empty(), "{name}");
+                assert!(!svg.contains(&hex(colour)), "{name}");
+            }
+        }
+        assert!(!svg.contains(&hex(SLIP)));
+        let text = text_of(&svg);
+        assert!(!text.contains("slip") && !text.contains("mode:") && !text.contains("Coulomb"));
+        // Named pure rocking, the same figure.
+        let named = one_sine_on(Some(r#"{"model": "no_sliding"}"#));
+        assert_eq!(super::svg(&named, None).expect("svg"), svg);
+    }
+
+    #[test]
+    fn a_coulomb_history_pure_rocking_answers_never_slips() {
+        let result = computed(
+            r#"{"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14},
+                "pulse": {"type": "one_sine", "omega_ratio": 6.0, "a_p_alpha_g": 3.0},
+                "contact": {"model": "coulomb", "mu": 10}}"#,
+        );
+        assert_eq!(result.answered_by.as_deref(), Some("pure_rocking"));
+        let svg = super::svg(&result, None).expect("svg");
+        let text = text_of(&svg);
+        assert!(text.contains("the base never slipped"), "{text}");
+        assert!(text.contains("never exceeds μ"), "{text}");
+        // A rocking band, and no other.
+        assert!(!filled_rects(&svg, mode_band("rock").0.expect("shaded")).is_empty());
+        for name in ["slide", "slide_rock", "flight"] {
+            assert!(filled_rects(&svg, mode_band(name).0.expect("shaded")).is_empty());
+        }
+    }
+
+    #[test]
+    fn the_slip_is_known_at_each_change_of_mode() {
+        let doc = |mode: &str, from: f64, to: f64, slip: (f64, f64)| ModeDoc {
+            mode: mode.into(),
+            from,
+            to,
+            direction: None,
+            slide_from_m: slip.0,
+            slide_to_m: slip.1,
+        };
+        let modes = [
+            doc("stick", 0.0, 0.1, (0.0, 0.0)),
+            doc("slide", 0.1, 0.5, (0.0, -0.2)),
+            doc("rock", 0.5, 0.9, (-0.2, -0.2)),
+        ];
+        assert_eq!(
+            slip_at_changes(&modes),
+            vec![(0.0, 0.0), (0.1, 0.0), (0.5, -0.2), (0.9, -0.2)]
+        );
+        // A stretch not starting where the last ended keeps both ends.
+        let gap = [
+            doc("slide", 0.0, 1.0, (0.0, 0.1)),
+            doc("rock", 1.0, 2.0, (0.2, 0.2)),
+        ];
+        assert_eq!(slip_at_changes(&gap).len(), 4);
+        assert!(slip_at_changes(&[]).is_empty());
     }
 }

@@ -1,7 +1,8 @@
 //! One panel of a time history (a quantity against time) drawn over one
 //! span of time: the curve cut to the span, its y range fitted to what the
 //! span shows, the pulse shaded, impacts ticked, overturning, rest and
-//! lift-off marked, and where a curve stops on purpose an open marker.
+//! lift-off marked, where a curve stops on purpose an open marker, and on a
+//! Coulomb floor the block's modes as a band along the time axis.
 
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -14,6 +15,13 @@ use super::style::{
 
 /// Shade of the span a zoomed column shows, in the whole-history column.
 pub const ZOOMED: RGBColor = RGBColor(228, 233, 242);
+
+/// Room above a panel's chart, px.
+const MARGIN_TOP: u32 = 8;
+/// Height of the band of modes along the time axis of a panel, px.
+pub const BAND_HEIGHT: u32 = 14;
+/// Gap between the band and the lowest value a panel shows, px.
+const BAND_GAP: u32 = 3;
 
 /// How a panel's y range follows the values its span shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,6 +62,8 @@ pub struct Panel {
     pub colour: RGBColor,
     /// A curve (non-finite values break it).
     pub line: Vec<(f64, f64)>,
+    /// The curve dashed: it only joins values known at its points.
+    pub dashed: bool,
     /// Markers (without a curve).
     pub points: Vec<((f64, f64), Marker)>,
     /// How its y range is chosen.
@@ -76,6 +86,18 @@ pub struct Mark {
     pub label: String,
 }
 
+/// A stretch of time shaded in the band along the time axis (one mode of
+/// a block on a Coulomb floor).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Band {
+    /// Its start, s.
+    pub from: f64,
+    /// Its end, s.
+    pub to: f64,
+    /// Its fill.
+    pub colour: RGBColor,
+}
+
 /// What every panel of a figure shares.
 pub struct Shared {
     /// When the ground stops moving (shaded from 0), s.
@@ -84,6 +106,8 @@ pub struct Shared {
     pub impacts: Vec<f64>,
     /// Vertical lines.
     pub marks: Vec<Mark>,
+    /// Stretches shaded along the bottom of every panel (none: no band).
+    pub bands: Vec<Band>,
 }
 
 /// A span of time drawn as one column of panels.
@@ -165,14 +189,24 @@ impl Panel {
 /// Draws `panel` over `span` in `area`.
 pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, place: Place) -> Drawn {
     let (lo, hi) = panel.range(span);
+    // A band of modes takes the bottom of the panel, under the values: the
+    // axis reaches below `lo` by the band's height and a gap.
+    let axis_lo = if shared.bands.is_empty() {
+        lo
+    } else {
+        let x_axis = if place.bottom { place.x_axis } else { 0 };
+        let plot = f64::from(area.dim_in_pixel().1.saturating_sub(MARGIN_TOP + x_axis));
+        let room = f64::from(BAND_HEIGHT + BAND_GAP);
+        lo - (hi - lo) * room / (plot - room).max(1.0)
+    };
     let (t0, t1) = (span.t0, span.t1);
     let mut chart = ChartBuilder::on(area)
-        .margin_top(8)
+        .margin_top(MARGIN_TOP)
         .margin_right(16)
         .margin_left(4)
         .x_label_area_size(if place.bottom { place.x_axis } else { 0 })
         .y_label_area_size(place.y_labels)
-        .build_cartesian_2d(axis_range("time", t0, t1)?, axis_range("y", lo, hi)?)?;
+        .build_cartesian_2d(axis_range("time", t0, t1)?, axis_range("y", axis_lo, hi)?)?;
     let mut mesh = chart.configure_mesh();
     mesh.label_style(text(TICKS, INK))
         .axis_desc_style(text(AXIS, INK))
@@ -192,7 +226,7 @@ pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, plac
     let band = |a: f64, b: f64| (a.max(t0), b.min(t1));
     if let Some((a, b)) = span.zoomed.map(|(a, b)| band(a, b)).filter(|(a, b)| a < b) {
         chart.draw_series(std::iter::once(Rectangle::new(
-            [(a, lo), (b, hi)],
+            [(a, axis_lo), (b, hi)],
             ZOOMED.filled(),
         )))?;
     }
@@ -202,9 +236,22 @@ pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, plac
         .filter(|(a, b)| a < b)
     {
         chart.draw_series(std::iter::once(Rectangle::new(
-            [(a, lo), (b, hi)],
+            [(a, axis_lo), (b, hi)],
             PULSE.mix(0.65).filled(),
         )))?;
+    }
+    if !shared.bands.is_empty() {
+        // The band's top in the panel's y units, a gap under the values.
+        let plot_height = f64::from(chart.plotting_area().dim_in_pixel().1.max(1));
+        let top = lo - (hi - axis_lo) * f64::from(BAND_GAP) / plot_height;
+        chart.draw_series(
+            shared
+                .bands
+                .iter()
+                .map(|b| (band(b.from, b.to), b.colour))
+                .filter(|((a, b), _)| a < b)
+                .map(|((a, b), colour)| Rectangle::new([(a, axis_lo), (b, top)], colour.filled())),
+        )?;
     }
     chart.draw_series(std::iter::once(PathElement::new(
         vec![(t0, 0.0), (t1, 0.0)],
@@ -219,7 +266,16 @@ pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, plac
         )))?;
     }
     for part in clip_y(&crop(&panel.line, t0, t1), lo, hi) {
-        chart.draw_series(LineSeries::new(part, panel.colour.stroke_width(2)))?;
+        if panel.dashed {
+            chart.draw_series(std::iter::once(DashedPathElement::new(
+                part,
+                6,
+                5,
+                panel.colour.stroke_width(2),
+            )))?;
+        } else {
+            chart.draw_series(LineSeries::new(part, panel.colour.stroke_width(2)))?;
+        }
     }
     chart.draw_series(
         panel
@@ -241,7 +297,7 @@ pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, plac
     let right_half = |t: f64| t > t0 + 0.55 * (t1 - t0);
     for mark in shared.marks.iter().filter(|m| m.t >= t0 && m.t <= t1) {
         chart.draw_series(std::iter::once(DashedPathElement::new(
-            vec![(mark.t, lo), (mark.t, hi)],
+            vec![(mark.t, axis_lo), (mark.t, hi)],
             7,
             4,
             mark.colour.stroke_width(2),
@@ -309,6 +365,7 @@ mod tests {
             label: String::new(),
             colour: INK,
             line: vec![(0.0, 0.5), (1.0, -0.5), (2.0, 8.0)],
+            dashed: false,
             points: Vec::new(),
             scale: Scale::Symmetric { floor: 1.25 },
             refs: Vec::new(),
