@@ -121,6 +121,55 @@ mod tests {
         }
     }
 
+    /// A time history on a Coulomb floor is sent `outputs.series` (the
+    /// field the page uses for pure rocking, shown under Coulomb too) and
+    /// no `outputs.duration` (its field hidden, its value not sent): the
+    /// service takes the one and refuses the other.
+    #[test]
+    fn the_form_sends_a_coulomb_history_its_series_and_no_end() {
+        let branch = HTML
+            .split("if (k === \"time_history\") {\n      if (spec.pulse)")
+            .nth(1)
+            .and_then(|rest| rest.split("} else if (k === \"spectrum\")").next())
+            .expect("the time history's part of the spec");
+        let series = "spec.outputs = { series: num(\"f-series\") };";
+        let (before, _) = branch.split_once(series).expect("a series sent");
+        // Sent whatever the floor: no test of it before.
+        assert!(!before.contains("coulomb"), "{before}");
+        let duration = branch
+            .lines()
+            .find(|l| l.contains("spec.outputs.duration ="))
+            .expect("a duration sent");
+        assert!(duration.contains("!coulomb &&"), "{duration}");
+        // The form: the series' field shown under Coulomb, the duration's hidden.
+        assert!(
+            HTML.contains("<div class=\"field\" id=\"duration-field\"><label for=\"f-duration\">")
+        );
+        assert!(HTML.contains("$(\"duration-field\").hidden = coulomb;"));
+        assert!(!HTML.contains("$(\"th-outputs\").hidden"));
+        assert!(!HTML.contains("(no series)"));
+        // The spec the form builds on a Coulomb floor, with the series field's
+        // default, is taken; with a duration it would be refused.
+        let default = HTML
+            .split("<input id=\"f-series\"")
+            .nth(1)
+            .and_then(|rest| rest.split("value=\"").nth(1))
+            .and_then(|rest| rest.split('"').next())
+            .and_then(|v| v.parse::<u32>().ok())
+            .expect("the series' default");
+        let spec = |outputs: serde_json::Value| {
+            serde_json::json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14},
+                "pulse": {"type": "one_sine", "omega_ratio": 3, "a_p_alpha_g": 4},
+                "formulation": "nonlinear", "contact": {"model": "coulomb", "mu": 0.3},
+                "outputs": outputs})
+            .to_string()
+        };
+        let taken = crate::jobs::Job::parse(&spec(serde_json::json!({"series": default})));
+        assert!(taken.is_ok(), "{:?}", taken.err());
+        let refused = spec(serde_json::json!({"series": default, "duration": 4}));
+        assert!(crate::jobs::Job::parse(&refused).is_err());
+    }
+
     #[test]
     fn self_contained() {
         for external in [

@@ -360,6 +360,25 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
         lines.len(),
         if lines.len() == 1 { "y" } else { "ies" }
     ));
+    if let Some(c) = &spec.contact {
+        let lift = lines
+            .iter()
+            .filter_map(|l| l.lift_off_above_alpha_g)
+            .reduce(f64::min);
+        legend.note(format!(
+            "floor: Coulomb friction, μ = {}{}: the block may slide and slide-rock{}",
+            fmt_num(c.mu, 4),
+            if c.mu_kinetic < c.mu {
+                format!(", μ_k = {}", fmt_num(c.mu_kinetic, 4))
+            } else {
+                String::new()
+            },
+            lift.map_or(String::new(), |v| format!(
+                "; it leaves the floor from {} αg on some frequencies, where their lines stop",
+                fmt_num(v, 4)
+            ))
+        ));
+    }
     if let Some(v) = vertical_text(spec) {
         let lift = lines.iter().find_map(|l| l.lift_off_above_alpha_g);
         let from = if spec.vertical_ratio().is_some() {
@@ -515,6 +534,34 @@ pub(crate) mod tests {
             line(&base, 2.5, 1.33, 2.96, 3.03),
         ];
         result
+    }
+
+    #[test]
+    fn a_coulomb_floor_is_named_with_where_the_block_leaves_it() {
+        let r = computed(
+            r#"{"kind": "spectrum", "block": {"alpha": 0.4, "p": 2.14},
+                "pulse": {"type": "one_cosine"}, "omega_ratio": [2.0], "a_max_alpha_g": 10,
+                "tolerance": 1e-3, "scan_step_alpha_g": 0.05,
+                "contact": {"model": "coulomb", "mu": 0.6, "mu_kinetic": 0.5}}"#,
+        );
+        let lift = r.spectrum[0]
+            .lift_off_above_alpha_g
+            .expect("leaves the floor");
+        // The legend wraps its notes: their words, in order, on joined lines.
+        let svg = super::svg(&r).expect("svg");
+        let words: Vec<&str> = svg
+            .lines()
+            .filter(|l| !l.trim_start().starts_with('<'))
+            .flat_map(str::split_whitespace)
+            .collect();
+        let text = words.join(" ");
+        assert!(
+            text.contains("floor: Coulomb friction, μ = 0.6, μ_k = 0.5"),
+            "{text}"
+        );
+        let from = format!("leaves the floor from {} αg", super::fmt_num(lift, 4));
+        assert!(text.contains(&from), "{text}");
+        assert!(!super::svg(&sample()).expect("svg").contains("floor:"));
     }
 
     #[test]

@@ -13,7 +13,8 @@
 //!
 //! On a Coulomb floor a band along each time axis shades the block's modes
 //! (rocking, sliding, slide-rocking, flight; sticking unshaded), and a panel
-//! gives the base's slip where the result knows it: at each change of mode.
+//! gives the base's slip: at each sample of a series, marked at each change
+//! of mode; without a series at the changes only, joined by a dashed line.
 
 use plotters::prelude::*;
 
@@ -70,7 +71,7 @@ const VERTICAL_DESC: &str = "ü_v / g";
 /// A vertical ground acceleration down to −`FALLING` g has its panel
 /// show the level −g (where the ground falls away).
 const FALLING: f64 = 0.5;
-/// Colour of the base's slip at the changes of mode.
+/// Colour of the base's slip.
 const SLIP: RGBColor = RGBColor(175, 55, 30);
 /// Axis description of the slip's panel.
 const SLIP_DESC: &str = "slip (m)";
@@ -395,6 +396,19 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             end: None,
         }
     };
+    // The base's slip at each sample, where the series has it (on a
+    // Coulomb floor): kept still to the end of what is drawn once the block
+    // is at rest for good.
+    let slip_line: Vec<(f64, f64)> = series
+        .and_then(|s| s.slide_m.as_deref())
+        .map(|slide| {
+            let line: Vec<(f64, f64)> = t.iter().copied().zip(slide.iter().copied()).collect();
+            match (at_rest_from, line.last()) {
+                (Some(tr), Some(&(_, last))) => continued(line, &[(tr, last), (to, last)]),
+                _ => line,
+            }
+        })
+        .unwrap_or_default();
     let mut panels = Vec::new();
     let mut clipped_ratio = None;
     let mut ratio_end = None;
@@ -572,7 +586,32 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         }
     }
 
-    if !slip.is_empty() {
+    if !slip_line.is_empty() {
+        // A marker between two stretches of one mode: the base slides the
+        // other way from there.
+        let reversals = modes
+            .windows(2)
+            .any(|w| w[0].mode == w[1].mode && w[0].direction != w[1].direction);
+        panels.push(Panel {
+            desc: SLIP_DESC.into(),
+            label: format!(
+                "slip of the base on the floor (m, + towards +x); ● at each change of mode{}",
+                if reversals {
+                    " or of the way it slides"
+                } else {
+                    ""
+                }
+            ),
+            colour: SLIP,
+            line: slip_line,
+            dashed: false,
+            points: slip.iter().map(|&q| (q, Marker::Dot)).collect(),
+            scale: Scale::Symmetric { floor: 0.01 },
+            refs: Vec::new(),
+            impacts: false,
+            end: None,
+        });
+    } else if !slip.is_empty() {
         panels.push(Panel {
             desc: SLIP_DESC.into(),
             label: "slip at mode changes (m, + towards +x): the base's slip on the floor, known at the markers only; the dashed line joins them".into(),
@@ -626,6 +665,8 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             Swatch::DashedMark(panel.colour, Marker::Dot)
         } else if panel.line.is_empty() {
             Swatch::Mark(Marker::Dot, panel.colour)
+        } else if !panel.points.is_empty() {
+            Swatch::LineMark(panel.colour, Marker::Dot)
         } else {
             Swatch::Line(panel.colour, 2)
         };
@@ -1418,6 +1459,132 @@ pub(crate) mod tests {
             .fold(0.0, f64::max);
         let lowest = markers.iter().map(|m| m.1).fold(0.0, f64::max);
         assert!(lowest + 5.0 <= band_top, "{lowest} {band_top}");
+    }
+
+    /// The centres (px) of the slip's markers in `svg`, in the panels.
+    fn slip_markers(svg: &str) -> Vec<(f64, f64)> {
+        let axis = axis_y(svg);
+        shapes(svg, "polygon", &format!("fill=\"{}\"", hex(SLIP)))
+            .into_iter()
+            .filter(|m| m.iter().all(|p| p.1 < axis))
+            .map(|m| {
+                let n = m.len() as f64;
+                let (x, y) = m.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
+                (x / n, y / n)
+            })
+            .collect()
+    }
+
+    /// A one-sine pulse of 4 αg at ω_p/p = 3 on a Coulomb floor of friction
+    /// `mu`, with a series of `series` samples.
+    fn coulomb_series(mu: f64, series: usize) -> TimeHistoryResult {
+        computed(&format!(
+            r#"{{"kind": "time_history", "block": {{"alpha": 0.25, "p": 2.14}},
+                "pulse": {{"type": "one_sine", "omega_ratio": 3.0, "a_p_alpha_g": 4.0}},
+                "contact": {{"model": "coulomb", "mu": {mu}}},
+                "outputs": {{"series": {series}}}}}"#
+        ))
+    }
+
+    #[test]
+    fn with_a_series_the_slip_is_a_solid_line_through_every_sample() {
+        // μ = 0.2 < tan α: the block slides, and stands at the end.
+        let result = coulomb_series(0.2, 400);
+        assert!(!result.overturned && result.rest_time.is_some());
+        let residual = result.residual_slide_m.expect("a residual slip");
+        assert!(residual < -0.1, "{residual}");
+        let s = result.series.as_ref().expect("a series");
+        let slide = s.slide_m.as_deref().expect("the slip at each sample");
+        assert_eq!(slide.len(), s.t.len());
+        assert_eq!(slide.last(), Some(&residual));
+        let svg = super::svg(&result, None).expect("svg");
+        let text = text_of(&svg).replace('\u{a0}', " ");
+        assert!(
+            text.contains(
+                "slip of the base on the floor (m, + towards +x); ● at each change of mode"
+            ),
+            "{text}"
+        );
+        for gone in [
+            "known at the markers only",
+            "dashed line",
+            NO_SERIES_COULOMB,
+        ] {
+            assert!(!text.contains(gone), "{gone:?} in {text}");
+        }
+        // The rocking panels of the series are there, the band too.
+        // It slides towards −x, then back: a marker where it turns.
+        assert!(text.contains("● at each change of mode or of the way it slides"));
+        for needle in ["θ / α", "θ̇ / p", "mode: sliding"] {
+            assert!(text.contains(needle), "missing {needle:?} in {text}");
+        }
+        // The markers at the changes of mode, from the first (t = 0, no
+        // slip) to the last (the end, the residual slip): they fix the
+        // slip panel's scales.
+        let modes = result.modes.as_deref().expect("modes");
+        let changes = slip_at_changes(modes);
+        let markers = slip_markers(&svg);
+        assert_eq!(markers.len(), changes.len(), "{markers:?}");
+        let (first, last) = (changes[0], changes[changes.len() - 1]);
+        assert_eq!(first, (0.0, 0.0));
+        assert_eq!(last, (result.end_time, residual));
+        let (m0, m1) = (markers[0], markers[markers.len() - 1]);
+        let x_of = |t: f64| m0.0 + (m1.0 - m0.0) * t / last.0;
+        let y_of = |v: f64| m0.1 + (m1.1 - m0.1) * v / residual;
+        // One solid line (not dashes), a point at each sample, each where
+        // its slip puts it; the last at the residual slip.
+        let axis = axis_y(&svg);
+        let lines: Vec<Vec<(f64, f64)>> =
+            shapes(&svg, "polyline", &format!("stroke=\"{}\"", hex(SLIP)))
+                .into_iter()
+                .filter(|l| l.iter().all(|p| p.1 < axis))
+                // Not the markers' rings (closed).
+                .filter(|l| l.first() != l.last())
+                .collect();
+        assert_eq!(lines.len(), 1, "{}", lines.len());
+        let line = &lines[0];
+        assert_eq!(line.len(), s.t.len());
+        for (p, (&t, &v)) in line.iter().zip(s.t.iter().zip(slide)) {
+            assert!((p.0 - x_of(t)).abs() < 1.5, "{p:?} at t = {t}");
+            assert!((p.1 - y_of(v)).abs() < 1.5, "{p:?} for {v} m at t = {t}");
+        }
+        let end = line[line.len() - 1];
+        assert!(
+            (end.0 - m1.0).abs() < 1.5 && (end.1 - m1.1).abs() < 1.5,
+            "{end:?} {m1:?}"
+        );
+    }
+
+    #[test]
+    fn with_a_series_an_overturning_block_shows_its_rocking_and_its_slip() {
+        let result = coulomb_series(0.3, 600);
+        assert!(result.overturned);
+        let svg = super::svg(&result, None).expect("svg");
+        let text = text_of(&svg).replace('\u{a0}', " ");
+        for needle in [
+            "θ / α",
+            "rotation θ/α",
+            "slip of the base on the floor (m, + towards +x); ● at each change of mode",
+            "mode: rocking",
+            "mode: sliding while rocking (slide-rock)",
+            "overturned towards +x",
+        ] {
+            assert!(text.contains(needle), "missing {needle:?} in {text}");
+        }
+        // No marker between two stretches of one mode.
+        assert!(!text.contains("of the way it slides"), "{text}");
+        // θ drawn, and the slip solid: no dashes.
+        assert!(!shapes(&svg, "polyline", &format!("stroke=\"{}\"", hex(THETA))).is_empty());
+        let axis = axis_y(&svg);
+        let slip: Vec<_> = shapes(&svg, "polyline", &format!("stroke=\"{}\"", hex(SLIP)))
+            .into_iter()
+            .filter(|l| l.iter().all(|p| p.1 < axis) && l.first() != l.last())
+            .collect();
+        // One piece: a dashed line would be many.
+        assert_eq!(slip.len(), 1);
+        let markers = slip_markers(&svg);
+        let modes = result.modes.as_deref().expect("modes");
+        assert_eq!(markers.len(), slip_at_changes(modes).len());
     }
 
     #[test]
