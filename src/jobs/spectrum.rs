@@ -680,18 +680,7 @@ impl SpectrumJob {
             .map(|k| req.a_max * f64::from(k) / f64::from(steps))
             .collect();
         let bad = || ScanError::Simulation(SimError::Tolerance);
-        let pulses = req
-            .omega_ratios
-            .iter()
-            .map(|&ratio| {
-                Pulse::new(
-                    req.shape,
-                    req.block.slenderness() * req.block.gravity(),
-                    ratio * req.block.frequency_parameter(),
-                )
-                .map_err(|_| bad())
-            })
-            .collect::<Result<Vec<_>, ScanError>>()?;
+        let pulses = crate::spectrum::overturning::line_pulses(req)?;
         fn on<G>(req: &SpectrumRequest, pulse: G) -> Problem<G> {
             Problem {
                 block: req.block,

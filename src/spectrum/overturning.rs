@@ -398,7 +398,7 @@ impl PulseVertical {
 }
 
 /// The pulse of each line of `req` at 1 αg.
-fn line_pulses(req: &SpectrumRequest) -> Result<Vec<Pulse>, ScanError> {
+pub fn line_pulses(req: &SpectrumRequest) -> Result<Vec<Pulse>, ScanError> {
     req.omega_ratios
         .iter()
         .map(|&ratio| {
