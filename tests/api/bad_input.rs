@@ -226,16 +226,6 @@ fn assert_names_the_body(body: &Value) {
 }
 
 #[tokio::test]
-async fn json_nested_beyond_the_parsers_limit_is_422_naming_the_limit() {
-    // Valid JSON, 200 levels deep inside a field: a limit, not a syntax fault.
-    let app = spawn_app("bi-deep").await;
-    let deep = format!("{}[]{}", "{\"a\":".repeat(200), "}".repeat(200));
-    let body = with_raw(time_history(4.0), "/block/p", &deep);
-    refuse_spec(&app, body, 422, "", &["128 levels"]).await;
-    app.stop().await;
-}
-
-#[tokio::test]
 async fn nan_token_is_422_naming_the_field() {
     let app = spawn_app("bi-nan").await;
     let body = with_raw(time_history(4.0), "/block/p", "NaN");
