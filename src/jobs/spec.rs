@@ -60,6 +60,9 @@ pub fn mark_non_finite(text: &str) -> std::borrow::Cow<'_, str> {
     std::borrow::Cow::Owned(out)
 }
 
+/// How deep serde_json reads nested arrays and objects before it stops.
+pub const MAX_JSON_DEPTH: usize = 128;
+
 /// Parses JSON text into a value. NaN, ±Infinity and numbers beyond the range
 /// of f64 (1e400) become a marker that validation reports at the field's
 /// pointer; anything else that is not JSON is an error of the document.
@@ -75,6 +78,11 @@ pub fn parse_json(text: &str) -> Result<serde_json::Value, SpecError> {
                     return Err(SpecError::syntax(format!("not valid JSON: {e}")));
                 };
                 text.replace_range(span, &format!("\"{NON_FINITE_MARK}\""));
+            }
+            Err(e) if e.to_string().starts_with("recursion limit exceeded") => {
+                return Err(SpecError::syntax(format!(
+                    "not valid JSON: {e} (a job spec nests at most {MAX_JSON_DEPTH} levels)"
+                )));
             }
             Err(e) => return Err(SpecError::syntax(format!("not valid JSON: {e}"))),
         }

@@ -532,7 +532,14 @@ async fn deeply_nested_json_is_400_not_a_crash() {
     for depth in [10_000, 100_000] {
         let nested = format!("{}{}", "[".repeat(depth), "]".repeat(depth));
         let body = with_raw(time_history(4.0), "/block/alpha", &nested);
-        refuse_spec(&app, body, 400, "", &["not valid JSON", "recursion limit"]).await;
+        refuse_spec(
+            &app,
+            body,
+            400,
+            "",
+            &["not valid JSON", "recursion limit", "at most 128 levels"],
+        )
+        .await;
     }
     app.stop().await;
 }
@@ -1151,7 +1158,14 @@ async fn json_nested_ten_thousand_deep_is_400_wherever_it_is() {
             with_raw(by_id.clone(), "/ground_motion/record", &deep),
             with_raw(suite(), "/ground_motions/0", &deep),
         ] {
-            refuse_spec(&app, body, 400, "", &["not valid JSON", "recursion limit"]).await;
+            refuse_spec(
+                &app,
+                body,
+                400,
+                "",
+                &["not valid JSON", "recursion limit", "at most 128 levels"],
+            )
+            .await;
         }
     }
     app.stop().await;
