@@ -564,7 +564,7 @@ fn forensic(r: &ForensicResult, out: &mut String) {
         r.observations
             .iter()
             .find(|o| o.name == name)
-            .map_or(String::new(), |o| seen(o.overturned))
+            .map_or(String::new(), |o| quote(&o.seen()))
     };
     let mut emit = |head: &[String; 2], name: &str, seen: String, set: &[[f64; 2]]| {
         if set.is_empty() {
@@ -760,10 +760,19 @@ fn forensic_record(r: &ForensicResult, out: &mut String) {
         r.consistent_scale.as_deref().unwrap_or_default(),
         r.consistent_pga_g.as_deref().unwrap_or_default(),
     );
-    for o in r.per_observation.as_deref().unwrap_or_default() {
+    for (k, o) in r
+        .per_observation
+        .as_deref()
+        .unwrap_or_default()
+        .iter()
+        .enumerate()
+    {
         emit(
             &o.name,
-            seen(o.overturned),
+            r.observations
+                .get(k)
+                .filter(|x| x.name == o.name && x.overturned == o.overturned)
+                .map_or_else(|| seen(o.overturned), |o| quote(&o.seen())),
             Some(o.threshold_scale),
             &o.consistent_scale,
             &o.consistent_pga_g,
@@ -1554,6 +1563,7 @@ mod tests {
                 name: name.into(),
                 overturned,
                 block,
+                slid_m: None,
             })
             .collect();
         r.frequencies = frequencies;

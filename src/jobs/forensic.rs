@@ -53,6 +53,12 @@ pub struct ObservationSpec {
     /// Whether it overturned.
     #[schema(required = true, value_type = bool)]
     pub overturned: Option<bool>,
+    /// How far its base was found from where it stood, m, as `[lo, hi]`:
+    /// the size of the residual slide of a block seen standing, on a
+    /// Coulomb floor (`contact`). The amplitudes consistent with it are
+    /// those at which the block stands with |residual slide| in `[lo, hi]`.
+    #[schema(min_items = 2, max_items = 2)]
+    pub slid_m: Option<Vec<f64>>,
 }
 
 /// An amplitude range in g.
@@ -138,6 +144,9 @@ pub struct Observation {
     pub overturned: bool,
     /// Its block.
     pub block: BlockNorm,
+    /// The size of its residual slide, m, `[lo, hi]`, when seen.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slid_m: Option<[f64; 2]>,
 }
 
 /// A validated forensic query; serialises to the canonical spec.
@@ -197,6 +206,19 @@ fn in_range(v: f64, lo: f64, hi: f64, pointer: &str, what: &str) -> Result<f64, 
     }
 }
 
+impl Observation {
+    /// What was seen, as figures and tables word it: "overturned",
+    /// "survived", or "survived, slid 0.02–0.3 m".
+    pub fn seen(&self) -> String {
+        match (self.overturned, self.slid_m) {
+            (true, _) => "overturned".into(),
+            (false, None) => "survived".into(),
+            (false, Some([lo, hi])) if lo == hi => format!("survived, slid {lo} m"),
+            (false, Some([lo, hi])) => format!("survived, slid {lo}–{hi} m"),
+        }
+    }
+}
+
 impl ObservationSpec {
     fn validate(&self, at: &str, index: usize) -> Result<Observation, SpecError> {
         let overturned = self.overturned.ok_or_else(|| {
@@ -228,7 +250,13 @@ impl ObservationSpec {
                 ));
             }
         };
+        let slid_m = self
+            .slid_m
+            .as_deref()
+            .map(|s| slide_band(s, overturned, &format!("{at}/slid_m")))
+            .transpose()?;
         Ok(Observation {
+            slid_m,
             name: self
                 .name
                 .clone()
@@ -251,6 +279,16 @@ impl ForensicSpec {
             (None, Some(gm)) => self.validate_record(gm),
             (pulse, None) => self.validate_pulse(pulse.as_ref()),
         }
+        .and_then(|job| {
+            // A slide is seen only on a floor that lets the block slide.
+            match job.observations.iter().position(|o| o.slid_m.is_some()) {
+                Some(i) if job.contact.is_none() => Err(SpecError::at(
+                    format!("/observations/{i}/slid_m"),
+                    "needs \"contact\": {\"model\": \"coulomb\", \"mu\": …}: in pure rocking (the default) the block never slides",
+                )),
+                _ => Ok(job),
+            }
+        })
     }
 
     fn observations(&self) -> Result<Vec<Observation>, SpecError> {
@@ -608,6 +646,32 @@ fn amplitude_grid(
     Ok((tolerance_g, scan_step_g))
 }
 
+/// Largest residual slide an observation may give, m.
+pub const MAX_SLID_M: f64 = 1e3;
+
+/// A seen slide `[lo, hi]`, m, of an observation (`overturned` or not) at `at`.
+fn slide_band(s: &[f64], overturned: bool, at: &str) -> Result<[f64; 2], SpecError> {
+    let &[lo, hi] = s else {
+        return Err(SpecError::at(
+            at,
+            format!("give [lo, hi], m: two sizes, not {}", s.len()),
+        ));
+    };
+    if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo <= hi && hi <= MAX_SLID_M) {
+        return Err(SpecError::at(
+            at,
+            format!("must satisfy 0 <= lo <= hi <= {MAX_SLID_M} m (got [{lo}, {hi}])"),
+        ));
+    }
+    if overturned {
+        return Err(SpecError::at(
+            at,
+            "is seen on a block that stands: an overturned block's slide before it fell is not told apart from its fall",
+        ));
+    }
+    Ok([lo, hi])
+}
+
 /// Intervals [lo, hi] of amplitude, g, sorted and disjoint.
 pub type Intervals = Vec<[f64; 2]>;
 
@@ -623,13 +687,18 @@ pub struct LineSet {
     /// On a Coulomb floor: the lowest amplitude found at which the block
     /// leaves the floor.
     pub lift_off_g: Option<f64>,
+    /// For an observation with `slid_m`: the amplitudes at which the block
+    /// stands with its residual slide's size in the band.
+    pub slide_band: Option<Intervals>,
 }
 
 impl LineSet {
     /// The amplitudes consistent with a block seen `overturned` (or
     /// standing), from `from`.
     pub fn consistent(&self, overturned: bool, from: f64) -> Intervals {
-        if overturned {
+        if let Some(band) = &self.slide_band {
+            clip(band, from, self.decided_to)
+        } else if overturned {
             self.overturning.clone()
         } else {
             complement(&self.overturning, from, self.decided_to)
@@ -651,7 +720,38 @@ pub fn overturning_set(transitions: &[Transition], alpha: f64, from: f64, to: f6
                     out.push([lo, at]);
                 }
             }
-            Direction::LiftOff => {}
+            Direction::LiftOff | Direction::SlideIn | Direction::SlideOut => {}
+        }
+    }
+    if let Some(lo) = open {
+        out.push([lo, to]);
+    }
+    clip(&out, from, to)
+}
+
+/// Where a line's block (of slenderness `alpha`) stands with its residual
+/// slide in the band, in g within `[from, to]`, from the band's edges
+/// (`transitions`, in order) and whether the line's first level is inside
+/// it (`inside`; the block has not moved there, nor anywhere below).
+pub fn slide_band_set(
+    transitions: &[Transition],
+    inside: bool,
+    alpha: f64,
+    from: f64,
+    to: f64,
+) -> Intervals {
+    let mut out = Vec::new();
+    let mut open = inside.then_some(from);
+    for t in transitions {
+        let at = t.at * alpha;
+        match t.direction {
+            Direction::SlideIn => open = Some(at),
+            Direction::SlideOut => {
+                if let Some(lo) = open.take() {
+                    out.push([lo, at]);
+                }
+            }
+            _ => {}
         }
     }
     if let Some(lo) = open {
@@ -1216,6 +1316,110 @@ mod unit_tests {
                 .expect("list")
                 .is_empty()
         );
+    }
+
+    /// |residual slide|, m, of the locomotive's time history on `contact`
+    /// under a one-sine pulse of `a_g` g at `f` Hz; `None` when it overturns.
+    fn slid(contact: &Value, f: f64, a_g: f64) -> Option<f64> {
+        let doc = json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine", "a_p_g": a_g, "omega_p": std::f64::consts::TAU * f},
+            "contact": contact});
+        let r = Job::from_value(&doc)
+            .expect("valid")
+            .run(&crate::spectrum::Control::new())
+            .expect("runs");
+        assert_ne!(r["lift_off"], json!(true), "{r}");
+        (!r["overturned"].as_bool().expect("bool"))
+            .then(|| r["residual_slide_m"].as_f64().expect("m").abs())
+    }
+
+    #[test]
+    fn a_seen_slide_is_consistent_exactly_where_the_time_history_slides_that_far() {
+        // The locomotive on μ = 0.2 only slides; on μ = 0.3 it slide-rocks
+        // and overturns above some amplitude. At the middle of every
+        // consistent interval and of every gap the time history's residual
+        // slide is inside / outside [lo, hi] (or the block overturned); at
+        // each end found, one tolerance either side differs.
+        let tol = 1e-3;
+        for (mu, band, from, to) in [(0.2, [0.02, 0.3], 0.1, 1.2), (0.3, [0.0, 0.05], 0.1, 1.2)] {
+            let contact = json!({"model": "coulomb", "mu": mu});
+            let obs = json!([{"name": "loco", "overturned": false, "slid_m": band,
+                              "block": {"alpha": 0.25, "p": 2.14}}]);
+            let frequencies = [0.5, 1.0];
+            let r = query(
+                obs,
+                json!({"frequency_hz": frequencies, "a_p_g": {"from": from, "to": to},
+                       "tolerance_g": tol, "scan_step_g": 0.02, "contact": contact}),
+            )
+            .expect("valid")
+            .run(&crate::spectrum::Control::new())
+            .expect("runs");
+            let inside = |s: Option<f64>| s.is_some_and(|s| band[0] <= s && s <= band[1]);
+            let mut edges = 0;
+            for (k, &f) in frequencies.iter().enumerate() {
+                let set: Vec<[f64; 2]> =
+                    serde_json::from_value(r["frequencies"][k]["consistent_g"].clone())
+                        .expect("intervals");
+                assert!(!set.is_empty(), "μ {mu}, {f} Hz: {r}");
+                let mut lo = from;
+                for &[a, b] in &set {
+                    if a > lo {
+                        let gap = slid(&contact, f, 0.5 * (lo + a));
+                        assert!(
+                            !inside(gap),
+                            "μ {mu}, {f} Hz: gap at {}: {gap:?}",
+                            0.5 * (lo + a)
+                        );
+                    }
+                    let mid = slid(&contact, f, 0.5 * (a + b));
+                    assert!(inside(mid), "μ {mu}, {f} Hz: {a}..{b}: {mid:?}");
+                    for (edge, opens) in [(a, true), (b, false)] {
+                        if edge > from && edge < to {
+                            let below = inside(slid(&contact, f, edge - tol));
+                            let above = inside(slid(&contact, f, edge + tol));
+                            assert_eq!(
+                                (below, above),
+                                (!opens, opens),
+                                "μ {mu}, {f} Hz: edge {edge}"
+                            );
+                            edges += 1;
+                        }
+                    }
+                    lo = b;
+                }
+                if to > lo {
+                    let gap = slid(&contact, f, 0.5 * (lo + to));
+                    assert!(!inside(gap), "μ {mu}, {f} Hz: gap above {lo}: {gap:?}");
+                }
+            }
+            assert!(edges >= 2, "μ {mu}: {edges} edges in {r}");
+        }
+    }
+
+    #[test]
+    fn a_seen_slide_needs_a_coulomb_floor_a_standing_block_and_a_size_range() {
+        let refused = |slid: Value, overturned: bool, contact: Option<Value>| {
+            let obs = json!([{"name": "a", "overturned": overturned, "slid_m": slid,
+                              "block": {"alpha": 0.25, "p": 2.14}}]);
+            let mut axes = json!({"frequency_hz": [1.0], "a_p_g": {"from": 0.1, "to": 1.0}});
+            if let Some(c) = contact {
+                axes["contact"] = c;
+            }
+            let e = query(obs, axes).expect_err("refused");
+            assert_eq!(e.pointer, "/observations/0/slid_m", "{}", e.message);
+            e.message
+        };
+        let coulomb = Some(json!({"model": "coulomb", "mu": 0.3}));
+        assert!(refused(json!([0.0, 0.1]), false, None).contains("coulomb"));
+        assert!(refused(json!([0.0, 0.1]), true, coulomb.clone()).contains("stands"));
+        for bad in [
+            json!([0.2, 0.1]),
+            json!([-0.1, 0.1]),
+            json!([0.1]),
+            json!([0.0, 1e9]),
+        ] {
+            assert!(refused(bad, false, coulomb.clone()).contains("lo"));
+        }
     }
 
     #[test]

@@ -747,6 +747,8 @@ impl RecordSpectrumJob {
                 Direction::Up => "up",
                 Direction::Down => "down",
                 Direction::LiftOff => "lift_off",
+                Direction::SlideIn => "slide_in",
+                Direction::SlideOut => "slide_out",
             }
             .to_string(),
             mode: t.mode,

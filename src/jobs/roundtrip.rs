@@ -125,6 +125,11 @@ fn specs() -> Vec<Value> {
         json!({"kind": "time_history", "block": block,
                "ground_motion": {"dt": 0.01, "unit": "m/s2", "acc": record(6.0)},
                "solver": {"method": "dopri5", "rtol": 1e-8}}),
+        // On a Coulomb floor, the pure-rocking spectrum beside it.
+        json!({"kind": "spectrum", "block": block, "pulse": {"type": "one_sine"},
+               "omega_ratio": [3.0], "a_max_alpha_g": 4, "tolerance": 1e-3,
+               "scan_step_alpha_g": 0.05, "contact": {"model": "coulomb", "mu": 0.3},
+               "no_sliding_beside": true}),
         // A tiny block: a spectrum with warnings.
         json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 300}, "formulation": "linear",
                "pulse": {"type": "half_sine"}, "omega_ratio": {"from": 1, "to": 3, "steps": 3}}),

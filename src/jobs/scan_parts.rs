@@ -53,6 +53,9 @@ struct TransitionBits {
     /// The block leaves the floor above (a Coulomb floor).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     lift: bool,
+    /// An edge of a slide band (`up`: entering it).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    slide: bool,
     mode: u8,
     impacts: u64,
     bracket: [u64; 2],
@@ -101,8 +104,9 @@ impl From<&Transition> for TransitionBits {
     fn from(t: &Transition) -> Self {
         TransitionBits {
             at: t.at.to_bits(),
-            up: t.direction == Direction::Up,
+            up: matches!(t.direction, Direction::Up | Direction::SlideIn),
             lift: t.direction == Direction::LiftOff,
+            slide: t.is_slide(),
             mode: t.mode,
             impacts: t.impacts,
             bracket: [t.bracket.0.to_bits(), t.bracket.1.to_bits()],
@@ -114,10 +118,12 @@ impl From<&TransitionBits> for Transition {
     fn from(t: &TransitionBits) -> Self {
         Transition {
             at: f64::from_bits(t.at),
-            direction: match (t.lift, t.up) {
-                (true, _) => Direction::LiftOff,
-                (false, true) => Direction::Up,
-                (false, false) => Direction::Down,
+            direction: match (t.lift, t.slide, t.up) {
+                (true, _, _) => Direction::LiftOff,
+                (false, true, true) => Direction::SlideIn,
+                (false, true, false) => Direction::SlideOut,
+                (false, false, true) => Direction::Up,
+                (false, false, false) => Direction::Down,
             },
             mode: t.mode,
             impacts: t.impacts,

@@ -82,6 +82,12 @@ pub struct SpectrumSpec {
     /// a_max·k/steps (k = 1…steps) of every frequency, `{"steps": n}`
     /// (1 to 1000, default 40).
     pub residual_slide: Option<ResidualSlideSpec>,
+    /// On a Coulomb floor: also the pure-rocking (no-sliding) spectrum over
+    /// the same frequencies and amplitudes, in `no_sliding` beside
+    /// `spectrum`, and a figure of both side by side (default false; refused
+    /// without `contact.model` coulomb: pure rocking is already the
+    /// no-sliding spectrum).
+    pub no_sliding_beside: Option<bool>,
 }
 
 /// The residual-slide spectrum asked for.
@@ -237,6 +243,11 @@ pub struct SpectrumJob {
     /// Amplitudes of the residual-slide spectrum, when asked for.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub residual_slide_steps: Option<u32>,
+    /// The pure-rocking spectrum over the same grid too (on a Coulomb
+    /// floor), when asked for; absent when not, so a job that does not ask
+    /// keeps its key.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub no_sliding_beside: bool,
 }
 
 fn positive_in(v: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> Result<f64, SpecError> {
@@ -286,6 +297,13 @@ impl SpectrumSpec {
                 Some(steps)
             }
         };
+        let no_sliding_beside = self.no_sliding_beside.unwrap_or(false);
+        if no_sliding_beside && contact.is_none() {
+            return Err(SpecError::at(
+                "/no_sliding_beside",
+                "the spectrum without sliding goes beside one on a floor the block can slide on: give contact {\"model\": \"coulomb\", \"mu\": …} (pure rocking is already the no-sliding spectrum)",
+            ));
+        }
         // Frequencies in any unit, normalised to ω_p/p: one job, one cache key.
         let p = block.p;
         let unit_g = block.alpha * block.g;
@@ -375,6 +393,7 @@ impl SpectrumSpec {
             vertical,
             contact,
             residual_slide_steps,
+            no_sliding_beside,
         })
     }
 }
@@ -409,6 +428,8 @@ impl TransitionDoc {
                 Direction::Up => "up",
                 Direction::Down => "down",
                 Direction::LiftOff => "lift_off",
+                Direction::SlideIn => "slide_in",
+                Direction::SlideOut => "slide_out",
             }
             .to_string(),
             mode: t.mode,
@@ -637,7 +658,12 @@ pub struct SpectrumResult {
     pub kind: tag::Spectrum,
     /// One entry per frequency.
     pub spectrum: Vec<FrequencyDoc>,
-    /// Cost and accuracy.
+    /// When asked (`no_sliding_beside`, on a Coulomb floor): the same
+    /// frequencies under pure rocking (the base never slips), as the same
+    /// spec without `contact` computes them; absent otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub no_sliding: Vec<FrequencyDoc>,
+    /// Cost and accuracy (with `no_sliding`: of both spectra).
     pub numerics: SpectrumNumerics,
     /// The normalised spec.
     pub spec: SpectrumJob,
@@ -731,11 +757,58 @@ impl SpectrumJob {
         )))
     }
 
-    /// Runs the job under `control`.
+    /// The same job on a floor the block cannot slide on: what the same
+    /// spec without `contact` validates to. `Some` when the spectrum beside
+    /// this one is asked for.
+    pub fn pure_rocking(&self) -> Option<SpectrumJob> {
+        (self.no_sliding_beside && self.contact.is_some()).then(|| SpectrumJob {
+            contact: None,
+            residual_slide_steps: None,
+            no_sliding_beside: false,
+            ..self.clone()
+        })
+    }
+
+    /// Runs the job under `control`: its lines, and with
+    /// `no_sliding_beside` the lines of [`SpectrumJob::pure_rocking`] by the
+    /// same path, their costs summed.
     pub fn run(
         &self,
         control: &Control,
     ) -> Result<SpectrumResult, crate::spectrum::scan::ScanError> {
+        let (spectrum, mut stats, mut wall_time) = self.lines(control)?;
+        let no_sliding = match self.pure_rocking() {
+            Some(pure) => {
+                let (lines, pure_stats, pure_wall) = pure.lines(control)?;
+                stats.absorb(&pure_stats);
+                wall_time += pure_wall;
+                lines
+            }
+            None => Vec::new(),
+        };
+        Ok(SpectrumResult {
+            warnings: Vec::new(),
+            kind: tag::Spectrum,
+            spectrum,
+            no_sliding,
+            numerics: SpectrumNumerics::new(
+                &self.solver,
+                &stats,
+                self.tolerance,
+                self.scan_step_alpha_g,
+                wall_time,
+            ),
+            spec: self.clone(),
+            engine: None,
+        })
+    }
+
+    /// The lines of the job's spectrum (with their residual slides when
+    /// asked for), what they cost and the scan's wall time, s.
+    fn lines(
+        &self,
+        control: &Control,
+    ) -> Result<(Vec<FrequencyDoc>, ScanStats, f64), crate::spectrum::scan::ScanError> {
         let formulation = self.formulation;
         let block = self.block.block().map_err(SimError::from)?;
         let req = SpectrumRequest {
@@ -806,20 +879,7 @@ impl SpectrumJob {
                 ground: PulseScalesDoc::of(self.pulse.shape(), l.omega_ratio * self.block.p),
             })
             .collect();
-        Ok(SpectrumResult {
-            warnings: Vec::new(),
-            kind: tag::Spectrum,
-            spectrum,
-            numerics: SpectrumNumerics::new(
-                &self.solver,
-                &stats,
-                self.tolerance,
-                self.scan_step_alpha_g,
-                s.wall_time,
-            ),
-            spec: self.clone(),
-            engine: None,
-        })
+        Ok((spectrum, stats, s.wall_time))
     }
 }
 
@@ -848,20 +908,21 @@ impl crate::jobs::kind::Kind for Spectrum {
     fn size(job: &SpectrumJob) -> crate::jobs::kind::Size {
         use crate::jobs::cost;
         let scan = (job.a_max_alpha_g / job.scan_step_alpha_g).ceil();
+        let line = cost::pulse_line_simulations(scan, job.scan_step_alpha_g, job.tolerance);
         // A residual-slide line adds its amplitudes, each a whole history.
-        let per_frequency =
-            cost::pulse_line_simulations(scan, job.scan_step_alpha_g, job.tolerance)
-                + f64::from(job.residual_slide_steps.unwrap_or(0));
+        let per_frequency = line + f64::from(job.residual_slide_steps.unwrap_or(0));
         let n = job.omega_ratio.len() as f64;
-        let work = n * per_frequency;
+        let on_floor = n * per_frequency;
+        // The pure-rocking spectrum beside it scans the same grid again, at
+        // pure rocking's cost, after the other (the lanes stay).
+        let beside = job.pure_rocking().map_or(0.0, |_| n * line);
         let per_simulation = cost::contact_factor(job.contact.as_ref());
         crate::jobs::kind::Size {
             series_points: 0,
             grid_points: (n * scan).min(usize::MAX as f64) as usize,
-            work,
+            work: on_floor + beside,
             record_work: 0.0,
-            cpu_s: work
-                * per_simulation
+            cpu_s: (on_floor * per_simulation + beside * cost::contact_factor(None))
                 * cost::pulse_simulation_s(&job.pulse.shape(), job.formulation, job.solver.method),
             lanes: n * (scan / 48.0).ceil(),
         }
@@ -1026,6 +1087,128 @@ mod tests {
             assert!(t["bracket"][1].as_f64().expect("hi") <= lift, "{t}");
             assert_ne!(t["direction"], "lift_off");
         }
+    }
+
+    /// The locomotive's one-sine spectrum on a coarse grid (tolerance
+    /// 1e-3 αg, step 0.05 αg) at `ratios` up to `a_max` αg, on a Coulomb
+    /// floor of `mu` when given, with `extra` fields.
+    fn locomotive(mu: Option<f64>, ratios: Value, a_max: f64, extra: Value) -> Value {
+        let mut spec = json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14},
+                              "pulse": {"type": "one_sine"}, "omega_ratio": ratios,
+                              "a_max_alpha_g": a_max, "tolerance": 1e-3, "scan_step_alpha_g": 0.05});
+        if let Some(mu) = mu {
+            spec["contact"] = json!({"model": "coulomb", "mu": mu});
+        }
+        for (k, v) in extra.as_object().expect("object") {
+            spec[k] = v.clone();
+        }
+        spec
+    }
+
+    fn run(spec: &Value) -> Value {
+        Job::from_value(spec)
+            .expect("valid")
+            .run(&Control::new())
+            .expect("runs")
+    }
+
+    #[test]
+    fn the_spectrum_beside_a_floor_never_reached_is_the_pure_rocking_spectrum() {
+        let beside = json!({"no_sliding_beside": true});
+        let rough = run(&locomotive(Some(10.0), json!([2.0, 4.0]), 6.0, beside));
+        let alone = run(&locomotive(Some(10.0), json!([2.0, 4.0]), 6.0, json!({})));
+        let pure = run(&locomotive(None, json!([2.0, 4.0]), 6.0, json!({})));
+        // Bit for bit what the same spec without contact computes; the
+        // spectrum on the floor unchanged by asking.
+        assert_eq!(rough["no_sliding"], pure["spectrum"]);
+        assert_eq!(rough["spectrum"], alone["spectrum"]);
+        assert_eq!(rough["spec"]["no_sliding_beside"], true);
+        // Its cost counted: the simulations of both spectra.
+        let simulations = |doc: &Value| doc["numerics"]["simulations"].as_u64().expect("count");
+        assert_eq!(
+            simulations(&rough),
+            simulations(&alone) + simulations(&pure)
+        );
+        // Not asked: no field, neither in the result nor in its spec.
+        assert!(alone.get("no_sliding").is_none());
+        assert!(alone["spec"].get("no_sliding_beside").is_none());
+    }
+
+    #[test]
+    fn the_spectrum_beside_mu_0_3_is_pure_rocking_and_differs_from_the_floor() {
+        // The locomotive (README): on μ = 0.3 the same lowest overturning
+        // as pure rocking at ω_p/p = 3, none up to 6 αg at ω_p/p = 6
+        // (pure rocking: 4.737 αg).
+        let beside = json!({"no_sliding_beside": true});
+        let doc = run(&locomotive(Some(0.3), json!([3.0, 6.0]), 6.0, beside));
+        let pure = run(&locomotive(None, json!([3.0, 6.0]), 6.0, json!({})));
+        assert_eq!(doc["no_sliding"], pure["spectrum"]);
+        assert_ne!(doc["no_sliding"], doc["spectrum"]);
+        let min = |lines: &Value, k: usize| lines[k]["min_overturn_alpha_g"].as_f64();
+        let (sliding, rocking) = (&doc["spectrum"], &doc["no_sliding"]);
+        assert_eq!(min(sliding, 0), min(rocking, 0));
+        assert!(min(rocking, 1).is_some_and(|a| (a - 4.737).abs() < 0.01));
+        assert_eq!(min(sliding, 1), None);
+    }
+
+    #[test]
+    fn the_spectrum_beside_needs_a_coulomb_floor_and_not_asking_keeps_the_key() {
+        let ratios = json!([2.0]);
+        let e = Job::from_value(&locomotive(
+            None,
+            ratios.clone(),
+            4.0,
+            json!({"no_sliding_beside": true}),
+        ))
+        .expect_err("pure rocking is already the no-sliding spectrum");
+        assert_eq!(e.pointer, "/no_sliding_beside");
+        let e = Job::from_value(&locomotive(
+            None,
+            ratios.clone(),
+            4.0,
+            json!({"contact": {"model": "no_sliding"}, "no_sliding_beside": true}),
+        ))
+        .expect_err("pure rocking by name");
+        assert_eq!(e.pointer, "/no_sliding_beside");
+        // false (or null) is the default: the job and its key unchanged.
+        for mu in [None, Some(0.3)] {
+            let plain =
+                Job::from_value(&locomotive(mu, ratios.clone(), 4.0, json!({}))).expect("valid");
+            for off in [json!(false), Value::Null] {
+                let job = Job::from_value(&locomotive(
+                    mu,
+                    ratios.clone(),
+                    4.0,
+                    json!({"no_sliding_beside": off}),
+                ))
+                .expect("valid");
+                assert_eq!(job, plain);
+                assert_eq!(cache_key(&job), cache_key(&plain));
+                assert!(!crate::jobs::key::canonical_spec(&job).contains("no_sliding_beside"));
+            }
+        }
+        // Asked for: another job, another key; its normalised spec
+        // validates to itself.
+        let asked = locomotive(Some(0.3), ratios, 4.0, json!({"no_sliding_beside": true}));
+        let job = Job::from_value(&asked).expect("valid");
+        let plain =
+            Job::from_value(&locomotive(Some(0.3), json!([2.0]), 4.0, json!({}))).expect("valid");
+        assert_ne!(cache_key(&job), cache_key(&plain));
+        let again =
+            Job::from_value(&serde_json::to_value(&job).expect("serialises")).expect("valid");
+        assert_eq!(again, job);
+        // Its cost: the floor's scans and pure rocking's, at 1×.
+        let (with, without) = (job.size(), plain.size());
+        assert!(with.work > without.work && with.cpu_s > without.cpu_s);
+        let pure = Job::from_value(&locomotive(None, json!([2.0]), 4.0, json!({}))).expect("valid");
+        let size = pure.size();
+        assert!((with.cpu_s - without.cpu_s - size.cpu_s).abs() < 1e-12 * with.cpu_s);
+        assert_eq!(with.work - without.work, size.work);
+        // What runs beside it is that job: the spec without `contact`.
+        let (Job::Spectrum(asked), Job::Spectrum(pure)) = (&job, &pure) else {
+            panic!("spectra");
+        };
+        assert_eq!(asked.pure_rocking().as_ref(), Some(pure.as_ref()));
     }
 
     #[test]

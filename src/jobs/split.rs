@@ -29,11 +29,12 @@ pub fn per_task(n: usize, per_line: f64) -> usize {
 }
 
 /// The result document of a spectrum (`kind`, normalised spec `spec`) from
-/// its tasks' documents: the lines (`spectrum`) concatenated in task order,
-/// the numerics summed (`wall_time_s` is then the tasks' total compute time;
+/// its tasks' documents: the lines (`spectrum`, and `no_sliding` when the
+/// tasks carry it) concatenated in task order, the numerics summed (`wall_time_s` is then the tasks' total compute time;
 /// `error_estimate` their largest), the first task's `record` kept.
 pub fn concatenate(kind: &str, spec: Value, parts: Vec<Value>) -> Value {
     let mut lines = Vec::new();
+    let mut no_sliding = Vec::new();
     let mut numerics = serde_json::Map::new();
     let sum_keys = [
         "simulations",
@@ -47,6 +48,9 @@ pub fn concatenate(kind: &str, spec: Value, parts: Vec<Value>) -> Value {
     for part in &parts {
         if let Some(s) = part.get("spectrum").and_then(|s| s.as_array()) {
             lines.extend(s.iter().cloned());
+        }
+        if let Some(s) = part.get("no_sliding").and_then(|s| s.as_array()) {
+            no_sliding.extend(s.iter().cloned());
         }
         if let Some(n) = part.get("numerics") {
             if numerics.is_empty()
@@ -71,12 +75,16 @@ pub fn concatenate(kind: &str, spec: Value, parts: Vec<Value>) -> Value {
     numerics.insert("error_estimate".into(), error.into());
     numerics.insert("wall_time_s".into(), wall.into());
     numerics.insert("tasks".into(), parts.len().into());
-    let mut doc = serde_json::json!({
-        "kind": kind,
-        "spectrum": lines,
-        "numerics": numerics,
-        "spec": spec,
-    });
+    let mut doc = serde_json::Map::new();
+    doc.insert("kind".into(), kind.into());
+    doc.insert("spectrum".into(), lines.into());
+    // Absent when empty, as the whole job's document has it.
+    if !no_sliding.is_empty() {
+        doc.insert("no_sliding".into(), no_sliding.into());
+    }
+    doc.insert("numerics".into(), numerics.into());
+    doc.insert("spec".into(), spec);
+    let mut doc = Value::Object(doc);
     if let Some(record) = parts.first().and_then(|p| p.get("record")) {
         doc["record"] = record.clone();
     }
@@ -91,28 +99,46 @@ mod tests {
 
     #[test]
     fn a_split_spectrum_assembles_to_the_whole() {
-        let job = Job::parse(
-            r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":{"from":1,"to":8,"steps":70}}"#,
-        )
-        .expect("valid");
-        let tasks = job.split();
-        let per = per_task(70, job.size().cpu_s / 70.0);
-        assert!((1..70).contains(&per), "{per}");
-        assert_eq!(tasks.len(), 70usize.div_ceil(per));
-        let control = Control::new();
-        let parts: Vec<Value> = tasks
-            .iter()
-            .map(|t| t.run(&control).expect("runs"))
-            .collect();
-        let assembled = job.assemble(parts).expect("assembles");
-        let whole = job.run(&control).expect("runs");
-        assert_eq!(assembled["spectrum"], whole["spectrum"]);
-        assert_eq!(assembled["spec"], whole["spec"]);
-        assert_eq!(
-            assembled["numerics"]["simulations"],
-            whole["numerics"]["simulations"]
-        );
-        assert_eq!(assembled["numerics"]["tasks"], tasks.len());
+        // Pure rocking; and on a Coulomb floor with the pure-rocking
+        // spectrum beside it, whose tasks carry both lines.
+        for (spec, lines, beside) in [
+            (
+                r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14,"eta":0.9},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":{"from":1,"to":8,"steps":70}}"#,
+                70,
+                false,
+            ),
+            (
+                r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"omega_ratio":{"from":2,"to":6,"steps":3},"a_max_alpha_g":5,"tolerance":1e-3,"scan_step_alpha_g":0.05,"contact":{"model":"coulomb","mu":0.3},"no_sliding_beside":true}"#,
+                3,
+                true,
+            ),
+        ] {
+            let job = Job::parse(spec).expect("valid");
+            let tasks = job.split();
+            let per = per_task(lines, job.size().cpu_s / lines as f64);
+            assert!((1..lines).contains(&per), "{per}");
+            assert_eq!(tasks.len(), lines.div_ceil(per));
+            let control = Control::new();
+            let parts: Vec<Value> = tasks
+                .iter()
+                .map(|t| t.run(&control).expect("runs"))
+                .collect();
+            let assembled = job.assemble(parts).expect("assembles");
+            let whole = job.run(&control).expect("runs");
+            assert_eq!(assembled["spectrum"], whole["spectrum"]);
+            assert_eq!(assembled.get("no_sliding"), whole.get("no_sliding"));
+            assert_eq!(
+                whole["no_sliding"].as_array().map(Vec::len),
+                beside.then_some(lines),
+                "{spec}"
+            );
+            assert_eq!(assembled["spec"], whole["spec"]);
+            assert_eq!(
+                assembled["numerics"]["simulations"],
+                whole["numerics"]["simulations"]
+            );
+            assert_eq!(assembled["numerics"]["tasks"], tasks.len());
+        }
     }
 
     #[test]

@@ -185,11 +185,7 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
     );
     legend.entry(Swatch::Heading, "ruled out by (shade), boundary (line):");
     for (k, (name, o)) in names.iter().zip(observations).enumerate() {
-        let seen = if o.overturned {
-            "overturned"
-        } else {
-            "survived"
-        };
+        let seen = o.seen();
         legend.entry(
             Swatch::Boxed(fill(1 << k), colour(k)),
             format!("{name} {seen}"),
@@ -250,6 +246,12 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         fmt_num(from, 3),
         fmt_num(to, 3)
     ));
+    if let Some(c) = &result.spec.contact {
+        legend.note(format!(
+            "{}: the blocks may slide and slide-rock",
+            super::floor_note(c)
+        ));
+    }
     if let Some(v) = result.spec.scaled_vertical() {
         let g = observations.first().map_or(9.81, |o| o.block.g);
         legend.note(format!(

@@ -116,11 +116,21 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
     legend.entry(Swatch::Heading, "ruled out by:");
     let numbered = n > 6;
     for (k, name) in names.iter().enumerate() {
-        let seen = if per[k].overturned {
-            "overturned"
-        } else {
-            "survived"
-        };
+        let seen = result
+            .observations
+            .get(k)
+            .filter(|o| o.name == per[k].name && o.overturned == per[k].overturned)
+            .map_or_else(
+                || {
+                    if per[k].overturned {
+                        "overturned"
+                    } else {
+                        "survived"
+                    }
+                    .to_string()
+                },
+                |o| o.seen(),
+            );
         let label = if numbered {
             format!("{}: {name} {seen}", k + 1)
         } else {
@@ -189,6 +199,12 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         legend.note(format!(
             "vertical ground motion {} (positive up)",
             super::scaled_vertical_text(&v, g)
+        ));
+    }
+    if let Some(c) = &result.spec.contact {
+        legend.note(format!(
+            "{}: the blocks may slide and slide-rock",
+            super::floor_note(c)
         ));
     }
     legend.note(format!(

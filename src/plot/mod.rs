@@ -185,6 +185,23 @@ pub(crate) fn scaled_vertical_title(v: &crate::jobs::vertical::ScaledVertical) -
     }
 }
 
+/// The note naming a Coulomb floor: "floor: Coulomb friction, μ = 0.3", with
+/// μ_k when it differs.
+pub fn floor_note(contact: &crate::jobs::contact::ContactNorm) -> String {
+    if contact.mu_kinetic < contact.mu {
+        format!(
+            "floor: Coulomb friction, μ = {} (static), μ_k = {} (kinetic)",
+            style::fmt_num(contact.mu, 3),
+            style::fmt_num(contact.mu_kinetic, 3)
+        )
+    } else {
+        format!(
+            "floor: Coulomb friction, μ = {}",
+            style::fmt_num(contact.mu, 3)
+        )
+    }
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;

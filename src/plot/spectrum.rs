@@ -3,15 +3,18 @@
 //! neighbours, the amplitudes that overturn the block shaded by mode, the
 //! safe ones white, a dot at the minimum overturning acceleration; the
 //! closed forms (eq. 21; the corrected eq. 47 for linear one-sine) as
-//! reference curves. The right axis reads the amplitude in g.
+//! reference curves. The right axis reads the amplitude in g. A spectrum on
+//! a Coulomb floor with the pure-rocking one beside it (`no_sliding`) is two
+//! such charts side by side on the same axes, pure rocking's boundary drawn
+//! over the floor's.
 
 use plotters::prelude::*;
 
-use super::bands::{Band, Column, MIN_VISIBLE, Piece, joined_cells, tile, widen};
+use super::bands::{Band, Column, MIN_VISIBLE, Piece, cell_edges, joined_cells, tile, widen};
 use super::style::{
-    Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING, REFERENCE,
-    Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num, marker, mesh,
-    secondary_mesh, text, tint,
+    Area, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING,
+    REFERENCE, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend,
+    draw_legend_columns, fmt_num, legend_height, marker, mesh, secondary_mesh, text, tint,
 };
 use super::{block_text, render, shape_title};
 use crate::dynamics::PulseShape;
@@ -226,11 +229,16 @@ pub struct Drawing {
 /// Each computed frequency is a cell reaching half-way to its neighbours;
 /// nothing is interpolated between frequencies.
 pub fn drawing(result: &SpectrumResult) -> Result<Drawing, String> {
-    let lines = &result.spectrum;
+    drawing_of(&result.spectrum, &result.spec)
+}
+
+/// The cells and the minimum of the `lines` of a spectrum of `spec` (its
+/// own, or the pure-rocking lines beside them), as [`drawing`] gives them.
+pub fn drawing_of(lines: &[FrequencyDoc], spec: &SpectrumJob) -> Result<Drawing, String> {
     if lines.is_empty() {
         return Err("the spectrum has no frequencies".into());
     }
-    let a_max = result.spec.a_max_alpha_g.max(1.5);
+    let a_max = spec.a_max_alpha_g.max(1.5);
     let ratios: Vec<f64> = lines.iter().map(|l| l.omega_ratio).collect();
     let rmin = ratios.iter().copied().fold(f64::INFINITY, f64::min);
     let rmax = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -295,43 +303,122 @@ pub fn drawing(result: &SpectrumResult) -> Result<Drawing, String> {
     })
 }
 
-/// The figure of a `spectrum` result.
-pub fn svg(result: &SpectrumResult) -> Result<String, String> {
-    let drawn = drawing(result)?;
-    let lines = &result.spectrum;
-    let spec = &result.spec;
-    let p = spec.block.p;
-    let (a_max, half) = (drawn.a_max, drawn.half);
-    let (x0, x1) = drawn.x_range;
-    let shaded = &drawn.shaded;
-    let minimum = &drawn.minimum;
-    let used = |class: usize| shaded.iter().any(|p| p.class == class);
-    // The closed-form mode-2 boundary; known at one frequency only, it is
-    // drawn across that frequency's bar.
-    let mode2_closed = {
-        let points: Vec<(f64, f64)> = lines
-            .iter()
-            .filter_map(|l| Some((l.omega_ratio, l.closed_form_mode2_alpha_g?)))
-            .collect();
-        match points.as_slice() {
-            [(x, y)] => vec![(x - half, *y), (x + half, *y)],
-            _ => points,
+/// Size of the figure of a spectrum beside the pure-rocking one: two
+/// charts side by side, the legend under them.
+const BESIDE_WIDTH: u32 = 1500;
+/// Height of the charts of that figure (each with its heading).
+const BESIDE_CHARTS: u32 = 600;
+/// Height of a chart's heading in that figure.
+const HEADING: u32 = 34;
+/// Room above the charts for the figure's title.
+const TITLE_AREA: u32 = 44;
+/// Columns of the legend under the charts.
+const BESIDE_LEGEND_COLUMNS: usize = 3;
+
+/// The pure-rocking boundary drawn over the Coulomb chart: grey, thin,
+/// dashed, under the chart's own marks.
+pub const PURE_ROCKING_BOUNDARY: RGBColor = RGBColor(60, 60, 60);
+
+/// One chart of a spectrum figure: the cells and minimum of its lines
+/// ([`drawing_of`]) and the closed forms drawn over them.
+struct Panel<'a> {
+    /// Its lines.
+    lines: &'a [FrequencyDoc],
+    /// Their cells and minimum.
+    drawn: Drawing,
+    /// The closed-form mode-2 boundary (corrected eq. 47, linear one-sine);
+    /// known at one frequency only, it is drawn across that frequency's bar.
+    mode2_closed: Vec<(f64, f64)>,
+    /// Eq. 21's line where it holds ([`eq21_line`]).
+    eq21: Vec<(f64, f64)>,
+}
+
+impl<'a> Panel<'a> {
+    fn of(lines: &'a [FrequencyDoc], spec: &SpectrumJob) -> Result<Self, String> {
+        let drawn = drawing_of(lines, spec)?;
+        let half = drawn.half;
+        let (x0, x1) = drawn.x_range;
+        let mode2_closed = {
+            let points: Vec<(f64, f64)> = lines
+                .iter()
+                .filter_map(|l| Some((l.omega_ratio, l.closed_form_mode2_alpha_g?)))
+                .collect();
+            match points.as_slice() {
+                [(x, y)] => vec![(x - half, *y), (x + half, *y)],
+                _ => points,
+            }
+        };
+        let eq21 = eq21_line(lines, x0, x1);
+        Ok(Panel {
+            lines,
+            drawn,
+            mode2_closed,
+            eq21,
+        })
+    }
+
+    /// Whether the chart shades a region of `class`.
+    fn shades(&self, class: usize) -> bool {
+        self.drawn.shaded.iter().any(|p| p.class == class)
+    }
+}
+
+/// The lower edge of the lowest overturning cells of `panel`: at each
+/// frequency whose minimum overturning acceleration lies on the axis, a
+/// level step across its cell at that minimum, joined upright to its
+/// neighbours' steps; broken where a frequency has none. (Steps, as the
+/// cells: nothing is interpolated between frequencies.)
+fn boundary(panel: &Panel) -> Vec<Vec<(f64, f64)>> {
+    let mut columns: Vec<(f64, Option<f64>)> = panel
+        .lines
+        .iter()
+        .map(|l| {
+            let lowest = l.min_overturn_alpha_g.filter(|a| *a <= panel.drawn.a_max);
+            (l.omega_ratio, lowest)
+        })
+        .collect();
+    columns.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let xs: Vec<f64> = columns.iter().map(|c| c.0).collect();
+    let mut runs = Vec::new();
+    let mut run: Vec<(f64, f64)> = Vec::new();
+    for ((_, lowest), (lo, hi)) in columns.iter().zip(cell_edges(&xs, panel.drawn.half)) {
+        match lowest {
+            Some(a) => run.extend([(lo, *a), (hi, *a)]),
+            None if !run.is_empty() => runs.push(std::mem::take(&mut run)),
+            None => {}
         }
-    };
-    let eq21 = eq21_line(lines, x0, x1);
+    }
+    if !run.is_empty() {
+        runs.push(run);
+    }
+    runs
+}
+
+/// The legend of a spectrum figure: what any of its `panels` shades and
+/// draws (with `beside`, the pure-rocking boundary over the floor's chart),
+/// then the notes on `spec` and its own lines, `own`.
+fn legend(spec: &SpectrumJob, own: &Panel, panels: &[&Panel], beside: bool) -> Legend {
+    let lines = own.lines;
+    let (x0, _) = own.drawn.x_range;
+    let used = |class: usize| panels.iter().any(|p| p.shades(class));
     let beta = match spec.pulse.shape() {
         PulseShape::OneCosine => "1/4",
         _ => "1/6",
     };
-
     let mut legend = region_legend(used, "no rocking (below the threshold)");
-    if !minimum.is_empty() {
+    if panels.iter().any(|p| !p.drawn.minimum.is_empty()) {
         legend.entry(
             Swatch::Mark(Marker::Dot, INK),
             "minimum overturning acceleration (computed)",
         );
     }
-    if !eq21.is_empty() {
+    if beside {
+        legend.entry(
+            Swatch::Dashed(PURE_ROCKING_BOUNDARY, 2),
+            "pure rocking boundary: its minimum overturning acceleration (left), drawn over the Coulomb floor's chart",
+        );
+    }
+    if panels.iter().any(|p| !p.eq21.is_empty()) {
         legend.entry(
             Swatch::Dashed(REFERENCE, 3),
             format!(
@@ -346,7 +433,7 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
             fmt_num(x0, 3)
         ));
     }
-    if !mode2_closed.is_empty() {
+    if panels.iter().any(|p| !p.mode2_closed.is_empty()) {
         legend.entry(
             Swatch::Dashed(RGBColor(0, 130, 60), 2),
             "mode-2 boundary, corrected eq. 47 (linear closed form)",
@@ -400,8 +487,12 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
         fmt_num(MIN_VISIBLE * 100.0, 2)
     ));
     legend.note("top axis: f_p = (ω_p/p)·p/2π; right axis: a_p in g = α × a_p/(αg)");
+    legend
+}
 
-    let title = format!(
+/// The title of a spectrum figure.
+fn title(spec: &SpectrumJob) -> String {
+    format!(
         "Overturning spectrum: {} pulse, {} formulation{}",
         shape_title(spec.pulse.shape()),
         spec.formulation.name(),
@@ -409,60 +500,155 @@ pub fn svg(result: &SpectrumResult) -> Result<String, String> {
             String::new(),
             |v| format!(", {}", super::scaled_vertical_title(&v))
         )
+    )
+}
+
+/// Draws the chart of `panel` in `area`: its regions, the axes (ω_p/p and
+/// f_p, αg and g), the `boundary` lines (dashed grey), the closed forms and
+/// the minimum.
+fn draw_chart(
+    area: &Area,
+    spec: &SpectrumJob,
+    panel: &Panel,
+    boundary: &[Vec<(f64, f64)>],
+) -> Drawn {
+    let p = spec.block.p;
+    let a_max = panel.drawn.a_max;
+    let (x0, x1) = panel.drawn.x_range;
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .margin(10)
+        .margin_right(14)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA)
+        .top_x_label_area_size(X_LABEL_AREA)
+        .right_y_label_area_size(Y_LABEL_AREA);
+    let chart =
+        builder.build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", 0.0, a_max)?)?;
+    let hz = |r: f64| r * p / std::f64::consts::TAU;
+    let mut chart = chart.set_secondary_coord(
+        axis_range("top", hz(x0), hz(x1))?,
+        axis_range("right", 0.0, a_max * g_per_axis_unit(spec))?,
     );
-    render((WIDTH, HEIGHT), &title, |area| -> Drawn {
-        let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
-        let mut builder = ChartBuilder::on(&chart_area);
-        builder
-            .margin(10)
-            .margin_right(14)
-            .x_label_area_size(X_LABEL_AREA)
-            .y_label_area_size(Y_LABEL_AREA)
-            .top_x_label_area_size(X_LABEL_AREA)
-            .right_y_label_area_size(Y_LABEL_AREA);
-        let chart =
-            builder.build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", 0.0, a_max)?)?;
-        let hz = |r: f64| r * p / std::f64::consts::TAU;
-        let mut chart = chart.set_secondary_coord(
-            axis_range("top", hz(x0), hz(x1))?,
-            axis_range("right", 0.0, a_max * g_per_axis_unit(spec))?,
-        );
-        for piece in shaded {
-            chart.draw_series(std::iter::once(Polygon::new(
-                piece.polygon.clone(),
-                fill(piece.class).filled(),
-            )))?;
-        }
-        mesh(&mut chart, "ω_p / p", "a_p / (α g)").draw()?;
-        secondary_mesh(&mut chart, "a_p (g)")
-            .x_desc("pulse frequency f_p (Hz)")
-            .draw()?;
-        for part in clip_y(&mode2_closed, 0.0, a_max) {
+    for piece in &panel.drawn.shaded {
+        chart.draw_series(std::iter::once(Polygon::new(
+            piece.polygon.clone(),
+            fill(piece.class).filled(),
+        )))?;
+    }
+    mesh(&mut chart, "ω_p / p", "a_p / (α g)").draw()?;
+    secondary_mesh(&mut chart, "a_p (g)")
+        .x_desc("pulse frequency f_p (Hz)")
+        .draw()?;
+    for run in boundary {
+        for part in clip_y(run, 0.0, a_max) {
             chart.draw_series(DashedLineSeries::new(
                 part,
-                3,
-                3,
-                RGBColor(0, 130, 60).stroke_width(2),
+                7,
+                4,
+                PURE_ROCKING_BOUNDARY.stroke_width(2),
             ))?;
         }
-        chart.draw_series(minimum.iter().map(|&q| marker(q, Marker::Dot, 5, INK)))?;
-        // Over the computed minimum, dashed so that both show where they agree;
-        // its end (ω_p/p = 3) ticked and labelled.
-        for part in clip_y(&eq21, 0.0, a_max) {
-            chart.draw_series(DashedLineSeries::new(part, 9, 5, REFERENCE.stroke_width(3)))?;
-        }
-        if let Some(&end) = eq21.last().filter(|e| e.1 < a_max) {
-            chart.draw_series(std::iter::once(marker(end, Marker::Tick, 12, REFERENCE)))?;
-            chart.draw_series(std::iter::once(
-                EmptyElement::at(end)
-                    + Text::new(
-                        format!("eq. 21 ends: ω_p/p = {}", fmt_num(end.0, 3)),
-                        (8, 10),
-                        text(LEGEND, REFERENCE),
-                    ),
-            ))?;
-        }
+    }
+    for part in clip_y(&panel.mode2_closed, 0.0, a_max) {
+        chart.draw_series(DashedLineSeries::new(
+            part,
+            3,
+            3,
+            RGBColor(0, 130, 60).stroke_width(2),
+        ))?;
+    }
+    chart.draw_series(
+        panel
+            .drawn
+            .minimum
+            .iter()
+            .map(|&q| marker(q, Marker::Dot, 5, INK)),
+    )?;
+    // Over the computed minimum, dashed so that both show where they agree;
+    // its end (ω_p/p = 3) ticked and labelled.
+    for part in clip_y(&panel.eq21, 0.0, a_max) {
+        chart.draw_series(DashedLineSeries::new(part, 9, 5, REFERENCE.stroke_width(3)))?;
+    }
+    if let Some(&end) = panel.eq21.last().filter(|e| e.1 < a_max) {
+        chart.draw_series(std::iter::once(marker(end, Marker::Tick, 12, REFERENCE)))?;
+        chart.draw_series(std::iter::once(
+            EmptyElement::at(end)
+                + Text::new(
+                    format!("eq. 21 ends: ω_p/p = {}", fmt_num(end.0, 3)),
+                    (8, 10),
+                    text(LEGEND, REFERENCE),
+                ),
+        ))?;
+    }
+    Ok(())
+}
+
+/// The figure of a `spectrum` result: its chart and legend; with the
+/// pure-rocking lines beside it (`no_sliding`), both charts side by side
+/// ([`svg_beside`]).
+pub fn svg(result: &SpectrumResult) -> Result<String, String> {
+    if !result.no_sliding.is_empty() {
+        return svg_beside(result);
+    }
+    let spec = &result.spec;
+    let own = Panel::of(&result.spectrum, spec)?;
+    let legend = legend(spec, &own, &[&own], false);
+    render((WIDTH, HEIGHT), &title(spec), |area| -> Drawn {
+        let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
+        draw_chart(&chart_area, spec, &own, &[])?;
         draw_legend(&side, &legend)
+    })
+}
+
+/// The heading of the Coulomb floor's chart: "Coulomb floor, μ = 0.3"
+/// (and μ_k when it differs).
+fn floor_heading(contact: Option<&crate::jobs::contact::ContactNorm>) -> String {
+    match contact {
+        Some(c) if c.mu_kinetic < c.mu => format!(
+            "Coulomb floor, μ = {}, μ_k = {}",
+            fmt_num(c.mu, 4),
+            fmt_num(c.mu_kinetic, 4)
+        ),
+        Some(c) => format!("Coulomb floor, μ = {}", fmt_num(c.mu, 4)),
+        None => "Pure rocking (no sliding)".into(),
+    }
+}
+
+/// The figure of a spectrum on a Coulomb floor beside the pure-rocking
+/// spectrum of the same grid: pure rocking on the left, the floor on the
+/// right with pure rocking's boundary drawn over it, both on the same axes;
+/// one legend under them.
+fn svg_beside(result: &SpectrumResult) -> Result<String, String> {
+    let spec = &result.spec;
+    let own = Panel::of(&result.spectrum, spec)?;
+    let pure = Panel::of(&result.no_sliding, spec)?;
+    let over = boundary(&pure);
+    let legend = legend(spec, &own, &[&pure, &own], !over.is_empty());
+    let headings = [
+        "Pure rocking (no sliding)".to_string(),
+        floor_heading(spec.contact.as_ref()),
+    ];
+    let charts = HEADING + BESIDE_CHARTS;
+    let height =
+        TITLE_AREA + charts + legend_height(&legend, BESIDE_WIDTH, BESIDE_LEGEND_COLUMNS) + 12;
+    render((BESIDE_WIDTH, height), &title(spec), |area| -> Drawn {
+        let (top, below) = area.split_vertically(charts);
+        let (left, right) = top.split_horizontally(BESIDE_WIDTH / 2);
+        for ((column, heading), (panel, over)) in [left, right]
+            .iter()
+            .zip(&headings)
+            .zip([(&pure, &[][..]), (&own, &over[..])])
+        {
+            let (head, chart) = column.split_vertically(HEADING);
+            head.draw(&Text::new(
+                heading.clone(),
+                (10 + Y_LABEL_AREA as i32 + 4, 6),
+                text(LEGEND + 2, INK),
+            ))?;
+            draw_chart(&chart, spec, panel, over)?;
+        }
+        draw_legend_columns(&below.margin(6, 0, 12, 12), &legend, BESIDE_LEGEND_COLUMNS)
     })
 }
 
@@ -562,6 +748,93 @@ pub(crate) mod tests {
         let from = format!("leaves the floor from {} αg", super::fmt_num(lift, 4));
         assert!(text.contains(&from), "{text}");
         assert!(!super::svg(&sample()).expect("svg").contains("floor:"));
+    }
+
+    /// The words of a figure's text, joined by single spaces (the legend
+    /// wraps its labels and notes).
+    fn words(svg: &str) -> String {
+        svg.lines()
+            .filter(|l| !l.trim_start().starts_with('<'))
+            .flat_map(str::split_whitespace)
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+
+    #[test]
+    fn the_pure_rocking_spectrum_beside_the_floor_shares_its_axes_and_boundary() {
+        use crate::plot::tests::{hex, shapes, x_extent};
+        let spec = r#"{"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14},
+            "pulse": {"type": "one_sine"}, "omega_ratio": [3.0, 4.5, 6.0], "a_max_alpha_g": 6,
+            "tolerance": 1e-3, "scan_step_alpha_g": 0.05,
+            "contact": {"model": "coulomb", "mu": 0.3}, "no_sliding_beside": true}"#;
+        let r = computed(spec);
+        assert_eq!(r.no_sliding.len(), 3);
+        let svg = super::svg(&r).expect("svg");
+        let text = words(&svg);
+        for needle in [
+            "Pure rocking (no sliding)",
+            "Coulomb floor, μ = 0.3",
+            "pure rocking boundary",
+            "minimum overturning acceleration",
+            "floor: Coulomb friction, μ = 0.3",
+        ] {
+            assert!(text.contains(needle), "missing {needle:?}: {text}");
+        }
+        // Two charts on the same axes.
+        assert_eq!(svg.matches("ω_p / p").count(), 2);
+        assert_eq!(svg.matches("a_p / (α g)").count(), 2);
+        let (own, pure) = (
+            super::drawing(&r).expect("drawing"),
+            super::drawing_of(&r.no_sliding, &r.spec).expect("drawing"),
+        );
+        assert_eq!((own.x_range, own.a_max), (pure.x_range, pure.a_max));
+        // The boundary: pure rocking's minimum across each cell, drawn on
+        // the right chart only (the legend's swatch, under the charts, left
+        // out).
+        let panel = super::Panel::of(&r.no_sliding, &r.spec).expect("panel");
+        let steps = super::boundary(&panel);
+        let levels: Vec<f64> = steps.iter().flatten().map(|p| p.1).collect();
+        let minima: Vec<f64> = r
+            .no_sliding
+            .iter()
+            .filter_map(|l| l.min_overturn_alpha_g)
+            .flat_map(|a| [a, a])
+            .collect();
+        assert_eq!(levels, minima);
+        assert_eq!(steps.len(), 1, "every frequency overturns below 6 αg");
+        let stroke = format!("stroke=\"{}\"", hex(super::PURE_ROCKING_BOUNDARY));
+        let charts = f64::from(super::TITLE_AREA + super::HEADING + super::BESIDE_CHARTS);
+        let dashes: Vec<Vec<(f64, f64)>> = shapes(&svg, "polyline", &stroke)
+            .into_iter()
+            .filter(|d| d.iter().all(|p| p.1 < charts))
+            .collect();
+        assert!(!dashes.is_empty());
+        let (left, _) = x_extent(&dashes);
+        assert!(left > f64::from(super::BESIDE_WIDTH / 2), "{left}");
+        // Without the pure-rocking lines, the figure of the floor alone.
+        let mut alone = r.clone();
+        alone.no_sliding.clear();
+        let plain = computed(&spec.replace(r#", "no_sliding_beside": true"#, ""));
+        assert_eq!(super::svg(&alone), super::svg(&plain));
+        assert!(!super::svg(&plain).expect("svg").contains("Pure rocking"));
+    }
+
+    #[test]
+    fn the_floor_chart_names_mu_and_mu_k_where_they_differ() {
+        use crate::jobs::contact::ContactNorm;
+        let floor = |mu: f64, mu_kinetic: f64| ContactNorm {
+            model: "coulomb".into(),
+            mu,
+            mu_kinetic,
+        };
+        assert_eq!(
+            super::floor_heading(Some(&floor(0.3, 0.3))),
+            "Coulomb floor, μ = 0.3"
+        );
+        assert_eq!(
+            super::floor_heading(Some(&floor(0.3, 0.25))),
+            "Coulomb floor, μ = 0.3, μ_k = 0.25"
+        );
     }
 
     #[test]

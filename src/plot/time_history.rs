@@ -131,15 +131,7 @@ fn towards(value: f64) -> Option<&'static str> {
 /// The notes of a history on the Coulomb floor `contact`: the friction, how
 /// the block first moved, its slip, the side it overturned to.
 fn coulomb_notes(result: &TimeHistoryResult, contact: &ContactNorm) -> Vec<String> {
-    let mut notes = vec![if contact.mu_kinetic < contact.mu {
-        format!(
-            "floor: Coulomb friction, μ = {} (static), μ_k = {} (kinetic)",
-            fmt_num(contact.mu, 3),
-            fmt_num(contact.mu_kinetic, 3)
-        )
-    } else {
-        format!("floor: Coulomb friction, μ = {}", fmt_num(contact.mu, 3))
-    }];
+    let mut notes = vec![super::floor_note(contact)];
     if result.answered_by.as_deref() == Some("pure_rocking") {
         notes.push(
             "the friction pure rocking needs never exceeds μ: the block rocks without sliding"

@@ -205,6 +205,9 @@ pub struct LineScan {
     /// the floor, as a bracket (on the floor, off it); the line claims
     /// nothing above its lower end.
     pub lift_off: Option<(f64, f64)>,
+    /// With a slide band: where the block's standing with its residual slide
+    /// inside the band begins and ends, in order, below any lift-off.
+    pub slide_band: Vec<Transition>,
 }
 
 /// Scans every problem (its ground motion scaled per level) over `grid`, in
@@ -253,7 +256,13 @@ impl ScanGrid {
             .find(|t| t.direction == Direction::LiftOff)
             .map(|t| t.bracket);
         let to = lift_off.map_or(self.to, |(lo, _)| lo);
-        transitions.retain(|t| t.direction != Direction::LiftOff && t.bracket.1 <= to);
+        let slide_band = transitions
+            .iter()
+            .filter(|t| t.is_slide() && t.bracket.1 <= to)
+            .copied()
+            .collect();
+        transitions
+            .retain(|t| t.direction != Direction::LiftOff && !t.is_slide() && t.bracket.1 <= to);
         mode_changes.retain(|m| m.bracket.1 <= to);
         let derived = derive(&transitions, to);
         let principal_transitions = principal(&transitions, to, self.principal_relative_width);
@@ -265,6 +274,7 @@ impl ScanGrid {
             principal_transitions,
             principal,
             lift_off,
+            slide_band,
         }
     }
 }
@@ -503,6 +513,7 @@ fn lines_of<G: Scalable + Sync>(
         Model {
             solver: req.solver,
             friction: req.friction,
+            slide_band: None,
         },
         &grid,
         control,
@@ -553,7 +564,7 @@ pub fn derive(transitions: &[Transition], a_max: f64) -> Derived {
                     safe.push((lo, t.at));
                 }
             }
-            Direction::LiftOff => {}
+            Direction::LiftOff | Direction::SlideIn | Direction::SlideOut => {}
         }
     }
     if let Some(lo) = open {
@@ -585,7 +596,7 @@ pub fn principal(transitions: &[Transition], a_max: f64, rel: f64) -> Vec<Transi
                     bands.push((up, Some(*t)));
                 }
             }
-            Direction::LiftOff => {}
+            Direction::LiftOff | Direction::SlideIn | Direction::SlideOut => {}
         }
     }
     if let Some(up) = pending {

@@ -70,6 +70,7 @@ pub fn record_spectrum<G: Scalable + Sync + Clone>(
         Model {
             solver: req.solver,
             friction: req.friction,
+            slide_band: None,
         },
         &req.grid,
         control,

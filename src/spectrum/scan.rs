@@ -38,6 +38,9 @@ pub struct Signature {
     /// On a Coulomb floor: the block left the floor (the normal force
     /// reached 0), where the history ends undecided.
     pub lifted: bool,
+    /// With a slide band ([`Model::slide_band`]): the block stood, on the
+    /// floor, with its residual slide's size inside the band.
+    pub in_band: bool,
 }
 
 /// Direction of a transition as the amplitude grows.
@@ -51,6 +54,11 @@ pub enum Direction {
     /// bracket's upper end is a level where it does); the line claims
     /// nothing above the lowest such bracket ([`crate::spectrum::overturning::ScanGrid::line`]).
     LiftOff,
+    /// With a slide band: from here the block stands with its residual
+    /// slide inside the band ([`Model::slide_band`]).
+    SlideIn,
+    /// With a slide band: from here it no longer does.
+    SlideOut,
 }
 
 /// A change between surviving and overturning.
@@ -66,6 +74,13 @@ pub struct Transition {
     pub impacts: u64,
     /// [survives-or-overturns side, other side] in increasing amplitude; width ≤ tol.
     pub bracket: (f64, f64),
+}
+
+impl Transition {
+    /// An edge of a slide band, not a change of overturning.
+    pub fn is_slide(&self) -> bool {
+        matches!(self.direction, Direction::SlideIn | Direction::SlideOut)
+    }
 }
 
 /// A change of overturning mode inside an overturning region.
@@ -137,6 +152,10 @@ pub struct Model {
     pub solver: Solver,
     /// Coulomb friction; `None`: pure rocking.
     pub friction: Option<Friction>,
+    /// On a Coulomb floor: the sizes `[lo, hi]` of the residual slide, m,
+    /// whose edges the scan locates too ([`Direction::SlideIn`],
+    /// [`Direction::SlideOut`]); `None`: none.
+    pub slide_band: Option<[f64; 2]>,
 }
 
 impl From<Solver> for Model {
@@ -144,6 +163,7 @@ impl From<Solver> for Model {
         Model {
             solver,
             friction: None,
+            slide_band: None,
         }
     }
 }
@@ -274,11 +294,15 @@ impl<G: Scalable> Line<'_, G> {
             formulation: self.problem.formulation,
         };
         let options = Options::outcome(self.model.solver);
-        let (r, lifted) = match self.model.friction {
-            None => (simulate(&problem, &options), false),
+        let (r, lifted, slide) = match self.model.friction {
+            None => (simulate(&problem, &options), false, 0.0),
             Some(friction) => match run_coulomb(&problem, &options, friction) {
-                Ok(h) => (Ok(h.response), h.contact.lift_off.is_some()),
-                Err(e) => (Err(e), false),
+                Ok(h) => (
+                    Ok(h.response),
+                    h.contact.lift_off.is_some(),
+                    h.contact.residual_slide.abs(),
+                ),
+                Err(e) => (Err(e), false, 0.0),
             },
         };
         let r = r.map_err(|source| ScanError::At { level, source })?;
@@ -289,6 +313,7 @@ impl<G: Scalable> Line<'_, G> {
                 mode: None,
                 impacts: 0,
                 lifted,
+                in_band: false,
             });
         }
         stats.simulations += 1;
@@ -306,6 +331,11 @@ impl<G: Scalable> Line<'_, G> {
                 r.rocking_impacts
             },
             lifted,
+            in_band: !r.overturned
+                && self
+                    .model
+                    .slide_band
+                    .is_some_and(|[lo, hi]| lo <= slide && slide <= hi),
         })
     }
 
@@ -385,6 +415,19 @@ fn record(
             });
         }
         return;
+    }
+    if a.1.in_band != b.1.in_band {
+        transitions.push(Transition {
+            at,
+            direction: if b.1.in_band {
+                Direction::SlideIn
+            } else {
+                Direction::SlideOut
+            },
+            mode: 0,
+            impacts: 0,
+            bracket: (a.0, b.0),
+        });
     }
     match (a.1.overturned, b.1.overturned) {
         (false, true) => transitions.push(Transition {

@@ -38,6 +38,11 @@ EXTRA = [
         "kind": "spectrum", "block": {"alpha": 0.2, "p": 2.0, "eta": 0.85},
         "pulse": {"type": "cn", "n": 2}, "formulation": "linear",
         "omega_ratio": [1.0, 4.0], "a_max_alpha_g": 8}),
+    ("coulomb spectrum with the no-sliding one beside it", {
+        "kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14},
+        "pulse": {"type": "one_sine"}, "omega_ratio": [3.0, 6.0], "a_max_alpha_g": 6,
+        "tolerance": 1e-3, "scan_step_alpha_g": 0.05,
+        "contact": {"model": "coulomb", "mu": 0.3}, "no_sliding_beside": True}),
     ("time history on a record file", {
         "kind": "time_history", "block": {"alpha": 0.15, "p": 2.0, "eta": 0.9},
         "ground_motion": {"file": os.path.join(ROOT, "specs", "records", "ridge_station_090.at2")},

@@ -8,7 +8,9 @@
 //! observation's lines and of their levels, and the tasks' transitions
 //! assemble into what one task finds.
 
-use super::{AmplitudeRange, ForensicJob, ForensicResult, LineSet, overturning_set};
+use super::{
+    AmplitudeRange, ForensicJob, ForensicResult, LineSet, overturning_set, slide_band_set,
+};
 use crate::dynamics::{Block, Problem, Pulse, SimError};
 use crate::jobs::JobError;
 use crate::jobs::cost;
@@ -67,9 +69,14 @@ impl ForensicJob {
                     None => threshold,
                 };
                 // From the threshold, whatever `from` is: the state at the
-                // range's start is then known, not assumed.
-                let grid = (to / alpha > threshold).then(|| ScanGrid {
-                    from: threshold,
+                // range's start is then known, not assumed. A seen slide
+                // is scanned from below where the block can first slip.
+                let start = match (&self.contact, o.slid_m) {
+                    (Some(c), Some(_)) => threshold.min(self.slip_free_g(c.mu) / alpha),
+                    _ => threshold,
+                };
+                let grid = (to / alpha > start).then(|| ScanGrid {
+                    from: start,
                     to: to / alpha,
                     step: self.scan_step_g / alpha,
                     tolerance: self.tolerance_g / alpha,
@@ -83,6 +90,21 @@ impl ForensicJob {
                 })
             })
             .collect()
+    }
+
+    /// An amplitude, g, below which a block on a floor of static friction
+    /// `mu` cannot slip: half the least at which the ground's horizontal
+    /// acceleration can exceed μ (g + ü_v). Under a vertical motion that
+    /// stays above −g up to `range_g().to` (where [`ForensicJob::lift_off_g`]
+    /// ends it), |ü_v| ≤ a/to g at amplitude a g, so a slip needs a > μ (1 − a/to).
+    fn slip_free_g(&self, mu: f64) -> f64 {
+        let to = self.range_g().to;
+        let fall = if self.scaled_vertical().is_some() && to > 0.0 {
+            1.0 / to
+        } else {
+            0.0
+        };
+        0.5 * mu / (1.0 + mu * fall)
     }
 
     /// CPU seconds of one simulation (the record's, or the pulse's).
@@ -173,6 +195,7 @@ impl ForensicJob {
         let solver = crate::spectrum::scan::Model {
             solver: self.solver.solver(),
             friction: self.contact.as_ref().map(|c| c.friction()),
+            slide_band: self.observations.get(o).and_then(|o| o.slid_m),
         };
         match (&self.ground_motion, self.pulse) {
             (Some(gm), _) => {
@@ -310,7 +333,8 @@ impl ForensicJob {
         let mut found = found.into_iter();
         scans
             .iter()
-            .map(|s| {
+            .zip(&self.observations)
+            .map(|(s, o)| {
                 (0..per)
                     .map(|_| {
                         let (t, m) = found.next().unwrap_or_default();
@@ -331,12 +355,31 @@ impl ForensicJob {
                                     ),
                                     decided_to,
                                     lift_off_g: lift.map(|(_, hi)| hi),
+                                    // At the grid's first level the block
+                                    // has not moved: it slid 0.
+                                    slide_band: o.slid_m.map(|[lo, _]| {
+                                        slide_band_set(
+                                            &line.slide_band,
+                                            lo <= 0.0,
+                                            s.alpha,
+                                            from,
+                                            decided_to,
+                                        )
+                                    }),
                                 }
                             }
+                            // It does not move in the range: it slid 0.
                             None => LineSet {
                                 overturning: Vec::new(),
                                 decided_to: to,
                                 lift_off_g: None,
+                                slide_band: o.slid_m.map(|[lo, _]| {
+                                    if lo <= 0.0 {
+                                        vec![[from, to]]
+                                    } else {
+                                        Vec::new()
+                                    }
+                                }),
                             },
                         }
                     })

@@ -39,6 +39,7 @@ pub fn run(job: &RecordSpectrumJob, part: Part, control: &Control) -> Result<Par
     let solver = crate::spectrum::scan::Model {
         solver: job.solver.solver(),
         friction: job.friction(),
+        slide_band: None,
     };
     match job.scaled_vertical() {
         None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
