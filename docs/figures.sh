@@ -34,6 +34,7 @@ figures=(
   "spectrum_vertical_down locomotive_spectrum_vertical_down"
   "spectrum_vertical_none locomotive_spectrum_vertical_none"
   "spectrum_vertical_up locomotive_spectrum_vertical_up"
+  "spectrum_coulomb_beside locomotive_spectrum_coulomb_beside"
 )
 
 if [[ -z ${TOPPLE_BIN:-} ]]; then

@@ -31,7 +31,7 @@ pub use window::Window;
 
 /// Revision of the figures' drawing: part of a figure's entity tag, so a
 /// figure cached under an older drawing is not taken for the new one.
-pub const FIGURES_REVISION: u32 = 7;
+pub const FIGURES_REVISION: u32 = 8;
 
 /// Why a figure cannot be drawn.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -180,7 +180,11 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
             .any(|b| b.bands.iter().any(|band| band.class == class))
     };
 
-    let mut legend = region_legend(used, "no rocking (PGA below the threshold)");
+    let mut legend = region_legend(
+        used,
+        "no rocking (PGA below the threshold)",
+        result.spec.contact.is_some(),
+    );
     if !drawn.minimum.is_empty() {
         legend.entry(
             Swatch::Mark(Marker::Dot, INK),

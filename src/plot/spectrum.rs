@@ -75,8 +75,9 @@ pub fn fill(class: usize) -> RGBColor {
 }
 
 /// A legend opening with the region classes a figure shades (`used`), the
-/// white safe region always, the no-rocking band under `no_rocking`.
-pub fn region_legend(used: impl Fn(usize) -> bool, no_rocking: &str) -> Legend {
+/// white safe region always (on a Coulomb floor, `slides`, where the block
+/// may slide instead of rocking), the no-rocking band under `no_rocking`.
+pub fn region_legend(used: impl Fn(usize) -> bool, no_rocking: &str, slides: bool) -> Legend {
     let mut legend = Legend::default();
     if used(CLASS_MODE1) {
         legend.entry(
@@ -92,7 +93,11 @@ pub fn region_legend(used: impl Fn(usize) -> bool, no_rocking: &str) -> Legend {
     }
     legend.entry(
         Swatch::Boxed(WHITE, MUTED),
-        "safe: rocks, does not overturn",
+        if slides {
+            "safe: rocks, slides or slide-rocks, does not overturn"
+        } else {
+            "safe: rocks, does not overturn"
+        },
     );
     if used(CLASS_NO_ROCKING) {
         legend.entry(Swatch::Fill(fill(CLASS_NO_ROCKING)), no_rocking);
@@ -405,7 +410,11 @@ fn legend(spec: &SpectrumJob, own: &Panel, panels: &[&Panel], beside: bool) -> L
         PulseShape::OneCosine => "1/4",
         _ => "1/6",
     };
-    let mut legend = region_legend(used, "no rocking (below the threshold)");
+    let mut legend = region_legend(
+        used,
+        "no rocking (below the threshold)",
+        spec.contact.is_some(),
+    );
     if panels.iter().any(|p| !p.drawn.minimum.is_empty()) {
         legend.entry(
             Swatch::Mark(Marker::Dot, INK),
