@@ -278,3 +278,78 @@ fn the_exact_linear_solution_is_the_default_and_agrees_with_dop853() {
         );
     }
 }
+
+/// |residual slide|, m, of `block` on `contact` under `record` scaled by `s`;
+/// `None` when it overturns.
+fn slid(block: &Value, contact: &Value, record: &Value, s: f64) -> Option<f64> {
+    let mut gm = record.clone();
+    let acc: Vec<f64> = gm["acc"]
+        .as_array()
+        .expect("samples")
+        .iter()
+        .map(|a| a.as_f64().expect("number") * s)
+        .collect();
+    gm["acc"] = json!(acc);
+    let spec = json!({"kind": "time_history", "block": block, "ground_motion": gm,
+                      "contact": contact});
+    let r = run(&Job::from_value(&spec).expect("valid"));
+    assert_ne!(r["lift_off"], json!(true), "{r}");
+    (!r["overturned"].as_bool().expect("flag"))
+        .then(|| r["residual_slide_m"].as_f64().expect("m").abs())
+}
+
+#[test]
+fn a_seen_slide_under_a_record_is_consistent_where_its_time_history_slides_that_far() {
+    // The locomotive on μ = 0.2 (below tan α: it only slides) under a
+    // two-cycle record: the scales called consistent with a standing block
+    // that slid 5–20 cm are those whose time history ends with a slide of
+    // that size; at the middle of each interval and gap, and one tolerance
+    // either side of each end found.
+    let n = 1000;
+    let dt = 2.0 / n as f64;
+    let acc: Vec<f64> = (0..=n)
+        .map(|k| {
+            let t = k as f64 * dt;
+            let a = if t < 1.0 { 0.3 } else { 0.5 };
+            a * (std::f64::consts::TAU * 1.3 * t).sin() * (1.0 - (t - 1.0).abs()).max(0.0)
+        })
+        .collect();
+    let record = json!({"dt": dt, "acc": acc, "unit": "g"});
+    let block = json!({"alpha": 0.25, "p": 2.14});
+    let contact = json!({"model": "coulomb", "mu": 0.2});
+    let band = [0.05, 0.2];
+    let result = run(&query(json!({
+        "ground_motion": record, "pga_g": null, "scale": {"from": 0.2, "to": 6.0},
+        "tolerance": 1e-3, "contact": contact,
+        "observations": [{"name": "locomotive", "block": block, "overturned": false, "slid_m": band}]}))
+    .expect("valid"));
+    let record = &result["spec"]["ground_motion"];
+    let inside = |s: Option<f64>| s.is_some_and(|s| band[0] <= s && s <= band[1]);
+    let consistent = intervals(&result["consistent_scale"]);
+    assert!(!consistent.is_empty(), "{result}");
+    let tol = 1e-3;
+    let mut lo = 0.2;
+    let mut edges = 0;
+    for &(a, b) in &consistent {
+        if a > lo {
+            let s = 0.5 * (lo + a);
+            assert!(!inside(slid(&block, &contact, record, s)), "gap at {s}");
+        }
+        let s = 0.5 * (a + b);
+        assert!(inside(slid(&block, &contact, record, s)), "scale {s}");
+        for (edge, opens) in [(a, true), (b, false)] {
+            if edge > 0.2 && edge < 6.0 {
+                let below = inside(slid(&block, &contact, record, edge - tol));
+                let above = inside(slid(&block, &contact, record, edge + tol));
+                assert_eq!((below, above), (!opens, opens), "edge {edge}");
+                edges += 1;
+            }
+        }
+        lo = b;
+    }
+    assert!(edges >= 1, "{result}");
+    assert_eq!(
+        result["per_observation"][0]["consistent_scale"],
+        result["consistent_scale"]
+    );
+}
