@@ -19,7 +19,7 @@ use crate::jobs::fragility::FragilityResult;
 use crate::jobs::friction::FrictionResult;
 use crate::jobs::names::Excitation;
 use crate::jobs::record_spectrum::RecordSpectrumResult;
-use crate::jobs::spectrum::SpectrumResult;
+use crate::jobs::spectrum::{FrequencyDoc, SpectrumResult};
 use crate::jobs::survival::SurvivalResult;
 use crate::jobs::time_history::TimeHistoryResult;
 
@@ -331,76 +331,172 @@ struct CrossingShape {
     added: usize,
 }
 
-/// One row per transition (a frequency without any: one row, transition
-/// fields empty).
+/// The columns of a spectrum's table before any added for a Coulomb floor.
+const SPECTRUM_COLUMNS: [&str; 24] = [
+    "omega_ratio",
+    "a_alpha_g",
+    "direction",
+    "mode",
+    "impacts",
+    "bracket_lo_alpha_g",
+    "bracket_hi_alpha_g",
+    "min_overturn_alpha_g",
+    "eq21_alpha_g",
+    "threshold_alpha_g",
+    "closed_form_mode2_alpha_g",
+    "a_g",
+    "omega_p_rad_per_s",
+    "frequency_hz",
+    "threshold_g",
+    "min_overturn_g",
+    "min_overturn_m_per_s2",
+    "min_overturn_mode",
+    "overturns_above_alpha_g",
+    "pgv_over_pga_s",
+    "pgd_over_pga_s2",
+    "principal_min_overturn_alpha_g",
+    "principal_min_overturn_mode",
+    "principal_overturns_above_alpha_g",
+];
+
+/// The columns a residual-slide point adds at the end of a spectrum's rows.
+const SLIDE_COLUMNS: [&str; 3] = ["residual_slide_m", "peak_slide_m", "outcome"];
+
+/// The columns a spectrum's table ends with, past [`SPECTRUM_COLUMNS`]:
+/// [`SLIDE_COLUMNS`] when a line has residual-slide points, then `floor`
+/// when the pure-rocking spectrum is beside.
+#[derive(Clone, Copy)]
+struct SpectrumTail {
+    slides: bool,
+    floor: bool,
+}
+
+/// One row per transition of each frequency (a frequency without any: one
+/// row, transition fields empty), in [`SPECTRUM_COLUMNS`].
+///
+/// On a Coulomb floor the table may grow at its end (a table without
+/// residual slides or the pure-rocking spectrum is as it was):
+/// - with residual slides (`residual_slide`), three columns
+///   `residual_slide_m`, `peak_slide_m` (m) and `outcome` (`stands`,
+///   `overturns` or `lift_off`), and after a frequency's transition rows one
+///   row per amplitude of its residual-slide line: `direction`
+///   `residual_slide`, `a_alpha_g` and `a_g` its amplitude, `omega_ratio`,
+///   `omega_p_rad_per_s` and `frequency_hz` the frequency's, the three
+///   columns the point's, the other cells empty (the three are empty on the
+///   transition rows);
+/// - with the pure-rocking spectrum beside (`no_sliding_beside`), a last
+///   column `floor`: `coulomb` on the rows of `spectrum`, then the rows of
+///   `no_sliding`, built the same way, with `floor` `no_sliding`.
 fn spectrum(r: &SpectrumResult, out: &mut String) {
-    row(
-        out,
-        &[
-            "omega_ratio",
-            "a_alpha_g",
-            "direction",
-            "mode",
-            "impacts",
-            "bracket_lo_alpha_g",
-            "bracket_hi_alpha_g",
-            "min_overturn_alpha_g",
-            "eq21_alpha_g",
-            "threshold_alpha_g",
-            "closed_form_mode2_alpha_g",
-            "a_g",
-            "omega_p_rad_per_s",
-            "frequency_hz",
-            "threshold_g",
-            "min_overturn_g",
-            "min_overturn_m_per_s2",
-            "min_overturn_mode",
-            "overturns_above_alpha_g",
-            "pgv_over_pga_s",
-            "pgd_over_pga_s2",
-            "principal_min_overturn_alpha_g",
-            "principal_min_overturn_mode",
-            "principal_overturns_above_alpha_g",
-        ]
-        .map(String::from),
-    );
+    let tail = SpectrumTail {
+        slides: r
+            .spectrum
+            .iter()
+            .chain(&r.no_sliding)
+            .any(|l| l.residual_slide.as_ref().is_some_and(|p| !p.is_empty())),
+        floor: !r.no_sliding.is_empty(),
+    };
+    let mut header: Vec<String> = SPECTRUM_COLUMNS.map(String::from).to_vec();
+    if tail.slides {
+        header.extend(SLIDE_COLUMNS.map(String::from));
+    }
+    if tail.floor {
+        header.push("floor".into());
+    }
+    row(out, &header);
+    let alpha = r.spec.block.alpha;
     for line in &r.spectrum {
-        let cells = LineCells {
-            head: vec![cell(&line.omega_ratio)],
-            tail: vec![
-                cell(&line.min_overturn_alpha_g),
-                cell(&line.eq21_alpha_g),
-                cell(&line.threshold_alpha_g),
-                cell(&line.closed_form_mode2_alpha_g),
-            ],
-            added: vec![
-                cell(&line.omega_p),
-                cell(&line.frequency_hz),
-                cell(&line.threshold_g),
-                cell(&line.min_overturn_g),
-                cell(&line.min_overturn_m_s2),
-                cell(&line.min_overturn_mode),
-                cell(&line.overturns_above_alpha_g),
-                cell(&line.ground.pgv_over_pga_s),
-                cell(&line.ground.pgd_over_pga_s2),
-                cell(&line.principal.min_overturn_alpha_g),
-                cell(&line.principal.min_overturn_mode),
-                cell(&line.principal.overturns_above_alpha_g),
-            ],
-        };
-        let crossings = line.transitions.iter().map(|t| Crossing {
-            levels: vec![cell(&t.a_alpha_g)],
-            direction: &t.direction,
-            mode: t.mode,
-            impacts: t.impacts,
-            bracket: t.bracket,
-            added: vec![cell(&t.a_g)],
-        });
-        let shape = CrossingShape {
-            levels: 1,
-            added: 1,
-        };
-        transition_rows(out, &cells, shape, crossings);
+        spectrum_line_rows(out, line, alpha, tail, "coulomb");
+    }
+    for line in &r.no_sliding {
+        spectrum_line_rows(out, line, alpha, tail, "no_sliding");
+    }
+}
+
+/// The rows of one frequency of a spectrum of a block of slenderness
+/// `alpha` ([`spectrum`]): its transitions' rows, then its residual-slide
+/// points' rows, ending with the columns of `tail` (`floor` as given).
+fn spectrum_line_rows(
+    out: &mut String,
+    line: &FrequencyDoc,
+    alpha: f64,
+    tail: SpectrumTail,
+    floor: &str,
+) {
+    // The cells past the original columns of a row that is not a point's.
+    let mut end = Vec::new();
+    if tail.slides {
+        end.extend(std::iter::repeat_n(String::new(), SLIDE_COLUMNS.len()));
+    }
+    if tail.floor {
+        end.push(cell(floor));
+    }
+    let mut added = vec![
+        cell(&line.omega_p),
+        cell(&line.frequency_hz),
+        cell(&line.threshold_g),
+        cell(&line.min_overturn_g),
+        cell(&line.min_overturn_m_s2),
+        cell(&line.min_overturn_mode),
+        cell(&line.overturns_above_alpha_g),
+        cell(&line.ground.pgv_over_pga_s),
+        cell(&line.ground.pgd_over_pga_s2),
+        cell(&line.principal.min_overturn_alpha_g),
+        cell(&line.principal.min_overturn_mode),
+        cell(&line.principal.overturns_above_alpha_g),
+    ];
+    added.extend(end.iter().cloned());
+    let cells = LineCells {
+        head: vec![cell(&line.omega_ratio)],
+        tail: vec![
+            cell(&line.min_overturn_alpha_g),
+            cell(&line.eq21_alpha_g),
+            cell(&line.threshold_alpha_g),
+            cell(&line.closed_form_mode2_alpha_g),
+        ],
+        added,
+    };
+    let crossings = line.transitions.iter().map(|t| Crossing {
+        levels: vec![cell(&t.a_alpha_g)],
+        direction: &t.direction,
+        mode: t.mode,
+        impacts: t.impacts,
+        bracket: t.bracket,
+        added: vec![cell(&t.a_g)],
+    });
+    let shape = CrossingShape {
+        levels: 1,
+        added: 1,
+    };
+    transition_rows(out, &cells, shape, crossings);
+    for p in line.residual_slide.iter().flatten() {
+        let mut fields = vec![
+            cell(&line.omega_ratio),
+            cell(&p.a_alpha_g),
+            cell("residual_slide"),
+        ];
+        // mode … closed_form_mode2_alpha_g: the transition's and the line's.
+        fields.extend(std::iter::repeat_n(String::new(), 8));
+        fields.extend([
+            cell(&(p.a_alpha_g * alpha)),
+            cell(&line.omega_p),
+            cell(&line.frequency_hz),
+        ]);
+        // threshold_g … principal_overturns_above_alpha_g: the line's.
+        fields.extend(std::iter::repeat_n(String::new(), 10));
+        fields.extend([
+            cell(&p.residual_slide_m),
+            cell(&p.peak_slide_m),
+            cell(&p.outcome),
+        ]);
+        if tail.floor {
+            fields.push(cell(floor));
+        }
+        debug_assert_eq!(
+            fields.len(),
+            SPECTRUM_COLUMNS.len() + SLIDE_COLUMNS.len() + usize::from(tail.floor)
+        );
+        row(out, &fields);
     }
 }
 
@@ -941,7 +1037,7 @@ mod tests {
     use crate::jobs::fragility::StripeResult;
     use crate::jobs::friction::FrictionPointDoc;
     use crate::jobs::names::Im;
-    use crate::jobs::spectrum::PulseScalesDoc;
+    use crate::jobs::spectrum::{PulseScalesDoc, SlidePointDoc};
     use crate::jobs::survival::{AgeDistributionResult, AgeResult, JointResult};
     use crate::jobs::time_history::{ImpactDoc, SeriesDoc};
     use crate::plot::tests::typed;
@@ -1254,6 +1350,231 @@ mod tests {
                 "10.0,,,,,,,,2.67,1.0,,,21.4,3.4,0.25,,,,,0.046,0.0015,,,",
             ]
         );
+    }
+
+    /// The header of a spectrum's table without residual slides or the
+    /// pure-rocking spectrum beside: as it has always been.
+    const SPECTRUM_HEADER: &str = "omega_ratio,a_alpha_g,direction,mode,impacts,bracket_lo_alpha_g,bracket_hi_alpha_g,min_overturn_alpha_g,eq21_alpha_g,threshold_alpha_g,closed_form_mode2_alpha_g,\
+         a_g,omega_p_rad_per_s,frequency_hz,threshold_g,min_overturn_g,min_overturn_m_per_s2,min_overturn_mode,overturns_above_alpha_g,\
+         pgv_over_pga_s,pgd_over_pga_s2,principal_min_overturn_alpha_g,principal_min_overturn_mode,principal_overturns_above_alpha_g";
+
+    #[test]
+    fn spectrum_residual_slides_and_the_lines_beside_have_rows_of_their_own() {
+        let JobResult::Spectrum(mut r) = typed(SPECTRUM) else {
+            panic!("a spectrum")
+        };
+        assert_eq!(r.spec.block.alpha, 0.25);
+        // One line with a transition and two residual-slide points; beside
+        // it, one line without any transition.
+        let mut first = r.spectrum[0].clone();
+        let mut beside = first.clone();
+        let mut up = first.transitions[0].clone();
+        (first.omega_ratio, first.threshold_alpha_g) = (2.0, 1.0);
+        (first.min_overturn_alpha_g, first.eq21_alpha_g) = (Some(1.25), Some(1.33));
+        first.closed_form_mode2_alpha_g = None;
+        (first.omega_p, first.frequency_hz, first.threshold_g) = (4.28, 0.68, 0.25);
+        (first.min_overturn_g, first.min_overturn_m_s2) = (Some(0.3125), Some(3.07));
+        (first.min_overturn_mode, first.overturns_above_alpha_g) = (Some(1), Some(2.37));
+        first.ground = PulseScalesDoc {
+            pgv_over_pga_s: 0.23,
+            pgd_over_pga_s2: 0.037,
+        };
+        first.principal.min_overturn_alpha_g = Some(1.25);
+        first.principal.min_overturn_mode = Some(1);
+        first.principal.overturns_above_alpha_g = Some(1.25);
+        (up.a_alpha_g, up.direction, up.mode, up.impacts) = (1.25, "up".into(), 1, 1);
+        (up.bracket, up.a_g) = ([1.2499, 1.2501], 0.3125);
+        first.transitions = vec![up];
+        first.residual_slide = Some(vec![
+            SlidePointDoc {
+                a_alpha_g: 1.0,
+                residual_slide_m: 0.0,
+                peak_slide_m: 0.0,
+                outcome: "stands".into(),
+            },
+            SlidePointDoc {
+                a_alpha_g: 2.0,
+                residual_slide_m: -0.0123,
+                peak_slide_m: 0.0456,
+                outcome: "overturns".into(),
+            },
+        ]);
+        (beside.omega_ratio, beside.threshold_alpha_g) = (10.0, 1.0);
+        (beside.min_overturn_alpha_g, beside.eq21_alpha_g) = (None, Some(2.67));
+        beside.closed_form_mode2_alpha_g = None;
+        (beside.omega_p, beside.frequency_hz, beside.threshold_g) = (21.4, 3.4, 0.25);
+        (beside.min_overturn_g, beside.min_overturn_m_s2) = (None, None);
+        (beside.min_overturn_mode, beside.overturns_above_alpha_g) = (None, None);
+        beside.ground = PulseScalesDoc {
+            pgv_over_pga_s: 0.046,
+            pgd_over_pga_s2: 0.0015,
+        };
+        beside.principal.min_overturn_alpha_g = None;
+        beside.principal.min_overturn_mode = None;
+        beside.principal.overturns_above_alpha_g = None;
+        beside.transitions = vec![];
+        beside.residual_slide = None;
+        r.spectrum = vec![first];
+        r.no_sliding = vec![beside];
+        let table = |r: &SpectrumResult| to_csv(&JobResult::Spectrum(Box::new(r.clone())));
+        let csv = table(&r);
+        assert_eq!(
+            lines(&csv),
+            [
+                format!("{SPECTRUM_HEADER},residual_slide_m,peak_slide_m,outcome,floor").as_str(),
+                "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,,\
+                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25,,,,coulomb",
+                "2.0,1.0,residual_slide,,,,,,,,,0.25,4.28,0.68,,,,,,,,,,,0.0,0.0,stands,coulomb",
+                "2.0,2.0,residual_slide,,,,,,,,,0.5,4.28,0.68,,,,,,,,,,,-0.0123,0.0456,overturns,coulomb",
+                "10.0,,,,,,,,2.67,1.0,,,21.4,3.4,0.25,,,,,0.046,0.0015,,,,,,,no_sliding",
+            ]
+        );
+        // Residual slides alone: no `floor`.
+        let mut alone = r.clone();
+        alone.no_sliding = vec![];
+        let csv = table(&alone);
+        let l = lines(&csv);
+        assert_eq!(
+            l[0],
+            format!("{SPECTRUM_HEADER},residual_slide_m,peak_slide_m,outcome")
+        );
+        assert_eq!(l.len(), 4);
+        assert_eq!(
+            l[3],
+            "2.0,2.0,residual_slide,,,,,,,,,0.5,4.28,0.68,,,,,,,,,,,-0.0123,0.0456,overturns"
+        );
+        // The lines beside alone: `floor` right after the usual columns.
+        let mut beside_only = r.clone();
+        beside_only.spectrum[0].residual_slide = None;
+        let csv = table(&beside_only);
+        assert_eq!(
+            lines(&csv),
+            [
+                format!("{SPECTRUM_HEADER},floor").as_str(),
+                "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,,\
+                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25,coulomb",
+                "10.0,,,,,,,,2.67,1.0,,,21.4,3.4,0.25,,,,,0.046,0.0015,,,,no_sliding",
+            ]
+        );
+        // Neither: the table as it was.
+        let mut neither = beside_only;
+        neither.no_sliding = vec![];
+        let csv = table(&neither);
+        assert_eq!(
+            lines(&csv),
+            [
+                SPECTRUM_HEADER,
+                "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,,\
+                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25",
+            ]
+        );
+    }
+
+    #[test]
+    fn a_coulomb_spectrum_lists_its_residual_slides_and_the_pure_rocking_lines() {
+        // The locomotive on μ = 0.3 on a coarse grid (as the spectrum's own
+        // tests run it), with its residual slides and pure rocking beside.
+        let doc = crate::plot::tests::computed(
+            r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},
+                "omega_ratio":[3,6],"a_max_alpha_g":4,"tolerance":1e-3,"scan_step_alpha_g":0.05,
+                "contact":{"model":"coulomb","mu":0.3},"residual_slide":{"steps":4},"no_sliding_beside":true}"#,
+        );
+        let JobResult::Spectrum(r) = JobResult::from_value(doc.clone()).expect("typed") else {
+            panic!("a spectrum")
+        };
+        let csv = to_csv(&JobResult::Spectrum(r.clone()));
+        let l = lines(&csv);
+        let header: Vec<&str> = l[0].split(',').collect();
+        assert_eq!(
+            l[0],
+            format!("{SPECTRUM_HEADER},residual_slide_m,peak_slide_m,outcome,floor")
+        );
+        let at = |name: &str| header.iter().position(|h| *h == name).expect(name);
+        let rows: Vec<Vec<&str>> = l[1..].iter().map(|r| r.split(',').collect()).collect();
+        assert!(rows.iter().all(|c| c.len() == header.len()), "{csv}");
+        // A row per transition (or one) of each line, a row per point of
+        // its residual slide; then the lines beside, without residual slides.
+        let lines_of = |key: &str| doc[key].as_array().expect("lines").clone();
+        let (floor, beside) = (lines_of("spectrum"), lines_of("no_sliding"));
+        assert_eq!((floor.len(), beside.len()), (2, 2));
+        let count = |line: &Value, key: &str| line[key].as_array().map_or(0, Vec::len);
+        let points: usize = floor.iter().map(|f| count(f, "residual_slide")).sum();
+        assert_eq!(points, 2 * 4);
+        let transition_rows = |lines: &[Value]| -> usize {
+            lines.iter().map(|f| count(f, "transitions").max(1)).sum()
+        };
+        let on_floor = transition_rows(&floor) + points;
+        assert_eq!(rows.len(), on_floor + transition_rows(&beside));
+        let direction = at("direction");
+        let residual: Vec<&Vec<&str>> = rows
+            .iter()
+            .filter(|c| c[direction] == "residual_slide")
+            .collect();
+        assert_eq!(residual.len(), points);
+        assert!(beside.iter().all(|f| f.get("residual_slide").is_none()));
+        // `floor`: coulomb, then no_sliding.
+        let floors: Vec<&str> = rows.iter().map(|c| c[at("floor")]).collect();
+        assert!(floors[..on_floor].iter().all(|f| *f == "coulomb"), "{csv}");
+        assert!(
+            floors[on_floor..].iter().all(|f| *f == "no_sliding"),
+            "{csv}"
+        );
+        // A residual row holds its point and its frequency; nothing else.
+        let number = |v: &Value| cell(&v.as_f64().expect("a number"));
+        for (k, line) in floor.iter().enumerate() {
+            let mine: Vec<&&Vec<&str>> = residual
+                .iter()
+                .filter(|c| c[0] == number(&line["omega_ratio"]))
+                .collect();
+            let line_points = line["residual_slide"].as_array().expect("asked");
+            assert_eq!(mine.len(), line_points.len(), "line {k}");
+            for (c, p) in mine.iter().zip(line_points) {
+                let a = p["a_alpha_g"].as_f64().expect("αg");
+                let text = p["outcome"].as_str().expect("outcome").to_string();
+                let expected = [
+                    ("omega_ratio", number(&line["omega_ratio"])),
+                    ("a_alpha_g", number(&p["a_alpha_g"])),
+                    ("a_g", cell(&(a * 0.25))),
+                    ("omega_p_rad_per_s", number(&line["omega_p"])),
+                    ("frequency_hz", number(&line["frequency_hz"])),
+                    ("residual_slide_m", number(&p["residual_slide_m"])),
+                    ("peak_slide_m", number(&p["peak_slide_m"])),
+                    ("outcome", text),
+                    ("floor", "coulomb".to_string()),
+                ];
+                for (name, value) in &expected {
+                    assert_eq!(c[at(name)], value.as_str(), "{name} in {c:?}");
+                }
+                for (j, field) in c.iter().enumerate() {
+                    let filled = expected.iter().any(|(n, _)| at(n) == j) || j == direction;
+                    assert!(filled || field.is_empty(), "{} in {c:?}", header[j]);
+                }
+            }
+        }
+        // The points are at a_max·k/4, k = 1…4, of each line in turn.
+        let levels: Vec<&str> = residual.iter().map(|c| c[at("a_alpha_g")]).collect();
+        assert_eq!(
+            levels,
+            ["1.0", "2.0", "3.0", "4.0", "1.0", "2.0", "3.0", "4.0"]
+        );
+        // Transition rows leave the slide columns empty.
+        for c in rows.iter().filter(|c| c[direction] != "residual_slide") {
+            for name in ["residual_slide_m", "peak_slide_m", "outcome"] {
+                assert!(c[at(name)].is_empty(), "{name} in {c:?}");
+            }
+        }
+        // Without them, the table of the floor's lines as it always was.
+        let mut plain = *r;
+        plain.no_sliding = vec![];
+        for line in &mut plain.spectrum {
+            line.residual_slide = None;
+        }
+        let csv = to_csv(&JobResult::Spectrum(Box::new(plain.clone())));
+        let l = lines(&csv);
+        assert_eq!(l[0], SPECTRUM_HEADER);
+        assert_eq!(l.len(), 1 + transition_rows(&floor));
+        assert!(l.iter().all(|r| r.split(',').count() == 24), "{csv}");
+        assert!(!csv.contains("residual_slide") && !csv.contains("coulomb"));
     }
 
     #[test]
