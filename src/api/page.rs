@@ -95,6 +95,15 @@ mod tests {
             .filter_map(|rest| rest.split('"').next())
             .collect();
         assert_eq!(models, ["no_sliding", "coulomb"]);
+        let on_floor = HTML
+            .split("if (coulomb) {\n      spec.contact =")
+            .nth(1)
+            .and_then(|rest| rest.split("\n    }").next())
+            .expect("the Coulomb part of the spec");
+        assert!(
+            on_floor.contains("if (k === \"spectrum\") spec.no_sliding_beside = true;"),
+            "{on_floor}"
+        );
         for model in models {
             let mut contact = serde_json::json!({"model": model});
             if model == "coulomb" {
@@ -112,6 +121,10 @@ mod tests {
             ] {
                 let mut spec = serde_json::json!({"kind": kind, "block": {"alpha": 0.25, "p": 2.14},
                     "formulation": "nonlinear", "contact": contact});
+                // A spectrum on the floor is sent with pure rocking's beside it.
+                if kind == "spectrum" && model == "coulomb" {
+                    spec["no_sliding_beside"] = serde_json::json!(true);
+                }
                 if let (Some(spec), Some(rest)) = (spec.as_object_mut(), rest.as_object()) {
                     spec.extend(rest.clone());
                 }

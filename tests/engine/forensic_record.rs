@@ -95,8 +95,8 @@ fn a_sampled_pulse_gives_the_pulse_querys_answer() {
     }
 }
 
-/// Whether `block` overturns under `record` scaled by `s`.
-fn overturns(block: &Value, record: &Value, s: f64) -> bool {
+/// `record` with its samples scaled by `s`.
+fn scaled(record: &Value, s: f64) -> Value {
     let mut gm = record.clone();
     let acc: Vec<f64> = gm["acc"]
         .as_array()
@@ -105,6 +105,12 @@ fn overturns(block: &Value, record: &Value, s: f64) -> bool {
         .map(|a| a.as_f64().expect("number") * s)
         .collect();
     gm["acc"] = json!(acc);
+    gm
+}
+
+/// Whether `block` overturns under `record` scaled by `s`.
+fn overturns(block: &Value, record: &Value, s: f64) -> bool {
+    let gm = scaled(record, s);
     let spec = json!({"kind": "time_history", "block": block, "ground_motion": gm,
                       "formulation": "nonlinear",
                       "outputs": {"reactions": false, "impacts": false, "max_free_impacts": 0}});
@@ -282,14 +288,7 @@ fn the_exact_linear_solution_is_the_default_and_agrees_with_dop853() {
 /// |residual slide|, m, of `block` on `contact` under `record` scaled by `s`;
 /// `None` when it overturns.
 fn slid(block: &Value, contact: &Value, record: &Value, s: f64) -> Option<f64> {
-    let mut gm = record.clone();
-    let acc: Vec<f64> = gm["acc"]
-        .as_array()
-        .expect("samples")
-        .iter()
-        .map(|a| a.as_f64().expect("number") * s)
-        .collect();
-    gm["acc"] = json!(acc);
+    let gm = scaled(record, s);
     let spec = json!({"kind": "time_history", "block": block, "ground_motion": gm,
                       "contact": contact});
     let r = run(&Job::from_value(&spec).expect("valid"));
