@@ -1302,24 +1302,8 @@ mod tests {
             l[1]
         );
         // Set values: one line with two transitions, one without any.
-        let mut first = r.spectrum[0].clone();
-        let mut second = first.clone();
-        let mut up = first.transitions[0].clone();
-        (first.omega_ratio, first.threshold_alpha_g) = (2.0, 1.0);
-        (first.min_overturn_alpha_g, first.eq21_alpha_g) = (Some(1.25), Some(1.33));
-        first.closed_form_mode2_alpha_g = None;
-        (first.omega_p, first.frequency_hz, first.threshold_g) = (4.28, 0.68, 0.25);
-        (first.min_overturn_g, first.min_overturn_m_s2) = (Some(0.3125), Some(3.07));
-        (first.min_overturn_mode, first.overturns_above_alpha_g) = (Some(1), Some(2.37));
-        first.ground = PulseScalesDoc {
-            pgv_over_pga_s: 0.23,
-            pgd_over_pga_s2: 0.037,
-        };
-        first.principal.min_overturn_alpha_g = Some(1.25);
-        first.principal.min_overturn_mode = Some(1);
-        first.principal.overturns_above_alpha_g = Some(1.25);
-        (up.a_alpha_g, up.direction, up.mode, up.impacts) = (1.25, "up".into(), 1, 1);
-        (up.bracket, up.a_g) = ([1.2499, 1.2501], 0.3125);
+        let mut second = r.spectrum[0].clone();
+        let (mut first, up) = set_line(&r.spectrum[0]);
         let mut down = up.clone();
         (down.a_alpha_g, down.direction, down.bracket) = (2.37, "down".into(), [2.3699, 2.3701]);
         down.a_g = 0.5925;
@@ -1352,22 +1336,15 @@ mod tests {
         );
     }
 
-    /// The header of a spectrum's table without residual slides or the
-    /// pure-rocking spectrum beside: as it has always been.
-    const SPECTRUM_HEADER: &str = "omega_ratio,a_alpha_g,direction,mode,impacts,bracket_lo_alpha_g,bracket_hi_alpha_g,min_overturn_alpha_g,eq21_alpha_g,threshold_alpha_g,closed_form_mode2_alpha_g,\
-         a_g,omega_p_rad_per_s,frequency_hz,threshold_g,min_overturn_g,min_overturn_m_per_s2,min_overturn_mode,overturns_above_alpha_g,\
-         pgv_over_pga_s,pgd_over_pga_s2,principal_min_overturn_alpha_g,principal_min_overturn_mode,principal_overturns_above_alpha_g";
-
-    #[test]
-    fn spectrum_residual_slides_and_the_lines_beside_have_rows_of_their_own() {
-        let JobResult::Spectrum(mut r) = typed(SPECTRUM) else {
-            panic!("a spectrum")
-        };
-        assert_eq!(r.spec.block.alpha, 0.25);
-        // One line with a transition and two residual-slide points; beside
-        // it, one line without any transition.
-        let mut first = r.spectrum[0].clone();
-        let mut beside = first.clone();
+    /// `line` with set values (ω_p/p = 2, overturning from 1.25 αg in mode 1
+    /// up to 2.37 αg), and its first transition set to an "up" at 1.25 αg.
+    fn set_line(
+        line: &crate::jobs::spectrum::FrequencyDoc,
+    ) -> (
+        crate::jobs::spectrum::FrequencyDoc,
+        crate::jobs::spectrum::TransitionDoc,
+    ) {
+        let mut first = line.clone();
         let mut up = first.transitions[0].clone();
         (first.omega_ratio, first.threshold_alpha_g) = (2.0, 1.0);
         (first.min_overturn_alpha_g, first.eq21_alpha_g) = (Some(1.25), Some(1.33));
@@ -1384,6 +1361,25 @@ mod tests {
         first.principal.overturns_above_alpha_g = Some(1.25);
         (up.a_alpha_g, up.direction, up.mode, up.impacts) = (1.25, "up".into(), 1, 1);
         (up.bracket, up.a_g) = ([1.2499, 1.2501], 0.3125);
+        (first, up)
+    }
+
+    /// The header of a spectrum's table without residual slides or the
+    /// pure-rocking spectrum beside: as it has always been.
+    const SPECTRUM_HEADER: &str = "omega_ratio,a_alpha_g,direction,mode,impacts,bracket_lo_alpha_g,bracket_hi_alpha_g,min_overturn_alpha_g,eq21_alpha_g,threshold_alpha_g,closed_form_mode2_alpha_g,\
+         a_g,omega_p_rad_per_s,frequency_hz,threshold_g,min_overturn_g,min_overturn_m_per_s2,min_overturn_mode,overturns_above_alpha_g,\
+         pgv_over_pga_s,pgd_over_pga_s2,principal_min_overturn_alpha_g,principal_min_overturn_mode,principal_overturns_above_alpha_g";
+
+    #[test]
+    fn spectrum_residual_slides_and_the_lines_beside_have_rows_of_their_own() {
+        let JobResult::Spectrum(mut r) = typed(SPECTRUM) else {
+            panic!("a spectrum")
+        };
+        assert_eq!(r.spec.block.alpha, 0.25);
+        // One line with a transition and two residual-slide points; beside
+        // it, one line without any transition.
+        let mut beside = r.spectrum[0].clone();
+        let (mut first, up) = set_line(&r.spectrum[0]);
         first.transitions = vec![up];
         first.residual_slide = Some(vec![
             SlidePointDoc {

@@ -119,11 +119,9 @@ fn overturns(block: &Value, record: &Value, s: f64) -> bool {
         .expect("flag")
 }
 
-#[test]
-fn consistent_scales_agree_with_time_histories_inside_and_between() {
-    // A two-cycle record with a stronger second cycle: not a pulse the
-    // library holds.
-    let n = 2000;
+/// Two cycles of 1.3 Hz over 2 s, the second stronger (0.3 g, then 0.5 g
+/// under a triangular envelope), in `n` steps: not a pulse the library holds.
+fn two_cycle_record(n: usize) -> Value {
     let dt = 2.0 / n as f64;
     let acc: Vec<f64> = (0..=n)
         .map(|k| {
@@ -133,6 +131,14 @@ fn consistent_scales_agree_with_time_histories_inside_and_between() {
         })
         .collect();
     let record = json!({"dt": dt, "acc": acc, "unit": "g"});
+    record
+}
+
+#[test]
+fn consistent_scales_agree_with_time_histories_inside_and_between() {
+    // A two-cycle record with a stronger second cycle: not a pulse the
+    // library holds.
+    let record = two_cycle_record(2000);
     let result = run(&query(json!({"ground_motion": record, "pga_g": null,
                                    "scale": {"from": 0.2, "to": 8.0}}))
     .expect("valid"));
@@ -304,16 +310,7 @@ fn a_seen_slide_under_a_record_is_consistent_where_its_time_history_slides_that_
     // that slid 5–20 cm are those whose time history ends with a slide of
     // that size; at the middle of each interval and gap, and one tolerance
     // either side of each end found.
-    let n = 1000;
-    let dt = 2.0 / n as f64;
-    let acc: Vec<f64> = (0..=n)
-        .map(|k| {
-            let t = k as f64 * dt;
-            let a = if t < 1.0 { 0.3 } else { 0.5 };
-            a * (std::f64::consts::TAU * 1.3 * t).sin() * (1.0 - (t - 1.0).abs()).max(0.0)
-        })
-        .collect();
-    let record = json!({"dt": dt, "acc": acc, "unit": "g"});
+    let record = two_cycle_record(1000);
     let block = json!({"alpha": 0.25, "p": 2.14});
     let contact = json!({"model": "coulomb", "mu": 0.2});
     let band = [0.05, 0.2];
