@@ -10,8 +10,8 @@
 //! `initial_mode`, `modes` [{mode, from, to, direction, slip_from,
 //! slip_to}], `overturned`, `overturn_time`, `overturn_side`, `impacts`
 //! [{t, theta_dot_before, theta_dot_after, sticking}], `impact_count`,
-//! `lift_off`, `rest_time`, `peak_slide`, `residual_slide`, `time_sliding`,
-//! `peak_theta_over_alpha`.
+//! `first_flight`, `flights`, `time_in_flight`, `rest_time`, `peak_slide`,
+//! `residual_slide`, `time_sliding`, `peak_theta_over_alpha`.
 
 use serde_json::{Value, json};
 use topple::dynamics::coulomb::{ContactResponse, simulate_contact};
@@ -97,7 +97,9 @@ fn main() -> Result<(), String> {
                 "sticking": i.sticking,
             })).collect::<Vec<_>>(),
             "impact_count": r.impact_count,
-            "lift_off": r.lift_off,
+            "first_flight": r.first_flight,
+            "flights": r.flights,
+            "time_in_flight": r.time_in_flight,
             "rest_time": r.rest_time,
             "peak_slide": r.peak_slide,
             "residual_slide": r.residual_slide,

@@ -15,8 +15,10 @@
 //! - an **impact** ([`slide_rock::impact`]): the landing corner holds
 //!   (Housner's η) or slides; a block whose rotation after it is below the
 //!   rest velocity lands flat — sticking, or sliding on;
-//! - **flight**: where the floor would have to pull (f_z or N ≤ 0, or
-//!   g + ü_v ≤ 0) the block leaves it; the history ends there (lift-off).
+//! - **flight** ([`flight`]): where the floor would have to pull (f_z or
+//!   N ≤ 0, or g + ü_v ≤ 0 under a flat block) the block leaves it, moves
+//!   ballistically in closed form, and lands — on a corner, holding or
+//!   sliding as at an impact, or flat — or overturns in the air.
 //!
 //! After the ground motion ends the block moves freely through the same
 //! events until it rests or overturns. Sticking impacts of a chattering
@@ -32,6 +34,7 @@ use super::chatter::settle;
 use super::contact::{Mode, onset};
 use super::equations::{Formulation, Threshold};
 use super::events::{first_nonpositive, return_and_overturn};
+use super::flight::{self, Flight, FlightEnd, Landed, Pose};
 use super::integrator::{DenseStep, Method, Rhs, State, Stepper, StepperStats, single_step};
 use super::reactions::reactions_per_mass_vertical;
 use super::response::OverturnMode;
@@ -99,8 +102,13 @@ pub struct ContactResponse {
     pub impacts: Vec<ContactImpact>,
     /// All impacts, summed chattering included.
     pub impact_count: u64,
-    /// When the block left the floor (the history ends there).
-    pub lift_off: Option<f64>,
+    /// When the block first left the floor.
+    pub first_flight: Option<f64>,
+    /// Flights (each ends in a landing, counted among the impacts, or in
+    /// overturning in the air).
+    pub flights: u64,
+    /// Time spent in the air, s.
+    pub time_in_flight: f64,
     /// Time it came to rest for good.
     pub rest_time: Option<f64>,
     /// End of the history, s.
@@ -182,6 +190,10 @@ enum Phase {
         y: State,
         slip_velocity: f64,
     },
+    /// In the air from `pose`.
+    Flight {
+        pose: Pose,
+    },
 }
 
 /// How a leg ended.
@@ -221,6 +233,7 @@ struct Driver<'a, G> {
     atol: f64,
     h_hint: f64,
     out: ContactResponse,
+    /// The next instant from which g + ü_v ≤ 0, as last looked for.
     weightless: Option<f64>,
     /// Where a chattering rock summed in closed form comes to rest.
     settled_at: Option<f64>,
@@ -278,7 +291,9 @@ pub fn simulate_contact_sampled<G: Kinematics>(
             overturn_mode: None,
             impacts: Vec::new(),
             impact_count: 0,
-            lift_off: None,
+            first_flight: None,
+            flights: 0,
+            time_in_flight: 0.0,
             rest_time: None,
             end_time: forcing.duration(),
             peak_slide: 0.0,
@@ -300,10 +315,9 @@ pub fn simulate_contact_sampled<G: Kinematics>(
     };
     d.run()?;
     if let Some(mut s) = d.sampler.take() {
-        // At the end: at rest where it stopped, or where it overturned or
-        // left the floor (the history ends there).
+        // At the end: at rest where it stopped, or where it overturned.
         let x = d.out.residual_slide;
-        if !(d.out.overturned || d.out.lift_off.is_some()) {
+        if !d.out.overturned {
             s.fill(f64::INFINITY, Mode::Stick, |_| (0.0, 0.0, x));
         }
         d.out.series = Some(s.out);
@@ -359,11 +373,34 @@ impl<G: Kinematics> Driver<'_, G> {
         self.out.residual_slide = x;
     }
 
-    fn lift_off(&mut self, t: f64) {
-        self.out.lift_off = Some(t);
-        self.out.end_time = t;
-        let x = self.out.residual_slide;
-        self.span(Mode::Flight, (t, t), None, (x, x));
+    /// The first instant at or after `t` from which g + ü_v ≤ 0.
+    fn weightless_from(&mut self, t: f64) -> Option<f64> {
+        if self.weightless.is_some_and(|l| l < t) {
+            self.weightless = self.forcing.next_weightless(t, self.block.gravity());
+        }
+        self.weightless.map(|l| l.max(t))
+    }
+
+    /// The block leaves the floor at `t` in `pose`.
+    fn take_off(&mut self, t: f64, pose: Pose) -> Phase {
+        self.out.first_flight.get_or_insert(t);
+        self.out.flights += 1;
+        self.out.events += 1;
+        Phase::Flight { pose }
+    }
+
+    /// A take-off from the corner `side` in state `y`, the slip at `x`
+    /// moving at `slip_velocity`.
+    fn take_off_from_corner(
+        &mut self,
+        t: f64,
+        side: f64,
+        y: State,
+        x: f64,
+        slip_velocity: f64,
+    ) -> Phase {
+        let pose = Pose::on_corner(&self.block, side, y[0], y[1], x, slip_velocity);
+        self.take_off(t, pose)
     }
 
     fn run(&mut self) -> Result<(), SimError> {
@@ -401,10 +438,7 @@ impl<G: Kinematics> Driver<'_, G> {
                     let push = -self.forcing.acceleration(t).signum();
                     let side = if push == 0.0 { 1.0 } else { push };
                     phase = match mode {
-                        Mode::Flight => {
-                            self.lift_off(t);
-                            return Ok(());
-                        }
+                        Mode::Flight => self.take_off(t, Pose::flat(&block, x, 0.0)),
                         Mode::Rock => Phase::Rock {
                             side,
                             y: [0.0, 0.0],
@@ -428,16 +462,18 @@ impl<G: Kinematics> Driver<'_, G> {
                     direction,
                     velocity,
                 } => {
-                    let (end, x_end) = self.flat_slide(t, x, direction, velocity);
+                    let (end, x_end, lifted) = self.flat_slide(t, x, direction, velocity);
                     self.span(Mode::Slide, (t, end), Some(direction), (x, x_end));
                     self.out.time_sliding += end - t;
                     self.slid(x_end);
                     (t, x) = (end, x_end);
-                    if self.out.lift_off.is_some() {
-                        return Ok(());
-                    }
-                    self.out.events += 1;
-                    phase = Phase::Stick;
+                    phase = match lifted {
+                        Some(v) => self.take_off(t, Pose::flat(&block, x, v)),
+                        None => {
+                            self.out.events += 1;
+                            Phase::Stick
+                        }
+                    };
                 }
                 Phase::Rock { side, y } => {
                     let (next, t1) = self.rock(t, side, y, v_rest)?;
@@ -455,6 +491,14 @@ impl<G: Kinematics> Driver<'_, G> {
                 } => {
                     let (next, t1, x1) =
                         self.slide_rock(t, x, side, sigma, y, slip_velocity, v_rest)?;
+                    (t, x) = (t1, x1);
+                    match next {
+                        Some(p) => phase = p,
+                        None => return Ok(()),
+                    }
+                }
+                Phase::Flight { pose } => {
+                    let (next, t1, x1) = self.fly(t, pose, v_rest)?;
                     (t, x) = (t1, x1);
                     match next {
                         Some(p) => phase = p,
@@ -517,8 +561,15 @@ impl<G: Kinematics> Driver<'_, G> {
         )
     }
 
-    /// A flat slide from `t` at slip `x` until it stops: (end, slip there).
-    fn flat_slide(&mut self, t: f64, x: f64, direction: f64, velocity: f64) -> (f64, f64) {
+    /// A flat slide from `t` at slip `x` until it stops or the block leaves
+    /// the floor: (end, slip there, the velocity it left the floor with).
+    fn flat_slide(
+        &mut self,
+        t: f64,
+        x: f64,
+        direction: f64,
+        velocity: f64,
+    ) -> (f64, f64, Option<f64>) {
         let g = self.block.gravity();
         let leg = sliding::Leg::new(
             self.forcing,
@@ -535,13 +586,12 @@ impl<G: Kinematics> Driver<'_, G> {
             gravity: g,
         };
         let end = sliding::stop(&leg, &drive);
-        if let Some(l) = self.weightless.filter(|&l| l >= t && l < end) {
+        if let Some(l) = self.weightless_from(t).filter(|&l| l < end) {
             self.fill(l, Mode::Slide, |t| (0.0, 0.0, leg.displacement(t)));
-            self.lift_off(l);
-            return (l, leg.displacement(l));
+            return (l, leg.displacement(l), Some(leg.velocity(l)));
         }
         self.fill(end, Mode::Slide, |t| (0.0, 0.0, leg.displacement(t)));
-        (end, leg.displacement(end))
+        (end, leg.displacement(end), None)
     }
 
     /// A rocking stretch from `t` on `side` in state `y`: the next phase
@@ -559,8 +609,7 @@ impl<G: Kinematics> Driver<'_, G> {
         // Already beyond the friction limit (after an impact, or at once).
         let (fx, fz) = self.reactions(t, side, y);
         if fz <= 0.0 {
-            self.lift_off(t);
-            return Ok((None, t));
+            return Ok((Some(self.take_off_from_corner(t, side, y, x0, 0.0)), t));
         }
         let hold = std::mem::take(&mut self.hold);
         if !hold
@@ -611,15 +660,13 @@ impl<G: Kinematics> Driver<'_, G> {
                 self.out.events += 1;
                 let (_, fz) = self.reactions(t1, side, y1);
                 if k == 1 || fz <= 0.0 {
-                    self.lift_off(t1);
-                    return Ok((None, t1));
+                    return Ok((Some(self.take_off_from_corner(t1, side, y1, x, 0.0)), t1));
                 }
                 Ok((self.slip(t1, side, y1), t1))
             }
-            LegEnd::Reached(t1, _) => {
+            LegEnd::Reached(t1, y1) => {
                 // The ground falls away (g + ü_v ≤ 0).
-                self.lift_off(t1);
-                Ok((None, t1))
+                Ok((Some(self.take_off_from_corner(t1, side, y1, x, 0.0)), t1))
             }
         }
     }
@@ -751,6 +798,128 @@ impl<G: Kinematics> Driver<'_, G> {
         })
     }
 
+    /// A flight from `pose` at `t` to its landing (the next phase, when, and
+    /// the slip there) or to overturning in the air (`None`).
+    fn fly(
+        &mut self,
+        t: f64,
+        pose: Pose,
+        v_rest: f64,
+    ) -> Result<(Option<Phase>, f64, f64), SimError> {
+        let block = self.block;
+        let (alpha, r) = (block.slenderness(), block.half_diagonal());
+        let p = block.frequency_parameter();
+        let duration = self.forcing.duration();
+        let flight = Flight::new(self.forcing, &block, t, pose);
+        // The clearance is sampled finely against both the block's and the
+        // forcing's time scales.
+        let dt = std::f64::consts::TAU / p.max(self.forcing.resolving_frequency()) / 64.0;
+        let limit = duration + FREE_PERIODS * std::f64::consts::TAU / p;
+        let Some(end) = flight.end(dt, limit) else {
+            return Err(SimError::FreeMotionUnended(limit));
+        };
+        let t1 = match end {
+            FlightEnd::Landing(t1) | FlightEnd::Overturn(t1) => t1,
+        };
+        self.fill(t1, Mode::Flight, |t| {
+            let q = flight.pose(t);
+            (q.theta, q.omega, q.slip(&block))
+        });
+        // The slip's extremes in the air, on a grid of the flight.
+        let x0 = pose.slip(&block);
+        let pose1 = flight.pose(t1);
+        let x1 = pose1.slip(&block);
+        for k in 1..64 {
+            let q = flight.pose(t + (t1 - t) * f64::from(k) / 64.0);
+            self.out.peak_slide = self.out.peak_slide.max(q.slip(&block).abs());
+        }
+        self.slid(x1);
+        self.span(Mode::Flight, (t, t1), None, (x0, x1));
+        self.out.time_in_flight += t1 - t;
+        self.out.peak_theta_over_alpha = self.out.peak_theta_over_alpha.max(
+            pose.theta
+                .abs()
+                .max(pose1.theta.abs())
+                .min(std::f64::consts::FRAC_PI_2)
+                / alpha,
+        );
+        if let FlightEnd::Overturn(t1) = end {
+            self.overturn(t1, pose1.theta.signum());
+            return Ok((None, t1, x1));
+        }
+        let f = self.friction;
+        let landing = flight::land(&block, f.static_coefficient, f.kinetic_coefficient, &pose1);
+        self.out.impact_count += 1;
+        self.out.events += 1;
+        let omega_after = match landing.landed {
+            Landed::Corner { theta_dot, .. } => theta_dot,
+            Landed::Flat { .. } => 0.0,
+        };
+        if self.out.impacts.len() < super::simulate::MAX_LISTED_IMPACTS {
+            self.out.impacts.push(ContactImpact {
+                t: t1,
+                theta_dot: (pose1.omega, omega_after),
+                sticking: match landing.landed {
+                    Landed::Corner { sticking, .. } => sticking,
+                    Landed::Flat { velocity } => velocity == 0.0,
+                },
+            });
+        }
+        let flat = |velocity: f64| {
+            if velocity == 0.0 {
+                Phase::Stick
+            } else if f.kinetic_coefficient > alpha.tan() {
+                let direction = velocity.signum();
+                Phase::SlideRock {
+                    side: direction,
+                    sigma: direction,
+                    y: [0.0, 0.0],
+                    slip_velocity: velocity,
+                }
+            } else {
+                Phase::Slide {
+                    direction: velocity.signum(),
+                    velocity,
+                }
+            }
+        };
+        let next = match landing.landed {
+            Landed::Flat { velocity } => {
+                let x = pose1.x;
+                self.slid(x);
+                (flat(velocity), x)
+            }
+            Landed::Corner {
+                side,
+                theta_dot,
+                slip_velocity,
+                sticking,
+            } => {
+                // The slip of the corner that landed.
+                let x = pose1.x + side * r * ((alpha - side * pose1.theta).sin() - alpha.sin());
+                self.slid(x);
+                let y = [pose1.theta, theta_dot];
+                if pose1.theta == 0.0 && (theta_dot * side <= 0.0 || theta_dot.abs() <= v_rest) {
+                    // Level and not turning up onto the corner: flat.
+                    (flat(slip_velocity), x)
+                } else if sticking {
+                    (Phase::Rock { side, y }, x)
+                } else {
+                    (
+                        Phase::SlideRock {
+                            side,
+                            sigma: slip_velocity.signum(),
+                            y,
+                            slip_velocity,
+                        },
+                        x,
+                    )
+                }
+            }
+        };
+        Ok((Some(next.0), t1, next.1))
+    }
+
     /// A slide-rock stretch: the next phase, when, and the slip there.
     #[allow(clippy::too_many_arguments)]
     fn slide_rock(
@@ -820,11 +989,11 @@ impl<G: Kinematics> Driver<'_, G> {
             LegEnd::Sampled(0, t1, y1) => {
                 // The slip stops: the pivot holds if it can.
                 self.out.events += 1;
-                let (x1, _) = leg.slip(t1, y1);
+                let (x1, v1) = leg.slip(t1, y1);
                 let (fx, fz) = self.reactions(t1, side, y1);
                 if fz <= 0.0 {
-                    self.lift_off(t1);
-                    return Ok((None, t1, x1));
+                    let next = self.take_off_from_corner(t1, side, y1, x1, v1);
+                    return Ok((Some(next), t1, x1));
                 }
                 let next = if fx.abs() <= self.friction.static_coefficient * fz {
                     Phase::Rock { side, y: y1 }
@@ -846,9 +1015,9 @@ impl<G: Kinematics> Driver<'_, G> {
                 Ok((Some(next), t1, x1))
             }
             LegEnd::Sampled(_, t1, y1) | LegEnd::Reached(t1, y1) => {
-                let (x1, _) = leg.slip(t1, y1);
-                self.lift_off(t1);
-                Ok((None, t1, x1))
+                let (x1, v1) = leg.slip(t1, y1);
+                let next = self.take_off_from_corner(t1, side, y1, x1, v1);
+                Ok((Some(next), t1, x1))
             }
         }
     }
@@ -901,10 +1070,7 @@ impl<G: Kinematics> Driver<'_, G> {
                 .filter(|w| w.start - t0 <= 1e-12 * t0.abs().max(1.0))
                 .map_or(t0, |w| w.end)
         };
-        let stop_at = self
-            .weightless
-            .filter(|&l| l >= t0)
-            .unwrap_or(f64::INFINITY);
+        let stop_at = self.weightless_from(t0).unwrap_or(f64::INFINITY);
         // A safeguard: free rocking loses energy at every impact and rests
         // within tens of periods; this many is a fault, not motion.
         let free_until =

@@ -133,7 +133,9 @@ fn from_pure_rocking(r: &Response) -> ContactResponse {
         overturn_mode: r.mode,
         impacts: Vec::new(),
         impact_count: r.impact_count,
-        lift_off: None,
+        first_flight: None,
+        flights: 0,
+        time_in_flight: 0.0,
         rest_time: r.rest_time,
         end_time: r.end_time,
         peak_slide: 0.0,
@@ -183,10 +185,7 @@ fn to_response<G: Kinematics>(
         .count()
         + usize::from(c.modes.first().is_some_and(rocks));
     let rocking_start = c.modes.iter().find(|m| rocks(m)).map(|m| m.from);
-    let mut warnings = Vec::new();
-    if let Some(t) = c.lift_off {
-        warnings.push(crate::dynamics::response::Warning::GroundFallsAway(t));
-    }
+    let warnings = Vec::new();
     Response {
         rocked: rocking_start.is_some(),
         rocking_start,
@@ -215,7 +214,7 @@ fn to_response<G: Kinematics>(
         end_time: c.end_time,
         peak_theta_over_alpha: c.peak_theta_over_alpha,
         friction: None,
-        lift_off: c.lift_off,
+        lift_off: None,
         series: c.series.as_ref().map(|s| super::response::Series {
             t: s.t.clone(),
             theta: s.theta.clone(),

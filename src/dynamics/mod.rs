@@ -11,6 +11,7 @@ pub mod equations;
 pub mod events;
 pub mod exact;
 pub mod excitation;
+pub mod flight;
 pub mod floor;
 pub mod forcing;
 pub mod integrator;

@@ -170,7 +170,7 @@ impl<'a, G: Kinematics> Leg<'a, G> {
     }
 
     /// ẋ at `t`.
-    fn velocity(&self, t: f64) -> f64 {
+    pub(crate) fn velocity(&self, t: f64) -> f64 {
         let ((vg, _), (vv, _)) = self.forcing.kinematics(t);
         let ((vg0, _), (vv0, _)) = self.at0;
         self.v0 - (vg - vg0) - self.s * self.mu_k * (self.g * (t - self.t0) + (vv - vv0))

@@ -175,6 +175,11 @@ pub struct ContactDoc {
     pub residual_slide_m: f64,
     /// Time spent sliding or slide-rocking, s.
     pub time_sliding_s: f64,
+    /// Times the block left the floor (each flight ends in a landing,
+    /// counted among the impacts, or in overturning in the air).
+    pub flights: u64,
+    /// Time spent in the air, s.
+    pub time_in_flight_s: f64,
     /// The slip and the mode at each time of the series, when one was asked for.
     #[serde(skip)]
     #[schema(ignore)]
@@ -208,6 +213,8 @@ impl ContactDoc {
             peak_slide_m: c.peak_slide,
             residual_slide_m: c.residual_slide,
             time_sliding_s: c.time_sliding,
+            flights: c.flights,
+            time_in_flight_s: c.time_in_flight,
             series: c.series.as_ref().map(|s| {
                 (
                     s.slide.clone(),

@@ -720,7 +720,7 @@ pub fn overturning_set(transitions: &[Transition], alpha: f64, from: f64, to: f6
                     out.push([lo, at]);
                 }
             }
-            Direction::LiftOff | Direction::SlideIn | Direction::SlideOut => {}
+            Direction::SlideIn | Direction::SlideOut => {}
         }
     }
     if let Some(lo) = open {
@@ -987,6 +987,10 @@ impl ForensicJob {
     /// ground's.
     pub fn lift_off_g(&self) -> Option<(f64, f64)> {
         use crate::dynamics::{Block, Pulse};
+        // On a Coulomb floor the block's flights are followed.
+        if self.contact.is_some() {
+            return None;
+        }
         use crate::spectrum::scan::lift_off_level;
         let vertical = self.scaled_vertical()?;
         let asked = self.a_p_g.or(self.pga_g)?;

@@ -620,6 +620,10 @@ impl RecordSpectrumJob {
     /// ground falls away faster than gravity (g + ü_v ≤ 0), bracketed; `None`
     /// when it does not up to `scale.to` (or without a vertical motion).
     pub fn lift_off_level(&self) -> Option<(f64, f64)> {
+        // On a Coulomb floor the block's flights are followed.
+        if self.contact.is_some() {
+            return None;
+        }
         let block = self.block_at(1.0).ok()?;
         self.scaled_vertical()?.record_lift_off(
             &self.record().ok()?,
@@ -746,7 +750,6 @@ impl RecordSpectrumJob {
             direction: match t.direction {
                 Direction::Up => "up",
                 Direction::Down => "down",
-                Direction::LiftOff => "lift_off",
                 Direction::SlideIn => "slide_in",
                 Direction::SlideOut => "slide_out",
             }
@@ -789,7 +792,7 @@ impl RecordSpectrumJob {
                     safe_intervals: intervals(&l.principal),
                     overturns_above_scale: l.principal.overturns_above.map(to_scale),
                 },
-                lift_off_above_scale: l.lift_off.map(|(_, hi)| to_scale(hi)),
+                lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to_scale(hi)),
             })
             .collect();
         let n = self.ground_motion.acc.len();

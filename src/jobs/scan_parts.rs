@@ -50,9 +50,6 @@ pub struct Group {
 struct TransitionBits {
     at: u64,
     up: bool,
-    /// The block leaves the floor above (a Coulomb floor).
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
-    lift: bool,
     /// An edge of a slide band (`up`: entering it).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     slide: bool,
@@ -105,7 +102,6 @@ impl From<&Transition> for TransitionBits {
         TransitionBits {
             at: t.at.to_bits(),
             up: matches!(t.direction, Direction::Up | Direction::SlideIn),
-            lift: t.direction == Direction::LiftOff,
             slide: t.is_slide(),
             mode: t.mode,
             impacts: t.impacts,
@@ -118,12 +114,11 @@ impl From<&TransitionBits> for Transition {
     fn from(t: &TransitionBits) -> Self {
         Transition {
             at: f64::from_bits(t.at),
-            direction: match (t.lift, t.slide, t.up) {
-                (true, _, _) => Direction::LiftOff,
-                (false, true, true) => Direction::SlideIn,
-                (false, true, false) => Direction::SlideOut,
-                (false, false, true) => Direction::Up,
-                (false, false, false) => Direction::Down,
+            direction: match (t.slide, t.up) {
+                (true, true) => Direction::SlideIn,
+                (true, false) => Direction::SlideOut,
+                (false, true) => Direction::Up,
+                (false, false) => Direction::Down,
             },
             mode: t.mode,
             impacts: t.impacts,

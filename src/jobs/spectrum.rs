@@ -427,7 +427,6 @@ impl TransitionDoc {
             direction: match t.direction {
                 Direction::Up => "up",
                 Direction::Down => "down",
-                Direction::LiftOff => "lift_off",
                 Direction::SlideIn => "slide_in",
                 Direction::SlideOut => "slide_out",
             }
@@ -747,7 +746,6 @@ impl SpectrumJob {
             outcome: match p.fate {
                 Fate::Stands => "stands",
                 Fate::Overturns => "overturns",
-                Fate::LiftOff => "lift_off",
             }
             .to_string(),
         };
@@ -1076,17 +1074,35 @@ mod tests {
         let e = Job::from_value(&spec).expect_err("no floor");
         assert_eq!(e.pointer, "/residual_slide");
         // A squat block under strong one-cosine pulses leaves the floor
-        // (the normal force reaches 0): the line claims nothing above.
-        let squat = coulomb(Some(0.6), 0.4, "one_cosine", json!([2.0]), 10.0);
+        // (the normal force reaches 0): its flights are followed, so the
+        // line claims the whole range, and where its history flies the
+        // line says what that history says.
+        let contact = json!({"model": "coulomb", "mu": 0.6, "mu_kinetic": 0.5});
+        let squat = Job::from_value(&json!({"kind": "spectrum",
+            "block": {"alpha": 0.4, "p": 2.14}, "pulse": {"type": "one_cosine"},
+            "omega_ratio": [2.0], "a_max_alpha_g": 10.0, "tolerance": 1e-3,
+            "scan_step_alpha_g": 0.05, "contact": contact}))
+        .expect("valid")
+        .run(&Control::new())
+        .expect("runs");
         let line = &squat["spectrum"][0];
-        let lift = line["lift_off_above_alpha_g"]
-            .as_f64()
-            .expect("leaves the floor");
-        assert!(lift > 1.0 && lift < 10.0, "{lift}");
-        for t in line["transitions"].as_array().expect("list") {
-            assert!(t["bracket"][1].as_f64().expect("hi") <= lift, "{t}");
-            assert_ne!(t["direction"], "lift_off");
-        }
+        assert!(line["lift_off_above_alpha_g"].is_null(), "{line}");
+        let th = Job::from_value(&json!({"kind": "time_history",
+            "block": {"alpha": 0.4, "p": 2.14},
+            "pulse": {"type": "one_cosine", "omega_ratio": 2.0, "a_p_alpha_g": 8.0},
+            "contact": contact}))
+        .expect("valid")
+        .run(&Control::new())
+        .expect("runs");
+        assert!(th["flights"].as_u64().expect("counted") >= 1, "{th}");
+        assert!(th["time_in_flight_s"].as_f64().expect("s") > 0.1, "{th}");
+        let overturns_at_8 = line["transitions"]
+            .as_array()
+            .expect("list")
+            .iter()
+            .rfind(|t| t["a_alpha_g"].as_f64().expect("at") < 8.0)
+            .is_some_and(|t| t["direction"] == "up");
+        assert!(overturns_at_8 && th["overturned"] == true, "{line}");
     }
 
     /// The locomotive's one-sine spectrum on a coarse grid (tolerance

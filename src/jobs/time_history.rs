@@ -447,6 +447,15 @@ pub struct TimeHistoryResult {
     /// Coulomb: time spent sliding or slide-rocking, s.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_sliding_s: Option<f64>,
+    /// Coulomb: times the block left the floor (where the floor would have
+    /// had to pull it: the normal force fell to 0, or g + ü_v ≤ 0); each
+    /// flight ends in a landing, counted among the impacts, or in
+    /// overturning in the air.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flights: Option<u64>,
+    /// Coulomb: time spent in the air, s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_in_flight_s: Option<f64>,
     /// The normalised spec that was run.
     pub spec: TimeHistoryJob,
     /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
@@ -544,6 +553,8 @@ impl TimeHistoryJob {
             doc.peak_slide_m = Some(c.peak_slide_m);
             doc.residual_slide_m = Some(c.residual_slide_m);
             doc.time_sliding_s = Some(c.time_sliding_s);
+            doc.flights = Some(c.flights);
+            doc.time_in_flight_s = Some(c.time_in_flight_s);
             if let (Some(series), Some((slide, mode))) = (doc.series.as_mut(), c.series) {
                 series.slide_m = Some(slide);
                 series.mode = Some(mode);
@@ -633,6 +644,8 @@ impl TimeHistoryJob {
             peak_slide_m: None,
             residual_slide_m: None,
             time_sliding_s: None,
+            flights: None,
+            time_in_flight_s: None,
             spec: self.clone(),
             engine: None,
         }

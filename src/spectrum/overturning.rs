@@ -201,12 +201,8 @@ pub struct LineScan {
     pub principal_transitions: Vec<Transition>,
     /// Derived from the principal view.
     pub principal: Derived,
-    /// On a Coulomb floor: the lowest level found at which the block leaves
-    /// the floor, as a bracket (on the floor, off it); the line claims
-    /// nothing above its lower end.
-    pub lift_off: Option<(f64, f64)>,
     /// With a slide band: where the block's standing with its residual slide
-    /// inside the band begins and ends, in order, below any lift-off.
+    /// inside the band begins and ends, in order.
     pub slide_band: Vec<Transition>,
 }
 
@@ -251,18 +247,13 @@ impl ScanGrid {
     ) -> LineScan {
         transitions.sort_by(|a, b| a.at.total_cmp(&b.at));
         mode_changes.sort_by(|a, b| a.at.total_cmp(&b.at));
-        let lift_off = transitions
-            .iter()
-            .find(|t| t.direction == Direction::LiftOff)
-            .map(|t| t.bracket);
-        let to = lift_off.map_or(self.to, |(lo, _)| lo);
+        let to = self.to;
         let slide_band = transitions
             .iter()
             .filter(|t| t.is_slide() && t.bracket.1 <= to)
             .copied()
             .collect();
-        transitions
-            .retain(|t| t.direction != Direction::LiftOff && !t.is_slide() && t.bracket.1 <= to);
+        transitions.retain(|t| !t.is_slide() && t.bracket.1 <= to);
         mode_changes.retain(|m| m.bracket.1 <= to);
         let derived = derive(&transitions, to);
         let principal_transitions = principal(&transitions, to, self.principal_relative_width);
@@ -273,7 +264,6 @@ impl ScanGrid {
             derived,
             principal_transitions,
             principal,
-            lift_off,
             slide_band,
         }
     }
@@ -489,8 +479,10 @@ fn lines_of<G: Scalable + Sync>(
 ) -> Result<(Vec<FrequencyLine>, ScanStats), ScanError> {
     // (The level is the same for every frequency: the vertical motion's
     // extremes scale with the amplitude, whatever the pulse's length.)
+    // (On a Coulomb floor the block's flights are followed: no cap.)
     let lift = motions
         .first()
+        .filter(|_| req.friction.is_none())
         .and_then(|m| lift_off_level(m, &req.block, req.a_max));
     let to = lift.map_or(req.a_max, |(lo, _)| lo.max(threshold));
     let problems: Vec<Problem<G>> = motions
@@ -540,12 +532,7 @@ fn lines_of<G: Scalable + Sync>(
             } else {
                 None
             },
-            lift_off_above: match (lift, scan.lift_off) {
-                (Some((_, hi)), Some((lo, _))) if hi <= lo => Some(hi),
-                (_, Some((_, hi))) => Some(hi),
-                (Some((_, hi)), None) => Some(hi),
-                (None, None) => None,
-            },
+            lift_off_above: lift.map(|(_, hi)| hi),
         })
         .collect();
     Ok((lines, stats))
@@ -564,7 +551,7 @@ pub fn derive(transitions: &[Transition], a_max: f64) -> Derived {
                     safe.push((lo, t.at));
                 }
             }
-            Direction::LiftOff | Direction::SlideIn | Direction::SlideOut => {}
+            Direction::SlideIn | Direction::SlideOut => {}
         }
     }
     if let Some(lo) = open {
@@ -596,7 +583,7 @@ pub fn principal(transitions: &[Transition], a_max: f64, rel: f64) -> Vec<Transi
                     bands.push((up, Some(*t)));
                 }
             }
-            Direction::LiftOff | Direction::SlideIn | Direction::SlideOut => {}
+            Direction::SlideIn | Direction::SlideOut => {}
         }
     }
     if let Some(up) = pending {

@@ -35,9 +35,6 @@ pub struct Signature {
     /// impacts during the pulse (not the chattering that ends each episode, whose
     /// count drifts with the amplitude without changing the motion's shape).
     pub impacts: u64,
-    /// On a Coulomb floor: the block left the floor (the normal force
-    /// reached 0), where the history ends undecided.
-    pub lifted: bool,
     /// With a slide band ([`Model::slide_band`]): the block stood, on the
     /// floor, with its residual slide's size inside the band.
     pub in_band: bool,
@@ -50,10 +47,6 @@ pub enum Direction {
     Up,
     /// A safe interval begins.
     Down,
-    /// On a Coulomb floor, the block leaves the floor from here on (the
-    /// bracket's upper end is a level where it does); the line claims
-    /// nothing above the lowest such bracket ([`crate::spectrum::overturning::ScanGrid::line`]).
-    LiftOff,
     /// With a slide band: from here the block stands with its residual
     /// slide inside the band ([`Model::slide_band`]).
     SlideIn,
@@ -294,28 +287,14 @@ impl<G: Scalable> Line<'_, G> {
             formulation: self.problem.formulation,
         };
         let options = Options::outcome(self.model.solver);
-        let (r, lifted, slide) = match self.model.friction {
-            None => (simulate(&problem, &options), false, 0.0),
+        let (r, slide) = match self.model.friction {
+            None => (simulate(&problem, &options), 0.0),
             Some(friction) => match run_coulomb(&problem, &options, friction) {
-                Ok(h) => (
-                    Ok(h.response),
-                    h.contact.lift_off.is_some(),
-                    h.contact.residual_slide.abs(),
-                ),
-                Err(e) => (Err(e), false, 0.0),
+                Ok(h) => (Ok(h.response), h.contact.residual_slide.abs()),
+                Err(e) => (Err(e), 0.0),
             },
         };
         let r = r.map_err(|source| ScanError::At { level, source })?;
-        if lifted {
-            // Undecided: one outcome, whatever the motion before it.
-            return Ok(Signature {
-                overturned: false,
-                mode: None,
-                impacts: 0,
-                lifted,
-                in_band: false,
-            });
-        }
         stats.simulations += 1;
         stats.steps += r.numerics.steps_accepted;
         stats.rejected += r.numerics.steps_rejected;
@@ -330,7 +309,6 @@ impl<G: Scalable> Line<'_, G> {
             } else {
                 r.rocking_impacts
             },
-            lifted,
             in_band: !r.overturned
                 && self
                     .model
@@ -356,10 +334,6 @@ impl<G: Scalable> Line<'_, G> {
         let mut prev = (first, self.classify(first, stats)?);
         self.control.add_done(1);
         for level in levels {
-            if prev.1.lifted {
-                // Nothing above the block's leaving the floor is claimed.
-                break;
-            }
             let cur = (level, self.classify(level, stats)?);
             self.control.add_done(1);
             if cur.1 != prev.1 {
@@ -404,18 +378,6 @@ fn record(
     modes: &mut Vec<ModeChange>,
 ) {
     let at = 0.5 * (a.0 + b.0);
-    if a.1.lifted != b.1.lifted {
-        if b.1.lifted {
-            transitions.push(Transition {
-                at,
-                direction: Direction::LiftOff,
-                mode: 0,
-                impacts: 0,
-                bracket: (a.0, b.0),
-            });
-        }
-        return;
-    }
     if a.1.in_band != b.1.in_band {
         transitions.push(Transition {
             at,

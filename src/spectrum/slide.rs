@@ -18,8 +18,6 @@ pub enum Fate {
     Stands,
     /// Overturned.
     Overturns,
-    /// Left the floor (the normal force reached 0): no verdict.
-    LiftOff,
 }
 
 /// One amplitude of a residual-slide line.
@@ -62,9 +60,7 @@ pub fn residual_slide<G: Scalable + Sync>(
                 .map_err(|source| ScanError::At { level, source })?;
             control.add_done(1);
             let c = &h.contact;
-            let fate = if c.lift_off.is_some() {
-                Fate::LiftOff
-            } else if c.overturned {
+            let fate = if c.overturned {
                 Fate::Overturns
             } else {
                 Fate::Stands

@@ -341,11 +341,7 @@ impl ForensicJob {
                         match s.grid {
                             Some(grid) => {
                                 let line = grid.line(t, m);
-                                // On a Coulomb floor, nothing is decided
-                                // from where the block leaves the floor.
-                                let lift =
-                                    line.lift_off.map(|(lo, hi)| (lo * s.alpha, hi * s.alpha));
-                                let decided_to = lift.map_or(to, |(lo, _)| lo.clamp(from, to));
+                                let decided_to = to;
                                 LineSet {
                                     overturning: overturning_set(
                                         &line.transitions,
@@ -354,7 +350,7 @@ impl ForensicJob {
                                         decided_to,
                                     ),
                                     decided_to,
-                                    lift_off_g: lift.map(|(_, hi)| hi),
+                                    lift_off_g: None,
                                     // At the grid's first level the block
                                     // has not moved: it slid 0.
                                     slide_band: o.slid_m.map(|[lo, _]| {
