@@ -100,6 +100,14 @@ impl Pose {
         self.x + s * r * ((alpha - s * self.theta).sin() - alpha.sin())
     }
 
+    /// The rate of [`Pose::slip`]: the lower corner's horizontal velocity,
+    /// m/s.
+    pub fn slip_velocity(&self, block: &Block) -> f64 {
+        let (alpha, r) = (block.slenderness(), block.half_diagonal());
+        let s = if self.theta >= 0.0 { 1.0 } else { -1.0 };
+        self.vx - r * (alpha - s * self.theta).cos() * self.omega
+    }
+
     /// Kinetic energy per unit mass relative to the ground, J/kg.
     pub fn energy(&self, block: &Block) -> f64 {
         let r = block.half_diagonal();
@@ -138,9 +146,47 @@ impl<'a, G: Kinematics> Flight<'a, G> {
         }
     }
 
-    /// Its take-off time, s.
-    pub fn start_time(&self) -> f64 {
-        self.t0
+    /// The largest |slip| over [t0, `t1`]: at the ends, where θ passes 0
+    /// (the lower corner changes), and where the lower corner's horizontal
+    /// velocity changes sign on a grid of 64 intervals (bisected to
+    /// adjacent floating-point times).
+    pub fn peak_slip(&self, t1: f64) -> f64 {
+        let block = self.block;
+        let slip = |t: f64| self.pose(t).slip(&block);
+        let rate = |t: f64| self.pose(t).slip_velocity(&block);
+        let mut points: Vec<f64> = (0..=64)
+            .map(|k| self.t0 + (t1 - self.t0) * f64::from(k) / 64.0)
+            .collect();
+        let p = self.start;
+        if p.omega != 0.0 {
+            let level = self.t0 - p.theta / p.omega;
+            if level > self.t0 && level < t1 {
+                points.push(level);
+                points.sort_by(f64::total_cmp);
+            }
+        }
+        let mut peak = slip(self.t0).abs().max(slip(t1).abs());
+        for w in points.windows(2) {
+            let (mut a, mut b) = (w[0], w[1]);
+            peak = peak.max(slip(b).abs());
+            let (ra, rb) = (rate(a), rate(b));
+            if ra * rb >= 0.0 {
+                continue;
+            }
+            for _ in 0..200 {
+                let m = 0.5 * (a + b);
+                if m <= a || m >= b {
+                    break;
+                }
+                if rate(m) * ra > 0.0 {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            peak = peak.max(slip(a).abs()).max(slip(b).abs());
+        }
+        peak
     }
 
     /// The pose at `t` (closed form).

@@ -161,6 +161,19 @@ fn coulomb_notes(result: &TimeHistoryResult, contact: &ContactNorm) -> Vec<Strin
             notes.push("the base never slipped".into());
         }
     }
+    if let (Some(n), Some(t)) = (result.flights, result.time_in_flight_s)
+        && n > 0
+    {
+        let times = if n == 1 {
+            "once".to_string()
+        } else {
+            format!("{n} times")
+        };
+        notes.push(format!(
+            "left the floor {times}, {} s in the air",
+            fmt_num(t, 3)
+        ));
+    }
     if result.overturned
         && let Some(side) = result.overturn_direction.and_then(towards)
     {
@@ -1615,6 +1628,36 @@ pub(crate) mod tests {
         for name in ["slide", "slide_rock", "flight"] {
             assert!(filled_rects(&svg, mode_band(name).0.expect("shaded")).is_empty());
         }
+    }
+
+    #[test]
+    fn a_flight_is_banded_and_said_with_its_time_in_the_air() {
+        // A vertical pulse of 1.6 g lifts the slide-rocking block off the
+        // floor for 0.54 s; it lands on a corner and later overturns.
+        let result = computed(
+            r#"{"kind": "time_history", "block": {"alpha": 0.2, "p": 2.0},
+                "pulse": {"type": "one_sine", "omega_p": 4.0, "a_p_g": 0.304},
+                "vertical": {"type": "one_sine", "omega_p": 8.0, "a_p_g": 1.6, "delay_s": 0.15},
+                "contact": {"model": "coulomb", "mu": 0.3}, "outputs": {"series": 400}}"#,
+        );
+        assert_eq!(result.flights, Some(1));
+        let flight = result
+            .modes
+            .as_deref()
+            .expect("modes")
+            .iter()
+            .find(|m| m.mode == "flight")
+            .expect("flies")
+            .clone();
+        let svg = super::svg(&result, None).expect("svg");
+        assert!(!filled_rects(&svg, mode_band("flight").0.expect("shaded")).is_empty());
+        let text = text_of(&svg);
+        let said = format!(
+            "left the floor once, {} s in the air",
+            fmt_num(flight.to - flight.from, 3)
+        );
+        assert!(text.contains(&said), "{text}");
+        assert!(text.contains("in flight (off the floor)"), "{text}");
     }
 
     #[test]
