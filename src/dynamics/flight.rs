@@ -399,9 +399,22 @@ pub fn land(block: &Block, mu_s: f64, mu_k: f64, pose: &Pose) -> Landing {
         })
     };
     if pose.theta != 0.0 {
-        if let Some(l) = corner(pose.theta.signum()) {
-            return l;
-        }
+        let side = pose.theta.signum();
+        return corner(side).unwrap_or_else(|| {
+            // Touching without moving into the floor (a flight of no
+            // length): no impulse, the corner on the floor as it moves.
+            let (alpha, r) = (block.slenderness(), block.half_diagonal());
+            let slip_velocity = pose.vx - r * (alpha - side * pose.theta).cos() * pose.omega;
+            Landing {
+                landed: Landed::Corner {
+                    side,
+                    theta_dot: pose.omega,
+                    slip_velocity,
+                    sticking: slip_velocity == 0.0,
+                },
+                energy: (before, before),
+            }
+        });
     } else if pose.omega != 0.0 {
         // Level, turning: the corner moving down faster lands.
         let (alpha, r) = (block.slenderness(), block.half_diagonal());
@@ -563,6 +576,30 @@ mod tests {
             }
         }
         assert!(sliding > 0);
+    }
+
+    #[test]
+    fn a_tilted_block_touching_without_falling_keeps_its_motion_on_its_corner() {
+        // A flight of no length: the lower corner at the floor, not moving
+        // into it. No impulse, and the block stays tilted on that corner.
+        let b = block(0.25);
+        for side in [1.0, -1.0] {
+            let mut pose = Pose::on_corner(&b, side, side * 0.1, side * 0.5, 0.0, 0.3);
+            pose.vy += 0.01;
+            let l = land(&b, 0.5, 0.5, &pose);
+            let Landed::Corner {
+                side: s,
+                theta_dot,
+                slip_velocity,
+                sticking,
+            } = l.landed
+            else {
+                panic!("stays on its corner: {l:?}")
+            };
+            assert_eq!((s, theta_dot, sticking), (side, side * 0.5, false));
+            assert!((slip_velocity - 0.3).abs() < 1e-12);
+            assert_eq!(l.energy.0, l.energy.1);
+        }
     }
 
     #[test]
