@@ -834,7 +834,7 @@ impl<G: Kinematics> Driver<'_, G> {
         v_rest: f64,
     ) -> Result<(Option<Phase>, f64, f64), SimError> {
         let block = self.block;
-        let (alpha, r) = (block.slenderness(), block.half_diagonal());
+        let alpha = block.slenderness();
         let p = block.frequency_parameter();
         let duration = self.forcing.duration();
         let flight = Flight::new(self.forcing, &block, t, pose);
@@ -919,7 +919,7 @@ impl<G: Kinematics> Driver<'_, G> {
                 sticking,
             } => {
                 // The slip of the corner that landed.
-                let x = pose1.x + side * r * ((alpha - side * pose1.theta).sin() - alpha.sin());
+                let x = pose1.corner_slip(&block, side);
                 self.slid(x);
                 let y = [pose1.theta, theta_dot];
                 if pose1.theta == 0.0 && (theta_dot * side <= 0.0 || theta_dot.abs() <= v_rest) {

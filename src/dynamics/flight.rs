@@ -95,9 +95,13 @@ impl Pose {
     /// The slip of the lower corner s = sgn θ: its position less s b (the
     /// centre's position while θ = 0), m.
     pub fn slip(&self, block: &Block) -> f64 {
+        self.corner_slip(block, if self.theta >= 0.0 { 1.0 } else { -1.0 })
+    }
+
+    /// The slip of the corner `side`: its position less `side` b, m.
+    pub fn corner_slip(&self, block: &Block, side: f64) -> f64 {
         let (alpha, r) = (block.slenderness(), block.half_diagonal());
-        let s = if self.theta >= 0.0 { 1.0 } else { -1.0 };
-        self.x + s * r * ((alpha - s * self.theta).sin() - alpha.sin())
+        self.x + side * r * ((alpha - side * self.theta).sin() - alpha.sin())
     }
 
     /// The rate of [`Pose::slip`]: the lower corner's horizontal velocity,
