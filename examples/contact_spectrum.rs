@@ -48,10 +48,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("40 frequencies, {cores} cores");
     let row = |name: &str, s: &Spectrum| {
         println!(
-            "{name:>14}: {:6.2} s wall, {:7} simulations, {:6.1} µs each (wall × cores / simulations)",
+            "{name:>14}: {:6.2} s wall, {:7} simulations, {:6.1} µs each (wall × cores / simulations), {:6.1} steps and {:5.1} events each",
             s.wall_time,
             s.stats.simulations,
-            1e6 * s.wall_time * cores as f64 / s.stats.simulations as f64
+            1e6 * s.wall_time * cores as f64 / s.stats.simulations as f64,
+            s.stats.steps as f64 / s.stats.simulations as f64,
+            s.stats.events as f64 / s.stats.simulations as f64
         );
     };
     row("pure rocking", &a);

@@ -35,9 +35,11 @@ use super::contact::{Mode, onset};
 use super::equations::{Formulation, Threshold};
 use super::events::{first_nonpositive, return_and_overturn};
 use super::flight::{self, Flight, FlightEnd, Landed, Pose};
+use super::free_rocking;
 use super::integrator::{DenseStep, Method, Rhs, State, Stepper, StepperStats, single_step};
 use super::reactions::reactions_per_mass_vertical;
 use super::response::OverturnMode;
+use super::separatrix::{FreeOutcome, decide};
 use super::simulate::{REST_VELOCITY, SimError};
 use super::slide_rock::{self, SlideRockLeg, SlideRockRhs};
 use super::sliding::{self, Friction, Kinematics};
@@ -223,6 +225,9 @@ enum LegEnd {
     Sampled(usize, f64, State),
     /// The leg's end (a kink of the forcing or its end).
     Reached(f64, State),
+    /// The forcing's end, from which a rock is pure rocking to its end
+    /// ([`free_rocking::stays_pure`]): decided there.
+    Decided(f64, State),
 }
 
 impl LegEnd {
@@ -231,7 +236,8 @@ impl LegEnd {
             LegEnd::Impact(t, y)
             | LegEnd::Overturn(t, y)
             | LegEnd::Sampled(_, t, y)
-            | LegEnd::Reached(t, y) => (t, y),
+            | LegEnd::Reached(t, y)
+            | LegEnd::Decided(t, y) => (t, y),
         }
     }
 
@@ -259,6 +265,18 @@ struct Driver<'a, G> {
     /// (the friction limit is looked for once the demand has fallen back
     /// within it), so that no mode is entered and left at one instant.
     hold: bool,
+    /// Whether the peak |θ| is located.
+    peak: bool,
+    /// Whether to stop where the outcome is decided: free rocking that is
+    /// pure rocking to its end ([`Driver::decides`]).
+    decide: bool,
+    /// Whether free rocking can never be pure rocking on this floor (its
+    /// impacts slip, or the least rocking needs more than μ_s); `None`
+    /// until asked.
+    never_pure: Option<bool>,
+    /// The energy of the last free rock found not to be pure rocking: a
+    /// later one is examined once it has half as much.
+    impure_energy: f64,
 }
 
 /// Simulates `block` on a floor with `friction` under `forcing` from rest,
@@ -286,6 +304,51 @@ pub fn simulate_contact_sampled<G: Kinematics>(
     rtol: f64,
     atol: f64,
     times: Option<Vec<f64>>,
+) -> Result<ContactResponse, SimError> {
+    simulate_contact_with(
+        block,
+        forcing,
+        friction,
+        (method, rtol, atol),
+        times,
+        Asks::HISTORY,
+    )
+}
+
+/// What a Coulomb history is asked for beyond its outcome and slide.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Asks {
+    /// The peak |θ| ([`ContactResponse::peak_theta_over_alpha`]; 0 when not
+    /// asked).
+    pub peak: bool,
+    /// Stop once the outcome is decided: at the ground motion's end or a
+    /// later impact, where the block is at rest, or rocks on a holding
+    /// pivot that free rocking never makes slip or lift
+    /// ([`free_rocking::stays_pure`]), decided then in closed form
+    /// ([`decide`]). The residual slide is then final; the rest time is
+    /// not known (`None`), nor an overturning's time, and the impacts
+    /// listed are those up to there.
+    pub stop_at_decision: bool,
+}
+
+impl Asks {
+    /// The whole history.
+    pub const HISTORY: Asks = Asks {
+        peak: true,
+        stop_at_decision: false,
+    };
+}
+
+/// [`simulate_contact_sampled`] with the Runge–Kutta pair and its
+/// tolerances as `(method, rtol, atol)`, asked for `asks` (a scan of
+/// outcomes needs neither the peak nor the motion after its decision).
+pub fn simulate_contact_with<G: Kinematics>(
+    block: &Block,
+    forcing: &G,
+    friction: Friction,
+    (method, rtol, atol): (Method, f64, f64),
+    times: Option<Vec<f64>>,
+    asks: Asks,
 ) -> Result<ContactResponse, SimError> {
     if !(rtol >= 1e-14 && rtol.is_finite() && atol > 0.0 && atol.is_finite()) {
         return Err(SimError::Tolerance);
@@ -328,6 +391,10 @@ pub fn simulate_contact_sampled<G: Kinematics>(
             out: ContactSeries::default(),
         }),
         hold: false,
+        peak: asks.peak,
+        decide: asks.stop_at_decision,
+        never_pure: None,
+        impure_energy: f64::INFINITY,
     };
     d.run()?;
     if let Some(mut s) = d.sampler.take() {
@@ -643,6 +710,10 @@ impl<G: Kinematics> Driver<'_, G> {
                 t,
             ));
         }
+        if t >= self.forcing.duration() && self.decides(y) {
+            self.decided(t, side, y);
+            return Ok((None, t));
+        }
         let forcing = self.forcing;
         let start = t;
         let events = |t: f64, y: State, forced: bool| {
@@ -695,6 +766,10 @@ impl<G: Kinematics> Driver<'_, G> {
                 // The ground falls away (g + ü_v ≤ 0).
                 Ok((Some(self.take_off_from_corner(t1, side, y1, x, 0.0)), t1))
             }
+            LegEnd::Decided(t1, y1) => {
+                self.decided(t1, side, y1);
+                Ok((None, t1))
+            }
         }
     }
 
@@ -726,6 +801,48 @@ impl<G: Kinematics> Driver<'_, G> {
             .out
             .peak_theta_over_alpha
             .max(std::f64::consts::FRAC_PI_2 / self.block.slenderness());
+    }
+
+    /// Whether a rock in free motion at `y` is decided here: asked to stop
+    /// at the decision, and pure rocking to its end
+    /// ([`free_rocking::stays_pure`]).
+    fn decides(&mut self, y: State) -> bool {
+        if !self.decide || self.sampler.is_some() {
+            return false;
+        }
+        let (block, mu_s) = (self.block, self.friction.static_coefficient);
+        let never = *self
+            .never_pure
+            .get_or_insert_with(|| !free_rocking::stays_pure(&block, mu_s, 0.0, 0.0));
+        let energy = free_rocking::energy(&block, y[0], y[1]);
+        if never || energy > 0.5 * self.impure_energy {
+            return false;
+        }
+        let pure = free_rocking::within_limits(&block, mu_s, y[0], y[1]);
+        if !pure {
+            self.impure_energy = energy;
+        }
+        pure
+    }
+
+    /// The outcome of pure rocking from `y` on `side` at `t`, in closed
+    /// form (eq. 33's nonlinear counterpart, [`decide`]).
+    fn decided(&mut self, t: f64, side: f64, y: State) {
+        self.out.events += 1;
+        self.out.end_time = t;
+        if let FreeOutcome::Overturns { impacts } =
+            decide(Formulation::Nonlinear, &self.block, y[0], y[1], side)
+        {
+            self.out.impact_count += u64::from(impacts);
+            self.out.overturned = true;
+            // Each impact turns the block over to the other side.
+            self.out.overturn_side = Some(if impacts % 2 == 0 { side } else { -side });
+            self.out.overturn_mode = Some(if self.out.impact_count > 0 {
+                OverturnMode::AfterImpacts(self.out.impact_count)
+            } else {
+                OverturnMode::WithoutImpact
+            });
+        }
     }
 
     /// The impact at `t` of a block on `side` with θ̇ = `theta_dot` whose
@@ -1043,7 +1160,9 @@ impl<G: Kinematics> Driver<'_, G> {
                 };
                 Ok((Some(next), t1, x1))
             }
-            LegEnd::Sampled(_, t1, y1) | LegEnd::Reached(t1, y1) => {
+            // (A leg is decided on a rock only; a slide-rock's would be a
+            // take-off as its end.)
+            LegEnd::Sampled(_, t1, y1) | LegEnd::Reached(t1, y1) | LegEnd::Decided(t1, y1) => {
                 let (x1, v1) = leg.slip(t1, y1);
                 let next = self.take_off_from_corner(t1, side, y1, x1, v1);
                 Ok((Some(next), t1, x1))
@@ -1164,7 +1283,9 @@ impl<G: Kinematics> Driver<'_, G> {
                     first = Some((sigma, 2 + k as u8));
                 }
                 let upto = first.map_or(1.0, |f| f.0);
-                self.peak_on(&step, upto);
+                if self.peak {
+                    self.peak_on(&step, upto);
+                }
                 self.fill(step.t0 + upto * step.h, mode, |t| {
                     let y = step.at_sigma(((t - step.t0) / step.h).clamp(0.0, 1.0));
                     (y[0], y[1], slip(t, y))
@@ -1188,6 +1309,10 @@ impl<G: Kinematics> Driver<'_, G> {
             (t, y) = (stepper.t, stepper.y);
             if t >= stop_at {
                 return Ok(LegEnd::Reached(t, y));
+            }
+            // The forcing's end.
+            if forced && mode == Mode::Rock && self.decides(y) {
+                return Ok(LegEnd::Decided(t, y));
             }
         }
     }

@@ -8,7 +8,7 @@
 //! rock), pure rocking *is* the Coulomb answer, to the bit.
 
 use super::contact::Mode;
-use super::coulomb::{ContactResponse, ContactSeries, ModeSpan, simulate_contact_sampled};
+use super::coulomb::{Asks, ContactResponse, ContactSeries, ModeSpan, simulate_contact_with};
 use super::response::{Impact, Numerics, Response};
 use super::sliding::{Friction, Kinematics};
 use super::{Block, Options, Problem, SimError, Solver, simulate};
@@ -56,9 +56,17 @@ pub fn run_coulomb<G: Kinematics>(
             block: followed,
             ..problem.clone()
         };
+        // Where only the outcome is asked, the free motion is decided at
+        // the ground motion's end where it is pure rocking on this floor to
+        // its end (`free_rocking::stays_pure`); otherwise the demand is
+        // followed to its end, as in a whole history.
         let with_demand = Options {
             reactions: true,
-            stop_at_decision: false,
+            max_free_impacts: options
+                .max_free_impacts
+                .max(Options::history(options.solver).max_free_impacts),
+            // Where it is not the answer, the modes are run from the start.
+            stop_at_sliding: true,
             ..options.clone()
         };
         let r = simulate(&pure, &with_demand)?;
@@ -79,7 +87,12 @@ pub fn run_coulomb<G: Kinematics>(
         }
     }
     let run = |times| {
-        simulate_contact_sampled(&block, &problem.pulse, friction, method, rtol, atol, times)
+        let solver = (method, rtol, atol);
+        let asks = Asks {
+            peak: options.peak,
+            stop_at_decision: options.stop_at_decision,
+        };
+        simulate_contact_with(&block, &problem.pulse, friction, solver, times, asks)
     };
     let c = match (&options.series_at, options.series_points) {
         (Some(times), _) => run(Some(times.clone()))?,
@@ -239,5 +252,76 @@ fn to_response<G: Kinematics>(
             error_estimate: c.stats.local_error_sum,
             wall_time: 0.0,
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{Formulation, Method, Pulse, PulseShape};
+
+    /// What a scan asks of a history (its outcome, stopped at its decision)
+    /// is what the whole history answers: overturning, its side and its
+    /// impacts, and the residual slide, to the bit — over pulses that
+    /// rock, slide-rock, slide and overturn in either mode, on floors from
+    /// below the least rocking's demand (μ = 0.15 for α = 0.25) to above
+    /// every demand.
+    #[test]
+    fn a_history_stopped_at_its_decision_answers_as_the_whole_one() {
+        let block = Block::new(0.25, 2.14, None, None, None).expect("valid");
+        let solver = Solver::RungeKutta {
+            method: Method::Dop853,
+            rtol: 1e-10,
+            atol: 1e-12,
+        };
+        let (mut decided_early, mut cases) = (0, 0);
+        for shape in [PulseShape::OneSine, PulseShape::OneCosine] {
+            for ratio in [1.5, 3.0, 6.0] {
+                for mu in [0.15, 0.3, 0.5, 1.0] {
+                    let friction = Friction::new(mu, None).expect("valid");
+                    for k in 1..=24 {
+                        let level = 0.5 * f64::from(k);
+                        let a = level * block.slenderness() * block.gravity();
+                        let pulse = Pulse::new(shape, a, ratio * block.frequency_parameter())
+                            .expect("valid");
+                        let problem = Problem {
+                            block,
+                            pulse,
+                            formulation: Formulation::Nonlinear,
+                        };
+                        let whole = run_coulomb(&problem, &Options::history(solver), friction)
+                            .expect("runs");
+                        let scan = run_coulomb(&problem, &Options::outcome(solver), friction)
+                            .expect("runs");
+                        let at = format!("{shape:?} ω_p/p {ratio} μ {mu} at {level} αg");
+                        let (w, s) = (&whole.contact, &scan.contact);
+                        assert_eq!(w.overturned, s.overturned, "{at}");
+                        assert_eq!(w.overturn_side, s.overturn_side, "{at}");
+                        assert_eq!(w.residual_slide, s.residual_slide, "{at}");
+                        if w.overturned {
+                            assert_eq!(w.impact_count, s.impact_count, "{at}");
+                        }
+                        // Standing, rocking on after the ground stopped, on
+                        // a floor where the least rocking holds (μ above
+                        // 0.188, the demand at θ → 0): the scan stops at a
+                        // decision instead of following the rocking to rest.
+                        let rocks_on = w.modes.iter().any(|m| {
+                            matches!(m.mode, Mode::Rock | Mode::SlideRock)
+                                && m.to > problem.pulse.duration
+                        });
+                        if whole.answered_by == AnsweredBy::Modes
+                            && !w.overturned
+                            && rocks_on
+                            && mu > 0.19
+                        {
+                            cases += 1;
+                            decided_early += usize::from(s.end_time < w.end_time);
+                        }
+                    }
+                }
+            }
+        }
+        assert!(cases >= 20, "{cases}");
+        assert_eq!(decided_early, cases);
     }
 }

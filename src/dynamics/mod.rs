@@ -14,6 +14,7 @@ pub mod excitation;
 pub mod flight;
 pub mod floor;
 pub mod forcing;
+pub mod free_rocking;
 pub mod integrator;
 pub mod mavroeidis_papageorgiou;
 pub mod peaks;

@@ -104,6 +104,11 @@ pub struct Options {
     pub record_impacts: bool,
     /// Stop as soon as the outcome is certain (at the pulse end at the latest).
     pub stop_at_decision: bool,
+    /// Stop once pure rocking is known not to be the Coulomb answer: the
+    /// friction it needs exceeds the block's μ, it lifts off, or rocking
+    /// starts a second time (what [`super::floor::run_coulomb`] asks; the
+    /// response then ends there, unfinished).
+    pub stop_at_sliding: bool,
     /// After the pulse, follow free rocking for at most this many impacts.
     pub max_free_impacts: u64,
     /// Do not simulate past this time, s (free rocking only).
@@ -123,6 +128,7 @@ impl Options {
             series_at: None,
             record_impacts: true,
             stop_at_decision: false,
+            stop_at_sliding: false,
             max_free_impacts: 1_000,
             horizon: None,
             initial_state: None,
@@ -139,6 +145,7 @@ impl Options {
             series_at: None,
             record_impacts: false,
             stop_at_decision: true,
+            stop_at_sliding: false,
             max_free_impacts: 0,
             horizon: None,
             initial_state: None,
@@ -517,6 +524,14 @@ fn run<G: Forcing>(
     let mut forced_impacts: u64 = 0;
 
     loop {
+        if options.stop_at_sliding
+            && (tracker.first_sliding.is_some()
+                || tracker.first_lift_off.is_some()
+                || r.rocking_starts > 1)
+        {
+            r.end_time = t;
+            break;
+        }
         let Some((y, side, forced, lift_until)) = rocking else {
             // At rest: wait for the ground to exceed the threshold.
             let next = pulse.next_rocking(t, &threshold);
@@ -686,7 +701,15 @@ fn run<G: Forcing>(
                         decided_side = Some(if impacts % 2 == 0 { side } else { -side });
                     }
                     r.decided_at = tr;
-                    if options.stop_at_decision || options.max_free_impacts == 0 {
+                    // Followed for the friction it needs (`stop_at_sliding`),
+                    // the free motion is decided here only where it is pure
+                    // rocking on that floor to its end.
+                    let pure_on_floor = !options.stop_at_sliding
+                        || block.friction().is_none_or(|mu| {
+                            super::free_rocking::stays_pure(&block, mu, y[0], y[1])
+                        });
+                    if (options.stop_at_decision || options.max_free_impacts == 0) && pure_on_floor
+                    {
                         r.end_time = tr;
                         if let FreeOutcome::Overturns { impacts } = outcome {
                             r.overturned = true;

@@ -1179,13 +1179,17 @@ impl crate::jobs::kind::Kind for Forensic {
     }
 
     fn warnings(job: &ForensicJob) -> Vec<super::warning::WarningDoc> {
-        use super::plausible::{coarse_dt_warning, record_warnings, size_warnings};
+        use super::plausible::{coarse_dt_warning, record_warnings, size_warnings, slide_warning};
         let mut found = size_warnings(
             job.observations
                 .iter()
                 .enumerate()
                 .map(|(i, o)| (&o.block, format!("/observations/{i}/block"))),
         );
+        found.extend(job.observations.iter().enumerate().filter_map(|(i, o)| {
+            o.slid_m
+                .and_then(|band| slide_warning(band, &format!("/observations/{i}/slid_m")))
+        }));
         if let Some(m) = &job.ground_motion {
             found.extend(record_warnings(m, "/ground_motion"));
             if let Some(p) = job.observations.iter().map(|o| o.block.p).reduce(f64::max) {

@@ -56,6 +56,31 @@ pub fn size_warnings<'a>(
         .collect()
 }
 
+/// The residual slide past which a seen slide (`slid_m`) is warned about,
+/// m: furniture, equipment and tombstones thrown by strong shaking slide
+/// centimetres to some tens of centimetres; a band reaching past a metre is
+/// more often centimetres entered as metres.
+pub const LARGE_SLIDE_M: f64 = 1.0;
+
+/// The warning for a seen slide `[lo, hi]`, m, at `pointer` in the spec
+/// (`implausible_slide`): computed as given, with a hint.
+pub fn slide_warning(band: [f64; 2], pointer: &str) -> Option<WarningDoc> {
+    let [lo, hi] = band;
+    (hi > LARGE_SLIDE_M).then(|| WarningDoc {
+        kind: "implausible_slide".into(),
+        t: None,
+        message: format!(
+            "{pointer}: a residual slide of {}–{} m reaches past {LARGE_SLIDE_M} m, which a block's base rarely slides: slid_m is in metres (centimetres? {}–{} cm is [{}, {}])",
+            fmt_num(lo, 6),
+            fmt_num(hi, 6),
+            fmt_num(lo, 6),
+            fmt_num(hi, 6),
+            fmt_num(lo / 100.0, 6),
+            fmt_num(hi / 100.0, 6)
+        ),
+    })
+}
+
 /// The PGA past which a record carries a `large_pga` warning, g.
 const LARGE_PGA_G: f64 = crate::records::PGA_LARGE_G;
 
@@ -178,6 +203,24 @@ mod tests {
         let msg = doc["warnings"][0]["message"].as_str().unwrap_or("");
         assert!(msg.starts_with("/block: "), "{msg}");
         assert!(msg.contains("1341.6"), "{msg}");
+    }
+
+    /// A slide of 5–30 cm entered as metres is warned about, named at its
+    /// observation, with the band in metres it probably meant; the same
+    /// band in metres carries no warning.
+    #[test]
+    fn a_seen_slide_in_centimetres_is_warned_about() {
+        let query = |slid: &str| {
+            run(&format!(
+                r#"{{"kind":"forensic","pulse":{{"type":"one_sine"}},"frequency_hz":[1.0],"a_p_g":{{"from":0.05,"to":0.3}},"contact":{{"model":"coulomb","mu":0.3}},"observations":[{{"name":"a","overturned":true,"block":{{"alpha":0.25,"p":2.14}}}},{{"name":"b","overturned":false,"slid_m":{slid},"block":{{"alpha":0.25,"p":2.14}}}}]}}"#
+            ))
+        };
+        let cm = query("[5, 30]");
+        assert_eq!(kinds(&cm), ["implausible_slide"]);
+        let msg = cm["warnings"][0]["message"].as_str().unwrap_or("");
+        assert!(msg.starts_with("/observations/1/slid_m: "), "{msg}");
+        assert!(msg.contains("[0.05, 0.3]"), "{msg}");
+        assert!(kinds(&query("[0.05, 0.3]")).is_empty());
     }
 
     /// The paper's locomotive (p = 2.14 rad/s: R = 1.61 m) carries none; a

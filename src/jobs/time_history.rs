@@ -477,6 +477,7 @@ impl TimeHistoryJob {
             series_at: None,
             record_impacts: self.outputs.impacts,
             stop_at_decision: false,
+            stop_at_sliding: false,
             max_free_impacts: self.outputs.max_free_impacts,
             horizon: self.outputs.duration,
             initial_state: None,

@@ -757,6 +757,53 @@ def check_forensic(page, base):
     return job_id
 
 
+def check_forensic_coulomb(page, base):
+    """The same query on a Coulomb floor (μ = 0.3), the transformer seen
+    standing 0.01–0.3 m from where it stood: the floor and the slide go in
+    the spec, a slide in centimetres is warned about beside its card, and
+    the summary names the floor."""
+    page.click("input[name=kind][value=forensic]")
+    page.click("input[name=contact][value=coulomb]")
+    page.type_into("#f-c-mu", "0.3")
+    row = "#obs-list .obs:nth-child(2)"
+    if page.js(f"document.querySelector('{row} .obs-slid').hidden"):
+        raise Failure("a standing observation on a Coulomb floor has no slide to give")
+    if not page.js("document.querySelector('#obs-list .obs:first-child .obs-slid').hidden"):
+        raise Failure("an observation that toppled offers a slide")
+    page.type_into(f"{row} .obs-slid-hi", "30")
+    hint = page.js(f"document.querySelector('{row} .hint').textContent")
+    if "not cm" not in hint or "0.3 m" not in hint:
+        raise Failure(f"a slide of 30 m is not questioned: {hint!r}")
+    page.type_into(f"{row} .obs-slid-lo", "0.01")
+    page.type_into(f"{row} .obs-slid-hi", "0.3")
+    page.type_into("#f-fo-steps", "3")
+    page.type_into("#f-fo-ato", "1")
+    page.click("#show-json")
+    raw = json.loads(page.js("document.getElementById('f-raw').value"))
+    page.click("input[name=kind][value=forensic]")
+    if raw.get("contact") != {"model": "coulomb", "mu": 0.3} or raw.get("formulation") != "nonlinear":
+        raise Failure(f"the floor sent: {raw.get('contact')}, {raw.get('formulation')}")
+    slid = [o.get("slid_m") for o in raw["observations"]]
+    if slid != [None, [0.01, 0.3], None]:
+        raise Failure(f"the slides sent: {slid}")
+    before = page.js("document.getElementById('job-id').textContent")
+    page.click("#submit")
+    job_id = finished_job(page, before, "forensic query on a Coulomb floor")
+    result = json.loads(http_get(f"{base}/v1/jobs/{job_id}/result")[2])
+    if [o.get("slid_m") for o in result["observations"]] != slid:
+        raise Failure(f"the query ran on {result['observations']}")
+    floor = summary_of(page).get("Floor")
+    if floor != "Coulomb friction, μ = 0.3":
+        raise Failure(f"the summary's floor: {floor!r}")
+    page.screenshot(os.path.join(OUT, "page-forensic-coulomb.png"))
+    # Back to pure rocking and the first query's axes.
+    page.type_into(f"{row} .obs-slid-lo", "")
+    page.type_into(f"{row} .obs-slid-hi", "")
+    page.type_into("#f-fo-steps", "6")
+    page.type_into("#f-fo-ato", "3")
+    page.click("input[name=contact][value=no_sliding]")
+
+
 def intervals_of(lists):
     """(count, lowest, highest, total length) of the intervals in lists."""
     xs = [iv for ivs in lists for iv in ivs]
@@ -1544,7 +1591,8 @@ def main():
                  "page-record-preview.png", "page-record-ask.png", "page-record-error.png",
                  "page-record-spectrum.png", "page-record-spectrum-figure.png", "page-forensic-record.png",
                  "page-time-history-record.png", "page-fragility-suite.png", "page-survival.png",
-                 "page-forensic-intervals.png", "page-fragility-geometry.png", "page-jobs.png"):
+                 "page-forensic-intervals.png", "page-fragility-geometry.png", "page-jobs.png",
+                 "page-forensic-coulomb.png"):
         try:
             os.remove(os.path.join(OUT, name))
         except FileNotFoundError:
@@ -1577,6 +1625,7 @@ def main():
         check_survivor(page, server.base)
         check_switches_clear(page)
         forensic_id = check_forensic(page, server.base)
+        check_forensic_coulomb(page, server.base)
         record = check_record_spectrum(page, server.base, work)
         check_forensic_record(page, server.base, record)
         check_time_history_record(page, server.base, record)
