@@ -704,11 +704,14 @@ fn run<G: Forcing>(
                     // Followed for the friction it needs (`stop_at_sliding`),
                     // the free motion is decided here only where it is pure
                     // rocking on that floor to its end.
-                    let pure_on_floor = !options.stop_at_sliding
-                        || block.friction().is_none_or(|mu| {
-                            super::free_rocking::stays_pure(&block, mu, y[0], y[1])
-                        });
-                    if (options.stop_at_decision || options.max_free_impacts == 0) && pure_on_floor
+                    let pure_on_floor = || {
+                        !options.stop_at_sliding
+                            || block.friction().is_none_or(|mu| {
+                                super::free_rocking::stays_pure(&block, mu, y[0], y[1])
+                            })
+                    };
+                    if (options.stop_at_decision || options.max_free_impacts == 0)
+                        && pure_on_floor()
                     {
                         r.end_time = tr;
                         if let FreeOutcome::Overturns { impacts } = outcome {

@@ -341,15 +341,14 @@ impl ForensicJob {
                         match s.grid {
                             Some(grid) => {
                                 let line = grid.line(t, m);
-                                let decided_to = to;
                                 LineSet {
                                     overturning: overturning_set(
                                         &line.transitions,
                                         s.alpha,
                                         from,
-                                        decided_to,
+                                        to,
                                     ),
-                                    decided_to,
+                                    decided_to: to,
                                     lift_off_g: None,
                                     // At the grid's first level the block
                                     // has not moved: it slid 0.
@@ -359,7 +358,7 @@ impl ForensicJob {
                                             lo <= 0.0,
                                             s.alpha,
                                             from,
-                                            decided_to,
+                                            to,
                                         )
                                     }),
                                 }
