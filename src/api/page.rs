@@ -76,16 +76,28 @@ mod tests {
         }
     }
 
-    /// The floor's models offered are the ones the service takes, where
-    /// it takes a floor (time histories and spectra).
+    /// The floor's models offered are the ones the service takes, for the
+    /// kinds that take a floor (time histories, spectra, forensic queries,
+    /// record spectra, fragility): the fieldset is shown for those kinds,
+    /// the script sends a floor for those kinds, and the service takes each
+    /// model from each of them.
     #[test]
     fn the_form_offers_the_contact_models_the_service_takes() {
+        let kinds = [
+            "time_history",
+            "spectrum",
+            "forensic",
+            "record_spectrum",
+            "fragility",
+        ];
         let fieldset = HTML
             .split("<fieldset id=\"fs-contact\"")
             .nth(1)
             .and_then(|rest| rest.split("</fieldset>").next())
             .expect("a fieldset for the floor");
-        assert!(fieldset.starts_with(" data-form data-kinds=\"time_history spectrum\""));
+        assert!(fieldset.starts_with(&format!(" data-form data-kinds=\"{}\"", kinds.join(" "))));
+        let quoted: Vec<String> = kinds.iter().map(|k| format!("\"{k}\"")).collect();
+        assert!(HTML.contains(&format!("const FLOOR_KINDS = [{}];", quoted.join(", "))));
         for id in ["f-c-mu", "f-c-muk"] {
             assert!(fieldset.contains(&format!("id=\"{id}\"")), "no {id}");
         }
@@ -96,37 +108,46 @@ mod tests {
             .collect();
         assert_eq!(models, ["no_sliding", "coulomb"]);
         let on_floor = HTML
-            .split("if (coulomb) {\n      spec.contact =")
+            .split("function withFloor(spec, k) {")
             .nth(1)
-            .and_then(|rest| rest.split("\n    }").next())
-            .expect("the Coulomb part of the spec");
-        assert!(
-            on_floor.contains("if (k === \"spectrum\") spec.no_sliding_beside = true;"),
-            "{on_floor}"
-        );
+            .and_then(|rest| rest.split("\n  }").next())
+            .expect("the floor's part of the spec");
+        for sent in [
+            "spec.contact = { model: \"coulomb\", mu: num(\"f-c-mu\") };",
+            "spec.formulation = \"nonlinear\";",
+            "if (k === \"spectrum\") spec.no_sliding_beside = true;",
+        ] {
+            assert!(on_floor.contains(sent), "{on_floor}");
+        }
+        let block = serde_json::json!({"alpha": 0.25, "p": 2.14});
+        let specs = [
+            serde_json::json!({"kind": "time_history", "block": block,
+                "pulse": {"type": "one_sine", "omega_ratio": 3, "a_p_alpha_g": 4}}),
+            serde_json::json!({"kind": "spectrum", "block": block,
+                "pulse": {"type": "one_sine"}, "omega_ratio": {"from": 1, "to": 2, "steps": 1}}),
+            serde_json::json!({"kind": "forensic", "pulse": {"type": "one_sine"},
+                "frequency_hz": [1.0], "a_p_g": {"from": 0.05, "to": 0.3},
+                "observations": [{"name": "a", "overturned": true, "block": block}]}),
+            serde_json::json!({"kind": "record_spectrum", "block": {"alpha": 0.25},
+                "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, 0.5, 0.2, -0.4, 0.0]},
+                "R_m": {"from": 0.5, "to": 2, "steps": 2}, "scale": {"to": 2}}),
+            serde_json::json!({"kind": "fragility", "block": block,
+                "pulse": {"type": "one_sine", "frequency_hz": 1.0}, "im": "pga_g",
+                "stripes": {"from": 0.1, "to": 0.5, "steps": 2}, "samples": 4, "seed": 1}),
+        ];
         for model in models {
             let mut contact = serde_json::json!({"model": model});
             if model == "coulomb" {
                 contact["mu"] = serde_json::json!(0.3);
             }
-            for (kind, rest) in [
-                (
-                    "time_history",
-                    serde_json::json!({"pulse": {"type": "one_sine", "omega_ratio": 3, "a_p_alpha_g": 4}}),
-                ),
-                (
-                    "spectrum",
-                    serde_json::json!({"pulse": {"type": "one_sine"}, "omega_ratio": {"from": 1, "to": 2, "steps": 1}}),
-                ),
-            ] {
-                let mut spec = serde_json::json!({"kind": kind, "block": {"alpha": 0.25, "p": 2.14},
-                    "formulation": "nonlinear", "contact": contact});
+            for base in &specs {
+                let mut spec = base.clone();
+                spec["formulation"] = serde_json::json!("nonlinear");
+                spec["contact"] = contact.clone();
+                let kind = spec["kind"].as_str().unwrap_or_default().to_string();
                 // A spectrum on the floor is sent with pure rocking's beside it.
                 if kind == "spectrum" && model == "coulomb" {
                     spec["no_sliding_beside"] = serde_json::json!(true);
-                }
-                if let (Some(spec), Some(rest)) = (spec.as_object_mut(), rest.as_object()) {
-                    spec.extend(rest.clone());
                 }
                 let taken = crate::jobs::Job::parse(&spec.to_string());
                 assert!(taken.is_ok(), "{kind} on {model}: {:?}", taken.err());

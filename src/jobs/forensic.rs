@@ -941,7 +941,8 @@ pub struct ForensicResult {
     /// The normalised spec.
     pub spec: ForensicJob,
     /// Notes on the inputs (`implausible_size`: a block smaller than 1 cm or
-    /// larger than 100 m); absent when there are none.
+    /// larger than 100 m; `implausible_slide`: a seen slide past 1 m); absent
+    /// when there are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
     /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).

@@ -239,6 +239,9 @@ pub enum WarningKind {
     CoarseDt,
     /// The record's PGA never exceeds the block's rocking threshold.
     NeverRocks,
+    /// A forensic observation's residual slide (`slid_m`) reaches past
+    /// 1 m: centimetres given as metres?
+    ImplausibleSlide,
 }
 
 /// A figure: an SVG document.

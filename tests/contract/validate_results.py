@@ -43,6 +43,13 @@ EXTRA = [
         "pulse": {"type": "one_sine"}, "omega_ratio": [3.0, 6.0], "a_max_alpha_g": 6,
         "tolerance": 1e-3, "scan_step_alpha_g": 0.05,
         "contact": {"model": "coulomb", "mu": 0.3}, "no_sliding_beside": True}),
+    ("forensic query on a Coulomb floor with a slide in centimetres (implausible_slide)", {
+        "kind": "forensic", "pulse": {"type": "one_sine"}, "frequency_hz": [1.0],
+        "a_p_g": {"from": 0.05, "to": 0.3}, "contact": {"model": "coulomb", "mu": 0.3},
+        "observations": [
+            {"name": "loco", "overturned": True, "block": {"alpha": 0.25, "p": 2.14}},
+            {"name": "box", "overturned": False, "slid_m": [5, 30],
+             "block": {"alpha": 0.25, "p": 2.14}}]}),
     ("time history on a record file", {
         "kind": "time_history", "block": {"alpha": 0.15, "p": 2.0, "eta": 0.9},
         "ground_motion": {"file": os.path.join(ROOT, "specs", "records", "ridge_station_090.at2")},
