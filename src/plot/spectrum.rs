@@ -105,7 +105,7 @@ pub fn region_legend(used: impl Fn(usize) -> bool, no_rocking: &str, slides: boo
     if used(CLASS_LIFT_OFF) {
         legend.entry(
             Swatch::Fill(fill(CLASS_LIFT_OFF)),
-            "lift-off: the block leaves the ground (g + ü_v ≤ 0, or its normal force reaches 0 on a Coulomb floor): not computed",
+            "lift-off: g + ü_v ≤ 0, the block leaves the ground (not computed)",
         );
     }
     legend
