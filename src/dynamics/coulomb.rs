@@ -788,19 +788,25 @@ impl<G: Kinematics> Driver<'_, G> {
     }
 
     fn overturn(&mut self, t: f64, side: f64) {
-        self.out.overturned = true;
         self.out.overturn_time = Some(t);
+        self.overturned_to(side);
+        self.out.end_time = t;
+        self.out.peak_theta_over_alpha = self
+            .out
+            .peak_theta_over_alpha
+            .max(std::f64::consts::FRAC_PI_2 / self.block.slenderness());
+    }
+
+    /// The block overturns to `side`: the paper's mode 1 after impacts
+    /// (those counted so far), mode 2 without.
+    fn overturned_to(&mut self, side: f64) {
+        self.out.overturned = true;
         self.out.overturn_side = Some(side);
         self.out.overturn_mode = Some(if self.out.impact_count > 0 {
             OverturnMode::AfterImpacts(self.out.impact_count)
         } else {
             OverturnMode::WithoutImpact
         });
-        self.out.end_time = t;
-        self.out.peak_theta_over_alpha = self
-            .out
-            .peak_theta_over_alpha
-            .max(std::f64::consts::FRAC_PI_2 / self.block.slenderness());
     }
 
     /// Whether a rock in free motion at `y` is decided here: asked to stop
@@ -834,14 +840,8 @@ impl<G: Kinematics> Driver<'_, G> {
             decide(Formulation::Nonlinear, &self.block, y[0], y[1], side)
         {
             self.out.impact_count += u64::from(impacts);
-            self.out.overturned = true;
             // Each impact turns the block over to the other side.
-            self.out.overturn_side = Some(if impacts % 2 == 0 { side } else { -side });
-            self.out.overturn_mode = Some(if self.out.impact_count > 0 {
-                OverturnMode::AfterImpacts(self.out.impact_count)
-            } else {
-                OverturnMode::WithoutImpact
-            });
+            self.overturned_to(if impacts % 2 == 0 { side } else { -side });
         }
     }
 
