@@ -332,7 +332,7 @@ struct CrossingShape {
 }
 
 /// The columns of a spectrum's table before any added for a Coulomb floor.
-const SPECTRUM_COLUMNS: [&str; 24] = [
+const SPECTRUM_COLUMNS: [&str; 31] = [
     "omega_ratio",
     "a_alpha_g",
     "direction",
@@ -357,7 +357,46 @@ const SPECTRUM_COLUMNS: [&str; 24] = [
     "principal_min_overturn_alpha_g",
     "principal_min_overturn_mode",
     "principal_overturns_above_alpha_g",
+    "min_overturn_in",
+    "min_certain_overturn_alpha_g",
+    "mixed_to",
+    "mixed_fraction",
+    "mixed_probes",
+    "mixed_interval_95_lo",
+    "mixed_interval_95_hi",
 ];
+
+/// The zone columns a mixed zone's row fills (`mixed_to` … ), empty on the
+/// other rows.
+const MIXED_COLUMNS: usize = 5;
+
+/// A row of `header` from named cells (the others empty).
+fn named_row(out: &mut String, header: &[&str], cells: &[(&str, String)]) {
+    let fields: Vec<String> = header
+        .iter()
+        .map(|h| {
+            cells
+                .iter()
+                .find(|(name, _)| name == h)
+                .map_or_else(String::new, |(_, v)| v.clone())
+        })
+        .collect();
+    row(out, &fields);
+}
+
+/// The cells of a mixed zone's row: its ends (`from` in the row's level
+/// column `level`, `to`), its fraction, probes and interval.
+fn mixed_cells<'a>(level: &'a str, z: &crate::jobs::mixed::MixedDoc) -> Vec<(&'a str, String)> {
+    vec![
+        (level, cell(&z.from)),
+        ("direction", cell("mixed")),
+        ("mixed_to", cell(&z.to)),
+        ("mixed_fraction", cell(&z.fraction)),
+        ("mixed_probes", cell(&z.probes)),
+        ("mixed_interval_95_lo", cell(&z.interval_95[0])),
+        ("mixed_interval_95_hi", cell(&z.interval_95[1])),
+    ]
+}
 
 /// The columns a residual-slide point adds at the end of a spectrum's rows.
 const SLIDE_COLUMNS: [&str; 3] = ["residual_slide_m", "peak_slide_m", "outcome"];
@@ -444,7 +483,10 @@ fn spectrum_line_rows(
         cell(&line.principal.min_overturn_alpha_g),
         cell(&line.principal.min_overturn_mode),
         cell(&line.principal.overturns_above_alpha_g),
+        cell(&line.min_overturn_in),
+        cell(&line.min_certain_overturn_alpha_g),
     ];
+    added.extend(std::iter::repeat_n(String::new(), MIXED_COLUMNS));
     added.extend(end.iter().cloned());
     let cells = LineCells {
         head: vec![cell(&line.omega_ratio)],
@@ -469,6 +511,24 @@ fn spectrum_line_rows(
         added: 1,
     };
     transition_rows(out, &cells, shape, crossings);
+    let mut header: Vec<&str> = SPECTRUM_COLUMNS.to_vec();
+    if tail.slides {
+        header.extend(SLIDE_COLUMNS);
+    }
+    if tail.floor {
+        header.push("floor");
+    }
+    for z in &line.mixed {
+        let mut cells = mixed_cells("a_alpha_g", z);
+        cells.extend([
+            ("omega_ratio", cell(&line.omega_ratio)),
+            ("a_g", cell(&(z.from * alpha))),
+            ("omega_p_rad_per_s", cell(&line.omega_p)),
+            ("frequency_hz", cell(&line.frequency_hz)),
+            ("floor", cell(floor)),
+        ]);
+        named_row(out, &header, &cells);
+    }
     for p in line.residual_slide.iter().flatten() {
         let mut fields = vec![
             cell(&line.omega_ratio),
@@ -482,8 +542,8 @@ fn spectrum_line_rows(
             cell(&line.omega_p),
             cell(&line.frequency_hz),
         ]);
-        // threshold_g … principal_overturns_above_alpha_g: the line's.
-        fields.extend(std::iter::repeat_n(String::new(), 10));
+        // threshold_g … mixed_interval_95_hi: the line's and a zone's.
+        fields.extend(std::iter::repeat_n(String::new(), 17));
         fields.extend([
             cell(&p.residual_slide_m),
             cell(&p.peak_slide_m),
@@ -537,30 +597,37 @@ fn transition_rows<'a>(
 
 /// One row per transition of each block size (one empty row for a size
 /// without any), with the size's minimum and rocking threshold.
+/// The columns of a record spectrum's table.
+const RECORD_SPECTRUM_COLUMNS: [&str; 25] = [
+    "p_rad_s",
+    "R_m",
+    "scale",
+    "pga_g",
+    "direction",
+    "mode",
+    "impacts",
+    "bracket_lo_scale",
+    "bracket_hi_scale",
+    "min_overturn_scale",
+    "min_overturn_pga_g",
+    "threshold_scale",
+    "min_overturn_mode",
+    "overturns_above_scale",
+    "principal_min_overturn_scale",
+    "principal_min_overturn_mode",
+    "principal_overturns_above_scale",
+    "min_overturn_in",
+    "min_certain_overturn_scale",
+    "min_certain_overturn_pga_g",
+    "mixed_to",
+    "mixed_fraction",
+    "mixed_probes",
+    "mixed_interval_95_lo",
+    "mixed_interval_95_hi",
+];
+
 fn record_spectrum(r: &RecordSpectrumResult, out: &mut String) {
-    row(
-        out,
-        &[
-            "p_rad_s",
-            "R_m",
-            "scale",
-            "pga_g",
-            "direction",
-            "mode",
-            "impacts",
-            "bracket_lo_scale",
-            "bracket_hi_scale",
-            "min_overturn_scale",
-            "min_overturn_pga_g",
-            "threshold_scale",
-            "min_overturn_mode",
-            "overturns_above_scale",
-            "principal_min_overturn_scale",
-            "principal_min_overturn_mode",
-            "principal_overturns_above_scale",
-        ]
-        .map(String::from),
-    );
+    row(out, &RECORD_SPECTRUM_COLUMNS.map(String::from));
     for line in &r.spectrum {
         let cells = LineCells {
             head: vec![cell(&line.p), cell(&line.r_m)],
@@ -575,6 +642,14 @@ fn record_spectrum(r: &RecordSpectrumResult, out: &mut String) {
                 cell(&line.principal.min_overturn_scale),
                 cell(&line.principal.min_overturn_mode),
                 cell(&line.principal.overturns_above_scale),
+                cell(&line.min_overturn_in),
+                cell(&line.min_certain_overturn_scale),
+                cell(&line.min_certain_overturn_pga_g),
+                String::new(),
+                String::new(),
+                String::new(),
+                String::new(),
+                String::new(),
             ],
         };
         let crossings = line.transitions.iter().map(|t| Crossing {
@@ -590,6 +665,11 @@ fn record_spectrum(r: &RecordSpectrumResult, out: &mut String) {
             added: 0,
         };
         transition_rows(out, &cells, shape, crossings);
+        for z in &line.mixed {
+            let mut cells = mixed_cells("scale", z);
+            cells.extend([("p_rad_s", cell(&line.p)), ("R_m", cell(&line.r_m))]);
+            named_row(out, &RECORD_SPECTRUM_COLUMNS, &cells);
+        }
     }
 }
 
@@ -813,48 +893,84 @@ fn survival(r: &SurvivalResult, out: &mut String) {
 /// with every observation (observation empty), then each observation's; an
 /// observation that allows nothing has one row with empty ends. An
 /// observation's rows carry the scale at which its block starts to rock.
+/// The columns of a record forensic query's table.
+const FORENSIC_RECORD_COLUMNS: [&str; 15] = [
+    "observation",
+    "observed",
+    "consistent_lo_scale",
+    "consistent_hi_scale",
+    "consistent_lo_pga_g",
+    "consistent_hi_pga_g",
+    "threshold_scale",
+    "mixed_lo_scale",
+    "mixed_hi_scale",
+    "mixed_lo_pga_g",
+    "mixed_hi_pga_g",
+    "mixed_fraction",
+    "mixed_probes",
+    "mixed_interval_95_lo",
+    "mixed_interval_95_hi",
+];
+
+/// A row per certain interval (or one empty row when there is none), then
+/// a row per mixed zone, for all observations (observation empty), then
+/// for each.
 fn forensic_record(r: &ForensicResult, out: &mut String) {
-    row(
-        out,
-        &[
-            "observation",
-            "observed",
-            "consistent_lo_scale",
-            "consistent_hi_scale",
-            "consistent_lo_pga_g",
-            "consistent_hi_pga_g",
-            "threshold_scale",
-        ]
-        .map(String::from),
-    );
-    let mut emit =
-        |name: &str, seen: String, threshold: Option<f64>, scale: &[[f64; 2]], pga: &[[f64; 2]]| {
-            let ends = scale
-                .iter()
-                .zip(pga)
-                .map(|(s, g)| [s[0], s[1], g[0], g[1]].map(|x| cell(&x)));
-            let none = scale.is_empty().then(<[String; 4]>::default);
-            for [scale_lo, scale_hi, pga_lo, pga_hi] in none.into_iter().chain(ends) {
-                row(
-                    out,
-                    &[
-                        quote(name),
-                        seen.clone(),
-                        scale_lo,
-                        scale_hi,
-                        pga_lo,
-                        pga_hi,
-                        cell(&threshold),
-                    ],
-                );
-            }
-        };
+    row(out, &FORENSIC_RECORD_COLUMNS.map(String::from));
+    let mut emit = |name: &str,
+                    seen: String,
+                    threshold: Option<f64>,
+                    sets: [&[[f64; 2]]; 2],
+                    zones: [&[crate::jobs::mixed::MixedDoc]; 2]| {
+        let [scale, pga] = sets;
+        let ends = scale
+            .iter()
+            .zip(pga)
+            .map(|(s, g)| [s[0], s[1], g[0], g[1]].map(|x| cell(&x)));
+        let none = scale.is_empty().then(<[String; 4]>::default);
+        let blank = std::iter::repeat_n(String::new(), 8);
+        for [scale_lo, scale_hi, pga_lo, pga_hi] in none.into_iter().chain(ends) {
+            let mut fields = vec![
+                quote(name),
+                seen.clone(),
+                scale_lo,
+                scale_hi,
+                pga_lo,
+                pga_hi,
+                cell(&threshold),
+            ];
+            fields.extend(blank.clone());
+            row(out, &fields);
+        }
+        for (z, g) in zones[0].iter().zip(zones[1]) {
+            let mut fields = vec![quote(name), seen.clone()];
+            fields.extend(std::iter::repeat_n(String::new(), 4));
+            fields.extend([
+                cell(&threshold),
+                cell(&z.from),
+                cell(&z.to),
+                cell(&g.from),
+                cell(&g.to),
+                cell(&z.fraction),
+                cell(&z.probes),
+                cell(&z.interval_95[0]),
+                cell(&z.interval_95[1]),
+            ]);
+            row(out, &fields);
+        }
+    };
     emit(
         "",
         String::new(),
         None,
-        r.consistent_scale.as_deref().unwrap_or_default(),
-        r.consistent_pga_g.as_deref().unwrap_or_default(),
+        [
+            r.consistent_scale.as_deref().unwrap_or_default(),
+            r.consistent_pga_g.as_deref().unwrap_or_default(),
+        ],
+        [
+            r.mixed_scale.as_deref().unwrap_or_default(),
+            r.mixed_pga_g.as_deref().unwrap_or_default(),
+        ],
     );
     for (k, o) in r
         .per_observation
@@ -870,8 +986,8 @@ fn forensic_record(r: &ForensicResult, out: &mut String) {
                 .filter(|x| x.name == o.name && x.overturned == o.overturned)
                 .map_or_else(|| seen(o.overturned), |o| quote(&o.seen())),
             Some(o.threshold_scale),
-            &o.consistent_scale,
-            &o.consistent_pga_g,
+            [&o.consistent_scale, &o.consistent_pga_g],
+            [&o.mixed_scale, &o.mixed_pga_g],
         );
     }
 }
@@ -1275,9 +1391,14 @@ mod tests {
             l[0],
             "omega_ratio,a_alpha_g,direction,mode,impacts,bracket_lo_alpha_g,bracket_hi_alpha_g,min_overturn_alpha_g,eq21_alpha_g,threshold_alpha_g,closed_form_mode2_alpha_g,\
              a_g,omega_p_rad_per_s,frequency_hz,threshold_g,min_overturn_g,min_overturn_m_per_s2,min_overturn_mode,overturns_above_alpha_g,\
-             pgv_over_pga_s,pgd_over_pga_s2,principal_min_overturn_alpha_g,principal_min_overturn_mode,principal_overturns_above_alpha_g"
+             pgv_over_pga_s,pgd_over_pga_s2,principal_min_overturn_alpha_g,principal_min_overturn_mode,principal_overturns_above_alpha_g,\
+             min_overturn_in,min_certain_overturn_alpha_g,mixed_to,mixed_fraction,mixed_probes,mixed_interval_95_lo,mixed_interval_95_hi"
         );
-        let rows: usize = r.spectrum.iter().map(|f| f.transitions.len().max(1)).sum();
+        let rows: usize = r
+            .spectrum
+            .iter()
+            .map(|f| f.transitions.len().max(1) + f.mixed.len())
+            .sum();
         assert_eq!(l.len(), 1 + rows);
         let line = &r.spectrum[0];
         let t = line.transitions.first().expect("a transition below a_max");
@@ -1321,6 +1442,8 @@ mod tests {
         second.principal.min_overturn_alpha_g = None;
         second.principal.min_overturn_mode = None;
         second.principal.overturns_above_alpha_g = None;
+        (second.min_overturn_in, second.min_certain_overturn_alpha_g) = (None, None);
+        (second.mixed, second.min_overturn_zone) = (vec![], None);
         second.transitions = vec![];
         r.spectrum = vec![first, second];
         let csv = to_csv(&JobResult::Spectrum(r));
@@ -1328,10 +1451,10 @@ mod tests {
             lines(&csv)[1..],
             [
                 "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,,\
-                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25",
+                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25,band,1.25,,,,,",
                 "2.0,2.37,down,1,1,2.3699,2.3701,1.25,1.33,1.0,,\
-                 0.5925,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25",
-                "10.0,,,,,,,,2.67,1.0,,,21.4,3.4,0.25,,,,,0.046,0.0015,,,",
+                 0.5925,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25,band,1.25,,,,,",
+                "10.0,,,,,,,,2.67,1.0,,,21.4,3.4,0.25,,,,,0.046,0.0015,,,,,,,,,,",
             ]
         );
     }
@@ -1359,6 +1482,9 @@ mod tests {
         first.principal.min_overturn_alpha_g = Some(1.25);
         first.principal.min_overturn_mode = Some(1);
         first.principal.overturns_above_alpha_g = Some(1.25);
+        (first.min_overturn_in, first.min_certain_overturn_alpha_g) =
+            (Some("band".into()), Some(1.25));
+        (first.mixed, first.min_overturn_zone) = (vec![], None);
         (up.a_alpha_g, up.direction, up.mode, up.impacts) = (1.25, "up".into(), 1, 1);
         (up.bracket, up.a_g) = ([1.2499, 1.2501], 0.3125);
         (first, up)
@@ -1368,7 +1494,8 @@ mod tests {
     /// pure-rocking spectrum beside: as it has always been.
     const SPECTRUM_HEADER: &str = "omega_ratio,a_alpha_g,direction,mode,impacts,bracket_lo_alpha_g,bracket_hi_alpha_g,min_overturn_alpha_g,eq21_alpha_g,threshold_alpha_g,closed_form_mode2_alpha_g,\
          a_g,omega_p_rad_per_s,frequency_hz,threshold_g,min_overturn_g,min_overturn_m_per_s2,min_overturn_mode,overturns_above_alpha_g,\
-         pgv_over_pga_s,pgd_over_pga_s2,principal_min_overturn_alpha_g,principal_min_overturn_mode,principal_overturns_above_alpha_g";
+         pgv_over_pga_s,pgd_over_pga_s2,principal_min_overturn_alpha_g,principal_min_overturn_mode,principal_overturns_above_alpha_g,\
+         min_overturn_in,min_certain_overturn_alpha_g,mixed_to,mixed_fraction,mixed_probes,mixed_interval_95_lo,mixed_interval_95_hi";
 
     #[test]
     fn spectrum_residual_slides_and_the_lines_beside_have_rows_of_their_own() {
@@ -1408,6 +1535,8 @@ mod tests {
         beside.principal.min_overturn_alpha_g = None;
         beside.principal.min_overturn_mode = None;
         beside.principal.overturns_above_alpha_g = None;
+        (beside.min_overturn_in, beside.min_certain_overturn_alpha_g) = (None, None);
+        (beside.mixed, beside.min_overturn_zone) = (vec![], None);
         beside.transitions = vec![];
         beside.residual_slide = None;
         r.spectrum = vec![first];
@@ -1419,10 +1548,10 @@ mod tests {
             [
                 format!("{SPECTRUM_HEADER},residual_slide_m,peak_slide_m,outcome,floor").as_str(),
                 "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,,\
-                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25,,,,coulomb",
-                "2.0,1.0,residual_slide,,,,,,,,,0.25,4.28,0.68,,,,,,,,,,,0.0,0.0,stands,coulomb",
-                "2.0,2.0,residual_slide,,,,,,,,,0.5,4.28,0.68,,,,,,,,,,,-0.0123,0.0456,overturns,coulomb",
-                "10.0,,,,,,,,2.67,1.0,,,21.4,3.4,0.25,,,,,0.046,0.0015,,,,,,,no_sliding",
+                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25,band,1.25,,,,,,,,,coulomb",
+                "2.0,1.0,residual_slide,,,,,,,,,0.25,4.28,0.68,,,,,,,,,,,,,,,,,,0.0,0.0,stands,coulomb",
+                "2.0,2.0,residual_slide,,,,,,,,,0.5,4.28,0.68,,,,,,,,,,,,,,,,,,-0.0123,0.0456,overturns,coulomb",
+                "10.0,,,,,,,,2.67,1.0,,,21.4,3.4,0.25,,,,,0.046,0.0015,,,,,,,,,,,,,,no_sliding",
             ]
         );
         // Residual slides alone: no `floor`.
@@ -1437,7 +1566,7 @@ mod tests {
         assert_eq!(l.len(), 4);
         assert_eq!(
             l[3],
-            "2.0,2.0,residual_slide,,,,,,,,,0.5,4.28,0.68,,,,,,,,,,,-0.0123,0.0456,overturns"
+            "2.0,2.0,residual_slide,,,,,,,,,0.5,4.28,0.68,,,,,,,,,,,,,,,,,,-0.0123,0.0456,overturns"
         );
         // The lines beside alone: `floor` right after the usual columns.
         let mut beside_only = r.clone();
@@ -1448,8 +1577,8 @@ mod tests {
             [
                 format!("{SPECTRUM_HEADER},floor").as_str(),
                 "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,,\
-                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25,coulomb",
-                "10.0,,,,,,,,2.67,1.0,,,21.4,3.4,0.25,,,,,0.046,0.0015,,,,no_sliding",
+                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25,band,1.25,,,,,,coulomb",
+                "10.0,,,,,,,,2.67,1.0,,,21.4,3.4,0.25,,,,,0.046,0.0015,,,,,,,,,,,no_sliding",
             ]
         );
         // Neither: the table as it was.
@@ -1461,7 +1590,7 @@ mod tests {
             [
                 SPECTRUM_HEADER,
                 "2.0,1.25,up,1,1,1.2499,1.2501,1.25,1.33,1.0,,\
-                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25",
+                 0.3125,4.28,0.68,0.25,0.3125,3.07,1,2.37,0.23,0.037,1.25,1,1.25,band,1.25,,,,,",
             ]
         );
     }
@@ -1569,7 +1698,7 @@ mod tests {
         let l = lines(&csv);
         assert_eq!(l[0], SPECTRUM_HEADER);
         assert_eq!(l.len(), 1 + transition_rows(&floor));
-        assert!(l.iter().all(|r| r.split(',').count() == 24), "{csv}");
+        assert!(l.iter().all(|r| r.split(',').count() == 31), "{csv}");
         assert!(!csv.contains("residual_slide") && !csv.contains("coulomb"));
     }
 
@@ -1583,9 +1712,14 @@ mod tests {
         assert_eq!(
             l[0],
             "p_rad_s,R_m,scale,pga_g,direction,mode,impacts,bracket_lo_scale,bracket_hi_scale,min_overturn_scale,min_overturn_pga_g,threshold_scale,\
-             min_overturn_mode,overturns_above_scale,principal_min_overturn_scale,principal_min_overturn_mode,principal_overturns_above_scale"
+             min_overturn_mode,overturns_above_scale,principal_min_overturn_scale,principal_min_overturn_mode,principal_overturns_above_scale,\
+             min_overturn_in,min_certain_overturn_scale,min_certain_overturn_pga_g,mixed_to,mixed_fraction,mixed_probes,mixed_interval_95_lo,mixed_interval_95_hi"
         );
-        let rows: usize = r.spectrum.iter().map(|s| s.transitions.len().max(1)).sum();
+        let rows: usize = r
+            .spectrum
+            .iter()
+            .map(|s| s.transitions.len().max(1) + s.mixed.len())
+            .sum();
         assert_eq!(l.len(), 1 + rows);
         let size = &r.spectrum[0];
         let head = format!("{},{},", cell(&size.p), cell(&size.r_m));
@@ -1616,14 +1750,20 @@ mod tests {
         second.principal.min_overturn_scale = None;
         second.principal.min_overturn_mode = None;
         second.principal.overturns_above_scale = None;
+        (first.mixed, second.mixed) = (vec![], vec![]);
+        (first.min_overturn_in, first.min_certain_overturn_scale) =
+            (Some("band".into()), Some(2.5));
+        first.min_certain_overturn_pga_g = Some(0.75);
+        (second.min_overturn_in, second.min_certain_overturn_scale) = (None, None);
+        second.min_certain_overturn_pga_g = None;
         second.transitions = vec![];
         r.spectrum = vec![first, second];
         let csv = to_csv(&JobResult::RecordSpectrum(r));
         assert_eq!(
             lines(&csv)[1..],
             [
-                "1.5,4.36,2.5,0.75,up,2,0,2.49,2.51,2.5,0.75,0.4,2,2.5,2.5,2,2.5",
-                "3.0,1.09,,,,,,,,,,0.5,,,,,",
+                "1.5,4.36,2.5,0.75,up,2,0,2.49,2.51,2.5,0.75,0.4,2,2.5,2.5,2,2.5,band,2.5,0.75,,,,,",
+                "3.0,1.09,,,,,,,,,,0.5,,,,,,,,,,,,,",
             ]
         );
     }
@@ -1813,21 +1953,26 @@ mod tests {
         let l = lines(&csv);
         assert_eq!(
             l[0],
-            "observation,observed,consistent_lo_scale,consistent_hi_scale,consistent_lo_pga_g,consistent_hi_pga_g,threshold_scale"
+            "observation,observed,consistent_lo_scale,consistent_hi_scale,consistent_lo_pga_g,consistent_hi_pga_g,threshold_scale,\
+             mixed_lo_scale,mixed_hi_scale,mixed_lo_pga_g,mixed_hi_pga_g,mixed_fraction,mixed_probes,mixed_interval_95_lo,mixed_interval_95_hi"
         );
         let all = r.consistent_scale.clone().expect("a record query's scales");
         let mine = &r.per_observation.as_ref().expect("per observation")[0];
         let rows = |n: usize| n.max(1);
+        let zones = r.mixed_scale.as_ref().map_or(0, Vec::len);
         assert_eq!(
             l.len(),
-            1 + rows(all.len()) + rows(mine.consistent_scale.len())
+            1 + rows(all.len())
+                + zones
+                + rows(mine.consistent_scale.len())
+                + mine.mixed_scale.len()
         );
         let first = mine.consistent_scale.first().expect("a survived scale");
         let first_g = mine.consistent_pga_g[0];
         assert_eq!(
-            l[1 + rows(all.len())],
+            l[1 + rows(all.len()) + zones],
             format!(
-                "transformer,survived,{},{},{},{},{}",
+                "transformer,survived,{},{},{},{},{},,,,,,,,",
                 cell(&first[0]),
                 cell(&first[1]),
                 cell(&first_g[0]),
@@ -1841,6 +1986,8 @@ mod tests {
                 overturned,
                 consistent_scale: scale,
                 consistent_pga_g: pga,
+                mixed_scale: vec![],
+                mixed_pga_g: vec![],
                 overturning_scale: vec![],
                 threshold_scale: if overturned { 0.5 } else { 0.25 },
                 lift_off_above_scale: None,
@@ -1856,10 +2003,10 @@ mod tests {
         assert_eq!(
             lines(&csv)[1..],
             [
-                ",,0.7,1.4,0.35,0.7,",
-                ",,2.8,3.2,1.4,1.6,",
-                "locomotive,overturned,0.7,6.0,0.35,3.0,0.5",
-                "\"'=cmd\",survived,,,,,0.25",
+                ",,0.7,1.4,0.35,0.7,,,,,,,,,",
+                ",,2.8,3.2,1.4,1.6,,,,,,,,,",
+                "locomotive,overturned,0.7,6.0,0.35,3.0,0.5,,,,,,,,",
+                "\"'=cmd\",survived,,,,,0.25,,,,,,,,",
             ]
         );
     }
@@ -1897,11 +2044,13 @@ mod tests {
             frequency_hz,
             omega_p,
             consistent_g,
+            mixed_g: vec![],
             per_observation: per_observation
                 .iter()
                 .map(|(name, set)| ObservationSet {
                     name: (*name).into(),
                     consistent_g: set.clone(),
+                    mixed_g: vec![],
                     lift_off_above_g: None,
                 })
                 .collect(),

@@ -50,8 +50,10 @@ pub struct FrictionDemand {
     pub first_sliding: Option<f64>,
     /// First time f_z ≤ 0 (the block would lift off): the demand is unbounded.
     pub first_lift_off: Option<f64>,
-    /// The demand was followed up to this time only: the pulse was over and
-    /// the block bound to overturn, so its fall is not counted.
+    /// The demand was followed up to this time only: the block was then
+    /// bound to overturn (the pulse was over, or under a record the free
+    /// motion from there on overturned, and the block did), so its fall is
+    /// not counted.
     pub followed_until: Option<f64>,
 }
 
@@ -87,6 +89,10 @@ pub enum Warning {
     /// The friction demand was followed up to this time (the pulse end): the
     /// block was then bound to overturn, and its fall is not counted.
     DemandExcludesFall(f64),
+    /// The friction demand was followed up to this time, the ground still
+    /// moving: from then on the free motion from every state overturned, and
+    /// the block overturned; its fall is not counted.
+    DemandExcludesForcedFall(f64),
     /// Free rocking after the pulse was followed only up to this many impacts.
     FreeRockingTruncated(u64),
     /// The impact list was truncated to this many entries (the count is complete).

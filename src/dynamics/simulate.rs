@@ -115,6 +115,12 @@ pub struct Options {
     pub horizon: Option<f64>,
     /// Start rocking at t = 0 from this `[θ, θ̇]` instead of from rest.
     pub initial_state: Option<State>,
+    /// Leave out of the friction demand the fall of a block that overturns
+    /// while the ground still moves: from where the free motion overturns
+    /// at every step on (the verdict a pulse's end gives) to the
+    /// overturning. What a record asks, which mostly lasts past it; a
+    /// pulse's demand is followed while the pulse acts.
+    pub fall_under_forcing: bool,
 }
 
 impl Options {
@@ -132,6 +138,7 @@ impl Options {
             max_free_impacts: 1_000,
             horizon: None,
             initial_state: None,
+            fall_under_forcing: false,
         }
     }
 
@@ -149,6 +156,7 @@ impl Options {
             max_free_impacts: 0,
             horizon: None,
             initial_state: None,
+            fall_under_forcing: false,
         }
     }
 }
@@ -203,6 +211,7 @@ pub fn simulate<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<R
                 peak: options.peak,
                 reactions: options.reactions,
                 series_times: times.clone(),
+                fall_under_forcing: options.fall_under_forcing,
             },
         )?,
         (None, Some(n)) if n > 0 => {
@@ -222,6 +231,7 @@ pub fn simulate<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<R
                 peak: options.peak,
                 reactions: options.reactions,
                 series_times: times,
+                fall_under_forcing: options.fall_under_forcing,
             };
             run(problem, options, req)?
         }
@@ -232,6 +242,7 @@ pub fn simulate<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<R
                 peak: options.peak,
                 reactions: options.reactions,
                 series_times: Vec::new(),
+                fall_under_forcing: options.fall_under_forcing,
             },
         )?,
     };
@@ -683,6 +694,7 @@ fn run<G: Forcing>(
                 r.end_time = to;
                 if forced {
                     r.decided_at = to;
+                    tracker.bound_to_overturn(None);
                 }
                 break;
             }
@@ -723,7 +735,7 @@ fn run<G: Forcing>(
                         break;
                     }
                     if matches!(outcome, FreeOutcome::Overturns { .. }) {
-                        tracker.stop_reactions(tr);
+                        tracker.bound_to_overturn(Some(tr));
                     }
                     decision = Some(outcome);
                     rocking = Some((y, side, false, tr));
@@ -794,7 +806,11 @@ fn run<G: Forcing>(
         if let Some(tf) = tracker.reactions_stopped_at
             && r.overturned
         {
-            r.warnings.push(Warning::DemandExcludesFall(tf));
+            r.warnings.push(if tracker.stopped_while_forced {
+                Warning::DemandExcludesForcedFall(tf)
+            } else {
+                Warning::DemandExcludesFall(tf)
+            });
         }
     }
     if !tracker.series.t.is_empty() {

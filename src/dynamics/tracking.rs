@@ -27,6 +27,7 @@ use super::reactions::{
     ReactionModel, ReactionRates, reactions_per_mass, reactions_per_mass_vertical,
 };
 use super::response::Series;
+use super::separatrix::{FreeOutcome, decide};
 
 /// What to follow.
 #[derive(Clone, Debug, Default)]
@@ -37,6 +38,25 @@ pub struct TrackRequest {
     pub reactions: bool,
     /// Uniform sample times for the series (sorted).
     pub series_times: Vec<f64>,
+    /// Leave out of the friction demand the fall of a block that overturns
+    /// while still forced (see [`Tracker::bound_to_overturn`]).
+    pub fall_under_forcing: bool,
+}
+
+/// The counts as they stood where the block, still forced, became bound to
+/// overturn (the free motion from there overturns): restored, and the
+/// demand's following stopped there, if it overturns before any state lets
+/// it go (its fall is then not counted, as after a pulse's end).
+#[derive(Clone, Copy, Debug)]
+struct FallStart {
+    /// Where the block became bound to overturn, s.
+    t: f64,
+    /// The peak demand and its time there.
+    peak_demand: (f64, f64),
+    /// The first sliding there.
+    first_sliding: Option<f64>,
+    /// The first lift-off there.
+    first_lift_off: Option<f64>,
 }
 
 /// Accumulates the tracked quantities.
@@ -59,6 +79,12 @@ pub struct Tracker<'a, G: Forcing> {
     pub first_lift_off: Option<f64>,
     /// When the demand stopped being followed (the block was bound to overturn).
     pub reactions_stopped_at: Option<f64>,
+    /// Whether it stopped while the ground still moved (a fall under
+    /// forcing), not at the end of the ground motion.
+    pub stopped_while_forced: bool,
+    /// Where the block, still forced, became bound to overturn, while it
+    /// stays so.
+    fall: Option<FallStart>,
     /// Whether the demand is still followed (off once the block is doomed).
     reactions_on: bool,
     /// The block's reactions, for the pieces under linear ground motion.
@@ -97,6 +123,8 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             first_sliding: None,
             first_lift_off: None,
             reactions_stopped_at: None,
+            stopped_while_forced: false,
+            fall: None,
             reactions_on: true,
             model: ReactionModel::new(formulation, block),
             last_end: (f64::NAN, [0.0; 2], 0.0, false, Demand::LIFTED),
@@ -105,11 +133,66 @@ impl<'a, G: Forcing> Tracker<'a, G> {
 
     /// Stops following the friction demand at `t` (the block is already bound
     /// to overturn: its fall is not rocking).
-    pub fn stop_reactions(&mut self, t: f64) {
+    fn stop_reactions(&mut self, t: f64) {
         if self.reactions_on && self.req.reactions {
             self.reactions_stopped_at = Some(t);
         }
         self.reactions_on = false;
+    }
+
+    /// The block is bound to overturn: the friction demand is followed no
+    /// further, its fall is not counted.
+    ///
+    /// `Some(t)`: the ground motion is over at `t` and the free motion from
+    /// there overturns ([`decide`]); the demand stops at `t`. `None`: the
+    /// block overturned while the ground still moved. With
+    /// [`TrackRequest::fall_under_forcing`] the demand then stops where the
+    /// free motion from every piece's start overturned, to the end (see
+    /// [`Tracker::watch_fall`]), earlier than `t` where that stretch began
+    /// before: the peak demand, first sliding and first lift-off are the
+    /// ones that stood there. Without such a stretch an overturning under
+    /// forcing changes nothing (a pulse's demand is followed while it acts).
+    pub fn bound_to_overturn(&mut self, t: Option<f64>) {
+        match (self.fall.take(), t) {
+            (Some(f), _) => {
+                if self.reactions_on && self.req.reactions {
+                    self.peak_demand = f.peak_demand;
+                    self.first_sliding = f.first_sliding;
+                    self.first_lift_off = f.first_lift_off;
+                    self.stopped_while_forced = true;
+                }
+                self.stop_reactions(f.t);
+            }
+            (None, Some(t)) => self.stop_reactions(t),
+            (None, None) => {}
+        }
+    }
+
+    /// Notes at the start `(t, y)` of a forced piece on `side` whether the
+    /// block is bound to overturn: whether the free motion from there
+    /// overturns ([`decide`], the verdict given at a pulse's end). The first
+    /// piece of an unbroken run of such verdicts keeps the counts as they
+    /// stand ([`FallStart`]); a piece whose verdict lets the block go
+    /// discards them, the demand since counting in full. Only with
+    /// [`TrackRequest::fall_under_forcing`] and while the demand is followed.
+    fn watch_fall(&mut self, t: f64, y: State, side: f64, forced: bool) {
+        if !(forced && self.req.fall_under_forcing && self.req.reactions && self.reactions_on) {
+            return;
+        }
+        let bound = matches!(
+            decide(self.formulation, self.block, y[0], y[1], side),
+            FreeOutcome::Overturns { .. }
+        );
+        if !bound {
+            self.fall = None;
+        } else if self.fall.is_none() {
+            self.fall = Some(FallStart {
+                t,
+                peak_demand: self.peak_demand,
+                first_sliding: self.first_sliding,
+                first_lift_off: self.first_lift_off,
+            });
+        }
     }
 
     /// Whether anything is followed at all.
@@ -178,6 +261,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         if !self.active() || tb < ta {
             return;
         }
+        self.watch_fall(ta, start.1, side, forced);
         // Series samples falling in this piece.
         while let Some(&ts) = self.req.series_times.get(self.next_sample) {
             if ts > tb {

@@ -9,6 +9,7 @@
 //! transition, so the sets are intervals located to `tolerance_g`, not grid
 //! samples); the sets of all observations are intersected.
 
+pub mod mixed;
 pub mod record;
 pub mod scan;
 
@@ -690,19 +691,28 @@ pub struct LineSet {
     /// For an observation with `slid_m`: the amplitudes at which the block
     /// stands with its residual slide's size in the band.
     pub slide_band: Option<Intervals>,
+    /// Where the outcome alternates finer than the scan resolves, g: no
+    /// amplitude inside is claimed consistent or not.
+    pub mixed: Vec<crate::spectrum::verify::Mixed>,
 }
 
 impl LineSet {
     /// The amplitudes consistent with a block seen `overturned` (or
     /// standing), from `from`.
     pub fn consistent(&self, overturned: bool, from: f64) -> Intervals {
-        if let Some(band) = &self.slide_band {
+        let all = if let Some(band) = &self.slide_band {
             clip(band, from, self.decided_to)
         } else if overturned {
             self.overturning.clone()
         } else {
             complement(&self.overturning, from, self.decided_to)
-        }
+        };
+        crate::spectrum::verify::outside(&all, &self.mixed)
+    }
+
+    /// Where the block certainly overturns: outside the mixed zones.
+    pub fn certain_overturning(&self) -> Intervals {
+        crate::spectrum::verify::outside(&self.overturning, &self.mixed)
     }
 }
 
@@ -806,8 +816,14 @@ pub fn intersect(x: &[[f64; 2]], y: &[[f64; 2]]) -> Intervals {
 pub struct ObservationSet {
     /// The observation.
     pub name: String,
-    /// Amplitudes consistent with it, g.
+    /// Amplitudes certainly consistent with it, g: every one verified
+    /// inside ([`crate::spectrum::verify`]).
     pub consistent_g: Vec<[f64; 2]>,
+    /// Where its outcome alternates finer than the scan resolves, g, with
+    /// the fraction of probed amplitudes at which its block did what was
+    /// seen.
+    #[serde(default)]
+    pub mixed_g: Vec<mixed::MixedDoc>,
     /// On a Coulomb floor: from this amplitude (g, the lowest found within
     /// the tolerance) its block leaves the floor; nothing above is claimed
     /// consistent with it.
@@ -822,8 +838,12 @@ pub struct ForensicFrequency {
     pub frequency_hz: f64,
     /// ω_p, rad/s.
     pub omega_p: f64,
-    /// Amplitudes consistent with every observation, g.
+    /// Amplitudes certainly consistent with every observation, g.
     pub consistent_g: Vec<[f64; 2]>,
+    /// Where every observation is consistent or mixed and one at least
+    /// mixed, g (the fraction: the product of theirs).
+    #[serde(default)]
+    pub mixed_g: Vec<mixed::MixedDoc>,
     /// Each observation's consistent amplitudes, g.
     pub per_observation: Vec<ObservationSet>,
 }
@@ -856,11 +876,21 @@ pub struct RecordObservationSet {
     pub name: String,
     /// Whether it overturned.
     pub overturned: bool,
-    /// Scale factors consistent with it.
+    /// Scale factors certainly consistent with it: every interval verified
+    /// inside ([`crate::spectrum::verify`]).
     pub consistent_scale: Vec<[f64; 2]>,
     /// The same, as the scaled record's PGA, g.
     pub consistent_pga_g: Vec<[f64; 2]>,
-    /// Scale factors at which its block overturns (within the range examined).
+    /// Where its outcome alternates finer than the scan resolves (scale
+    /// factors), with the fraction of probed scales at which its block did
+    /// what was seen.
+    #[serde(default)]
+    pub mixed_scale: Vec<mixed::MixedDoc>,
+    /// The same, as the scaled record's PGA, g.
+    #[serde(default)]
+    pub mixed_pga_g: Vec<mixed::MixedDoc>,
+    /// Scale factors at which its block certainly overturns (within the
+    /// range examined, outside the mixed zones).
     pub overturning_scale: Vec<[f64; 2]>,
     /// Scale factor at which its block starts to rock (PGA = g tan α, or g α linear).
     pub threshold_scale: f64,
@@ -925,6 +955,14 @@ pub struct ForensicResult {
     /// The same, as the scaled record's PGA, g (record queries).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub consistent_pga_g: Option<Vec<[f64; 2]>>,
+    /// Where every observation is consistent or mixed, and one at least
+    /// mixed: scale factors, with the product of their fractions (record
+    /// queries).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mixed_scale: Option<Vec<mixed::MixedDoc>>,
+    /// The same, as the scaled record's PGA, g (record queries).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mixed_pga_g: Option<Vec<mixed::MixedDoc>>,
     /// Each observation's consistent scales (record queries).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub per_observation: Option<Vec<RecordObservationSet>>,
@@ -1050,6 +1088,17 @@ impl ForensicJob {
                     .collect()
             })
             .collect();
+        let zones: Vec<Vec<Vec<mixed::MixedDoc>>> = self
+            .observations
+            .iter()
+            .zip(sets)
+            .map(|(o, per_frequency)| {
+                per_frequency
+                    .iter()
+                    .map(|line| mixed::observation_zones(line, o, from))
+                    .collect()
+            })
+            .collect();
         let frequencies: Vec<ForensicFrequency> = self
             .frequency_hz
             .iter()
@@ -1060,20 +1109,26 @@ impl ForensicJob {
                     .observations
                     .iter()
                     .zip(&consistent)
+                    .zip(&zones)
                     .zip(sets)
-                    .map(|((o, s), lines)| {
+                    .map(|(((o, s), z), lines)| {
                         all = intersect(&all, &s[k]);
                         ObservationSet {
                             name: o.name.clone(),
                             consistent_g: s[k].clone(),
+                            mixed_g: z[k].clone(),
                             lift_off_above_g: lines.get(k).and_then(|l| l.lift_off_g),
                         }
                     })
                     .collect();
+                let here: Vec<Intervals> = consistent.iter().map(|v| v[k].clone()).collect();
+                let here_zones: Vec<Vec<mixed::MixedDoc>> =
+                    zones.iter().map(|v| v[k].clone()).collect();
                 ForensicFrequency {
                     frequency_hz: f,
                     omega_p: two_pi * f,
                     consistent_g: all,
+                    mixed_g: mixed::combined(&here, &here_zones),
                     per_observation,
                 }
             })
@@ -1108,6 +1163,8 @@ impl ForensicJob {
             frequencies,
             consistent_scale: None,
             consistent_pga_g: None,
+            mixed_scale: None,
+            mixed_pga_g: None,
             per_observation: None,
             bounds,
             lift_off_above_g: self.lift_off_g().map(|(_, hi)| hi),

@@ -12,6 +12,7 @@ pub mod friction;
 pub mod key;
 pub mod kind;
 pub mod limits;
+pub mod mixed;
 pub mod names;
 pub mod numerics;
 pub mod plausible;

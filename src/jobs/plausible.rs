@@ -128,10 +128,16 @@ pub fn record_warnings(motion: &GroundMotionNorm, at: &str) -> Vec<WarningDoc> {
 /// The warning that a record at `/ground_motion` never rocks a block of
 /// slenderness α under gravity g: rocking starts once |ü_g| exceeds g·tan α
 /// (g·α linear).
+///
+/// `slide_m`: on a Coulomb floor, the block's (peak, residual) slip on it,
+/// m (`None` in pure rocking, where the block cannot slide). A block that
+/// did not rock may still have slid: the warning then says so, with the
+/// peak slide, and says it stays at rest only where it did not move.
 pub fn never_rocks_warning(
     motion: &GroundMotionNorm,
     block: &BlockNorm,
     linear: bool,
+    slide_m: Option<(f64, f64)>,
 ) -> Option<WarningDoc> {
     let threshold = if linear {
         block.g * block.alpha
@@ -139,11 +145,19 @@ pub fn never_rocks_warning(
         block.g * block.alpha.tan()
     };
     let pga = motion.acc.iter().fold(0.0f64, |x, a| x.max(a.abs()));
+    let what = match slide_m {
+        Some((peak, residual)) if peak.abs() > 0.0 || residual.abs() > 0.0 => format!(
+            "the block did not rock but slid on the floor (peak slide {} m, residual {} m)",
+            fmt_num(peak.abs().max(residual.abs()), 4),
+            fmt_num(residual, 4)
+        ),
+        _ => "the block stays at rest".to_string(),
+    };
     (pga <= threshold).then(|| WarningDoc {
         kind: "never_rocks".into(),
         t: None,
         message: format!(
-            "/ground_motion: the record's PGA ({:.4} g) never exceeds the block's rocking threshold ({:.4} g, {}): the block stays at rest; scale the record (a record spectrum or a forensic query) to see where it would rock",
+            "/ground_motion: the record's PGA ({:.4} g) never exceeds the block's rocking threshold ({:.4} g, {}): {what}; scale the record (a record spectrum or a forensic query) to see where it would rock",
             pga / block.g,
             threshold / block.g,
             if linear { "g·α" } else { "g·tan α" }
@@ -255,5 +269,70 @@ mod tests {
             "{}",
             w[0].message
         );
+    }
+
+    /// A squat block (b = h = 0.5 m: rocking threshold 1 g) under the ridge
+    /// record of `specs/records` at twice its size (PGA 0.686 g) never
+    /// rocks. On a Coulomb floor of μ = 0.1 it slides (0.31 m at most, 0.13
+    /// m left): the warning says so, with the peak slide, where it said the
+    /// block stays at rest. On μ = 0.9, and in pure rocking, it does stay
+    /// at rest.
+    #[test]
+    fn a_record_that_never_rocks_a_block_says_whether_it_slid() {
+        let acc: Vec<f64> = include_str!("../../specs/records/ridge_station_090.at2")
+            .lines()
+            .skip(4)
+            .flat_map(str::split_whitespace)
+            .map(|a| 2.0 * a.parse::<f64>().expect("a sample"))
+            .collect();
+        let history = |contact: Option<Value>| {
+            let mut spec = serde_json::json!({"kind": "time_history",
+                "block": {"b": 0.5, "h": 0.5},
+                "ground_motion": {"dt": 0.01, "unit": "g", "acc": acc}});
+            if let Some(c) = contact {
+                spec["contact"] = c;
+            }
+            run(&spec.to_string())
+        };
+        let never_rocks = |doc: &Value| -> Vec<String> {
+            doc["warnings"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .filter(|w| w["kind"] == "never_rocks")
+                .filter_map(|w| w["message"].as_str().map(String::from))
+                .collect()
+        };
+        let slid = history(Some(serde_json::json!({"model": "coulomb", "mu": 0.1})));
+        assert_eq!(slid["rocked"], false);
+        let peak = slid["peak_slide_m"].as_f64().expect("a slide");
+        let residual = slid["residual_slide_m"].as_f64().expect("a slide");
+        assert!((peak - 0.310_03).abs() < 1e-4, "{peak}");
+        assert!((residual - 0.131_35).abs() < 1e-4, "{residual}");
+        let said = never_rocks(&slid);
+        assert_eq!(said.len(), 1, "{said:?}");
+        assert!(
+            said[0].contains(&format!(
+                "the block did not rock but slid on the floor (peak slide {} m, residual {} m)",
+                fmt_num(peak, 4),
+                fmt_num(residual, 4)
+            )),
+            "{}",
+            said[0]
+        );
+        assert!(said[0].contains("(peak slide 0.31 m"), "{}", said[0]);
+        assert!(!said[0].contains("at rest"), "{}", said[0]);
+        let held = history(Some(serde_json::json!({"model": "coulomb", "mu": 0.9})));
+        assert_eq!(held["peak_slide_m"], 0.0);
+        let pure = history(None);
+        for doc in [held, pure] {
+            let said = never_rocks(&doc);
+            assert_eq!(said.len(), 1, "{said:?}");
+            assert!(
+                said[0].contains("): the block stays at rest;"),
+                "{}",
+                said[0]
+            );
+        }
     }
 }

@@ -8,6 +8,7 @@
 //! the pulse spectra's, expressed in scale units: step 0.02·s_α and tolerance
 //! 1e-4·s_α, with s_α = αg/PGA the scale at which the record's PGA reaches αg.
 
+use crate::jobs::mixed::{MixedDoc, minimum_place};
 use serde::{Deserialize, Serialize};
 
 use super::error::JobError;
@@ -514,6 +515,31 @@ pub struct SizeDoc {
     /// size claims nothing above it (absent when it never does).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lift_off_above_scale: Option<f64>,
+    /// Where the outcome alternates finer than the scan resolves (scale
+    /// factors), with the fraction of probed scales at which the block
+    /// overturns: no transition, band or safe interval is certain inside.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub mixed: Vec<crate::jobs::mixed::MixedDoc>,
+    /// Where `min_overturn_scale` lies: "band" (a certain overturning band)
+    /// or "mixed" (a mixed zone, `min_overturn_zone`); null when the block
+    /// never overturns.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub min_overturn_in: Option<String>,
+    /// The mixed zone holding `min_overturn_scale`, with its fraction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_overturn_zone: Option<crate::jobs::mixed::MixedDoc>,
+    /// The lowest scale from which overturning is certain (verified, outside
+    /// every mixed zone) over a band at least `principal_relative_width` of
+    /// its scale wide.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub min_certain_overturn_scale: Option<f64>,
+    /// The scaled record's PGA there, g.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub min_certain_overturn_pga_g: Option<f64>,
 }
 
 /// The record as given: its peaks and sampling.
@@ -725,7 +751,7 @@ impl RecordSpectrumJob {
     ) -> Result<RecordSpectrumResult, JobError> {
         let (found, stats, wall) = part::assemble(self, parts)?;
         let grid = self.grid();
-        let lines: Vec<LineScan> = found.into_iter().map(|(t, m)| grid.line(t, m)).collect();
+        let lines: Vec<LineScan> = found.into_iter().map(|f| grid.line(f)).collect();
         self.result(&lines, &stats, wall, Some(parts.len()))
             .map_err(|e| JobError::Task(e.to_string()))
     }
@@ -793,6 +819,18 @@ impl RecordSpectrumJob {
                     overturns_above_scale: l.principal.overturns_above.map(to_scale),
                 },
                 lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to_scale(hi)),
+                mixed: l
+                    .mixed
+                    .iter()
+                    .map(|z| MixedDoc::overturning(z, unit))
+                    .collect(),
+                min_overturn_in: minimum_place(&l.derived, unit).0,
+                min_overturn_zone: minimum_place(&l.derived, unit).1,
+                min_certain_overturn_scale: l.derived.min_certain_overturn.map(to_scale),
+                min_certain_overturn_pga_g: l
+                    .derived
+                    .min_certain_overturn
+                    .map(|a| to_scale(a) * peak / g),
             })
             .collect();
         let n = self.ground_motion.acc.len();

@@ -16,10 +16,11 @@ use serde::{Deserialize, Serialize};
 use crate::dynamics::Problem;
 use crate::jobs::JobError;
 use crate::spectrum::Control;
-use crate::spectrum::overturning::{Found, ScanGrid, scan_range};
+use crate::spectrum::overturning::{Found, ScanGrid, chunk_points, scan_range};
 use crate::spectrum::scan::{
     Direction, ModeChange, Model, Scalable, ScanError, ScanStats, Transition,
 };
+use crate::spectrum::verify::Mixed;
 
 /// A task of a job of scan lines: lines `[from, to)` (of one [`Group`]),
 /// levels `[first, last]` (both included) of their scan grid.
@@ -67,11 +68,51 @@ struct ModeChangeBits {
     bracket: [u64; 2],
 }
 
+/// A mixed zone with its levels as `f64` bits.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+struct MixedBits {
+    from: u64,
+    to: u64,
+    probes: u64,
+    overturned: u64,
+    in_band: u64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    first_overturn: Option<u64>,
+}
+
 /// What one part found on one size.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 struct LineBits {
     transitions: Vec<TransitionBits>,
     mode_changes: Vec<ModeChangeBits>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    mixed: Vec<MixedBits>,
+}
+
+impl From<&Mixed> for MixedBits {
+    fn from(z: &Mixed) -> Self {
+        MixedBits {
+            from: z.from.to_bits(),
+            to: z.to.to_bits(),
+            probes: z.probes,
+            overturned: z.overturned,
+            in_band: z.in_band,
+            first_overturn: z.first_overturn.map(f64::to_bits),
+        }
+    }
+}
+
+impl From<&MixedBits> for Mixed {
+    fn from(z: &MixedBits) -> Self {
+        Mixed {
+            from: f64::from_bits(z.from),
+            to: f64::from_bits(z.to),
+            probes: z.probes,
+            overturned: z.overturned,
+            in_band: z.in_band,
+            first_overturn: z.first_overturn.map(f64::from_bits),
+        }
+    }
 }
 
 /// Scan statistics of a part.
@@ -83,6 +124,8 @@ struct StatsDoc {
     rhs_evaluations: u64,
     events: u64,
     max_error_estimate: f64,
+    #[serde(default)]
+    probes: u64,
 }
 
 /// The document of a part, assembled by [`assemble`].
@@ -158,6 +201,7 @@ impl From<&ScanStats> for StatsDoc {
             rhs_evaluations: s.rhs_evaluations,
             events: s.events,
             max_error_estimate: s.max_error_estimate,
+            probes: s.probes,
         }
     }
 }
@@ -171,6 +215,7 @@ impl From<&StatsDoc> for ScanStats {
             rhs_evaluations: s.rhs_evaluations,
             events: s.events,
             max_error_estimate: s.max_error_estimate,
+            probes: s.probes,
         }
     }
 }
@@ -259,7 +304,10 @@ fn cut(groups: &[Group], budget: f64, total: f64, max_tasks: usize) -> Vec<Part>
             let ranges = ((line_s / budget).ceil() as usize)
                 .min(share.max(1))
                 .clamp(1, last);
-            let per = last.div_ceil(ranges);
+            // At multiples of the grid's chunk length: each part is then
+            // scanned and verified in the chunks of the whole line.
+            let chunk = chunk_points(group.points);
+            let per = last.div_ceil(ranges).div_ceil(chunk) * chunk;
             for i in start..end {
                 out.extend((0..last).step_by(per).map(|k0| Part {
                     lines: [i, i + 1],
@@ -289,9 +337,10 @@ pub fn run<G: Scalable + Sync>(
         part,
         lines: found
             .iter()
-            .map(|(t, m)| LineBits {
-                transitions: t.iter().map(TransitionBits::from).collect(),
-                mode_changes: m.iter().map(ModeChangeBits::from).collect(),
+            .map(|f| LineBits {
+                transitions: f.transitions.iter().map(TransitionBits::from).collect(),
+                mode_changes: f.mode_changes.iter().map(ModeChangeBits::from).collect(),
+                mixed: f.mixed.iter().map(MixedBits::from).collect(),
             })
             .collect(),
         stats: StatsDoc::from(&stats),
@@ -309,7 +358,7 @@ pub fn assemble(
     parts: &[PartDoc],
 ) -> Result<(Vec<Found>, ScanStats, f64), JobError> {
     let n: usize = groups.iter().map(|g| g.lines).sum();
-    let mut found: Vec<Found> = vec![(Vec::new(), Vec::new()); n];
+    let mut found: Vec<Found> = vec![Found::default(); n];
     let mut covered: Vec<Vec<[usize; 2]>> = vec![Vec::new(); n];
     let mut stats = ScanStats::default();
     let mut wall = 0.0;
@@ -323,12 +372,11 @@ pub fn assemble(
             )));
         }
         for (i, line) in (from..to).zip(&doc.lines) {
-            found[i]
-                .0
-                .extend(line.transitions.iter().map(Transition::from));
-            found[i]
-                .1
-                .extend(line.mode_changes.iter().map(ModeChange::from));
+            found[i].extend(Found {
+                transitions: line.transitions.iter().map(Transition::from).collect(),
+                mode_changes: line.mode_changes.iter().map(ModeChange::from).collect(),
+                mixed: line.mixed.iter().map(Mixed::from).collect(),
+            });
             covered[i].push(doc.part.levels);
         }
         stats.absorb(&ScanStats::from(&doc.stats));

@@ -543,6 +543,27 @@ pub struct FrequencyDoc {
     pub overturns_above_alpha_g: Option<f64>,
     /// Without bands narrower than the principal relative width.
     pub principal: PrincipalDoc,
+    /// Where the outcome alternates finer than the scan resolves, αg, with
+    /// the fraction of probed amplitudes at which the block overturns: no
+    /// transition, band or safe interval is certain inside.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub mixed: Vec<crate::jobs::mixed::MixedDoc>,
+    /// Where `min_overturn_alpha_g` lies: "band" (a certain overturning
+    /// band) or "mixed" (a mixed zone, `min_overturn_zone`); null when the
+    /// block never overturns.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub min_overturn_in: Option<String>,
+    /// The mixed zone holding `min_overturn_alpha_g`, with its fraction, αg.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_overturn_zone: Option<crate::jobs::mixed::MixedDoc>,
+    /// The lowest amplitude from which overturning is certain (verified,
+    /// outside every mixed zone) over a band at least
+    /// `principal_relative_width` of its amplitude wide, αg.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub min_certain_overturn_alpha_g: Option<f64>,
     /// Eq. 21: 1 + β ω_p/p (cycloidal pulses; null for the others, which it
     /// does not describe).
     #[schema(required = true)]
@@ -604,6 +625,12 @@ pub struct ScanCost {
     pub events: u64,
     /// Largest error estimate of a single simulation, rad.
     pub error_estimate: f64,
+    /// Of `simulations`, those that verified the intervals between the
+    /// changes found and measured the mixed zones (the cost of the
+    /// verification).
+    #[serde(default)]
+    #[schema(required = true)]
+    pub verification_simulations: u64,
 }
 
 impl ScanCost {
@@ -619,6 +646,7 @@ impl ScanCost {
             rhs_evaluations: s.rhs_evaluations,
             events: s.events,
             error_estimate: s.max_error_estimate,
+            verification_simulations: s.probes,
         }
     }
 }
@@ -864,6 +892,14 @@ impl SpectrumJob {
                     safe_intervals: intervals(&l.principal),
                     overturns_above_alpha_g: l.principal.overturns_above,
                 },
+                mixed: l
+                    .mixed
+                    .iter()
+                    .map(|z| crate::jobs::mixed::MixedDoc::overturning(z, 1.0))
+                    .collect(),
+                min_overturn_in: crate::jobs::mixed::minimum_place(&l.derived, 1.0).0,
+                min_overturn_zone: crate::jobs::mixed::minimum_place(&l.derived, 1.0).1,
+                min_certain_overturn_alpha_g: l.derived.min_certain_overturn,
                 eq21_alpha_g: l.eq21,
                 closed_form_mode2_alpha_g: l.mode2_closed_form,
                 lift_off_above_alpha_g: l.lift_off_above,

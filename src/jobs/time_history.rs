@@ -291,6 +291,11 @@ impl WarningDoc {
                 Some(t),
                 format!("the friction demand is followed up to t = {t:.6} s, the pulse end: the block was then bound to overturn, and its fall is not counted"),
             ),
+            Warning::DemandExcludesForcedFall(t) => (
+                "demand_excludes_fall",
+                Some(t),
+                format!("the friction demand is followed up to t = {t:.6} s: from then on the block, the ground still moving, was bound to overturn (the free motion from every state overturns) and overturned; its fall is not counted"),
+            ),
             Warning::FreeRockingTruncated(n) => (
                 "free_rocking_truncated",
                 None,
@@ -481,6 +486,9 @@ impl TimeHistoryJob {
             max_free_impacts: self.outputs.max_free_impacts,
             horizon: self.outputs.duration,
             initial_state: None,
+            // A record mostly lasts past an overturning: the fall under it
+            // is left out as the fall after a pulse's end is.
+            fall_under_forcing: self.ground_motion.is_some(),
         };
         let mut pga_v = None;
         let (r, peaks) = match (&self.pulse, &self.ground_motion) {
@@ -547,21 +555,38 @@ impl TimeHistoryJob {
         let (r, contact) = r;
         let mut doc = self.document(r, GroundPeaksDoc::new(&peaks, g).with_vertical(pga_v, g));
         if let Some(c) = contact {
-            doc.contact_model = Some(c.contact_model);
-            doc.answered_by = Some(c.answered_by);
-            doc.initial_mode = c.initial_mode;
-            doc.modes = Some(c.modes);
-            doc.peak_slide_m = Some(c.peak_slide_m);
-            doc.residual_slide_m = Some(c.residual_slide_m);
-            doc.time_sliding_s = Some(c.time_sliding_s);
-            doc.flights = Some(c.flights);
-            doc.time_in_flight_s = Some(c.time_in_flight_s);
-            if let (Some(series), Some((slide, mode))) = (doc.series.as_mut(), c.series) {
-                series.slide_m = Some(slide);
-                series.mode = Some(mode);
-            }
+            self.add_contact(&mut doc, c);
         }
         Ok(doc)
+    }
+
+    /// `doc` with what the Coulomb floor `c` adds: the contact model, who
+    /// answered, the modes and slides, the flights, the slip and mode series;
+    /// and, under a record that never reaches the rocking threshold, the
+    /// `never_rocks` warning, which says whether the block slid (known only
+    /// from the history, where pure rocking warns from the spec alone).
+    fn add_contact(&self, doc: &mut TimeHistoryResult, c: ContactDoc) {
+        doc.contact_model = Some(c.contact_model);
+        doc.answered_by = Some(c.answered_by);
+        doc.initial_mode = c.initial_mode;
+        doc.modes = Some(c.modes);
+        doc.peak_slide_m = Some(c.peak_slide_m);
+        doc.residual_slide_m = Some(c.residual_slide_m);
+        doc.time_sliding_s = Some(c.time_sliding_s);
+        doc.flights = Some(c.flights);
+        doc.time_in_flight_s = Some(c.time_in_flight_s);
+        if let (Some(series), Some((slide, mode))) = (doc.series.as_mut(), c.series) {
+            series.slide_m = Some(slide);
+            series.mode = Some(mode);
+        }
+        if let Some(m) = self.ground_motion.as_ref().filter(|m| m.vertical.is_none()) {
+            doc.warnings.extend(super::plausible::never_rocks_warning(
+                m,
+                &self.block,
+                self.formulation == Formulation::Linear,
+                Some((c.peak_slide_m, c.residual_slide_m)),
+            ));
+        }
     }
 
     /// One history: pure rocking, or on the Coulomb floor of the spec.
@@ -714,12 +739,14 @@ impl crate::jobs::kind::Kind for TimeHistory {
             found.extend(record_warnings(m, "/ground_motion"));
             found.extend(coarse_dt_warning(m.dt, job.block.p, "/ground_motion"));
             // (A vertical acceleration moves the threshold: the PGA alone
-            // does not tell.)
-            if m.vertical.is_none() {
+            // does not tell. On a Coulomb floor the result says whether the
+            // block slid: `TimeHistoryJob::run` warns there.)
+            if m.vertical.is_none() && job.contact.is_none() {
                 found.extend(never_rocks_warning(
                     m,
                     &job.block,
                     job.formulation == crate::dynamics::Formulation::Linear,
+                    None,
                 ));
             }
         }
@@ -831,6 +858,89 @@ mod tests {
                 0.0
             };
             assert!((a - expected).abs() <= 1e-12, "t = {t}: {a} vs {expected}");
+        }
+    }
+
+    /// The ridge station record of `specs/records` (3000 samples, dt =
+    /// 0.01 s, in g) scaled by `scale`, under a slender block (α = 0.25,
+    /// p = 2 rad/s).
+    fn ridge_spec(scale: f64) -> serde_json::Value {
+        let acc: Vec<f64> = include_str!("../../specs/records/ridge_station_090.at2")
+            .lines()
+            .skip(4)
+            .flat_map(str::split_whitespace)
+            .map(|a| scale * a.parse::<f64>().expect("a sample"))
+            .collect();
+        assert_eq!(acc.len(), 3000);
+        json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.0},
+            "ground_motion": {"dt": 0.01, "unit": "g", "acc": acc}})
+    }
+
+    /// Under a record, as after a pulse's end, the fall of a block bound to
+    /// overturn is not counted in the friction demand: from the first step
+    /// of the last unbroken stretch where the free motion overturns
+    /// (`separatrix::decide`) to the overturning. Counted, it gave 103.4 at
+    /// t = 6.72 s, 0.06 s before the block overturns (2.7 × the record);
+    /// and at 1.5 × a lift-off at 7.258 s, 0.06 s before, nulled the peak.
+    #[test]
+    fn under_a_record_the_friction_demand_leaves_out_the_fall() {
+        // (scale, followed until, peak and its time; counted with the fall:
+        // the peak and its time, or the lift-off).
+        let cases = [
+            (2.7, 4.8, (0.343_621_4, 3.183_149), (Some(103.420_2), 6.72)),
+            (1.5, 4.36, (0.307_209_2, 4.351_792), (None, 7.258_121)),
+        ];
+        for (scale, until, (peak, at), (counted, counted_at)) in cases {
+            let job = serde_json::from_value::<TimeHistorySpec>(ridge_spec(scale))
+                .expect("a spec")
+                .validate()
+                .expect("a valid spec");
+            let r = job.run().expect("a result");
+            let to = r.overturn_time.expect("overturns");
+            assert!(r.overturned && r.mode == Some(1), "{scale}");
+            let followed = r.friction_demand_followed_until.expect("the fall left out");
+            assert!((followed - until).abs() < 1e-9, "{scale}: {followed}");
+            let found = r.peak_friction_demand.expect("bounded");
+            let found_at = r.peak_friction_demand_time.expect("a time");
+            assert!((found - peak).abs() < 1e-6, "{scale}: {found}");
+            assert!((found_at - at).abs() < 1e-5, "{scale}: {found_at}");
+            assert_eq!((r.lift_off, r.lift_off_time), (Some(false), None));
+            let fall: Vec<&WarningDoc> = r
+                .warnings
+                .iter()
+                .filter(|w| w.kind == "demand_excludes_fall")
+                .collect();
+            assert_eq!(fall.len(), 1, "{scale}: {:?}", r.warnings);
+            assert_eq!(fall[0].t, Some(followed));
+            assert!(
+                !fall[0].message.contains("pulse end"),
+                "{}",
+                fall[0].message
+            );
+            // The same history with the fall counted.
+            let problem = Problem {
+                block: job.block.block().expect("a block"),
+                pulse: job
+                    .ground_motion
+                    .as_ref()
+                    .and_then(|g| g.record().ok())
+                    .expect("a record"),
+                formulation: job.formulation,
+            };
+            let all = simulate(&problem, &Options::history(job.solver.solver())).expect("runs");
+            assert_eq!(all.overturn_time, Some(to));
+            let f = all.friction.expect("followed");
+            assert_eq!(f.followed_until, None);
+            match counted {
+                Some(d) => {
+                    assert!((f.peak.expect("bounded") - d).abs() < 1e-3, "{f:?}");
+                    assert!((f.peak_time.expect("a time") - counted_at).abs() < 1e-5);
+                }
+                None => {
+                    assert_eq!(f.peak, None);
+                    assert!((f.first_lift_off.expect("lifts off") - counted_at).abs() < 1e-5);
+                }
+            }
         }
     }
 }

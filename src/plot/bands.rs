@@ -60,6 +60,27 @@ pub struct Tiling {
     pub edges: Vec<Edge>,
 }
 
+/// `bands` (disjoint) without the stretches `zones` (`[lo, hi]`), which
+/// are added as bands of class `class` of their own: a region over which
+/// nothing else is claimed.
+pub fn over(bands: &[Band], zones: &[[f64; 2]], class: usize) -> Vec<Band> {
+    let mut out: Vec<Band> = Vec::new();
+    for b in bands {
+        let mut lo = b.lo;
+        for &[z0, z1] in zones.iter().filter(|z| z[1] > b.lo && z[0] < b.hi) {
+            if z0 > lo {
+                out.push(Band { hi: z0, lo, ..*b });
+            }
+            lo = lo.max(z1);
+        }
+        if b.hi > lo {
+            out.push(Band { lo, ..*b });
+        }
+    }
+    out.extend(zones.iter().map(|&[lo, hi]| Band { lo, hi, class }));
+    out
+}
+
 /// `bands` (disjoint, any order) cut to `[lo, hi]`, the gaps filled with
 /// `background`, neighbours of one class joined.
 pub fn tile(lo: f64, hi: f64, bands: &[Band], background: usize) -> Vec<Band> {
@@ -378,6 +399,18 @@ fn without_straight_vertices(polygon: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
         })
         .map(|k| polygon[k])
         .collect()
+}
+
+#[cfg(test)]
+mod over_tests {
+    use super::{Band, over};
+
+    #[test]
+    fn a_zone_cuts_the_bands_it_overlaps_and_is_a_band_of_its_own() {
+        let b = |lo, hi, class| Band { lo, hi, class };
+        let out = over(&[b(1.0, 3.0, 1), b(4.0, 5.0, 2)], &[[2.0, 4.5]], 9);
+        assert_eq!(out, vec![b(1.0, 2.0, 1), b(4.5, 5.0, 2), b(2.0, 4.5, 9)]);
+    }
 }
 
 #[cfg(test)]

@@ -402,12 +402,14 @@ mod tests {
                 let set = |name: &str, consistent_g| ObservationSet {
                     name: name.into(),
                     consistent_g,
+                    mixed_g: vec![],
                     lift_off_above_g: None,
                 };
                 ForensicFrequency {
                     frequency_hz: f,
                     omega_p: f * std::f64::consts::TAU,
                     consistent_g: vec![[0.3 + 0.2 * f, 1.0 + 0.3 * f]],
+                    mixed_g: vec![],
                     per_observation: vec![
                         set("locomotive", vec![[0.3 + 0.2 * f, 5.0]]),
                         set("transformer", vec![[0.1, 1.0 + 0.3 * f]]),

@@ -10,11 +10,11 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::bands::{Band, Column, MIN_VISIBLE, tile, widen};
+use super::bands::{Band, Column, MIN_VISIBLE, over, tile, widen};
 use super::forensic::{colour, fill, intervals, partition};
 use super::style::{
-    CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, Swatch, X_LABEL_AREA, Y_LABEL_AREA,
-    axis_range, draw_legend, fmt_num, mesh, scaled_pga_axis, text, tint,
+    CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MIXED, Swatch, X_LABEL_AREA,
+    Y_LABEL_AREA, axis_range, draw_legend, fmt_num, mesh, scaled_pga_axis, text, tint,
 };
 use super::{block_text, render};
 use crate::jobs::forensic::ForensicResult;
@@ -25,13 +25,20 @@ const HEIGHT: u32 = 680;
 const HALF: f64 = 0.38;
 /// A scale allowed by one observation (its column only).
 const ALLOWED: usize = usize::MAX;
+/// A mixed zone: the outcome alternates finer than the scan resolves.
+pub const MIXED_ZONE: usize = usize::MAX - 1;
 
 fn shade(class: usize) -> RGBColor {
-    if class == ALLOWED {
-        tint(CONSISTENT, 0.12)
-    } else {
-        fill(class)
+    match class {
+        ALLOWED => tint(CONSISTENT, 0.12),
+        MIXED_ZONE => MIXED,
+        _ => fill(class),
     }
+}
+
+/// The zones of a list of mixed stretches, as `[from, to]`.
+fn zones(mixed: &[crate::jobs::mixed::MixedDoc]) -> Vec<[f64; 2]> {
+    mixed.iter().map(|z| [z.from, z.to]).collect()
 }
 
 /// The scale range of a record query, and its columns as drawn: column k
@@ -66,17 +73,24 @@ pub fn columns(result: &ForensicResult) -> Result<((f64, f64), Vec<Column>), Str
                     class: ALLOWED,
                 })
                 .collect();
+            let allowed = over(&allowed, &zones(&per[k].mixed_scale), MIXED_ZONE);
             let bands = tile(from, to, &allowed, 1 << (k % usize::BITS as usize));
             Column {
                 x: (k + 1) as f64,
-                bands: widen(&bands, min, |class| class == ALLOWED),
+                bands: widen(&bands, min, |class| class == ALLOWED || class == MIXED_ZONE),
             }
         })
         .collect();
-    let all = partition(&sets, from, to);
+    let combined = zones(result.mixed_scale.as_deref().unwrap_or_default());
+    let all = tile(
+        from,
+        to,
+        &over(&partition(&sets, from, to), &combined, MIXED_ZONE),
+        0,
+    );
     columns.push(Column {
         x: (per.len() + 1) as f64,
-        bands: widen(&all, min, |class| class == 0),
+        bands: widen(&all, min, |class| class == 0 || class == MIXED_ZONE),
     });
     Ok(((from, to), columns))
 }
@@ -113,8 +127,16 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         Swatch::Fill(tint(CONSISTENT, 0.12)),
         "allowed by this observation",
     );
+    let mixed_all = result.mixed_scale.as_deref().unwrap_or_default();
+    if per.iter().any(|o| !o.mixed_scale.is_empty()) {
+        legend.entry(
+            Swatch::Fill(MIXED),
+            "mixed: the outcome alternates finer than the scan resolves",
+        );
+    }
     legend.entry(Swatch::Heading, "ruled out by:");
-    let numbered = n > 6;
+    // Names longer than a column's label are numbered, spelt in the legend.
+    let numbered = n > 6 || names.iter().any(|name| name.chars().count() > 12);
     for (k, name) in names.iter().enumerate() {
         let seen = result
             .observations
@@ -154,21 +176,26 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
                 format!(" (PGA {}–{} g)", fmt_num(a * p, 3), fmt_num(b * p, 3))
             })
         };
-        if all.len() > 1 {
+        if all.len() > 1 || !mixed_all.is_empty() {
             let measure: f64 = all.iter().map(|(a, b)| b - a).sum();
+            let mixed_width: f64 = mixed_all.iter().map(|z| z.to - z.from).sum();
             legend.entry(
                 Swatch::Dashed(INK, 2),
                 format!(
-                    "envelope of {} separate consistent intervals: lowest {}, highest {}{}",
+                    "envelope of {} certain consistent interval{}: lowest {}, highest {}{}",
                     all.len(),
+                    if all.len() == 1 { "" } else { "s" },
                     fmt_num(lo, 4),
                     fmt_num(hi, 4),
                     pga(lo, hi)
                 ),
             );
             legend.note(format!(
-                "not every scale inside the envelope is consistent: the intervals are {} wide in all (CSV lists each)",
-                fmt_num(measure, 4)
+                "not every scale inside the envelope is consistent: the certain intervals are {} wide in all; {} mixed zone{} {} wide in all (CSV lists each)",
+                fmt_num(measure, 4),
+                mixed_all.len(),
+                if mixed_all.len() == 1 { "" } else { "s" },
+                fmt_num(mixed_width, 4),
             ));
         } else {
             legend.entry(
@@ -300,8 +327,10 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
                 } else {
                     (VPos::Top, 5)
                 };
-                EmptyElement::at(at)
-                    + Text::new(s, (0, dy), text(LEGEND, INK).pos(Pos::new(HPos::Center, v)))
+                // Right-aligned on the column's right edge: the text runs
+                // left over the gap between columns, never into the frame.
+                EmptyElement::at((at.0 + HALF, at.1))
+                    + Text::new(s, (0, dy), text(LEGEND, INK).pos(Pos::new(HPos::Right, v)))
             };
             chart.draw_series([
                 label(
@@ -354,6 +383,8 @@ mod tests {
                     .map(|[a, b]| [0.5 * a, 0.5 * b])
                     .collect(),
                 consistent_scale,
+                mixed_scale: Vec::new(),
+                mixed_pga_g: Vec::new(),
                 overturning_scale: Vec::new(),
                 threshold_scale,
                 lift_off_above_scale: None,
@@ -382,7 +413,7 @@ mod tests {
             "all",
             "highest 3.26",
             "lowest 0.7",
-            "envelope of 2 separate",
+            "envelope of 2 certain",
             "consistent intervals: lowest",
             "0.7, highest 3.26 (PGA",
             "not every scale inside the envelope",
@@ -411,7 +442,7 @@ mod tests {
             "a single interval is no envelope"
         );
         let several = super::svg(&sample()).expect("svg");
-        assert!(several.contains("envelope of 2 separate"));
+        assert!(several.contains("envelope of 2 certain"));
         assert!(!several.contains("consistent: scale"));
     }
 

@@ -7,11 +7,11 @@
 
 use plotters::prelude::*;
 
-use super::bands::{Band, MIN_VISIBLE, tile, widen};
+use super::bands::{Band, MIN_VISIBLE, over, tile, widen};
 use super::render;
 use super::spectrum::{
-    CLASS_LIFT_OFF, CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, Crossing, fill,
-    overturns, region_legend, regions_of,
+    CLASS_LIFT_OFF, CLASS_MIXED, CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, Crossing,
+    fill, kept, region_legend, regions_of,
 };
 use super::style::{
     Drawn, INK, LEGEND_WIDTH, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, draw_legend,
@@ -63,8 +63,68 @@ pub struct Drawing {
     /// One bar per computed size, in increasing R.
     pub bars: Vec<Bar>,
     /// The minimum overturning scale of each size that has one within the
-    /// axis: (R, scale).
+    /// axis, where it lies in a certain band: (R, scale), a dot.
     pub minimum: Vec<(f64, f64)>,
+    /// The same where it lies in a mixed zone: a ring.
+    pub minimum_mixed: Vec<(f64, f64)>,
+    /// The lowest certain overturning scale (over a band at least the
+    /// principal relative width wide) of each size: a triangle.
+    pub certain: Vec<(f64, f64)>,
+    /// How many certain bands and mixed zones, and their widths.
+    pub counts: Counts,
+}
+
+/// How much of a figure is certain and how much mixed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Counts {
+    /// Certain overturning bands.
+    pub bands: usize,
+    /// Their total width.
+    pub bands_width: f64,
+    /// Mixed zones.
+    pub zones: usize,
+    /// Their total width.
+    pub zones_width: f64,
+}
+
+impl Counts {
+    /// Of lines given as (transitions, zones), on an axis ending at `top`.
+    fn of<'a>(
+        lines: impl Iterator<
+            Item = (
+                &'a Vec<crate::jobs::record_spectrum::ScaleTransitionDoc>,
+                &'a Vec<crate::jobs::mixed::MixedDoc>,
+            ),
+        >,
+        top: f64,
+    ) -> Counts {
+        let mut c = Counts::default();
+        for (transitions, zones) in lines {
+            let crossings: Vec<Crossing> = transitions.iter().map(Crossing::from).collect();
+            let bands: Vec<[f64; 2]> = regions_of(&crossings, &[], top)
+                .into_iter()
+                .map(|(lo, hi, _)| [lo, hi])
+                .collect();
+            let z: Vec<[f64; 2]> = zones.iter().map(|z| [z.from, z.to]).collect();
+            for b in over(
+                &bands
+                    .iter()
+                    .map(|&[lo, hi]| Band { lo, hi, class: 1 })
+                    .collect::<Vec<_>>(),
+                &z,
+                CLASS_MIXED,
+            ) {
+                if b.class == CLASS_MIXED {
+                    c.zones += 1;
+                    c.zones_width += b.hi - b.lo;
+                } else {
+                    c.bands += 1;
+                    c.bands_width += b.hi - b.lo;
+                }
+            }
+        }
+        c
+    }
 }
 
 /// The half-width of the bar of each of `xs` (ascending) and the axis
@@ -137,24 +197,36 @@ pub fn drawing(result: &RecordSpectrumResult) -> Result<Drawing, String> {
                     class: CLASS_LIFT_OFF,
                 });
             }
-            let bands = tile(0.0, s_max, &bands, CLASS_SAFE);
+            let zones: Vec<[f64; 2]> = l.mixed.iter().map(|z| [z.from, z.to]).collect();
+            let bands = tile(0.0, s_max, &over(&bands, &zones, CLASS_MIXED), CLASS_SAFE);
             Bar {
                 r_m: l.r_m,
                 x: (l.r_m - half, l.r_m + half),
-                bands: widen(&bands, MIN_VISIBLE * s_max, overturns),
+                bands: widen(&bands, MIN_VISIBLE * s_max, kept),
             }
         })
         .collect();
-    let minimum = sized
+    let at = |mixed: bool| -> Vec<(f64, f64)> {
+        sized
+            .iter()
+            .filter(|l| (l.min_overturn_in.as_deref() == Some("mixed")) == mixed)
+            .filter_map(|l| Some((l.r_m, l.min_overturn_scale?)))
+            .filter(|m| m.1 <= s_max)
+            .collect()
+    };
+    let certain = sized
         .iter()
-        .filter_map(|l| Some((l.r_m, l.min_overturn_scale?)))
+        .filter_map(|l| Some((l.r_m, l.min_certain_overturn_scale?)))
         .filter(|m| m.1 <= s_max)
         .collect();
     Ok(Drawing {
         x_range,
         s_max,
         bars,
-        minimum,
+        minimum: at(false),
+        minimum_mixed: at(true),
+        certain,
+        counts: Counts::of(sized.iter().map(|l| (&l.transitions, &l.mixed)), s_max),
     })
 }
 
@@ -188,9 +260,34 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
     if !drawn.minimum.is_empty() {
         legend.entry(
             Swatch::Mark(Marker::Dot, INK),
-            "minimum overturning scale (computed)",
+            "lowest overturning, in a certain band",
         );
     }
+    if !drawn.minimum_mixed.is_empty() {
+        legend.entry(
+            Swatch::Mark(Marker::Ring, INK),
+            "lowest overturning found, in a mixed zone",
+        );
+    }
+    if !drawn.certain.is_empty() {
+        legend.entry(
+            Swatch::Mark(Marker::Triangle, INK),
+            format!(
+                "lowest certain overturning (a band ≥ {} % wide)",
+                fmt_num(spec.principal_relative_width * 100.0, 3)
+            ),
+        );
+    }
+    let c = drawn.counts;
+    legend.note(format!(
+        "{} certain band{} (width {} in all), {} mixed zone{} (width {})",
+        c.bands,
+        if c.bands == 1 { "" } else { "s" },
+        fmt_num(c.bands_width, 4),
+        c.zones,
+        if c.zones == 1 { "" } else { "s" },
+        fmt_num(c.zones_width, 4),
+    ));
     legend.note(block_text(spec.block.alpha, spec.block.eta));
     if let Some(v) = vertical_text(spec) {
         legend.note(format!(
@@ -260,6 +357,18 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
                 .iter()
                 .map(|&q| marker(q, Marker::Dot, 7, INK)),
         )?;
+        chart.draw_series(
+            drawn
+                .minimum_mixed
+                .iter()
+                .map(|&q| marker(q, Marker::Ring, 9, INK)),
+        )?;
+        chart.draw_series(
+            drawn
+                .certain
+                .iter()
+                .map(|&q| marker(q, Marker::Triangle, 9, INK)),
+        )?;
         draw_legend(&side, &legend)
     })
 }
@@ -272,12 +381,13 @@ fn vertical_text(spec: &RecordSpectrumJob) -> Option<String> {
 
 #[cfg(test)]
 mod tests {
-    use super::{BAR_MAX, Drawing, drawing, overturns};
+    use super::{BAR_MAX, Drawing, drawing};
     use crate::jobs::JobResult;
     use crate::jobs::record_spectrum::{
         RecordSpectrumResult, ScaleModeChangeDoc, ScalePrincipalDoc, ScaleTransitionDoc, SizeDoc,
     };
     use crate::plot::bands::MIN_VISIBLE;
+    use crate::plot::spectrum::overturns;
     use crate::plot::spectrum::{CLASS_MODE1, CLASS_MODE2, CLASS_SAFE, fill};
     use crate::plot::style::fmt_num;
     use crate::plot::tests::{hex, typed};
@@ -317,6 +427,11 @@ mod tests {
             safe_intervals: vec![[1.5, 1.52]],
             overturns_above_scale: Some(1.52),
             lift_off_above_scale: None,
+            mixed: Vec::new(),
+            min_overturn_in: Some("band".into()),
+            min_overturn_zone: None,
+            min_certain_overturn_scale: Some(1.0),
+            min_certain_overturn_pga_g: Some(0.5),
             principal: ScalePrincipalDoc {
                 transitions: vec![transition(1.0, true, 2)],
                 min_overturn_scale: Some(1.0),

@@ -10,9 +10,9 @@
 
 use plotters::prelude::*;
 
-use super::bands::{Band, Column, MIN_VISIBLE, Piece, cell_edges, joined_cells, tile, widen};
+use super::bands::{Band, Column, MIN_VISIBLE, Piece, cell_edges, joined_cells, over, tile, widen};
 use super::style::{
-    Area, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, NO_ROCKING,
+    Area, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MIXED, MODE1, MODE2, MUTED, Marker, NO_ROCKING,
     REFERENCE, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend,
     draw_legend_columns, fmt_num, legend_height, marker, mesh, secondary_mesh, text, tint,
 };
@@ -58,10 +58,19 @@ pub const CLASS_SAFE: usize = 3;
 /// The ground falls away faster than gravity: the block leaves it, no
 /// verdict (under a vertical motion only).
 pub const CLASS_LIFT_OFF: usize = 4;
+/// A mixed zone: the outcome alternates finer than the scan resolves, and
+/// neither overturning nor safety is claimed.
+pub const CLASS_MIXED: usize = 5;
 
 /// Whether a region class is overturning.
 pub fn overturns(class: usize) -> bool {
     class == CLASS_MODE1 || class == CLASS_MODE2
+}
+
+/// Whether a region class is kept visible however narrow: overturning, or
+/// a mixed zone.
+pub fn kept(class: usize) -> bool {
+    overturns(class) || class == CLASS_MIXED
 }
 
 /// Fill of a region class.
@@ -70,6 +79,7 @@ pub fn fill(class: usize) -> RGBColor {
         CLASS_MODE1 => tint(MODE1, 0.68),
         CLASS_MODE2 => tint(MODE2, 0.55),
         CLASS_LIFT_OFF => RGBColor(186, 200, 222),
+        CLASS_MIXED => MIXED,
         _ => NO_ROCKING,
     }
 }
@@ -99,6 +109,12 @@ pub fn region_legend(used: impl Fn(usize) -> bool, no_rocking: &str, slides: boo
             "safe: rocks, does not overturn"
         },
     );
+    if used(CLASS_MIXED) {
+        legend.entry(
+            Swatch::Fill(fill(CLASS_MIXED)),
+            "mixed: the outcome alternates finer than the scan resolves",
+        );
+    }
     if used(CLASS_NO_ROCKING) {
         legend.entry(Swatch::Fill(fill(CLASS_NO_ROCKING)), no_rocking);
     }
@@ -228,6 +244,11 @@ pub struct Drawing {
     /// that has one within the axis, (ω_p/p, αg): a dot each, nothing
     /// drawn between them.
     pub minimum: Vec<(f64, f64)>,
+    /// The same where it lies in a mixed zone (a ring, not a dot).
+    pub minimum_mixed: Vec<(f64, f64)>,
+    /// Where the minimum lies in a mixed zone: the lowest certain
+    /// overturning, at least the principal relative width wide (a triangle).
+    pub certain: Vec<(f64, f64)>,
 }
 
 /// The cells and the minimum of a `spectrum` result: what [`svg`] draws.
@@ -282,10 +303,11 @@ pub fn drawing_of(lines: &[FrequencyDoc], spec: &SpectrumJob) -> Result<Drawing,
                     class: CLASS_LIFT_OFF,
                 });
             }
-            let bands = tile(0.0, a_max, &bands, CLASS_SAFE);
+            let zones: Vec<[f64; 2]> = l.mixed.iter().map(|z| [z.from, z.to]).collect();
+            let bands = tile(0.0, a_max, &over(&bands, &zones, CLASS_MIXED), CLASS_SAFE);
             Column {
                 x: l.omega_ratio,
-                bands: widen(&bands, MIN_VISIBLE * a_max, overturns),
+                bands: widen(&bands, MIN_VISIBLE * a_max, kept),
             }
         })
         .collect();
@@ -293,9 +315,18 @@ pub fn drawing_of(lines: &[FrequencyDoc], spec: &SpectrumJob) -> Result<Drawing,
         .into_iter()
         .filter(|p| p.class != CLASS_SAFE)
         .collect();
-    let minimum = lines
+    let at = |mixed: bool| -> Vec<(f64, f64)> {
+        lines
+            .iter()
+            .filter(|l| (l.min_overturn_in.as_deref() == Some("mixed")) == mixed)
+            .filter_map(|l| Some((l.omega_ratio, l.min_overturn_alpha_g?)))
+            .filter(|m| m.1 <= a_max)
+            .collect()
+    };
+    let certain = lines
         .iter()
-        .filter_map(|l| Some((l.omega_ratio, l.min_overturn_alpha_g?)))
+        .filter(|l| l.min_overturn_in.as_deref() == Some("mixed"))
+        .filter_map(|l| Some((l.omega_ratio, l.min_certain_overturn_alpha_g?)))
         .filter(|m| m.1 <= a_max)
         .collect();
     Ok(Drawing {
@@ -304,7 +335,9 @@ pub fn drawing_of(lines: &[FrequencyDoc], spec: &SpectrumJob) -> Result<Drawing,
         half,
         columns,
         shaded,
-        minimum,
+        minimum: at(false),
+        minimum_mixed: at(true),
+        certain,
     })
 }
 
@@ -573,6 +606,20 @@ fn draw_chart(
             .minimum
             .iter()
             .map(|&q| marker(q, Marker::Dot, 5, INK)),
+    )?;
+    chart.draw_series(
+        panel
+            .drawn
+            .minimum_mixed
+            .iter()
+            .map(|&q| marker(q, Marker::Ring, 7, INK)),
+    )?;
+    chart.draw_series(
+        panel
+            .drawn
+            .certain
+            .iter()
+            .map(|&q| marker(q, Marker::Triangle, 7, INK)),
     )?;
     // Over the computed minimum, dashed so that both show where they agree;
     // its end (ω_p/p = 3) ticked and labelled.

@@ -56,6 +56,8 @@ pub const MODE1: RGBColor = RGBColor(200, 50, 45);
 pub const MODE2: RGBColor = RGBColor(0, 114, 178);
 /// Amplitudes too small to start rocking.
 pub const NO_ROCKING: RGBColor = RGBColor(222, 222, 222);
+/// A mixed zone: the outcome alternates finer than the scan resolves.
+pub const MIXED: RGBColor = RGBColor(196, 160, 214);
 /// The pulses consistent with every observation.
 pub const CONSISTENT: RGBColor = RGBColor(0, 150, 105);
 /// The duration of the pulse.

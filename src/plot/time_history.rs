@@ -1687,4 +1687,61 @@ pub(crate) mod tests {
         assert_eq!(slip_at_changes(&gap).len(), 4);
         assert!(slip_at_changes(&[]).is_empty());
     }
+
+    /// The boxes (left, top, right, bottom; px, by the figures' estimate of
+    /// text width) of the texts of `svg` reading `label`.
+    fn label_boxes(svg: &str, label: &str) -> Vec<(i32, i32, i32, i32)> {
+        use crate::plot::style::{LEGEND, text_width};
+        svg.split("<text")
+            .skip(1)
+            .filter_map(|t| {
+                let (tag, rest) = t.split_once('>')?;
+                let text = rest.split("</text>").next()?.trim();
+                let attr = |name: &str| -> Option<&str> {
+                    tag.split(&format!(" {name}=\"")).nth(1)?.split('"').next()
+                };
+                let (x, y): (i32, i32) = (attr("x")?.parse().ok()?, attr("y")?.parse().ok()?);
+                let w = text_width(text, LEGEND).ceil() as i32;
+                let left = if attr("text-anchor") == Some("end") {
+                    x - w
+                } else {
+                    x
+                };
+                (text == label).then_some((left, y, left + w, y + LEGEND as i32))
+            })
+            .collect()
+    }
+
+    /// Under ü_v = −0.5 ü_g a one-sine pulse of 6 αg at ω_p/p = 3 lifts the
+    /// block off (f_z = 0) at 0.977 s and overturns it at 1.032 s, 54 px
+    /// further: both labels went left of their lines at the same height,
+    /// one over the other. The second now goes a row lower; no two labels
+    /// of marks overlap.
+    #[test]
+    fn labels_of_close_marks_do_not_overlap() {
+        use crate::plot::survival::overlap;
+        use crate::plot::time_panel::LABEL_ROW;
+        let result = computed(
+            r#"{"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},
+                "pulse": {"type": "one_sine", "omega_ratio": 3, "a_p_alpha_g": 6},
+                "vertical": {"ratio": -0.5}, "outputs": {"series": 400}}"#,
+        );
+        let (to, tl) = (
+            result.overturn_time.expect("overturns"),
+            result.lift_off_time.expect("lifts off"),
+        );
+        assert!(
+            (to - 1.0323).abs() < 1e-4 && (tl - 0.9773).abs() < 1e-4,
+            "{to} {tl}"
+        );
+        let svg = super::svg(&result, None).expect("svg");
+        let over = label_boxes(&svg, "overturns (mode 2)");
+        let lift = label_boxes(&svg, "lift-off (f_z = 0)");
+        assert_eq!((over.len(), lift.len()), (1, 1), "{over:?} {lift:?}");
+        let (a, b) = (over[0], lift[0]);
+        assert!(!overlap(a, b), "{a:?} overlaps {b:?}");
+        // Both left of their lines; the later-placed one a row lower.
+        assert!(a.0 > b.0 && a.2 > b.2, "{a:?} {b:?}");
+        assert_eq!(b.1 - a.1, LABEL_ROW, "{a:?} {b:?}");
+    }
 }

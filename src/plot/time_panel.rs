@@ -4,6 +4,7 @@
 //! lift-off marked, where a curve stops on purpose an open marker, and on a
 //! Coulomb floor the block's modes as a band along the time axis.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -12,6 +13,7 @@ use super::style::{
     AXIS, Area, Drawn, INK, LEGEND, MUTED, Marker, PULSE, TICKS, axis_range, clip_y, left_top,
     marker, right_top, text, text_width, tick,
 };
+use super::survival::{Box4, overlap};
 
 /// Shade of the span a zoomed column shows, in the whole-history column.
 pub const ZOOMED: RGBColor = RGBColor(228, 233, 242);
@@ -22,6 +24,12 @@ const MARGIN_TOP: u32 = 8;
 pub const BAND_HEIGHT: u32 = 14;
 /// Gap between the band and the lowest value a panel shows, px.
 const BAND_GAP: u32 = 3;
+/// Distance of a mark's label from its line, px.
+const LABEL_GAP: i32 = 6;
+/// Distance of the first row of mark labels below the panel's top, px.
+const LABEL_TOP: i32 = 4;
+/// Height of a row of mark labels, px (a label is `LEGEND` px high).
+pub const LABEL_ROW: i32 = LEGEND as i32 + 4;
 
 /// How a panel's y range follows the values its span shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -223,36 +231,7 @@ pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, plac
         mesh.x_desc("t (s)");
     }
     mesh.draw()?;
-    let band = |a: f64, b: f64| (a.max(t0), b.min(t1));
-    if let Some((a, b)) = span.zoomed.map(|(a, b)| band(a, b)).filter(|(a, b)| a < b) {
-        chart.draw_series(std::iter::once(Rectangle::new(
-            [(a, axis_lo), (b, hi)],
-            ZOOMED.filled(),
-        )))?;
-    }
-    if let Some((a, b)) = shared
-        .motion_end
-        .map(|end| band(0.0, end))
-        .filter(|(a, b)| a < b)
-    {
-        chart.draw_series(std::iter::once(Rectangle::new(
-            [(a, axis_lo), (b, hi)],
-            PULSE.mix(0.65).filled(),
-        )))?;
-    }
-    if !shared.bands.is_empty() {
-        // The band's top in the panel's y units, a gap under the values.
-        let plot_height = f64::from(chart.plotting_area().dim_in_pixel().1.max(1));
-        let top = lo - (hi - axis_lo) * f64::from(BAND_GAP) / plot_height;
-        chart.draw_series(
-            shared
-                .bands
-                .iter()
-                .map(|b| (band(b.from, b.to), b.colour))
-                .filter(|((a, b), _)| a < b)
-                .map(|((a, b), colour)| Rectangle::new([(a, axis_lo), (b, top)], colour.filled())),
-        )?;
-    }
+    draw_shading(&mut chart, shared, span, [axis_lo, lo, hi])?;
     chart.draw_series(std::iter::once(PathElement::new(
         vec![(t0, 0.0), (t1, 0.0)],
         RGBColor(160, 160, 160).stroke_width(1),
@@ -293,32 +272,117 @@ pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, plac
                 .map(|&t| marker((t, 0.0), Marker::Tick, 9, INK)),
         )?;
     }
-    // Labels go to the side of a line with more room.
-    let right_half = |t: f64| t > t0 + 0.55 * (t1 - t0);
-    for mark in shared.marks.iter().filter(|m| m.t >= t0 && m.t <= t1) {
+    draw_marks(&mut chart, shared, span, (axis_lo, hi), place.top)?;
+    // The plot's width, px.
+    let plot_width = f64::from(area.dim_in_pixel().0.saturating_sub(place.y_labels + 20));
+    draw_end(&mut chart, panel, span, (lo, hi), plot_width)?;
+    Ok(())
+}
+
+/// A panel's chart: time against the panel's quantity.
+type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Shades, over `span` of `chart` between `y` = [axis bottom, lowest value,
+/// top], the span a zoomed column shows, the time the ground moves and,
+/// under the values, the band of modes.
+fn draw_shading(chart: &mut Chart<'_, '_>, shared: &Shared, span: &Span, y: [f64; 3]) -> Drawn {
+    let [axis_lo, lo, hi] = y;
+    let (t0, t1) = (span.t0, span.t1);
+    let band = |a: f64, b: f64| (a.max(t0), b.min(t1));
+    if let Some((a, b)) = span.zoomed.map(|(a, b)| band(a, b)).filter(|(a, b)| a < b) {
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(a, axis_lo), (b, hi)],
+            ZOOMED.filled(),
+        )))?;
+    }
+    if let Some((a, b)) = shared
+        .motion_end
+        .map(|end| band(0.0, end))
+        .filter(|(a, b)| a < b)
+    {
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(a, axis_lo), (b, hi)],
+            PULSE.mix(0.65).filled(),
+        )))?;
+    }
+    if !shared.bands.is_empty() {
+        // The band's top in the panel's y units, a gap under the values.
+        let plot_height = f64::from(chart.plotting_area().dim_in_pixel().1.max(1));
+        let top = lo - (hi - axis_lo) * f64::from(BAND_GAP) / plot_height;
+        chart.draw_series(
+            shared
+                .bands
+                .iter()
+                .map(|b| (band(b.from, b.to), b.colour))
+                .filter(|((a, b), _)| a < b)
+                .map(|((a, b), colour)| Rectangle::new([(a, axis_lo), (b, top)], colour.filled())),
+        )?;
+    }
+    Ok(())
+}
+
+/// Draws the marks of `shared` inside `span` as dashed lines across `chart`
+/// from `y.0` to `y.1`; on the top row (`top`) with their labels, placed
+/// by [`mark_label_boxes`]: beside their lines, none over another.
+fn draw_marks(
+    chart: &mut Chart<'_, '_>,
+    shared: &Shared,
+    span: &Span,
+    y: (f64, f64),
+    top: bool,
+) -> Drawn {
+    let ((t0, t1), (axis_lo, hi)) = ((span.t0, span.t1), y);
+    let marks: Vec<&Mark> = shared
+        .marks
+        .iter()
+        .filter(|m| m.t >= t0 && m.t <= t1)
+        .collect();
+    for mark in &marks {
         chart.draw_series(std::iter::once(DashedPathElement::new(
             vec![(mark.t, axis_lo), (mark.t, hi)],
             7,
             4,
             mark.colour.stroke_width(2),
         )))?;
-        if place.top {
-            let (style, dx) = if right_half(mark.t) {
-                (right_top(LEGEND, mark.colour), -6)
+    }
+    if top {
+        // Each label's box, in px from the top of the panel's plot.
+        let x = |t: f64| chart.backend_coord(&(t, hi)).0;
+        let at: Vec<(i32, i32)> = marks
+            .iter()
+            .map(|m| (x(m.t), text_width(&m.label, LEGEND).ceil() as i32))
+            .collect();
+        let boxes = mark_label_boxes(&at, (x(t0), x(t1)));
+        for ((mark, (line, _)), b) in marks.iter().zip(&at).zip(&boxes) {
+            let (style, dx) = if b.2 <= *line {
+                (right_top(LEGEND, mark.colour), b.2 - line)
             } else {
-                (left_top(LEGEND, mark.colour), 6)
+                (left_top(LEGEND, mark.colour), b.0 - line)
             };
             chart.draw_series(std::iter::once(
-                EmptyElement::at((mark.t, hi)) + Text::new(mark.label.clone(), (dx, 4), style),
+                EmptyElement::at((mark.t, hi)) + Text::new(mark.label.clone(), (dx, b.1), style),
             ))?;
         }
     }
+    Ok(())
+}
+
+/// Marks where `panel`'s curve stops on purpose (its `end`, inside `span`)
+/// with an open marker and its label, in `chart` showing `y` = (lo, hi)
+/// over `plot_width` px.
+fn draw_end(
+    chart: &mut Chart<'_, '_>,
+    panel: &Panel,
+    span: &Span,
+    y: (f64, f64),
+    plot_width: f64,
+) -> Drawn {
+    let ((t0, t1), (lo, hi)) = ((span.t0, span.t1), y);
     if let Some(end) = panel.end.as_ref().filter(|e| e.t >= t0 && e.t <= t1) {
         let at = (end.t, end.value.clamp(lo, hi));
         chart.draw_series(std::iter::once(marker(at, Marker::Ring, 12, panel.colour)))?;
         // After the marker when the label fits there (the curve has stopped),
         // else before it; above it when it sits low, below when high.
-        let plot_width = f64::from(area.dim_in_pixel().0.saturating_sub(place.y_labels + 20));
         let room_after = (t1 - end.t) / (t1 - t0) * plot_width;
         let needed = text_width(&end.label, LEGEND) + 16.0;
         let (h, dx) = if room_after >= needed {
@@ -339,9 +403,75 @@ pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, plac
     Ok(())
 }
 
+/// The boxes of the labels of marks drawn as vertical lines, px: left and
+/// right in the frame of `marks`, top and bottom below the top of the plot
+/// (the labels hang from it). `marks[k]` is the x of line k (px) and the
+/// width of its label; `plot` the plot's (left, right), px.
+///
+/// Each label is placed in order beside its line, `LABEL_GAP` from it, on
+/// the side with more room (left of a line past 55 % of the plot, right of
+/// it otherwise), unless its box would overlap one placed before; then on
+/// the other side where it fits in the plot and overlaps none; else one
+/// row (`LABEL_ROW`) lower, and so on. No two boxes overlap: a label finds
+/// room at the latest in a row below every label placed before it.
+pub fn mark_label_boxes(marks: &[(i32, i32)], plot: (i32, i32)) -> Vec<Box4> {
+    let (left, right) = plot;
+    let split = f64::from(left) + 0.55 * f64::from(right - left);
+    let mut placed: Vec<Box4> = Vec::with_capacity(marks.len());
+    for &(x, w) in marks {
+        let before = (x - LABEL_GAP - w, x - LABEL_GAP);
+        let after = (x + LABEL_GAP, x + LABEL_GAP + w);
+        let (first, other) = if f64::from(x) > split {
+            (before, after)
+        } else {
+            (after, before)
+        };
+        let fits = |(a, b): (i32, i32)| a >= left && b <= right;
+        let found = (0..=placed.len() as i32)
+            .flat_map(|row| {
+                let top = LABEL_TOP + row * LABEL_ROW;
+                [(first, true), (other, fits(other))]
+                    .into_iter()
+                    .filter(|(_, allowed)| *allowed)
+                    .map(move |((a, b), _)| (a, top, b, top + LEGEND as i32))
+            })
+            .find(|b| !placed.iter().any(|p| overlap(*p, *b)));
+        // Row placed.len() is below every box placed: always found.
+        let top = LABEL_TOP + placed.len() as i32 * LABEL_ROW;
+        placed.push(found.unwrap_or((first.0, top, first.1, top + LEGEND as i32)));
+    }
+    placed
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn labels_of_close_marks_never_overlap() {
+        let plot = (0, 1000);
+        // Far apart, each on its side with more room, in the top row.
+        let apart = mark_label_boxes(&[(100, 150), (900, 150)], plot);
+        assert_eq!(apart, vec![(106, 4, 256, 22), (744, 4, 894, 22)]);
+        // Close at the right end: the second cannot go right of its line
+        // (out of the plot), so it goes one row lower, left of it.
+        let close = mark_label_boxes(&[(980, 180), (930, 180)], plot);
+        assert_eq!(close, vec![(794, 4, 974, 22), (744, 26, 924, 44)]);
+        // Close in the middle: the other side of its line, same row; a
+        // line under the first label has its own below it.
+        let middle = mark_label_boxes(&[(600, 180), (640, 120)], plot);
+        assert_eq!(middle, vec![(414, 4, 594, 22), (646, 4, 766, 22)]);
+        let under = mark_label_boxes(&[(600, 180), (560, 120)], plot);
+        assert_eq!(under, vec![(414, 4, 594, 22), (434, 26, 554, 44)]);
+        // Many marks on one spot: each a row lower, none overlapping.
+        let pile = mark_label_boxes(&[(500, 100); 5], plot);
+        for (i, a) in pile.iter().enumerate() {
+            for b in &pile[i + 1..] {
+                assert!(!overlap(*a, *b), "{a:?} {b:?}");
+            }
+        }
+        assert_eq!(pile.iter().map(|b| b.1).max(), Some(4 + 2 * LABEL_ROW));
+    }
 
     #[test]
     fn cropping_interpolates_the_ends_and_keeps_gaps() {

@@ -125,6 +125,7 @@ pub fn friction_spectrum(
                 rhs_evaluations: r.numerics.rhs_evaluations,
                 events: r.numerics.events,
                 max_error_estimate: r.numerics.error_estimate,
+                probes: 0,
             };
             // The ground falling away faster than gravity lifts the block
             // off as surely as f_z → 0⁺ while rocking: no demand is finite.

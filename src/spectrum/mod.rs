@@ -8,6 +8,7 @@ pub mod overturning;
 pub mod record;
 pub mod scan;
 pub mod slide;
+pub mod verify;
 
 pub use control::{Canceled, Control};
 pub use overturning::{Spectrum, SpectrumRequest, overturning_spectrum};

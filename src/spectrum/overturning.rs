@@ -10,9 +10,11 @@ use crate::dynamics::{Block, Formulation, Problem, Pulse, PulsePair, PulseShape,
 
 use super::closed_form::{eq21_minimum, linear_one_sine_mode2_boundary};
 use super::control::Control;
+pub use super::scan::Found;
 use super::scan::{
     Direction, Line, ModeChange, Model, Scalable, ScanError, ScanStats, Transition, lift_off_level,
 };
+use super::verify::{self, Mixed};
 
 /// What to compute.
 #[derive(Clone, Debug, PartialEq)]
@@ -51,8 +53,14 @@ pub struct Derived {
     pub min_overturn_mode: Option<u8>,
     /// Safe intervals above the minimum, [lo, hi] in αg (hi = a_max if open).
     pub safe_intervals: Vec<(f64, f64)>,
-    /// Every amplitude above this overturns (up to a_max).
+    /// Every amplitude above this overturns (up to a_max), outside any
+    /// mixed zone.
     pub overturns_above: Option<f64>,
+    /// The mixed zone in which `min_overturn` lies, if it does.
+    pub min_overturn_zone: Option<Mixed>,
+    /// The lowest amplitude from which overturning is certain (no mixed
+    /// zone) over a band at least the principal relative width wide.
+    pub min_certain_overturn: Option<f64>,
 }
 
 /// One frequency of a spectrum.
@@ -80,6 +88,8 @@ pub struct FrequencyLine {
     /// away faster than gravity (g + ü_v ≤ 0) and the block leaves it; the
     /// line is scanned up to just below it, and claims nothing above.
     pub lift_off_above: Option<f64>,
+    /// Where the outcome alternates finer than the scan resolves, αg.
+    pub mixed: Vec<Mixed>,
 }
 
 /// A whole spectrum.
@@ -164,12 +174,20 @@ fn grid_point(threshold: f64, a_max: f64, h: f64, k: usize, len: usize) -> f64 {
 }
 
 /// What one chunk of one line found.
-type ChunkResult = (usize, Vec<Transition>, Vec<ModeChange>, ScanStats);
+type ChunkResult = (usize, Found, ScanStats);
 
 /// Largest number of scan chunks per line (bounds memory and task count).
 const MAX_CHUNKS: usize = 256;
 /// Scan points per chunk when the grid is small.
 const CHUNK_POINTS: usize = 48;
+
+/// The length (in levels) of the chunks of a line of `points` levels: a
+/// line is scanned and verified chunk by chunk, each from a multiple of it
+/// to the next; a range of levels cut at such multiples is scanned as the
+/// whole line is.
+pub fn chunk_points(points: usize) -> usize {
+    CHUNK_POINTS.max(points.div_ceil(MAX_CHUNKS))
+}
 
 /// How each line of a spectrum is scanned, in levels of peak ground
 /// acceleration (α g).
@@ -204,6 +222,9 @@ pub struct LineScan {
     /// With a slide band: where the block's standing with its residual slide
     /// inside the band begins and ends, in order.
     pub slide_band: Vec<Transition>,
+    /// Where the outcome alternates finer than the scan resolves
+    /// ([`super::verify`]): no band or safe interval is claimed there.
+    pub mixed: Vec<Mixed>,
 }
 
 /// Scans every problem (its ground motion scaled per level) over `grid`, in
@@ -216,16 +237,9 @@ pub fn scan_lines<G: Scalable + Sync>(
 ) -> Result<(Vec<LineScan>, ScanStats), ScanError> {
     let len = grid.points();
     let (found, stats) = scan_range(problems, model, grid, [0, len - 1], control)?;
-    let lines = found
-        .into_iter()
-        .map(|(transitions, mode_changes)| grid.line(transitions, mode_changes))
-        .collect();
+    let lines = found.into_iter().map(|found| grid.line(found)).collect();
     Ok((lines, stats))
 }
-
-/// What a scan of part of a line's levels found: its transitions and mode
-/// changes, in order.
-pub type Found = (Vec<Transition>, Vec<ModeChange>);
 
 impl ScanGrid {
     /// Levels of one line: `from`, `from + step`, …, `to`.
@@ -239,15 +253,19 @@ impl ScanGrid {
     }
 
     /// The overturning set of a line from everything its scans found (in
-    /// any order): the transitions in order, and what they imply.
-    pub fn line(
-        &self,
-        mut transitions: Vec<Transition>,
-        mut mode_changes: Vec<ModeChange>,
-    ) -> LineScan {
+    /// any order): the transitions in order, and what they imply outside
+    /// its mixed zones (zones of neighbouring ranges closer than a step
+    /// made one).
+    pub fn line(&self, found: Found) -> LineScan {
+        let Found {
+            mut transitions,
+            mut mode_changes,
+            mixed,
+        } = found;
         transitions.sort_by(|a, b| a.at.total_cmp(&b.at));
         mode_changes.sort_by(|a, b| a.at.total_cmp(&b.at));
         let to = self.to;
+        let mixed = Mixed::merged(mixed, self.step);
         let slide_band = transitions
             .iter()
             .filter(|t| t.is_slide() && t.bracket.1 <= to)
@@ -255,9 +273,10 @@ impl ScanGrid {
             .collect();
         transitions.retain(|t| !t.is_slide() && t.bracket.1 <= to);
         mode_changes.retain(|m| m.bracket.1 <= to);
-        let derived = derive(&transitions, to);
-        let principal_transitions = principal(&transitions, to, self.principal_relative_width);
-        let principal = derive(&principal_transitions, to);
+        let rel = self.principal_relative_width;
+        let derived = derive_outside(&transitions, &mixed, to, rel);
+        let principal_transitions = principal(&transitions, to, rel);
+        let principal = derive_principal(&principal_transitions, &mixed, to, rel);
         LineScan {
             transitions,
             mode_changes,
@@ -265,6 +284,7 @@ impl ScanGrid {
             principal_transitions,
             principal,
             slide_band,
+            mixed,
         }
     }
 }
@@ -284,38 +304,39 @@ pub fn scan_range<G: Scalable + Sync>(
     let last = last.min(grid.points() - 1);
     let first = first.min(last);
     let len = last - first + 1;
-    let chunks = len.div_ceil(CHUNK_POINTS).clamp(1, MAX_CHUNKS);
-    let per_chunk = (len - 1).div_ceil(chunks).max(1);
+    // Chunks at fixed levels of the whole grid (multiples of its chunk
+    // length), so that a range cut at such a level is scanned and verified
+    // in the very chunks the whole line is: parts assemble to the whole.
+    let size = chunk_points(grid.points());
+    let starts: Vec<usize> = (first / size * size..last.max(first + 1))
+        .step_by(size)
+        .map(|k| k.max(first))
+        .collect();
     control.add_total((problems.len() * len) as u64);
     let tasks: Vec<(usize, usize)> = (0..problems.len())
-        .flat_map(|f| (0..chunks).map(move |c| (f, c)))
+        .flat_map(|f| starts.iter().map(move |&k0| (f, k0)))
         .collect();
     let results: Vec<Result<ChunkResult, ScanError>> = tasks
         .par_iter()
-        .map(|&(f, c)| {
+        .map(|&(f, k0)| {
             let line = Line {
                 problem: problems[f].clone(),
                 model,
                 control,
             };
-            let k0 = first + c * per_chunk;
-            let k1 = (first + (c + 1) * per_chunk).min(last);
+            let k1 = ((k0 / size + 1) * size).min(last);
             let mut stats = ScanStats::default();
-            if k0 > k1 || (k0 == k1 && c > 0) {
-                return Ok((f, Vec::new(), Vec::new(), stats));
-            }
             // Chunks share their boundary point so that no pair is skipped.
             let levels = (k0..=k1).map(|k| grid.level(k));
-            let (t, m) = line.scan(levels, grid.tolerance, &mut stats)?;
-            Ok((f, t, m, stats))
+            let found = line.scan(levels, grid.step, grid.tolerance, &mut stats)?;
+            Ok((f, found, stats))
         })
         .collect();
-    let mut per_line: Vec<Found> = vec![(Vec::new(), Vec::new()); problems.len()];
+    let mut per_line: Vec<Found> = vec![Found::default(); problems.len()];
     let mut stats = ScanStats::default();
     for r in results {
-        let (f, t, m, s) = r?;
-        per_line[f].0.extend(t);
-        per_line[f].1.extend(m);
+        let (f, found, s) = r?;
+        per_line[f].extend(found);
         stats.absorb(&s);
     }
     Ok((per_line, stats))
@@ -533,9 +554,112 @@ fn lines_of<G: Scalable + Sync>(
                 None
             },
             lift_off_above: lift.map(|(_, hi)| hi),
+            mixed: scan.mixed,
         })
         .collect();
     Ok((lines, stats))
+}
+
+/// [`derive`] outside the mixed zones `mixed`: the lowest overturning
+/// found anywhere (in a band or a zone, and which), safe intervals without
+/// the zones, the all-overturn level above every zone, and the lowest
+/// certain overturning band at least `rel` of its level wide.
+pub fn derive_outside(
+    transitions: &[Transition],
+    mixed: &[Mixed],
+    a_max: f64,
+    rel: f64,
+) -> Derived {
+    let mut d = clipped(derive(transitions, a_max), transitions, mixed, a_max, rel);
+    let touches = |z: &Mixed, t: &Transition| t.bracket.1 >= z.from && t.bracket.0 <= z.to;
+    let first_up = transitions.iter().find(|t| t.direction == Direction::Up);
+    d.min_overturn_zone = first_up.and_then(|t| mixed.iter().find(|z| touches(z, t)).copied());
+    if let Some((f, z)) = mixed
+        .iter()
+        .filter_map(|z| z.first_overturn.map(|f| (f, z)))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        && d.min_overturn.is_none_or(|m| f < m)
+    {
+        d.min_overturn = Some(f);
+        d.min_overturn_zone = Some(*z);
+        if first_up.is_none() {
+            d.min_overturn_mode = None;
+        }
+    }
+    d
+}
+
+/// The principal view ([`principal`]'s transitions) outside the mixed
+/// zones: its minimum the lowest of its bands that, without the zones, is
+/// still at least `rel` of its level wide (its mode that band's).
+pub fn derive_principal(
+    transitions: &[Transition],
+    mixed: &[Mixed],
+    a_max: f64,
+    rel: f64,
+) -> Derived {
+    let mut d = clipped(derive(transitions, a_max), transitions, mixed, a_max, rel);
+    d.min_overturn = d.min_certain_overturn;
+    d.min_overturn_mode = d.min_overturn.and_then(|m| {
+        transitions
+            .iter()
+            .rfind(|t| t.direction == Direction::Up && t.at <= m)
+            .map(|t| t.mode)
+    });
+    d
+}
+
+/// `d` without the zones `mixed`: its safe intervals cut, its all-overturn
+/// level above every zone, and its lowest certain band at least `rel` wide.
+fn clipped(
+    mut d: Derived,
+    transitions: &[Transition],
+    mixed: &[Mixed],
+    a_max: f64,
+    rel: f64,
+) -> Derived {
+    let safe: Vec<[f64; 2]> = d.safe_intervals.iter().map(|&(a, b)| [a, b]).collect();
+    d.safe_intervals = verify::outside(&safe, mixed)
+        .into_iter()
+        .map(|[a, b]| (a, b))
+        .collect();
+    if let Some(a) = d.overturns_above {
+        let above = mixed
+            .iter()
+            .filter(|z| z.to >= a)
+            .map(|z| z.to)
+            .fold(f64::NEG_INFINITY, f64::max);
+        if above.is_finite() {
+            d.overturns_above = (above < a_max).then_some(above);
+        }
+    }
+    d.min_certain_overturn = verify::outside(&bands(transitions, a_max), mixed)
+        .into_iter()
+        .find(|&[lo, hi]| hi > lo && hi - lo >= rel * 0.5 * (lo + hi))
+        .map(|[lo, _]| lo);
+    d
+}
+
+/// The overturning bands `[up, down]` of ordered transitions (the last
+/// open to `a_max`).
+pub fn bands(transitions: &[Transition], a_max: f64) -> Vec<[f64; 2]> {
+    let mut out = Vec::new();
+    let mut open: Option<f64> = None;
+    for t in transitions {
+        match t.direction {
+            Direction::Up => open = Some(t.at),
+            Direction::Down => {
+                if let Some(lo) = open.take() {
+                    out.push([lo, t.at]);
+                }
+            }
+            Direction::SlideIn | Direction::SlideOut => {}
+        }
+    }
+    if let Some(lo) = open {
+        out.push([lo, a_max]);
+    }
+    out
 }
 
 /// Minimum, safe intervals and the all-overturn level from ordered transitions.
@@ -566,6 +690,8 @@ pub fn derive(transitions: &[Transition], a_max: f64) -> Derived {
         min_overturn_mode: first_up.map(|t| t.mode),
         safe_intervals: safe,
         overturns_above,
+        min_overturn_zone: None,
+        min_certain_overturn: None,
     }
 }
 

@@ -23,6 +23,7 @@ use crate::dynamics::{
 };
 
 use super::control::{Canceled, Control};
+use super::verify::{self, Mixed};
 
 /// The discrete outcome of one simulation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -104,6 +105,9 @@ pub struct ScanStats {
     pub events: u64,
     /// Largest error estimate of a single simulation, rad.
     pub max_error_estimate: f64,
+    /// Of the simulations, those that verified the pieces between changes
+    /// and measured the mixed zones ([`super::verify`]).
+    pub probes: u64,
 }
 
 impl ScanStats {
@@ -115,6 +119,7 @@ impl ScanStats {
         self.rhs_evaluations += o.rhs_evaluations;
         self.events += o.events;
         self.max_error_estimate = self.max_error_estimate.max(o.max_error_estimate);
+        self.probes += o.probes;
     }
 }
 
@@ -317,66 +322,275 @@ impl<G: Scalable> Line<'_, G> {
         })
     }
 
-    /// Scans `levels[0..]` (increasing) and refines every neighbouring pair that
-    /// differs, down to `tol`. Returns transitions and mode changes in order.
+    /// Scans `levels[0..]` (increasing, a scan step `step` apart) and
+    /// refines every neighbouring pair that differs, down to `tol`; then
+    /// verifies every piece between the changes found and reports where the
+    /// outcome alternates finer than that ([`super::verify`]). Returns
+    /// transitions, mode changes and mixed zones, in order.
     pub fn scan<I: IntoIterator<Item = f64>>(
         &self,
         levels: I,
+        step: f64,
         tol: f64,
         stats: &mut ScanStats,
-    ) -> Result<(Vec<Transition>, Vec<ModeChange>), ScanError> {
-        let mut transitions = Vec::new();
-        let mut modes = Vec::new();
+    ) -> Result<Found, ScanError> {
+        let mut trace = Trace {
+            stats,
+            found: Found::default(),
+            seen: Vec::new(),
+            tol,
+        };
         let mut levels = levels.into_iter();
         let Some(first) = levels.next() else {
-            return Ok((transitions, modes));
+            return Ok(trace.found);
         };
-        let mut prev = (first, self.classify(first, stats)?);
+        let mut prev = (first, self.classify(first, trace.stats)?);
+        trace.seen.push(prev);
         self.control.add_done(1);
         for level in levels {
-            let cur = (level, self.classify(level, stats)?);
+            let cur = (level, self.classify(level, trace.stats)?);
+            trace.seen.push(cur);
             self.control.add_done(1);
             if cur.1 != prev.1 {
-                self.refine(prev, cur, tol, stats, &mut transitions, &mut modes)?;
+                self.refine(prev, cur, &mut trace, |a, b| a == b)?;
             }
             prev = cur;
         }
-        Ok((transitions, modes))
+        self.verify(&mut trace, step)?;
+        Ok(trace.found)
     }
 
     /// Bisects `[a, b]` (whose ends differ) until each change is bracketed within
-    /// `tol`, examining the left half first so that results come out in order.
+    /// `tol`, examining the left half first so that results come out in order;
+    /// `same` says which signatures need no further bisection.
     fn refine(
         &self,
         a: (f64, Signature),
         b: (f64, Signature),
-        tol: f64,
-        stats: &mut ScanStats,
-        transitions: &mut Vec<Transition>,
-        modes: &mut Vec<ModeChange>,
+        trace: &mut Trace<'_>,
+        same: fn(&Signature, &Signature) -> bool,
     ) -> Result<(), ScanError> {
-        if b.0 - a.0 <= tol {
-            record(a, b, transitions, modes);
+        if b.0 - a.0 <= trace.tol {
+            record(a, b, &mut trace.found);
             return Ok(());
         }
         let mid = 0.5 * (a.0 + b.0);
-        let m = (mid, self.classify(mid, stats)?);
-        if m.1 != a.1 {
-            self.refine(a, m, tol, stats, transitions, modes)?;
+        let m = (mid, self.classify(mid, trace.stats)?);
+        trace.seen.push(m);
+        if !same(&m.1, &a.1) {
+            self.refine(a, m, trace, same)?;
         }
-        if m.1 != b.1 {
-            self.refine(m, b, tol, stats, transitions, modes)?;
+        if !same(&m.1, &b.1) {
+            self.refine(m, b, trace, same)?;
         }
         Ok(())
     }
+
+    /// The outcome at `level` for verification: `None` where the
+    /// simulation fails (the level is left undecided, its piece uncertain);
+    /// only a cancellation stops the scan.
+    fn probe(&self, level: f64, stats: &mut ScanStats) -> Result<Option<Signature>, ScanError> {
+        match self.classify(level, stats) {
+            Ok(s) => Ok(Some(s)),
+            Err(ScanError::Canceled(c)) => Err(ScanError::Canceled(c)),
+            Err(_) => Ok(None),
+        }
+    }
+
+    /// Probes every piece between the changes found ([`super::verify`]),
+    /// bisects what a wide piece's probes find, and turns what stays
+    /// uncertain into mixed zones.
+    fn verify(&self, trace: &mut Trace<'_>, step: f64) -> Result<(), ScanError> {
+        let mut settled: std::collections::HashSet<(u64, u64)> = Default::default();
+        let mut uncertain: Vec<[f64; 2]> = Vec::new();
+        let same = |a: &Signature, b: &Signature| verify::outcome(a) == verify::outcome(b);
+        for round in 0..2 {
+            trace.sort_seen();
+            let seen = trace.seen.clone();
+            for [i0, i1] in verify::pieces(&seen) {
+                let (l, r) = (seen[i0].0, seen[i1].0);
+                let known = uncertain.iter().any(|u| u[0] <= l && r <= u[1]);
+                if known || !settled.insert((l.to_bits(), r.to_bits())) {
+                    continue;
+                }
+                let between = i0 > 0 && i1 + 1 < seen.len();
+                if between && r - l <= 2.0 * trace.tol {
+                    // Narrower than the resolution: a sliver found between
+                    // two switches, whose inside cannot be verified.
+                    uncertain.push([l, r]);
+                    continue;
+                }
+                let expected = verify::outcome(&seen[i0].1);
+                let mut failed = Vec::new();
+                let mut undecided = false;
+                for x in verify::probe_levels(&seen[i0..=i1], step, trace.tol) {
+                    trace.stats.probes += 1;
+                    let Some(s) = self.probe(x, trace.stats)? else {
+                        undecided = true;
+                        continue;
+                    };
+                    trace.seen.push((x, s));
+                    if verify::outcome(&s) != expected {
+                        failed.push((x, s));
+                    }
+                }
+                if failed.is_empty() && !undecided {
+                    continue;
+                }
+                if round > 0 || r - l < step || undecided {
+                    uncertain.push([l, r]);
+                    continue;
+                }
+                // A band hidden in a wide piece: bisect it against its
+                // neighbouring levels like a scan point.
+                trace.sort_seen();
+                for (x, s) in failed {
+                    let at = trace.seen.partition_point(|p| p.0 < x);
+                    let left = at
+                        .checked_sub(1)
+                        .and_then(|i| trace.seen.get(i))
+                        .filter(|p| p.0 >= l && !same(&p.1, &s))
+                        .copied();
+                    let right = trace
+                        .seen
+                        .get(at + 1)
+                        .filter(|p| p.0 <= r && !same(&p.1, &s))
+                        .copied();
+                    let mut bisect =
+                        |a, b, trace: &mut Trace<'_>| match self.refine(a, b, trace, same) {
+                            Err(ScanError::Canceled(c)) => Err(ScanError::Canceled(c)),
+                            // A level that cannot be simulated: the piece is
+                            // left uncertain.
+                            Err(_) => {
+                                uncertain.push([l, r]);
+                                Ok(())
+                            }
+                            Ok(()) => Ok(()),
+                        };
+                    if let Some(a) = left {
+                        bisect(a, (x, s), trace)?;
+                    }
+                    if let Some(b) = right {
+                        bisect((x, s), b, trace)?;
+                    }
+                    trace.sort_seen();
+                }
+            }
+        }
+        trace.sort_seen();
+        let zones = verify::clusters(uncertain, step)
+            .into_iter()
+            .map(|zone| {
+                let [from, to] = trace.to_switches(zone);
+                self.zone(from, to, step, trace)
+            })
+            .collect::<Result<Vec<_>, ScanError>>()?;
+        trace.found.mixed = zones;
+        Ok(())
+    }
+
+    /// The zone `[from, to]` probed on its lattice for its fractions.
+    fn zone(
+        &self,
+        from: f64,
+        to: f64,
+        step: f64,
+        trace: &mut Trace<'_>,
+    ) -> Result<Mixed, ScanError> {
+        let mut zone = Mixed {
+            from,
+            to,
+            probes: 0,
+            overturned: 0,
+            in_band: 0,
+            first_overturn: trace
+                .seen
+                .iter()
+                .find(|p| zone_has(from, to, p.0) && p.1.overturned)
+                .map(|p| p.0),
+        };
+        for x in verify::lattice(from, to, step) {
+            trace.stats.probes += 1;
+            let Some(s) = self.probe(x, trace.stats)? else {
+                continue;
+            };
+            zone.probes += 1;
+            zone.overturned += u64::from(s.overturned);
+            zone.in_band += u64::from(s.in_band);
+            if s.overturned && zone.first_overturn.is_none_or(|f| x < f) {
+                zone.first_overturn = Some(x);
+            }
+        }
+        Ok(zone)
+    }
 }
 
-fn record(
-    a: (f64, Signature),
-    b: (f64, Signature),
-    transitions: &mut Vec<Transition>,
-    modes: &mut Vec<ModeChange>,
-) {
+fn zone_has(from: f64, to: f64, x: f64) -> bool {
+    from <= x && x <= to
+}
+
+/// What a line's scan gathers as it goes: the simulated levels, what they
+/// imply, and its cost.
+struct Trace<'s> {
+    stats: &'s mut ScanStats,
+    found: Found,
+    /// Every simulated level and its outcome.
+    seen: Vec<(f64, Signature)>,
+    /// Bracket width of every transition.
+    tol: f64,
+}
+
+impl Trace<'_> {
+    fn sort_seen(&mut self) {
+        self.seen.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self.seen.dedup_by(|a, b| a.0 == b.0);
+    }
+
+    /// A zone `[l, r]` (simulated levels, `seen` sorted) reaching out to the
+    /// switches beside it: to the midpoint of the bracket below `l` and above
+    /// `r` where the outcome changes there, as the transitions' levels are,
+    /// so that no sliver of a band is left between a zone and its switch.
+    fn to_switches(&self, [l, r]: [f64; 2]) -> [f64; 2] {
+        let at = |x: f64| self.seen.partition_point(|p| p.0 < x);
+        let (i, j) = (at(l), at(r));
+        let lower = i
+            .checked_sub(1)
+            .and_then(|k| Some((self.seen.get(k)?, self.seen.get(i)?)))
+            .filter(|(a, b)| verify::outcome(&a.1) != verify::outcome(&b.1))
+            .map_or(l, |(a, _)| 0.5 * (a.0 + l));
+        let upper = self
+            .seen
+            .get(j + 1)
+            .zip(self.seen.get(j))
+            .filter(|(a, b)| verify::outcome(&a.1) != verify::outcome(&b.1))
+            .map_or(r, |(a, _)| 0.5 * (r + a.0));
+        [lower, upper]
+    }
+}
+
+/// What a scan of part of a line's levels found, in order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Found {
+    /// Survive ↔ overturn transitions (and slide-band edges).
+    pub transitions: Vec<Transition>,
+    /// Changes of overturning mode.
+    pub mode_changes: Vec<ModeChange>,
+    /// Where the outcome alternates finer than the scan resolves.
+    pub mixed: Vec<Mixed>,
+}
+
+impl Found {
+    /// Adds what another range of the same line found.
+    pub fn extend(&mut self, other: Found) {
+        self.transitions.extend(other.transitions);
+        self.mode_changes.extend(other.mode_changes);
+        self.mixed.extend(other.mixed);
+    }
+}
+
+fn record(a: (f64, Signature), b: (f64, Signature), found: &mut Found) {
+    let transitions = &mut found.transitions;
+    let modes = &mut found.mode_changes;
     let at = 0.5 * (a.0 + b.0);
     if a.1.in_band != b.1.in_band {
         transitions.push(Transition {

@@ -73,6 +73,7 @@ pub fn residual_slide<G: Scalable + Sync>(
                 rhs_evaluations: n.rhs_evaluations,
                 events: n.events,
                 max_error_estimate: n.error_estimate,
+                probes: 0,
             };
             Ok((
                 SlidePoint {

@@ -3,6 +3,7 @@
 //! binary (each module was one before), so the library and its dependencies are
 //! linked once.
 
+mod chaotic;
 mod exact_vs_numerical;
 mod extremes;
 mod forensic;

@@ -145,7 +145,33 @@ const SPECTRUM_LINE: &[(&str, &str)] = &[
         "/principal/overturns_above_alpha_g",
         "principal_overturns_above_alpha_g",
     ),
+    ("/min_overturn_in", "min_overturn_in"),
+    (
+        "/min_certain_overturn_alpha_g",
+        "min_certain_overturn_alpha_g",
+    ),
 ];
+/// A mixed zone's row: its fields past the level column (named by the
+/// row's kind).
+const MIXED_ZONE: &[(&str, &str)] = &[
+    ("/to", "mixed_to"),
+    ("/fraction", "mixed_fraction"),
+    ("/probes", "mixed_probes"),
+    ("/interval_95/0", "mixed_interval_95_lo"),
+    ("/interval_95/1", "mixed_interval_95_hi"),
+];
+/// A line's zone, repeated from its `mixed` rows.
+const ZONE_OF_THE_MINIMUM: &[&str] = &["/min_overturn_zone"];
+/// The zone columns: a zone's where the result has one (checked then).
+const ZONE_COLUMNS: &[&str] = &[
+    "mixed_to",
+    "mixed_fraction",
+    "mixed_probes",
+    "mixed_interval_95_lo",
+    "mixed_interval_95_hi",
+];
+/// A zone's row holds only the line's place, not its other fields.
+const ONLY_THE_PLACE: &[&str] = &["/"];
 const SPECTRUM_TRANSITION: &[(&str, &str)] = &[
     ("/a_alpha_g", "a_alpha_g"),
     ("/direction", "direction"),
@@ -180,24 +206,41 @@ fn every_row_holds_every_field_of_its_json() {
     }
 }
 
-/// A pulse spectrum: a row per line and transition.
+/// A pulse spectrum: a row per line and transition, then per mixed zone.
 fn spectrum_rows() {
+    const PLACE: &[(&str, &str)] = &[
+        ("/omega_ratio", "omega_ratio"),
+        ("/omega_p", "omega_p_rad_per_s"),
+        ("/frequency_hz", "frequency_hz"),
+    ];
+    const FROM: &[(&str, &str)] = &[("/from", "a_alpha_g")];
     let (doc, csv) = document_and_table(SPECTRUM);
-    let rows: Vec<Vec<Part>> = items(&doc["spectrum"])
-        .iter()
-        .flat_map(|line| {
-            each_or_none(&line["transitions"])
-                .into_iter()
-                .map(move |t| {
-                    vec![
-                        part(Some(line), SPECTRUM_LINE),
-                        part(t, SPECTRUM_TRANSITION),
-                    ]
-                })
-        })
-        .collect();
+    let mut rows: Vec<Vec<Part>> = Vec::new();
+    for line in items(&doc["spectrum"]) {
+        for t in each_or_none(&line["transitions"]) {
+            rows.push(vec![
+                Part {
+                    of: Some(line),
+                    columns: SPECTRUM_LINE,
+                    not_the_rows: ZONE_OF_THE_MINIMUM,
+                },
+                part(t, SPECTRUM_TRANSITION),
+            ]);
+        }
+        for z in items(&line["mixed"]) {
+            rows.push(vec![
+                Part {
+                    of: Some(line),
+                    columns: PLACE,
+                    not_the_rows: ONLY_THE_PLACE,
+                },
+                part(Some(z), FROM),
+                part(Some(z), MIXED_ZONE),
+            ]);
+        }
+    }
     assert!(rows.len() > 1);
-    holds_every_field(&csv, &rows, &[]);
+    holds_every_field(&csv, &rows, ZONE_COLUMNS);
 }
 
 /// A record spectrum: a row per size and transition.
@@ -222,6 +265,9 @@ fn record_spectrum_rows() {
             "/principal/overturns_above_scale",
             "principal_overturns_above_scale",
         ),
+        ("/min_overturn_in", "min_overturn_in"),
+        ("/min_certain_overturn_scale", "min_certain_overturn_scale"),
+        ("/min_certain_overturn_pga_g", "min_certain_overturn_pga_g"),
     ];
     const SCALE_TRANSITION: &[(&str, &str)] = &[
         ("/scale", "scale"),
@@ -232,16 +278,34 @@ fn record_spectrum_rows() {
         ("/bracket/0", "bracket_lo_scale"),
         ("/bracket/1", "bracket_hi_scale"),
     ];
+    const PLACE: &[(&str, &str)] = &[("/p", "p_rad_s"), ("/R_m", "R_m")];
+    const FROM: &[(&str, &str)] = &[("/from", "scale")];
     let (doc, csv) = document_and_table(RECORD_SPECTRUM);
-    let rows: Vec<Vec<Part>> = items(&doc["spectrum"])
-        .iter()
-        .flat_map(|size| {
-            each_or_none(&size["transitions"])
-                .into_iter()
-                .map(move |t| vec![part(Some(size), SIZE), part(t, SCALE_TRANSITION)])
-        })
-        .collect();
-    holds_every_field(&csv, &rows, &[]);
+    let mut rows: Vec<Vec<Part>> = Vec::new();
+    for size in items(&doc["spectrum"]) {
+        for t in each_or_none(&size["transitions"]) {
+            rows.push(vec![
+                Part {
+                    of: Some(size),
+                    columns: SIZE,
+                    not_the_rows: ZONE_OF_THE_MINIMUM,
+                },
+                part(t, SCALE_TRANSITION),
+            ]);
+        }
+        for z in items(&size["mixed"]) {
+            rows.push(vec![
+                Part {
+                    of: Some(size),
+                    columns: PLACE,
+                    not_the_rows: ONLY_THE_PLACE,
+                },
+                part(Some(z), FROM),
+                part(Some(z), MIXED_ZONE),
+            ]);
+        }
+    }
+    holds_every_field(&csv, &rows, ZONE_COLUMNS);
 }
 
 /// A friction spectrum: a row per amplitude, with the pulse's frequency.
@@ -329,6 +393,15 @@ fn forensic_record_rows() {
         &[("/0", "consistent_lo_scale"), ("/1", "consistent_hi_scale")];
     const INTERVAL_PGA: &[(&str, &str)] =
         &[("/0", "consistent_lo_pga_g"), ("/1", "consistent_hi_pga_g")];
+    const ZONE: &[(&str, &str)] = &[
+        ("/from", "mixed_lo_scale"),
+        ("/to", "mixed_hi_scale"),
+        ("/fraction", "mixed_fraction"),
+        ("/probes", "mixed_probes"),
+        ("/interval_95/0", "mixed_interval_95_lo"),
+        ("/interval_95/1", "mixed_interval_95_hi"),
+    ];
+    const ZONE_PGA: &[(&str, &str)] = &[("/from", "mixed_lo_pga_g"), ("/to", "mixed_hi_pga_g")];
     let (doc, csv) = document_and_table(FORENSIC_RECORD);
     let observed = ["/overturned"];
     let mut rows: Vec<Vec<Part>> = Vec::new();
@@ -340,6 +413,16 @@ fn forensic_record_rows() {
             part(None, OBSERVATION),
             part(s, INTERVAL_SCALE),
             part(g, INTERVAL_PGA),
+        ]);
+    }
+    for (z, g) in items(&doc["mixed_scale"])
+        .iter()
+        .zip(items(&doc["mixed_pga_g"]))
+    {
+        rows.push(vec![
+            part(None, OBSERVATION),
+            part(Some(z), ZONE),
+            part(Some(g), ZONE_PGA),
         ]);
     }
     for o in items(&doc["per_observation"]) {
@@ -357,8 +440,36 @@ fn forensic_record_rows() {
                 part(g, INTERVAL_PGA),
             ]);
         }
+        for (z, g) in items(&o["mixed_scale"])
+            .iter()
+            .zip(items(&o["mixed_pga_g"]))
+        {
+            rows.push(vec![
+                Part {
+                    of: Some(o),
+                    columns: OBSERVATION,
+                    not_the_rows: &observed,
+                },
+                part(Some(z), ZONE),
+                part(Some(g), ZONE_PGA),
+            ]);
+        }
     }
-    holds_every_field(&csv, &rows, &["observed"]);
+    holds_every_field(
+        &csv,
+        &rows,
+        &[
+            "observed",
+            "mixed_lo_scale",
+            "mixed_hi_scale",
+            "mixed_lo_pga_g",
+            "mixed_hi_pga_g",
+            "mixed_fraction",
+            "mixed_probes",
+            "mixed_interval_95_lo",
+            "mixed_interval_95_hi",
+        ],
+    );
 }
 
 /// A fragility: a row per stripe.

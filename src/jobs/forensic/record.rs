@@ -5,6 +5,7 @@
 //! plus bisection of every transition, each interval end bracketed within
 //! `tolerance_g`); the sets of all observations are intersected.
 
+use super::mixed::{self, MixedDoc};
 use super::scan::ObservationScan;
 use super::{
     AmplitudeRange, Bounds, ForensicJob, ForensicNumerics, ForensicResult, Intervals, LineSet,
@@ -37,6 +38,8 @@ pub fn result(
         set.iter().map(|&[a, b]| [a / peak_g, b / peak_g]).collect()
     };
     let mut all: Intervals = vec![[from, to]];
+    let mut consistent_each: Vec<Intervals> = Vec::new();
+    let mut zones_each: Vec<Vec<MixedDoc>> = Vec::new();
     let per_observation: Vec<RecordObservationSet> = job
         .observations
         .iter()
@@ -48,19 +51,25 @@ pub fn result(
                 ..LineSet::default()
             });
             let consistent = line.consistent(o.overturned, from);
-            let overturning_g = line.overturning;
+            let overturning_g = line.certain_overturning();
+            let zones = mixed::observation_zones(&line, o, from);
             all = intersect(&all, &consistent);
+            consistent_each.push(consistent.clone());
+            zones_each.push(zones.clone());
             RecordObservationSet {
                 name: o.name.clone(),
                 overturned: o.overturned,
                 consistent_scale: to_scale(&consistent),
                 consistent_pga_g: consistent,
+                mixed_scale: zones.iter().map(|z| z.rescaled(peak_g)).collect(),
+                mixed_pga_g: zones,
                 overturning_scale: to_scale(&overturning_g),
                 threshold_scale: s.threshold * s.alpha / peak_g,
                 lift_off_above_scale: line.lift_off_g.map(|a| a / peak_g),
             }
         })
         .collect();
+    let combined = mixed::combined(&consistent_each, &zones_each);
     let bounds = Bounds {
         min_g: all.first().map(|i| i[0]),
         max_g: all.last().map(|i| i[1]),
@@ -87,6 +96,8 @@ pub fn result(
         frequencies: Vec::new(),
         consistent_scale: Some(to_scale(&all)),
         consistent_pga_g: Some(all),
+        mixed_scale: Some(combined.iter().map(|z| z.rescaled(peak_g)).collect()),
+        mixed_pga_g: Some(combined),
         per_observation: Some(per_observation),
         bounds,
         lift_off_above_g: job.lift_off_g().map(|(_, hi)| hi),

@@ -337,10 +337,10 @@ impl ForensicJob {
             .map(|(s, o)| {
                 (0..per)
                     .map(|_| {
-                        let (t, m) = found.next().unwrap_or_default();
+                        let f = found.next().unwrap_or_default();
                         match s.grid {
                             Some(grid) => {
-                                let line = grid.line(t, m);
+                                let line = grid.line(f);
                                 LineSet {
                                     overturning: overturning_set(
                                         &line.transitions,
@@ -350,6 +350,7 @@ impl ForensicJob {
                                     ),
                                     decided_to: to,
                                     lift_off_g: None,
+                                    mixed: line.mixed.iter().map(|z| z.scaled(s.alpha)).collect(),
                                     // At the grid's first level the block
                                     // has not moved: it slid 0.
                                     slide_band: o.slid_m.map(|[lo, _]| {
@@ -368,6 +369,7 @@ impl ForensicJob {
                                 overturning: Vec::new(),
                                 decided_to: to,
                                 lift_off_g: None,
+                                mixed: Vec::new(),
                                 slide_band: o.slid_m.map(|[lo, _]| {
                                     if lo <= 0.0 {
                                         vec![[from, to]]
@@ -443,7 +445,7 @@ mod tests {
                 {{"name":"tall","overturned":true,"block":{{"alpha":0.2,"p":2.2}}}},
                 {{"name":"squat","overturned":false,"block":{{"alpha":0.3,"p":1.6}}}},
                 {{"name":"never","overturned":false,"block":{{"alpha":1.2,"p":2.0}}}}],
-              "scale":{{"to":4}},"scan_step_g":0.02,
+              "scale":{{"to":4}},"scan_step_g":0.005,
               "ground_motion":{{"dt":0.01,"unit":"g","acc":[{}]}}}}"#,
             acc.join(",")
         ))
