@@ -31,6 +31,8 @@ figures=(
   "survival_power_law survival_power_law"
   "fragility_pbr pbr_fragility"
   "record_spectrum_ridge records/record_spectrum_ridge"
+  "record_spectrum_valley records/valley_record_spectrum"
+  "forensic_record_valley records/valley_forensic_cabinet"
   "spectrum_vertical_down locomotive_spectrum_vertical_down"
   "spectrum_vertical_none locomotive_spectrum_vertical_none"
   "spectrum_vertical_up locomotive_spectrum_vertical_up"

@@ -546,10 +546,11 @@ impl Trace<'_> {
         self.seen.dedup_by(|a, b| a.0 == b.0);
     }
 
-    /// A zone `[l, r]` (simulated levels, `seen` sorted) reaching out to the
-    /// switches beside it: to the midpoint of the bracket below `l` and above
-    /// `r` where the outcome changes there, as the transitions' levels are,
-    /// so that no sliver of a band is left between a zone and its switch.
+    /// A zone `[l, r]` (simulated levels, `seen` sorted) reaching over the
+    /// switches beside it: to the simulated level below `l` and above `r`
+    /// where the outcome changes there, so that the certain intervals beside
+    /// a zone begin at a simulated level of their own outcome, not inside a
+    /// bracket.
     fn to_switches(&self, [l, r]: [f64; 2]) -> [f64; 2] {
         let at = |x: f64| self.seen.partition_point(|p| p.0 < x);
         let (i, j) = (at(l), at(r));
@@ -557,13 +558,13 @@ impl Trace<'_> {
             .checked_sub(1)
             .and_then(|k| Some((self.seen.get(k)?, self.seen.get(i)?)))
             .filter(|(a, b)| verify::outcome(&a.1) != verify::outcome(&b.1))
-            .map_or(l, |(a, _)| 0.5 * (a.0 + l));
+            .map_or(l, |(a, _)| a.0);
         let upper = self
             .seen
             .get(j + 1)
             .zip(self.seen.get(j))
             .filter(|(a, b)| verify::outcome(&a.1) != verify::outcome(&b.1))
-            .map_or(r, |(a, _)| 0.5 * (r + a.0));
+            .map_or(r, |(a, _)| a.0);
         [lower, upper]
     }
 }
