@@ -17,15 +17,17 @@ for spec in "${specs[@]}"; do
   for build in before after; do
     bin=$before; [ "$build" = after ] && bin=$after
     best=""
+    out=$(mktemp)
     for _ in $(seq "$rounds"); do
-      out=$("$bin" run "$spec" 2>/dev/null)
-      wall=$(python3 -c 'import json,sys; print(json.load(sys.stdin)["numerics"]["wall_time_s"])' <<<"$out")
+      "$bin" run "$spec" 2>/dev/null >"$out"
+      wall=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["numerics"]["wall_time_s"])' "$out")
       if [ -z "$best" ] || python3 -c "import sys; sys.exit(0 if $wall < $best else 1)"; then best=$wall; fi
     done
     python3 -c '
 import json, sys
-d = json.loads(sys.argv[1]); n = d["numerics"]
+d = json.load(open(sys.argv[1])); n = d["numerics"]
 print("%-30s %-7s %12d %10s %9.2f" % (sys.argv[2], sys.argv[3], n["simulations"],
       n.get("verification_simulations", "-"), float(sys.argv[4])))' "$out" "$spec" "$build" "$best"
+    rm -f "$out"
   done
 done

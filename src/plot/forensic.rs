@@ -14,7 +14,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::bands::{Band, Column, cell_edges, cells, simplify, tile};
 use super::style::{
-    AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, OBSERVATIONS, Swatch, TICKS,
+    AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MIXED, OBSERVATIONS, Swatch, TICKS,
     X_LABEL_AREA, axis_range, chart_on, draw_legend, fmt_num, text, tick, tint,
 };
 use super::{block_text, render, shape_title};
@@ -43,6 +43,10 @@ fn envelope_count(frequencies: &[ForensicFrequency]) -> usize {
         .sum()
 }
 
+/// The class of a mixed zone: the outcome alternates finer than the scan
+/// resolves, and no observation rules it out with certainty.
+pub const MIXED_CLASS: usize = usize::MAX - 1;
+
 /// The colour of an observation.
 pub fn colour(k: usize) -> RGBColor {
     OBSERVATIONS[k % OBSERVATIONS.len()]
@@ -53,6 +57,9 @@ pub fn colour(k: usize) -> RGBColor {
 pub fn fill(mask: usize) -> RGBColor {
     if mask == 0 {
         return CONSISTENT;
+    }
+    if mask == MIXED_CLASS {
+        return MIXED;
     }
     let members: Vec<RGBColor> = (0..usize::BITS as usize)
         .filter(|k| mask >> k & 1 == 1)
@@ -118,6 +125,7 @@ fn columns(frequencies: &[ForensicFrequency], names: &[String], from: f64, to: f
                     .unwrap_or_default()
             })
             .collect();
+        let zones: Vec<[f64; 2]> = f.mixed_g.iter().map(|z| [z.from, z.to]).collect();
         let mut bands = if sets.is_empty() {
             let all: Vec<Band> = intervals(&f.consistent_g)
                 .into_iter()
@@ -127,8 +135,17 @@ fn columns(frequencies: &[ForensicFrequency], names: &[String], from: f64, to: f
         } else {
             partition(&sets, from, to)
         };
-        // Slivers of consistent pulses stay, however narrow.
-        simplify(&mut bands, gap, |class| class == 0);
+        // Where every observation is consistent or mixed: a mixed zone.
+        if !zones.is_empty() {
+            bands = tile(
+                from,
+                to,
+                &super::bands::over(&bands, &zones, MIXED_CLASS),
+                0,
+            );
+        }
+        // Slivers of consistent pulses, and mixed zones, stay however narrow.
+        simplify(&mut bands, gap, |class| class == 0 || class == MIXED_CLASS);
         map.push(Column {
             x: f.frequency_hz,
             bands,
@@ -224,6 +241,26 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
                 })
             ),
         );
+    }
+    let zones: Vec<&crate::jobs::mixed::MixedDoc> =
+        frequencies.iter().flat_map(|f| &f.mixed_g).collect();
+    if !zones.is_empty() {
+        legend.entry(
+            Swatch::Fill(MIXED),
+            "mixed: the outcome alternates finer than the scan resolves",
+        );
+        legend.note(format!(
+            "{} certain consistent interval{}, {} mixed zone{} ({} g wide in all)",
+            envelope_count(frequencies),
+            if envelope_count(frequencies) == 1 {
+                ""
+            } else {
+                "s"
+            },
+            zones.len(),
+            if zones.len() == 1 { "" } else { "s" },
+            fmt_num(zones.iter().map(|z| z.to - z.from).sum::<f64>(), 3),
+        ));
     }
     if min_g.is_some() && envelope_count(frequencies) > 1 {
         legend.note(

@@ -454,6 +454,21 @@ fn legend(spec: &SpectrumJob, own: &Panel, panels: &[&Panel], beside: bool) -> L
             "minimum overturning acceleration (computed)",
         );
     }
+    if panels.iter().any(|p| !p.drawn.minimum_mixed.is_empty()) {
+        legend.entry(
+            Swatch::Mark(Marker::Ring, INK),
+            "minimum found inside a mixed zone",
+        );
+    }
+    if panels.iter().any(|p| !p.drawn.certain.is_empty()) {
+        legend.entry(
+            Swatch::Mark(Marker::Triangle, INK),
+            format!(
+                "there, the lowest certain overturning (a band ≥ {} % wide)",
+                fmt_num(spec.principal_relative_width * 100.0, 3)
+            ),
+        );
+    }
     if beside {
         legend.entry(
             Swatch::Dashed(PURE_ROCKING_BOUNDARY, 2),
@@ -480,6 +495,17 @@ fn legend(spec: &SpectrumJob, own: &Panel, panels: &[&Panel], beside: bool) -> L
             Swatch::Dashed(RGBColor(0, 130, 60), 2),
             "mode-2 boundary, corrected eq. 47 (linear closed form)",
         );
+    }
+    let zones: Vec<&crate::jobs::mixed::MixedDoc> = lines.iter().flat_map(|l| &l.mixed).collect();
+    if !zones.is_empty() {
+        legend.note(format!(
+            "{} mixed zone{} at {} of {} frequencies, {} αg wide in all; elsewhere every band and safe interval is verified",
+            zones.len(),
+            if zones.len() == 1 { "" } else { "s" },
+            lines.iter().filter(|l| !l.mixed.is_empty()).count(),
+            lines.len(),
+            fmt_num(zones.iter().map(|z| z.to - z.from).sum::<f64>(), 3),
+        ));
     }
     legend.note(block_text(&spec.block));
     legend.note(format!(

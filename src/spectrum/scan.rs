@@ -403,11 +403,11 @@ impl<G: Scalable> Line<'_, G> {
     fn verify(&self, trace: &mut Trace<'_>, step: f64) -> Result<(), ScanError> {
         let mut settled: std::collections::HashSet<(u64, u64)> = Default::default();
         let mut uncertain: Vec<[f64; 2]> = Vec::new();
-        let same = |a: &Signature, b: &Signature| verify::outcome(a) == verify::outcome(b);
+        let same = |a: &Signature, b: &Signature| outcome(a) == outcome(b);
         for round in 0..2 {
             trace.sort_seen();
             let seen = trace.seen.clone();
-            for [i0, i1] in verify::pieces(&seen) {
+            for [i0, i1] in verify::pieces(&seen, outcome) {
                 let (l, r) = (seen[i0].0, seen[i1].0);
                 let known = uncertain.iter().any(|u| u[0] <= l && r <= u[1]);
                 if known || !settled.insert((l.to_bits(), r.to_bits())) {
@@ -420,7 +420,7 @@ impl<G: Scalable> Line<'_, G> {
                     uncertain.push([l, r]);
                     continue;
                 }
-                let expected = verify::outcome(&seen[i0].1);
+                let expected = outcome(&seen[i0].1);
                 let mut failed = Vec::new();
                 let mut undecided = false;
                 for x in verify::probe_levels(&seen[i0..=i1], step, trace.tol) {
@@ -430,7 +430,7 @@ impl<G: Scalable> Line<'_, G> {
                         continue;
                     };
                     trace.seen.push((x, s));
-                    if verify::outcome(&s) != expected {
+                    if outcome(&s) != expected {
                         failed.push((x, s));
                     }
                 }
@@ -525,6 +525,11 @@ impl<G: Scalable> Line<'_, G> {
     }
 }
 
+/// What verification compares: overturned, and standing in the slide band.
+fn outcome(s: &Signature) -> (bool, bool) {
+    (s.overturned, s.in_band)
+}
+
 fn zone_has(from: f64, to: f64, x: f64) -> bool {
     from <= x && x <= to
 }
@@ -557,13 +562,13 @@ impl Trace<'_> {
         let lower = i
             .checked_sub(1)
             .and_then(|k| Some((self.seen.get(k)?, self.seen.get(i)?)))
-            .filter(|(a, b)| verify::outcome(&a.1) != verify::outcome(&b.1))
+            .filter(|(a, b)| outcome(&a.1) != outcome(&b.1))
             .map_or(l, |(a, _)| a.0);
         let upper = self
             .seen
             .get(j + 1)
             .zip(self.seen.get(j))
-            .filter(|(a, b)| verify::outcome(&a.1) != verify::outcome(&b.1))
+            .filter(|(a, b)| outcome(&a.1) != outcome(&b.1))
             .map_or(r, |(a, _)| a.0);
         [lower, upper]
     }

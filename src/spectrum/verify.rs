@@ -40,8 +40,6 @@
 //! A line without fine structure costs a few percent more; a chaotic one up
 //! to about twice its scan.
 
-use super::scan::Signature;
-
 /// Probes per narrow piece, at these fractions of its width.
 const NARROW_PROBES: [f64; 3] = [0.25, 0.5, 0.75];
 /// Gaps probed near each end of a wide piece.
@@ -128,14 +126,9 @@ impl Mixed {
     }
 }
 
-/// What verification compares: overturned, and standing in the slide band.
-pub fn outcome(s: &Signature) -> (bool, bool) {
-    (s.overturned, s.in_band)
-}
-
-/// The pieces of `seen` (sorted by level): index ranges `[i0, i1]` of
-/// neighbouring levels with one outcome.
-pub fn pieces(seen: &[(f64, Signature)]) -> Vec<[usize; 2]> {
+/// The pieces of `seen` (sorted by level, each level with what it found):
+/// index ranges `[i0, i1]` of neighbouring levels of one `outcome`.
+pub fn pieces<T, O: PartialEq>(seen: &[(f64, T)], outcome: impl Fn(&T) -> O) -> Vec<[usize; 2]> {
     let mut out = Vec::new();
     let mut start = 0;
     for i in 1..=seen.len() {
@@ -151,7 +144,7 @@ pub fn pieces(seen: &[(f64, Signature)]) -> Vec<[usize; 2]> {
 
 /// Where to probe a piece (its simulated levels `piece`, sorted) on a line
 /// of scan step `step` and tolerance `tol` ([the rule](self)).
-pub fn probe_levels(piece: &[(f64, Signature)], step: f64, tol: f64) -> Vec<f64> {
+pub fn probe_levels<T>(piece: &[(f64, T)], step: f64, tol: f64) -> Vec<f64> {
     let (Some(first), Some(last)) = (piece.first(), piece.last()) else {
         return Vec::new();
     };
@@ -232,23 +225,19 @@ pub fn clusters(mut uncertain: Vec<[f64; 2]>, join: f64) -> Vec<[f64; 2]> {
 mod tests {
     use super::*;
 
-    fn sig(overturned: bool) -> Signature {
-        Signature {
-            overturned,
-            mode: overturned.then_some(1),
-            impacts: 0,
-            in_band: false,
-        }
+    /// A level's outcome: overturned or not.
+    fn sig(overturned: bool) -> bool {
+        overturned
     }
 
     #[test]
     fn pieces_are_runs_of_one_outcome() {
-        let seen: Vec<(f64, Signature)> = [false, false, true, true, true, false]
+        let seen: Vec<(f64, bool)> = [false, false, true, true, true, false]
             .iter()
             .enumerate()
             .map(|(k, &o)| (k as f64, sig(o)))
             .collect();
-        assert_eq!(pieces(&seen), vec![[0, 1], [2, 4], [5, 5]]);
+        assert_eq!(pieces(&seen, |o| *o), vec![[0, 1], [2, 4], [5, 5]]);
     }
 
     #[test]
@@ -266,7 +255,7 @@ mod tests {
         // Bisection levels crowding its left end, then a scan every 0.01.
         let mut levels = vec![1.0, 1.0001, 1.0003, 1.0006, 1.0012, 1.0025, 1.005];
         levels.extend((1..=40).map(|k| 1.0 + 0.01 * k as f64));
-        let piece: Vec<(f64, Signature)> = levels.iter().map(|&x| (x, sig(false))).collect();
+        let piece: Vec<(f64, bool)> = levels.iter().map(|&x| (x, sig(false))).collect();
         let p = probe_levels(&piece, 0.01, 1e-4);
         assert!(p.len() <= 8 && p.len() >= 6, "{p:?}");
         assert!(p[0] < 1.01, "a probe within a step of the left end: {p:?}");

@@ -216,7 +216,7 @@ fn record_forensic() -> Value {
         "observations": [
             {"name": "column", "overturned": true, "block": {"alpha": 0.15, "p": 2.0}},
             {"name": "cabinet", "overturned": false, "block": {"alpha": 0.25, "p": 2.5}}],
-        "scale": {"to": 4}, "scan_step_g": 0.02,
+        "scale": {"to": 4}, "scan_step_g": 0.005,
         "ground_motion": {"dt": 0.01, "unit": "g", "acc": acc}})
 }
 
