@@ -85,7 +85,7 @@ def main():
         block, seen = o["block"], o["overturned"]
         per = result["per_observation"][0]
         certain = per["consistent_scale"]
-        zones = per["mixed_scale"]
+        zones = per.get("mixed_scale", [])
         hit = lambda over: over == seen
         rng_lo = result["scale"]["from"] if result.get("scale") else certain[0][0]
         rng_hi = result["scale"]["to"] if result.get("scale") else certain[-1][1]

@@ -178,7 +178,10 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         };
         if all.len() > 1 || !mixed_all.is_empty() {
             let measure: f64 = all.iter().map(|(a, b)| b - a).sum();
-            let mixed_width: f64 = mixed_all.iter().map(|z| z.to - z.from).sum();
+            let mixed_width: f64 = mixed_all
+                .iter()
+                .map(|z| z.to - z.from)
+                .fold(0.0, |a, w| a + w);
             legend.entry(
                 Swatch::Dashed(INK, 2),
                 format!(
@@ -190,12 +193,19 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
                     pga(lo, hi)
                 ),
             );
+            let zones = if mixed_all.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; {} mixed zone{} {} wide in all",
+                    mixed_all.len(),
+                    if mixed_all.len() == 1 { "" } else { "s" },
+                    fmt_num(mixed_width, 4),
+                )
+            };
             legend.note(format!(
-                "not every scale inside the envelope is consistent: the certain intervals are {} wide in all; {} mixed zone{} {} wide in all (CSV lists each)",
+                "not every scale inside the envelope is consistent: the certain intervals are {} wide in all{zones} (CSV lists each)",
                 fmt_num(measure, 4),
-                mixed_all.len(),
-                if mixed_all.len() == 1 { "" } else { "s" },
-                fmt_num(mixed_width, 4),
             ));
         } else {
             legend.entry(
