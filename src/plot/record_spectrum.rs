@@ -14,8 +14,8 @@ use super::spectrum::{
     fill, kept, region_legend, regions_of,
 };
 use super::style::{
-    Drawn, INK, LEGEND_WIDTH, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, draw_legend,
-    fmt_num, marker, mesh, scaled_pga_axis,
+    Drawn, INK, LEGEND_WIDTH, Legend, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range,
+    draw_legend, fmt_num, marker, mesh, scaled_pga_axis,
 };
 use crate::jobs::record_spectrum::{RecordSpectrumJob, RecordSpectrumResult, SizeDoc};
 
@@ -239,12 +239,10 @@ fn block_text(alpha: f64, eta: f64) -> String {
     )
 }
 
-/// The figure of a `record_spectrum` result.
-pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
-    let drawn = drawing(result)?;
+/// The legend of a record spectrum's figure: the regions and markers it
+/// draws, then notes on the blocks, the record and how to read the bars.
+fn legend(result: &RecordSpectrumResult, drawn: &Drawing) -> Legend {
     let spec = &result.spec;
-    let s_max = drawn.s_max;
-    let pga_g = result.record.peaks.pga_g;
     let used = |class: usize| {
         drawn
             .bars
@@ -324,6 +322,17 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
     ));
     legend.note("right axis: the scaled record's PGA = scale × PGA");
 
+    legend
+}
+
+/// The figure of a `record_spectrum` result.
+pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
+    let drawn = drawing(result)?;
+    let spec = &result.spec;
+    let s_max = drawn.s_max;
+    let pga_g = result.record.peaks.pga_g;
+    let legend = legend(result, &drawn);
+    let formulation = spec.formulation.name();
     let (x0, x1) = drawn.x_range;
     let title = match spec
         .scaled_vertical()
