@@ -1077,28 +1077,23 @@ impl ForensicJob {
             .ok_or(ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
         let two_pi = 2.0 * std::f64::consts::PI;
         let AmplitudeRange { from, to } = self.range_g();
-        let consistent: Vec<Vec<Intervals>> = self
+        // Each observation's certain intervals and mixed zones, per frequency.
+        let (consistent, zones): (Vec<Vec<Intervals>>, Vec<Vec<Vec<mixed::MixedDoc>>>) = self
             .observations
             .iter()
             .zip(sets)
             .map(|(o, per_frequency)| {
                 per_frequency
                     .iter()
-                    .map(|line| line.consistent(o.overturned, from))
-                    .collect()
+                    .map(|line| {
+                        (
+                            line.consistent(o.overturned, from),
+                            mixed::observation_zones(line, o, from),
+                        )
+                    })
+                    .unzip()
             })
-            .collect();
-        let zones: Vec<Vec<Vec<mixed::MixedDoc>>> = self
-            .observations
-            .iter()
-            .zip(sets)
-            .map(|(o, per_frequency)| {
-                per_frequency
-                    .iter()
-                    .map(|line| mixed::observation_zones(line, o, from))
-                    .collect()
-            })
-            .collect();
+            .unzip();
         let frequencies: Vec<ForensicFrequency> = self
             .frequency_hz
             .iter()
