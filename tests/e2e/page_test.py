@@ -995,9 +995,19 @@ def check_record_spectrum(page, base, work):
     outcome = page.js("document.getElementById('outcome').textContent")
     if toppled:
         lowest = min(toppled, key=lambda s: s["min_overturn_scale"])
-        m = re.match(r"Lowest overturning scale ([0-9.]+) \(PGA ([0-9.]+) g\), for R = ([0-9.]+) m", outcome)
+        m = re.match(r"Lowest overturning found: scale ([0-9.]+) \(PGA ([0-9.]+) g\), for R = ([0-9.]+) m", outcome)
         if not m or abs(float(m.group(1)) - lowest["min_overturn_scale"]) > 5e-4 * lowest["min_overturn_scale"]:
             raise Failure(f"the outcome does not give the lowest scale {lowest['min_overturn_scale']}: {outcome!r}")
+        # Where it lies: a certain band, or a mixed zone (then not read as certain).
+        place = "inside a mixed zone" if lowest["min_overturn_in"] == "mixed" else "in a certain band"
+        if place not in outcome:
+            raise Failure(f"the outcome does not say the lowest scale lies {place}: {outcome!r}")
+        certain = [s for s in result["spectrum"] if s.get("min_certain_overturn_scale") is not None]
+        if certain:
+            sure = min(s["min_certain_overturn_scale"] for s in certain)
+            m = re.search(r"Lowest certain overturning: scale ([0-9.]+)", outcome)
+            if not m or abs(float(m.group(1)) - sure) > 5e-4 * sure:
+                raise Failure(f"the outcome does not give the lowest certain scale {sure}: {outcome!r}")
     elif not outcome.startswith("No block size overturns"):
         raise Failure(f"the outcome of a record spectrum without overturning: {outcome!r}")
     summary = summary_of(page)
