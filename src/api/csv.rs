@@ -1871,6 +1871,7 @@ mod tests {
             mode_1: 58,
             mode_2: 0,
             lift_off: None,
+            undecided: None,
         }];
         r.im = Im::PgvMS;
         let csv = to_csv(&JobResult::Fragility(r));

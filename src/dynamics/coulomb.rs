@@ -30,6 +30,7 @@
 //! full Runge–Kutta steps from the step's start.
 
 use super::Block;
+use super::chatter::CHATTER_VELOCITY;
 use super::chatter::settle;
 use super::contact::{Mode, onset};
 use super::equations::{Formulation, Threshold};
@@ -38,7 +39,7 @@ use super::flight::{self, Flight, FlightEnd, Landed, Pose};
 use super::free_rocking;
 use super::integrator::{DenseStep, Method, Rhs, State, Stepper, StepperStats, single_step};
 use super::reactions::reactions_per_mass_vertical;
-use super::response::OverturnMode;
+use super::response::{Limit, OverturnMode};
 use super::separatrix::{FreeOutcome, decide};
 use super::simulate::{REST_VELOCITY, SimError};
 use super::slide_rock::{self, SlideRockLeg, SlideRockRhs};
@@ -55,8 +56,22 @@ const MAX_CHAINED: u32 = 1_000;
 /// history is a fault ([`SimError::FreeMotionUnended`]).
 const FREE_PERIODS: f64 = 10_000.0;
 
-/// A safeguard on the impacts of one history.
-const MAX_IMPACTS: u64 = 1_000_000;
+/// The most impacts one history follows one by one (those summed in closed
+/// form aside): where they are reached it ends there, cut short
+/// ([`Limit::Impacts`]).
+pub const MAX_IMPACTS: u64 = 100_000;
+
+/// The most integration steps of one history ([`Limit::Steps`]).
+pub const MAX_STEPS: u64 = 2_000_000;
+
+/// Impacts of a chattering sequence compared before it is summed: their
+/// rebound ratios over two impacts (one on each side) must agree to
+/// [`CHATTER_RATIO_AGREEMENT`] of 1 − ratio.
+const CHATTER_WINDOW: usize = 5;
+
+/// How closely successive rebound ratios of a sliding chatter must agree
+/// (relative to 1 − ratio) before it is summed.
+const CHATTER_RATIO_AGREEMENT: f64 = 1e-3;
 
 /// The ground's accelerations (ü_g, ü_v) acting on a motion that is
 /// `forced` (up to the forcing's end included) or free (from it on): what
@@ -120,6 +135,8 @@ pub struct ContactResponse {
     pub impacts: Vec<ContactImpact>,
     /// All impacts, summed chattering included.
     pub impact_count: u64,
+    /// Of them, those of chattering summed in closed form.
+    pub summed_impacts: u64,
     /// When the block first left the floor.
     pub first_flight: Option<f64>,
     /// Flights (each ends in a landing, counted among the impacts, or in
@@ -145,6 +162,19 @@ pub struct ContactResponse {
     pub events: u64,
     /// The history at the times asked for ([`simulate_contact_sampled`]).
     pub series: Option<ContactSeries>,
+    /// Where the history was cut short of rest or overturning: after
+    /// `max_free_impacts` impacts of free motion (as asked, [`Asks`]), or at
+    /// a bound on its work ([`Limit`]); `None`: followed to its end.
+    pub cut: Option<Cut>,
+}
+
+/// Why a Coulomb history ends short of rest or overturning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cut {
+    /// The free motion was followed for this many impacts, as asked.
+    FreeImpacts(u64),
+    /// A bound on the history's work.
+    Limit(Limit),
 }
 
 /// A Coulomb history sampled at given times (those up to its end).
@@ -228,6 +258,9 @@ enum LegEnd {
     /// The forcing's end, from which a rock is pure rocking to its end
     /// ([`free_rocking::stays_pure`]): decided there.
     Decided(f64, State),
+    /// The forcing's end, where no free motion is asked for
+    /// ([`Asks::max_free_impacts`] 0).
+    Cut(f64, State),
 }
 
 impl LegEnd {
@@ -237,7 +270,8 @@ impl LegEnd {
             | LegEnd::Overturn(t, y)
             | LegEnd::Sampled(_, t, y)
             | LegEnd::Reached(t, y)
-            | LegEnd::Decided(t, y) => (t, y),
+            | LegEnd::Decided(t, y)
+            | LegEnd::Cut(t, y) => (t, y),
         }
     }
 
@@ -277,6 +311,15 @@ struct Driver<'a, G> {
     /// The energy of the last free rock found not to be pure rocking: a
     /// later one is examined once it has half as much.
     impure_energy: f64,
+    /// Free impacts to follow at most ([`Asks::max_free_impacts`]).
+    max_free_impacts: Option<u64>,
+    /// Impacts after the ground motion's end so far.
+    free_impacts: u64,
+    /// Impacts followed one by one so far.
+    simulated_impacts: u64,
+    /// The last impacts of a chattering sequence, (t, |θ̇| after, slip),
+    /// for [`Driver::sum_chatter`].
+    chatter: Vec<(f64, f64, f64)>,
 }
 
 /// Simulates `block` on a floor with `friction` under `forcing` from rest,
@@ -329,6 +372,10 @@ pub struct Asks {
     /// not known (`None`), nor an overturning's time, and the impacts
     /// listed are those up to there.
     pub stop_at_decision: bool,
+    /// Follow the free motion after the ground motion for at most this many
+    /// impacts (as pure rocking's `max_free_impacts`; 0: end at the ground
+    /// motion's end); `None`: to rest or overturning.
+    pub max_free_impacts: Option<u64>,
 }
 
 impl Asks {
@@ -336,6 +383,7 @@ impl Asks {
     pub const HISTORY: Asks = Asks {
         peak: true,
         stop_at_decision: false,
+        max_free_impacts: None,
     };
 }
 
@@ -370,6 +418,7 @@ pub fn simulate_contact_with<G: Kinematics>(
             overturn_mode: None,
             impacts: Vec::new(),
             impact_count: 0,
+            summed_impacts: 0,
             first_flight: None,
             flights: 0,
             time_in_flight: 0.0,
@@ -382,6 +431,7 @@ pub fn simulate_contact_with<G: Kinematics>(
             stats: StepperStats::default(),
             events: 0,
             series: None,
+            cut: None,
         },
         weightless: forcing.next_weightless(0.0, block.gravity()),
         settled_at: None,
@@ -395,6 +445,10 @@ pub fn simulate_contact_with<G: Kinematics>(
         decide: asks.stop_at_decision,
         never_pure: None,
         impure_energy: f64::INFINITY,
+        max_free_impacts: asks.max_free_impacts,
+        free_impacts: 0,
+        simulated_impacts: 0,
+        chatter: Vec::new(),
     };
     d.run()?;
     if let Some(mut s) = d.sampler.take() {
@@ -486,7 +540,58 @@ impl<G: Kinematics> Driver<'_, G> {
         self.take_off(t, pose)
     }
 
+    /// Runs the history to its end, or to where it is cut short: free
+    /// impacts as asked, or a bound on its work ([`Cut`]).
     fn run(&mut self) -> Result<(), SimError> {
+        match self.run_phases() {
+            Err(SimError::FreeMotionUnended(at)) => {
+                self.out.end_time = at;
+                self.out.rest_time = None;
+                self.out.cut = Some(Cut::Limit(Limit::FreeTime(at - self.forcing.duration())));
+                Ok(())
+            }
+            r => r,
+        }
+    }
+
+    /// The bound the history has reached before its next phase, if any.
+    fn reached(&self, t: f64) -> Option<Cut> {
+        if let Some(n) = self.max_free_impacts
+            && t >= self.forcing.duration()
+            && self.free_impacts >= n
+        {
+            return Some(Cut::FreeImpacts(n));
+        }
+        if self.simulated_impacts >= MAX_IMPACTS {
+            return Some(Cut::Limit(Limit::Impacts(self.simulated_impacts)));
+        }
+        if self.out.stats.accepted >= MAX_STEPS {
+            return Some(Cut::Limit(Limit::Steps(self.out.stats.accepted)));
+        }
+        None
+    }
+
+    /// Ends the history at `t` in `phase`, cut short by `cut`: a rock in
+    /// free motion that is pure rocking to its end is decided in closed
+    /// form ([`decide`]); otherwise its outcome past `t` is not followed.
+    fn cut_short(&mut self, t: f64, phase: Phase, cut: Cut) {
+        self.out.cut = Some(cut);
+        self.out.end_time = t;
+        self.out.rest_time = None;
+        if let Phase::Rock { side, y } = phase
+            && t >= self.forcing.duration()
+            && free_rocking::within_limits(
+                &self.block,
+                self.friction.static_coefficient,
+                y[0],
+                y[1],
+            )
+        {
+            self.decided(t, side, y);
+        }
+    }
+
+    fn run_phases(&mut self) -> Result<(), SimError> {
         let block = self.block;
         let duration = self.forcing.duration();
         let v_rest = REST_VELOCITY * block.frequency_parameter() * block.slenderness();
@@ -494,11 +599,15 @@ impl<G: Kinematics> Driver<'_, G> {
         let (mut t, mut x) = (0.0f64, 0.0f64);
         let mut phase = Phase::Stick;
         loop {
-            if self.out.impact_count > MAX_IMPACTS {
-                return Err(SimError::ImpactLimit);
+            if !matches!(phase, Phase::Stick)
+                && let Some(cut) = self.reached(t)
+            {
+                self.cut_short(t, phase, cut);
+                return Ok(());
             }
             match phase {
                 Phase::Stick => {
+                    self.chatter.clear();
                     if let Some(rest) = self.settled_at.take() {
                         t = t.max(rest);
                     }
@@ -770,11 +879,15 @@ impl<G: Kinematics> Driver<'_, G> {
                 self.decided(t1, side, y1);
                 Ok((None, t1))
             }
+            LegEnd::Cut(t1, y1) => {
+                self.cut_short(t1, Phase::Rock { side, y: y1 }, Cut::FreeImpacts(0));
+                Ok((None, t1))
+            }
         }
     }
 
     /// The pivot of a rocking block starts to slip at `t`.
-    fn slip(&self, t: f64, side: f64, y: State) -> Option<Phase> {
+    fn slip(&mut self, t: f64, side: f64, y: State) -> Option<Phase> {
         Some(match self.slip_direction(t, side, y) {
             Some(sigma) => Phase::SlideRock {
                 side,
@@ -782,8 +895,14 @@ impl<G: Kinematics> Driver<'_, G> {
                 y,
                 slip_velocity: 0.0,
             },
-            // No slip is consistent (Painlevé): the pivot holds.
-            None => Phase::Rock { side, y },
+            // No slip is consistent (Painlevé): the pivot holds, and the
+            // friction limit is looked for again once the demand has
+            // fallen back within it (else the limit, passed at the leg's
+            // start, would end every leg there).
+            None => {
+                self.hold = true;
+                Phase::Rock { side, y }
+            }
         })
     }
 
@@ -888,6 +1007,7 @@ impl<G: Kinematics> Driver<'_, G> {
             }
             break;
         }
+        self.count_impacts(t, u64::from(chained));
         let new_side = -side;
         let forced = t < self.forcing.duration();
         if hit.sticking && hit.theta_dot.abs() > v_rest {
@@ -902,12 +1022,16 @@ impl<G: Kinematics> Driver<'_, G> {
                 v_rest,
             ) {
                 self.out.impact_count += settled.impacts;
+                self.out.summed_impacts += settled.impacts;
                 let x = self.out.residual_slide;
                 self.fill(settled.rest_time, Mode::Rock, |_| (0.0, 0.0, x));
                 self.span(Mode::Rock, (t, settled.rest_time), None, (x, x));
                 self.settled_at = Some(settled.rest_time);
                 return Some(Phase::Stick);
             }
+        }
+        if let Some(phase) = self.sum_chatter(t, &hit, forced, v_rest) {
+            return Some(phase);
         }
         if hit.theta_dot.abs() <= v_rest || hit.theta_dot * new_side < 0.0 {
             // Lands flat.
@@ -940,6 +1064,82 @@ impl<G: Kinematics> Driver<'_, G> {
                 slip_velocity: hit.slip_velocity,
             }
         })
+    }
+
+    /// Counts `n` impacts followed one by one at `t` (free ones after the
+    /// ground motion's end).
+    fn count_impacts(&mut self, t: f64, n: u64) {
+        self.simulated_impacts += n;
+        if t >= self.forcing.duration() {
+            self.free_impacts += n;
+        }
+    }
+
+    /// A chattering sequence of impacts that slide (or hold with η = 1),
+    /// summed in closed form where it has become geometric: below
+    /// [`CHATTER_VELOCITY`] p α the motion between impacts scales with the
+    /// rebound (times and slip velocities as θ̇, slips as θ̇²) while the
+    /// ground's pull stays what it is, so that the rebound over two
+    /// impacts (one on each side) shrinks by one ratio q. Where the last
+    /// [`CHATTER_WINDOW`] impacts show it, the rest of the sequence takes
+    /// the time of the last two times q/(1 − q), slips their slip times
+    /// q²/(1 − q²), and makes the impacts that bring the rebound below the
+    /// rest velocity; the block then stands.
+    fn sum_chatter(
+        &mut self,
+        t: f64,
+        hit: &slide_rock::ImpactOutcome,
+        forced: bool,
+        v_rest: f64,
+    ) -> Option<Phase> {
+        let block = self.block;
+        let speed = hit.theta_dot.abs();
+        let scale = block.frequency_parameter() * block.slenderness();
+        if !(speed > v_rest && speed <= CHATTER_VELOCITY * scale) {
+            self.chatter.clear();
+            return None;
+        }
+        let x = self.out.residual_slide;
+        self.chatter.push((t, speed, x));
+        if self.chatter.len() > CHATTER_WINDOW {
+            self.chatter.remove(0);
+        }
+        let [a, _, b, _, n] = self.chatter[..] else {
+            return None;
+        };
+        let q = n.1 / b.1;
+        let agree = |r: f64| (r - q).abs() <= CHATTER_RATIO_AGREEMENT * (1.0 - q);
+        let cycle = n.0 - b.0;
+        let geometric = q > 0.0 && q < 1.0 && cycle > 0.0;
+        if !(geometric && agree(b.1 / a.1) && agree(cycle / (b.0 - a.0))) {
+            return None;
+        }
+        let remaining = cycle * q / (1.0 - q);
+        let rest = t + remaining;
+        if forced {
+            let threshold = Formulation::Nonlinear.threshold(&block);
+            if rest >= self.forcing.duration()
+                || self
+                    .forcing
+                    .rocks_before(t, t + 2.0 * remaining, &threshold)
+                || self
+                    .forcing
+                    .next_weightless(t, block.gravity())
+                    .is_some_and(|tw| tw <= t + 2.0 * remaining)
+            {
+                return None;
+            }
+        }
+        let impacts = (2.0 * (v_rest / speed).ln() / q.ln()).ceil().max(1.0) as u64;
+        let x_end = x + (n.2 - b.2) * q * q / (1.0 - q * q);
+        self.out.impact_count += impacts;
+        self.out.summed_impacts += impacts;
+        self.fill(rest, Mode::Rock, |_| (0.0, 0.0, x_end));
+        self.span(Mode::Rock, (t, rest), None, (x, x_end));
+        self.slid(x_end);
+        self.settled_at = Some(rest);
+        self.chatter.clear();
+        Some(Phase::Stick)
     }
 
     /// A flight from `pose` at `t` to its landing (the next phase, when, and
@@ -990,6 +1190,7 @@ impl<G: Kinematics> Driver<'_, G> {
         let f = self.friction;
         let landing = flight::land(&block, f.static_coefficient, f.kinetic_coefficient, &pose1);
         self.out.impact_count += 1;
+        self.count_impacts(t1, 1);
         self.out.events += 1;
         let omega_after = match landing.landed {
             Landed::Corner { theta_dot, .. } => theta_dot,
@@ -1079,6 +1280,7 @@ impl<G: Kinematics> Driver<'_, G> {
         let Some(acc) = slide_rock::angular_acceleration(alpha, r, side, kappa, g_z, y[0], y[1])
         else {
             // Painlevé: the pivot holds.
+            self.hold = true;
             return Ok((Some(Phase::Rock { side, y }), t, x));
         };
         if slide_rock::normal_per_mass(alpha, r, side, g_z, y[0], y, acc) <= 0.0 {
@@ -1093,7 +1295,10 @@ impl<G: Kinematics> Driver<'_, G> {
             let acc = slide_rock::angular_acceleration(alpha, r, side, kappa, g_z, y[0], y[1])
                 .unwrap_or(0.0);
             let n = slide_rock::normal_per_mass(alpha, r, side, g_z, y[0], y, acc);
-            [-sigma * leg.slip(t, y).1, -n]
+            // The normal force reaching 0 (take-off), or the reduced
+            // inertia nearing 0 (a jam): one event, told apart at its end.
+            let jam = slide_rock::JAM_INERTIA - slide_rock::inertia(alpha, side, kappa, y[0]);
+            [-sigma * leg.slip(t, y).1, (-n).max(jam)]
         };
         let end = self.leg(
             |forced| SlideRockRhs {
@@ -1157,6 +1362,39 @@ impl<G: Kinematics> Driver<'_, G> {
                         },
                         None => Phase::Rock { side, y: y1 },
                     }
+                };
+                Ok((Some(next), t1, x1))
+            }
+            LegEnd::Cut(t1, y1) => {
+                let (x1, v1) = leg.slip(t1, y1);
+                let phase = Phase::SlideRock {
+                    side,
+                    sigma,
+                    y: y1,
+                    slip_velocity: v1,
+                };
+                self.cut_short(t1, phase, Cut::FreeImpacts(0));
+                Ok((None, t1, x1))
+            }
+            LegEnd::Sampled(1, t1, y1)
+                if slide_rock::inertia(alpha, side, kappa, y1[0])
+                    <= 2.0 * slide_rock::JAM_INERTIA =>
+            {
+                // A jam: the sliding pivot stops at once (an impulse of
+                // friction), and the block rocks on it, or leaves the
+                // floor where that impulse would pull.
+                self.out.events += 1;
+                let (x1, v1) = leg.slip(t1, y1);
+                let pose = Pose::on_corner(&block, side, y1[0], y1[1], x1, v1);
+                let next = match flight::jam(&block, side, &pose) {
+                    Some(w) => {
+                        self.hold = true;
+                        Phase::Rock {
+                            side,
+                            y: [y1[0], w],
+                        }
+                    }
+                    None => self.take_off_from_corner(t1, side, y1, x1, v1),
                 };
                 Ok((Some(next), t1, x1))
             }
@@ -1311,6 +1549,9 @@ impl<G: Kinematics> Driver<'_, G> {
                 return Ok(LegEnd::Reached(t, y));
             }
             // The forcing's end.
+            if forced && self.max_free_impacts == Some(0) {
+                return Ok(LegEnd::Cut(t, y));
+            }
             if forced && mode == Mode::Rock && self.decides(y) {
                 return Ok(LegEnd::Decided(t, y));
             }

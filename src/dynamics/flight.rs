@@ -373,6 +373,22 @@ fn corner_impact(block: &Block, mu_s: f64, mu_k: f64, side: f64, pose: &Pose) ->
     Some(after(kappa * pn, pn))
 }
 
+/// A corner sliding on the floor that must stop at once (a slide-rock
+/// jamming where no sliding motion stays consistent, Painlevé): the
+/// impulse that stops the corner (its normal velocity, if into the floor,
+/// too), and θ̇ after it — `None` where the floor would have to pull
+/// (P_n < 0: the block leaves it instead).
+pub fn jam(block: &Block, side: f64, pose: &Pose) -> Option<f64> {
+    let (alpha, r) = (block.slenderness(), block.half_diagonal());
+    let (d, c) = (alpha - side * pose.theta).sin_cos();
+    let vt = pose.vx - r * c * pose.omega;
+    let vn = (pose.vy - side * r * d * pose.omega).min(0.0);
+    let scd = side * c * d;
+    let pt = -((1.0 + 3.0 * d * d) * vt - 3.0 * scd * vn) / 4.0;
+    let pn = -(-3.0 * scd * vt + (1.0 + 3.0 * c * c) * vn) / 4.0;
+    (pn >= 0.0).then(|| pose.omega - 3.0 / r * (c * pt + side * d * pn))
+}
+
 struct Impulse {
     vx: f64,
     vy: f64,

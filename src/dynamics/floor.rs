@@ -8,8 +8,8 @@
 //! rock), pure rocking *is* the Coulomb answer, to the bit.
 
 use super::contact::Mode;
-use super::coulomb::{Asks, ContactResponse, ContactSeries, ModeSpan, simulate_contact_with};
-use super::response::{Impact, Numerics, Response};
+use super::coulomb::{Asks, ContactResponse, ContactSeries, Cut, ModeSpan, simulate_contact_with};
+use super::response::{Impact, Numerics, Response, Warning};
 use super::sliding::{Friction, Kinematics};
 use super::{Block, Options, Problem, SimError, Solver, simulate};
 
@@ -62,9 +62,14 @@ pub fn run_coulomb<G: Kinematics>(
         // followed to its end, as in a whole history.
         let with_demand = Options {
             reactions: true,
-            max_free_impacts: options
-                .max_free_impacts
-                .max(Options::history(options.solver).max_free_impacts),
+            // A whole history follows the free motion as far as asked.
+            max_free_impacts: if options.stop_at_decision {
+                options
+                    .max_free_impacts
+                    .max(Options::history(options.solver).max_free_impacts)
+            } else {
+                options.max_free_impacts
+            },
             // Where it is not the answer, the modes are run from the start.
             stop_at_sliding: true,
             ..options.clone()
@@ -91,6 +96,9 @@ pub fn run_coulomb<G: Kinematics>(
         let asks = Asks {
             peak: options.peak,
             stop_at_decision: options.stop_at_decision,
+            // A scan's outcome follows the free motion to its end (or its
+            // decision); a history as far as asked.
+            max_free_impacts: (!options.stop_at_decision).then_some(options.max_free_impacts),
         };
         simulate_contact_with(&block, &problem.pulse, friction, solver, times, asks)
     };
@@ -146,6 +154,7 @@ fn from_pure_rocking(r: &Response) -> ContactResponse {
         overturn_mode: r.mode,
         impacts: Vec::new(),
         impact_count: r.impact_count,
+        summed_impacts: r.summed_impacts,
         first_flight: None,
         flights: 0,
         time_in_flight: 0.0,
@@ -157,6 +166,11 @@ fn from_pure_rocking(r: &Response) -> ContactResponse {
         peak_theta_over_alpha: r.peak_theta_over_alpha,
         stats: Default::default(),
         events: r.numerics.events,
+        cut: r.warnings.iter().find_map(|w| match *w {
+            Warning::FreeRockingTruncated(n) => Some(Cut::FreeImpacts(n)),
+            Warning::LimitReached(l, _) => Some(Cut::Limit(l)),
+            _ => None,
+        }),
         series: r.series.as_ref().map(|s| ContactSeries {
             t: s.t.clone(),
             theta: s.theta.clone(),
@@ -198,7 +212,11 @@ fn to_response<G: Kinematics>(
         .count()
         + usize::from(c.modes.first().is_some_and(rocks));
     let rocking_start = c.modes.iter().find(|m| rocks(m)).map(|m| m.from);
-    let warnings = Vec::new();
+    let warnings = match c.cut {
+        Some(Cut::FreeImpacts(n)) => vec![Warning::FreeRockingTruncated(n)],
+        Some(Cut::Limit(l)) => vec![Warning::LimitReached(l, c.end_time)],
+        None => Vec::new(),
+    };
     Response {
         rocked: rocking_start.is_some(),
         rocking_start,
@@ -219,7 +237,7 @@ fn to_response<G: Kinematics>(
             Vec::new()
         },
         rocking_impacts: c.impacts.len() as u64,
-        summed_impacts: c.impact_count.saturating_sub(c.impacts.len() as u64),
+        summed_impacts: c.summed_impacts,
         overturn_time: c.overturn_time,
         overturn_side: c.overturn_side,
         rest_time: c.rest_time,

@@ -97,9 +97,34 @@ pub enum Warning {
     FreeRockingTruncated(u64),
     /// The impact list was truncated to this many entries (the count is complete).
     ImpactListTruncated(usize),
+    /// A bound on one history's work was reached at this time: the history
+    /// ends there, its outcome past it not followed.
+    LimitReached(Limit, f64),
     /// Integrating the free motion disagreed with the exact separatrix decision
     /// (the state is within the integration tolerance of the separatrix).
     NearSeparatrix,
+}
+
+/// A bound on the work of one history ([`Warning::LimitReached`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Limit {
+    /// Impacts followed one by one (those summed in closed form aside).
+    Impacts(u64),
+    /// Integration steps.
+    Steps(u64),
+    /// Time of free motion after the ground motion's end, s.
+    FreeTime(f64),
+}
+
+impl Limit {
+    /// The limit's name in reports.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Limit::Impacts(_) => "impacts",
+            Limit::Steps(_) => "steps",
+            Limit::FreeTime(_) => "free_time",
+        }
+    }
 }
 
 /// Cost and accuracy of a run.

@@ -45,9 +45,8 @@ pub const ROCKING_IMPACT_VELOCITY: f64 = 1e-2;
 /// Most impacts stored in a response's list (the count is always complete).
 pub const MAX_LISTED_IMPACTS: usize = 10_000;
 
-/// Hard limit on impacts during the pulse (a safeguard; never reached in practice
-/// because chattering ends in rest).
-const MAX_FORCED_IMPACTS: u64 = 5_000_000;
+use super::coulomb::MAX_IMPACTS;
+use super::response::Limit;
 
 /// A block, a ground motion (a [`Pulse`] unless said otherwise) and an
 /// equation of motion.
@@ -185,9 +184,6 @@ pub enum SimError {
     /// The integrator failed.
     #[error("integration failed: {0}")]
     Integration(#[from] StepError),
-    /// Chattering did not end.
-    #[error("impact limit reached during the pulse")]
-    ImpactLimit,
     /// On a Coulomb floor the free motion after the ground motion came
     /// neither to rest nor to overturning within this time (s).
     #[error(
@@ -647,11 +643,16 @@ fn run<G: Forcing>(
                 t = ti;
                 if forced {
                     forced_impacts += 1;
-                    if forced_impacts > MAX_FORCED_IMPACTS {
-                        return Err(SimError::ImpactLimit);
-                    }
                 } else {
                     free_impacts += 1;
+                }
+                if forced_impacts + free_impacts >= MAX_IMPACTS {
+                    // A bound on the work of one history: it ends here.
+                    r.warnings
+                        .push(Warning::LimitReached(Limit::Impacts(MAX_IMPACTS), ti));
+                    r.end_time = ti;
+                    r.rest_time = None;
+                    break;
                 }
                 if after.abs() <= v_rest {
                     rocking = None;
@@ -722,10 +723,17 @@ fn run<G: Forcing>(
                                 super::free_rocking::stays_pure(&block, mu, y[0], y[1])
                             })
                     };
-                    if (options.stop_at_decision || options.max_free_impacts == 0)
-                        && pure_on_floor()
+                    // (A history asked for no free rocking ends here on
+                    // any floor, as asked.)
+                    if (options.stop_at_decision && pure_on_floor())
+                        || (!options.stop_at_decision && options.max_free_impacts == 0)
                     {
                         r.end_time = tr;
+                        if !options.stop_at_decision {
+                            // Asked for no free rocking: the history ends
+                            // here, its outcome decided in closed form.
+                            r.warnings.push(Warning::FreeRockingTruncated(0));
+                        }
                         if let FreeOutcome::Overturns { impacts } = outcome {
                             r.overturned = true;
                             r.overturn_side = decided_side;
@@ -752,11 +760,12 @@ fn run<G: Forcing>(
         let integrated = r.overturned;
         let decided = matches!(outcome, FreeOutcome::Overturns { .. });
         if decided != integrated && r.end_time > r.decided_at {
-            let truncated = r
-                .warnings
-                .iter()
-                .any(|w| matches!(w, Warning::FreeRockingTruncated(_)))
-                || options.horizon.is_some();
+            let truncated = r.warnings.iter().any(|w| {
+                matches!(
+                    w,
+                    Warning::FreeRockingTruncated(_) | Warning::LimitReached(..)
+                )
+            }) || options.horizon.is_some();
             if !(truncated && !integrated && decided) {
                 r.warnings.push(Warning::NearSeparatrix);
             }

@@ -51,6 +51,19 @@ pub fn angular_acceleration(
     (inertia > 0.0).then(|| -lever * (g_z - r * c * theta_dot * theta_dot) / (r * inertia))
 }
 
+/// The reduced inertia 1/3 + S (S − κ C) of slide-rocking on `side` at θ:
+/// θ̈ divides by it, and where it reaches 0 no sliding motion is
+/// consistent (Painlevé).
+#[inline]
+pub fn inertia(alpha: f64, side: f64, kappa: f64, theta: f64) -> f64 {
+    let (s, c) = (side * alpha - theta).sin_cos();
+    1.0 / 3.0 + s * (s - kappa * c)
+}
+
+/// Reduced inertia ([`inertia`]) at which a slide-rock jams: its pivot
+/// stops at once, the sliding motion about to become inconsistent.
+pub const JAM_INERTIA: f64 = 1e-3;
+
 /// N/m, m/s², at a slide-rocking state with angular acceleration `acc`.
 #[inline]
 pub fn normal_per_mass(
@@ -222,7 +235,10 @@ pub struct ImpactOutcome {
 /// part scaled by the block's η (Housner's unless given: θ̇⁺ = η θ̇⁻ +
 /// (m h/I_O) ẋ_p⁻) — when the tangential impulse that needs is within μ_s
 /// times the normal one, or slides with the tangential impulse at μ_k times
-/// the normal one (Shenton & Jones 1991).
+/// the normal one (Shenton & Jones 1991). Where no sliding impact is
+/// consistent — the friction impulse's moment would drive the landing
+/// corner into the floor (a non-positive normal impulse; with η → 0 and μ
+/// below cot α) — the corner holds, as at a landing.
 pub fn impact(
     block: &Block,
     mu_s: f64,
@@ -253,7 +269,20 @@ pub fn impact(
     }
     // Sliding: P_t = κ P_n, κ = ±μ_k as the holding impulse pointed.
     let kappa = pt.signum() * mu_k;
-    let pn = -(yd + side * b * theta_dot) / (1.0 + (b * b - side * b * h * kappa) / i_c);
+    let denominator = 1.0 + (b * b - side * b * h * kappa) / i_c;
+    let pn = -(yd + side * b * theta_dot) / denominator;
+    if !(denominator > 0.0 && pn > 0.0) {
+        // No sliding impact is consistent (the friction impulse would
+        // drive the corner into the floor: Painlevé's paradox at an
+        // impact, e.g. η → 0 with μ below cot α): the corner holds.
+        let (xa, ya) = (h * w, -side * b * w);
+        return ImpactOutcome {
+            theta_dot: w,
+            slip_velocity: 0.0,
+            sticking: true,
+            energy: (before, energy(xa, ya, w)),
+        };
+    }
     let w = theta_dot + (side * b - h * kappa) * pn / i_c;
     let (xa, ya) = (xd + kappa * pn, yd + pn);
     ImpactOutcome {

@@ -275,10 +275,13 @@ pub fn slide<G: Kinematics>(forcing: &G, gravity: f64, friction: Friction) -> Sl
 /// Where the slide `leg` stops: the first zero of s ẋ after its start. s ẋ
 /// grows only inside the windows of side s where −s ü_g > μ_k (g + ü_v)
 /// (`drive`); each stretch between them is searched in turn, and after the
-/// motion's end ẍ = −s μ_k g is constant: the stop is in closed form.
+/// motion's end ẍ = −s μ_k g is constant: the stop is in closed form. A
+/// slide still running where the ground first falls away (g + ü_v ≤ 0)
+/// ends there.
 pub(crate) fn stop<G: Kinematics>(leg: &Leg<'_, G>, drive: &Threshold) -> f64 {
     let end = leg.forcing.duration();
     let mut a = leg.t0;
+    let lift = leg.forcing.next_weightless(a, leg.g);
     loop {
         // The next window driving the slide on, from a (skipping the other
         // side's, where s ẋ falls all the more).
@@ -293,6 +296,16 @@ pub(crate) fn stop<G: Kinematics>(leg: &Leg<'_, G>, drive: &Threshold) -> f64 {
                 break;
             }
             from = w.end;
+        }
+        // Where the ground falls away (g + ü_v ≤ 0) the slide ends, the
+        // block leaving the floor (the caller's concern): the friction
+        // there would not oppose the slip, so no stop is looked for past it.
+        let next = window.map_or(f64::INFINITY, |w| w.start.max(a));
+        if let Some(l) = lift.filter(|&l| l <= next.min(a.max(end))) {
+            if leg.s * leg.velocity(l) <= 0.0 {
+                return leg.stop_between(a, l);
+            }
+            return l;
         }
         match window {
             Some(w) if w.start <= a => {

@@ -735,12 +735,17 @@ pub struct StripeResult {
     /// and the fit. Absent without a vertical motion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lift_off: Option<u64>,
+    /// Samples whose history reached a bound on its work (impacts, steps,
+    /// free motion) before its outcome was decided: undecided, left out of
+    /// p and the fit like `lift_off`. Absent when none was.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub undecided: Option<u64>,
 }
 
 impl StripeResult {
     /// The samples with a verdict.
     pub fn decided(&self) -> u64 {
-        self.n - self.lift_off.unwrap_or(0)
+        self.n - self.lift_off.unwrap_or(0) - self.undecided.unwrap_or(0)
     }
 }
 
@@ -901,12 +906,20 @@ enum Verdict {
     Topples(u8),
     /// The ground fell away faster than g: no verdict.
     LiftOff,
+    /// The history reached a bound on its work first: no verdict.
+    Undecided,
 }
 
 impl Verdict {
     fn of(r: &Response) -> Verdict {
         if r.lift_off.is_some() {
             Verdict::LiftOff
+        } else if r
+            .warnings
+            .iter()
+            .any(|w| matches!(w, crate::dynamics::response::Warning::LimitReached(..)))
+        {
+            Verdict::Undecided
         } else if r.overturned {
             Verdict::Topples(r.mode.map_or(0, |m| m.number()))
         } else {
@@ -929,6 +942,9 @@ pub struct StripeCounts {
     /// Lifted off (no verdict).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub lift_off: u64,
+    /// Reached a bound on its work first (no verdict).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub undecided: u64,
 }
 
 fn is_zero(n: &u64) -> bool {
@@ -942,11 +958,12 @@ impl StripeCounts {
         self.mode_1 += other.mode_1;
         self.mode_2 += other.mode_2;
         self.lift_off += other.lift_off;
+        self.undecided += other.undecided;
     }
 
     /// The samples with a verdict.
     fn decided(&self) -> u64 {
-        self.n - self.lift_off
+        self.n - self.lift_off - self.undecided
     }
 }
 
@@ -1199,6 +1216,7 @@ impl FragilityJob {
                     match outcome {
                         Verdict::Stands => {}
                         Verdict::LiftOff => counts.lift_off += 1,
+                        Verdict::Undecided => counts.undecided += 1,
                         Verdict::Topples(mode) => {
                             counts.overturned += 1;
                             if mode == 2 {
@@ -1335,6 +1353,7 @@ impl FragilityJob {
                     mode_1: c.mode_1,
                     mode_2: c.mode_2,
                     lift_off: self.has_vertical().then_some(c.lift_off),
+                    undecided: (c.undecided > 0).then_some(c.undecided),
                 }
             })
             .collect();

@@ -126,6 +126,8 @@ struct StatsDoc {
     max_error_estimate: f64,
     #[serde(default)]
     probes: u64,
+    #[serde(default)]
+    undecided: u64,
 }
 
 /// The document of a part, assembled by [`assemble`].
@@ -202,6 +204,7 @@ impl From<&ScanStats> for StatsDoc {
             events: s.events,
             max_error_estimate: s.max_error_estimate,
             probes: s.probes,
+            undecided: s.undecided,
         }
     }
 }
@@ -216,6 +219,7 @@ impl From<&StatsDoc> for ScanStats {
             events: s.events,
             max_error_estimate: s.max_error_estimate,
             probes: s.probes,
+            undecided: s.undecided,
         }
     }
 }

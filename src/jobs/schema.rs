@@ -224,6 +224,9 @@ pub enum WarningKind {
     FreeRockingTruncated,
     /// The impact list was truncated (the count is complete).
     ImpactListTruncated,
+    /// A bound on one history's work (impacts, steps, free motion) was
+    /// reached: the history ends there, its outcome past it not followed.
+    LimitReached,
     /// The state at the pulse end is within tolerance of the separatrix.
     NearSeparatrix,
     /// The block's size R = 3g/(4p²) lies outside 1 cm – 100 m (b and h are

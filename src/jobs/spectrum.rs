@@ -631,6 +631,13 @@ pub struct ScanCost {
     #[serde(default)]
     #[schema(required = true)]
     pub verification_simulations: u64,
+    /// Of `simulations`, those whose history reached a bound on its work
+    /// (impacts, steps, free motion) before its outcome was decided: each
+    /// such level is undecided and lies in a mixed zone, never at a
+    /// transition.
+    #[serde(default)]
+    #[schema(required = true)]
+    pub undecided_simulations: u64,
 }
 
 impl ScanCost {
@@ -647,6 +654,7 @@ impl ScanCost {
             events: s.events,
             error_estimate: s.max_error_estimate,
             verification_simulations: s.probes,
+            undecided_simulations: s.undecided,
         }
     }
 }

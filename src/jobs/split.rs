@@ -43,8 +43,9 @@ pub fn concatenate(kind: &str, spec: Value, parts: Vec<Value>) -> Value {
         "rhs_evaluations",
         "events",
         "verification_simulations",
+        "undecided_simulations",
     ];
-    let mut sums = [0u64; 6];
+    let mut sums = [0u64; 7];
     let (mut error, mut wall) = (0.0f64, 0.0f64);
     for part in &parts {
         if let Some(s) = part.get("spectrum").and_then(|s| s.as_array()) {

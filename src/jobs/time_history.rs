@@ -17,7 +17,7 @@ use super::vertical::{
 };
 pub use super::warning::WarningDoc;
 use crate::dynamics::PulsePair;
-use crate::dynamics::response::{Response, Warning};
+use crate::dynamics::response::{Limit, Response, Warning};
 use crate::dynamics::sliding::Kinematics;
 use crate::dynamics::{Formulation, Options, Problem, SimError, simulate};
 
@@ -299,12 +299,29 @@ impl WarningDoc {
             Warning::FreeRockingTruncated(n) => (
                 "free_rocking_truncated",
                 None,
-                format!("free rocking after the pulse followed for {n} impacts only (outputs.max_free_impacts)"),
+                format!("free rocking after the ground motion followed for {n} impacts only (outputs.max_free_impacts); overturned is then the outcome decided in closed form from there where the free motion is pure rocking (overturn_time and rest_time null), else the outcome up to there"),
             ),
             Warning::ImpactListTruncated(n) => (
                 "impact_list_truncated",
                 None,
                 format!("impact list truncated to {n} entries; impact_count is complete"),
+            ),
+            Warning::LimitReached(limit, t) => (
+                "limit_reached",
+                Some(t),
+                format!(
+                    "the history reached its bound on {} at t = {t:.6} s and ends there: {}; its outcome past it is not followed (overturned: false means not overturned by then)",
+                    match limit {
+                        Limit::Impacts(_) => "impacts",
+                        Limit::Steps(_) => "integration steps",
+                        Limit::FreeTime(_) => "free motion",
+                    },
+                    match limit {
+                        Limit::Impacts(n) => format!("{n} impacts followed one by one, none of them ending in rest"),
+                        Limit::Steps(n) => format!("{n} integration steps"),
+                        Limit::FreeTime(s) => format!("the motion after the ground motion followed for {s:.6} s without rest or overturning"),
+                    }
+                ),
             ),
             Warning::NearSeparatrix => (
                 "near_separatrix",

@@ -465,6 +465,7 @@ mod tests {
             mode_1: overturned,
             mode_2: 0,
             lift_off: None,
+            undecided: None,
         };
         doc.stripes = vec![
             stripe(0.4, 20, [0.06, 0.15]),

@@ -16,6 +16,7 @@
 //! neighbouring scan points, can be missed.
 
 use crate::dynamics::floor::run_coulomb;
+use crate::dynamics::response::Warning;
 use crate::dynamics::sliding::{Friction, Kinematics};
 use crate::dynamics::{
     Block, Forcing, Options, Problem, Pulse, PulsePair, Record, RecordPair, SimError, Solver,
@@ -39,6 +40,10 @@ pub struct Signature {
     /// With a slide band ([`Model::slide_band`]): the block stood, on the
     /// floor, with its residual slide's size inside the band.
     pub in_band: bool,
+    /// The history reached a bound on its work before its outcome was
+    /// decided ([`Warning::LimitReached`]): undecided, its own outcome,
+    /// left to a mixed zone, never a transition.
+    pub undecided: bool,
 }
 
 /// Direction of a transition as the amplitude grows.
@@ -108,6 +113,9 @@ pub struct ScanStats {
     /// Of the simulations, those that verified the pieces between changes
     /// and measured the mixed zones ([`super::verify`]).
     pub probes: u64,
+    /// Of the simulations, those whose history reached a bound on its work
+    /// before its outcome was decided ([`Signature::undecided`]).
+    pub undecided: u64,
 }
 
 impl ScanStats {
@@ -120,6 +128,7 @@ impl ScanStats {
         self.events += o.events;
         self.max_error_estimate = self.max_error_estimate.max(o.max_error_estimate);
         self.probes += o.probes;
+        self.undecided += o.undecided;
     }
 }
 
@@ -306,7 +315,13 @@ impl<G: Scalable> Line<'_, G> {
         stats.rhs_evaluations += r.numerics.rhs_evaluations;
         stats.events += r.numerics.events;
         stats.max_error_estimate = stats.max_error_estimate.max(r.numerics.error_estimate);
+        let undecided = r
+            .warnings
+            .iter()
+            .any(|w| matches!(w, Warning::LimitReached(..)));
+        stats.undecided += u64::from(undecided);
         Ok(Signature {
+            undecided,
             overturned: r.overturned,
             mode: r.mode.map(|m| m.number()),
             impacts: if r.overturned {
@@ -391,6 +406,7 @@ impl<G: Scalable> Line<'_, G> {
     /// only a cancellation stops the scan.
     fn probe(&self, level: f64, stats: &mut ScanStats) -> Result<Option<Signature>, ScanError> {
         match self.classify(level, stats) {
+            Ok(s) if s.undecided => Ok(None),
             Ok(s) => Ok(Some(s)),
             Err(ScanError::Canceled(c)) => Err(ScanError::Canceled(c)),
             Err(_) => Ok(None),
@@ -414,7 +430,7 @@ impl<G: Scalable> Line<'_, G> {
                     continue;
                 }
                 let between = i0 > 0 && i1 + 1 < seen.len();
-                if between && r - l <= 2.0 * trace.tol {
+                if seen[i0].1.undecided || (between && r - l <= 2.0 * trace.tol) {
                     // Narrower than the resolution: a sliver found between
                     // two switches, whose inside cannot be verified.
                     uncertain.push([l, r]);
@@ -525,9 +541,10 @@ impl<G: Scalable> Line<'_, G> {
     }
 }
 
-/// What verification compares: overturned, and standing in the slide band.
-fn outcome(s: &Signature) -> (bool, bool) {
-    (s.overturned, s.in_band)
+/// What verification compares: overturned, standing in the slide band, and
+/// undecided.
+fn outcome(s: &Signature) -> (bool, bool, bool) {
+    (s.overturned, s.in_band, s.undecided)
 }
 
 fn zone_has(from: f64, to: f64, x: f64) -> bool {
@@ -595,6 +612,10 @@ impl Found {
 }
 
 fn record(a: (f64, Signature), b: (f64, Signature), found: &mut Found) {
+    if a.1.undecided || b.1.undecided {
+        // Left to the mixed zone the undecided level lies in.
+        return;
+    }
     let transitions = &mut found.transitions;
     let modes = &mut found.mode_changes;
     let at = 0.5 * (a.0 + b.0);

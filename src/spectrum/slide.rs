@@ -74,6 +74,10 @@ pub fn residual_slide<G: Scalable + Sync>(
                 events: n.events,
                 max_error_estimate: n.error_estimate,
                 probes: 0,
+                undecided: u64::from(matches!(
+                    c.cut,
+                    Some(crate::dynamics::coulomb::Cut::Limit(_))
+                )),
             };
             Ok((
                 SlidePoint {

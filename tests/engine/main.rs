@@ -4,6 +4,7 @@
 //! linked once.
 
 mod chaotic;
+mod contact_fuzz;
 mod exact_vs_numerical;
 mod extremes;
 mod forensic;

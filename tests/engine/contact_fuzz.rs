@@ -1,0 +1,346 @@
+//! The Coulomb floor over the whole space of valid histories: every one is
+//! answered, finite, within a bounded work, consistent with itself, with
+//! pure rocking where friction never binds, and with its mirror image.
+//!
+//! Drawn: α from 0.005 to 1.3 (log-uniform), p from 0.5 to 10 rad/s, η
+//! including 0, 1 and Housner's; μ from 0.02 to 100, near tan α and near
+//! (1 − η)/((1 + η) tan α) (where Housner's impact starts to slide), μ_k ≤ μ;
+//! every pulse family, or a record window (a seeded, smoothed random
+//! accelerogram); no vertical motion, one in proportion, or a pulse of its
+//! own. `cargo test` runs [`CASES`] of them from a fixed seed;
+//! `bench/contact_soak.sh` runs many more from fresh ones
+//! (`TOPPLE_FUZZ_CASES`, `TOPPLE_FUZZ_SEED`).
+
+use std::sync::Arc;
+
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngSeed};
+use topple::dynamics::coulomb::{Cut, MAX_IMPACTS, MAX_STEPS};
+use topple::dynamics::floor::{AnsweredBy, CoulombHistory, run_coulomb};
+use topple::dynamics::response::Warning;
+use topple::dynamics::sliding::{Friction, Kinematics};
+use topple::dynamics::{
+    Block, Formulation, Method, Options, Problem, Pulse, PulsePair, PulseShape, Record, RecordPair,
+    Response, Solver, simulate,
+};
+
+/// Cases per `cargo test` run.
+const CASES: u32 = 600;
+
+/// The ground motion of a case.
+#[derive(Clone, Debug)]
+#[allow(clippy::large_enum_variant)] // a test's case, built once
+enum Ground {
+    Pulse(Pulse),
+    Pair(PulsePair),
+    Record(Record),
+    RecordPair(RecordPair),
+}
+
+#[derive(Clone, Debug)]
+struct Case {
+    block: Block,
+    friction: Friction,
+    ground: Ground,
+    max_free_impacts: u64,
+}
+
+fn log_uniform(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
+    (0.0..1.0f64).prop_map(move |u| (lo.ln() + u * (hi.ln() - lo.ln())).exp())
+}
+
+fn shape() -> impl Strategy<Value = PulseShape> {
+    prop_oneof![
+        Just(PulseShape::OneSine),
+        Just(PulseShape::OneCosine),
+        (2u32..5).prop_map(PulseShape::Cn),
+        Just(PulseShape::HalfSine),
+        Just(PulseShape::Rectangular),
+        any::<bool>().prop_map(|symmetric| PulseShape::Ricker { symmetric }),
+    ]
+}
+
+/// A smoothed random accelerogram of `seconds` at 100 samples/s, its peak
+/// `peak` m/s², tapered at both ends.
+fn accelerogram(seed: u64, seconds: f64, peak: f64) -> Record {
+    let n = (seconds * 100.0) as usize;
+    let mut x = seed | 1;
+    let mut next = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let (mut a, mut v) = (0.0f64, 0.0f64);
+    let mut samples: Vec<f64> = (0..n)
+        .map(|k| {
+            // A lightly damped oscillator (about 2 Hz) driven by noise.
+            let (w, z, dt) = (12.0, 0.3, 0.01);
+            v += (next() * 400.0 - 2.0 * z * w * v - w * w * a) * dt;
+            a += v * dt;
+            let taper = ((k as f64 / n as f64) * std::f64::consts::PI).sin();
+            a * taper
+        })
+        .collect();
+    let max = samples.iter().fold(0.0f64, |m, s| m.max(s.abs()));
+    if max > 0.0 {
+        for s in &mut samples {
+            *s *= peak / max;
+        }
+    }
+    Record::new(Arc::from(samples), 0.01).expect("valid record")
+}
+
+fn case() -> impl Strategy<Value = Case> {
+    let eta = prop_oneof![
+        Just(None),
+        Just(Some(0.0)),
+        Just(Some(1.0)),
+        (0.0..1.0f64).prop_map(Some),
+    ];
+    (
+        log_uniform(0.005, 1.3),
+        log_uniform(0.5, 10.0),
+        eta,
+        (0u8..4, log_uniform(0.02, 100.0), 0.9..1.1f64, 0.5..1.0f64),
+        (
+            shape(),
+            log_uniform(0.1, 20.0),
+            log_uniform(0.6, 10.0),
+            any::<bool>(),
+        ),
+        (
+            0u8..5,
+            (0.05..1.0f64, any::<bool>()).prop_map(|(s, down)| if down { -s } else { s }),
+            log_uniform(0.3, 10.0),
+            any::<u64>(),
+            2.0..40.0f64,
+        ),
+        prop_oneof![Just(1_000u64), 0u64..12],
+    )
+        .prop_map(
+            |(alpha, p, eta, (mu_kind, mu_free, near, kinetic), pulse, vertical, max_free)| {
+                let block = Block::new(alpha, p, eta, None, None).expect("valid block");
+                let tan = alpha.tan();
+                let e = block.restitution();
+                let mu = match mu_kind {
+                    0 => mu_free,
+                    1 => tan * near,
+                    2 => ((1.0 - e) / ((1.0 + e) * tan)).clamp(0.02, 100.0) * near,
+                    _ => 10.0 + mu_free,
+                };
+                let friction = Friction::new(mu, Some(mu * kinetic)).expect("valid friction");
+                let (shape, ratio, level, negative) = pulse;
+                let g = block.gravity();
+                let a = level * tan * g * if negative { -1.0 } else { 1.0 };
+                let horizontal = Pulse::new(shape, a, ratio * p).expect("valid pulse");
+                let (kind, share, v_ratio, seed, seconds) = vertical;
+                let ground = match kind {
+                    0 => Ground::Pulse(horizontal),
+                    1 => Ground::Pair(PulsePair::new(
+                        horizontal,
+                        horizontal.with_amplitude(share * a),
+                        0.0,
+                    )),
+                    2 => Ground::Pair(PulsePair::new(
+                        horizontal,
+                        Pulse::new(PulseShape::OneSine, share * 1.5 * g, v_ratio * p)
+                            .expect("valid pulse"),
+                        0.0,
+                    )),
+                    3 => Ground::Record(accelerogram(seed, seconds, a.abs())),
+                    _ => {
+                        let h = accelerogram(seed, seconds, a.abs());
+                        let v = accelerogram(seed.rotate_left(17), seconds, share.abs() * g);
+                        Ground::RecordPair(RecordPair::new(h, v).expect("valid pair"))
+                    }
+                };
+                Case {
+                    block,
+                    friction,
+                    ground,
+                    max_free_impacts: max_free,
+                }
+            },
+        )
+}
+
+fn solver() -> Solver {
+    Solver::RungeKutta {
+        method: Method::Dop853,
+        rtol: 1e-10,
+        atol: 1e-12,
+    }
+}
+
+fn options(max_free_impacts: u64) -> Options {
+    Options {
+        max_free_impacts,
+        ..Options::history(solver())
+    }
+}
+
+fn coulomb<G: Kinematics + Clone>(
+    c: &Case,
+    ground: G,
+) -> Result<(CoulombHistory, Response), TestCaseError> {
+    let problem = Problem {
+        block: c.block,
+        pulse: ground,
+        formulation: Formulation::Nonlinear,
+    };
+    let h = run_coulomb(&problem, &options(c.max_free_impacts), c.friction)
+        .map_err(|e| TestCaseError::fail(format!("no answer: {e}")))?;
+    let pure = simulate(&problem, &options(c.max_free_impacts))
+        .map_err(|e| TestCaseError::fail(format!("pure rocking: no answer: {e}")))?;
+    Ok((h, pure))
+}
+
+fn check(c: &Case, h: &CoulombHistory, pure: &Response) -> Result<(), TestCaseError> {
+    let (r, k) = (&h.response, &h.contact);
+    let finite = [
+        r.end_time,
+        r.peak_theta_over_alpha,
+        k.peak_slide,
+        k.residual_slide,
+        k.time_sliding,
+        k.time_in_flight,
+        r.numerics.error_estimate,
+    ];
+    prop_assert!(finite.iter().all(|x| x.is_finite()), "{finite:?}");
+    prop_assert!(
+        k.impacts
+            .iter()
+            .all(|i| i.t.is_finite() && i.theta_dot.0.is_finite() && i.theta_dot.1.is_finite())
+    );
+    prop_assert!(
+        k.residual_slide.abs() <= k.peak_slide * (1.0 + 1e-12) + 1e-15,
+        "residual {} peak {}",
+        k.residual_slide,
+        k.peak_slide
+    );
+    if let Some(t) = r.overturn_time {
+        prop_assert!(r.overturned);
+        prop_assert!(
+            t <= r.end_time,
+            "overturned at {t}, ended at {}",
+            r.end_time
+        );
+        prop_assert!(
+            r.peak_theta_over_alpha >= 1.0,
+            "{}",
+            r.peak_theta_over_alpha
+        );
+    }
+    if r.overturned && r.overturn_time.is_none() {
+        // Decided in closed form where the history was cut short.
+        prop_assert!(
+            k.cut.is_some()
+                || r.warnings
+                    .iter()
+                    .any(|w| matches!(w, Warning::FreeRockingTruncated(_)))
+        );
+    }
+    prop_assert!(
+        k.impacts.windows(2).all(|w| w[0].t <= w[1].t),
+        "impacts out of order"
+    );
+    // Bounded work.
+    prop_assert!(r.numerics.steps_accepted <= MAX_STEPS + 100_000);
+    prop_assert!(k.impact_count - k.summed_impacts <= MAX_IMPACTS + 1_000);
+    // Free motion followed as far as asked.
+    if let Some(Cut::FreeImpacts(n)) = k.cut {
+        prop_assert_eq!(n, c.max_free_impacts);
+    }
+    // Where friction never binds, the floor is pure rocking's.
+    let mu = c.friction.static_coefficient;
+    let bound = pure.friction.is_some_and(|f| {
+        f.peak.is_some_and(|p| p < mu)
+            && f.initiation.is_none_or(|i| i < mu)
+            && f.first_lift_off.is_none()
+            && f.followed_until.is_none()
+    }) && pure.lift_off.is_none()
+        && pure.rocking_starts <= 1;
+    if mu >= 10.0 && bound {
+        prop_assert_eq!(h.answered_by, AnsweredBy::PureRocking);
+        prop_assert_eq!(r.overturned, pure.overturned);
+        prop_assert_eq!(r.impact_count, pure.impact_count);
+        prop_assert_eq!(&r.warnings, &pure.warnings);
+    }
+    Ok(())
+}
+
+/// The mirror image of a history: the same outcome, impacts and slides,
+/// to the other side.
+fn mirrored(a: &CoulombHistory, b: &CoulombHistory) -> Result<(), TestCaseError> {
+    let (x, y) = (&a.contact, &b.contact);
+    prop_assert_eq!(x.overturned, y.overturned);
+    prop_assert_eq!(x.overturn_side, y.overturn_side.map(|s| -s));
+    prop_assert_eq!(x.impact_count, y.impact_count);
+    prop_assert_eq!(x.cut.is_some(), y.cut.is_some());
+    let scale = x.peak_slide.max(1e-9);
+    prop_assert!(
+        (x.residual_slide + y.residual_slide).abs() <= 1e-6 * scale,
+        "{} vs {}",
+        x.residual_slide,
+        y.residual_slide
+    );
+    prop_assert!((x.end_time - y.end_time).abs() <= 1e-9 * x.end_time.max(1.0));
+    Ok(())
+}
+
+fn run_case(c: &Case) -> Result<(), TestCaseError> {
+    match &c.ground {
+        Ground::Pulse(p) => {
+            let (h, pure) = coulomb(c, *p)?;
+            check(c, &h, &pure)?;
+            let (m, _) = coulomb(c, p.with_amplitude(-p.amplitude))?;
+            mirrored(&h, &m)
+        }
+        Ground::Pair(pair) => {
+            let (h, pure) = coulomb(c, *pair)?;
+            check(c, &h, &pure)?;
+            let flipped = PulsePair::new(
+                pair.horizontal.with_amplitude(-pair.horizontal.amplitude),
+                pair.vertical,
+                pair.delay,
+            );
+            let (m, _) = coulomb(c, flipped)?;
+            mirrored(&h, &m)
+        }
+        Ground::Record(rec) => {
+            let (h, pure) = coulomb(c, rec.clone())?;
+            check(c, &h, &pure)?;
+            let (m, _) = coulomb(c, rec.scaled(-1.0))?;
+            mirrored(&h, &m)
+        }
+        Ground::RecordPair(pair) => {
+            let (h, pure) = coulomb(c, pair.clone())?;
+            check(c, &h, &pure)
+        }
+    }
+}
+
+/// The cases and seed: [`CASES`] from a fixed seed, or as the environment
+/// says (`TOPPLE_FUZZ_CASES`, `TOPPLE_FUZZ_SEED`).
+fn config() -> Config {
+    let env = |name: &str| std::env::var(name).ok().and_then(|v| v.parse::<u64>().ok());
+    Config {
+        cases: env("TOPPLE_FUZZ_CASES").map_or(CASES, |n| n as u32),
+        rng_seed: RngSeed::Fixed(env("TOPPLE_FUZZ_SEED").unwrap_or(0x70_9913)),
+        failure_persistence: None,
+        ..Config::default()
+    }
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// Every valid Coulomb history answers, within bounded work, with
+    /// finite, self-consistent numbers, pure rocking's answer where
+    /// friction never binds, and its mirror image's under −ü_g.
+    #[test]
+    fn every_coulomb_history_is_answered_and_consistent(c in case()) {
+        run_case(&c)?;
+    }
+}
