@@ -52,6 +52,10 @@ pub const SAMPLES: usize = 8;
 /// back strikes the other corner).
 const MAX_CHAINED: u32 = 1_000;
 
+/// Impacts and landings at one instant after which the sequence is taken
+/// at its limit: the block flat on the floor ([`Driver::repeats_at`]).
+const MAX_AT_ONE_INSTANT: u64 = 64;
+
 /// Periods 2π/p of free motion after the ground motion beyond which a
 /// history is a fault ([`SimError::FreeMotionUnended`]).
 const FREE_PERIODS: f64 = 10_000.0;
@@ -320,6 +324,8 @@ struct Driver<'a, G> {
     /// The last impacts of a chattering sequence, (t, |θ̇| after, slip),
     /// for [`Driver::sum_chatter`].
     chatter: Vec<(f64, f64, f64)>,
+    /// The time of the last impact, and how many more followed at it.
+    last_impact: (f64, u64),
 }
 
 /// Simulates `block` on a floor with `friction` under `forcing` from rest,
@@ -449,6 +455,7 @@ pub fn simulate_contact_with<G: Kinematics>(
         free_impacts: 0,
         simulated_impacts: 0,
         chatter: Vec::new(),
+        last_impact: (f64::NAN, 0),
     };
     d.run()?;
     if let Some(mut s) = d.sampler.take() {
@@ -779,7 +786,9 @@ impl<G: Kinematics> Driver<'_, G> {
             gravity: g,
         };
         let end = sliding::stop(&leg, &drive);
-        if let Some(l) = self.weightless_from(t).filter(|&l| l < end) {
+        // (A slide still running where the ground falls away ends there:
+        // `stop` returns that instant.)
+        if let Some(l) = self.weightless_from(t).filter(|&l| l <= end) {
             self.fill(l, Mode::Slide, |t| (0.0, 0.0, leg.displacement(t)));
             return (l, leg.displacement(l), Some(leg.velocity(l)));
         }
@@ -1033,7 +1042,8 @@ impl<G: Kinematics> Driver<'_, G> {
         if let Some(phase) = self.sum_chatter(t, &hit, forced, v_rest) {
             return Some(phase);
         }
-        if hit.theta_dot.abs() <= v_rest || hit.theta_dot * new_side < 0.0 {
+        let stalled = self.repeats_at(t, t);
+        if hit.theta_dot.abs() <= v_rest || hit.theta_dot * new_side < 0.0 || stalled {
             // Lands flat.
             if hit.slip_velocity == 0.0 {
                 return Some(Phase::Stick);
@@ -1066,6 +1076,26 @@ impl<G: Kinematics> Driver<'_, G> {
         })
     }
 
+    /// Whether impacts (landings) have repeated at the instant `t` so
+    /// often ([`MAX_AT_ONE_INSTANT`]) that the sequence, each corner striking in
+    /// turn or the block leaving the floor and landing again without
+    /// turning away, has reached its limit: the block flat on the floor.
+    /// `since` is when the motion that ended in this impact began (a
+    /// flight's take-off, or the impact itself for a chained one).
+    fn repeats_at(&mut self, t: f64, since: f64) -> bool {
+        // (A chattering sequence's impacts come ever closer, but never at
+        // one instant: only impacts after no motion at all count.)
+        if t == self.last_impact.0
+            || (since == self.last_impact.0 && t - since <= 1e-12 * t.abs().max(1.0))
+        {
+            self.last_impact.1 += 1;
+        } else {
+            self.last_impact.1 = 0;
+        }
+        self.last_impact.0 = t;
+        self.last_impact.1 >= MAX_AT_ONE_INSTANT
+    }
+
     /// Counts `n` impacts followed one by one at `t` (free ones after the
     /// ground motion's end).
     fn count_impacts(&mut self, t: f64, n: u64) {
@@ -1075,8 +1105,9 @@ impl<G: Kinematics> Driver<'_, G> {
         }
     }
 
-    /// A chattering sequence of impacts that slide (or hold with η = 1),
-    /// summed in closed form where it has become geometric: below
+    /// A chattering sequence of impacts that slide (or hold with η = 1) in
+    /// free motion, summed in closed form where it has become geometric:
+    /// below
     /// [`CHATTER_VELOCITY`] p α the motion between impacts scales with the
     /// rebound (times and slip velocities as θ̇, slips as θ̇²) while the
     /// ground's pull stays what it is, so that the rebound over two
@@ -1095,7 +1126,13 @@ impl<G: Kinematics> Driver<'_, G> {
         let block = self.block;
         let speed = hit.theta_dot.abs();
         let scale = block.frequency_parameter() * block.slenderness();
-        if !(speed > v_rest && speed <= CHATTER_VELOCITY * scale) {
+        // (Holding impacts with η < 1 are summed by `settle` where that is
+        // exact, else followed one by one.)
+        // Under the ground motion the pull changes while the sequence runs:
+        // it is summed in free motion only, where it is exactly geometric
+        // in the limit.
+        let holds = hit.sticking && block.restitution() < 1.0;
+        if forced || holds || !(speed > v_rest && speed <= CHATTER_VELOCITY * scale) {
             self.chatter.clear();
             return None;
         }
@@ -1116,20 +1153,6 @@ impl<G: Kinematics> Driver<'_, G> {
         }
         let remaining = cycle * q / (1.0 - q);
         let rest = t + remaining;
-        if forced {
-            let threshold = Formulation::Nonlinear.threshold(&block);
-            if rest >= self.forcing.duration()
-                || self
-                    .forcing
-                    .rocks_before(t, t + 2.0 * remaining, &threshold)
-                || self
-                    .forcing
-                    .next_weightless(t, block.gravity())
-                    .is_some_and(|tw| tw <= t + 2.0 * remaining)
-            {
-                return None;
-            }
-        }
         let impacts = (2.0 * (v_rest / speed).ln() / q.ln()).ceil().max(1.0) as u64;
         let x_end = x + (n.2 - b.2) * q * q / (1.0 - q * q);
         self.out.impact_count += impacts;
@@ -1188,7 +1211,11 @@ impl<G: Kinematics> Driver<'_, G> {
             return Ok((None, t1, x1));
         }
         let f = self.friction;
-        let landing = flight::land(&block, f.static_coefficient, f.kinetic_coefficient, &pose1);
+        let landing = if self.repeats_at(t1, t) {
+            flight::land_flat(&block, f.static_coefficient, f.kinetic_coefficient, &pose1)
+        } else {
+            flight::land(&block, f.static_coefficient, f.kinetic_coefficient, &pose1)
+        };
         self.out.impact_count += 1;
         self.count_impacts(t1, 1);
         self.out.events += 1;

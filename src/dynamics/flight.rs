@@ -457,16 +457,28 @@ pub fn land(block: &Block, mu_s: f64, mu_k: f64, pose: &Pose) -> Landing {
             return l;
         }
     }
-    // Flat: both corners stop its fall.
+    land_flat(block, mu_s, mu_k, pose)
+}
+
+/// The landing of a block in `pose` on both corners at once: its fall and
+/// its rotation stopped, its slide slowed by the friction impulse.
+pub fn land_flat(block: &Block, mu_s: f64, mu_k: f64, pose: &Pose) -> Landing {
+    let before = pose.energy(block);
     let pn = (-pose.vy).max(0.0);
     let velocity = if pose.vx.abs() <= mu_s * pn {
         0.0
     } else {
         pose.vx - pose.vx.signum() * mu_k * pn
     };
+    let after = Pose {
+        vx: velocity,
+        vy: 0.0,
+        omega: 0.0,
+        ..*pose
+    };
     Landing {
         landed: Landed::Flat { velocity },
-        energy: (before, energy_of(velocity, 0.0, 0.0).energy(block)),
+        energy: (before, after.energy(block)),
     }
 }
 

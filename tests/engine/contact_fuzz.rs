@@ -344,3 +344,151 @@ proptest! {
         run_case(&c)?;
     }
 }
+
+/// The histories that once hung or failed on a Coulomb floor, each
+/// answered as physics says.
+mod once_failed {
+    use super::*;
+    use topple::dynamics::coulomb::simulate_contact;
+
+    fn one_sine(block: &Block, ratio: f64, a_g: f64) -> Pulse {
+        Pulse::new(
+            PulseShape::OneSine,
+            a_g * block.gravity(),
+            ratio * block.frequency_parameter(),
+        )
+        .expect("valid pulse")
+    }
+
+    fn contact(
+        block: &Block,
+        pulse: &Pulse,
+        mu: f64,
+    ) -> topple::dynamics::coulomb::ContactResponse {
+        let f = Friction::new(mu, None).expect("valid friction");
+        simulate_contact(block, pulse, f, Method::Dop853, 1e-10, 1e-12).expect("answers")
+    }
+
+    #[test]
+    fn a_squat_block_on_mu_10_flies_and_overturns_as_on_mu_3() {
+        // α = 0.68: the friction limit is passed where no slip is
+        // consistent (Painlevé); the pivot holds to the lift-off.
+        let b = Block::new(0.68, 5.0, None, None, None).expect("valid block");
+        let pulse = one_sine(&b, 0.25, 5.0);
+        let (high, three) = (contact(&b, &pulse, 10.0), contact(&b, &pulse, 3.0));
+        assert!(high.overturned && three.overturned);
+        let lift = high.first_flight.expect("flies");
+        let (a, b) = (
+            three.first_flight.expect("flies"),
+            three.overturn_time.expect("over"),
+        );
+        assert!((lift - a).abs() < 1e-9, "{lift} vs {a}");
+        let over = high.overturn_time.expect("overturns");
+        assert!((over - b).abs() < 1e-9, "{over} vs {b}");
+        assert!((lift - 0.4142).abs() < 1e-3, "{lift}");
+    }
+
+    #[test]
+    fn eta_0_on_mu_5_holds_at_its_impacts_and_rests_as_pure_rocking() {
+        let b = Block::new(0.1, 2.0, Some(0.0), None, None).expect("valid block");
+        let pulse = one_sine(&b, 0.5, 0.101);
+        let c = contact(&b, &pulse, 5.0);
+        let problem = Problem {
+            block: b,
+            pulse,
+            formulation: Formulation::Nonlinear,
+        };
+        let pure = simulate(&problem, &options(1_000)).expect("answers");
+        assert_eq!(c.impact_count, pure.impact_count);
+        assert_eq!(c.impact_count, 2);
+        let (x, y) = (c.rest_time.expect("rests"), pure.rest_time.expect("rests"));
+        assert!((x - y).abs() < 1e-9, "{x} vs {y}");
+        assert!(c.impacts.iter().all(|i| i.sticking && i.theta_dot.1 == 0.0));
+    }
+
+    #[test]
+    fn impacts_that_slide_chatter_to_rest_summed_in_closed_form() {
+        // μ = 0.103 is below the (1 − η)/((1 + η) tan α) = 1.11 a holding
+        // impact needs: every impact slides, and the chattering ends.
+        let b = Block::new(0.1, 2.0, Some(0.8), None, None).expect("valid block");
+        let c = contact(&b, &one_sine(&b, 8.0, 0.7), 0.103);
+        assert!(!c.overturned && c.cut.is_none());
+        assert!(c.impacts.iter().any(|i| !i.sticking));
+        assert!(c.summed_impacts > 0, "{}", c.summed_impacts);
+        let rest = c.rest_time.expect("rests");
+        // The last impact followed one by one comes before the summed rest.
+        let last = c.impacts.last().expect("impacts").t;
+        assert!(last < rest && rest - last < 1.0, "{last} {rest}");
+    }
+
+    #[test]
+    fn the_free_impacts_asked_for_are_followed_on_a_coulomb_floor_as_under_pure_rocking() {
+        // η = 1 never rests: cut after 10 free impacts.
+        let b = Block::new(0.035, 1.0, Some(1.0), None, None).expect("valid block");
+        let problem = Problem {
+            block: b,
+            pulse: one_sine(&b, 9.0, 0.2),
+            formulation: Formulation::Nonlinear,
+        };
+        let f = Friction::new(0.04, None).expect("valid friction");
+        let h = run_coulomb(&problem, &options(10), f).expect("answers");
+        assert_eq!(h.contact.cut, Some(Cut::FreeImpacts(10)));
+        assert!(
+            h.response
+                .warnings
+                .contains(&Warning::FreeRockingTruncated(10))
+        );
+        // μ = 10 never binds: the answer and its cut are pure rocking's.
+        let b = Block::new(0.25, 2.14, None, None, None).expect("valid block");
+        let problem = Problem {
+            block: b,
+            pulse: Pulse::new(PulseShape::OneSine, 1.3 * 0.25 * b.gravity(), 3.0 * 2.14)
+                .expect("valid pulse"),
+            formulation: Formulation::Nonlinear,
+        };
+        let f = Friction::new(10.0, None).expect("valid friction");
+        let h = run_coulomb(&problem, &options(3), f).expect("answers");
+        let pure = simulate(&problem, &options(3)).expect("answers");
+        assert_eq!(h.response.impact_count, pure.impact_count);
+        assert_eq!(h.response.impact_count, 4);
+        assert_eq!(h.response.warnings, pure.warnings);
+        assert!(pure.warnings.contains(&Warning::FreeRockingTruncated(3)));
+    }
+
+    #[test]
+    fn no_free_rocking_asked_for_ends_at_the_pulse_with_its_verdict_and_says_so() {
+        let b = Block::new(0.056, 4.2, None, None, None).expect("valid block");
+        let problem = Problem {
+            block: b,
+            pulse: one_sine(&b, 7.0, 0.5),
+            formulation: Formulation::Nonlinear,
+        };
+        let cut = simulate(&problem, &options(0)).expect("answers");
+        let whole = simulate(&problem, &options(1_000)).expect("answers");
+        assert!(whole.overturned && whole.overturn_time.is_some());
+        assert_eq!(cut.overturned, whole.overturned);
+        assert_eq!(cut.overturn_time, None);
+        assert_eq!(cut.end_time, problem.pulse.duration);
+        assert!(cut.warnings.contains(&Warning::FreeRockingTruncated(0)));
+    }
+
+    #[test]
+    fn a_slide_rock_nearing_painleves_limit_jams_and_the_history_ends() {
+        // α = 1.087 on μ = 2 (μ_k = 1.96) under a one-sine of 6.4 g: the
+        // slide-rock's reduced inertia reaches 0 at 2.64 s (the step size
+        // once underflowed there).
+        let b = Block::new(1.0871269159971297, 0.5, Some(0.0), None, None).expect("valid block");
+        let pulse = Pulse::new(PulseShape::OneSine, 62.73490248637098, 0.498084132335692)
+            .expect("valid pulse");
+        let f = Friction::new(1.998214455568104, Some(1.963076023338019)).expect("valid");
+        let c = simulate_contact(&b, &pulse, f, Method::Dop853, 1e-10, 1e-12).expect("answers");
+        let slide_rock_end = c
+            .modes
+            .iter()
+            .find(|m| m.mode == topple::dynamics::contact::Mode::SlideRock)
+            .map(|m| m.to)
+            .expect("slide-rocks");
+        assert!((slide_rock_end - 2.64).abs() < 0.01, "{slide_rock_end}");
+        assert!(c.overturned);
+    }
+}
