@@ -27,6 +27,10 @@ use topple::dynamics::{
 /// Cases per `cargo test` run.
 const CASES: u32 = 600;
 
+/// A case (its history, the mirror one and pure rocking's) taking longer
+/// than this is reported.
+const SLOW_S: f64 = 0.5;
+
 /// The ground motion of a case.
 #[derive(Clone, Debug)]
 #[allow(clippy::large_enum_variant)] // a test's case, built once
@@ -341,7 +345,14 @@ proptest! {
     /// friction never binds, and its mirror image's under −ü_g.
     #[test]
     fn every_coulomb_history_is_answered_and_consistent(c in case()) {
+        let started = std::time::Instant::now();
         run_case(&c)?;
+        // Reported, not asserted (a loaded machine is slower): the soak
+        // script gathers these.
+        let took = started.elapsed();
+        if took.as_secs_f64() > SLOW_S {
+            eprintln!("slow case: {:.3} s: {c:?}", took.as_secs_f64());
+        }
     }
 }
 
