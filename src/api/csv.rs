@@ -786,10 +786,13 @@ fn forensic(r: &ForensicResult, out: &mut String) {
 }
 
 /// A fragility: a row per stripe (intensity in the result's `im`).
-/// Under a vertical motion a last column `lift_off` counts the samples
-/// without a verdict (p is over the others; empty when none was decided).
+/// Under a vertical motion a column `lift_off` counts the samples without
+/// a verdict (p is over the others; empty when none was decided); where a
+/// sample's history reached a bound on its work, a last column `undecided`
+/// counts those.
 fn fragility(r: &FragilityResult, out: &mut String) {
     let lift_off = r.stripes.iter().any(|s| s.lift_off.is_some());
+    let undecided = r.stripes.iter().any(|s| s.undecided.is_some());
     let mut head: Vec<String> = [
         r.im.name(),
         "n",
@@ -805,6 +808,9 @@ fn fragility(r: &FragilityResult, out: &mut String) {
     if lift_off {
         head.push("lift_off".into());
     }
+    if undecided {
+        head.push("undecided".into());
+    }
     row(out, &head);
     for s in &r.stripes {
         let mut cells = vec![
@@ -819,6 +825,9 @@ fn fragility(r: &FragilityResult, out: &mut String) {
         ];
         if lift_off {
             cells.push(cell(&s.lift_off));
+        }
+        if undecided {
+            cells.push(cell(&s.undecided.unwrap_or(0)));
         }
         row(out, &cells);
     }
@@ -1874,12 +1883,22 @@ mod tests {
             undecided: None,
         }];
         r.im = Im::PgvMS;
-        let csv = to_csv(&JobResult::Fragility(r));
+        let csv = to_csv(&JobResult::Fragility(r.clone()));
         assert_eq!(
             lines(&csv),
             vec![
                 "pgv_m_s,n,overturned,p,p_lo_95,p_hi_95,mode_1,mode_2",
                 "0.3,200,58,0.29,0.23,0.35,58,0",
+            ]
+        );
+        // Samples whose history reached a bound on its work: a last column.
+        r.stripes[0].undecided = Some(3);
+        let csv = to_csv(&JobResult::Fragility(r));
+        assert_eq!(
+            lines(&csv),
+            vec![
+                "pgv_m_s,n,overturned,p,p_lo_95,p_hi_95,mode_1,mode_2,undecided",
+                "0.3,200,58,0.29,0.23,0.35,58,0,3",
             ]
         );
     }

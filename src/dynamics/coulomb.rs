@@ -39,7 +39,7 @@ use super::flight::{self, Flight, FlightEnd, Landed, Pose};
 use super::free_rocking;
 use super::integrator::{DenseStep, Method, Rhs, State, Stepper, StepperStats, single_step};
 use super::reactions::reactions_per_mass_vertical;
-use super::response::{Limit, OverturnMode};
+use super::response::{Limit, MAX_IMPACTS, MAX_STEPS, OverturnMode};
 use super::separatrix::{FreeOutcome, decide};
 use super::simulate::{REST_VELOCITY, SimError};
 use super::slide_rock::{self, SlideRockLeg, SlideRockRhs};
@@ -59,14 +59,6 @@ const MAX_AT_ONE_INSTANT: u64 = 64;
 /// Periods 2π/p of free motion after the ground motion beyond which a
 /// history is a fault ([`SimError::FreeMotionUnended`]).
 const FREE_PERIODS: f64 = 10_000.0;
-
-/// The most impacts one history follows one by one (those summed in closed
-/// form aside): where they are reached it ends there, cut short
-/// ([`Limit::Impacts`]).
-pub const MAX_IMPACTS: u64 = 100_000;
-
-/// The most integration steps of one history ([`Limit::Steps`]).
-pub const MAX_STEPS: u64 = 2_000_000;
 
 /// Impacts of a chattering sequence compared before it is summed: their
 /// rebound ratios over two impacts (one on each side) must agree to

@@ -105,6 +105,14 @@ pub enum Warning {
     NearSeparatrix,
 }
 
+/// The most impacts one history follows one by one (those summed in closed
+/// form aside): where they are reached it ends there, cut short
+/// ([`Limit::Impacts`]), on any floor.
+pub const MAX_IMPACTS: u64 = 100_000;
+
+/// The most integration steps of one history ([`Limit::Steps`]).
+pub const MAX_STEPS: u64 = 2_000_000;
+
 /// A bound on the work of one history ([`Warning::LimitReached`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Limit {

@@ -45,8 +45,7 @@ pub const ROCKING_IMPACT_VELOCITY: f64 = 1e-2;
 /// Most impacts stored in a response's list (the count is always complete).
 pub const MAX_LISTED_IMPACTS: usize = 10_000;
 
-use super::coulomb::MAX_IMPACTS;
-use super::response::Limit;
+use super::response::{Limit, MAX_IMPACTS};
 
 /// A block, a ground motion (a [`Pulse`] unless said otherwise) and an
 /// equation of motion.

@@ -15,9 +15,9 @@ use std::sync::Arc;
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
-use topple::dynamics::coulomb::{Cut, MAX_IMPACTS, MAX_STEPS};
+use topple::dynamics::coulomb::Cut;
 use topple::dynamics::floor::{AnsweredBy, CoulombHistory, run_coulomb};
-use topple::dynamics::response::Warning;
+use topple::dynamics::response::{MAX_IMPACTS, MAX_STEPS, Warning};
 use topple::dynamics::sliding::{Friction, Kinematics};
 use topple::dynamics::{
     Block, Formulation, Method, Options, Problem, Pulse, PulsePair, PulseShape, Record, RecordPair,
