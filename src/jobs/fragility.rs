@@ -378,8 +378,8 @@ fn uncertain(
 }
 
 impl FragilitySpec {
-    /// Validates into a runnable job.
-    pub fn validate(&self) -> Result<FragilityJob, SpecError> {
+    /// The block: α and p, or b and h, each a number or a distribution.
+    fn validate_block(&self) -> Result<UncertainBlockNorm, SpecError> {
         let b = super::spec::required(self.block.as_ref(), "/block")?;
         let g = b.g.unwrap_or(9.81);
         if !(g.is_finite() && g > 0.0) {
@@ -436,8 +436,13 @@ impl FragilitySpec {
                 ));
             }
         }
-        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let vertical = match &self.vertical {
+        Ok(block)
+    }
+
+    /// The vertical motion in proportion: its ratio, a number or a
+    /// distribution (a fixed 0 is none).
+    fn validate_vertical(&self) -> Result<Option<UncertainVerticalNorm>, SpecError> {
+        Ok(match &self.vertical {
             None => None,
             Some(v) => {
                 let ratio = uncertain(
@@ -460,8 +465,25 @@ impl FragilitySpec {
                     .filter(|r| *r != UncertainNorm::Fixed(0.0))
                     .map(|ratio| UncertainVerticalNorm { ratio })
             }
-        };
-        let (pulse, ground_motions, closed_form) = match (&self.pulse, &self.ground_motions) {
+        })
+    }
+
+    /// The ground: a pulse family with its frequency (a number or a
+    /// distribution), or named records (read with gravity `g`); whether a
+    /// closed form exists.
+    #[allow(clippy::type_complexity)]
+    fn validate_ground(
+        &self,
+        g: f64,
+    ) -> Result<
+        (
+            Option<UncertainPulseNorm>,
+            Option<Vec<NamedMotionNorm>>,
+            bool,
+        ),
+        SpecError,
+    > {
+        Ok(match (&self.pulse, &self.ground_motions) {
             (Some(_), Some(_)) => {
                 return Err(SpecError::at(
                     "/ground_motions",
@@ -603,7 +625,15 @@ impl FragilitySpec {
                     .collect::<Result<Vec<_>, SpecError>>()?;
                 (None, Some(motions), true)
             }
-        };
+        })
+    }
+
+    /// Validates into a runnable job.
+    pub fn validate(&self) -> Result<FragilityJob, SpecError> {
+        let block = self.validate_block()?;
+        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let vertical = self.validate_vertical()?;
+        let (pulse, ground_motions, closed_form) = self.validate_ground(block.g)?;
         let with_vertical = vertical.is_some()
             || ground_motions
                 .iter()
