@@ -258,14 +258,14 @@ pub fn impact(
     // Holding: the landing corner (−s b, −h from the centre) stops.
     let w = block.restitution() * theta_dot + h * slip_velocity / i_o;
     let (pt, pn) = (h * w - xd, -side * b * w - yd);
+    let holds = ImpactOutcome {
+        theta_dot: w,
+        slip_velocity: 0.0,
+        sticking: true,
+        energy: (before, energy(h * w, -side * b * w, w)),
+    };
     if pt.abs() <= mu_s * pn {
-        let (xa, ya) = (h * w, -side * b * w);
-        return ImpactOutcome {
-            theta_dot: w,
-            slip_velocity: 0.0,
-            sticking: true,
-            energy: (before, energy(xa, ya, w)),
-        };
+        return holds;
     }
     // Sliding: P_t = κ P_n, κ = ±μ_k as the holding impulse pointed.
     let kappa = pt.signum() * mu_k;
@@ -275,13 +275,7 @@ pub fn impact(
         // No sliding impact is consistent (the friction impulse would
         // drive the corner into the floor: Painlevé's paradox at an
         // impact, e.g. η → 0 with μ below cot α): the corner holds.
-        let (xa, ya) = (h * w, -side * b * w);
-        return ImpactOutcome {
-            theta_dot: w,
-            slip_velocity: 0.0,
-            sticking: true,
-            energy: (before, energy(xa, ya, w)),
-        };
+        return holds;
     }
     let w = theta_dot + (side * b - h * kappa) * pn / i_c;
     let (xa, ya) = (xd + kappa * pn, yd + pn);
