@@ -113,6 +113,16 @@ pub const MAX_IMPACTS: u64 = 100_000;
 /// The most integration steps of one history ([`Limit::Steps`]).
 pub const MAX_STEPS: u64 = 2_000_000;
 
+impl Response {
+    /// Whether the history reached a bound on its work before its outcome
+    /// was decided ([`Warning::LimitReached`]): undecided past there.
+    pub fn reached_limit(&self) -> bool {
+        self.warnings
+            .iter()
+            .any(|w| matches!(w, Warning::LimitReached(..)))
+    }
+}
+
 /// A bound on the work of one history ([`Warning::LimitReached`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Limit {

@@ -944,11 +944,7 @@ impl Verdict {
     fn of(r: &Response) -> Verdict {
         if r.lift_off.is_some() {
             Verdict::LiftOff
-        } else if r
-            .warnings
-            .iter()
-            .any(|w| matches!(w, crate::dynamics::response::Warning::LimitReached(..)))
-        {
+        } else if r.reached_limit() {
             Verdict::Undecided
         } else if r.overturned {
             Verdict::Topples(r.mode.map_or(0, |m| m.number()))

@@ -74,82 +74,80 @@ pub fn friction_spectrum(
     let started = Instant::now();
     control.add_total(req.levels.len() as u64);
     let unit = req.block.slenderness() * req.block.gravity();
-    let results: Vec<Result<(FrictionPoint, ScanStats), ScanError>> =
-        req.levels
-            .par_iter()
-            .map(|&level| {
-                control.check()?;
-                let pulse = Pulse::new(
-                    req.shape,
-                    level * unit,
-                    req.omega_ratio * req.block.frequency_parameter(),
-                )
-                .map_err(|_| ScanError::Simulation(SimError::Tolerance))?;
-                let mut opts = Options::history(req.solver);
-                opts.record_impacts = false;
-                let r: Response = match req.vertical {
-                    None => simulate(
-                        &Problem {
-                            block: req.block,
-                            pulse,
-                            formulation: req.formulation,
-                        },
-                        &opts,
-                    )?,
-                    Some(vertical) => simulate(
-                        &Problem {
-                            block: req.block,
-                            pulse: vertical.pair(pulse)?,
-                            formulation: req.formulation,
-                        },
-                        &opts,
-                    )?,
-                };
-                control.add_done(1);
-                // A block that never rocks needs at most its at-rest demand, which
-                // the tracker always reports; the fallback is never taken.
-                let f = r
-                    .friction
-                    .unwrap_or(crate::dynamics::response::FrictionDemand {
-                        peak: Some(0.0),
-                        peak_time: Some(0.0),
-                        initiation: None,
-                        first_sliding: None,
-                        first_lift_off: None,
-                        followed_until: None,
-                    });
-                let stats = ScanStats {
-                    simulations: 1,
-                    steps: r.numerics.steps_accepted,
-                    rejected: r.numerics.steps_rejected,
-                    rhs_evaluations: r.numerics.rhs_evaluations,
-                    events: r.numerics.events,
-                    max_error_estimate: r.numerics.error_estimate,
-                    probes: 0,
-                    undecided: u64::from(r.warnings.iter().any(|w| {
-                        matches!(w, crate::dynamics::response::Warning::LimitReached(..))
-                    })),
-                };
-                // The ground falling away faster than gravity lifts the block
-                // off as surely as f_z → 0⁺ while rocking: no demand is finite.
-                let lift_off = match (f.first_lift_off, r.lift_off) {
-                    (Some(a), Some(b)) => Some(a.min(b)),
-                    (a, b) => a.or(b),
-                };
-                Ok((
-                    FrictionPoint {
-                        level,
-                        peak_demand: f.peak.filter(|_| r.lift_off.is_none()),
-                        initiation_demand: f.initiation,
-                        overturned: r.overturned,
-                        mode: r.mode.map(|m| m.number()),
-                        lift_off,
-                        followed_until: f.followed_until.filter(|_| r.overturned),
+    let results: Vec<Result<(FrictionPoint, ScanStats), ScanError>> = req
+        .levels
+        .par_iter()
+        .map(|&level| {
+            control.check()?;
+            let pulse = Pulse::new(
+                req.shape,
+                level * unit,
+                req.omega_ratio * req.block.frequency_parameter(),
+            )
+            .map_err(|_| ScanError::Simulation(SimError::Tolerance))?;
+            let mut opts = Options::history(req.solver);
+            opts.record_impacts = false;
+            let r: Response = match req.vertical {
+                None => simulate(
+                    &Problem {
+                        block: req.block,
+                        pulse,
+                        formulation: req.formulation,
                     },
-                    stats,
-                ))
-            })
-            .collect();
+                    &opts,
+                )?,
+                Some(vertical) => simulate(
+                    &Problem {
+                        block: req.block,
+                        pulse: vertical.pair(pulse)?,
+                        formulation: req.formulation,
+                    },
+                    &opts,
+                )?,
+            };
+            control.add_done(1);
+            // A block that never rocks needs at most its at-rest demand, which
+            // the tracker always reports; the fallback is never taken.
+            let f = r
+                .friction
+                .unwrap_or(crate::dynamics::response::FrictionDemand {
+                    peak: Some(0.0),
+                    peak_time: Some(0.0),
+                    initiation: None,
+                    first_sliding: None,
+                    first_lift_off: None,
+                    followed_until: None,
+                });
+            let stats = ScanStats {
+                simulations: 1,
+                steps: r.numerics.steps_accepted,
+                rejected: r.numerics.steps_rejected,
+                rhs_evaluations: r.numerics.rhs_evaluations,
+                events: r.numerics.events,
+                max_error_estimate: r.numerics.error_estimate,
+                probes: 0,
+                undecided: u64::from(r.reached_limit()),
+            };
+            // The ground falling away faster than gravity lifts the block
+            // off as surely as f_z → 0⁺ while rocking: no demand is finite.
+            let lift_off = match (f.first_lift_off, r.lift_off) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+            Ok((
+                FrictionPoint {
+                    level,
+                    peak_demand: f.peak.filter(|_| r.lift_off.is_none()),
+                    initiation_demand: f.initiation,
+                    overturned: r.overturned,
+                    mode: r.mode.map(|m| m.number()),
+                    lift_off,
+                    followed_until: f.followed_until.filter(|_| r.overturned),
+                },
+                stats,
+            ))
+        })
+        .collect();
     let mut points = Vec::with_capacity(results.len());
     let mut stats = ScanStats::default();
     for r in results {

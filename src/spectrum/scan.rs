@@ -16,7 +16,6 @@
 //! neighbouring scan points, can be missed.
 
 use crate::dynamics::floor::run_coulomb;
-use crate::dynamics::response::Warning;
 use crate::dynamics::sliding::{Friction, Kinematics};
 use crate::dynamics::{
     Block, Forcing, Options, Problem, Pulse, PulsePair, Record, RecordPair, SimError, Solver,
@@ -41,7 +40,7 @@ pub struct Signature {
     /// floor, with its residual slide's size inside the band.
     pub in_band: bool,
     /// The history reached a bound on its work before its outcome was
-    /// decided ([`Warning::LimitReached`]): undecided, its own outcome,
+    /// decided ([`Response::reached_limit`](crate::dynamics::Response::reached_limit)): undecided, its own outcome,
     /// left to a mixed zone, never a transition.
     pub undecided: bool,
 }
@@ -315,10 +314,7 @@ impl<G: Scalable> Line<'_, G> {
         stats.rhs_evaluations += r.numerics.rhs_evaluations;
         stats.events += r.numerics.events;
         stats.max_error_estimate = stats.max_error_estimate.max(r.numerics.error_estimate);
-        let undecided = r
-            .warnings
-            .iter()
-            .any(|w| matches!(w, Warning::LimitReached(..)));
+        let undecided = r.reached_limit();
         stats.undecided += u64::from(undecided);
         Ok(Signature {
             undecided,
