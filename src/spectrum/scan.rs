@@ -40,8 +40,9 @@ pub struct Signature {
     /// floor, with its residual slide's size inside the band.
     pub in_band: bool,
     /// The history reached a bound on its work before its outcome was
-    /// decided ([`Response::reached_limit`](crate::dynamics::Response::reached_limit)): undecided, its own outcome,
-    /// left to a mixed zone, never a transition.
+    /// decided
+    /// ([`Response::reached_limit`](crate::dynamics::Response::reached_limit)):
+    /// undecided, its own outcome, left to a mixed zone, never a transition.
     pub undecided: bool,
 }
 
