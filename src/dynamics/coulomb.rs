@@ -1280,6 +1280,22 @@ impl<G: Kinematics> Driver<'_, G> {
         Ok((Some(next.0), t1, next.1))
     }
 
+    /// A slide-rock on `side` jamming at `t` in state `y`, its pivot at `x`
+    /// slipping at `v`: the pivot stops at once (an impulse of friction,
+    /// [`flight::jam`]), and the block rocks on it, or leaves the floor
+    /// where that impulse would pull.
+    fn jam(&mut self, t: f64, side: f64, y: State, x: f64, v: f64) -> Phase {
+        self.out.events += 1;
+        let pose = Pose::on_corner(&self.block, side, y[0], y[1], x, v);
+        match flight::jam(&self.block, side, &pose) {
+            Some(w) => {
+                self.hold = true;
+                Phase::Rock { side, y: [y[0], w] }
+            }
+            None => self.take_off_from_corner(t, side, y, x, v),
+        }
+    }
+
     /// A slide-rock stretch: the next phase, when, and the slip there.
     #[allow(clippy::too_many_arguments)]
     fn slide_rock(
@@ -1399,23 +1415,8 @@ impl<G: Kinematics> Driver<'_, G> {
                 if slide_rock::inertia(alpha, side, kappa, y1[0])
                     <= 2.0 * slide_rock::JAM_INERTIA =>
             {
-                // A jam: the sliding pivot stops at once (an impulse of
-                // friction), and the block rocks on it, or leaves the
-                // floor where that impulse would pull.
-                self.out.events += 1;
                 let (x1, v1) = leg.slip(t1, y1);
-                let pose = Pose::on_corner(&block, side, y1[0], y1[1], x1, v1);
-                let next = match flight::jam(&block, side, &pose) {
-                    Some(w) => {
-                        self.hold = true;
-                        Phase::Rock {
-                            side,
-                            y: [y1[0], w],
-                        }
-                    }
-                    None => self.take_off_from_corner(t1, side, y1, x1, v1),
-                };
-                Ok((Some(next), t1, x1))
+                Ok((Some(self.jam(t1, side, y1, x1, v1)), t1, x1))
             }
             // (A leg is decided on a rock only; a slide-rock's would be a
             // take-off as its end.)
