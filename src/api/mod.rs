@@ -80,7 +80,7 @@ impl utoipa::Modify for BearerScheme {
 }
 
 /// Every result document carries `engine` (added where documents are made,
-/// in [`crate::jobs::key::with_engine`]): the result schemas say so.
+/// in [`crate::jobs::key::engine_doc`]): the result schemas say so.
 struct EngineProvenance;
 
 impl utoipa::Modify for EngineProvenance {

@@ -227,6 +227,7 @@ impl ContactDoc {
 
 #[cfg(test)]
 mod tests {
+    use crate::jobs::kind::Validate;
     use crate::jobs::time_history::{TimeHistoryResult, TimeHistorySpec};
     use serde_json::{Value, json};
 

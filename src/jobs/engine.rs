@@ -21,21 +21,15 @@ pub const BUILD_COMMIT: Option<&str> = option_env!("TOPPLE_COMMIT");
 /// What computed a result: `{"name": "topple", "version", "numerics", "commit"?}`.
 /// Every result document carries it, so a report can say what computed it.
 pub fn engine_info() -> serde_json::Value {
-    let mut info = serde_json::json!({
-        "name": "topple",
-        "version": env!("CARGO_PKG_VERSION"),
-        "numerics": ENGINE_VERSION,
-    });
-    if let Some(commit) = BUILD_COMMIT.filter(|c| !c.is_empty()) {
-        info["commit"] = commit.into();
-    }
-    info
+    serde_json::to_value(engine_doc()).unwrap_or_default()
 }
 
-/// `doc` with its `engine` provenance.
-pub fn with_engine(mut doc: serde_json::Value) -> serde_json::Value {
-    if let Some(o) = doc.as_object_mut() {
-        o.insert("engine".into(), engine_info());
+/// What computed a result, as every result document holds it in `engine`.
+pub fn engine_doc() -> super::names::EngineDoc {
+    super::names::EngineDoc {
+        name: "topple".into(),
+        version: env!("CARGO_PKG_VERSION").into(),
+        numerics: ENGINE_VERSION.into(),
+        commit: BUILD_COMMIT.filter(|c| !c.is_empty()).map(String::from),
     }
-    doc
 }

@@ -79,7 +79,7 @@ pub struct AmplitudeRange {
 #[serde(deny_unknown_fields)]
 pub struct ForensicSpec {
     /// "forensic".
-    #[schema(value_type = crate::jobs::schema::ForensicKind)]
+    #[schema(value_type = crate::jobs::names::tag::Forensic)]
     pub kind: String,
     /// The pulse family (`type`, `n`, …); frequency and amplitude vary.
     /// Give this or `ground_motion`.
@@ -154,7 +154,6 @@ pub struct Observation {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ForensicJob {
     /// "forensic".
-    #[schema(value_type = crate::jobs::schema::ForensicKind)]
     pub kind: tag::Forensic,
     /// Pulse family (pulse queries).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -269,9 +268,11 @@ impl ObservationSpec {
     }
 }
 
-impl ForensicSpec {
+impl crate::jobs::kind::Validate for ForensicSpec {
+    type Job = ForensicJob;
+
     /// Validates into a runnable job.
-    pub fn validate(&self) -> Result<ForensicJob, SpecError> {
+    fn validate(&self) -> Result<ForensicJob, SpecError> {
         match (&self.pulse, &self.ground_motion) {
             (Some(_), Some(_)) => Err(SpecError::at(
                 "/ground_motion",
@@ -291,7 +292,9 @@ impl ForensicSpec {
             }
         })
     }
+}
 
+impl ForensicSpec {
     fn observations(&self) -> Result<Vec<Observation>, SpecError> {
         let specs = self.observations.as_ref().ok_or_else(|| {
             SpecError::at(
@@ -923,7 +926,6 @@ pub struct ForensicNumerics {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct ForensicResult {
     /// "forensic".
-    #[schema(value_type = crate::jobs::schema::ForensicKind)]
     pub kind: tag::Forensic,
     /// "linear" | "nonlinear".
     #[serde(with = "super::names::formulation")]
@@ -988,6 +990,8 @@ pub struct ForensicResult {
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
 }
+
+crate::envelope!(ForensicResult);
 
 impl ForensicJob {
     /// The amplitudes examined, g: a pulse's peak, or the scaled record's
@@ -1181,11 +1185,13 @@ impl ForensicJob {
 pub struct Forensic;
 
 impl crate::jobs::kind::Kind for Forensic {
-    const NAME: &'static str = "forensic";
+    const NAME: &'static str = crate::jobs::names::tag::Forensic::NAME;
+    const EXAMPLE: &'static str = include_str!("examples/forensic.json");
     const LABEL: &'static str = "Forensic query";
     type Spec = ForensicSpec;
     type Job = ForensicJob;
     type Result = ForensicResult;
+    type Part = super::scan_parts::PartDoc;
 
     fn parse(value: &serde_json::Value) -> Result<ForensicJob, SpecError> {
         // Serde would also read a block from an array, by position.
@@ -1201,18 +1207,20 @@ impl crate::jobs::kind::Kind for Forensic {
                 }
             }
         }
+        use crate::jobs::kind::Validate;
         super::spec::from_value::<ForensicSpec>(value, "")?.validate()
     }
 
     fn run(
         job: &ForensicJob,
         control: &Control,
-    ) -> Result<serde_json::Value, crate::jobs::JobError> {
-        match job.part {
+    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
+        use crate::jobs::kind::Output;
+        Ok(match job.part {
             // A task's transitions, assembled by the service.
-            Some(p) => crate::jobs::kind::document(&job.run_part(p, control)?),
-            None => crate::jobs::kind::document(&job.run(control)?),
-        }
+            Some(p) => Output::Part(job.run_part(p, control)?),
+            None => Output::Whole(job.run(control)?),
+        })
     }
 
     /// Scan points of every observation's lines, each bisected down to the
@@ -1278,9 +1286,9 @@ impl crate::jobs::kind::Kind for Forensic {
     /// from them as one task would.
     fn assemble(
         job: &ForensicJob,
-        parts: Vec<serde_json::Value>,
-    ) -> Result<serde_json::Value, crate::jobs::JobError> {
-        crate::jobs::kind::document(&job.result_of(parts)?)
+        parts: Vec<super::scan_parts::PartDoc>,
+    ) -> Result<ForensicResult, crate::jobs::JobError> {
+        job.result_of(&parts)
     }
 }
 

@@ -207,7 +207,7 @@ pub struct UncertainVerticalNorm {
 #[serde(deny_unknown_fields)]
 pub struct FragilitySpec {
     /// "fragility".
-    #[schema(value_type = crate::jobs::schema::FragilityKind)]
+    #[schema(value_type = crate::jobs::names::tag::Fragility)]
     pub kind: String,
     /// The block (uncertain).
     #[schema(required = true, value_type = UncertainBlockSpec)]
@@ -300,7 +300,6 @@ pub struct NamedMotionNorm {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct FragilityJob {
     /// "fragility".
-    #[schema(value_type = crate::jobs::schema::FragilityKind)]
     pub kind: tag::Fragility,
     /// The block.
     pub block: UncertainBlockNorm,
@@ -627,9 +626,13 @@ impl FragilitySpec {
             }
         })
     }
+}
+
+impl crate::jobs::kind::Validate for FragilitySpec {
+    type Job = FragilityJob;
 
     /// Validates into a runnable job.
-    pub fn validate(&self) -> Result<FragilityJob, SpecError> {
+    fn validate(&self) -> Result<FragilityJob, SpecError> {
         let block = self.validate_block()?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let vertical = self.validate_vertical()?;
@@ -845,7 +848,6 @@ pub struct FragilityNumerics {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct FragilityResult {
     /// "fragility".
-    #[schema(value_type = crate::jobs::schema::FragilityKind)]
     pub kind: tag::Fragility,
     /// The intensity measure.
     #[schema(value_type = crate::jobs::survival::ImName)]
@@ -880,6 +882,8 @@ pub struct FragilityResult {
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
 }
+
+crate::envelope!(FragilityResult);
 
 /// The ChaCha8 stream of stripe `k`, chunk `c`.
 fn stream(seed: u64, k: usize, c: usize) -> ChaCha8Rng {
@@ -1501,22 +1505,24 @@ impl FragilityJob {
 pub struct Fragility;
 
 impl crate::jobs::kind::Kind for Fragility {
-    const NAME: &'static str = "fragility";
+    const NAME: &'static str = crate::jobs::names::tag::Fragility::NAME;
+    const EXAMPLE: &'static str = include_str!("examples/fragility.json");
     const LABEL: &'static str = "Fragility";
     type Spec = FragilitySpec;
     type Job = FragilityJob;
     type Result = FragilityResult;
+    type Part = FragilityPart;
 
-    fn parse(value: &Value) -> Result<FragilityJob, SpecError> {
-        super::spec::from_value::<FragilitySpec>(value, "")?.validate()
-    }
-
-    fn run(job: &FragilityJob, control: &Control) -> Result<Value, JobError> {
+    fn run(
+        job: &FragilityJob,
+        control: &Control,
+    ) -> Result<crate::jobs::kind::Output<Self>, JobError> {
+        use crate::jobs::kind::Output;
         if job.part.is_some() {
             // A task's counts, assembled by the service.
-            return crate::jobs::kind::document(&job.run_part(control)?);
+            return Ok(Output::Part(job.run_part(control)?));
         }
-        crate::jobs::kind::document(&job.run(control)?)
+        Ok(Output::Whole(job.run(control)?))
     }
 
     fn size(job: &FragilityJob) -> crate::jobs::kind::Size {
@@ -1593,12 +1599,10 @@ impl crate::jobs::kind::Kind for Fragility {
     }
 
     /// The parts' counts summed per stripe, and the fit made on the sums.
-    fn assemble(job: &FragilityJob, parts: Vec<Value>) -> Result<Value, JobError> {
-        let parts: Vec<FragilityPart> = parts
-            .into_iter()
-            .map(serde_json::from_value)
-            .collect::<Result<_, _>>()
-            .map_err(|e| JobError::Task(format!("a task's result does not read: {e}")))?;
-        crate::jobs::kind::document(&job.assemble(&parts)?)
+    fn assemble(
+        job: &FragilityJob,
+        parts: Vec<FragilityPart>,
+    ) -> Result<FragilityResult, JobError> {
+        job.assemble(&parts)
     }
 }

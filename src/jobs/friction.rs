@@ -23,7 +23,7 @@ pub const MAX_AMPLITUDES: usize = 100_000;
 #[schema(as = FrictionSpectrumSpec)]
 pub struct FrictionSpec {
     /// "friction_spectrum".
-    #[schema(value_type = crate::jobs::schema::FrictionSpectrumKind)]
+    #[schema(value_type = crate::jobs::names::tag::FrictionSpectrum)]
     pub kind: String,
     /// The block.
     #[schema(required = true, value_type = BlockSpec)]
@@ -63,7 +63,6 @@ pub struct FrictionSpec {
 #[schema(as = FrictionSpectrumJob)]
 pub struct FrictionJob {
     /// "friction_spectrum".
-    #[schema(value_type = crate::jobs::schema::FrictionSpectrumKind)]
     pub kind: tag::FrictionSpectrum,
     /// Block.
     pub block: BlockNorm,
@@ -85,9 +84,11 @@ pub struct FrictionJob {
     pub vertical: Option<super::vertical::VerticalPulseNorm>,
 }
 
-impl FrictionSpec {
+impl crate::jobs::kind::Validate for FrictionSpec {
+    type Job = FrictionJob;
+
     /// Validates into a runnable job.
-    pub fn validate(&self) -> Result<FrictionJob, SpecError> {
+    fn validate(&self) -> Result<FrictionJob, SpecError> {
         let block = super::spec::the_block(self.block.as_ref())?;
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
@@ -211,7 +212,6 @@ pub struct FrictionPointDoc {
 #[schema(as = FrictionSpectrumResult)]
 pub struct FrictionResult {
     /// "friction_spectrum".
-    #[schema(value_type = crate::jobs::schema::FrictionSpectrumKind)]
     pub kind: tag::FrictionSpectrum,
     /// ω_p/p.
     pub omega_ratio: f64,
@@ -234,6 +234,8 @@ pub struct FrictionResult {
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
 }
+
+crate::envelope!(FrictionResult);
 
 impl FrictionJob {
     /// Runs the job under `control`.
@@ -291,21 +293,19 @@ pub struct FrictionSpectrum;
 const FRICTION_COST: f64 = 6.0;
 
 impl crate::jobs::kind::Kind for FrictionSpectrum {
-    const NAME: &'static str = "friction_spectrum";
+    const NAME: &'static str = crate::jobs::names::tag::FrictionSpectrum::NAME;
+    const EXAMPLE: &'static str = include_str!("examples/friction_spectrum.json");
     const LABEL: &'static str = "Friction spectrum";
     type Spec = FrictionSpec;
     type Job = FrictionJob;
     type Result = FrictionResult;
-
-    fn parse(value: &serde_json::Value) -> Result<FrictionJob, SpecError> {
-        super::spec::from_value::<FrictionSpec>(value, "")?.validate()
-    }
+    type Part = crate::jobs::kind::NoPart;
 
     fn run(
         job: &FrictionJob,
         control: &Control,
-    ) -> Result<serde_json::Value, crate::jobs::JobError> {
-        crate::jobs::kind::document(&job.run(control)?)
+    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
+        Ok(crate::jobs::kind::Output::Whole(job.run(control)?))
     }
 
     fn size(job: &FrictionJob) -> crate::jobs::kind::Size {

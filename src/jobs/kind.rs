@@ -14,6 +14,7 @@ use serde_json::Value;
 use utoipa::ToSchema;
 
 use super::error::{JobError, SpecError};
+use super::names::EngineDoc;
 use super::warning::WarningDoc;
 use crate::spectrum::Control;
 
@@ -56,27 +57,86 @@ impl Size {
     }
 }
 
+/// A validated spec: what a kind's spec becomes once its every field is
+/// checked and every default filled in.
+pub trait Validate {
+    /// The validated job.
+    type Job;
+    /// The job, or the first field at fault.
+    fn validate(&self) -> Result<Self::Job, SpecError>;
+}
+
+/// What every result document ends with, typed: the warnings (the run's,
+/// then the job's input warnings) and the engine that computed it.
+pub trait Envelope {
+    /// Appends the job's input warnings to the result's own.
+    fn add_warnings(&mut self, found: Vec<WarningDoc>);
+    /// Names the engine that computed the result.
+    fn set_engine(&mut self, engine: EngineDoc);
+}
+
+/// Implements [`Envelope`] for result types whose `warnings` is a
+/// `Vec<WarningDoc>` and `engine` an `Option<EngineDoc>`.
+#[macro_export]
+macro_rules! envelope {
+    ($($result:ty),* $(,)?) => {
+        $(
+            impl $crate::jobs::kind::Envelope for $result {
+                fn add_warnings(&mut self, found: Vec<$crate::jobs::warning::WarningDoc>) {
+                    self.warnings.extend(found);
+                }
+                fn set_engine(&mut self, engine: $crate::jobs::names::EngineDoc) {
+                    self.engine = Some(engine);
+                }
+            }
+        )*
+    };
+}
+
+/// The part of a kind that is never split: a task of it is the whole job.
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+pub enum NoPart {}
+
+/// What a task of a kind computes: the job's result, or (a task of a job
+/// split into parts) its part, assembled by [`Kind::assemble`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged, bound = "")]
+pub enum Output<K: Kind + ?Sized> {
+    /// The result of the whole job (or of a job of its own that the job was
+    /// split into).
+    Whole(K::Result),
+    /// A part, read back and assembled once every task is done.
+    Part(K::Part),
+}
+
 /// A job kind.
 pub trait Kind: 'static {
     /// Its name in specs, results and `?kind=`: `"time_history"`.
     const NAME: &'static str;
     /// Its name for people: "Time history".
     const LABEL: &'static str;
+    /// A spec of this kind, as the docs, tests and the page show it first.
+    const EXAMPLE: &'static str;
     /// The spec as users write it (its schema is the API's input).
-    type Spec: DeserializeOwned + ToSchema;
+    type Spec: DeserializeOwned + ToSchema + Validate<Job = Self::Job>;
     /// The validated job; serialises to the canonical (normalised) spec.
     type Job: Clone + Debug + PartialEq + Serialize + ToSchema;
     /// The result document.
-    type Result: Clone + Debug + PartialEq + Serialize + DeserializeOwned + ToSchema;
+    type Result: Clone + Debug + PartialEq + Serialize + DeserializeOwned + ToSchema + Envelope;
+    /// What a task of a job split into parts computes ([`NoPart`] for a
+    /// kind whose tasks are whole jobs).
+    type Part: Debug + Serialize + DeserializeOwned;
 
     /// Validates a spec of this kind (a JSON object whose `kind` is
-    /// [`Kind::NAME`]).
-    fn parse(value: &Value) -> Result<Self::Job, SpecError>;
+    /// [`Kind::NAME`]): read as [`Kind::Spec`], then validated.
+    fn parse(value: &Value) -> Result<Self::Job, SpecError> {
+        super::spec::from_value::<Self::Spec>(value, "")?.validate()
+    }
 
     /// Computes the job under `control` (progress, cancellation): the result
-    /// document before its warnings and engine are added, or — for a task
-    /// of a job split into parts — the part's document.
-    fn run(job: &Self::Job, control: &Control) -> Result<Value, JobError>;
+    /// before its input warnings and engine are added, or — for a task of a
+    /// job split into parts — the part.
+    fn run(job: &Self::Job, control: &Control) -> Result<Output<Self>, JobError>;
 
     /// How big the job is.
     fn size(job: &Self::Job) -> Size;
@@ -114,10 +174,10 @@ pub trait Kind: 'static {
         false
     }
 
-    /// The job's result document from its tasks' documents (several, or a
-    /// part's; in task order), before warnings and engine are added. Only
-    /// kinds that split have several tasks.
-    fn assemble(_job: &Self::Job, parts: Vec<Value>) -> Result<Value, JobError> {
+    /// The job's result from its tasks' parts (several, or a part's; in
+    /// task order), before warnings and engine are added. Only kinds that
+    /// split have several tasks.
+    fn assemble(_job: &Self::Job, parts: Vec<Self::Part>) -> Result<Self::Result, JobError> {
         Err(JobError::Task(format!(
             "a {} job is computed in one task, not {}",
             Self::NAME,
@@ -133,15 +193,15 @@ pub fn document<T: Serialize>(result: &T) -> Result<Value, JobError> {
 
 /// Runs a job of one simulation under `control`: counts it, and refuses
 /// when canceled before it starts.
-pub fn run_one<T: Serialize>(
+pub fn run_one<K: Kind + ?Sized>(
     control: &Control,
-    run: impl FnOnce() -> Result<T, JobError>,
-) -> Result<Value, JobError> {
+    run: impl FnOnce() -> Result<K::Result, JobError>,
+) -> Result<Output<K>, JobError> {
     if control.canceled() {
         return Err(JobError::Canceled);
     }
     control.add_total(1);
     let result = run()?;
     control.add_done(1);
-    document(&result)
+    Ok(Output::Whole(result))
 }

@@ -100,14 +100,7 @@ impl Job {
     /// result document: the kind's document, its input warnings (a task's
     /// part carries none: the assembled result does) and the engine.
     pub fn run(&self, control: &Control) -> Result<serde_json::Value, JobError> {
-        let doc = self.run_document(control)?;
-        if self.is_part() {
-            return Ok(doc);
-        }
-        Ok(engine::with_engine(plausible::with_warnings(
-            doc,
-            self.input_warnings(),
-        )))
+        self.run_document(control)
     }
 
     /// The job's result from its tasks' results (in task order): one task's
@@ -118,10 +111,6 @@ impl Job {
         if parts.len() == 1 && parts[0].get("part").is_none() {
             return Ok(parts.pop().unwrap_or(Value::Null));
         }
-        let doc = self.assemble_documents(parts)?;
-        Ok(engine::with_engine(plausible::with_warnings(
-            doc,
-            self.input_warnings(),
-        )))
+        self.assemble_documents(parts)
     }
 }

@@ -15,6 +15,25 @@ pub mod tag {
     use super::*;
 
     macro_rules! tag {
+        ($(#[doc = $doc:literal])* $name:ident = $value:literal, schema $schema:ident) => {
+            tag!($(#[doc = $doc])* $name = $value);
+
+            impl utoipa::PartialSchema for $name {
+                fn schema() -> utoipa::openapi::RefOr<utoipa::openapi::schema::Schema> {
+                    utoipa::openapi::ObjectBuilder::new()
+                        .schema_type(utoipa::openapi::schema::Type::String)
+                        .description(Some(concat!($($doc),*).trim()))
+                        .enum_values(Some([$value]))
+                        .into()
+                }
+            }
+
+            impl utoipa::ToSchema for $name {
+                fn name() -> std::borrow::Cow<'static, str> {
+                    stringify!($schema).into()
+                }
+            }
+        };
         ($(#[$doc:meta])* $name:ident = $value:literal) => {
             $(#[$doc])*
             #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -49,31 +68,31 @@ pub mod tag {
 
     tag!(
         /// `"time_history"`.
-        TimeHistory = "time_history"
+        TimeHistory = "time_history", schema TimeHistoryKind
     );
     tag!(
         /// `"spectrum"`.
-        Spectrum = "spectrum"
+        Spectrum = "spectrum", schema SpectrumKind
     );
     tag!(
         /// `"friction_spectrum"`.
-        FrictionSpectrum = "friction_spectrum"
+        FrictionSpectrum = "friction_spectrum", schema FrictionSpectrumKind
     );
     tag!(
         /// `"forensic"`.
-        Forensic = "forensic"
+        Forensic = "forensic", schema ForensicKind
     );
     tag!(
         /// `"record_spectrum"`.
-        RecordSpectrum = "record_spectrum"
+        RecordSpectrum = "record_spectrum", schema RecordSpectrumKind
     );
     tag!(
         /// `"survival"`.
-        Survival = "survival"
+        Survival = "survival", schema SurvivalKind
     );
     tag!(
         /// `"fragility"`.
-        Fragility = "fragility"
+        Fragility = "fragility", schema FragilityKind
     );
     tag!(
         /// `"m/s2"`: the unit of a normalised record's samples.

@@ -8,7 +8,6 @@
 //! with the warning next to it.
 
 use crate::numbers::fmt_num;
-use serde_json::Value;
 
 use super::spec::{BlockNorm, GroundMotionNorm};
 use super::warning::WarningDoc;
@@ -165,28 +164,12 @@ pub fn never_rocks_warning(
     })
 }
 
-/// `doc` with the warnings `found` appended to its `warnings` (created when
-/// there is none and there are warnings).
-pub fn with_warnings(mut doc: Value, found: Vec<WarningDoc>) -> Value {
-    if found.is_empty() {
-        return doc;
-    }
-    if let Some(o) = doc.as_object_mut() {
-        let list = o
-            .entry("warnings")
-            .or_insert_with(|| Value::Array(Vec::new()));
-        if let Some(a) = list.as_array_mut() {
-            a.extend(found.iter().filter_map(|w| serde_json::to_value(w).ok()));
-        }
-    }
-    doc
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::jobs::Job;
     use crate::spectrum::Control;
+    use serde_json::Value;
 
     fn run(spec: &str) -> Value {
         Job::parse(spec)

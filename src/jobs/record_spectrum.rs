@@ -104,7 +104,7 @@ pub struct RecordBlockSpec {
 #[serde(deny_unknown_fields)]
 pub struct RecordSpectrumSpec {
     /// "record_spectrum".
-    #[schema(value_type = crate::jobs::schema::RecordSpectrumKind)]
+    #[schema(value_type = crate::jobs::names::tag::RecordSpectrum)]
     pub kind: String,
     /// The record (`dt`, `acc`, `unit`).
     #[schema(required = true, value_type = GroundMotionSpec)]
@@ -172,7 +172,6 @@ pub struct ScaleRangeNorm {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct RecordSpectrumJob {
     /// "record_spectrum".
-    #[schema(value_type = crate::jobs::schema::RecordSpectrumKind)]
     pub kind: tag::RecordSpectrum,
     /// The record, m/s².
     pub ground_motion: GroundMotionNorm,
@@ -239,9 +238,11 @@ pub fn pga(acc: &[f64]) -> f64 {
     acc.iter().fold(0.0f64, |m, a| m.max(a.abs()))
 }
 
-impl RecordSpectrumSpec {
+impl crate::jobs::kind::Validate for RecordSpectrumSpec {
+    type Job = RecordSpectrumJob;
+
     /// Validates into a runnable job.
-    pub fn validate(&self) -> Result<RecordSpectrumJob, SpecError> {
+    fn validate(&self) -> Result<RecordSpectrumJob, SpecError> {
         let block_spec = super::spec::required(self.block.as_ref(), "/block")?;
         for (v, name) in [
             (block_spec.p, "p"),
@@ -578,7 +579,6 @@ pub struct RecordSpectrumNumerics {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct RecordSpectrumResult {
     /// "record_spectrum".
-    #[schema(value_type = crate::jobs::schema::RecordSpectrumKind)]
     pub kind: tag::RecordSpectrum,
     /// The record's PGA, PGV, PGD and sampling.
     pub record: RecordDoc,
@@ -601,6 +601,8 @@ pub struct RecordSpectrumResult {
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
 }
+
+crate::envelope!(RecordSpectrumResult);
 
 impl RecordSpectrumJob {
     /// The block at frequency parameter `p` (an error for values no
@@ -865,25 +867,24 @@ impl RecordSpectrumJob {
 pub struct RecordSpectrum;
 
 impl crate::jobs::kind::Kind for RecordSpectrum {
-    const NAME: &'static str = "record_spectrum";
+    const NAME: &'static str = crate::jobs::names::tag::RecordSpectrum::NAME;
+    const EXAMPLE: &'static str = include_str!("examples/record_spectrum.json");
     const LABEL: &'static str = "Record spectrum";
     type Spec = RecordSpectrumSpec;
     type Job = RecordSpectrumJob;
     type Result = RecordSpectrumResult;
-
-    fn parse(value: &serde_json::Value) -> Result<RecordSpectrumJob, SpecError> {
-        super::spec::from_value::<RecordSpectrumSpec>(value, "")?.validate()
-    }
+    type Part = super::scan_parts::PartDoc;
 
     fn run(
         job: &RecordSpectrumJob,
         control: &Control,
-    ) -> Result<serde_json::Value, crate::jobs::JobError> {
-        match job.part {
+    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
+        use crate::jobs::kind::Output;
+        Ok(match job.part {
             // A task's transitions, assembled by the service.
-            Some(p) => crate::jobs::kind::document(&part::run(job, p, control)?),
-            None => crate::jobs::kind::document(&job.run(control)?),
-        }
+            Some(p) => Output::Part(part::run(job, p, control)?),
+            None => Output::Whole(job.run(control)?),
+        })
     }
 
     /// Scan points of every size, each bisected down to the tolerance
@@ -951,13 +952,8 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
     /// from them as one task would.
     fn assemble(
         job: &RecordSpectrumJob,
-        parts: Vec<serde_json::Value>,
-    ) -> Result<serde_json::Value, JobError> {
-        let parts: Vec<super::scan_parts::PartDoc> = parts
-            .into_iter()
-            .map(serde_json::from_value)
-            .collect::<Result<_, _>>()
-            .map_err(|e| JobError::Task(format!("a task's result does not read: {e}")))?;
-        crate::jobs::kind::document(&job.result_of(&parts)?)
+        parts: Vec<super::scan_parts::PartDoc>,
+    ) -> Result<RecordSpectrumResult, JobError> {
+        job.result_of(&parts)
     }
 }

@@ -13,7 +13,7 @@ use utoipa::openapi::{Ref, RefOr};
 use utoipa::{PartialSchema, ToSchema};
 
 use super::error::{JobError, SpecError};
-use super::kind::{Kind, Size};
+use super::kind::{Envelope, Kind, Output, Size, document};
 use super::warning::WarningDoc;
 use crate::spectrum::Control;
 
@@ -73,6 +73,23 @@ fn read_as<T: serde::de::DeserializeOwned>(kind: JobKind, value: Value) -> Resul
     })
 }
 
+/// The result document of `job`: `result` with the job's input warnings
+/// and the engine that computed it.
+fn whole<K: Kind>(job: &K::Job, mut result: K::Result) -> Result<Value, JobError> {
+    result.add_warnings(K::warnings(job));
+    result.set_engine(super::engine::engine_doc());
+    document(&result)
+}
+
+/// Tasks' documents read as parts of kind `K`.
+fn read_parts<K: Kind>(parts: Vec<Value>) -> Result<Vec<K::Part>, JobError> {
+    parts
+        .into_iter()
+        .map(serde_json::from_value)
+        .collect::<Result<_, _>>()
+        .map_err(|e| JobError::Task(format!("a task's result does not read: {e}")))
+}
+
 /// Generates, from `Variant => kind type` lines, the job enum, the kind enum
 /// and list, the dispatch and the unions.
 macro_rules! kinds {
@@ -118,6 +135,13 @@ macro_rules! kinds {
                 }
             }
 
+            /// A small spec of this kind ([`Kind::EXAMPLE`]).
+            pub fn example(self) -> &'static str {
+                match self {
+                    $( JobKind::$variant => <$kind as Kind>::EXAMPLE, )*
+                }
+            }
+
             /// The kind named `name`.
             pub fn from_name(name: &str) -> Option<JobKind> {
                 JobKind::ALL.iter().copied().find(|k| k.name() == name)
@@ -147,10 +171,14 @@ macro_rules! kinds {
                 self.job_kind().name()
             }
 
-            /// The document the job computes (see [`Kind::run`]).
+            /// The document the job computes: the kind's result with the
+            /// job's input warnings and the engine, or a task's part.
             pub(crate) fn run_document(&self, control: &Control) -> Result<Value, JobError> {
                 match self {
-                    $( Job::$variant(j) => <$kind as Kind>::run(j, control), )*
+                    $( Job::$variant(j) => match <$kind as Kind>::run(j, control)? {
+                        Output::Whole(result) => whole::<$kind>(j, result),
+                        Output::Part(part) => document(&part),
+                    }, )*
                 }
             }
 
@@ -211,10 +239,14 @@ macro_rules! kinds {
                 }
             }
 
-            /// The kind's assembly of several tasks' documents.
+            /// The kind's assembly of several tasks' documents, read as
+            /// its parts, into the job's result document.
             pub(crate) fn assemble_documents(&self, parts: Vec<Value>) -> Result<Value, JobError> {
                 match self {
-                    $( Job::$variant(j) => <$kind as Kind>::assemble(j, parts), )*
+                    $( Job::$variant(j) => {
+                        let parts = read_parts::<$kind>(parts)?;
+                        whole::<$kind>(j, <$kind as Kind>::assemble(j, parts)?)
+                    } )*
                 }
             }
         }

@@ -19,34 +19,6 @@ macro_rules! literal {
 }
 
 literal!(
-    /// `"time_history"`.
-    TimeHistoryKind = "time_history"
-);
-literal!(
-    /// `"spectrum"`.
-    SpectrumKind = "spectrum"
-);
-literal!(
-    /// `"friction_spectrum"`.
-    FrictionSpectrumKind = "friction_spectrum"
-);
-literal!(
-    /// `"forensic"`.
-    ForensicKind = "forensic"
-);
-literal!(
-    /// `"record_spectrum"`.
-    RecordSpectrumKind = "record_spectrum"
-);
-literal!(
-    /// `"fragility"`.
-    FragilityKind = "fragility"
-);
-literal!(
-    /// `"survival"`.
-    SurvivalKind = "survival"
-);
-literal!(
     /// Samples of a normalised record are in m/s².
     MetresPerSecondSquared = "m/s2"
 );

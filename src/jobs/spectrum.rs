@@ -31,7 +31,7 @@ pub const MAX_SCAN_POINTS: f64 = 1e6;
 #[serde(deny_unknown_fields)]
 pub struct SpectrumSpec {
     /// "spectrum".
-    #[schema(value_type = crate::jobs::schema::SpectrumKind)]
+    #[schema(value_type = crate::jobs::names::tag::Spectrum)]
     pub kind: String,
     /// The block.
     #[schema(required = true, value_type = BlockSpec)]
@@ -211,7 +211,6 @@ pub fn validate_family(spec: Option<&PulseSpec>, base: &str) -> Result<PulseFami
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SpectrumJob {
     /// "spectrum".
-    #[schema(value_type = crate::jobs::schema::SpectrumKind)]
     pub kind: tag::Spectrum,
     /// Block.
     pub block: BlockNorm,
@@ -261,9 +260,11 @@ fn positive_in(v: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> Result<f6
     }
 }
 
-impl SpectrumSpec {
+impl crate::jobs::kind::Validate for SpectrumSpec {
+    type Job = SpectrumJob;
+
     /// Validates into a runnable job.
-    pub fn validate(&self) -> Result<SpectrumJob, SpecError> {
+    fn validate(&self) -> Result<SpectrumJob, SpecError> {
         let block = super::spec::the_block(self.block.as_ref())?;
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
@@ -671,6 +672,9 @@ pub struct SpectrumNumerics {
     pub scan_step_alpha_g: f64,
     /// Wall time, s.
     pub wall_time_s: f64,
+    /// Tasks the spectrum was computed in, when more than one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tasks: Option<usize>,
 }
 
 impl SpectrumNumerics {
@@ -681,6 +685,7 @@ impl SpectrumNumerics {
             tolerance,
             scan_step_alpha_g: step,
             wall_time_s: wall,
+            tasks: None,
         }
     }
 }
@@ -689,7 +694,6 @@ impl SpectrumNumerics {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SpectrumResult {
     /// "spectrum".
-    #[schema(value_type = crate::jobs::schema::SpectrumKind)]
     pub kind: tag::Spectrum,
     /// One entry per frequency.
     pub spectrum: Vec<FrequencyDoc>,
@@ -711,6 +715,8 @@ pub struct SpectrumResult {
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
 }
+
+crate::envelope!(SpectrumResult);
 
 fn intervals(d: &Derived) -> Vec<[f64; 2]> {
     d.safe_intervals.iter().map(|&(a, b)| [a, b]).collect()
@@ -930,21 +936,19 @@ impl SpectrumJob {
 pub struct Spectrum;
 
 impl crate::jobs::kind::Kind for Spectrum {
-    const NAME: &'static str = "spectrum";
+    const NAME: &'static str = crate::jobs::names::tag::Spectrum::NAME;
+    const EXAMPLE: &'static str = include_str!("examples/spectrum.json");
     const LABEL: &'static str = "Overturning spectrum";
     type Spec = SpectrumSpec;
     type Job = SpectrumJob;
     type Result = SpectrumResult;
-
-    fn parse(value: &serde_json::Value) -> Result<SpectrumJob, SpecError> {
-        super::spec::from_value::<SpectrumSpec>(value, "")?.validate()
-    }
+    type Part = SpectrumResult;
 
     fn run(
         job: &SpectrumJob,
         control: &Control,
-    ) -> Result<serde_json::Value, crate::jobs::JobError> {
-        crate::jobs::kind::document(&job.run(control)?)
+    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
+        Ok(crate::jobs::kind::Output::Whole(job.run(control)?))
     }
 
     fn size(job: &SpectrumJob) -> crate::jobs::kind::Size {
@@ -999,10 +1003,9 @@ impl crate::jobs::kind::Kind for Spectrum {
 
     fn assemble(
         job: &SpectrumJob,
-        parts: Vec<serde_json::Value>,
-    ) -> Result<serde_json::Value, crate::jobs::JobError> {
-        let spec = crate::jobs::kind::document(job)?;
-        Ok(super::split::concatenate(Self::NAME, spec, parts))
+        parts: Vec<SpectrumResult>,
+    ) -> Result<SpectrumResult, crate::jobs::JobError> {
+        Ok(super::split::concatenate(job, parts))
     }
 }
 

@@ -1,7 +1,7 @@
 //! Splitting a job into tasks that any instance may compute, and assembling
 //! their results into the job's result document.
 
-use serde_json::Value;
+use super::spectrum::{ScanCost, SpectrumJob, SpectrumNumerics, SpectrumResult};
 
 /// Most tasks a job of cheap lines (a pulse spectrum, a fragility
 /// campaign) is split into: past this, its tasks grow longer than
@@ -28,69 +28,68 @@ pub fn per_task(n: usize, per_line: f64) -> usize {
         .clamp(1, n.max(1))
 }
 
-/// The result document of a spectrum (`kind`, normalised spec `spec`) from
-/// its tasks' documents: the lines (`spectrum`, and `no_sliding` when the
-/// tasks carry it) concatenated in task order, the numerics summed (`wall_time_s` is then the tasks' total compute time;
-/// `error_estimate` their largest), the first task's `record` kept.
-pub fn concatenate(kind: &str, spec: Value, parts: Vec<Value>) -> Value {
+/// The result of a spectrum `job` from its tasks' results (each a
+/// spectrum of some of its frequencies): the lines (`spectrum`, and
+/// `no_sliding` when the tasks carry it) concatenated in task order, the
+/// counts summed (`wall_time_s` is then the tasks' total compute time;
+/// `error_estimate` their largest), the rest of the numerics the first
+/// task's, and `tasks` their number.
+pub fn concatenate(job: &SpectrumJob, parts: Vec<SpectrumResult>) -> SpectrumResult {
+    let tasks = parts.len();
     let mut lines = Vec::new();
     let mut no_sliding = Vec::new();
-    let mut numerics = serde_json::Map::new();
-    let sum_keys = [
-        "simulations",
-        "steps_accepted",
-        "steps_rejected",
-        "rhs_evaluations",
-        "events",
-        "verification_simulations",
-        "undecided_simulations",
-    ];
-    let mut sums = [0u64; 7];
+    let mut numerics: Option<SpectrumNumerics> = None;
     let (mut error, mut wall) = (0.0f64, 0.0f64);
-    for part in &parts {
-        if let Some(s) = part.get("spectrum").and_then(|s| s.as_array()) {
-            lines.extend(s.iter().cloned());
+    let mut sums = [0u64; 7];
+    for part in parts {
+        lines.extend(part.spectrum);
+        no_sliding.extend(part.no_sliding);
+        let c = &part.numerics.cost;
+        let counts = [
+            c.simulations,
+            c.steps_accepted,
+            c.steps_rejected,
+            c.rhs_evaluations,
+            c.events,
+            c.verification_simulations,
+            c.undecided_simulations,
+        ];
+        for (sum, n) in sums.iter_mut().zip(counts) {
+            *sum += n;
         }
-        if let Some(s) = part.get("no_sliding").and_then(|s| s.as_array()) {
-            no_sliding.extend(s.iter().cloned());
-        }
-        if let Some(n) = part.get("numerics") {
-            if numerics.is_empty()
-                && let Some(o) = n.as_object()
-            {
-                numerics = o.clone();
-            }
-            for (k, key) in sum_keys.iter().enumerate() {
-                sums[k] += n.get(*key).and_then(|v| v.as_u64()).unwrap_or(0);
-            }
-            error = error.max(
-                n.get("error_estimate")
-                    .and_then(|v| v.as_f64())
-                    .unwrap_or(0.0),
-            );
-            wall += n.get("wall_time_s").and_then(|v| v.as_f64()).unwrap_or(0.0);
-        }
+        error = error.max(c.error_estimate);
+        wall += part.numerics.wall_time_s;
+        numerics.get_or_insert(part.numerics);
     }
-    for (k, key) in sum_keys.iter().enumerate() {
-        numerics.insert((*key).into(), sums[k].into());
+    let mut numerics = numerics.unwrap_or_else(|| SpectrumNumerics {
+        cost: ScanCost::new(&job.solver, &Default::default()),
+        tolerance: job.tolerance,
+        scan_step_alpha_g: job.scan_step_alpha_g,
+        wall_time_s: 0.0,
+        tasks: None,
+    });
+    let c = &mut numerics.cost;
+    [
+        c.simulations,
+        c.steps_accepted,
+        c.steps_rejected,
+        c.rhs_evaluations,
+        c.events,
+        c.verification_simulations,
+        c.undecided_simulations,
+    ] = sums;
+    c.error_estimate = error;
+    numerics.wall_time_s = wall;
+    numerics.tasks = Some(tasks);
+    SpectrumResult {
+        kind: Default::default(),
+        spectrum: lines,
+        no_sliding,
+        numerics,
+        spec: job.clone(),
+        warnings: Vec::new(),
+        engine: None,
     }
-    numerics.insert("error_estimate".into(), error.into());
-    numerics.insert("wall_time_s".into(), wall.into());
-    numerics.insert("tasks".into(), parts.len().into());
-    let mut doc = serde_json::Map::new();
-    doc.insert("kind".into(), kind.into());
-    doc.insert("spectrum".into(), lines.into());
-    // Absent when empty, as the whole job's document has it.
-    if !no_sliding.is_empty() {
-        doc.insert("no_sliding".into(), no_sliding.into());
-    }
-    doc.insert("numerics".into(), numerics.into());
-    doc.insert("spec".into(), spec);
-    let mut doc = Value::Object(doc);
-    if let Some(record) = parts.first().and_then(|p| p.get("record")) {
-        doc["record"] = record.clone();
-    }
-    doc
 }
 
 #[cfg(test)]
@@ -98,6 +97,7 @@ mod tests {
     use super::*;
     use crate::jobs::Job;
     use crate::spectrum::Control;
+    use serde_json::Value;
 
     #[test]
     fn a_split_spectrum_assembles_to_the_whole() {

@@ -11,6 +11,7 @@ use serde_json::Value;
 use super::distribution::{DistributionNorm, DistributionSpec};
 use super::names::{EngineDoc, Im, tag};
 use super::spec::SpecError;
+use super::warning::WarningDoc;
 use crate::probability::hazard::HazardCurve;
 use crate::probability::survival::{Age, rate_scale};
 
@@ -102,7 +103,7 @@ pub enum AgeInput {
 #[serde(deny_unknown_fields)]
 pub struct SurvivalSpec {
     /// "survival".
-    #[schema(value_type = crate::jobs::schema::SurvivalKind)]
+    #[schema(value_type = crate::jobs::names::tag::Survival)]
     pub kind: String,
     /// The hazard curve.
     #[schema(required = true, value_type = HazardSpec)]
@@ -162,7 +163,6 @@ pub struct HazardNorm {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SurvivalJob {
     /// "survival".
-    #[schema(value_type = crate::jobs::schema::SurvivalKind)]
     pub kind: tag::Survival,
     /// The hazard curve.
     pub hazard: HazardNorm,
@@ -276,9 +276,11 @@ fn validate_age(v: Option<&Value>, at: &str, list_allowed: bool) -> Result<AgeNo
     }
 }
 
-impl SurvivalSpec {
+impl crate::jobs::kind::Validate for SurvivalSpec {
+    type Job = SurvivalJob;
+
     /// Validates into a runnable job.
-    pub fn validate(&self) -> Result<SurvivalJob, SpecError> {
+    fn validate(&self) -> Result<SurvivalJob, SpecError> {
         let hazard = self
             .hazard
             .as_ref()
@@ -446,7 +448,6 @@ pub struct SurvivalNumerics {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct SurvivalResult {
     /// "survival".
-    #[schema(value_type = crate::jobs::schema::SurvivalKind)]
     pub kind: tag::Survival,
     /// The intensity measure.
     #[schema(value_type = ImName)]
@@ -469,11 +470,16 @@ pub struct SurvivalResult {
     pub numerics: SurvivalNumerics,
     /// The normalised spec.
     pub spec: SurvivalJob,
+    /// Notes about the inputs (none yet for a survival).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<WarningDoc>,
     /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
 }
+
+crate::envelope!(SurvivalResult);
 
 impl SurvivalJob {
     /// Computes the rates and probabilities.
@@ -559,6 +565,7 @@ impl SurvivalJob {
                 wall_time_s: started.elapsed().as_secs_f64(),
             },
             spec: self.clone(),
+            warnings: Vec::new(),
             engine: None,
         }
     }
@@ -569,21 +576,19 @@ impl SurvivalJob {
 pub struct Survival;
 
 impl crate::jobs::kind::Kind for Survival {
-    const NAME: &'static str = "survival";
+    const NAME: &'static str = crate::jobs::names::tag::Survival::NAME;
+    const EXAMPLE: &'static str = include_str!("examples/survival.json");
     const LABEL: &'static str = "Survival";
     type Spec = SurvivalSpec;
     type Job = SurvivalJob;
     type Result = SurvivalResult;
-
-    fn parse(value: &Value) -> Result<SurvivalJob, SpecError> {
-        super::spec::from_value::<SurvivalSpec>(value, "")?.validate()
-    }
+    type Part = crate::jobs::kind::NoPart;
 
     fn run(
         job: &SurvivalJob,
         control: &crate::spectrum::Control,
-    ) -> Result<Value, crate::jobs::JobError> {
-        crate::jobs::kind::run_one(control, || Ok(job.run()))
+    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
+        crate::jobs::kind::run_one::<Self>(control, || Ok(job.run()))
     }
 
     /// Closed forms and a quadrature: under a millisecond.

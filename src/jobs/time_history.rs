@@ -47,7 +47,7 @@ pub struct OutputsSpec {
 #[serde(deny_unknown_fields)]
 pub struct TimeHistorySpec {
     /// "time_history".
-    #[schema(value_type = crate::jobs::schema::TimeHistoryKind)]
+    #[schema(value_type = crate::jobs::names::tag::TimeHistory)]
     pub kind: String,
     /// The block.
     #[schema(required = true, value_type = BlockSpec)]
@@ -94,7 +94,6 @@ pub struct OutputsNorm {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct TimeHistoryJob {
     /// "time_history".
-    #[schema(value_type = crate::jobs::schema::TimeHistoryKind)]
     pub kind: tag::TimeHistory,
     /// Block.
     pub block: BlockNorm,
@@ -121,9 +120,11 @@ pub struct TimeHistoryJob {
     pub contact: Option<ContactNorm>,
 }
 
-impl TimeHistorySpec {
+impl crate::jobs::kind::Validate for TimeHistorySpec {
+    type Job = TimeHistoryJob;
+
     /// Validates into a runnable job.
-    pub fn validate(&self) -> Result<TimeHistoryJob, SpecError> {
+    fn validate(&self) -> Result<TimeHistoryJob, SpecError> {
         let block = super::spec::the_block(self.block.as_ref())?;
         let (pulse, ground_motion) = match (&self.pulse, &self.ground_motion) {
             (Some(p), None) => (Some(validate_pulse(p, &block, "/pulse")?.0), None),
@@ -369,7 +370,6 @@ pub struct SeriesDoc {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, utoipa::ToSchema)]
 pub struct TimeHistoryResult {
     /// "time_history".
-    #[schema(value_type = crate::jobs::schema::TimeHistoryKind)]
     pub kind: tag::TimeHistory,
     /// Whether rocking started at all.
     pub rocked: bool,
@@ -485,6 +485,8 @@ pub struct TimeHistoryResult {
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
 }
+
+crate::envelope!(TimeHistoryResult);
 
 impl TimeHistoryJob {
     /// Runs the job.
@@ -700,21 +702,19 @@ impl TimeHistoryJob {
 pub struct TimeHistory;
 
 impl crate::jobs::kind::Kind for TimeHistory {
-    const NAME: &'static str = "time_history";
+    const NAME: &'static str = crate::jobs::names::tag::TimeHistory::NAME;
+    const EXAMPLE: &'static str = include_str!("examples/time_history.json");
     const LABEL: &'static str = "Time history";
     type Spec = TimeHistorySpec;
     type Job = TimeHistoryJob;
     type Result = TimeHistoryResult;
-
-    fn parse(value: &serde_json::Value) -> Result<TimeHistoryJob, SpecError> {
-        super::spec::from_value::<TimeHistorySpec>(value, "")?.validate()
-    }
+    type Part = crate::jobs::kind::NoPart;
 
     fn run(
         job: &TimeHistoryJob,
         control: &crate::spectrum::Control,
-    ) -> Result<serde_json::Value, crate::jobs::JobError> {
-        crate::jobs::kind::run_one(control, || Ok(job.run()?))
+    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
+        crate::jobs::kind::run_one::<Self>(control, || Ok(job.run()?))
     }
 
     fn size(job: &TimeHistoryJob) -> crate::jobs::kind::Size {
@@ -775,6 +775,7 @@ impl crate::jobs::kind::Kind for TimeHistory {
 mod tests {
     use super::*;
     use crate::dynamics::Forcing;
+    use crate::jobs::kind::Validate;
     use serde_json::json;
 
     /// The result of the time-history spec `doc`.

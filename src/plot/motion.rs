@@ -237,6 +237,7 @@ mod tests {
 
     /// The validated time-history job of the spec `doc`.
     fn job(doc: serde_json::Value) -> TimeHistoryJob {
+        use crate::jobs::kind::Validate;
         serde_json::from_value::<TimeHistorySpec>(doc)
             .expect("a spec")
             .validate()

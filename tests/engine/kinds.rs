@@ -1,36 +1,15 @@
 //! Every kind of the registry: an example job of each validates, has a size
 //! estimate, runs, and its result has a table and a figure. A kind added
-//! without an example, a table or a figure does not compile.
+//! without an example (`Kind::EXAMPLE`), a table or a figure does not
+//! compile.
 
 use serde_json::{Value, json};
 use topple::jobs::{Job, JobKind, JobResult};
 use topple::spectrum::Control;
 
-/// A small job of `kind` (exhaustive: a new kind needs one).
+/// A small job of `kind`: its `Kind::EXAMPLE`.
 fn example(kind: JobKind) -> &'static str {
-    match kind {
-        JobKind::TimeHistory => {
-            r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_ratio":3,"a_p_alpha_g":2.5},"outputs":{"series":20}}"#
-        }
-        JobKind::Spectrum => {
-            r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":[2,4],"a_max_alpha_g":6}"#
-        }
-        JobKind::FrictionSpectrum => {
-            r#"{"kind":"friction_spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"omega_ratio":3,"a_alpha_g":[1.5,3]}"#
-        }
-        JobKind::Forensic => {
-            r#"{"kind":"forensic","pulse":{"type":"one_sine"},"observations":[{"b":0.6,"h":1.2,"overturned":false}],"frequency_hz":{"from":0.5,"to":2,"steps":3},"a_p_g":{"from":0.05,"to":2.0}}"#
-        }
-        JobKind::RecordSpectrum => {
-            r#"{"kind":"record_spectrum","block":{"alpha":0.2},"p":[1.5,3],"scale":{"from":0.5,"to":3},"ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]}}"#
-        }
-        JobKind::Survival => {
-            r#"{"kind":"survival","hazard":{"im":"pga_g","points":[[0.1,0.01],[0.5,0.0005],[1.0,0.00005]]},"fragility":{"median_g":0.4,"beta":0.4},"age_years":[1000]}"#
-        }
-        JobKind::Fragility => {
-            r#"{"kind":"fragility","block":{"alpha":0.2,"p":2.0},"pulse":{"type":"one_sine","omega_ratio":3},"stripes":[0.2,0.4],"samples":8,"seed":1}"#
-        }
-    }
+    kind.example()
 }
 
 /// Every kind validates, is sized (a positive estimate), runs, and its

@@ -289,16 +289,11 @@ impl ForensicJob {
     }
 
     /// The whole query's result from its tasks' parts (in any order).
-    pub fn result_of(&self, parts: Vec<serde_json::Value>) -> Result<ForensicResult, JobError> {
-        let docs: Vec<PartDoc> = parts
-            .into_iter()
-            .map(serde_json::from_value)
-            .collect::<Result<_, _>>()
-            .map_err(|e| JobError::Task(format!("a task's result does not read: {e}")))?;
+    pub fn result_of(&self, docs: &[PartDoc]) -> Result<ForensicResult, JobError> {
         let scans = self
             .observation_scans()
             .map_err(|e| JobError::Task(e.to_string()))?;
-        let (found, stats, wall) = scan_parts::assemble(PART_KIND, &self.groups(&scans), &docs)?;
+        let (found, stats, wall) = scan_parts::assemble(PART_KIND, &self.groups(&scans), docs)?;
         self.result(&scans, found, &stats, wall, Some(docs.len()))
             .map_err(|e| JobError::Task(e.to_string()))
     }
@@ -421,7 +416,7 @@ impl scan_parts::Parted for ForensicJob {
 mod tests {
     use crate::jobs::Job;
     use crate::jobs::forensic::ForensicJob;
-    use crate::jobs::scan_parts;
+    use crate::jobs::scan_parts::{self, PartDoc};
     use crate::spectrum::Control;
 
     fn query(spec: &str) -> ForensicJob {
@@ -457,7 +452,7 @@ mod tests {
         let scans = job.observation_scans().expect("blocks");
         let parts = crate::jobs::scan_parts::parts(&job.groups(&scans), budget, 4096);
         let control = Control::new();
-        let docs: Vec<serde_json::Value> = parts
+        let docs: Vec<PartDoc> = parts
             .iter()
             .map(|&p| {
                 let doc = job.run_part(p, &control).expect("runs");
@@ -465,7 +460,7 @@ mod tests {
                 serde_json::from_str(&text).expect("reads")
             })
             .collect();
-        (parts.len(), job.result_of(docs).expect("assembles"))
+        (parts.len(), job.result_of(&docs).expect("assembles"))
     }
 
     #[test]
