@@ -120,7 +120,7 @@ pub trait Kind: 'static {
     /// The spec as users write it (its schema is the API's input).
     type Spec: DeserializeOwned + ToSchema + Validate<Job = Self::Job>;
     /// The validated job; serialises to the canonical (normalised) spec.
-    type Job: Clone + Debug + PartialEq + Serialize + ToSchema;
+    type Job: Clone + Debug + PartialEq + Serialize + DeserializeOwned + ToSchema;
     /// The result document.
     type Result: Clone + Debug + PartialEq + Serialize + DeserializeOwned + ToSchema + Envelope;
     /// What a task of a job split into parts computes ([`NoPart`] for a

@@ -159,6 +159,14 @@ macro_rules! kinds {
                 })
             }
 
+            /// A normalised spec of `kind` (what [`Job`] serialises to) read
+            /// back into its job type.
+            pub fn from_normalised(kind: JobKind, value: Value) -> Result<Job, serde_json::Error> {
+                Ok(match kind {
+                    $( JobKind::$variant => Job::$variant(Box::new(serde_json::from_value(value)?)), )*
+                })
+            }
+
             /// The job's kind.
             pub fn job_kind(&self) -> JobKind {
                 match self {

@@ -3,18 +3,9 @@
 //! back to the same JSON, key order included; a document with a field of
 //! the wrong type is refused.
 
-use serde::Serialize;
-use serde::de::DeserializeOwned;
 use serde_json::{Value, json};
 
-use super::Job;
-use super::forensic::ForensicResult;
-use super::fragility::FragilityResult;
-use super::friction::FrictionResult;
-use super::record_spectrum::RecordSpectrumResult;
-use super::spectrum::SpectrumResult;
-use super::survival::SurvivalResult;
-use super::time_history::TimeHistoryResult;
+use super::{Job, JobResult};
 use crate::spectrum::Control;
 
 /// The document of `spec`, run as the CLI and the service run it.
@@ -26,9 +17,10 @@ fn run(spec: &Value) -> (Job, Value) {
     (job, doc)
 }
 
-/// `doc` read as a `T` and written back: the same value and the same text.
-fn same_after_roundtrip<T: DeserializeOwned + Serialize>(doc: &Value) -> Result<(), String> {
-    let typed: T = serde_json::from_value(doc.clone()).map_err(|e| format!("reading: {e}"))?;
+/// `doc` read as the result type of its kind ([`JobResult::from_value`])
+/// and written back: the same value and the same text.
+fn same_after_roundtrip(doc: &Value) -> Result<(), String> {
+    let typed = JobResult::from_value(doc.clone()).map_err(|e| format!("reading: {e}"))?;
     let back = serde_json::to_value(&typed).map_err(|e| format!("writing: {e}"))?;
     if &back != doc {
         return Err(format!("another value:\n{doc}\n{back}"));
@@ -38,26 +30,13 @@ fn same_after_roundtrip<T: DeserializeOwned + Serialize>(doc: &Value) -> Result<
     if text != again {
         return Err(format!("another text:\n{text}\n{again}"));
     }
-    let from_text: T = serde_json::from_str(&text).map_err(|e| format!("from text: {e}"))?;
+    let read: Value = serde_json::from_str(&text).map_err(|e| format!("from text: {e}"))?;
+    let from_text = JobResult::from_value(read).map_err(|e| format!("from text: {e}"))?;
     let again = serde_json::to_string(&from_text).map_err(|e| format!("writing: {e}"))?;
     if text != again {
         return Err(format!("another text from text:\n{text}\n{again}"));
     }
     Ok(())
-}
-
-/// Reads `doc` as the result type of `kind`.
-fn read_as(kind: &str, doc: &Value) -> Result<(), String> {
-    match kind {
-        "time_history" => same_after_roundtrip::<TimeHistoryResult>(doc),
-        "spectrum" => same_after_roundtrip::<SpectrumResult>(doc),
-        "friction_spectrum" => same_after_roundtrip::<FrictionResult>(doc),
-        "forensic" => same_after_roundtrip::<ForensicResult>(doc),
-        "record_spectrum" => same_after_roundtrip::<RecordSpectrumResult>(doc),
-        "survival" => same_after_roundtrip::<SurvivalResult>(doc),
-        "fragility" => same_after_roundtrip::<FragilityResult>(doc),
-        other => Err(format!("no result type for {other}")),
-    }
 }
 
 fn spec_file(text: &str) -> Value {
@@ -176,7 +155,7 @@ fn every_kind_of_result_reads_back_into_its_type_unchanged() {
             warned.insert(job.kind());
         }
         assert!(doc.get("engine").is_some(), "{spec}");
-        if let Err(e) = read_as(job.kind(), &doc) {
+        if let Err(e) = same_after_roundtrip(&doc) {
             panic!("{spec}: {e}");
         }
     }
@@ -195,51 +174,10 @@ fn a_normalised_spec_reads_back_into_its_job_type() {
             assert_eq!(back, value, "{spec}");
             assert_eq!(back.to_string(), value.to_string());
         };
-        let v = value.clone();
-        match &job {
-            Job::TimeHistory(j) => {
-                let read: super::time_history::TimeHistoryJob =
-                    serde_json::from_value(v).unwrap_or_else(|e| panic!("{e}"));
-                assert_eq!(&read, j.as_ref());
-                same(serde_json::to_value(read).unwrap_or_default());
-            }
-            Job::Spectrum(j) => {
-                let read: super::spectrum::SpectrumJob =
-                    serde_json::from_value(v).unwrap_or_else(|e| panic!("{e}"));
-                assert_eq!(&read, j.as_ref());
-                same(serde_json::to_value(read).unwrap_or_default());
-            }
-            Job::FrictionSpectrum(j) => {
-                let read: super::friction::FrictionJob =
-                    serde_json::from_value(v).unwrap_or_else(|e| panic!("{e}"));
-                assert_eq!(&read, j.as_ref());
-                same(serde_json::to_value(read).unwrap_or_default());
-            }
-            Job::Forensic(j) => {
-                let read: super::forensic::ForensicJob =
-                    serde_json::from_value(v).unwrap_or_else(|e| panic!("{e}"));
-                assert_eq!(&read, j.as_ref());
-                same(serde_json::to_value(read).unwrap_or_default());
-            }
-            Job::RecordSpectrum(j) => {
-                let read: super::record_spectrum::RecordSpectrumJob =
-                    serde_json::from_value(v).unwrap_or_else(|e| panic!("{e}"));
-                assert_eq!(&read, j.as_ref());
-                same(serde_json::to_value(read).unwrap_or_default());
-            }
-            Job::Survival(j) => {
-                let read: super::survival::SurvivalJob =
-                    serde_json::from_value(v).unwrap_or_else(|e| panic!("{e}"));
-                assert_eq!(&read, j.as_ref());
-                same(serde_json::to_value(read).unwrap_or_default());
-            }
-            Job::Fragility(j) => {
-                let read: super::fragility::FragilityJob =
-                    serde_json::from_value(v).unwrap_or_else(|e| panic!("{e}"));
-                assert_eq!(&read, j.as_ref());
-                same(serde_json::to_value(read).unwrap_or_default());
-            }
-        }
+        let read = Job::from_normalised(job.job_kind(), value.clone())
+            .unwrap_or_else(|e| panic!("{spec}: {e}"));
+        assert_eq!(read, job);
+        same(serde_json::to_value(read).unwrap_or_default());
     }
 }
 
@@ -350,10 +288,10 @@ fn a_result_with_a_field_of_the_wrong_type_is_refused() {
     for (kind, spec, changes) in cases {
         let (job, doc) = run(&spec);
         assert_eq!(job.kind(), kind);
-        assert_eq!(read_as(kind, &doc), Ok(()), "{kind}");
+        assert_eq!(same_after_roundtrip(&doc), Ok(()), "{kind}");
         for (at, v) in changes {
             let bad = with(&doc, at, v.clone());
-            let read = read_as(kind, &bad);
+            let read = same_after_roundtrip(&bad);
             assert!(
                 read.as_ref().is_err_and(|e| e.starts_with("reading: ")),
                 "{kind}: {at} = {v} was read: {read:?}"
@@ -361,7 +299,11 @@ fn a_result_with_a_field_of_the_wrong_type_is_refused() {
         }
         // Another kind's document is not this kind's.
         for other in super::KINDS.iter().filter(|k| **k != kind) {
-            assert!(read_as(other, &doc).is_err(), "{kind} read as {other}");
+            let as_other = with(&doc, "/kind", json!(other));
+            assert!(
+                JobResult::from_value(as_other).is_err(),
+                "{kind} read as {other}"
+            );
         }
     }
 }

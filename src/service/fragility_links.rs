@@ -9,7 +9,7 @@ use uuid::Uuid;
 
 use super::AppState;
 use super::finished::{ResultError, finished};
-use crate::jobs::SpecError;
+use crate::jobs::{JobKind, SpecError};
 
 /// Why the fragility jobs a spec names cannot stand in for their fits.
 #[derive(Debug, thiserror::Error)]
@@ -42,7 +42,7 @@ pub enum LinkError {
 /// (`median`, `beta`); any other spec as it is (its validation says what is
 /// wrong with it).
 pub async fn resolve(state: &AppState, tenant: &str, mut spec: Value) -> Result<Value, LinkError> {
-    if spec.get("kind").and_then(|k| k.as_str()) != Some("survival") {
+    if spec.get("kind").and_then(|k| k.as_str()) != Some(JobKind::Survival.name()) {
         return Ok(spec);
     }
     let hazard_im = spec
