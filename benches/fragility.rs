@@ -9,7 +9,7 @@
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use serde_json::{Value, json};
 use std::hint::black_box;
-use topple::jobs::Job;
+use topple::kinds::Job;
 use topple::spectrum::Control;
 
 #[path = "../tests/common/synthetic.rs"]

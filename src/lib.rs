@@ -49,6 +49,7 @@
 pub mod api;
 pub mod dynamics;
 pub mod jobs;
+pub mod kinds;
 pub mod numbers;
 pub mod plot;
 pub mod precision;

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use clap::{CommandFactory, Parser, Subcommand};
 
-use topple::jobs::Job;
+use topple::kinds::Job;
 
 /// `topple --version`: the program and the engine whose numbers it gives.
 const VERSION: &str = concat!(
@@ -251,7 +251,7 @@ fn run(spec_path: &str, plot: Option<&str>, format: &str) -> Result<(), (u8, Str
         .run(&control)
         .map_err(|e| (1, format!("computation failed: {e}")))?;
     let typed = if plot.is_some() || format == "csv" {
-        let typed = topple::jobs::JobResult::from_value(result.clone())
+        let typed = topple::kinds::JobResult::from_value(result.clone())
             .map_err(|e| (1, format!("the result does not read back: {e}")))?;
         if let Some(path) = plot {
             topple::plot::plot_result(&typed, path)
@@ -448,7 +448,7 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
         max_wait: seconds(args.max_wait, "max-wait")?,
         shutdown_grace: seconds(args.shutdown_grace, "shutdown-grace")?,
         lease: seconds(args.lease, "lease")?.max(std::time::Duration::from_millis(300)),
-        limits: topple::jobs::limits::Limits {
+        limits: topple::kinds::limits::Limits {
             series_points: args.max_series_points,
             grid_points: args.max_grid_points,
             work: if args.max_work > 0.0 {

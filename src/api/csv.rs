@@ -13,15 +13,15 @@ use std::fmt::Write;
 
 use serde_json::Value;
 
-use crate::jobs::JobResult;
-use crate::jobs::forensic::ForensicResult;
-use crate::jobs::fragility::FragilityResult;
-use crate::jobs::friction::FrictionResult;
 use crate::jobs::names::Excitation;
-use crate::jobs::record_spectrum::RecordSpectrumResult;
-use crate::jobs::spectrum::{FrequencyDoc, SpectrumResult};
-use crate::jobs::survival::SurvivalResult;
-use crate::jobs::time_history::TimeHistoryResult;
+use crate::kinds::JobResult;
+use crate::kinds::forensic::ForensicResult;
+use crate::kinds::fragility::FragilityResult;
+use crate::kinds::friction_spectrum::FrictionResult;
+use crate::kinds::record_spectrum::RecordSpectrumResult;
+use crate::kinds::spectrum::{FrequencyDoc, SpectrumResult};
+use crate::kinds::survival::SurvivalResult;
+use crate::kinds::time_history::TimeHistoryResult;
 
 #[cfg(test)]
 mod every_field;
@@ -1156,15 +1156,15 @@ fn next_sample(text: &str, at: &mut Option<usize>) -> Option<Value> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::jobs::forensic::{
+    use crate::jobs::names::Im;
+    use crate::kinds::forensic::{
         ForensicFrequency, Observation, ObservationSet, RecordObservationSet,
     };
-    use crate::jobs::fragility::StripeResult;
-    use crate::jobs::friction::FrictionPointDoc;
-    use crate::jobs::names::Im;
-    use crate::jobs::spectrum::{PulseScalesDoc, SlidePointDoc};
-    use crate::jobs::survival::{AgeDistributionResult, AgeResult, JointResult};
-    use crate::jobs::time_history::{ImpactDoc, SeriesDoc};
+    use crate::kinds::fragility::StripeResult;
+    use crate::kinds::friction_spectrum::FrictionPointDoc;
+    use crate::kinds::spectrum::{PulseScalesDoc, SlidePointDoc};
+    use crate::kinds::survival::{AgeDistributionResult, AgeResult, JointResult};
+    use crate::kinds::time_history::{ImpactDoc, SeriesDoc};
     use crate::plot::tests::typed;
     use serde_json::json;
 
@@ -1471,10 +1471,10 @@ mod tests {
     /// `line` with set values (ω_p/p = 2, overturning from 1.25 αg in mode 1
     /// up to 2.37 αg), and its first transition set to an "up" at 1.25 αg.
     fn set_line(
-        line: &crate::jobs::spectrum::FrequencyDoc,
+        line: &crate::kinds::spectrum::FrequencyDoc,
     ) -> (
-        crate::jobs::spectrum::FrequencyDoc,
-        crate::jobs::spectrum::TransitionDoc,
+        crate::kinds::spectrum::FrequencyDoc,
+        crate::kinds::spectrum::TransitionDoc,
     ) {
         let mut first = line.clone();
         let mut up = first.transitions[0].clone();
@@ -1744,7 +1744,7 @@ mod tests {
         first.principal.min_overturn_scale = Some(2.5);
         first.principal.min_overturn_mode = Some(2);
         first.principal.overturns_above_scale = Some(2.5);
-        let up = crate::jobs::record_spectrum::ScaleTransitionDoc {
+        let up = crate::kinds::record_spectrum::ScaleTransitionDoc {
             scale: 2.5,
             pga_g: 0.75,
             direction: "up".into(),

@@ -17,7 +17,7 @@ use super::auth::Tenant;
 use super::http::Query;
 use super::problem::Problem;
 use super::representation::Format;
-use crate::jobs::{Job, JobSpec, KINDS};
+use crate::kinds::{Job, JobSpec, KINDS};
 use crate::service::AppState;
 use crate::service::finished::{ResultError, finished};
 use crate::service::renderings::Rendering;
@@ -83,7 +83,7 @@ pub struct JobView {
     #[schema(format = "uuid")]
     pub id: String,
     /// The job's kind.
-    #[schema(value_type = crate::jobs::JobKind)]
+    #[schema(value_type = crate::kinds::JobKind)]
     pub kind: String,
     /// queued | running | succeeded | failed | canceled.
     pub status: Status,
@@ -111,7 +111,7 @@ pub struct JobView {
     pub numerics: Option<serde_json::Value>,
     /// The normalised spec (in listings only with `?include=spec`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<crate::jobs::NormalizedSpec>)]
+    #[schema(value_type = Option<crate::kinds::NormalizedSpec>)]
     pub spec: Option<Box<serde_json::value::RawValue>>,
     /// Links.
     pub links: Links,
@@ -121,7 +121,7 @@ pub struct JobView {
     /// The result, inline, when `?wait=` saw the job finish (or a submission
     /// found it done).
     #[serde(skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<crate::jobs::JobResult>)]
+    #[schema(value_type = Option<crate::kinds::JobResult>)]
     pub result: Option<Box<serde_json::value::RawValue>>,
 }
 
@@ -728,7 +728,7 @@ pub(crate) async fn result_response(
         ("If-None-Match" = Option<String>, Header, description = "The ETag of the representation already held")),
     responses(
         (status = 200, description = "The result document (JSON), or CSV or SVG by ?format= or Accept", content(
-            (crate::jobs::JobResult = "application/json"),
+            (crate::kinds::JobResult = "application/json"),
             (crate::jobs::schema::CsvTable = "text/csv"),
             (crate::jobs::schema::SvgFigure = "image/svg+xml")
         ), headers(("ETag" = String, description = "Strong: the job key and the format"),
@@ -886,7 +886,7 @@ pub struct ListParams {
     #[param(value_type = Option<Status>)]
     pub status: Option<String>,
     /// Only jobs of this kind.
-    #[param(value_type = Option<crate::jobs::JobKind>)]
+    #[param(value_type = Option<crate::kinds::JobKind>)]
     pub kind: Option<String>,
     /// At most this many (1..=500, default 50).
     #[param(minimum = 1, maximum = 500)]

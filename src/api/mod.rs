@@ -47,7 +47,7 @@ use problem::Problem;
         license(name = "MIT", identifier = "MIT")
     ),
     servers((url = "/", description = "This service (relative to where this description was fetched)")),
-    components(schemas(crate::jobs::JobResult, crate::jobs::schema::Engine)),
+    components(schemas(crate::kinds::JobResult, crate::jobs::schema::Engine)),
     modifiers(&BearerScheme),
     tags(
         (name = "jobs", description = "Time histories, overturning spectra, friction-demand spectra"),
@@ -80,7 +80,7 @@ impl utoipa::Modify for BearerScheme {
 }
 
 /// Every result document carries `engine` (added where documents are made,
-/// in [`crate::jobs::key::engine_doc`]): the result schemas say so.
+/// in [`crate::kinds::key::engine_doc`]): the result schemas say so.
 struct EngineProvenance;
 
 impl utoipa::Modify for EngineProvenance {
@@ -89,7 +89,7 @@ impl utoipa::Modify for EngineProvenance {
         let Some(components) = api.components.as_mut() else {
             return;
         };
-        for kind in crate::jobs::JobKind::ALL {
+        for kind in crate::kinds::JobKind::ALL {
             let name = kind.result_schema();
             if let Some(RefOr::T(Schema::Object(o))) = components.schemas.get_mut(name.as_ref()) {
                 o.properties.insert(
@@ -419,7 +419,7 @@ mod tests {
             .as_array()
             .map(|e| e.iter().filter_map(|v| v.as_str()).collect())
             .unwrap_or_default();
-        assert_eq!(listed, crate::jobs::KINDS);
+        assert_eq!(listed, crate::kinds::KINDS);
     }
 
     #[test]
@@ -438,7 +438,7 @@ mod tests {
         use utoipa::openapi::{RefOr, Schema};
         let (_, api) = super::routes();
         let components = api.components.expect("components");
-        for kind in crate::jobs::JobKind::ALL {
+        for kind in crate::kinds::JobKind::ALL {
             let name = kind.result_schema();
             let Some(RefOr::T(Schema::Object(o))) = components.schemas.get(name.as_ref()) else {
                 panic!("no schema {name} for {kind:?}");

@@ -6,7 +6,7 @@ use std::sync::LazyLock;
 use axum::http::header;
 use axum::response::IntoResponse;
 
-use crate::jobs::JobKind;
+use crate::kinds::JobKind;
 
 /// The page's source: [`KINDS_MARK`] stands where the kinds are listed.
 const TEMPLATE: &str = include_str!("page.html");
@@ -15,7 +15,7 @@ const TEMPLATE: &str = include_str!("page.html");
 const KINDS_MARK: &str = "<!-- job kinds -->\n";
 
 /// The page, as served: its kind list is the registry's
-/// ([`crate::jobs::registry`]), the first kind checked.
+/// ([`crate::kinds::registry`]), the first kind checked.
 pub static HTML: LazyLock<String> = LazyLock::new(|| {
     let radios: String = JobKind::ALL
         .iter()
@@ -64,7 +64,7 @@ mod tests {
     #[test]
     fn the_form_offers_every_kind_of_job() {
         assert!(TEMPLATE.contains(KINDS_MARK));
-        for kind in crate::jobs::KINDS {
+        for kind in crate::kinds::KINDS {
             let radio = format!(r#"<input type="radio" name="kind" value="{kind}""#);
             assert!(HTML.contains(&radio), "the form has no {kind}");
             let form = HTML.split("data-kinds=\"").skip(1).any(|rest| {
@@ -149,7 +149,7 @@ mod tests {
                 if kind == "spectrum" && model == "coulomb" {
                     spec["no_sliding_beside"] = serde_json::json!(true);
                 }
-                let taken = crate::jobs::Job::parse(&spec.to_string());
+                let taken = crate::kinds::Job::parse(&spec.to_string());
                 assert!(taken.is_ok(), "{kind} on {model}: {:?}", taken.err());
             }
         }
@@ -198,10 +198,10 @@ mod tests {
                 "outputs": outputs})
             .to_string()
         };
-        let taken = crate::jobs::Job::parse(&spec(serde_json::json!({"series": default})));
+        let taken = crate::kinds::Job::parse(&spec(serde_json::json!({"series": default})));
         assert!(taken.is_ok(), "{:?}", taken.err());
         let refused = spec(serde_json::json!({"series": default, "duration": 4}));
-        assert!(crate::jobs::Job::parse(&refused).is_err());
+        assert!(crate::kinds::Job::parse(&refused).is_err());
     }
 
     #[test]

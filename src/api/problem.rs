@@ -94,7 +94,7 @@ impl Problem {
     }
 
     /// 422 for a job over a service limit.
-    pub fn over_limit(e: &crate::jobs::limits::LimitError) -> Self {
+    pub fn over_limit(e: &crate::kinds::limits::LimitError) -> Self {
         let mut p = Problem::new(
             StatusCode::UNPROCESSABLE_ENTITY,
             "limit-exceeded",

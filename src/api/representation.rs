@@ -12,7 +12,7 @@ use uuid::Uuid;
 
 use super::csv::{SeriesRows, to_csv};
 use super::problem::Problem;
-use crate::jobs::JobResult;
+use crate::kinds::JobResult;
 use crate::plot::{FigureError, Window};
 use crate::service::AppState;
 use crate::service::finished::RESULT_WAIT;

@@ -228,7 +228,7 @@ impl ContactDoc {
 #[cfg(test)]
 mod tests {
     use crate::jobs::kind::Validate;
-    use crate::jobs::time_history::{TimeHistoryResult, TimeHistorySpec};
+    use crate::kinds::time_history::{TimeHistoryResult, TimeHistorySpec};
     use serde_json::{Value, json};
 
     fn spec(pulse: Value, contact: Option<Value>) -> Value {

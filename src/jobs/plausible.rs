@@ -167,7 +167,7 @@ pub fn never_rocks_warning(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::jobs::Job;
+    use crate::kinds::Job;
     use crate::spectrum::Control;
     use serde_json::Value;
 

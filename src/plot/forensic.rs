@@ -18,7 +18,7 @@ use super::style::{
     X_LABEL_AREA, axis_range, chart_on, draw_legend, fmt_num, text, tick, tint,
 };
 use super::{block_text, render, shape_title};
-use crate::jobs::forensic::{ForensicFrequency, ForensicResult};
+use crate::kinds::forensic::{ForensicFrequency, ForensicResult};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -406,8 +406,8 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
 
 #[cfg(test)]
 mod tests {
-    use crate::jobs::JobResult;
-    use crate::jobs::forensic::{
+    use crate::kinds::JobResult;
+    use crate::kinds::forensic::{
         AmplitudeRange, Bounds, ForensicFrequency, ForensicResult, ObservationSet,
     };
     use crate::plot::tests::typed;

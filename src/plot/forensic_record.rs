@@ -17,7 +17,7 @@ use super::style::{
     Y_LABEL_AREA, axis_range, draw_legend, fmt_num, mesh, scaled_pga_axis, text, tint,
 };
 use super::{block_text, render};
-use crate::jobs::forensic::ForensicResult;
+use crate::kinds::forensic::ForensicResult;
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -361,9 +361,9 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
 
 #[cfg(test)]
 mod tests {
-    use crate::jobs::JobResult;
-    use crate::jobs::forensic::{ForensicResult, RecordObservationSet};
-    use crate::jobs::record_spectrum::ScaleRangeNorm;
+    use crate::kinds::JobResult;
+    use crate::kinds::forensic::{ForensicResult, RecordObservationSet};
+    use crate::kinds::record_spectrum::ScaleRangeNorm;
     use crate::plot::bands::{Column, MIN_VISIBLE};
     use crate::plot::style::{CONSISTENT, OBSERVATIONS};
     use crate::plot::tests::{hex, typed};

@@ -15,8 +15,8 @@ use super::style::{
 use super::time_panel::crop;
 use super::{render, shape_title};
 use crate::jobs::distribution::DistributionNorm;
-use crate::jobs::fragility::{FragilityResult, UncertainNorm};
 use crate::jobs::names::Im;
+use crate::kinds::fragility::{FragilityResult, UncertainNorm};
 
 const WIDTH: u32 = 1120;
 /// Least height of the figure (taller when the legend and inputs need it).
@@ -412,9 +412,9 @@ pub fn svg(result: &FragilityResult) -> Result<String, String> {
 #[cfg(test)]
 mod tests {
     use super::{computed_range, fit_pieces, im_unit, inputs};
-    use crate::jobs::JobResult;
-    use crate::jobs::fragility::{CurvePoint, FragilityResult, LognormalFit, StripeResult};
     use crate::jobs::names::Im;
+    use crate::kinds::JobResult;
+    use crate::kinds::fragility::{CurvePoint, FragilityResult, LognormalFit, StripeResult};
     use crate::plot::style::{INK, LEGEND_WIDTH, MODE1, MUTED, fmt_num, tint};
     use crate::plot::tests::{hex, shapes, x_extent};
 

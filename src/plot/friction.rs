@@ -10,7 +10,7 @@ use super::style::{
     X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num, marker, text, tick,
 };
 use super::{block_text, render, shape_title};
-use crate::jobs::friction::FrictionResult;
+use crate::kinds::friction_spectrum::FrictionResult;
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 620;
@@ -278,8 +278,8 @@ pub fn svg(result: &FrictionResult) -> Result<String, String> {
 
 #[cfg(test)]
 pub(crate) mod tests {
-    use crate::jobs::JobResult;
-    use crate::jobs::friction::{FrictionPointDoc, FrictionResult};
+    use crate::kinds::JobResult;
+    use crate::kinds::friction_spectrum::{FrictionPointDoc, FrictionResult};
 
     /// The friction spectrum of the spec `text`.
     fn computed(text: &str) -> FrictionResult {

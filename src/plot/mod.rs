@@ -23,7 +23,7 @@ use plotters::prelude::*;
 use crate::dynamics::PulseShape;
 use crate::jobs::names::Excitation;
 use crate::jobs::spec::BlockNorm;
-use crate::jobs::{JobKind, JobResult};
+use crate::kinds::{JobKind, JobResult};
 
 pub use precision::precision_diagram;
 use style::{Area, Drawn, INK, TITLE};
@@ -168,7 +168,7 @@ pub(crate) fn scaled_vertical_text(v: &crate::jobs::vertical::ScaledVertical, g:
         ),
         ScaledVertical::Samples(s) => format!(
             "ü_v: the record's own vertical, scaled with it (PGA_v {} g unscaled)",
-            fmt_num(crate::jobs::record_spectrum::pga(s) / g, 4)
+            fmt_num(crate::kinds::record_spectrum::pga(s) / g, 4)
         ),
     }
 }
@@ -210,7 +210,7 @@ pub(crate) mod tests {
 
     /// The result `topple run` prints for the spec `text`.
     pub(crate) fn computed(text: &str) -> Value {
-        crate::jobs::Job::parse(text)
+        crate::kinds::Job::parse(text)
             .expect("a valid spec")
             .run(&crate::spectrum::Control::new())
             .expect("it runs")

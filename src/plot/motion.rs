@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use crate::dynamics::Pulse;
-use crate::jobs::time_history::TimeHistoryJob;
+use crate::kinds::time_history::TimeHistoryJob;
 
 /// Samples of a pulse across any drawn time span.
 const PULSE_SAMPLES: u32 = 1200;
@@ -232,7 +232,7 @@ fn record_curve(dt: f64, acc: &[f64], t0: f64, t1: f64, g: f64) -> Vec<(f64, f64
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::jobs::time_history::TimeHistorySpec;
+    use crate::kinds::time_history::TimeHistorySpec;
     use serde_json::json;
 
     /// The validated time-history job of the spec `doc`.

@@ -17,7 +17,7 @@ use super::style::{
     Drawn, INK, LEGEND_WIDTH, Legend, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range,
     draw_legend, fmt_num, marker, mesh, scaled_pga_axis,
 };
-use crate::jobs::record_spectrum::{RecordSpectrumJob, RecordSpectrumResult, SizeDoc};
+use crate::kinds::record_spectrum::{RecordSpectrumJob, RecordSpectrumResult, SizeDoc};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -92,7 +92,7 @@ impl Counts {
     fn of<'a>(
         lines: impl Iterator<
             Item = (
-                &'a Vec<crate::jobs::record_spectrum::ScaleTransitionDoc>,
+                &'a Vec<crate::kinds::record_spectrum::ScaleTransitionDoc>,
                 &'a Vec<crate::jobs::mixed::MixedDoc>,
             ),
         >,
@@ -391,8 +391,8 @@ fn vertical_text(spec: &RecordSpectrumJob) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::{BAR_MAX, Drawing, drawing};
-    use crate::jobs::JobResult;
-    use crate::jobs::record_spectrum::{
+    use crate::kinds::JobResult;
+    use crate::kinds::record_spectrum::{
         RecordSpectrumResult, ScaleModeChangeDoc, ScalePrincipalDoc, ScaleTransitionDoc, SizeDoc,
     };
     use crate::plot::bands::MIN_VISIBLE;

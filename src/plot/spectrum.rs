@@ -18,8 +18,8 @@ use super::style::{
 };
 use super::{block_text, render, shape_title};
 use crate::dynamics::PulseShape;
-use crate::jobs::record_spectrum::ScaleTransitionDoc;
-use crate::jobs::spectrum::{FrequencyDoc, SpectrumJob, SpectrumResult, TransitionDoc};
+use crate::kinds::record_spectrum::ScaleTransitionDoc;
+use crate::kinds::spectrum::{FrequencyDoc, SpectrumJob, SpectrumResult, TransitionDoc};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -743,8 +743,8 @@ fn vertical_text(spec: &SpectrumJob) -> Option<String> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::{CLASS_SAFE, Crossing, regions_of};
-    use crate::jobs::JobResult;
-    use crate::jobs::spectrum::{FrequencyDoc, ModeChangeDoc, SpectrumResult, TransitionDoc};
+    use crate::kinds::JobResult;
+    use crate::kinds::spectrum::{FrequencyDoc, ModeChangeDoc, SpectrumResult, TransitionDoc};
     use crate::plot::bands::MIN_VISIBLE;
 
     /// The spectrum of the spec `text`.

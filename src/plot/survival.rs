@@ -13,7 +13,7 @@ use super::style::{
     Drawn, INK, LEGEND_WIDTH, Legend, MUTED, Marker, NOTE, Swatch, axis_range, chart_on,
     draw_legend, fmt_num, left_top, legend_height, marker, mesh, right_top, text_width,
 };
-use crate::jobs::survival::{RockResult, SurvivalResult};
+use crate::kinds::survival::{RockResult, SurvivalResult};
 
 const WIDTH: u32 = 1120;
 /// Least height of the figure (taller when the legend needs it).
@@ -371,8 +371,8 @@ pub fn svg(result: &SurvivalResult) -> Result<String, String> {
 #[cfg(test)]
 mod tests {
     use super::{Box4, LABEL, age_label, overlap, place_labels};
-    use crate::jobs::JobResult;
-    use crate::jobs::survival::{
+    use crate::kinds::JobResult;
+    use crate::kinds::survival::{
         AgeDistributionResult, AgeResult, FragilityNorm, JointResult, RockResult, SurvivalResult,
     };
     use crate::plot::style::{MUTED, fmt_num, text_width};

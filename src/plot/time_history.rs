@@ -30,7 +30,7 @@ use super::window::Window;
 use super::{block_text, render, shape_title};
 use crate::dynamics::Formulation;
 use crate::jobs::contact::{ContactNorm, ModeDoc};
-use crate::jobs::time_history::TimeHistoryResult;
+use crate::kinds::time_history::TimeHistoryResult;
 
 const WIDTH: u32 = 1120;
 const TITLE_AREA: u32 = 44;
@@ -996,8 +996,8 @@ pub(crate) mod tests {
         GROUND, MODES, NO_SERIES_COULOMB, RATIO, SLIP, THETA, TimeHistoryResult, VERTICAL,
         mode_band, response_end, slip_at_changes, zoom_end,
     };
-    use crate::jobs::JobResult;
     use crate::jobs::contact::ModeDoc;
+    use crate::kinds::JobResult;
     use crate::plot::style::{REST, fmt_num};
     use crate::plot::tests::{hex, shapes, x_extent};
     use crate::plot::time_panel::BAND_HEIGHT;

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use crate::jobs::limits::Limits;
+use crate::kinds::limits::Limits;
 
 /// Settings of `topple serve`.
 #[derive(Clone, Debug, PartialEq)]

@@ -9,7 +9,8 @@ use uuid::Uuid;
 
 use super::AppState;
 use super::finished::{ResultError, finished};
-use crate::jobs::{JobKind, SpecError};
+use crate::jobs::SpecError;
+use crate::kinds::JobKind;
 
 /// Why the fragility jobs a spec names cannot stand in for their fits.
 #[derive(Debug, thiserror::Error)]

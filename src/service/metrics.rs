@@ -4,7 +4,7 @@
 use metrics::{Counter, Gauge, Histogram, Key, Label, Metadata, Recorder};
 use metrics_exporter_prometheus::{PrometheusBuilder, PrometheusHandle, PrometheusRecorder};
 
-use crate::jobs::KINDS;
+use crate::kinds::KINDS;
 use crate::store::Status;
 
 const META: Metadata<'static> = Metadata::new("topple", metrics::Level::INFO, Some("topple"));

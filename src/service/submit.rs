@@ -3,9 +3,10 @@
 //! service's limits, with its cache key, canonical text and tasks; and
 //! whether the queue and the tenant's quota admit it.
 
-use crate::jobs::key::cache_key;
-use crate::jobs::limits::{LimitError, Size};
-use crate::jobs::{Job, SpecError};
+use crate::jobs::SpecError;
+use crate::kinds::Job;
+use crate::kinds::key::cache_key;
+use crate::kinds::limits::{LimitError, Size};
 use crate::store::{Status, StoreError};
 
 use super::AppState;

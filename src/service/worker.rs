@@ -11,7 +11,8 @@ use tracing::{Instrument, info, info_span, warn};
 use uuid::Uuid;
 
 use super::AppState;
-use crate::jobs::{Job, JobError, SpecError};
+use crate::jobs::{JobError, SpecError};
+use crate::kinds::Job;
 use crate::spectrum::Control;
 use crate::store::{Status, StoreError, TaskClaim, now_rfc3339};
 
@@ -190,7 +191,7 @@ async fn execute(
         }
     };
     // A job of one task is its own spec: its key names the result.
-    let key = crate::jobs::key::cache_key(&job);
+    let key = crate::kinds::key::cache_key(&job);
     let size = job.size();
     let control = Arc::new(Control::new());
     state.register(id, idx, control.clone());

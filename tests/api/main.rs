@@ -366,7 +366,7 @@ async fn a_fragility_campaign_runs_as_tasks_reports_progress_and_cancels() {
         "block": {"alpha": {"dist": "uniform", "min": 0.15, "max": 0.25}, "p": 2.0},
         "pulse": {"type": "one_sine", "frequency_hz": 0.8},
         "stripes": {"from": 0.1, "to": 2.0, "steps": 20}, "samples": 100_000});
-    let tasks = topple::jobs::Job::from_value(&spec)
+    let tasks = topple::kinds::Job::from_value(&spec)
         .expect("valid")
         .split()
         .len();

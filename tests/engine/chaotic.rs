@@ -6,7 +6,7 @@
 //! agrees with 60 evenly spaced time histories.
 
 use serde_json::{Value, json};
-use topple::jobs::Job;
+use topple::kinds::Job;
 use topple::records::{ReadOptions, read};
 use topple::spectrum::Control;
 

@@ -3,7 +3,7 @@
 //! every gap between them.
 
 use serde_json::{Value, json};
-use topple::jobs::Job;
+use topple::kinds::Job;
 use topple::spectrum::Control;
 
 fn run(spec: &Value) -> Value {

@@ -5,8 +5,8 @@
 //! one job; what cannot be computed is refused naming the field.
 
 use serde_json::{Value, json};
-use topple::jobs::Job;
-use topple::jobs::key::cache_key;
+use topple::kinds::Job;
+use topple::kinds::key::cache_key;
 use topple::spectrum::Control;
 
 /// A one-sine pulse of `hz` and peak `a_g` g, sampled at T/n.

@@ -4,7 +4,7 @@
 //! histories (within the binomial error); a seed reproduces a result.
 
 use serde_json::{Value, json};
-use topple::jobs::Job;
+use topple::kinds::Job;
 use topple::spectrum::Control;
 
 fn run(spec: &Value) -> Value {
@@ -428,8 +428,8 @@ fn a_fixed_vertical_ratio_counts_each_stripe_as_its_time_history_and_lift_offs_a
             assert!(lifted >= 1, "r = {ratio}: no stripe lifted off");
         }
         // Reads back into its type (p null included).
-        let typed = topple::jobs::JobResult::from_value(doc.clone()).expect("reads");
-        let topple::jobs::JobResult::Fragility(f) = typed else {
+        let typed = topple::kinds::JobResult::from_value(doc.clone()).expect("reads");
+        let topple::kinds::JobResult::Fragility(f) = typed else {
             panic!("a fragility")
         };
         assert_eq!(

@@ -15,8 +15,9 @@
 use proptest::prelude::*;
 use proptest::sample::{Index, select};
 use serde_json::{Map, Value, json};
-use topple::jobs::key::cache_key;
-use topple::jobs::{Job, JobError};
+use topple::jobs::JobError;
+use topple::kinds::Job;
+use topple::kinds::key::cache_key;
 use topple::spectrum::Control;
 
 /// Every field name the spec types know, aliases included.

@@ -15,8 +15,8 @@ use topple::dynamics::{
     Block, Formulation, Method, Options, OverturnMode, Problem, Pulse, PulseShape, Record,
     Response, Solver, simulate,
 };
-use topple::jobs::Job;
-use topple::jobs::key::{cache_key, canonical_spec};
+use topple::kinds::Job;
+use topple::kinds::key::{cache_key, canonical_spec};
 
 const G: f64 = 9.81;
 

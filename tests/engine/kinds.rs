@@ -4,7 +4,7 @@
 //! compile.
 
 use serde_json::{Value, json};
-use topple::jobs::{Job, JobKind, JobResult};
+use topple::kinds::{Job, JobKind, JobResult};
 use topple::spectrum::Control;
 
 /// A small job of `kind`: its `Kind::EXAMPLE`.

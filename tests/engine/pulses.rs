@@ -345,8 +345,8 @@ fn dopri5_and_dop853_agree_on_ricker_wavelets() {
 /// naming the field.
 #[test]
 fn a_rectangular_pulse_may_be_given_by_its_duration() {
-    use topple::jobs::Job;
-    use topple::jobs::key::cache_key;
+    use topple::kinds::Job;
+    use topple::kinds::key::cache_key;
     let by_duration = Job::parse(
         r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"rectangular","duration_s":0.5,"a_p_alpha_g":1.2},"formulation":"linear"}"#,
     )
@@ -662,8 +662,8 @@ fn mavroeidis_papageorgiou_spectra_do_not_depend_on_size() {
 /// normalised spec carries γ and ν, and the cache key tells them apart.
 #[test]
 fn mavroeidis_papageorgiou_specs_are_validated_and_keyed() {
-    use topple::jobs::Job;
-    use topple::jobs::key::cache_key;
+    use topple::kinds::Job;
+    use topple::kinds::key::cache_key;
     let th = |pulse: &str, extra: &str| {
         format!(
             r#"{{"kind":"time_history","block":{{"alpha":0.25,"p":2.14}},"pulse":{pulse}{extra}}}"#

@@ -3,8 +3,8 @@
 //! one job; what cannot be computed is refused naming the field.
 
 use serde_json::{Value, json};
-use topple::jobs::Job;
-use topple::jobs::key::cache_key;
+use topple::kinds::Job;
+use topple::kinds::key::cache_key;
 use topple::spectrum::Control;
 
 const G: f64 = 9.81;
@@ -200,21 +200,21 @@ fn a_split_record_spectrum_assembles_to_the_whole() {
             .expect("a count"),
         whole["numerics"]["simulations"].as_u64().expect("a count"),
     );
-    let topple::jobs::Job::RecordSpectrum(j) = &job else {
+    let topple::kinds::Job::RecordSpectrum(j) = &job else {
         panic!("a record spectrum");
     };
     let meeting = 2 * (tasks.len() + 7 * (j.grid().points() / 48 + 1)) as u64;
     assert!(a >= w && a - w <= meeting, "{a} vs {w}");
     assert_eq!(assembled["numerics"]["tasks"], tasks.len());
     // A figure and a CSV table of it.
-    let typed = topple::jobs::JobResult::from_value(whole).expect("a record spectrum");
+    let typed = topple::kinds::JobResult::from_value(whole).expect("a record spectrum");
     let svg = topple::plot::svg(&typed).expect("a figure");
     assert!(svg.contains("block size R (m)") && svg.contains("scale factor"));
 }
 
 #[test]
 fn a_long_record_is_split_into_few_tasks_and_its_size_is_limited() {
-    use topple::jobs::limits::Limits;
+    use topple::kinds::limits::Limits;
     let mut gm = one_sine_record(0.02, 100_000);
     gm["dt"] = json!(0.0005);
     let job =

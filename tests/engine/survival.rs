@@ -3,7 +3,7 @@
 //! ages; several rocks; what cannot be computed is refused naming the field.
 
 use serde_json::{Value, json};
-use topple::jobs::Job;
+use topple::kinds::Job;
 use topple::spectrum::Control;
 
 /// H(x) = 1e-4·(x/0.4)^(−k), tabulated at `xs` (g).

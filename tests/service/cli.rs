@@ -676,7 +676,7 @@ fn version_names_the_engine() {
     let out = topple().arg("--version").output().expect("runs");
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success());
-    assert!(text.contains(topple::jobs::key::ENGINE_VERSION), "{text}");
+    assert!(text.contains(topple::kinds::key::ENGINE_VERSION), "{text}");
 }
 
 #[test]

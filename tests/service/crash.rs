@@ -14,7 +14,7 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 use crate::common::server::{Server, http, list_all, sqlite_url, status, temp_dir, wait_until};
 use serde_json::{Value, json};
 use sqlx::Connection;
-use topple::jobs::Job;
+use topple::kinds::Job;
 use topple::spectrum::Control;
 
 /// Points of the series of every time history: results of about 250 kB.

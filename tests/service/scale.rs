@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use serde_json::{Value, json};
 use sqlx::Row;
-use topple::jobs::Job;
+use topple::kinds::Job;
 use topple::service::{AppState, ServeConfig};
 use topple::spectrum::Control;
 use topple::startup::Application;

@@ -9,7 +9,7 @@ use super::tests::{
     TIME_HISTORY, json_text, lines,
 };
 use super::{SIGNIFICANT_DIGITS, cell, quote, to_csv};
-use crate::jobs::{JobKind, JobResult};
+use crate::kinds::{JobKind, JobResult};
 
 /// The pointers of every scalar of `v` under `at`: objects are entered,
 /// arrays are not (a list is the table's rows, or is left out of it).

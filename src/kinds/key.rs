@@ -2,7 +2,7 @@
 
 use super::Job;
 
-pub use super::engine::{BUILD_COMMIT, ENGINE_VERSION, engine_doc, engine_info};
+pub use crate::jobs::engine::{BUILD_COMMIT, ENGINE_VERSION, engine_doc, engine_info};
 
 /// Rounds every number to 12 significant digits, so that the same quantity
 /// given in other units (a_p_g vs a_p) normalises to one value.

@@ -12,9 +12,9 @@ use utoipa::openapi::schema::{Discriminator, OneOfBuilder, Schema};
 use utoipa::openapi::{Ref, RefOr};
 use utoipa::{PartialSchema, ToSchema};
 
-use super::error::{JobError, SpecError};
-use super::kind::{Envelope, Kind, Output, Size, document};
-use super::warning::WarningDoc;
+use crate::jobs::error::{JobError, SpecError};
+use crate::jobs::kind::{Envelope, Kind, Output, Size, document};
+use crate::jobs::warning::WarningDoc;
 use crate::spectrum::Control;
 
 /// A `oneOf` of the kinds' schemas `(kind, schema name)`, discriminated by
@@ -68,7 +68,7 @@ fn result_kind(value: &Value) -> Result<JobKind, ResultError> {
 fn read_as<T: serde::de::DeserializeOwned>(kind: JobKind, value: Value) -> Result<T, ResultError> {
     serde_path_to_error::deserialize(value).map_err(|e| ResultError {
         kind: Some(kind),
-        pointer: super::spec::json_pointer("", e.path()),
+        pointer: crate::jobs::spec::json_pointer("", e.path()),
         message: e.into_inner().to_string(),
     })
 }
@@ -77,7 +77,7 @@ fn read_as<T: serde::de::DeserializeOwned>(kind: JobKind, value: Value) -> Resul
 /// and the engine that computed it.
 fn whole<K: Kind>(job: &K::Job, mut result: K::Result) -> Result<Value, JobError> {
     result.add_warnings(K::warnings(job));
-    result.set_engine(super::engine::engine_doc());
+    result.set_engine(crate::jobs::engine::engine_doc());
     document(&result)
 }
 
@@ -365,7 +365,7 @@ kinds! {
     /// An overturning spectrum.
     Spectrum => super::spectrum::Spectrum,
     /// A friction-demand spectrum.
-    FrictionSpectrum => super::friction::FrictionSpectrum,
+    FrictionSpectrum => super::friction_spectrum::FrictionSpectrum,
     /// The pulses or record scales consistent with blocks seen overturned or
     /// standing.
     Forensic => super::forensic::Forensic,

@@ -3,23 +3,23 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::contact::{
-    ContactDoc, ContactNorm, ContactSpec, ModeDoc, run_coulomb, validate_contact,
-};
-use super::names::{EngineDoc, tag};
-use super::numerics::NumericsDoc;
-use super::spec::{
-    BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, SolverNorm,
-    SolverSpec, SpecError, parse_formulation, validate_pulse,
-};
-use super::vertical::{
-    VerticalPulseNorm, VerticalPulseSpec, validate_record_with_vertical, validate_vertical_pulse,
-};
-pub use super::warning::WarningDoc;
 use crate::dynamics::PulsePair;
 use crate::dynamics::response::{Limit, Response, Warning};
 use crate::dynamics::sliding::Kinematics;
 use crate::dynamics::{Formulation, Options, Problem, SimError, simulate};
+use crate::jobs::contact::{
+    ContactDoc, ContactNorm, ContactSpec, ModeDoc, run_coulomb, validate_contact,
+};
+use crate::jobs::names::{EngineDoc, tag};
+use crate::jobs::numerics::NumericsDoc;
+use crate::jobs::spec::{
+    BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, PulseNorm, PulseSpec, SolverNorm,
+    SolverSpec, SpecError, parse_formulation, validate_pulse,
+};
+use crate::jobs::vertical::{
+    VerticalPulseNorm, VerticalPulseSpec, validate_record_with_vertical, validate_vertical_pulse,
+};
+pub use crate::jobs::warning::WarningDoc;
 
 /// Largest series accepted.
 pub const MAX_SERIES_POINTS: usize = 1_000_000;
@@ -102,13 +102,13 @@ pub struct TimeHistoryJob {
     pub pulse: Option<PulseNorm>,
     /// The vertical motion beside the pulse (when there is one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
+    #[schema(value_type = Option<crate::jobs::vertical::VerticalPulseDoc>)]
     pub vertical: Option<VerticalPulseNorm>,
     /// Record (when the ground motion is a record).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ground_motion: Option<GroundMotionNorm>,
     /// "linear" | "nonlinear".
-    #[serde(with = "super::names::formulation")]
+    #[serde(with = "crate::jobs::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: Formulation,
     /// Solver.
@@ -125,7 +125,7 @@ impl crate::jobs::kind::Validate for TimeHistorySpec {
 
     /// Validates into a runnable job.
     fn validate(&self) -> Result<TimeHistoryJob, SpecError> {
-        let block = super::spec::the_block(self.block.as_ref())?;
+        let block = crate::jobs::spec::the_block(self.block.as_ref())?;
         let (pulse, ground_motion) = match (&self.pulse, &self.ground_motion) {
             (Some(p), None) => (Some(validate_pulse(p, &block, "/pulse")?.0), None),
             (None, Some(g)) => (
@@ -162,7 +162,7 @@ impl crate::jobs::kind::Validate for TimeHistorySpec {
         // (linear between samples); a wavelet has none, nor any motion with
         // a vertical component.
         let closed_form = pulse.as_ref().is_none_or(|p| p.shape.is_sinusoidal());
-        let solver = super::vertical::validate_solver_with_vertical(
+        let solver = crate::jobs::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             closed_form,
@@ -480,7 +480,7 @@ pub struct TimeHistoryResult {
     pub time_in_flight_s: Option<f64>,
     /// The normalised spec that was run.
     pub spec: TimeHistoryJob,
-    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    /// What computed it (set as the document leaves [`crate::kinds::Job::run`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
@@ -599,12 +599,13 @@ impl TimeHistoryJob {
             series.mode = Some(mode);
         }
         if let Some(m) = self.ground_motion.as_ref().filter(|m| m.vertical.is_none()) {
-            doc.warnings.extend(super::plausible::never_rocks_warning(
-                m,
-                &self.block,
-                self.formulation == Formulation::Linear,
-                Some((c.peak_slide_m, c.residual_slide_m)),
-            ));
+            doc.warnings
+                .extend(crate::jobs::plausible::never_rocks_warning(
+                    m,
+                    &self.block,
+                    self.formulation == Formulation::Linear,
+                    Some((c.peak_slide_m, c.residual_slide_m)),
+                ));
         }
     }
 
@@ -703,7 +704,7 @@ pub struct TimeHistory;
 
 impl crate::jobs::kind::Kind for TimeHistory {
     const NAME: &'static str = crate::jobs::names::tag::TimeHistory::NAME;
-    const EXAMPLE: &'static str = include_str!("examples/time_history.json");
+    const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Time history";
     type Spec = TimeHistorySpec;
     type Job = TimeHistoryJob;
@@ -748,7 +749,7 @@ impl crate::jobs::kind::Kind for TimeHistory {
     }
 
     fn warnings(job: &TimeHistoryJob) -> Vec<WarningDoc> {
-        use super::plausible::{
+        use crate::jobs::plausible::{
             coarse_dt_warning, never_rocks_warning, record_warnings, size_warning,
         };
         let mut found: Vec<WarningDoc> = size_warning(&job.block, "/block").into_iter().collect();
@@ -883,7 +884,7 @@ mod tests {
     /// 0.01 s, in g) scaled by `scale`, under a slender block (α = 0.25,
     /// p = 2 rad/s).
     fn ridge_spec(scale: f64) -> serde_json::Value {
-        let acc: Vec<f64> = include_str!("../../specs/records/ridge_station_090.at2")
+        let acc: Vec<f64> = include_str!("../../../specs/records/ridge_station_090.at2")
             .lines()
             .skip(4)
             .flat_map(str::split_whitespace)

@@ -101,7 +101,7 @@ impl scan_parts::Parted for RecordSpectrumJob {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::jobs::Job;
+    use crate::kinds::Job;
 
     fn job(sizes: &str) -> RecordSpectrumJob {
         job_on(sizes, "")

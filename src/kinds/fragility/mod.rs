@@ -24,18 +24,18 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
-use super::JobError;
-use super::distribution::{DistributionNorm, DistributionSpec};
-use super::names::{EngineDoc, Im, tag};
-use super::range::RangeSpec;
-use super::spec::{
-    BlockNorm, GroundMotionNorm, GroundMotionSpec, PulseSpec, SolverNorm, SolverSpec, SpecError,
-    parse_formulation, parse_shape,
-};
 use super::spectrum::PulseFamily;
 use crate::dynamics::block::housner_restitution;
 use crate::dynamics::{
     Block, Formulation, Options, Problem, Pulse, PulsePair, Record, RecordPair, Response, simulate,
+};
+use crate::jobs::JobError;
+use crate::jobs::distribution::{DistributionNorm, DistributionSpec};
+use crate::jobs::names::{EngineDoc, Im, tag};
+use crate::jobs::range::RangeSpec;
+use crate::jobs::spec::{
+    BlockNorm, GroundMotionNorm, GroundMotionSpec, PulseSpec, SolverNorm, SolverSpec, SpecError,
+    parse_formulation, parse_shape,
 };
 use crate::probability::fragility::{Stripe, fit_lognormal, log_likelihood, wilson};
 use crate::probability::normal;
@@ -182,7 +182,7 @@ pub struct NamedMotionSpec {
     pub allow_large_pga: Option<bool>,
     /// Its vertical acceleration (positive up): samples on its dt, a stored
     /// record by id, or `{"ratio": r}`; scaled with it.
-    pub vertical: Option<super::vertical::VerticalRecordSpec>,
+    pub vertical: Option<crate::jobs::vertical::VerticalRecordSpec>,
 }
 
 /// The vertical ground motion of a campaign as users write it.
@@ -226,12 +226,12 @@ pub struct FragilitySpec {
     /// the default) or `{"model": "coulomb", "mu", "mu_kinetic"?}` (every
     /// sample followed on that floor; a sample whose block leaves the floor
     /// counts as lift-off, no verdict).
-    pub contact: Option<super::contact::ContactSpec>,
+    pub contact: Option<crate::jobs::contact::ContactSpec>,
     /// "linear" | "nonlinear" (default).
     #[schema(value_type = Option<crate::jobs::schema::FormulationName>)]
     pub formulation: Option<String>,
     /// The intensity measure: "pga_g" (default) or "pgv_m_s".
-    #[schema(value_type = Option<crate::jobs::survival::ImName>)]
+    #[schema(value_type = Option<crate::kinds::survival::ImName>)]
     pub im: Option<String>,
     /// Intensity levels: a list or `{"from", "to", "steps"}` (at most 200).
     #[schema(required = true, value_type = RangeSpec)]
@@ -313,11 +313,11 @@ pub struct FragilityJob {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vertical: Option<UncertainVerticalNorm>,
     /// "linear" | "nonlinear".
-    #[serde(with = "super::names::formulation")]
+    #[serde(with = "crate::jobs::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: Formulation,
     /// "pga_g" | "pgv_m_s".
-    #[schema(value_type = crate::jobs::survival::ImName)]
+    #[schema(value_type = crate::kinds::survival::ImName)]
     pub im: Im,
     /// Intensity levels.
     pub stripes: Vec<f64>,
@@ -329,7 +329,7 @@ pub struct FragilityJob {
     pub solver: SolverNorm,
     /// Coulomb friction at the floor, when given (absent: pure rocking).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub contact: Option<super::contact::ContactNorm>,
+    pub contact: Option<crate::jobs::contact::ContactNorm>,
     /// A task's units `[from, to)` of [`FragilityJob::units`] (absent: the
     /// whole job).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -364,7 +364,7 @@ fn uncertain(
             }
         }
         Some(obj @ Value::Object(_)) => {
-            let d: DistributionSpec = super::spec::from_value(obj, at)?;
+            let d: DistributionSpec = crate::jobs::spec::from_value(obj, at)?;
             Ok(Some(UncertainNorm::Distribution(
                 d.validate(at, range, open_lo, what)?,
             )))
@@ -379,7 +379,7 @@ fn uncertain(
 impl FragilitySpec {
     /// The block: α and p, or b and h, each a number or a distribution.
     fn validate_block(&self) -> Result<UncertainBlockNorm, SpecError> {
-        let b = super::spec::required(self.block.as_ref(), "/block")?;
+        let b = crate::jobs::spec::required(self.block.as_ref(), "/block")?;
         let g = b.g.unwrap_or(9.81);
         if !(g.is_finite() && g > 0.0) {
             return Err(SpecError::at("/block/g", "must be a finite number > 0"));
@@ -453,8 +453,8 @@ impl FragilitySpec {
                     })?),
                     "/vertical/ratio",
                     (
-                        -super::vertical::MAX_VERTICAL_RATIO,
-                        super::vertical::MAX_VERTICAL_RATIO,
+                        -crate::jobs::vertical::MAX_VERTICAL_RATIO,
+                        crate::jobs::vertical::MAX_VERTICAL_RATIO,
                     ),
                     false,
                     "ü_v/ü_g",
@@ -584,7 +584,7 @@ impl FragilitySpec {
                                 "give each record's vertical motion, or one ratio for all (/vertical), not both",
                             ));
                         }
-                        let motion = super::vertical::validate_record_with_vertical(
+                        let motion = crate::jobs::vertical::validate_record_with_vertical(
                             &GroundMotionSpec {
                                 dt: m.dt,
                                 acc: m.acc.clone(),
@@ -642,7 +642,7 @@ impl crate::jobs::kind::Validate for FragilitySpec {
                 .iter()
                 .flatten()
                 .any(|m| m.motion.vertical.is_some());
-        let solver = super::vertical::validate_solver_with_vertical(
+        let solver = crate::jobs::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             closed_form,
@@ -698,7 +698,7 @@ impl crate::jobs::kind::Validate for FragilitySpec {
             samples,
             seed: self.seed.unwrap_or(1),
             solver,
-            contact: super::contact::validate_contact(
+            contact: crate::jobs::contact::validate_contact(
                 self.contact.as_ref(),
                 formulation,
                 "/contact",
@@ -850,7 +850,7 @@ pub struct FragilityResult {
     /// "fragility".
     pub kind: tag::Fragility,
     /// The intensity measure.
-    #[schema(value_type = crate::jobs::survival::ImName)]
+    #[schema(value_type = crate::kinds::survival::ImName)]
     pub im: Im,
     /// One entry per stripe, in the order of `spec.stripes`: the empirical
     /// fragility, the primary answer.
@@ -872,12 +872,12 @@ pub struct FragilityResult {
     /// The normalised spec.
     pub spec: FragilityJob,
     /// Notes on the suite's records (`large_pga`, `baseline_drift`), added
-    /// as the document leaves [`crate::jobs::Job::run`]; absent when there
+    /// as the document leaves [`crate::kinds::Job::run`]; absent when there
     /// are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     #[schema(ignore)]
-    pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
-    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    pub warnings: Vec<crate::kinds::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::kinds::Job::run`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
@@ -1160,13 +1160,13 @@ impl FragilityJob {
             .unwrap_or(0)
     }
 
-    /// Expected CPU seconds of one of its simulations ([`super::cost`]): a
+    /// Expected CPU seconds of one of its simulations ([`crate::jobs::cost`]): a
     /// record of the suite's on average, or a pulse of its family: at
     /// stripes many of which do not rock the block, about 0.6 of a
     /// spectrum's average simulation (measured 35 µs for a one-sine), or of
     /// a record's whole shaking.
     pub fn simulation_s(&self) -> f64 {
-        use super::cost;
+        use crate::jobs::cost;
         (match (&self.ground_motions, &self.pulse) {
             (Some(suite), _) if !suite.is_empty() => {
                 0.6 * suite
@@ -1183,7 +1183,7 @@ impl FragilityJob {
                 )
             }
             _ => 0.0,
-        }) * super::cost::contact_factor(self.contact.as_ref())
+        }) * crate::jobs::cost::contact_factor(self.contact.as_ref())
     }
 
     /// Simulations this job (or task) runs.
@@ -1506,7 +1506,7 @@ pub struct Fragility;
 
 impl crate::jobs::kind::Kind for Fragility {
     const NAME: &'static str = crate::jobs::names::tag::Fragility::NAME;
-    const EXAMPLE: &'static str = include_str!("examples/fragility.json");
+    const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Fragility";
     type Spec = FragilitySpec;
     type Job = FragilityJob;
@@ -1541,13 +1541,13 @@ impl crate::jobs::kind::Kind for Fragility {
         "/samples"
     }
 
-    fn warnings(job: &FragilityJob) -> Vec<super::warning::WarningDoc> {
+    fn warnings(job: &FragilityJob) -> Vec<crate::jobs::warning::WarningDoc> {
         job.ground_motions
             .iter()
             .flatten()
             .enumerate()
             .flat_map(|(i, m)| {
-                super::plausible::record_warnings(&m.motion, &format!("/ground_motions/{i}"))
+                crate::jobs::plausible::record_warnings(&m.motion, &format!("/ground_motions/{i}"))
             })
             .collect()
     }
@@ -1563,7 +1563,7 @@ impl crate::jobs::kind::Kind for Fragility {
             return vec![job.clone()];
         }
         let units = job.units();
-        let per = super::split::per_task(units, CHUNK as f64 * job.simulation_s());
+        let per = crate::jobs::split::per_task(units, CHUNK as f64 * job.simulation_s());
         if per >= units {
             return vec![job.clone()];
         }

@@ -2,14 +2,14 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::names::{EngineDoc, tag};
-use super::range::RangeSpec;
-use super::spec::{
+use super::spectrum::{PulseFamily, SpectrumNumerics, validate_family};
+use crate::dynamics::{Formulation, SimError};
+use crate::jobs::names::{EngineDoc, tag};
+use crate::jobs::range::RangeSpec;
+use crate::jobs::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, SolverNorm, SolverSpec, SpecError,
     in_one_unit, parse_formulation,
 };
-use super::spectrum::{PulseFamily, SpectrumNumerics, validate_family};
-use crate::dynamics::{Formulation, SimError};
 use crate::spectrum::Control;
 use crate::spectrum::friction::{FrictionRequest, friction_spectrum};
 use crate::spectrum::scan::ScanError;
@@ -55,7 +55,7 @@ pub struct FrictionSpec {
     /// pulse: `{"ratio": r}` (ü_v = r·ü_g), or a pulse of its own (`type`,
     /// `amplitude_ratio` a_v/a_p, `frequency_ratio` ω_v/ω_p or an absolute
     /// `omega_p`/`frequency_hz`, optional `delay_s`).
-    pub vertical: Option<super::vertical::VerticalPulseSpec>,
+    pub vertical: Option<crate::jobs::vertical::VerticalPulseSpec>,
 }
 
 /// A validated friction-spectrum job.
@@ -69,7 +69,7 @@ pub struct FrictionJob {
     /// Pulse family.
     pub pulse: PulseFamily,
     /// "linear" | "nonlinear".
-    #[serde(with = "super::names::formulation")]
+    #[serde(with = "crate::jobs::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: Formulation,
     /// ω_p/p.
@@ -80,8 +80,8 @@ pub struct FrictionJob {
     pub solver: SolverNorm,
     /// The vertical motion (positive up), when given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
-    pub vertical: Option<super::vertical::VerticalPulseNorm>,
+    #[schema(value_type = Option<crate::jobs::vertical::VerticalPulseDoc>)]
+    pub vertical: Option<crate::jobs::vertical::VerticalPulseNorm>,
 }
 
 impl crate::jobs::kind::Validate for FrictionSpec {
@@ -89,12 +89,12 @@ impl crate::jobs::kind::Validate for FrictionSpec {
 
     /// Validates into a runnable job.
     fn validate(&self) -> Result<FrictionJob, SpecError> {
-        let block = super::spec::the_block(self.block.as_ref())?;
+        let block = crate::jobs::spec::the_block(self.block.as_ref())?;
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let vertical =
-            super::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
-        let solver = super::vertical::validate_solver_with_vertical(
+            crate::jobs::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
+        let solver = crate::jobs::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             pulse.shape().is_sinusoidal(),
@@ -228,8 +228,8 @@ pub struct FrictionResult {
     /// Notes on the inputs (`implausible_size`: a block smaller than 1 cm or
     /// larger than 100 m); absent when there are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
-    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    pub warnings: Vec<crate::kinds::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::kinds::Job::run`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
@@ -248,7 +248,7 @@ impl FrictionJob {
             solver: self.solver.solver(),
             omega_ratio: self.omega_ratio,
             levels: self.a_alpha_g.clone(),
-            vertical: super::vertical::ScaledVertical::of(self.vertical.as_ref(), None)
+            vertical: crate::jobs::vertical::ScaledVertical::of(self.vertical.as_ref(), None)
                 .and_then(|v| v.of_pulses()),
         };
         let s = friction_spectrum(&req, control)?;
@@ -294,7 +294,7 @@ const FRICTION_COST: f64 = 6.0;
 
 impl crate::jobs::kind::Kind for FrictionSpectrum {
     const NAME: &'static str = crate::jobs::names::tag::FrictionSpectrum::NAME;
-    const EXAMPLE: &'static str = include_str!("examples/friction_spectrum.json");
+    const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Friction spectrum";
     type Spec = FrictionSpec;
     type Job = FrictionJob;
@@ -330,8 +330,8 @@ impl crate::jobs::kind::Kind for FrictionSpectrum {
         "/a_alpha_g"
     }
 
-    fn warnings(job: &FrictionJob) -> Vec<super::warning::WarningDoc> {
-        super::plausible::size_warning(&job.block, "/block")
+    fn warnings(job: &FrictionJob) -> Vec<crate::jobs::warning::WarningDoc> {
+        crate::jobs::plausible::size_warning(&job.block, "/block")
             .into_iter()
             .collect()
     }
@@ -341,7 +341,7 @@ impl crate::jobs::kind::Kind for FrictionSpectrum {
 mod tests {
     use serde_json::{Value, json};
 
-    use crate::jobs::Job;
+    use crate::kinds::Job;
     use crate::spectrum::Control;
 
     fn run(spec: Value) -> Value {
@@ -388,7 +388,7 @@ mod tests {
             }
             Job::from_value(&spec)
         };
-        let key = |axes: Value| crate::jobs::key::cache_key(&base(axes).expect("valid"));
+        let key = |axes: Value| crate::kinds::key::cache_key(&base(axes).expect("valid"));
         let reference = key(json!({"omega_ratio": 3.0, "a_alpha_g": [2.0, 4.0]}));
         let tau = std::f64::consts::TAU;
         assert_eq!(key(json!({"omega_p": 6.0, "a_p_g": [0.5, 1.0]})), reference);

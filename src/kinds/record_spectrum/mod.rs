@@ -11,18 +11,18 @@
 use crate::jobs::mixed::{MixedDoc, minimum_place};
 use serde::{Deserialize, Serialize};
 
-use super::error::JobError;
-use super::names::{EngineDoc, tag};
-use super::range::RangeSpec;
-use super::spec::{
+use super::spectrum::ScanCost;
+use super::time_history::GroundPeaksDoc;
+use crate::dynamics::block::BlockError;
+use crate::dynamics::{Block, Formulation, SimError, peaks};
+use crate::jobs::error::JobError;
+use crate::jobs::names::{EngineDoc, tag};
+use crate::jobs::range::RangeSpec;
+use crate::jobs::spec::{
     BlockSpec, GroundMotionNorm, GroundMotionSpec, SolverNorm, SolverSpec, SpecError, at_most_one,
     in_one_unit, parse_formulation, validate_block,
 };
-use super::spectrum::ScanCost;
-use super::time_history::GroundPeaksDoc;
-use super::vertical::ScaledVertical;
-use crate::dynamics::block::BlockError;
-use crate::dynamics::{Block, Formulation, SimError, peaks};
+use crate::jobs::vertical::ScaledVertical;
 use crate::spectrum::Control;
 use crate::spectrum::overturning::{Derived, LineScan, ScanGrid, threshold_alpha_g_of};
 use crate::spectrum::record::{RecordSpectrumRequest, record_spectrum};
@@ -141,11 +141,11 @@ pub struct RecordSpectrumSpec {
     /// horizontal one at every scale: `{"ratio": r}`, ü_v = r·ü_g (or give
     /// the record's own vertical samples as `ground_motion.vertical`, scaled
     /// with it; not both).
-    pub vertical: Option<super::vertical::VerticalPulseSpec>,
+    pub vertical: Option<crate::jobs::vertical::VerticalPulseSpec>,
     /// The contact with the floor: `{"model": "no_sliding"}` (pure rocking,
     /// the default) or `{"model": "coulomb", "mu", "mu_kinetic"?}` (every
     /// size at every scale followed on that floor).
-    pub contact: Option<super::contact::ContactSpec>,
+    pub contact: Option<crate::jobs::contact::ContactSpec>,
 }
 
 /// The block of a record spectrum, normalised: everything but its size.
@@ -182,7 +182,7 @@ pub struct RecordSpectrumJob {
     /// Scale factors examined.
     pub scale: ScaleRangeNorm,
     /// "linear" | "nonlinear".
-    #[serde(with = "super::names::formulation")]
+    #[serde(with = "crate::jobs::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: Formulation,
     /// Bracket width, scale units.
@@ -195,15 +195,15 @@ pub struct RecordSpectrumJob {
     pub solver: SolverNorm,
     /// ü_v = r·ü_g (positive up), when given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
-    pub vertical: Option<super::vertical::VerticalPulseNorm>,
+    #[schema(value_type = Option<crate::jobs::vertical::VerticalPulseDoc>)]
+    pub vertical: Option<crate::jobs::vertical::VerticalPulseNorm>,
     /// Coulomb friction at the floor, when given (absent: pure rocking).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub contact: Option<super::contact::ContactNorm>,
+    pub contact: Option<crate::jobs::contact::ContactNorm>,
     /// A task's sizes and levels (absent: the whole job).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
-    pub part: Option<super::scan_parts::Part>,
+    pub part: Option<crate::jobs::scan_parts::Part>,
 }
 
 /// p of a block of size R, m, under gravity g (eq. 5: p = √(3g/(4R))).
@@ -224,7 +224,7 @@ fn threshold_of(
     alpha: f64,
     g: f64,
     ground_motion: &GroundMotionNorm,
-    vertical: Option<&super::vertical::VerticalPulseNorm>,
+    vertical: Option<&crate::jobs::vertical::VerticalPulseNorm>,
 ) -> f64 {
     let threshold = threshold_alpha_g_of(formulation, alpha, g);
     match ScaledVertical::of(vertical, Some(ground_motion)) {
@@ -243,7 +243,7 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
 
     /// Validates into a runnable job.
     fn validate(&self) -> Result<RecordSpectrumJob, SpecError> {
-        let block_spec = super::spec::required(self.block.as_ref(), "/block")?;
+        let block_spec = crate::jobs::spec::required(self.block.as_ref(), "/block")?;
         for (v, name) in [
             (block_spec.p, "p"),
             (block_spec.b, "b"),
@@ -275,7 +275,7 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
                 "missing field: {\"dt\", \"acc\", \"unit\"}",
             )
         })?;
-        let (ground_motion, vertical) = super::vertical::validate_scaled_record(
+        let (ground_motion, vertical) = crate::jobs::vertical::validate_scaled_record(
             self.vertical.as_ref(),
             gm,
             &block,
@@ -290,8 +290,8 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let contact =
-            super::contact::validate_contact(self.contact.as_ref(), formulation, "/contact")?;
-        let solver = super::vertical::validate_solver_with_vertical(
+            crate::jobs::contact::validate_contact(self.contact.as_ref(), formulation, "/contact")?;
+        let solver = crate::jobs::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             true,
@@ -595,8 +595,8 @@ pub struct RecordSpectrumResult {
     pub spec: RecordSpectrumJob,
     /// Notes on the inputs; absent when there are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
-    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    pub warnings: Vec<crate::kinds::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::kinds::Job::run`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
@@ -749,7 +749,7 @@ impl RecordSpectrumJob {
     /// The whole job's result from its tasks' parts (in any order).
     pub fn result_of(
         &self,
-        parts: &[super::scan_parts::PartDoc],
+        parts: &[crate::jobs::scan_parts::PartDoc],
     ) -> Result<RecordSpectrumResult, JobError> {
         let (found, stats, wall) = part::assemble(self, parts)?;
         let grid = self.grid();
@@ -868,12 +868,12 @@ pub struct RecordSpectrum;
 
 impl crate::jobs::kind::Kind for RecordSpectrum {
     const NAME: &'static str = crate::jobs::names::tag::RecordSpectrum::NAME;
-    const EXAMPLE: &'static str = include_str!("examples/record_spectrum.json");
+    const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Record spectrum";
     type Spec = RecordSpectrumSpec;
     type Job = RecordSpectrumJob;
     type Result = RecordSpectrumResult;
-    type Part = super::scan_parts::PartDoc;
+    type Part = crate::jobs::scan_parts::PartDoc;
 
     fn run(
         job: &RecordSpectrumJob,
@@ -888,7 +888,7 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
     }
 
     /// Scan points of every size, each bisected down to the tolerance
-    /// ([`super::cost::record_line_simulations`]), at the cost of a
+    /// ([`crate::jobs::cost::record_line_simulations`]), at the cost of a
     /// simulation of the record.
     fn size(job: &RecordSpectrumJob) -> crate::jobs::kind::Size {
         let scan = job.points_per_size();
@@ -900,15 +900,16 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
             ),
             None => (job.p.len() as f64, scan),
         };
-        let work = n * super::cost::record_line_simulations(points, grid.step, grid.tolerance);
+        let work =
+            n * crate::jobs::cost::record_line_simulations(points, grid.step, grid.tolerance);
         crate::jobs::kind::Size {
             series_points: 0,
             grid_points: (n * points).min(usize::MAX as f64) as usize,
             work,
             record_work: work * job.ground_motion.acc.len() as f64,
             cpu_s: work
-                * super::cost::record_simulation_s(&job.ground_motion.acc)
-                * super::cost::contact_factor(job.contact.as_ref()),
+                * crate::jobs::cost::record_simulation_s(&job.ground_motion.acc)
+                * crate::jobs::cost::contact_factor(job.contact.as_ref()),
             lanes: n * (points / 48.0).ceil(),
         }
     }
@@ -917,8 +918,8 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
         "/p"
     }
 
-    fn warnings(job: &RecordSpectrumJob) -> Vec<super::warning::WarningDoc> {
-        use super::plausible::{coarse_dt_warning, record_warnings};
+    fn warnings(job: &RecordSpectrumJob) -> Vec<crate::jobs::warning::WarningDoc> {
+        use crate::jobs::plausible::{coarse_dt_warning, record_warnings};
         let mut found = record_warnings(&job.ground_motion, "/ground_motion");
         if let Some(p) = job.p.iter().copied().reduce(f64::max) {
             found.extend(coarse_dt_warning(job.ground_motion.dt, p, "/ground_motion"));
@@ -926,22 +927,22 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
         found
     }
 
-    /// Tasks of about [`super::cost::TASK_CPU_S`]: sizes grouped, or a
+    /// Tasks of about [`crate::jobs::cost::TASK_CPU_S`]: sizes grouped, or a
     /// size split along the scale axis ([`part`]); each task names its part
     /// of the job, whose record is stored once.
     fn split(job: &RecordSpectrumJob, _size: &crate::jobs::kind::Size) -> Vec<RecordSpectrumJob> {
-        super::scan_parts::split(job)
+        crate::jobs::scan_parts::split(job)
     }
 
     fn task_payload(job: &RecordSpectrumJob) -> Option<String> {
-        super::scan_parts::task_payload(job)
+        crate::jobs::scan_parts::task_payload(job)
     }
 
     fn part_of(
         whole: &RecordSpectrumJob,
         payload: &serde_json::Value,
     ) -> Option<Result<RecordSpectrumJob, JobError>> {
-        super::scan_parts::part_of(whole, payload)
+        crate::jobs::scan_parts::part_of(whole, payload)
     }
 
     fn is_part(job: &RecordSpectrumJob) -> bool {
@@ -952,7 +953,7 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
     /// from them as one task would.
     fn assemble(
         job: &RecordSpectrumJob,
-        parts: Vec<super::scan_parts::PartDoc>,
+        parts: Vec<crate::jobs::scan_parts::PartDoc>,
     ) -> Result<RecordSpectrumResult, JobError> {
         job.result_of(&parts)
     }

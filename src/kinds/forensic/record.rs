@@ -13,10 +13,10 @@ use super::{
 };
 use crate::dynamics::{SimError, peaks};
 use crate::jobs::names::{Excitation, tag};
-use crate::jobs::record_spectrum::RecordDoc;
 use crate::jobs::spec::GroundMotionNorm;
-use crate::jobs::spectrum::ScanCost;
-use crate::jobs::time_history::GroundPeaksDoc;
+use crate::kinds::record_spectrum::RecordDoc;
+use crate::kinds::spectrum::ScanCost;
+use crate::kinds::time_history::GroundPeaksDoc;
 use crate::spectrum::scan::{ScanError, ScanStats};
 
 /// The result of `job`, whose excitation is the record `gm`, from each
@@ -33,7 +33,7 @@ pub fn result(
         .map_err(|_| ScanError::Simulation(SimError::Tolerance))?;
     let AmplitudeRange { from, to } = job.range_g();
     let g = job.observations.first().map_or(9.81, |o| o.block.g);
-    let peak_g = crate::jobs::record_spectrum::pga(&gm.acc) / g;
+    let peak_g = crate::kinds::record_spectrum::pga(&gm.acc) / g;
     let to_scale = |set: &[[f64; 2]]| -> Intervals {
         set.iter().map(|&[a, b]| [a / peak_g, b / peak_g]).collect()
     };

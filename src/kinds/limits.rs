@@ -83,7 +83,7 @@ impl LimitError {
     }
 }
 
-pub use super::kind::Size;
+pub use crate::jobs::kind::Size;
 
 impl Job {
     /// `Ok` when the job is within `limits`, else the first limit it exceeds.

@@ -15,16 +15,16 @@ pub mod scan;
 
 use serde::{Deserialize, Serialize};
 
-use super::names::{EngineDoc, Excitation, tag};
-use super::range::RangeSpec;
 use super::record_spectrum::RecordDoc;
 use super::record_spectrum::{ScaleRangeNorm, ScaleRangeSpec, pga};
-use super::spec::{
+use super::spectrum::{PulseFamily, ScanCost, validate_family};
+use crate::dynamics::Formulation;
+use crate::jobs::names::{EngineDoc, Excitation, tag};
+use crate::jobs::range::RangeSpec;
+use crate::jobs::spec::{
     BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, OMEGA_RATIO_RANGE, PulseSpec,
     SolverNorm, SolverSpec, SpecError, at_most_one, in_one_unit, parse_formulation, validate_block,
 };
-use super::spectrum::{PulseFamily, ScanCost, validate_family};
-use crate::dynamics::Formulation;
 use crate::spectrum::Control;
 use crate::spectrum::scan::{Direction, ScanError, ScanStats, Transition};
 
@@ -129,11 +129,11 @@ pub struct ForensicSpec {
     /// (`type`, `amplitude_ratio`, `frequency_ratio` | `omega_p` |
     /// `frequency_hz`, `delay_s`), as spectra do (a record query also takes the record's own vertical samples as
     /// `ground_motion.vertical`, scaled with it; not both).
-    pub vertical: Option<super::vertical::VerticalPulseSpec>,
+    pub vertical: Option<crate::jobs::vertical::VerticalPulseSpec>,
     /// The contact with the floor, the same for every observation:
     /// `{"model": "no_sliding"}` (pure rocking, the default) or
     /// `{"model": "coulomb", "mu", "mu_kinetic"?}`.
-    pub contact: Option<super::contact::ContactSpec>,
+    pub contact: Option<crate::jobs::contact::ContactSpec>,
 }
 
 /// An observation, validated.
@@ -173,7 +173,7 @@ pub struct ForensicJob {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pga_g: Option<AmplitudeRange>,
     /// "linear" | "nonlinear".
-    #[serde(with = "super::names::formulation")]
+    #[serde(with = "crate::jobs::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: Formulation,
     /// Scan step, g.
@@ -184,15 +184,15 @@ pub struct ForensicJob {
     pub solver: SolverNorm,
     /// ü_v = r·ü_g (positive up), when given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
-    pub vertical: Option<super::vertical::VerticalPulseNorm>,
+    #[schema(value_type = Option<crate::jobs::vertical::VerticalPulseDoc>)]
+    pub vertical: Option<crate::jobs::vertical::VerticalPulseNorm>,
     /// Coulomb friction at the floor, when given (absent: pure rocking).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub contact: Option<super::contact::ContactNorm>,
+    pub contact: Option<crate::jobs::contact::ContactNorm>,
     /// A task's lines and levels (absent: the whole query).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
-    pub part: Option<super::scan_parts::Part>,
+    pub part: Option<crate::jobs::scan_parts::Part>,
 }
 
 fn in_range(v: f64, lo: f64, hi: f64, pointer: &str, what: &str) -> Result<f64, SpecError> {
@@ -338,8 +338,8 @@ impl ForensicSpec {
         }
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let vertical =
-            super::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
-        let solver = super::vertical::validate_solver_with_vertical(
+            crate::jobs::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
+        let solver = crate::jobs::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             pulse.shape().is_sinusoidal(),
@@ -465,7 +465,7 @@ impl ForensicSpec {
             tolerance_g,
             solver,
             vertical,
-            contact: super::contact::validate_contact(
+            contact: crate::jobs::contact::validate_contact(
                 self.contact.as_ref(),
                 formulation,
                 "/contact",
@@ -503,13 +503,13 @@ impl ForensicSpec {
             .map(|o| &o.block)
             .min_by(|a, b| a.alpha.total_cmp(&b.alpha))
             .ok_or_else(|| SpecError::at("/observations", "give at least one observation"))?;
-        let (ground_motion, vertical) = super::vertical::validate_scaled_record(
+        let (ground_motion, vertical) = crate::jobs::vertical::validate_scaled_record(
             self.vertical.as_ref(),
             gm,
             weakest,
             "/ground_motion",
         )?;
-        let solver = super::vertical::validate_solver_with_vertical(
+        let solver = crate::jobs::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             true,
@@ -575,7 +575,7 @@ impl ForensicSpec {
             tolerance_g,
             solver,
             vertical,
-            contact: super::contact::validate_contact(
+            contact: crate::jobs::contact::validate_contact(
                 self.contact.as_ref(),
                 formulation,
                 "/contact",
@@ -928,7 +928,7 @@ pub struct ForensicResult {
     /// "forensic".
     pub kind: tag::Forensic,
     /// "linear" | "nonlinear".
-    #[serde(with = "super::names::formulation")]
+    #[serde(with = "crate::jobs::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: Formulation,
     /// "pulse": the unknowns are the pulse's frequency and amplitude
@@ -984,8 +984,8 @@ pub struct ForensicResult {
     /// larger than 100 m; `implausible_slide`: a seen slide past 1 m); absent
     /// when there are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
-    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    pub warnings: Vec<crate::kinds::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::kinds::Job::run`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
@@ -1018,8 +1018,11 @@ impl ForensicJob {
 
     /// The vertical motion scaled with the ground motion (a ratio, or a
     /// record's own samples), when the query has one.
-    pub fn scaled_vertical(&self) -> Option<super::vertical::ScaledVertical<'_>> {
-        super::vertical::ScaledVertical::of(self.vertical.as_ref(), self.ground_motion.as_ref())
+    pub fn scaled_vertical(&self) -> Option<crate::jobs::vertical::ScaledVertical<'_>> {
+        crate::jobs::vertical::ScaledVertical::of(
+            self.vertical.as_ref(),
+            self.ground_motion.as_ref(),
+        )
     }
 
     /// Under a vertical motion ü_v = r ü_g: the amplitude (g; a pulse's
@@ -1186,12 +1189,12 @@ pub struct Forensic;
 
 impl crate::jobs::kind::Kind for Forensic {
     const NAME: &'static str = crate::jobs::names::tag::Forensic::NAME;
-    const EXAMPLE: &'static str = include_str!("examples/forensic.json");
+    const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Forensic query";
     type Spec = ForensicSpec;
     type Job = ForensicJob;
     type Result = ForensicResult;
-    type Part = super::scan_parts::PartDoc;
+    type Part = crate::jobs::scan_parts::PartDoc;
 
     fn parse(value: &serde_json::Value) -> Result<ForensicJob, SpecError> {
         // Serde would also read a block from an array, by position.
@@ -1208,7 +1211,7 @@ impl crate::jobs::kind::Kind for Forensic {
             }
         }
         use crate::jobs::kind::Validate;
-        super::spec::from_value::<ForensicSpec>(value, "")?.validate()
+        crate::jobs::spec::from_value::<ForensicSpec>(value, "")?.validate()
     }
 
     fn run(
@@ -1224,7 +1227,7 @@ impl crate::jobs::kind::Kind for Forensic {
     }
 
     /// Scan points of every observation's lines, each bisected down to the
-    /// tolerance ([`super::cost`]), at the cost of a simulation of the pulse
+    /// tolerance ([`crate::jobs::cost`]), at the cost of a simulation of the pulse
     /// or the record.
     fn size(job: &ForensicJob) -> crate::jobs::kind::Size {
         job.scan_size()
@@ -1239,8 +1242,10 @@ impl crate::jobs::kind::Kind for Forensic {
         }
     }
 
-    fn warnings(job: &ForensicJob) -> Vec<super::warning::WarningDoc> {
-        use super::plausible::{coarse_dt_warning, record_warnings, size_warnings, slide_warning};
+    fn warnings(job: &ForensicJob) -> Vec<crate::jobs::warning::WarningDoc> {
+        use crate::jobs::plausible::{
+            coarse_dt_warning, record_warnings, size_warnings, slide_warning,
+        };
         let mut found = size_warnings(
             job.observations
                 .iter()
@@ -1260,22 +1265,22 @@ impl crate::jobs::kind::Kind for Forensic {
         found
     }
 
-    /// Tasks of about [`super::cost::TASK_CPU_S`]: an observation's lines
+    /// Tasks of about [`crate::jobs::cost::TASK_CPU_S`]: an observation's lines
     /// grouped, or a line split along its levels ([`scan`]); each task
     /// names its part of the query, whose record is stored once.
     fn split(job: &ForensicJob, _size: &crate::jobs::kind::Size) -> Vec<ForensicJob> {
-        super::scan_parts::split(job)
+        crate::jobs::scan_parts::split(job)
     }
 
     fn task_payload(job: &ForensicJob) -> Option<String> {
-        super::scan_parts::task_payload(job)
+        crate::jobs::scan_parts::task_payload(job)
     }
 
     fn part_of(
         whole: &ForensicJob,
         payload: &serde_json::Value,
     ) -> Option<Result<ForensicJob, crate::jobs::JobError>> {
-        super::scan_parts::part_of(whole, payload)
+        crate::jobs::scan_parts::part_of(whole, payload)
     }
 
     fn is_part(job: &ForensicJob) -> bool {
@@ -1286,7 +1291,7 @@ impl crate::jobs::kind::Kind for Forensic {
     /// from them as one task would.
     fn assemble(
         job: &ForensicJob,
-        parts: Vec<super::scan_parts::PartDoc>,
+        parts: Vec<crate::jobs::scan_parts::PartDoc>,
     ) -> Result<ForensicResult, crate::jobs::JobError> {
         job.result_of(&parts)
     }
@@ -1315,8 +1320,8 @@ mod tests {
 mod unit_tests {
     use serde_json::{Value, json};
 
-    use crate::jobs::Job;
-    use crate::jobs::key::cache_key;
+    use crate::kinds::Job;
+    use crate::kinds::key::cache_key;
 
     fn query(observations: Value, axes: Value) -> Result<Job, crate::jobs::spec::SpecError> {
         let mut spec = json!({"kind": "forensic", "pulse": {"type": "one_sine"},

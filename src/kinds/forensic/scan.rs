@@ -414,9 +414,9 @@ impl scan_parts::Parted for ForensicJob {
 
 #[cfg(test)]
 mod tests {
-    use crate::jobs::Job;
-    use crate::jobs::forensic::ForensicJob;
     use crate::jobs::scan_parts::{self, PartDoc};
+    use crate::kinds::Job;
+    use crate::kinds::forensic::ForensicJob;
     use crate::spectrum::Control;
 
     fn query(spec: &str) -> ForensicJob {

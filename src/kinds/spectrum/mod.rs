@@ -1,14 +1,16 @@
 //! The `spectrum` job: overturning spectra (paper Figs. 6, 10, 11).
 
+mod concatenate;
+
 use serde::{Deserialize, Serialize};
 
-use super::names::{EngineDoc, tag};
-use super::range::RangeSpec;
-use super::spec::{
+use crate::dynamics::{Formulation, Pulse, PulseShape, SimError};
+use crate::jobs::names::{EngineDoc, tag};
+use crate::jobs::range::RangeSpec;
+use crate::jobs::spec::{
     BlockNorm, BlockSpec, OMEGA_RATIO_RANGE, PulseSpec, ShapeParams, SolverNorm, SolverSpec,
     SpecError, family_of, in_one_unit, parse_formulation, parse_shape, shape_name,
 };
-use crate::dynamics::{Formulation, Pulse, PulseShape, SimError};
 use crate::spectrum::overturning::Derived;
 use crate::spectrum::scan::{Direction, ModeChange, ScanStats, Transition};
 use crate::spectrum::{Control, SpectrumRequest, overturning_spectrum};
@@ -72,12 +74,12 @@ pub struct SpectrumSpec {
     /// pulse: `{"ratio": r}` (ü_v = r·ü_g), or a pulse of its own `{"type",
     /// "amplitude_ratio" (a_v/a_p), "frequency_ratio" (ω_v/ω_p) | "omega_p" |
     /// "frequency_hz", "delay_s"?}`.
-    pub vertical: Option<super::vertical::VerticalPulseSpec>,
+    pub vertical: Option<crate::jobs::vertical::VerticalPulseSpec>,
     /// The contact with the floor: `{"model": "no_sliding"}` (pure rocking,
     /// the default) or `{"model": "coulomb", "mu", "mu_kinetic"?}` (the block
     /// may slide and slide-rock; every amplitude of every frequency is
     /// followed on that floor).
-    pub contact: Option<super::contact::ContactSpec>,
+    pub contact: Option<crate::jobs::contact::ContactSpec>,
     /// On a Coulomb floor: also the residual slide at `steps` amplitudes
     /// a_max·k/steps (k = 1…steps) of every frequency, `{"steps": n}`
     /// (1 to 1000, default 40).
@@ -187,7 +189,7 @@ impl<'de> Deserialize<'de> for PulseFamily {
 
 /// Validates the pulse of a spectrum job: the family only.
 pub fn validate_family(spec: Option<&PulseSpec>, base: &str) -> Result<PulseFamily, SpecError> {
-    let spec = super::spec::required(spec, base)?;
+    let spec = crate::jobs::spec::required(spec, base)?;
     for (v, name) in [
         (spec.omega_p, "omega_p"),
         (spec.frequency_hz, "frequency_hz"),
@@ -217,7 +219,7 @@ pub struct SpectrumJob {
     /// Pulse family.
     pub pulse: PulseFamily,
     /// "linear" | "nonlinear".
-    #[serde(with = "super::names::formulation")]
+    #[serde(with = "crate::jobs::names::formulation")]
     #[schema(value_type = crate::jobs::schema::FormulationName)]
     pub formulation: Formulation,
     /// ω_p/p values.
@@ -234,11 +236,11 @@ pub struct SpectrumJob {
     pub solver: SolverNorm,
     /// ü_v = r·ü_g (positive up), when given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<super::vertical::VerticalPulseDoc>)]
-    pub vertical: Option<super::vertical::VerticalPulseNorm>,
+    #[schema(value_type = Option<crate::jobs::vertical::VerticalPulseDoc>)]
+    pub vertical: Option<crate::jobs::vertical::VerticalPulseNorm>,
     /// Coulomb friction at the floor, when given (absent: pure rocking).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub contact: Option<super::contact::ContactNorm>,
+    pub contact: Option<crate::jobs::contact::ContactNorm>,
     /// Amplitudes of the residual-slide spectrum, when asked for.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub residual_slide_steps: Option<u32>,
@@ -265,12 +267,12 @@ impl crate::jobs::kind::Validate for SpectrumSpec {
 
     /// Validates into a runnable job.
     fn validate(&self) -> Result<SpectrumJob, SpecError> {
-        let block = super::spec::the_block(self.block.as_ref())?;
+        let block = crate::jobs::spec::the_block(self.block.as_ref())?;
         let pulse = validate_family(self.pulse.as_ref(), "/pulse")?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let vertical =
-            super::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
-        let solver = super::vertical::validate_solver_with_vertical(
+            crate::jobs::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
+        let solver = crate::jobs::vertical::validate_solver_with_vertical(
             self.solver.as_ref(),
             formulation,
             pulse.shape().is_sinusoidal(),
@@ -278,7 +280,7 @@ impl crate::jobs::kind::Validate for SpectrumSpec {
             "/solver",
         )?;
         let contact =
-            super::contact::validate_contact(self.contact.as_ref(), formulation, "/contact")?;
+            crate::jobs::contact::validate_contact(self.contact.as_ref(), formulation, "/contact")?;
         let residual_slide_steps = match &self.residual_slide {
             None => None,
             Some(_) if contact.is_none() => {
@@ -709,8 +711,8 @@ pub struct SpectrumResult {
     /// Notes on the inputs (`implausible_size`: a block smaller than 1 cm or
     /// larger than 100 m); absent when there are none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub warnings: Vec<crate::jobs::time_history::WarningDoc>,
-    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    pub warnings: Vec<crate::kinds::time_history::WarningDoc>,
+    /// What computed it (set as the document leaves [`crate::kinds::Job::run`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
@@ -937,7 +939,7 @@ pub struct Spectrum;
 
 impl crate::jobs::kind::Kind for Spectrum {
     const NAME: &'static str = crate::jobs::names::tag::Spectrum::NAME;
-    const EXAMPLE: &'static str = include_str!("examples/spectrum.json");
+    const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Overturning spectrum";
     type Spec = SpectrumSpec;
     type Job = SpectrumJob;
@@ -978,20 +980,20 @@ impl crate::jobs::kind::Kind for Spectrum {
         "/omega_ratio"
     }
 
-    fn warnings(job: &SpectrumJob) -> Vec<super::warning::WarningDoc> {
-        super::plausible::size_warning(&job.block, "/block")
+    fn warnings(job: &SpectrumJob) -> Vec<crate::jobs::warning::WarningDoc> {
+        crate::jobs::plausible::size_warning(&job.block, "/block")
             .into_iter()
             .collect()
     }
 
     /// One task per chunk of frequencies of about
-    /// [`super::split::TASK_CPU_S`].
+    /// [`crate::jobs::split::TASK_CPU_S`].
     fn split(job: &SpectrumJob, size: &crate::jobs::kind::Size) -> Vec<SpectrumJob> {
         let n = job.omega_ratio.len();
         if n <= 1 {
             return vec![job.clone()];
         }
-        let per = super::split::per_task(n, size.cpu_s / n as f64);
+        let per = crate::jobs::split::per_task(n, size.cpu_s / n as f64);
         job.omega_ratio
             .chunks(per)
             .map(|chunk| SpectrumJob {
@@ -1005,7 +1007,7 @@ impl crate::jobs::kind::Kind for Spectrum {
         job: &SpectrumJob,
         parts: Vec<SpectrumResult>,
     ) -> Result<SpectrumResult, crate::jobs::JobError> {
-        Ok(super::split::concatenate(job, parts))
+        Ok(concatenate::concatenate(job, parts))
     }
 }
 
@@ -1013,8 +1015,8 @@ impl crate::jobs::kind::Kind for Spectrum {
 mod tests {
     use serde_json::{Value, json};
 
-    use crate::jobs::Job;
-    use crate::jobs::key::cache_key;
+    use crate::kinds::Job;
+    use crate::kinds::key::cache_key;
     use crate::spectrum::Control;
 
     fn spectrum(axes: Value) -> Result<Job, crate::jobs::spec::SpecError> {
@@ -1247,7 +1249,7 @@ mod tests {
                 .expect("valid");
                 assert_eq!(job, plain);
                 assert_eq!(cache_key(&job), cache_key(&plain));
-                assert!(!crate::jobs::key::canonical_spec(&job).contains("no_sliding_beside"));
+                assert!(!crate::kinds::key::canonical_spec(&job).contains("no_sliding_beside"));
             }
         }
         // Asked for: another job, another key; its normalised spec

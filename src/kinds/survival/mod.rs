@@ -8,10 +8,10 @@
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
-use super::distribution::{DistributionNorm, DistributionSpec};
-use super::names::{EngineDoc, Im, tag};
-use super::spec::SpecError;
-use super::warning::WarningDoc;
+use crate::jobs::distribution::{DistributionNorm, DistributionSpec};
+use crate::jobs::names::{EngineDoc, Im, tag};
+use crate::jobs::spec::SpecError;
+use crate::jobs::warning::WarningDoc;
 use crate::probability::hazard::HazardCurve;
 use crate::probability::survival::{Age, rate_scale};
 
@@ -261,7 +261,7 @@ fn validate_age(v: Option<&Value>, at: &str, list_allowed: bool) -> Result<AgeNo
             Ok(AgeNorm::Known(ages))
         }
         Some(obj @ Value::Object(_)) => {
-            let d: DistributionSpec = super::spec::from_value(obj, at)?;
+            let d: DistributionSpec = crate::jobs::spec::from_value(obj, at)?;
             Ok(AgeNorm::Uncertain(d.validate(
                 at,
                 (0.0, f64::INFINITY),
@@ -301,7 +301,7 @@ impl crate::jobs::kind::Validate for SurvivalSpec {
                 ));
             }
         };
-        let points = super::spec::required(hazard.points.as_ref(), "/hazard/points")?;
+        let points = crate::jobs::spec::required(hazard.points.as_ref(), "/hazard/points")?;
         if points.len() > MAX_HAZARD_POINTS {
             return Err(SpecError::at(
                 "/hazard/points",
@@ -473,7 +473,7 @@ pub struct SurvivalResult {
     /// Notes about the inputs (none yet for a survival).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<WarningDoc>,
-    /// What computed it (set as the document leaves [`crate::jobs::Job::run`]).
+    /// What computed it (set as the document leaves [`crate::kinds::Job::run`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schema(ignore)]
     pub engine: Option<EngineDoc>,
@@ -577,7 +577,7 @@ pub struct Survival;
 
 impl crate::jobs::kind::Kind for Survival {
     const NAME: &'static str = crate::jobs::names::tag::Survival::NAME;
-    const EXAMPLE: &'static str = include_str!("examples/survival.json");
+    const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Survival";
     type Spec = SurvivalSpec;
     type Job = SurvivalJob;
