@@ -12,7 +12,7 @@ import { observationCount, observationHints, observationLayout } from "./observa
 import { recordsShown, suiteIds } from "./records.js";
 
 /** @typedef {import('./kinds/index.js').KindName} KindName */
-/** @typedef {import('./kinds/index.js').KindPage} KindPage */
+/** @typedef {import('./kinds/index.js').KindPage<any>} KindPage */
 
 /**
  * A block as the page works with it: α and p, its size R (m), and b and h

@@ -196,7 +196,7 @@ export function observationSpec(row) {
   const o = {};
   const name = part(row, "obs-name").value.trim();
   if (name) o.name = name;
-  o.block = block;
+  o.block = /** @type {ObservationSpec['block']} */ (block);
   o.overturned = part(row, "obs-outcome").value === "true";
   // How far it slid, when seen (from 0 when only the upper end is given).
   const slid = rowSlid(row);

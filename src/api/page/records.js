@@ -13,7 +13,7 @@ import { clearProblem, showProblem } from "./problems.js";
 import { renderWarnings } from "./result.js";
 
 /** @typedef {import('topple-api').components['schemas']} S */
-/** @typedef {S['RecordMeta']} RecordMeta */
+/** @typedef {S['RecordView']} RecordView */
 /** @typedef {import('./api.js').PageProblem} PageProblem */
 
 /**
@@ -23,16 +23,16 @@ import { renderWarnings } from "./result.js";
  *   pasted?: boolean, largePga?: boolean }} Pending
  */
 
-/** @type {RecordMeta | null} the record of a time history, record spectrum or forensic query */
+/** @type {RecordView | null} the record of a time history, record spectrum or forensic query */
 let record = null;
 /** @type {string[]} the ids of a fragility suite, in the order chosen */
 let suite = [];
-/** @type {RecordMeta | null} the record the preview shows */
+/** @type {RecordView | null} the record the preview shows */
 let previewed = null;
 /** @type {Pending | null} a file the service asked about */
 let pending = null;
 let recNote = "";       // what became of the last file sent
-/** @type {RecordMeta[]} the stored records, newest first */
+/** @type {RecordView[]} the stored records, newest first */
 let stored = [];
 /** @type {"unloaded" | "loading" | "loaded" | "failed"} */
 let storedState = "unloaded";
@@ -150,7 +150,7 @@ function renderStored(note) {
 
 /**
  * A record the service answered with: first in the list.
- * @param {RecordMeta} rec
+ * @param {RecordView} rec
  */
 function remember(rec) {
   stored = [rec, ...stored.filter((r) => r.id !== rec.id)];
@@ -211,7 +211,7 @@ async function sendRecord(p) {
   if (seq !== sendSeq) return;
   recNote = "";
   if (resp.ok) {
-    /** @type {RecordMeta} */
+    /** @type {RecordView} */
     const rec = body;
     pending = null;
     hideAsk();
@@ -349,7 +349,7 @@ function sendPasted() {
 
 /**
  * The record's name, numbers, motion and warnings, before anything is submitted.
- * @param {RecordMeta | null} rec
+ * @param {RecordView | null} rec
  */
 async function showPreview(rec) {
   previewed = rec;

@@ -83,7 +83,7 @@ function summaryItems(job, r) {
   const items = [];
   // `wide`: the item takes a whole row.
   /** @type {import('./kinds/common.js').Add} */
-  const add = (k, v, wide) => items.push([k, v, wide]);
+  const add = (k, v, wide) => { items.push([k, v, wide]); };
   const page = /** @type {import('./kinds/index.js').KindPage<any> | undefined} */ (pageOf(job.kind));
   page?.summary(job, r, add);
   // The job's wall time (submitted work started to finished) and the
@@ -119,7 +119,7 @@ async function showSummary(job) {
     const [sentence, tone] = outcomeOf(job.kind, r);
     $("outcome").textContent = sentence;
     $("outcome").className = tone;
-    showWarnings(r.warnings);
+    showWarnings("warnings" in r ? r.warnings : undefined);
     for (const [k, v, wide] of summaryItems(job, r)) {
       const div = document.createElement("div");
       if (wide) div.className = "wide";

@@ -21,7 +21,7 @@ const FIRST_MOVES = /** @type {Record<string, string>} */ ({ rock: "rocking", sl
 // Up to this many modes are listed one by one.
 const FEW_MODES = 12;
 
-/** @type {S['RecordMeta'] | null} the vertical component's stored record */
+/** @type {S['RecordView'] | null} the vertical component's stored record */
 let verticalRecord = null;
 
 /**
@@ -74,7 +74,7 @@ async function sendVerticalFile() {
     $("vert-status").textContent = `${file.name}: ${body.detail || body.title}`;
     return;
   }
-  /** @type {S['RecordMeta']} */
+  /** @type {S['RecordView']} */
   const stored = body;
   verticalRecord = stored;
   $("vert-status").textContent = `Vertical: ${stored.name}, ${plural(stored.samples, "sample", "samples")} every ${fmt(stored.dt)} s, peak ${fmt(stored.pga_g, 3)} g.`;
@@ -129,7 +129,7 @@ function coulombItems(r, add) {
   }
   add("First moved by", r.initial_mode ? FIRST_MOVES[r.initial_mode] || r.initial_mode.replace(/_/g, " ") : "never moved");
   // A slide's way (the base's, relative to the ground) beside it: "slide (−x)".
-  const modes = (r.modes || []).map((m) => `${MODE_NAMES[m.mode] || m.mode.replace(/_/g, "-")}${m.direction > 0 ? " (+x)" : m.direction < 0 ? " (−x)" : ""}`);
+  const modes = (r.modes || []).map((m) => `${MODE_NAMES[m.mode] || m.mode.replace(/_/g, "-")}${(m.direction ?? 0) > 0 ? " (+x)" : (m.direction ?? 0) < 0 ? " (−x)" : ""}`);
   if (modes.length) {
     const shown = modes.length <= FEW_MODES ? modes : [...modes.slice(0, FEW_MODES - 2), "…", modes[modes.length - 1]];
     add("Modes", `${shown.join(" → ")}${modes.length > FEW_MODES ? ` (${modes.length} in all)` : ""}`, "wide");
