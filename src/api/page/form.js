@@ -28,8 +28,11 @@ const checked = (name) => /** @type {HTMLInputElement} */ (form.querySelector(`i
 /** The kind chosen: a job kind, or "raw" (the JSON editor). */
 export const kind = () => checked("kind");
 
-/** What the form remembers: the kind its fields describe (the last one chosen other than raw). */
-export const state = { formKind: "time_history" };
+/**
+ * What the form remembers: the kind its fields describe (the last one
+ * chosen other than raw; at first, the first kind offered).
+ */
+export const state = { formKind: /** @type {HTMLInputElement} */ (form.querySelector("input[name=kind]")).value };
 
 /**
  * The page of the kind `k` (none for "raw").

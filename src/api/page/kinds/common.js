@@ -5,8 +5,7 @@
 
 import { $, $select, num } from "../dom.js";
 import { fmt } from "../format.js";
-import { blockBy, onCoulomb, thBy } from "../form.js";
-import { groundMotionOf } from "../records.js";
+import { blockBy, onCoulomb } from "../form.js";
 
 /** @typedef {import('topple-api').components['schemas']} S */
 
@@ -35,12 +34,12 @@ export function pulseOfForm() {
 /**
  * The start of the spec of a time history or a spectrum of kind `k`: its
  * block (on a Coulomb floor without its own μ, which the floor's replaces),
- * what shakes it (`pulse`, or the record), the formulation.
+ * what shakes it (`{ pulse }`, or `{ ground_motion }`), the formulation.
  * @param {string} k
- * @param {Record<string, unknown>} pulse
+ * @param {Record<string, unknown>} motion
  * @returns {Record<string, unknown>}
  */
-export function blockKindSpec(k, pulse) {
+export function blockKindSpec(k, motion) {
   /** @type {Record<string, number | undefined>} */
   const block = {};
   if (blockBy() === "params") { block.alpha = num("f-alpha"); block.p = num("f-p"); }
@@ -50,20 +49,18 @@ export function blockKindSpec(k, pulse) {
   const coulomb = onCoulomb(k);
   if (num("f-mu") !== undefined && !coulomb) block.mu = num("f-mu");
   /** @type {Record<string, unknown>} */
-  const spec = { kind: k, block };
-  if (k === "time_history" && thBy() === "record") spec.ground_motion = groundMotionOf();
-  else spec.pulse = pulse;
+  const spec = Object.assign({ kind: k, block }, motion);
   spec.formulation = $select("f-formulation").value;
   return spec;
 }
 
 /**
- * The field of a pointer into the spec of a time history or a spectrum.
+ * The field of a pointer into the spec of a time history or a spectrum:
+ * the block, the pulse, the formulation, the outputs, the floor.
  * @param {string} p
- * @param {string} k
  * @returns {HTMLElement | null}
  */
-export function blockKindFieldFor(p, k) {
+export function blockKindFieldFor(p) {
   /** @type {Record<string, string>} */
   const direct = {
     "/block/alpha": "f-alpha", "/block/slenderness": "f-alpha",
@@ -80,14 +77,7 @@ export function blockKindFieldFor(p, k) {
   if (direct[p]) return $(direct[p]);
   if (/^\/pulse\/(omega_p|frequency_hz|omega_ratio)/.test(p)) return $("f-freq");
   if (/^\/pulse\/(a_p|a_p_g|a_p_alpha_g)/.test(p)) return $("f-amp");
-  if (p === "/pulse") return $(k === "time_history" ? "f-freq" : "f-type");
-  if (k === "spectrum" && p.startsWith("/omega_ratio")) {
-    return $(p.endsWith("/to") ? "f-sp-to" : p.endsWith("/steps") ? "f-sp-steps" : "f-sp-from");
-  }
-  if (k === "friction_spectrum" && p.startsWith("/omega_ratio")) return $("f-freq");
-  if (p.startsWith("/a_alpha_g")) {
-    return $(p.endsWith("/to") ? "f-fr-to" : p.endsWith("/steps") ? "f-fr-steps" : "f-fr-from");
-  }
+  if (p === "/pulse") return $("f-type");
   return null;
 }
 

@@ -2,7 +2,7 @@
 // A friction-demand spectrum: the friction pure rocking needs of one block
 // at each pulse amplitude, at one frequency.
 
-import { $select, num } from "../dom.js";
+import { $, $select, num } from "../dom.js";
 import { fmt, plural, range } from "../format.js";
 import { blockParams, omegaOf } from "../form.js";
 import { blockCondition, blockKindFieldFor, blockKindSpec, pulseOfForm } from "./common.js";
@@ -15,7 +15,7 @@ export default {
   pulseAxes: () => true,
 
   spec() {
-    const spec = blockKindSpec("friction_spectrum", pulseOfForm());
+    const spec = blockKindSpec("friction_spectrum", { pulse: pulseOfForm() });
     // The friction spectrum takes ω_p/p: other units are converted.
     const unit = $select("f-freq-unit").value;
     let ratio = num("f-freq");
@@ -26,7 +26,13 @@ export default {
     return spec;
   },
 
-  fieldFor: (p) => blockKindFieldFor(p, "friction_spectrum"),
+  fieldFor(p) {
+    if (p.startsWith("/omega_ratio")) return $("f-freq");
+    if (p.startsWith("/a_alpha_g")) {
+      return $(p.endsWith("/to") ? "f-fr-to" : p.endsWith("/steps") ? "f-fr-steps" : "f-fr-from");
+    }
+    return blockKindFieldFor(p);
+  },
 
   outcome(r) {
     if (!Array.isArray(r.points)) return ["", ""];

@@ -2,7 +2,7 @@
 // An overturning spectrum: the lowest overturning amplitude of one block at
 // each pulse frequency ω_p/p.
 
-import { num } from "../dom.js";
+import { $, num } from "../dom.js";
 import { finite, fmt, plural, range } from "../format.js";
 import { blockCondition, blockKindFieldFor, blockKindSpec, contactCondition, pulseOfForm } from "./common.js";
 
@@ -17,14 +17,19 @@ export default {
   onFloor(spec) { spec.no_sliding_beside = true; },
 
   spec() {
-    const spec = blockKindSpec("spectrum", pulseOfForm());
+    const spec = blockKindSpec("spectrum", { pulse: pulseOfForm() });
     spec.omega_ratio = { from: num("f-sp-from"), to: num("f-sp-to"), steps: num("f-sp-steps") };
     spec.a_max_alpha_g = num("f-sp-amax");
     if (num("f-sp-tol") !== undefined) spec.tolerance = num("f-sp-tol");
     return spec;
   },
 
-  fieldFor: (p) => blockKindFieldFor(p, "spectrum"),
+  fieldFor(p) {
+    if (p.startsWith("/omega_ratio")) {
+      return $(p.endsWith("/to") ? "f-sp-to" : p.endsWith("/steps") ? "f-sp-steps" : "f-sp-from");
+    }
+    return blockKindFieldFor(p);
+  },
 
   outcome(r) {
     if (!Array.isArray(r.spectrum)) return ["", ""];

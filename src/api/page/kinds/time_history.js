@@ -7,7 +7,7 @@ import { headers, problemOf } from "../api.js";
 import { $, $input, $select, $textarea, num } from "../dom.js";
 import { fmt, plural, samplesOf, signed, towards } from "../format.js";
 import { onCoulomb, thBy } from "../form.js";
-import { currentRecord } from "../records.js";
+import { currentRecord, groundMotionOf } from "../records.js";
 import { blockCondition, blockKindFieldFor, blockKindSpec, contactCondition, pulseOfForm } from "./common.js";
 
 /** @typedef {import('topple-api').components['schemas']} S */
@@ -163,7 +163,7 @@ export default {
 
   spec() {
     const pulse = pulseOfForm();
-    const spec = blockKindSpec("time_history", pulse);
+    const spec = blockKindSpec("time_history", thBy() === "record" ? { ground_motion: groundMotionOf() } : { pulse });
     if (spec.pulse) {
       pulse[$select("f-freq-unit").value] = num("f-freq");
       pulse[$select("f-amp-unit").value] = num("f-amp");
@@ -182,7 +182,8 @@ export default {
     return spec;
   },
 
-  fieldFor: (p) => blockKindFieldFor(p, "time_history"),
+  // A pulse at fault is its frequency and amplitude, first.
+  fieldFor: (p) => p === "/pulse" ? $("f-freq") : blockKindFieldFor(p),
 
   outcome(r) {
     if (r.overturned) {
