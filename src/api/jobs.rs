@@ -877,6 +877,9 @@ pub async fn cancel_only(
     }
 }
 
+/// The most jobs one page of a listing holds (`limit`).
+pub const MAX_LIST_LIMIT: u32 = 500;
+
 /// Query of a listing.
 #[derive(Debug, Deserialize, IntoParams)]
 #[into_params(parameter_in = Query)]
@@ -966,10 +969,10 @@ pub async fn list_jobs(
         .param("kind"));
     }
     let limit = q.limit.unwrap_or(50);
-    if !(1..=500).contains(&limit) {
+    if !(1..=MAX_LIST_LIMIT).contains(&limit) {
         return Err(Problem::bad_request(
             "invalid-parameter",
-            "limit must satisfy 1 <= limit <= 500",
+            format!("limit must satisfy 1 <= limit <= {MAX_LIST_LIMIT}"),
         )
         .param("limit"));
     }

@@ -206,13 +206,16 @@ async fn method_not_allowed() -> Problem {
 pub fn router(state: AppState) -> Router {
     let (api, _) = routes();
     let yaml = openapi_yaml();
-    let api = api.route("/", get(page::index)).route(
-        "/openapi.yaml",
-        get(move || {
-            let yaml = yaml.clone();
-            async move { ([(header::CONTENT_TYPE, "application/yaml")], yaml).into_response() }
-        }),
-    );
+    let api = api
+        .route("/", get(page::index))
+        .route("/static/{*path}", get(page::asset))
+        .route(
+            "/openapi.yaml",
+            get(move || {
+                let yaml = yaml.clone();
+                async move { ([(header::CONTENT_TYPE, "application/yaml")], yaml).into_response() }
+            }),
+        );
     with_layers(api, state)
 }
 

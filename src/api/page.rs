@@ -1,21 +1,268 @@
 //! The web page at `/`: a form that submits jobs, follows them and shows
-//! their plots. One self-contained HTML document (inline style and script).
+//! their plots. Its markup (`page/index.html`) is served at `/`; its style
+//! sheet and ES modules (`page/*.css`, `page/*.js`, `page/kinds/*.js`) under
+//! `/static/`, from the binary. The values it shares with the service (the
+//! kinds, gravity, the plausible block sizes, bounds of the specs) are not
+//! written into it twice: the markup's `{{NAME}}` marks and the module
+//! `/static/constants.js` are rendered here from the Rust constants.
+//!
+//! Its policy ([`CSP`]) allows no inline script or style: everything it runs
+//! and every rule it is drawn with comes from this origin.
 
 use std::sync::LazyLock;
 
-use axum::http::header;
-use axum::response::IntoResponse;
+use axum::extract::Path;
+use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use utoipa::{PartialSchema, ToSchema};
 
-use crate::kinds::JobKind;
+use super::jobs::MAX_LIST_LIMIT;
+use super::problem::Problem;
+use crate::kinds::{JobKind, JobSpec};
 
-/// The page's source: [`KINDS_MARK`] stands where the kinds are listed.
-const TEMPLATE: &str = include_str!("page.html");
+/// The page's markup: [`KINDS_MARK`] stands where the kinds are listed,
+/// [`MODULES_MARK`] where its modules are named, `{{NAME}}` where a value
+/// of [`marks`] goes.
+const TEMPLATE: &str = include_str!("page/index.html");
 
 /// The line of [`TEMPLATE`] that the kinds' radio buttons replace.
 const KINDS_MARK: &str = "<!-- job kinds -->\n";
 
+/// The line of [`TEMPLATE`] that the modules' preload links replace.
+const MODULES_MARK: &str = "<!-- modules -->\n";
+
+/// Where the page's files are served.
+pub const STATIC: &str = "/static/";
+
+/// The page's files, each as served under [`STATIC`]: its path there, its
+/// content type, its text. `constants.js` is rendered ([`CONSTANTS`]).
+const FILES: &[(&str, &str, &str)] = &[
+    ("style.css", CSS, include_str!("page/style.css")),
+    ("main.js", JS, include_str!("page/main.js")),
+    ("api.js", JS, include_str!("page/api.js")),
+    ("dom.js", JS, include_str!("page/dom.js")),
+    ("format.js", JS, include_str!("page/format.js")),
+    ("form.js", JS, include_str!("page/form.js")),
+    ("observations.js", JS, include_str!("page/observations.js")),
+    ("records.js", JS, include_str!("page/records.js")),
+    ("motion.js", JS, include_str!("page/motion.js")),
+    ("problems.js", JS, include_str!("page/problems.js")),
+    ("jobs.js", JS, include_str!("page/jobs.js")),
+    ("result.js", JS, include_str!("page/result.js")),
+    ("kinds/index.js", JS, include_str!("page/kinds/index.js")),
+    ("kinds/common.js", JS, include_str!("page/kinds/common.js")),
+    (
+        "kinds/time_history.js",
+        JS,
+        include_str!("page/kinds/time_history.js"),
+    ),
+    (
+        "kinds/spectrum.js",
+        JS,
+        include_str!("page/kinds/spectrum.js"),
+    ),
+    (
+        "kinds/friction_spectrum.js",
+        JS,
+        include_str!("page/kinds/friction_spectrum.js"),
+    ),
+    (
+        "kinds/forensic.js",
+        JS,
+        include_str!("page/kinds/forensic.js"),
+    ),
+    (
+        "kinds/record_spectrum.js",
+        JS,
+        include_str!("page/kinds/record_spectrum.js"),
+    ),
+    (
+        "kinds/fragility.js",
+        JS,
+        include_str!("page/kinds/fragility.js"),
+    ),
+    (
+        "kinds/survival.js",
+        JS,
+        include_str!("page/kinds/survival.js"),
+    ),
+];
+
+/// The content type of the modules.
+pub const JS: &str = "text/javascript; charset=utf-8";
+
+/// The content type of the style sheet.
+pub const CSS: &str = "text/css; charset=utf-8";
+
+/// How the page's files may be cached: kept, but checked again (by their
+/// `ETag`) before each use, so that a new build is seen at once.
+pub const CACHE_CONTROL: &str = "no-cache";
+
+/// The policy the page runs under: scripts and style sheets from this
+/// origin only (none inline), requests to this origin only, images from
+/// here or `data:` URLs (the plot fetched with a token), no plugins, no
+/// `<base>`, not framed.
+pub const CSP: &str = "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data:; connect-src 'self'; object-src 'none'; base-uri 'none'; frame-ancestors 'none'";
+
+/// A number as JavaScript (and the markup) writes it.
+fn number(x: f64) -> String {
+    assert!(x.is_finite(), "not a finite number: {x}");
+    format!("{x}")
+}
+
+/// The kinds whose spec takes the field `field`, in the registry's order
+/// (from the API description of their specs).
+fn kinds_taking(field: &str) -> Vec<&'static str> {
+    let union = serde_json::to_value(JobSpec::schema()).unwrap_or_default();
+    let mut schemas = Vec::new();
+    <JobSpec as ToSchema>::schemas(&mut schemas);
+    let takes = |kind: &str| {
+        let Some(name) = union["discriminator"]["mapping"][kind]
+            .as_str()
+            .and_then(|target| target.rsplit('/').next())
+        else {
+            return false;
+        };
+        schemas
+            .iter()
+            .filter(|(n, _)| n == name)
+            .filter_map(|(_, schema)| serde_json::to_value(schema).ok())
+            .any(|schema| schema["properties"].get(field).is_some())
+    };
+    JobKind::ALL
+        .iter()
+        .map(|k| k.name())
+        .filter(|k| takes(k))
+        .collect()
+}
+
+/// The kinds that take a floor (`contact`).
+fn floor_kinds() -> Vec<&'static str> {
+    kinds_taking("contact")
+}
+
+/// The kinds whose form offers a vertical motion scaled with the
+/// horizontal one, `{"ratio": r}`: those that take `vertical`, but a time
+/// history (which has fields of its own for it: a ratio, or samples beside
+/// a record).
+fn vertical_ratio_kinds() -> Vec<&'static str> {
+    kinds_taking("vertical")
+        .into_iter()
+        .filter(|k| *k != JobKind::TimeHistory.name())
+        .collect()
+}
+
+/// The values the page's script takes from the service: name, value (as
+/// JavaScript), what it is.
+fn constants() -> Vec<(&'static str, String, &'static str)> {
+    let list = |kinds: Vec<&str>| serde_json::to_string(&kinds).unwrap_or_default();
+    vec![
+        (
+            "G",
+            number(crate::dynamics::block::STANDARD_GRAVITY),
+            "Gravity, m/s² (the default of every block).",
+        ),
+        (
+            "R_MIN_M",
+            number(crate::jobs::plausible::R_MIN_M),
+            "The smallest plausible block size R = √(b² + h²), m: smaller, b and h were likely given in millimetres.",
+        ),
+        (
+            "R_MAX_M",
+            number(crate::jobs::plausible::R_MAX_M),
+            "The largest plausible block size R, m: larger, b and h were likely given in millimetres, or p in Hz.",
+        ),
+        (
+            "LARGE_SLIDE_M",
+            number(crate::jobs::plausible::LARGE_SLIDE_M),
+            "A residual slide seen past this, m, is warned about (centimetres?).",
+        ),
+        (
+            "MAX_MU",
+            number(crate::jobs::contact::MAX_MU),
+            "The largest friction coefficient μ a floor takes.",
+        ),
+        (
+            "MAX_OBSERVATIONS",
+            crate::kinds::forensic::MAX_OBSERVATIONS.to_string(),
+            "The most observations a forensic query takes.",
+        ),
+        (
+            "MAX_LIST_LIMIT",
+            MAX_LIST_LIMIT.to_string(),
+            "The most jobs one page of GET /v1/jobs holds.",
+        ),
+        (
+            "FLOOR_KINDS",
+            list(floor_kinds()),
+            "The kinds that take a floor (`contact`).",
+        ),
+        (
+            "VERTICAL_RATIO_KINDS",
+            list(vertical_ratio_kinds()),
+            "The kinds whose form offers a vertical motion scaled with the horizontal one.",
+        ),
+    ]
+}
+
+/// The module `/static/constants.js`: [`constants`], each `export const`.
+pub static CONSTANTS: LazyLock<String> = LazyLock::new(|| {
+    let mut out = String::from(
+        "// The values the page shares with the service, rendered by the service\n\
+         // from its own constants (src/api/page.rs): not written twice.\n",
+    );
+    for (name, value, doc) in constants() {
+        out.push_str(&format!("\n/** {doc} */\nexport const {name} = {value};\n"));
+    }
+    out
+});
+
+/// The values the markup's `{{NAME}}` marks stand for.
+fn marks() -> Vec<(&'static str, String)> {
+    vec![
+        ("MAX_MU", number(crate::jobs::contact::MAX_MU)),
+        (
+            "MAX_VERTICAL_RATIO",
+            number(crate::jobs::vertical::MAX_VERTICAL_RATIO),
+        ),
+        (
+            "GAMMA_MAX",
+            number(crate::dynamics::mavroeidis_papageorgiou::GAMMA_MAX),
+        ),
+        (
+            "PGA_IMPLAUSIBLE_G",
+            number(crate::records::PGA_IMPLAUSIBLE_G),
+        ),
+        (
+            "DEFAULT_A_MAX",
+            number(crate::kinds::spectrum::DEFAULT_A_MAX),
+        ),
+        (
+            "DEFAULT_TOLERANCE",
+            number(crate::kinds::spectrum::DEFAULT_TOLERANCE),
+        ),
+        ("FLOOR_KINDS", floor_kinds().join(" ")),
+        ("VERTICAL_RATIO_KINDS", vertical_ratio_kinds().join(" ")),
+    ]
+}
+
+/// The modules main.js imports, each preloaded: fetched at once, not one
+/// import after another.
+fn preloads() -> String {
+    let mut paths: Vec<&str> = FILES
+        .iter()
+        .filter(|(path, kind, _)| *kind == JS && *path != "main.js")
+        .map(|(path, _, _)| *path)
+        .collect();
+    paths.push("constants.js");
+    paths
+        .iter()
+        .map(|path| format!("<link rel=\"modulepreload\" href=\"{STATIC}{path}\">\n"))
+        .collect()
+}
+
 /// The page, as served: its kind list is the registry's
-/// ([`crate::kinds::registry`]), the first kind checked.
+/// ([`crate::kinds::registry`]), the first kind checked; its marks filled in.
 pub static HTML: LazyLock<String> = LazyLock::new(|| {
     let radios: String = JobKind::ALL
         .iter()
@@ -29,12 +276,30 @@ pub static HTML: LazyLock<String> = LazyLock::new(|| {
             )
         })
         .collect();
-    TEMPLATE.replacen(KINDS_MARK, &radios, 1)
+    let mut html = TEMPLATE
+        .replacen(KINDS_MARK, &radios, 1)
+        .replacen(MODULES_MARK, &preloads(), 1);
+    for (name, value) in marks() {
+        html = html.replace(&format!("{{{{{name}}}}}"), &value);
+    }
+    html
 });
 
-/// The policy the page runs under: its own inline style and script, requests
-/// to this origin only, images from here or `data:` URLs.
-pub const CSP: &str = "default-src 'self'; img-src 'self' data:; style-src 'unsafe-inline'; script-src 'unsafe-inline'; connect-src 'self'";
+/// A file's entity tag: a digest of its text.
+fn etag(text: &str) -> String {
+    format!("\"{}\"", &blake3::hash(text.as_bytes()).to_hex()[..32])
+}
+
+/// The page's file at `path` (under [`STATIC`]): its content type and text.
+fn file(path: &str) -> Option<(&'static str, &'static str)> {
+    if path == "constants.js" {
+        return Some((JS, CONSTANTS.as_str()));
+    }
+    FILES
+        .iter()
+        .find(|(p, _, _)| *p == path)
+        .map(|(_, kind, text)| (*kind, *text))
+}
 
 /// `GET /`: the page.
 pub async fn index() -> impl IntoResponse {
@@ -47,6 +312,39 @@ pub async fn index() -> impl IntoResponse {
     )
 }
 
+/// `GET /static/{path}`: a file of the page, with its `ETag` (a request
+/// that names it in `If-None-Match` is answered 304, without the file).
+pub async fn asset(Path(path): Path<String>, request: HeaderMap) -> Response {
+    let Some((kind, text)) = file(&path) else {
+        return Problem::not_found("no such file of the page").into_response();
+    };
+    let tag = etag(text);
+    let fresh = request
+        .get(header::IF_NONE_MATCH)
+        .and_then(|v| v.to_str().ok())
+        .is_some_and(|v| v.split(',').any(|t| t.trim() == tag || t.trim() == "*"));
+    let headers = [
+        (header::CONTENT_TYPE, HeaderValue::from_static(kind)),
+        (
+            header::CACHE_CONTROL,
+            HeaderValue::from_static(CACHE_CONTROL),
+        ),
+        (
+            header::X_CONTENT_TYPE_OPTIONS,
+            HeaderValue::from_static("nosniff"),
+        ),
+        (
+            header::ETAG,
+            HeaderValue::from_str(&tag).unwrap_or(HeaderValue::from_static("\"\"")),
+        ),
+    ];
+    if fresh {
+        (StatusCode::NOT_MODIFIED, headers).into_response()
+    } else {
+        (headers, text).into_response()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -57,13 +355,45 @@ mod tests {
         let headers = response.headers();
         assert_eq!(headers[header::CONTENT_TYPE], "text/html; charset=utf-8");
         assert_eq!(headers[header::CONTENT_SECURITY_POLICY], CSP);
+        for unsafe_source in ["'unsafe-inline'", "'unsafe-eval'", "*"] {
+            assert!(!CSP.contains(unsafe_source), "{CSP}");
+        }
     }
 
-    /// Every kind of the registry is offered, and has a part of the form
-    /// of its own (`data-kinds` naming it, a fieldset or a field).
+    /// Every mark of the markup is filled in, and it holds no script,
+    /// style or event handler of its own: they come from its files.
     #[test]
-    fn the_form_offers_every_kind_of_job() {
-        assert!(TEMPLATE.contains(KINDS_MARK));
+    fn the_markup_is_markup_only() {
+        assert!(TEMPLATE.contains(KINDS_MARK) && TEMPLATE.contains(MODULES_MARK));
+        assert!(!HTML.contains("{{") && !HTML.contains("}}"));
+        for (name, _) in marks() {
+            assert!(
+                TEMPLATE.contains(&format!("{{{{{name}}}}}")),
+                "{name} unused"
+            );
+        }
+        for inline in ["<style", "style=\"", "<script>"] {
+            assert!(!HTML.contains(inline), "inline {inline:?}");
+        }
+        let handler = HTML.match_indices(" on").find(|(i, _)| {
+            let rest = &HTML[i + 3..];
+            let name = rest.chars().take_while(char::is_ascii_lowercase).count();
+            name > 0 && rest[name..].starts_with('=')
+        });
+        assert!(
+            handler.is_none(),
+            "an event handler in the markup: {handler:?}"
+        );
+        assert!(HTML.contains("<script type=\"module\" src=\"/static/main.js\"></script>"));
+        assert!(HTML.contains("<link rel=\"stylesheet\" href=\"/static/style.css\">"));
+    }
+
+    /// Every kind of the registry is offered, has a part of the form of its
+    /// own (`data-kinds` naming it) and a module of its own, which the
+    /// kinds' index imports.
+    #[test]
+    fn every_kind_has_its_part_of_the_page() {
+        let index = file("kinds/index.js").expect("the kinds' index").1;
         for kind in crate::kinds::KINDS {
             let radio = format!(r#"<input type="radio" name="kind" value="{kind}""#);
             assert!(HTML.contains(&radio), "the form has no {kind}");
@@ -73,135 +403,134 @@ mod tests {
                     .is_some_and(|list| list.split(' ').any(|k| k == *kind))
             });
             assert!(form, "no part of the form is for {kind}");
+            assert!(
+                file(&format!("kinds/{kind}.js")).is_some(),
+                "no module for {kind}"
+            );
+            assert!(
+                index.contains(&format!("import {kind} from \"./{kind}.js\";")),
+                "{kind}"
+            );
         }
     }
 
-    /// The floor's models offered are the ones the service takes, for the
-    /// kinds that take a floor (time histories, spectra, forensic queries,
-    /// record spectra, fragility): the fieldset is shown for those kinds,
-    /// the script sends a floor for those kinds, and the service takes each
-    /// model from each of them.
+    /// Every module a module imports is served; every file served is used.
     #[test]
-    fn the_form_offers_the_contact_models_the_service_takes() {
-        let kinds = [
-            "time_history",
-            "spectrum",
-            "forensic",
-            "record_spectrum",
-            "fragility",
-        ];
-        let fieldset = HTML
-            .split("<fieldset id=\"fs-contact\"")
-            .nth(1)
-            .and_then(|rest| rest.split("</fieldset>").next())
-            .expect("a fieldset for the floor");
-        assert!(fieldset.starts_with(&format!(" data-form data-kinds=\"{}\"", kinds.join(" "))));
-        let quoted: Vec<String> = kinds.iter().map(|k| format!("\"{k}\"")).collect();
-        assert!(HTML.contains(&format!("const FLOOR_KINDS = [{}];", quoted.join(", "))));
-        for id in ["f-c-mu", "f-c-muk"] {
-            assert!(fieldset.contains(&format!("id=\"{id}\"")), "no {id}");
-        }
-        let models: Vec<&str> = fieldset
-            .split("name=\"contact\" value=\"")
-            .skip(1)
-            .filter_map(|rest| rest.split('"').next())
-            .collect();
-        assert_eq!(models, ["no_sliding", "coulomb"]);
-        let on_floor = HTML
-            .split("function withFloor(spec, k) {")
-            .nth(1)
-            .and_then(|rest| rest.split("\n  }").next())
-            .expect("the floor's part of the spec");
-        for sent in [
-            "spec.contact = { model: \"coulomb\", mu: num(\"f-c-mu\") };",
-            "spec.formulation = \"nonlinear\";",
-            "if (k === \"spectrum\") spec.no_sliding_beside = true;",
-        ] {
-            assert!(on_floor.contains(sent), "{on_floor}");
-        }
-        let block = serde_json::json!({"alpha": 0.25, "p": 2.14});
-        let specs = [
-            serde_json::json!({"kind": "time_history", "block": block,
-                "pulse": {"type": "one_sine", "omega_ratio": 3, "a_p_alpha_g": 4}}),
-            serde_json::json!({"kind": "spectrum", "block": block,
-                "pulse": {"type": "one_sine"}, "omega_ratio": {"from": 1, "to": 2, "steps": 1}}),
-            serde_json::json!({"kind": "forensic", "pulse": {"type": "one_sine"},
-                "frequency_hz": [1.0], "a_p_g": {"from": 0.05, "to": 0.3},
-                "observations": [{"name": "a", "overturned": true, "block": block}]}),
-            serde_json::json!({"kind": "record_spectrum", "block": {"alpha": 0.25},
-                "ground_motion": {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, 0.5, 0.2, -0.4, 0.0]},
-                "R_m": {"from": 0.5, "to": 2, "steps": 2}, "scale": {"to": 2}}),
-            serde_json::json!({"kind": "fragility", "block": block,
-                "pulse": {"type": "one_sine", "frequency_hz": 1.0}, "im": "pga_g",
-                "stripes": {"from": 0.1, "to": 0.5, "steps": 2}, "samples": 4, "seed": 1}),
-        ];
-        for model in models {
-            let mut contact = serde_json::json!({"model": model});
-            if model == "coulomb" {
-                contact["mu"] = serde_json::json!(0.3);
-            }
-            for base in &specs {
-                let mut spec = base.clone();
-                spec["formulation"] = serde_json::json!("nonlinear");
-                spec["contact"] = contact.clone();
-                let kind = spec["kind"].as_str().unwrap_or_default().to_string();
-                // A spectrum on the floor is sent with pure rocking's beside it.
-                if kind == "spectrum" && model == "coulomb" {
-                    spec["no_sliding_beside"] = serde_json::json!(true);
+    fn the_modules_served_are_those_imported() {
+        let mut reached = vec!["main.js".to_string()];
+        let mut i = 0;
+        while i < reached.len() {
+            let path = reached[i].clone();
+            let (kind, text) =
+                file(&path).unwrap_or_else(|| panic!("{path} is imported, not served"));
+            assert_eq!(kind, JS, "{path}");
+            let dir = path.rsplit_once('/').map_or("", |(d, _)| d);
+            for line in text.lines().filter(|l| l.starts_with("import ")) {
+                let Some(target) = line
+                    .split(" from \"")
+                    .nth(1)
+                    .and_then(|t| t.split('"').next())
+                else {
+                    continue;
+                };
+                let mut parts: Vec<&str> = dir.split('/').filter(|p| !p.is_empty()).collect();
+                for step in target.split('/') {
+                    match step {
+                        "." => {}
+                        ".." => {
+                            parts.pop();
+                        }
+                        name => parts.push(name),
+                    }
                 }
-                let taken = crate::kinds::Job::parse(&spec.to_string());
-                assert!(taken.is_ok(), "{kind} on {model}: {:?}", taken.err());
+                let resolved = parts.join("/");
+                if !reached.contains(&resolved) {
+                    reached.push(resolved);
+                }
             }
+            i += 1;
         }
+        for (path, kind, _) in FILES {
+            assert!(
+                *kind == CSS || reached.iter().any(|r| r == path),
+                "{path} is served, never imported"
+            );
+        }
+        assert!(reached.iter().any(|r| r == "constants.js"));
     }
 
-    /// A time history on a Coulomb floor is sent `outputs.series` (the
-    /// field the page uses for pure rocking, shown under Coulomb too) and
-    /// no `outputs.duration` (its field hidden, its value not sent): the
-    /// service takes the one and refuses the other.
+    /// The type check's declaration of `constants.js` names what is
+    /// rendered, with the types rendered.
     #[test]
-    fn the_form_sends_a_coulomb_history_its_series_and_no_end() {
-        let branch = HTML
-            .split("if (k === \"time_history\") {\n      if (spec.pulse)")
-            .nth(1)
-            .and_then(|rest| rest.split("} else if (k === \"spectrum\")").next())
-            .expect("the time history's part of the spec");
-        let series = "spec.outputs = { series: num(\"f-series\") };";
-        let (before, _) = branch.split_once(series).expect("a series sent");
-        // Sent whatever the floor: no test of it before.
-        assert!(!before.contains("coulomb"), "{before}");
-        let duration = branch
+    fn the_constants_are_declared_as_rendered() {
+        let declared = include_str!("page/constants.d.ts");
+        let mut want = String::new();
+        for (name, value, _) in constants() {
+            let ty = if value.starts_with('[') {
+                "readonly string[]"
+            } else {
+                "number"
+            };
+            want.push_str(&format!("export const {name}: {ty};\n"));
+        }
+        let got: String = declared
             .lines()
-            .find(|l| l.contains("spec.outputs.duration ="))
-            .expect("a duration sent");
-        assert!(duration.contains("!coulomb &&"), "{duration}");
-        // The form: the series' field shown under Coulomb, the duration's hidden.
-        assert!(
-            HTML.contains("<div class=\"field\" id=\"duration-field\"><label for=\"f-duration\">")
+            .filter(|l| l.starts_with("export const "))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        assert_eq!(got, want, "src/api/page/constants.d.ts");
+    }
+
+    /// The kinds that take a floor, as the page is told them, each take
+    /// `contact`; the others refuse it.
+    #[test]
+    fn the_floor_kinds_are_the_service_s() {
+        assert_eq!(
+            floor_kinds(),
+            [
+                "time_history",
+                "spectrum",
+                "forensic",
+                "record_spectrum",
+                "fragility"
+            ]
         );
-        assert!(HTML.contains("$(\"duration-field\").hidden = coulomb;"));
-        assert!(!HTML.contains("$(\"th-outputs\").hidden"));
-        assert!(!HTML.contains("(no series)"));
-        // The spec the form builds on a Coulomb floor, with the series field's
-        // default, is taken; with a duration it would be refused.
-        let default = HTML
-            .split("<input id=\"f-series\"")
-            .nth(1)
-            .and_then(|rest| rest.split("value=\"").nth(1))
-            .and_then(|rest| rest.split('"').next())
-            .and_then(|v| v.parse::<u32>().ok())
-            .expect("the series' default");
-        let spec = |outputs: serde_json::Value| {
-            serde_json::json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14},
-                "pulse": {"type": "one_sine", "omega_ratio": 3, "a_p_alpha_g": 4},
-                "formulation": "nonlinear", "contact": {"model": "coulomb", "mu": 0.3},
-                "outputs": outputs})
-            .to_string()
-        };
-        let taken = crate::kinds::Job::parse(&spec(serde_json::json!({"series": default})));
-        assert!(taken.is_ok(), "{:?}", taken.err());
-        let refused = spec(serde_json::json!({"series": default, "duration": 4}));
-        assert!(crate::kinds::Job::parse(&refused).is_err());
+        assert_eq!(
+            vertical_ratio_kinds(),
+            [
+                "spectrum",
+                "friction_spectrum",
+                "forensic",
+                "record_spectrum",
+                "fragility"
+            ]
+        );
+        let rendered = CONSTANTS.as_str();
+        assert!(rendered.contains(
+            "export const FLOOR_KINDS = [\"time_history\",\"spectrum\",\"forensic\",\"record_spectrum\",\"fragility\"];"
+        ));
+        assert!(
+            rendered.contains("export const R_MIN_M = 0.01;"),
+            "{rendered}"
+        );
+        assert!(rendered.contains("export const G = 9.81;"), "{rendered}");
+    }
+
+    #[tokio::test]
+    async fn files_are_served_with_their_type_and_tag() {
+        let response = asset(Path("kinds/spectrum.js".into()), HeaderMap::new()).await;
+        assert_eq!(response.status(), StatusCode::OK);
+        let headers = response.headers().clone();
+        assert_eq!(headers[header::CONTENT_TYPE], JS);
+        assert_eq!(headers[header::CACHE_CONTROL], CACHE_CONTROL);
+        let mut again = HeaderMap::new();
+        again.insert(header::IF_NONE_MATCH, headers[header::ETAG].clone());
+        let response = asset(Path("kinds/spectrum.js".into()), again).await;
+        assert_eq!(response.status(), StatusCode::NOT_MODIFIED);
+        let response = asset(Path("style.css".into()), HeaderMap::new()).await;
+        assert_eq!(response.headers()[header::CONTENT_TYPE], CSS);
+        let response = asset(Path("../page.rs".into()), HeaderMap::new()).await;
+        assert_eq!(response.status(), StatusCode::NOT_FOUND);
     }
 
     #[test]
@@ -215,6 +544,9 @@ mod tests {
             "url(",
         ] {
             assert!(!HTML.contains(external), "the page refers to {external}…");
+            for (path, _, text) in FILES {
+                assert!(!text.contains(external), "{path} refers to {external}…");
+            }
         }
     }
 }

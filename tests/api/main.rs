@@ -6,6 +6,7 @@ mod contract;
 mod figures;
 mod guard;
 mod helpers;
+mod page;
 mod records;
 mod tenants;
 

@@ -5,7 +5,11 @@ Starts `topple serve` (SQLite in a temporary directory) and Chromium with the
 DevTools protocol, then drives the page as a user would, with real mouse
 clicks and typed text:
 
-1. the page is served as HTML with a Content-Security-Policy;
+1. the page is served as HTML under a Content-Security-Policy that allows
+   scripts and style sheets from its own origin only, none inline; its
+   markup holds no script, style or event handler of its own; its modules
+   and style sheet come from /static/ as text/javascript and text/css; an
+   inline script or style added to it is blocked (and reported);
 2. in a 1400×1000 window (with or without 140 px of toolbars), Submit is in
    sight on first load for every kind, and stays in sight when eight
    observations make the form outgrow the window;
@@ -63,7 +67,16 @@ clicks and typed text:
    values the form shows in sight: a control's value, a number a visible
    hint states, a word of its visible text — nothing hidden, nothing left
    from another kind or block description;
-12. nothing was blocked by the policy and no script error occurred.
+12. the floor: pure rocking or Coulomb friction is offered for exactly the
+   kinds that take one (FLOOR_KINDS of /static/constants.js, which the
+   service renders from its specs); on a Coulomb floor each of them sends
+   `contact` with μ and the nonlinear equations (a spectrum, pure rocking's
+   beside it), on pure rocking no `contact`, and another server takes every
+   one of these specs; a time history on a Coulomb floor hides its end
+   (`outputs.duration`) and sends its series only, which is taken, while
+   the same spec with an end is refused;
+13. nothing was blocked by the policy (every violation is reported on the
+   console) and no script error occurred.
 
 Screenshots go to target/e2e/ (page.png: the finished time history;
 page-error.png, page-forensic.png, page-cancel.png; page-record-preview.png
@@ -120,6 +133,17 @@ def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def http_post_json(url, body, timeout=10):
+    """(status, parsed body) of POST url with a JSON body; error statuses too."""
+    request = urllib.request.Request(url, data=json.dumps(body).encode(), method="POST",
+                                     headers={"Content-Type": "application/json"})
+    try:
+        with urllib.request.urlopen(request, timeout=timeout) as r:
+            return r.status, json.loads(r.read() or b"null")
+    except urllib.error.HTTPError as e:
+        return e.code, json.loads(e.read() or b"null")
 
 
 def http_get(url, timeout=5):
@@ -438,11 +462,53 @@ def check_served(base):
     if ctype.replace(" ", "").lower() != "text/html;charset=utf-8":
         raise Failure(f"GET / content-type is {ctype!r}")
     csp = headers.get("content-security-policy", "")
-    for directive in ("default-src 'self'", "connect-src 'self'", "script-src"):
+    for directive in ("default-src 'self'", "connect-src 'self'", "script-src 'self'", "style-src 'self'"):
         if directive not in csp:
             raise Failure(f"the Content-Security-Policy lacks {directive!r}: {csp!r}")
-    if b"<script" not in body or b"src=\"http" in body or b"href=\"http" in body:
+    if "'unsafe-inline'" in csp or "'unsafe-eval'" in csp:
+        raise Failure(f"the Content-Security-Policy allows inline code: {csp!r}")
+    html = body.decode()
+    if "src=\"http" in html or "href=\"http" in html:
         raise Failure("the page is not self-contained")
+    if re.search(r"<script(?![^>]*\bsrc=)|<style|\sstyle=\"|\son[a-z]+=", html):
+        raise Failure("the markup holds a script, a style or an event handler of its own")
+    if '<script type="module" src="/static/main.js"></script>' not in html:
+        raise Failure("the page does not load its modules")
+    for path, want in (("/static/main.js", "text/javascript"), ("/static/kinds/time_history.js", "text/javascript"),
+                       ("/static/constants.js", "text/javascript"), ("/static/style.css", "text/css")):
+        status, headers, _ = http_get(base + path)
+        ctype = headers.get("content-type", "").replace(" ", "").lower()
+        if status != 200 or ctype != f"{want};charset=utf-8":
+            raise Failure(f"GET {path}: {status} {ctype!r}")
+
+
+# Every violation of the policy, reported on the console (as an error the
+# test fails on), in every document the browser opens.
+REPORT_VIOLATIONS_JS = """document.addEventListener('securitypolicyviolation', (e) =>
+  console.error(`policy violation: ${e.violatedDirective} ${e.blockedURI || '(inline)'}`));"""
+
+
+def check_policy_enforced(page):
+    """An inline script and an inline style added to the page are blocked
+    and reported: the policy holds in the browser. (The reports are taken
+    off the problems: they are the ones provoked here.)"""
+    page.pump()
+    before = len(page.problems)
+    page.js("(() => { const s = document.createElement('script'); s.textContent = 'window.inlineRan = true';"
+            " document.head.append(s); const st = document.createElement('style');"
+            " st.textContent = 'body { outline: 9px solid red; }'; document.head.append(st); })()")
+    page.wait_js("the violations to be reported", "new Promise((ok) => setTimeout(() => ok(true), 200))", 5)
+    if page.js("window.inlineRan === true"):
+        raise Failure("an inline script ran")
+    if page.js("getComputedStyle(document.body).outlineWidth") == "9px":
+        raise Failure("an inline style applied")
+    page.pump()
+    reported = page.problems[before:]
+    if not any("script-src" in p for p in reported) or not any("style-src" in p for p in reported):
+        raise Failure(f"the blocked inline script and style were not both reported: {reported}")
+    del page.problems[before:]
+    log(f"the policy blocked and reported an inline script and style ({len(reported)} reports)")
+    page.js("document.querySelectorAll('head > script:not([src]), head > style').forEach((el) => el.remove())")
 
 
 def submit_in_sight(page):
@@ -802,6 +868,107 @@ def check_forensic_coulomb(page, base):
     page.type_into("#f-fo-steps", "6")
     page.type_into("#f-fo-ato", "3")
     page.click("input[name=contact][value=no_sliding]")
+
+
+def constants_of(base):
+    """The page's constants as the service renders them (/static/constants.js)."""
+    status, _, body = http_get(base + "/static/constants.js")
+    if status != 200:
+        raise Failure(f"GET /static/constants.js: {status}")
+    return {m.group(1): json.loads(m.group(2))
+            for m in re.finditer(r"^export const (\w+) = (.+);$", body.decode(), re.M)}
+
+
+# A record's samples, for a spec sent to another server (which does not
+# store the page's records).
+INLINE_MOTION = {"dt": 0.01, "unit": "g", "acc": [0.0, 0.3, 0.5, 0.2, -0.4, 0.0]}
+
+
+def small(spec):
+    """The spec with its grids cut to a point or two (it is only to be taken)."""
+    spec = json.loads(json.dumps(spec))
+    for key in ("omega_ratio", "R_m", "stripes", "frequency_hz", "omega_p"):
+        if isinstance(spec.get(key), dict) and "steps" in spec[key]:
+            spec[key]["steps"] = 1
+    if "samples" in spec:
+        spec["samples"] = 2
+    if isinstance(spec.get("ground_motion"), dict) and "record" in spec["ground_motion"]:
+        spec["ground_motion"] = dict(INLINE_MOTION)
+    return spec
+
+
+def check_floor_kinds(page, base, work):
+    """The floor is offered for the kinds that take one, and only for them;
+    each sends it as the service takes it; a time history on a Coulomb
+    floor sends its series and no end of its own."""
+    floor_kinds = constants_of(base)["FLOOR_KINDS"]
+    if not floor_kinds:
+        raise Failure("no kind takes a floor")
+    kinds = page.js("[...document.querySelectorAll('input[name=kind]')].map((i) => i.value)")
+    for kind in kinds:
+        page.click(f"input[name=kind][value={kind}]")
+        offered = not page.js("!!document.getElementById('fs-contact').closest('[hidden]')")
+        if offered != (kind in floor_kinds):
+            raise Failure(f"the floor is {'' if offered else 'not '}offered for {kind} (floor kinds: {floor_kinds})")
+    page.click("input[name=kind][value=time_history]")
+    models = page.js("[...document.querySelectorAll('input[name=contact]')].map((i) => i.value)")
+    if models != ["no_sliding", "coulomb"]:
+        raise Failure(f"the floor's models offered: {models}")
+    checker = Server(work, "floors")
+    try:
+        checker.start()
+        for kind in floor_kinds:
+            for model in models:
+                page.click(f"input[name=kind][value={kind}]")
+                page.click(f"input[name=contact][value={model}]")
+                coulomb = model == "coulomb"
+                hidden = page.js("['contact-mu', 'f-c-mu', 'f-c-muk'].map((id) =>"
+                                 " !!document.getElementById(id).closest('[hidden]'))")
+                if hidden != [not coulomb] * 3:
+                    raise Failure(f"{kind} on {model}: μ and μ_k hidden {hidden}")
+                if coulomb:
+                    page.type_into("#f-c-mu", "0.3")
+                page.click("#show-json")
+                raw = json.loads(page.js("document.getElementById('f-raw').value"))
+                page.click(f"input[name=kind][value={kind}]")
+                want = {"model": "coulomb", "mu": 0.3} if coulomb else None
+                if raw.get("contact") != want:
+                    raise Failure(f"{kind} on {model} sends the floor {raw.get('contact')}")
+                if coulomb and raw.get("formulation") != "nonlinear":
+                    raise Failure(f"{kind} on a Coulomb floor sends the {raw.get('formulation')} equations")
+                if raw.get("no_sliding_beside") != (True if coulomb and kind == "spectrum" else None):
+                    raise Failure(f"{kind} on {model}: no_sliding_beside = {raw.get('no_sliding_beside')}")
+                status, body = http_post_json(checker.base + "/v1/jobs", small(raw))
+                if status not in (200, 201, 202):
+                    raise Failure(f"the service does not take {kind} on {model}: {status} {body}")
+        # A time history on a Coulomb floor: its series, no end of its own.
+        page.click("input[name=kind][value=time_history]")
+        page.click("input[name=contact][value=no_sliding]")
+        page.type_into("#f-duration", "4")
+        page.click("input[name=contact][value=coulomb]")
+        hidden = page.js("['duration-field', 'f-series'].map((id) => !!document.getElementById(id).closest('[hidden]'))")
+        if hidden != [True, False]:
+            raise Failure(f"on a Coulomb floor the time history's end and series are hidden: {hidden}")
+        page.click("#show-json")
+        raw = json.loads(page.js("document.getElementById('f-raw').value"))
+        page.click("input[name=kind][value=time_history]")
+        series = int(page.js("document.getElementById('f-series').value"))
+        if raw.get("outputs") != {"series": series}:
+            raise Failure(f"a time history on a Coulomb floor sends the outputs {raw.get('outputs')}")
+        status, body = http_post_json(checker.base + "/v1/jobs", raw)
+        if status not in (200, 201, 202):
+            raise Failure(f"the service does not take the Coulomb history: {status} {body}")
+        raw["outputs"]["duration"] = 4
+        status, body = http_post_json(checker.base + "/v1/jobs", raw)
+        if status != 422 or not str(body.get("pointer", "")).startswith("/outputs"):
+            raise Failure(f"a Coulomb history with an end of its own is not refused: {status} {body}")
+        log(f"the floor: {len(floor_kinds)} kinds × {len(models)} models taken, a Coulomb history's end refused")
+    finally:
+        checker.stop()
+    page.click("input[name=contact][value=no_sliding]")
+    if page.js("!!document.getElementById('duration-field').closest('[hidden]')"):
+        raise Failure("on pure rocking the time history's end stays hidden")
+    page.type_into("#f-duration", "")
 
 
 def intervals_of(lists):
@@ -1625,10 +1792,12 @@ def main():
         page = Page(chromium.start())
         for domain in ("Page", "Runtime", "Log", "Network"):
             page.send(f"{domain}.enable")
+        page.send("Page.addScriptToEvaluateOnNewDocument", source=REPORT_VIOLATIONS_JS)
         page.send("Emulation.setDeviceMetricsOverride", width=WIDTH, height=HEIGHT,
                   deviceScaleFactor=1, mobile=False)
         page.navigate(server.base + "/")
         page.wait_js("the form", "!!document.getElementById('submit')", 10)
+        check_policy_enforced(page)
         check_submit_in_sight(page)
         check_invalid_field(page)
         check_time_history(page, server.base)
@@ -1636,6 +1805,7 @@ def main():
         check_switches_clear(page)
         forensic_id = check_forensic(page, server.base)
         check_forensic_coulomb(page, server.base)
+        check_floor_kinds(page, server.base, work)
         record = check_record_spectrum(page, server.base, work)
         check_forensic_record(page, server.base, record)
         check_time_history_record(page, server.base, record)
