@@ -403,13 +403,15 @@ fn token(name: &str) -> Result<(), (u8, String)> {
     Ok(())
 }
 
-fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
+/// Logs to stdout, as JSON lines with `--log-json`, at the level
+/// `RUST_LOG` sets (info by default).
+fn init_logging(json: bool) {
     let filter = tracing_subscriber::EnvFilter::try_from_default_env()
         .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"));
     let builder = tracing_subscriber::fmt()
         .with_env_filter(filter)
         .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stdout()));
-    if args.log_json {
+    if json {
         builder
             .json()
             .with_current_span(true)
@@ -418,6 +420,45 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
     } else {
         builder.init();
     }
+}
+
+/// The most samples a record may have, `--max-record-samples`: 2 to
+/// [`topple::jobs::spec::MAX_RECORD_SAMPLES`].
+fn record_samples(n: usize) -> Result<usize, (u8, String)> {
+    if (2..=topple::jobs::spec::MAX_RECORD_SAMPLES).contains(&n) {
+        Ok(n)
+    } else {
+        Err((
+            2,
+            format!(
+                "--max-record-samples must be 2 to {}",
+                topple::jobs::spec::MAX_RECORD_SAMPLES
+            ),
+        ))
+    }
+}
+
+/// The limits on one job's size, `--max-series-points`, `--max-grid-points`,
+/// `--max-work` and `--max-record-work` (both positive).
+fn limits(args: &ServeArgs) -> Result<topple::kinds::limits::Limits, (u8, String)> {
+    Ok(topple::kinds::limits::Limits {
+        series_points: args.max_series_points,
+        grid_points: args.max_grid_points,
+        work: if args.max_work > 0.0 {
+            args.max_work
+        } else {
+            return Err((2, "--max-work must be positive".into()));
+        },
+        record_work: if args.max_record_work > 0.0 {
+            args.max_record_work
+        } else {
+            return Err((2, "--max-record-work must be positive".into()));
+        },
+    })
+}
+
+/// The service's configuration from the command line, each option checked.
+fn serve_config(args: ServeArgs) -> Result<topple::service::ServeConfig, (u8, String)> {
     if args.max_connections == 0 {
         return Err((2, "--max-connections must be at least 1".into()));
     }
@@ -428,42 +469,17 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
         return Err((2, "--max-queued-per-tenant must be at least 1".into()));
     }
     let mut config = topple::service::ServeConfig {
+        max_record_samples: record_samples(args.max_record_samples)?,
+        max_wait: seconds(args.max_wait, "max-wait")?,
+        shutdown_grace: seconds(args.shutdown_grace, "shutdown-grace")?,
+        lease: seconds(args.lease, "lease")?.max(std::time::Duration::from_millis(300)),
+        limits: limits(&args)?,
+        max_queued: args.max_queued,
+        job_timeout: seconds(args.job_timeout, "job-timeout")?,
         addr: args.addr,
         database_url: args.database,
         max_body_bytes: args.max_body,
         max_record_bytes: args.max_record_bytes,
-        max_record_samples: if (2..=topple::jobs::spec::MAX_RECORD_SAMPLES)
-            .contains(&args.max_record_samples)
-        {
-            args.max_record_samples
-        } else {
-            return Err((
-                2,
-                format!(
-                    "--max-record-samples must be 2 to {}",
-                    topple::jobs::spec::MAX_RECORD_SAMPLES
-                ),
-            ));
-        },
-        max_wait: seconds(args.max_wait, "max-wait")?,
-        shutdown_grace: seconds(args.shutdown_grace, "shutdown-grace")?,
-        lease: seconds(args.lease, "lease")?.max(std::time::Duration::from_millis(300)),
-        limits: topple::kinds::limits::Limits {
-            series_points: args.max_series_points,
-            grid_points: args.max_grid_points,
-            work: if args.max_work > 0.0 {
-                args.max_work
-            } else {
-                return Err((2, "--max-work must be positive".into()));
-            },
-            record_work: if args.max_record_work > 0.0 {
-                args.max_record_work
-            } else {
-                return Err((2, "--max-record-work must be positive".into()));
-            },
-        },
-        max_queued: args.max_queued,
-        job_timeout: seconds(args.job_timeout, "job-timeout")?,
         api_token: args.api_token.filter(|t| !t.is_empty()),
         auth_reads: args.auth_reads,
         tokens_file: args.tokens_file.filter(|p| !p.as_os_str().is_empty()),
@@ -492,6 +508,12 @@ fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
         }
         config.workers = w;
     }
+    Ok(config)
+}
+
+fn serve(args: ServeArgs) -> Result<(), (u8, String)> {
+    init_logging(args.log_json);
+    let config = serve_config(args)?;
     if let Some(path) = &config.tokens_file {
         // A tokens file that does not parse stops the start; the service
         // reads it again itself, and again whenever it changes.

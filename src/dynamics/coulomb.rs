@@ -590,11 +590,11 @@ impl<G: Kinematics> Driver<'_, G> {
         }
     }
 
+    /// The history phase after phase from rest at t = 0, to its end: rest
+    /// for good, overturning, or a cut.
     fn run_phases(&mut self) -> Result<(), SimError> {
         let block = self.block;
-        let duration = self.forcing.duration();
         let v_rest = REST_VELOCITY * block.frequency_parameter() * block.slenderness();
-        let tan = block.slenderness().tan();
         let (mut t, mut x) = (0.0f64, 0.0f64);
         let mut phase = Phase::Stick;
         loop {
@@ -605,67 +605,14 @@ impl<G: Kinematics> Driver<'_, G> {
                 return Ok(());
             }
             match phase {
-                Phase::Stick => {
-                    self.chatter.clear();
-                    if let Some(rest) = self.settled_at.take() {
-                        t = t.max(rest);
-                    }
-                    let next = onset(self.forcing, &block, self.friction, t);
-                    let Some((t1, mode)) = next else {
-                        let end = t.max(duration);
-                        self.fill(end, Mode::Stick, |_| (0.0, 0.0, x));
-                        self.span(Mode::Stick, (t, end), None, (x, x));
-                        if self.out.initial_mode.is_some() {
-                            self.out.rest_time = Some(t);
-                        }
-                        self.out.end_time = end;
-                        return Ok(());
-                    };
-                    self.fill(t1, Mode::Stick, |_| (0.0, 0.0, x));
-                    self.span(Mode::Stick, (t, t1), None, (x, x));
-                    self.out.events += 1;
-                    self.out.initial_mode.get_or_insert(mode);
-                    t = t1;
-                    let push = -self.forcing.acceleration(t).signum();
-                    let side = if push == 0.0 { 1.0 } else { push };
-                    phase = match mode {
-                        Mode::Flight => self.take_off(t, Pose::flat(&block, x, 0.0)),
-                        Mode::Rock => Phase::Rock {
-                            side,
-                            y: [0.0, 0.0],
-                        },
-                        Mode::Slide if self.friction.kinetic_coefficient > tan => {
-                            Phase::SlideRock {
-                                side,
-                                sigma: side,
-                                y: [0.0, 0.0],
-                                slip_velocity: 0.0,
-                            }
-                        }
-                        Mode::Slide => Phase::Slide {
-                            direction: side,
-                            velocity: 0.0,
-                        },
-                        Mode::SlideRock | Mode::Stick => self.slide_rock_from_rest(t, side),
-                    };
-                }
+                Phase::Stick => match self.stick(t, x) {
+                    Some((t1, next)) => (t, phase) = (t1, next),
+                    None => return Ok(()),
+                },
                 Phase::Slide {
                     direction,
                     velocity,
-                } => {
-                    let (end, x_end, lifted) = self.flat_slide(t, x, direction, velocity);
-                    self.span(Mode::Slide, (t, end), Some(direction), (x, x_end));
-                    self.out.time_sliding += end - t;
-                    self.slid(x_end);
-                    (t, x) = (end, x_end);
-                    phase = match lifted {
-                        Some(v) => self.take_off(t, Pose::flat(&block, x, v)),
-                        None => {
-                            self.out.events += 1;
-                            Phase::Stick
-                        }
-                    };
-                }
+                } => (t, x, phase) = self.slide(t, x, direction, velocity),
                 Phase::Rock { side, y } => {
                     let (next, t1) = self.rock(t, side, y, v_rest)?;
                     t = t1;
@@ -698,6 +645,76 @@ impl<G: Kinematics> Driver<'_, G> {
                 }
             }
         }
+    }
+
+    /// At rest from `t` (or from where a chatter settled, if later), the
+    /// base at `x`: until the ground moves the block (eq. 7), then when and
+    /// in what phase it leaves rest; `None` where it stays at rest to the
+    /// end of the history.
+    fn stick(&mut self, t: f64, x: f64) -> Option<(f64, Phase)> {
+        let block = self.block;
+        let duration = self.forcing.duration();
+        let tan = block.slenderness().tan();
+        let mut t = t;
+        self.chatter.clear();
+        if let Some(rest) = self.settled_at.take() {
+            t = t.max(rest);
+        }
+        let next = onset(self.forcing, &block, self.friction, t);
+        let Some((t1, mode)) = next else {
+            let end = t.max(duration);
+            self.fill(end, Mode::Stick, |_| (0.0, 0.0, x));
+            self.span(Mode::Stick, (t, end), None, (x, x));
+            if self.out.initial_mode.is_some() {
+                self.out.rest_time = Some(t);
+            }
+            self.out.end_time = end;
+            return None;
+        };
+        self.fill(t1, Mode::Stick, |_| (0.0, 0.0, x));
+        self.span(Mode::Stick, (t, t1), None, (x, x));
+        self.out.events += 1;
+        self.out.initial_mode.get_or_insert(mode);
+        let t = t1;
+        let push = -self.forcing.acceleration(t).signum();
+        let side = if push == 0.0 { 1.0 } else { push };
+        let phase = match mode {
+            Mode::Flight => self.take_off(t, Pose::flat(&block, x, 0.0)),
+            Mode::Rock => Phase::Rock {
+                side,
+                y: [0.0, 0.0],
+            },
+            Mode::Slide if self.friction.kinetic_coefficient > tan => Phase::SlideRock {
+                side,
+                sigma: side,
+                y: [0.0, 0.0],
+                slip_velocity: 0.0,
+            },
+            Mode::Slide => Phase::Slide {
+                direction: side,
+                velocity: 0.0,
+            },
+            Mode::SlideRock | Mode::Stick => self.slide_rock_from_rest(t, side),
+        };
+        Some((t, phase))
+    }
+
+    /// A flat slide from `t`, the base at `x`, in `direction` at `velocity`:
+    /// when it ends, the slip there, and the next phase (sticking, or a
+    /// flight where the floor lets go).
+    fn slide(&mut self, t: f64, x: f64, direction: f64, velocity: f64) -> (f64, f64, Phase) {
+        let (end, x_end, lifted) = self.flat_slide(t, x, direction, velocity);
+        self.span(Mode::Slide, (t, end), Some(direction), (x, x_end));
+        self.out.time_sliding += end - t;
+        self.slid(x_end);
+        let phase = match lifted {
+            Some(v) => self.take_off(end, Pose::flat(&self.block, x_end, v)),
+            None => {
+                self.out.events += 1;
+                Phase::Stick
+            }
+        };
+        (end, x_end, phase)
     }
 
     /// The slide-rock a block at rest on `side` enters at `t` (its pivot
@@ -1166,7 +1183,6 @@ impl<G: Kinematics> Driver<'_, G> {
         v_rest: f64,
     ) -> Result<(Option<Phase>, f64, f64), SimError> {
         let block = self.block;
-        let alpha = block.slenderness();
         let p = block.frequency_parameter();
         let duration = self.forcing.duration();
         let flight = Flight::new(self.forcing, &block, t, pose);
@@ -1180,6 +1196,22 @@ impl<G: Kinematics> Driver<'_, G> {
         let t1 = match end {
             FlightEnd::Landing(t1) | FlightEnd::Overturn(t1) => t1,
         };
+        let pose1 = self.flown(&flight, (t, pose), t1);
+        let x1 = pose1.slip(&block);
+        if let FlightEnd::Overturn(t1) = end {
+            self.overturn(t1, pose1.theta.signum());
+            return Ok((None, t1, x1));
+        }
+        let (next, x) = self.land(t, t1, pose1, v_rest);
+        Ok((Some(next), t1, x))
+    }
+
+    /// Records the `flight` from `pose` at `t` to `t1`: its samples, its
+    /// stretch and slip, the time in the air and the peak rotation; its
+    /// pose at `t1`.
+    fn flown(&mut self, flight: &Flight<'_, G>, (t, pose): (f64, Pose), t1: f64) -> Pose {
+        let block = self.block;
+        let alpha = block.slenderness();
         self.fill(t1, Mode::Flight, |t| {
             let q = flight.pose(t);
             (q.theta, q.omega, q.slip(&block))
@@ -1198,10 +1230,15 @@ impl<G: Kinematics> Driver<'_, G> {
                 .min(std::f64::consts::FRAC_PI_2)
                 / alpha,
         );
-        if let FlightEnd::Overturn(t1) = end {
-            self.overturn(t1, pose1.theta.signum());
-            return Ok((None, t1, x1));
-        }
+        pose1
+    }
+
+    /// A landing at `t1` from `pose1` (a flight that left at `t`): counted
+    /// and listed as an impact; the next phase and the slip there. On a
+    /// corner it holds or slides as at an impact; flat, or level and not
+    /// turning up onto the corner, the block sticks or slides on.
+    fn land(&mut self, t: f64, t1: f64, pose1: Pose, v_rest: f64) -> (Phase, f64) {
+        let block = self.block;
         let f = self.friction;
         let landing = if self.repeats_at(t1, t) {
             flight::land_flat(&block, f.static_coefficient, f.kinetic_coefficient, &pose1)
@@ -1225,29 +1262,11 @@ impl<G: Kinematics> Driver<'_, G> {
                 },
             });
         }
-        let flat = |velocity: f64| {
-            if velocity == 0.0 {
-                Phase::Stick
-            } else if f.kinetic_coefficient > alpha.tan() {
-                let direction = velocity.signum();
-                Phase::SlideRock {
-                    side: direction,
-                    sigma: direction,
-                    y: [0.0, 0.0],
-                    slip_velocity: velocity,
-                }
-            } else {
-                Phase::Slide {
-                    direction: velocity.signum(),
-                    velocity,
-                }
-            }
-        };
-        let next = match landing.landed {
+        match landing.landed {
             Landed::Flat { velocity } => {
                 let x = pose1.x;
                 self.slid(x);
-                (flat(velocity), x)
+                (self.landed_flat(velocity), x)
             }
             Landed::Corner {
                 side,
@@ -1261,7 +1280,7 @@ impl<G: Kinematics> Driver<'_, G> {
                 let y = [pose1.theta, theta_dot];
                 if pose1.theta == 0.0 && (theta_dot * side <= 0.0 || theta_dot.abs() <= v_rest) {
                     // Level and not turning up onto the corner: flat.
-                    (flat(slip_velocity), x)
+                    (self.landed_flat(slip_velocity), x)
                 } else if sticking {
                     (Phase::Rock { side, y }, x)
                 } else {
@@ -1276,8 +1295,28 @@ impl<G: Kinematics> Driver<'_, G> {
                     )
                 }
             }
-        };
-        Ok((Some(next.0), t1, next.1))
+        }
+    }
+
+    /// A block landed flat, its base slipping at `velocity`: sticking, or
+    /// sliding on (tipping into slide-rock at once where μ_k > tan α).
+    fn landed_flat(&self, velocity: f64) -> Phase {
+        if velocity == 0.0 {
+            Phase::Stick
+        } else if self.friction.kinetic_coefficient > self.block.slenderness().tan() {
+            let direction = velocity.signum();
+            Phase::SlideRock {
+                side: direction,
+                sigma: direction,
+                y: [0.0, 0.0],
+                slip_velocity: velocity,
+            }
+        } else {
+            Phase::Slide {
+                direction: velocity.signum(),
+                velocity,
+            }
+        }
     }
 
     /// A slide-rock on `side` jamming at `t` in state `y`, its pivot at `x`
@@ -1311,16 +1350,7 @@ impl<G: Kinematics> Driver<'_, G> {
         let block = self.block;
         let (alpha, r, g) = (block.slenderness(), block.half_diagonal(), block.gravity());
         let kappa = sigma * self.friction.kinetic_coefficient;
-        let g_z = self.g_z(t);
-        let Some(acc) = slide_rock::angular_acceleration(alpha, r, side, kappa, g_z, y[0], y[1])
-        else {
-            // Painlevé: the pivot holds.
-            self.hold = true;
-            return Ok((Some(Phase::Rock { side, y }), t, x));
-        };
-        if slide_rock::normal_per_mass(alpha, r, side, g_z, y[0], y, acc) <= 0.0 {
-            // The floor would have to pull at once (after an impact).
-            let next = self.take_off_from_corner(t, side, y, x, slip_velocity);
+        if let Some(next) = self.no_slide_rock(t, x, side, kappa, y, slip_velocity) {
             return Ok((Some(next), t, x));
         }
         let forcing = self.forcing;
@@ -1372,33 +1402,8 @@ impl<G: Kinematics> Driver<'_, G> {
                 Ok((None, t1, x1))
             }
             LegEnd::Sampled(0, t1, y1) => {
-                // The slip stops: the pivot holds if it can.
-                self.out.events += 1;
                 let (x1, v1) = leg.slip(t1, y1);
-                let (fx, fz) = self.reactions(t1, side, y1);
-                if fz <= 0.0 {
-                    let next = self.take_off_from_corner(t1, side, y1, x1, v1);
-                    return Ok((Some(next), t1, x1));
-                }
-                let next = if t1 - t <= 1e-12 * t.abs().max(1.0) {
-                    // Stopped where it started: the pivot holds (no slip
-                    // is consistent there, whatever the demand rounds to).
-                    self.hold = true;
-                    Phase::Rock { side, y: y1 }
-                } else if fx.abs() <= self.friction.static_coefficient * fz {
-                    Phase::Rock { side, y: y1 }
-                } else {
-                    match self.slip_direction(t1, side, y1) {
-                        Some(s) => Phase::SlideRock {
-                            side,
-                            sigma: s,
-                            y: y1,
-                            slip_velocity: 0.0,
-                        },
-                        None => Phase::Rock { side, y: y1 },
-                    }
-                };
-                Ok((Some(next), t1, x1))
+                Ok((Some(self.slip_stops(t, side, (t1, y1), (x1, v1))), t1, x1))
             }
             LegEnd::Cut(t1, y1) => {
                 let (x1, v1) = leg.slip(t1, y1);
@@ -1424,6 +1429,72 @@ impl<G: Kinematics> Driver<'_, G> {
                 let (x1, v1) = leg.slip(t1, y1);
                 let next = self.take_off_from_corner(t1, side, y1, x1, v1);
                 Ok((Some(next), t1, x1))
+            }
+        }
+    }
+
+    /// Where a slide-rock on `side` (friction κ = σ μ_k) cannot start at
+    /// `t` from `y`, the pivot at `x` slipping at `slip_velocity`: the phase
+    /// it enters instead. Painlevé: no slip is consistent, and the pivot
+    /// holds; or the floor would have to pull at once (after an impact),
+    /// and the block leaves it.
+    fn no_slide_rock(
+        &mut self,
+        t: f64,
+        x: f64,
+        side: f64,
+        kappa: f64,
+        y: State,
+        slip_velocity: f64,
+    ) -> Option<Phase> {
+        let block = self.block;
+        let (alpha, r) = (block.slenderness(), block.half_diagonal());
+        let g_z = self.g_z(t);
+        let Some(acc) = slide_rock::angular_acceleration(alpha, r, side, kappa, g_z, y[0], y[1])
+        else {
+            // Painlevé: the pivot holds.
+            self.hold = true;
+            return Some(Phase::Rock { side, y });
+        };
+        if slide_rock::normal_per_mass(alpha, r, side, g_z, y[0], y, acc) <= 0.0 {
+            // The floor would have to pull at once (after an impact).
+            return Some(self.take_off_from_corner(t, side, y, x, slip_velocity));
+        }
+        None
+    }
+
+    /// The slip of a slide-rock on `side` (begun at `t`) stops at `t1` in
+    /// state `y1`, the pivot at `x1` slipping at `v1`: the pivot holds if
+    /// it can, else slips on the way the block's acceleration takes it; or
+    /// the block leaves the floor where it would have to pull.
+    fn slip_stops(
+        &mut self,
+        t: f64,
+        side: f64,
+        (t1, y1): (f64, State),
+        (x1, v1): (f64, f64),
+    ) -> Phase {
+        self.out.events += 1;
+        let (fx, fz) = self.reactions(t1, side, y1);
+        if fz <= 0.0 {
+            return self.take_off_from_corner(t1, side, y1, x1, v1);
+        }
+        if t1 - t <= 1e-12 * t.abs().max(1.0) {
+            // Stopped where it started: the pivot holds (no slip
+            // is consistent there, whatever the demand rounds to).
+            self.hold = true;
+            Phase::Rock { side, y: y1 }
+        } else if fx.abs() <= self.friction.static_coefficient * fz {
+            Phase::Rock { side, y: y1 }
+        } else {
+            match self.slip_direction(t1, side, y1) {
+                Some(s) => Phase::SlideRock {
+                    side,
+                    sigma: s,
+                    y: y1,
+                    slip_velocity: 0.0,
+                },
+                None => Phase::Rock { side, y: y1 },
             }
         }
     }

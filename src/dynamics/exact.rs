@@ -25,6 +25,7 @@ use super::equations::RockingRhs;
 use super::events::brent;
 use super::integrator::State;
 use std::f64::consts::FRAC_PI_2;
+use std::ops::ControlFlow;
 
 /// Longest segment, in units of 1/p, before re-anchoring.
 pub const MAX_SEGMENT_PT: f64 = 20.0;
@@ -262,19 +263,44 @@ pub enum SegmentEnd {
     Reached(f64, State),
 }
 
-/// The first event of `seg` in `(t0, t_stop]`, found by safe stepping: from each
-/// point the quadratic bounds on g = sθ exclude a root for a computable time, so
-/// no root is ever stepped over; the last stretch is bracketed and solved with
-/// Brent's method on the closed form. `no_return_before` disarms the impact event
-/// until that time (the block is still being lifted off from rest).
-pub fn first_event(seg: &LinearSegment, t_stop: f64, no_return_before: f64) -> SegmentEnd {
-    let s = seg.side;
-    let (k_low, k_up) = seg.curvature_bounds();
-    let tau_stop = (t_stop - seg.t0).min(MAX_SEGMENT_PT / seg.p);
-    // The end without event, with its state (`y` when it is already known at τ).
-    let reached = |tau: f64, y: Option<State>| {
-        let t = if seg.t0 + tau >= t_stop {
-            t_stop
+/// The safe stepping of [`first_event`] over one segment: the segment, where
+/// it stops, and the bounds on g̈ that size the steps.
+struct Stepping<'a> {
+    seg: &'a LinearSegment,
+    /// The side, ±1.
+    s: f64,
+    t_stop: f64,
+    /// The stop, in time since the segment's start (at most p τ = 20).
+    tau_stop: f64,
+    /// Bounds on −g̈ and on g̈ over the segment.
+    k_low: f64,
+    k_up: f64,
+    k_abs: f64,
+    p2: f64,
+}
+
+impl Stepping<'_> {
+    /// g = sθ at τ.
+    fn g(&self, tau: f64) -> f64 {
+        self.s * self.seg.at_tau(tau)[0]
+    }
+
+    /// The room before overturning, π/2 − sθ, at τ.
+    fn top(&self, tau: f64) -> f64 {
+        FRAC_PI_2 - self.s * self.seg.at_tau(tau)[0]
+    }
+
+    /// The shortest step worth taking at τ.
+    fn resolution(&self, tau: f64) -> f64 {
+        8.0 * f64::EPSILON * (self.seg.t0 + tau).abs().max(1.0 / self.seg.p)
+    }
+
+    /// The end without event, with its state (`y` when it is already known
+    /// at τ).
+    fn reached(&self, tau: f64, y: Option<State>) -> SegmentEnd {
+        let seg = self.seg;
+        let t = if seg.t0 + tau >= self.t_stop {
+            self.t_stop
         } else {
             seg.t0 + tau
         };
@@ -283,139 +309,210 @@ pub fn first_event(seg: &LinearSegment, t_stop: f64, no_return_before: f64) -> S
             Some(y) if tau_end == tau => SegmentEnd::Reached(t, y),
             _ => SegmentEnd::Reached(t, seg.at_tau(tau_end)),
         }
-    };
-    if tau_stop <= 0.0 {
-        let t = seg.t0.max(t_stop);
-        return SegmentEnd::Reached(t, seg.at(t));
     }
-    let g = |tau: f64| s * seg.at_tau(tau)[0];
-    let top = |tau: f64| FRAC_PI_2 - s * seg.at_tau(tau)[0];
-    let resolution = |tau: f64| 8.0 * f64::EPSILON * (seg.t0 + tau).abs().max(1.0 / seg.p);
-    let p2 = seg.p * seg.p;
-    let uw = seg.rate_abs;
-    let k_abs = k_low.max(k_up);
 
-    // No event can occur between `from` and the stop: check the stop itself.
-    let to_stop = |from: f64| {
-        let y_stop = seg.at_tau(tau_stop);
-        let gs = s * y_stop[0];
+    /// The event bracketed in `[a, b]`, solved.
+    fn bracket(&self, a: f64, b: f64) -> SegmentEnd {
+        bracket(self.seg, a, b, &|tau| self.g(tau), &|tau| self.top(tau))
+    }
+
+    /// No event can occur between `from` and the stop: check the stop itself.
+    fn to_stop(&self, from: f64) -> SegmentEnd {
+        let y_stop = self.seg.at_tau(self.tau_stop);
+        let gs = self.s * y_stop[0];
         if gs > 0.0 && FRAC_PI_2 - gs > 0.0 {
-            reached(tau_stop, Some(y_stop))
+            self.reached(self.tau_stop, Some(y_stop))
         } else {
-            bracket(seg, from, tau_stop, &g, &top)
-        }
-    };
-
-    // The state at the stop, once evaluated.
-    let mut stop_state: Option<State> = None;
-    let mut tau = 0.0;
-    // Lift-off from rest: g is convex and increasing until the ground stops
-    // exceeding the threshold, so only overturning can happen there.
-    let lift = (no_return_before - seg.t0).min(tau_stop);
-    if lift > 0.0 {
-        if top(lift) <= 0.0 {
-            let r = brent(top, 0.0, lift, top(0.0), top(lift), 0.0);
-            return SegmentEnd::Overturn(seg.t0 + r);
-        }
-        tau = lift;
-        if tau >= tau_stop {
-            return reached(tau, None);
+            self.bracket(from, self.tau_stop)
         }
     }
-    for _ in 0..100_000 {
+
+    /// Lift-off from rest until `no_return_before`: g is convex and
+    /// increasing until the ground stops exceeding the threshold, so only
+    /// overturning can happen there. Where the search goes on (τ), or how
+    /// the segment ends.
+    fn lift_off(&self, no_return_before: f64) -> ControlFlow<SegmentEnd, f64> {
+        let seg = self.seg;
+        let lift = (no_return_before - seg.t0).min(self.tau_stop);
+        if lift > 0.0 {
+            let top = |tau: f64| self.top(tau);
+            if top(lift) <= 0.0 {
+                let r = brent(top, 0.0, lift, top(0.0), top(lift), 0.0);
+                return ControlFlow::Break(SegmentEnd::Overturn(seg.t0 + r));
+            }
+            if lift >= self.tau_stop {
+                return ControlFlow::Break(self.reached(lift, None));
+            }
+            return ControlFlow::Continue(lift);
+        }
+        ControlFlow::Continue(0.0)
+    }
+
+    /// One safe step from τ: where the next one starts, or how the segment
+    /// ends (`stop_state` keeps the state at the stop once evaluated).
+    fn step(&self, tau: f64, stop_state: &mut Option<State>) -> ControlFlow<SegmentEnd, f64> {
+        let seg = self.seg;
         // At the start the state is known: no need to evaluate the closed form.
         let y = if tau == 0.0 { seg.y0 } else { seg.at_tau(tau) };
-        let (gk, gdk) = (s * y[0], s * y[1]);
+        let (gk, gdk) = (self.s * y[0], self.s * y[1]);
         // Neither quadratic bound reaches its event before the stop: they are
         // concave and non-negative at δ = 0, so their values at the stop tell
         // (a record's short pieces mostly end here, with no root to solve).
-        let rest = tau_stop - tau;
+        let rest = self.tau_stop - tau;
         let room = FRAC_PI_2 - gk;
         let inside = (gk > 0.0 || (gk == 0.0 && tau == 0.0)) && room > 0.0;
         if inside
-            && gk + rest * (gdk - 0.5 * k_low * rest) > 0.0
-            && room - rest * (gdk + 0.5 * k_up * rest) > 0.0
+            && gk + rest * (gdk - 0.5 * self.k_low * rest) > 0.0
+            && room - rest * (gdk + 0.5 * self.k_up * rest) > 0.0
         {
-            return to_stop(tau);
+            return ControlFlow::Break(self.to_stop(tau));
         }
-        // On a short stretch the state at the stop settles most cases. The
-        // same bounds taken backwards from it: a root needs a first crossing
-        // beyond the forward bound's reach and a last one before the backward
-        // bound's, so reaches that add up to the stretch exclude it.
-        if inside && rest * seg.p <= 1.0 {
-            let ys = *stop_state.get_or_insert_with(|| seg.at_tau(tau_stop));
-            let (gs, gds) = (s * ys[0], s * ys[1]);
-            let room_s = FRAC_PI_2 - gs;
-            if gs > 0.0
-                && room_s > 0.0
-                && reach(gk, gdk, k_low) + reach(gs, -gds, k_low) > rest
-                && reach(room, -gdk, k_up) + reach(room_s, gds, k_up) > rest
-            {
-                return reached(tau_stop, Some(ys));
-            }
-            // Falling to an impact before the stop: while g ≤ gk, g̈ ≤ κ =
-            // p²(gk − α + |u|), so ġ ≤ ġk + κ⁺ δ stays negative over the
-            // stretch when κ⁺ δ < −ġk. Then g falls all the way, and its one
-            // root is the impact.
-            let kappa = (p2 * (gk - seg.alpha + seg.u_abs)).max(0.0);
-            if gs <= 0.0 && gdk < 0.0 && kappa * rest < -gdk {
-                return SegmentEnd::Impact(seg.t0 + brent(g, tau, tau_stop, gk, gs, 0.0));
-            }
+        if inside
+            && rest * seg.p <= 1.0
+            && let Some(end) = self.short_stretch(tau, (gk, gdk), stop_state)
+        {
+            return ControlFlow::Break(end);
         }
-        // Time before the lower bound gk + gdk δ − k_low δ²/2 can reach zero.
-        let d_low = if gk <= 0.0 && tau > 0.0 {
-            0.0
-        } else {
-            let quadratic = (gdk + (gdk * gdk + 2.0 * k_low * gk.max(0.0)).sqrt()) / k_low;
-            // A third-order bound is far tighter when g̈ is small (tiny motions
-            // near the rocking threshold): g ≥ gk + ġ δ + g̈ δ²/2 − L δ³/6 with
-            // L ≥ |g⃛| = p²|ġ − s u̇|, |ġ| ≤ |ġk| + k_abs δ on the step.
-            let acc = p2 * (gk - seg.alpha - s * seg.ground(tau));
-            let l0 = p2 * (gdk.abs() + uw);
-            // (Not needed when the quadratic bound already covers the segment.)
-            // Steps shorter than 0.05/max(p, ω) call for it.
-            let short = 0.05 / seg.p.max(seg.omega);
-            let cubic = if l0 > 0.0 && quadratic < short && tau + quadratic < tau_stop {
-                let first = first_root_cubic(gk.max(0.0), gdk, 0.5 * acc, -l0 / 6.0);
-                let l1 = p2 * (gdk.abs() + k_abs * first + uw);
-                first_root_cubic(gk.max(0.0), gdk, 0.5 * acc, -l1 / 6.0)
+        let d_low = self.lower_reach(tau, gk, gdk);
+        let d_up = self.upper_reach(gdk, room);
+        let res = self.resolution(tau);
+        let step = d_low.min(d_up);
+        if tau + step >= self.tau_stop {
+            return ControlFlow::Break(self.to_stop(tau));
+        }
+        if step <= res {
+            // Converged onto an event from the safe side.
+            return ControlFlow::Break(if d_low <= d_up {
+                SegmentEnd::Impact(seg.t0 + tau + d_low)
             } else {
-                0.0
-            };
-            quadratic.max(cubic)
+                SegmentEnd::Overturn(seg.t0 + tau + d_up)
+            });
+        }
+        // Try to bracket with a Newton-like overshoot when close to an event.
+        let near = 4.0 * step;
+        if step < 1e-3 / seg.p && tau + near < self.tau_stop {
+            let gn = self.g(tau + near);
+            if gn <= 0.0 || FRAC_PI_2 - gn <= 0.0 {
+                return ControlFlow::Break(self.bracket(tau + step, tau + near));
+            }
+        }
+        ControlFlow::Continue(tau + step)
+    }
+
+    /// On a short stretch (from τ, at `(gk, gdk)` inside) the state at the
+    /// stop settles most cases. The same bounds taken backwards from it: a
+    /// root needs a first crossing beyond the forward bound's reach and a
+    /// last one before the backward bound's, so reaches that add up to the
+    /// stretch exclude it.
+    fn short_stretch(
+        &self,
+        tau: f64,
+        (gk, gdk): (f64, f64),
+        stop_state: &mut Option<State>,
+    ) -> Option<SegmentEnd> {
+        let seg = self.seg;
+        let rest = self.tau_stop - tau;
+        let room = FRAC_PI_2 - gk;
+        let ys = *stop_state.get_or_insert_with(|| seg.at_tau(self.tau_stop));
+        let (gs, gds) = (self.s * ys[0], self.s * ys[1]);
+        let room_s = FRAC_PI_2 - gs;
+        if gs > 0.0
+            && room_s > 0.0
+            && reach(gk, gdk, self.k_low) + reach(gs, -gds, self.k_low) > rest
+            && reach(room, -gdk, self.k_up) + reach(room_s, gds, self.k_up) > rest
+        {
+            return Some(self.reached(self.tau_stop, Some(ys)));
+        }
+        // Falling to an impact before the stop: while g ≤ gk, g̈ ≤ κ =
+        // p²(gk − α + |u|), so ġ ≤ ġk + κ⁺ δ stays negative over the
+        // stretch when κ⁺ δ < −ġk. Then g falls all the way, and its one
+        // root is the impact.
+        let kappa = (self.p2 * (gk - seg.alpha + seg.u_abs)).max(0.0);
+        if gs <= 0.0 && gdk < 0.0 && kappa * rest < -gdk {
+            let g = |tau: f64| self.g(tau);
+            return Some(SegmentEnd::Impact(
+                seg.t0 + brent(g, tau, self.tau_stop, gk, gs, 0.0),
+            ));
+        }
+        None
+    }
+
+    /// Time from τ (at `gk`, `gdk`) before the lower bound gk + gdk δ −
+    /// k_low δ²/2 can reach zero.
+    fn lower_reach(&self, tau: f64, gk: f64, gdk: f64) -> f64 {
+        if gk <= 0.0 && tau > 0.0 {
+            return 0.0;
+        }
+        let seg = self.seg;
+        let (s, p2, k_low) = (self.s, self.p2, self.k_low);
+        let quadratic = (gdk + (gdk * gdk + 2.0 * k_low * gk.max(0.0)).sqrt()) / k_low;
+        // A third-order bound is far tighter when g̈ is small (tiny motions
+        // near the rocking threshold): g ≥ gk + ġ δ + g̈ δ²/2 − L δ³/6 with
+        // L ≥ |g⃛| = p²|ġ − s u̇|, |ġ| ≤ |ġk| + k_abs δ on the step.
+        let acc = p2 * (gk - seg.alpha - s * seg.ground(tau));
+        let l0 = p2 * (gdk.abs() + seg.rate_abs);
+        // (Not needed when the quadratic bound already covers the segment.)
+        // Steps shorter than 0.05/max(p, ω) call for it.
+        let short = 0.05 / seg.p.max(seg.omega);
+        let cubic = if l0 > 0.0 && quadratic < short && tau + quadratic < self.tau_stop {
+            let first = first_root_cubic(gk.max(0.0), gdk, 0.5 * acc, -l0 / 6.0);
+            let l1 = p2 * (gdk.abs() + self.k_abs * first + seg.rate_abs);
+            first_root_cubic(gk.max(0.0), gdk, 0.5 * acc, -l1 / 6.0)
+        } else {
+            0.0
         };
-        let d_up = if k_up > 0.0 {
+        quadratic.max(cubic)
+    }
+
+    /// Time before the upper bound reaches overturning, from `room` to it
+    /// at `gdk`.
+    fn upper_reach(&self, gdk: f64, room: f64) -> f64 {
+        let k_up = self.k_up;
+        if k_up > 0.0 {
             (-gdk + (gdk * gdk + 2.0 * k_up * room.max(0.0)).sqrt()) / k_up
         } else if gdk > 0.0 {
             room / gdk
         } else {
             f64::INFINITY
-        };
-        let res = resolution(tau);
-        let step = d_low.min(d_up);
-        if tau + step >= tau_stop {
-            return to_stop(tau);
         }
-        if step <= res {
-            // Converged onto an event from the safe side.
-            return if d_low <= d_up {
-                SegmentEnd::Impact(seg.t0 + tau + d_low)
-            } else {
-                SegmentEnd::Overturn(seg.t0 + tau + d_up)
-            };
+    }
+}
+
+/// The first event of `seg` in `(t0, t_stop]`, found by safe stepping: from each
+/// point the quadratic bounds on g = sθ exclude a root for a computable time, so
+/// no root is ever stepped over; the last stretch is bracketed and solved with
+/// Brent's method on the closed form. `no_return_before` disarms the impact event
+/// until that time (the block is still being lifted off from rest).
+pub fn first_event(seg: &LinearSegment, t_stop: f64, no_return_before: f64) -> SegmentEnd {
+    let (k_low, k_up) = seg.curvature_bounds();
+    let stepping = Stepping {
+        seg,
+        s: seg.side,
+        t_stop,
+        tau_stop: (t_stop - seg.t0).min(MAX_SEGMENT_PT / seg.p),
+        k_low,
+        k_up,
+        k_abs: k_low.max(k_up),
+        p2: seg.p * seg.p,
+    };
+    if stepping.tau_stop <= 0.0 {
+        let t = seg.t0.max(t_stop);
+        return SegmentEnd::Reached(t, seg.at(t));
+    }
+    let mut tau = match stepping.lift_off(no_return_before) {
+        ControlFlow::Break(end) => return end,
+        ControlFlow::Continue(tau) => tau,
+    };
+    // The state at the stop, once evaluated.
+    let mut stop_state: Option<State> = None;
+    for _ in 0..100_000 {
+        match stepping.step(tau, &mut stop_state) {
+            ControlFlow::Break(end) => return end,
+            ControlFlow::Continue(next) => tau = next,
         }
-        // Try to bracket with a Newton-like overshoot when close to an event.
-        let near = 4.0 * step;
-        if step < 1e-3 / seg.p && tau + near < tau_stop {
-            let gn = g(tau + near);
-            if gn <= 0.0 || FRAC_PI_2 - gn <= 0.0 {
-                return bracket(seg, tau + step, tau + near, &g, &top);
-            }
-        }
-        tau += step;
     }
     // Pathologically slow approach to a tangency: re-anchor here and go on.
-    reached(tau, None)
+    stepping.reached(tau, None)
 }
 
 /// How far `v + d δ − k δ²/2` (v ≥ 0, k ≥ 0) stays positive: its first

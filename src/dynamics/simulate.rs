@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use super::block::Block;
 use super::chatter::settle;
-use super::equations::Formulation;
+use super::equations::{Formulation, Threshold};
 use super::events::{first_nonpositive, return_and_overturn};
 use super::exact::{SegmentEnd, first_event};
 use super::excitation::Pulse;
@@ -464,149 +464,242 @@ fn lift_off<G: Forcing>(r: &mut Response, tracker: &mut Tracker<G>, t: f64) {
     tracker.finish(t);
 }
 
-fn run<G: Forcing>(
-    problem: &Problem<G>,
-    options: &Options,
-    req: TrackRequest,
-) -> Result<Response, SimError> {
-    let block = problem.block;
-    let formulation = problem.formulation;
-    let pulse = &problem.pulse;
-    let duration = pulse.duration();
-    let mut tracker = Tracker::new(formulation, &block, pulse, req);
-    let threshold = formulation.threshold(&block);
-    // Past this time (g + ü_v ≤ 0) nothing holds the block on the ground.
-    let weightless = pulse.next_weightless(0.0, block.gravity());
-    let v_rest = REST_VELOCITY * block.frequency_parameter() * block.slenderness();
-    let mut engine = Engine {
-        solver: options.solver,
-        stats: StepperStats::default(),
-        h_hint: 0.0,
-        exact_error: 0.0,
-    };
-    let mut r = Response {
-        rocked: false,
-        rocking_start: None,
-        rocking_starts: 0,
-        overturned: false,
-        mode: None,
-        impact_count: 0,
-        impacts: Vec::new(),
-        summed_impacts: 0,
-        rocking_impacts: 0,
-        overturn_time: None,
-        overturn_side: None,
-        rest_time: None,
-        decided_at: duration,
-        end_time: duration,
-        peak_theta_over_alpha: 0.0,
-        friction: None,
-        lift_off: None,
-        series: None,
-        warnings: Vec::new(),
-        numerics: Numerics::default(),
-    };
-    let mut events: u64 = 0;
-    let mut initiation: Option<f64> = None;
-    let mut t = 0.0;
-    // None while at rest on the base; Some((state, side, forced, lift_until)) while rocking.
-    let mut rocking: Option<(State, f64, bool, f64)> = None;
-    if let Some(y0) = options.initial_state
-        && (y0[0] != 0.0 || y0[1] != 0.0)
-    {
-        let side = if y0[0] != 0.0 {
-            y0[0].signum()
-        } else {
-            y0[1].signum()
-        };
-        r.rocked = true;
-        r.rocking_starts = 1;
-        r.rocking_start = Some(0.0);
-        rocking = Some((y0, side, true, 0.0));
-    }
-    let mut decision: Option<FreeOutcome> = None;
-    let mut decided_side: Option<f64> = None;
-    let mut free_impacts: u64 = 0;
-    let mut forced_impacts: u64 = 0;
+/// A leg of rocking to come: its start, side, whether the ground still
+/// moves, and until when no impact is looked for (lift-off from rest).
+#[derive(Clone, Copy, Debug)]
+struct Leg {
+    y: State,
+    side: f64,
+    forced: bool,
+    lift_until: f64,
+}
 
-    loop {
-        if options.stop_at_sliding
-            && (tracker.first_sliding.is_some()
-                || tracker.first_lift_off.is_some()
-                || r.rocking_starts > 1)
+/// Whether the history goes on after a step of the driver.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Next {
+    /// Another step.
+    Go,
+    /// The history ends here.
+    Stop,
+}
+
+/// One history being driven leg after leg: the problem, what is asked, the
+/// solver's state, what is tracked and the response as it grows.
+struct Driver<'a, G: Forcing> {
+    problem: &'a Problem<G>,
+    options: &'a Options,
+    /// The end of the ground motion, s.
+    duration: f64,
+    threshold: Threshold,
+    /// Past this time (g + ü_v ≤ 0) nothing holds the block on the ground.
+    weightless: Option<f64>,
+    /// Velocity after an impact below which the block is at rest, rad/s.
+    v_rest: f64,
+    engine: Engine,
+    tracker: Tracker<'a, G>,
+    r: Response,
+    events: u64,
+    /// f_x/f_z when rocking first starts.
+    initiation: Option<f64>,
+    t: f64,
+    /// None while at rest on the base.
+    rocking: Option<Leg>,
+    /// The closed-form verdict on the free motion, once the ground stops.
+    decision: Option<FreeOutcome>,
+    /// The side it then overturns to.
+    decided_side: Option<f64>,
+    free_impacts: u64,
+    forced_impacts: u64,
+}
+
+impl<'a, G: Forcing> Driver<'a, G> {
+    /// A block at rest at t = 0 (or rocking from `options.initial_state`).
+    fn new(problem: &'a Problem<G>, options: &'a Options, req: TrackRequest) -> Self {
+        let block = &problem.block;
+        let formulation = problem.formulation;
+        let pulse = &problem.pulse;
+        let duration = pulse.duration();
+        let tracker = Tracker::new(formulation, block, pulse, req);
+        let threshold = formulation.threshold(block);
+        let weightless = pulse.next_weightless(0.0, block.gravity());
+        let v_rest = REST_VELOCITY * block.frequency_parameter() * block.slenderness();
+        let engine = Engine {
+            solver: options.solver,
+            stats: StepperStats::default(),
+            h_hint: 0.0,
+            exact_error: 0.0,
+        };
+        let mut r = Response {
+            rocked: false,
+            rocking_start: None,
+            rocking_starts: 0,
+            overturned: false,
+            mode: None,
+            impact_count: 0,
+            impacts: Vec::new(),
+            summed_impacts: 0,
+            rocking_impacts: 0,
+            overturn_time: None,
+            overturn_side: None,
+            rest_time: None,
+            decided_at: duration,
+            end_time: duration,
+            peak_theta_over_alpha: 0.0,
+            friction: None,
+            lift_off: None,
+            series: None,
+            warnings: Vec::new(),
+            numerics: Numerics::default(),
+        };
+        let mut rocking = None;
+        if let Some(y0) = options.initial_state
+            && (y0[0] != 0.0 || y0[1] != 0.0)
         {
-            r.end_time = t;
-            break;
+            let side = if y0[0] != 0.0 {
+                y0[0].signum()
+            } else {
+                y0[1].signum()
+            };
+            r.rocked = true;
+            r.rocking_starts = 1;
+            r.rocking_start = Some(0.0);
+            rocking = Some(Leg {
+                y: y0,
+                side,
+                forced: true,
+                lift_until: 0.0,
+            });
         }
-        let Some((y, side, forced, lift_until)) = rocking else {
-            // At rest: wait for the ground to exceed the threshold.
-            let next = pulse.next_rocking(t, &threshold);
-            if let Some(tw) = weightless
-                && next.as_ref().is_none_or(|ex| ex.start >= tw)
-            {
-                tracker.resting(t, tw, true);
-                lift_off(&mut r, &mut tracker, tw);
-                break;
-            }
-            match next {
-                None => {
-                    tracker.resting(t, duration.max(t), false);
-                    if r.rocked {
-                        r.rest_time = Some(t);
-                    }
-                    r.decided_at = t.max(if r.rocked { t } else { duration });
-                    r.end_time = if r.rocked {
-                        t.max(r.decided_at)
-                    } else {
-                        duration
-                    };
-                    tracker.finish(r.end_time);
-                    break;
+        Driver {
+            problem,
+            options,
+            duration,
+            threshold,
+            weightless,
+            v_rest,
+            engine,
+            tracker,
+            r,
+            events: 0,
+            initiation: None,
+            t: 0.0,
+            rocking,
+            decision: None,
+            decided_side: None,
+            free_impacts: 0,
+            forced_impacts: 0,
+        }
+    }
+
+    /// Followed for the friction pure rocking needs (`stop_at_sliding`),
+    /// the history is no longer pure rocking's: it slid, lifted off or
+    /// started rocking a second time.
+    fn past_pure_rocking(&self) -> bool {
+        self.options.stop_at_sliding
+            && (self.tracker.first_sliding.is_some()
+                || self.tracker.first_lift_off.is_some()
+                || self.r.rocking_starts > 1)
+    }
+
+    /// At rest: waits for the ground to exceed the threshold and starts
+    /// rocking there; or the ground falls away first, or never exceeds it
+    /// again (the block stays at rest to the end).
+    fn at_rest(&mut self) -> Next {
+        let pulse = &self.problem.pulse;
+        let duration = self.duration;
+        let t = self.t;
+        let next = pulse.next_rocking(t, &self.threshold);
+        if let Some(tw) = self.weightless
+            && next.as_ref().is_none_or(|ex| ex.start >= tw)
+        {
+            self.tracker.resting(t, tw, true);
+            lift_off(&mut self.r, &mut self.tracker, tw);
+            return Next::Stop;
+        }
+        let r = &mut self.r;
+        match next {
+            None => {
+                self.tracker.resting(t, duration.max(t), false);
+                if r.rocked {
+                    r.rest_time = Some(t);
                 }
-                Some(ex) => {
-                    tracker.resting(t, ex.start, true);
-                    t = ex.start;
-                    events += 1;
-                    r.rocked = true;
-                    r.rocking_starts += 1;
-                    r.rocking_start.get_or_insert(t);
-                    if initiation.is_none() {
-                        // Eq. 7 (eq. 51 for one-cosine) is eq. 20 at the start state.
-                        let (fx, fz) = if G::VERTICAL {
-                            reactions_per_mass_vertical(
-                                formulation,
-                                &block,
-                                ex.side,
-                                0.0,
-                                0.0,
-                                pulse.acceleration(t),
-                                pulse.vertical_acceleration(t),
-                            )
-                        } else {
-                            reactions_per_mass(
-                                formulation,
-                                &block,
-                                ex.side,
-                                0.0,
-                                0.0,
-                                pulse.acceleration(t),
-                            )
-                        };
-                        initiation = Some((fx / fz).abs());
-                    }
-                    rocking = Some(([0.0, 0.0], ex.side, true, ex.end));
-                    continue;
-                }
+                r.decided_at = t.max(if r.rocked { t } else { duration });
+                r.end_time = if r.rocked {
+                    t.max(r.decided_at)
+                } else {
+                    duration
+                };
+                self.tracker.finish(r.end_time);
+                Next::Stop
             }
-        };
-        let t_stop = if forced {
-            weightless.map_or(duration, |tw| tw.min(duration))
-        } else {
-            options.horizon.unwrap_or(f64::INFINITY).max(t)
-        };
-        let rhs = pulse.rhs(formulation, &block, side, forced);
-        match engine.leg(
+            Some(ex) => {
+                self.tracker.resting(t, ex.start, true);
+                let t = ex.start;
+                self.t = t;
+                self.events += 1;
+                r.rocked = true;
+                r.rocking_starts += 1;
+                r.rocking_start.get_or_insert(t);
+                if self.initiation.is_none() {
+                    self.initiation = Some(self.initiation_demand(ex.side, t));
+                }
+                self.rocking = Some(Leg {
+                    y: [0.0, 0.0],
+                    side: ex.side,
+                    forced: true,
+                    lift_until: ex.end,
+                });
+                Next::Go
+            }
+        }
+    }
+
+    /// |f_x/f_z| as rocking starts at `t` on `side`: eq. 7 (eq. 51 for
+    /// one-cosine) is eq. 20 at the start state.
+    fn initiation_demand(&self, side: f64, t: f64) -> f64 {
+        let Problem {
+            block,
             pulse,
+            formulation,
+        } = self.problem;
+        let (fx, fz) = if G::VERTICAL {
+            reactions_per_mass_vertical(
+                *formulation,
+                block,
+                side,
+                0.0,
+                0.0,
+                pulse.acceleration(t),
+                pulse.vertical_acceleration(t),
+            )
+        } else {
+            reactions_per_mass(*formulation, block, side, 0.0, 0.0, pulse.acceleration(t))
+        };
+        (fx / fz).abs()
+    }
+
+    /// Rocks through `leg` to its first event: an impact, overturning, or
+    /// the end of the ground motion (or of the time followed).
+    fn rock(&mut self, leg: Leg) -> Result<Next, SimError> {
+        let problem = self.problem;
+        let Leg {
+            y,
+            side,
+            forced,
+            lift_until,
+        } = leg;
+        let t = self.t;
+        let t_stop = if forced {
+            self.weightless
+                .map_or(self.duration, |tw| tw.min(self.duration))
+        } else {
+            self.options.horizon.unwrap_or(f64::INFINITY).max(t)
+        };
+        let rhs = problem
+            .pulse
+            .rhs(problem.formulation, &problem.block, side, forced);
+        let end = self.engine.leg(
+            &problem.pulse,
             &rhs,
             side,
             t,
@@ -614,148 +707,209 @@ fn run<G: Forcing>(
             t_stop,
             lift_until,
             forced,
-            &mut tracker,
-        )? {
-            LegEnd::Impact { t: ti, velocity } => {
-                events += 1;
-                r.impact_count += 1;
-                if velocity.abs() >= ROCKING_IMPACT_VELOCITY * v_rest / REST_VELOCITY {
-                    r.rocking_impacts += 1;
-                }
-                let after = block.restitution() * velocity;
-                if options.record_impacts {
-                    if r.impacts.len() < MAX_LISTED_IMPACTS {
-                        r.impacts.push(Impact {
-                            time: ti,
-                            velocity_before: velocity,
-                            velocity_after: after,
-                        });
-                    } else if !r
-                        .warnings
-                        .iter()
-                        .any(|w| matches!(w, Warning::ImpactListTruncated(_)))
-                    {
-                        r.warnings
-                            .push(Warning::ImpactListTruncated(MAX_LISTED_IMPACTS));
-                    }
-                }
-                t = ti;
-                if forced {
-                    forced_impacts += 1;
-                } else {
-                    free_impacts += 1;
-                }
-                if forced_impacts + free_impacts >= MAX_IMPACTS {
-                    // A bound on the work of one history: it ends here.
-                    r.warnings
-                        .push(Warning::LimitReached(Limit::Impacts(MAX_IMPACTS), ti));
-                    r.end_time = ti;
-                    r.rest_time = None;
-                    break;
-                }
-                if after.abs() <= v_rest {
-                    rocking = None;
-                    if !forced {
-                        r.rest_time = Some(ti);
-                        r.end_time = ti;
-                        tracker.finish(ti);
-                        break;
-                    }
-                    continue;
-                }
-                if let Some(settled) = settle(formulation, &block, pulse, forced, ti, after, v_rest)
-                {
-                    // A chattering tail, summed in closed form.
-                    r.impact_count += settled.impacts;
-                    r.summed_impacts += settled.impacts;
-                    events += settled.impacts;
-                    t = settled.rest_time;
-                    rocking = None;
-                    if !forced {
-                        r.rest_time = Some(t);
-                        r.end_time = t;
-                        tracker.finish(t);
-                        break;
-                    }
-                    continue;
-                }
-                if !forced && free_impacts >= options.max_free_impacts {
-                    r.warnings.push(Warning::FreeRockingTruncated(free_impacts));
-                    r.end_time = ti;
-                    break;
-                }
-                rocking = Some(([0.0, after], after.signum(), forced, ti));
-            }
+            &mut self.tracker,
+        )?;
+        Ok(match end {
+            LegEnd::Impact { t: ti, velocity } => self.impact(ti, velocity, forced),
             LegEnd::Overturn { t: to } => {
-                events += 1;
+                self.events += 1;
+                let r = &mut self.r;
                 r.overturned = true;
                 r.overturn_time = Some(to);
                 r.overturn_side = Some(side);
                 r.end_time = to;
                 if forced {
                     r.decided_at = to;
-                    tracker.bound_to_overturn(None);
+                    self.tracker.bound_to_overturn(None);
                 }
-                break;
+                Next::Stop
             }
             LegEnd::Reached { t: tr, y } => {
-                t = tr;
-                if forced && weightless.is_some_and(|tw| tr >= tw) {
-                    lift_off(&mut r, &mut tracker, tr);
-                    break;
-                }
-                if forced {
-                    // Pulse end: from here on the outcome follows from the state.
-                    events += 1;
-                    let outcome = decide(formulation, &block, y[0], y[1], side);
-                    if let FreeOutcome::Overturns { impacts } = outcome {
-                        // Each impact turns the block over to the other side.
-                        decided_side = Some(if impacts % 2 == 0 { side } else { -side });
-                    }
-                    r.decided_at = tr;
-                    // Followed for the friction it needs (`stop_at_sliding`),
-                    // the free motion is decided here only where it is pure
-                    // rocking on that floor to its end.
-                    let pure_on_floor = || {
-                        !options.stop_at_sliding
-                            || block.friction().is_none_or(|mu| {
-                                super::free_rocking::stays_pure(&block, mu, y[0], y[1])
-                            })
-                    };
-                    // (A history asked for no free rocking ends here on
-                    // any floor, as asked.)
-                    if (options.stop_at_decision && pure_on_floor())
-                        || (!options.stop_at_decision && options.max_free_impacts == 0)
-                    {
-                        r.end_time = tr;
-                        if !options.stop_at_decision {
-                            // Asked for no free rocking: the history ends
-                            // here, its outcome decided in closed form.
-                            r.warnings.push(Warning::FreeRockingTruncated(0));
-                        }
-                        if let FreeOutcome::Overturns { impacts } = outcome {
-                            r.overturned = true;
-                            r.overturn_side = decided_side;
-                            r.impact_count += u64::from(impacts);
-                            r.rocking_impacts += u64::from(impacts);
-                        }
-                        break;
-                    }
-                    if matches!(outcome, FreeOutcome::Overturns { .. }) {
-                        tracker.bound_to_overturn(Some(tr));
-                    }
-                    decision = Some(outcome);
-                    rocking = Some((y, side, false, tr));
+                self.t = tr;
+                if forced && self.weightless.is_some_and(|tw| tr >= tw) {
+                    lift_off(&mut self.r, &mut self.tracker, tr);
+                    Next::Stop
+                } else if forced {
+                    self.ground_stops(tr, y, side)
                 } else {
-                    r.end_time = tr;
-                    break;
+                    self.r.end_time = tr;
+                    Next::Stop
                 }
             }
-        }
+        })
     }
 
-    // The exact decision prevails over the integrated free motion.
-    if let Some(outcome) = decision {
+    /// An impact at `ti`, reached at `velocity` (eqs. 13–15: θ̇ ← η θ̇):
+    /// counted and listed; the block comes to rest, chatters to rest (a
+    /// tail summed in closed form), or rocks on to the other side.
+    fn impact(&mut self, ti: f64, velocity: f64, forced: bool) -> Next {
+        let problem = self.problem;
+        let v_rest = self.v_rest;
+        self.events += 1;
+        let r = &mut self.r;
+        r.impact_count += 1;
+        if velocity.abs() >= ROCKING_IMPACT_VELOCITY * v_rest / REST_VELOCITY {
+            r.rocking_impacts += 1;
+        }
+        let after = problem.block.restitution() * velocity;
+        if self.options.record_impacts {
+            list_impact(r, ti, velocity, after);
+        }
+        self.t = ti;
+        if forced {
+            self.forced_impacts += 1;
+        } else {
+            self.free_impacts += 1;
+        }
+        if self.forced_impacts + self.free_impacts >= MAX_IMPACTS {
+            // A bound on the work of one history: it ends here.
+            r.warnings
+                .push(Warning::LimitReached(Limit::Impacts(MAX_IMPACTS), ti));
+            r.end_time = ti;
+            r.rest_time = None;
+            return Next::Stop;
+        }
+        if after.abs() <= v_rest {
+            return self.comes_to_rest(ti, forced);
+        }
+        if let Some(settled) = settle(
+            problem.formulation,
+            &problem.block,
+            &problem.pulse,
+            forced,
+            ti,
+            after,
+            v_rest,
+        ) {
+            // A chattering tail, summed in closed form.
+            r.impact_count += settled.impacts;
+            r.summed_impacts += settled.impacts;
+            self.events += settled.impacts;
+            self.t = settled.rest_time;
+            return self.comes_to_rest(settled.rest_time, forced);
+        }
+        if !forced && self.free_impacts >= self.options.max_free_impacts {
+            r.warnings
+                .push(Warning::FreeRockingTruncated(self.free_impacts));
+            r.end_time = ti;
+            return Next::Stop;
+        }
+        self.rocking = Some(Leg {
+            y: [0.0, after],
+            side: after.signum(),
+            forced,
+            lift_until: ti,
+        });
+        Next::Go
+    }
+
+    /// The block at rest at `t`: for good once the ground has stopped (the
+    /// history ends), else until the ground lifts it again.
+    fn comes_to_rest(&mut self, t: f64, forced: bool) -> Next {
+        self.rocking = None;
+        if forced {
+            return Next::Go;
+        }
+        self.r.rest_time = Some(t);
+        self.r.end_time = t;
+        self.tracker.finish(t);
+        Next::Stop
+    }
+
+    /// The ground motion ends at `tr` with the block rocking at `y` on
+    /// `side`: from here on the outcome follows from the state
+    /// ([`decide`]). The history ends with that verdict when only the
+    /// outcome is asked (or no free rocking), else the free motion is
+    /// followed.
+    fn ground_stops(&mut self, tr: f64, y: State, side: f64) -> Next {
+        let options = self.options;
+        let block = &self.problem.block;
+        self.events += 1;
+        let outcome = decide(self.problem.formulation, block, y[0], y[1], side);
+        if let FreeOutcome::Overturns { impacts } = outcome {
+            // Each impact turns the block over to the other side.
+            self.decided_side = Some(if impacts % 2 == 0 { side } else { -side });
+        }
+        let r = &mut self.r;
+        r.decided_at = tr;
+        // Followed for the friction it needs (`stop_at_sliding`),
+        // the free motion is decided here only where it is pure
+        // rocking on that floor to its end.
+        let pure_on_floor = || {
+            !options.stop_at_sliding
+                || block
+                    .friction()
+                    .is_none_or(|mu| super::free_rocking::stays_pure(block, mu, y[0], y[1]))
+        };
+        // (A history asked for no free rocking ends here on
+        // any floor, as asked.)
+        if (options.stop_at_decision && pure_on_floor())
+            || (!options.stop_at_decision && options.max_free_impacts == 0)
+        {
+            r.end_time = tr;
+            if !options.stop_at_decision {
+                // Asked for no free rocking: the history ends
+                // here, its outcome decided in closed form.
+                r.warnings.push(Warning::FreeRockingTruncated(0));
+            }
+            if let FreeOutcome::Overturns { impacts } = outcome {
+                r.overturned = true;
+                r.overturn_side = self.decided_side;
+                r.impact_count += u64::from(impacts);
+                r.rocking_impacts += u64::from(impacts);
+            }
+            return Next::Stop;
+        }
+        if matches!(outcome, FreeOutcome::Overturns { .. }) {
+            self.tracker.bound_to_overturn(Some(tr));
+        }
+        self.decision = Some(outcome);
+        self.rocking = Some(Leg {
+            y,
+            side,
+            forced: false,
+            lift_until: tr,
+        });
+        Next::Go
+    }
+
+    /// The response once the history has ended: the exact verdict over the
+    /// integrated free motion, the mode, the peak rotation, the friction
+    /// demand, the series and the cost.
+    fn finish(mut self) -> Response {
+        self.prefer_decision();
+        let r = &mut self.r;
+        if r.overturned {
+            r.mode = Some(if r.impact_count > 0 {
+                OverturnMode::AfterImpacts(r.impact_count)
+            } else {
+                OverturnMode::WithoutImpact
+            });
+            r.rest_time = None;
+        }
+        // An overturned block is followed up to |θ| = π/2 exactly.
+        let peak = if r.overturned && r.overturn_time.is_some() {
+            std::f64::consts::FRAC_PI_2
+        } else {
+            self.tracker.peak_theta.min(std::f64::consts::FRAC_PI_2)
+        };
+        r.peak_theta_over_alpha = peak / self.problem.block.slenderness();
+        if self.options.reactions {
+            friction_demand(r, &self.tracker, self.initiation);
+        }
+        if !self.tracker.series.t.is_empty() {
+            r.series = Some(self.tracker.take_series());
+        }
+        r.numerics = numerics(self.options.solver, &self.engine, self.events);
+        self.r
+    }
+
+    /// The exact decision prevails over the integrated free motion.
+    fn prefer_decision(&mut self) {
+        let Some(outcome) = self.decision else {
+            return;
+        };
+        let r = &mut self.r;
         let integrated = r.overturned;
         let decided = matches!(outcome, FreeOutcome::Overturns { .. });
         if decided != integrated && r.end_time > r.decided_at {
@@ -764,83 +918,116 @@ fn run<G: Forcing>(
                     w,
                     Warning::FreeRockingTruncated(_) | Warning::LimitReached(..)
                 )
-            }) || options.horizon.is_some();
+            }) || self.options.horizon.is_some();
             if !(truncated && !integrated && decided) {
                 r.warnings.push(Warning::NearSeparatrix);
             }
             r.overturned = decided;
-            r.overturn_side = if decided { decided_side } else { None };
+            r.overturn_side = if decided { self.decided_side } else { None };
             if !decided {
                 r.overturn_time = None;
             }
         }
     }
-    if r.overturned {
-        r.mode = Some(if r.impact_count > 0 {
-            OverturnMode::AfterImpacts(r.impact_count)
+}
+
+/// Lists the impact at `ti` (θ̇ `velocity` before, `after` after) in `r`,
+/// up to [`MAX_LISTED_IMPACTS`] (then warns once).
+fn list_impact(r: &mut Response, ti: f64, velocity: f64, after: f64) {
+    if r.impacts.len() < MAX_LISTED_IMPACTS {
+        r.impacts.push(Impact {
+            time: ti,
+            velocity_before: velocity,
+            velocity_after: after,
+        });
+    } else if !r
+        .warnings
+        .iter()
+        .any(|w| matches!(w, Warning::ImpactListTruncated(_)))
+    {
+        r.warnings
+            .push(Warning::ImpactListTruncated(MAX_LISTED_IMPACTS));
+    }
+}
+
+/// The friction demand of the history `tracker` followed (with `initiation`,
+/// f_x/f_z as rocking started) into `r`, with its warnings.
+fn friction_demand<G: Forcing>(r: &mut Response, tracker: &Tracker<G>, initiation: Option<f64>) {
+    let (peak, peak_time) = tracker.peak_demand;
+    // Past lift-off (f_z → 0⁺) no friction coefficient sustains pure
+    // rocking: the demand is unbounded, not the large number reached.
+    let bounded = tracker.first_lift_off.is_none() && r.lift_off.is_none();
+    r.friction = Some(FrictionDemand {
+        peak: bounded.then_some(peak),
+        peak_time: bounded.then_some(peak_time),
+        initiation,
+        first_sliding: tracker.first_sliding,
+        first_lift_off: tracker.first_lift_off,
+        followed_until: tracker.reactions_stopped_at,
+    });
+    if let Some(ts) = tracker.first_sliding {
+        r.warnings.push(Warning::Sliding(ts));
+    }
+    if let Some(tl) = tracker.first_lift_off
+        && r.lift_off.is_none_or(|tw| tl < tw)
+    {
+        r.warnings.push(Warning::LiftOff(tl));
+    }
+    if let Some(tf) = tracker.reactions_stopped_at
+        && r.overturned
+    {
+        r.warnings.push(if tracker.stopped_while_forced {
+            Warning::DemandExcludesForcedFall(tf)
         } else {
-            OverturnMode::WithoutImpact
+            Warning::DemandExcludesFall(tf)
         });
-        r.rest_time = None;
     }
-    // An overturned block is followed up to |θ| = π/2 exactly.
-    let peak = if r.overturned && r.overturn_time.is_some() {
-        std::f64::consts::FRAC_PI_2
-    } else {
-        tracker.peak_theta.min(std::f64::consts::FRAC_PI_2)
-    };
-    r.peak_theta_over_alpha = peak / block.slenderness();
-    if options.reactions {
-        let (peak, peak_time) = tracker.peak_demand;
-        // Past lift-off (f_z → 0⁺) no friction coefficient sustains pure
-        // rocking: the demand is unbounded, not the large number reached.
-        let bounded = tracker.first_lift_off.is_none() && r.lift_off.is_none();
-        r.friction = Some(FrictionDemand {
-            peak: bounded.then_some(peak),
-            peak_time: bounded.then_some(peak_time),
-            initiation,
-            first_sliding: tracker.first_sliding,
-            first_lift_off: tracker.first_lift_off,
-            followed_until: tracker.reactions_stopped_at,
-        });
-        if let Some(ts) = tracker.first_sliding {
-            r.warnings.push(Warning::Sliding(ts));
-        }
-        if let Some(tl) = tracker.first_lift_off
-            && r.lift_off.is_none_or(|tw| tl < tw)
-        {
-            r.warnings.push(Warning::LiftOff(tl));
-        }
-        if let Some(tf) = tracker.reactions_stopped_at
-            && r.overturned
-        {
-            r.warnings.push(if tracker.stopped_while_forced {
-                Warning::DemandExcludesForcedFall(tf)
-            } else {
-                Warning::DemandExcludesFall(tf)
-            });
-        }
-    }
-    if !tracker.series.t.is_empty() {
-        r.series = Some(tracker.take_series());
-    }
-    let (rtol, atol) = match options.solver {
+}
+
+/// The cost and accuracy of a history solved by `solver`, with `events`
+/// located.
+fn numerics(solver: Solver, engine: &Engine, events: u64) -> Numerics {
+    let (rtol, atol) = match solver {
         Solver::RungeKutta { rtol, atol, .. } => (Some(rtol), Some(atol)),
         Solver::Exact => (None, None),
     };
-    r.numerics = Numerics {
-        method: options.solver.name(),
+    Numerics {
+        method: solver.name(),
         rtol,
         atol,
         steps_accepted: engine.stats.accepted,
         steps_rejected: engine.stats.rejected,
         rhs_evaluations: engine.stats.rhs_evals,
         events,
-        error_estimate: match options.solver {
+        error_estimate: match solver {
             Solver::Exact => engine.exact_error,
             Solver::RungeKutta { .. } => engine.stats.local_error_sum,
         },
         wall_time: 0.0,
-    };
-    Ok(r)
+    }
+}
+
+/// The history of `problem` as `options` ask, tracking what `req` asks:
+/// at rest until the ground exceeds the threshold, then leg after leg of
+/// rocking to the end.
+fn run<G: Forcing>(
+    problem: &Problem<G>,
+    options: &Options,
+    req: TrackRequest,
+) -> Result<Response, SimError> {
+    let mut driver = Driver::new(problem, options, req);
+    loop {
+        if driver.past_pure_rocking() {
+            driver.r.end_time = driver.t;
+            break;
+        }
+        let next = match driver.rocking {
+            None => driver.at_rest(),
+            Some(leg) => driver.rock(leg)?,
+        };
+        if next == Next::Stop {
+            break;
+        }
+    }
+    Ok(driver.finish())
 }

@@ -59,6 +59,32 @@ struct FallStart {
     first_lift_off: Option<f64>,
 }
 
+/// A piece of rocking scanned at `n` + 1 evenly spaced samples.
+struct Piece {
+    /// Its start, s.
+    ta: f64,
+    /// Its length, s.
+    span: f64,
+    n: usize,
+    side: f64,
+    forced: bool,
+}
+
+impl Piece {
+    /// The time of sample `k`.
+    fn at(&self, k: usize) -> f64 {
+        self.ta + self.span * (k as f64) / (self.n as f64)
+    }
+}
+
+/// What a scan of a piece of rocking found: the largest |θ| and demand
+/// (value, sample), and until when the demand was followed.
+struct Scan {
+    theta: (f64, usize),
+    demand: (f64, usize),
+    demand_until: f64,
+}
+
 /// Accumulates the tracked quantities.
 #[derive(Debug)]
 pub struct Tracker<'a, G: Forcing> {
@@ -262,17 +288,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             return;
         }
         self.watch_fall(ta, start.1, side, forced);
-        // Series samples falling in this piece.
-        while let Some(&ts) = self.req.series_times.get(self.next_sample) {
-            if ts > tb {
-                break;
-            }
-            if ts >= ta {
-                let y = eval(ts);
-                self.push_sample(ts, y, Some(side), forced);
-            }
-            self.next_sample += 1;
-        }
+        self.rocking_samples((ta, tb), side, forced, &eval);
         if !(self.req.peak || self.req.reactions) {
             return;
         }
@@ -296,15 +312,88 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         };
         let p = self.block.frequency_parameter();
         let n = (8.0 + span * (4.0 * w / std::f64::consts::PI + 2.0 * p)).min(400.0) as usize;
+        let piece = Piece {
+            ta,
+            span,
+            n,
+            side,
+            forced,
+        };
+        self.rocking_scanned(&piece, tb, &eval);
+    }
+
+    /// The series samples falling in a piece of rocking on `side` over
+    /// `(ta, tb)`.
+    fn rocking_samples<E: Fn(f64) -> State>(
+        &mut self,
+        (ta, tb): (f64, f64),
+        side: f64,
+        forced: bool,
+        eval: &E,
+    ) {
+        while let Some(&ts) = self.req.series_times.get(self.next_sample) {
+            if ts > tb {
+                break;
+            }
+            if ts >= ta {
+                let y = eval(ts);
+                self.push_sample(ts, y, Some(side), forced);
+            }
+            self.next_sample += 1;
+        }
+    }
+
+    /// The peaks of |θ| and of the friction demand over a `piece` of rocking
+    /// (ending at `tb`) under a ground motion with no closed form: its
+    /// samples scanned, the largest refined by golden section; where it
+    /// slides or lifts off first.
+    fn rocking_scanned<E: Fn(f64) -> State>(&mut self, piece: &Piece, tb: f64, eval: &E) {
+        let (side, forced) = (piece.side, piece.forced);
+        // Pure rocking (and so the demand) is meaningful only while f_z > 0.
+        let follow = self.req.reactions && self.reactions_on && self.first_lift_off.is_none();
+        let scan = self.scan(piece, tb, follow, eval);
+        let (best_theta, best_demand) = (scan.theta, scan.demand);
+        let at = |k: usize| piece.at(k);
+        let bracket = |k: usize| (at(k.saturating_sub(1)), at((k + 1).min(piece.n)));
+        let (lo, hi) = bracket(best_theta.1);
+        let (_, v) = golden_max(lo, hi, |t| eval(t)[0].abs());
+        self.peak_theta = self.peak_theta.max(v.max(best_theta.0));
+        if follow && best_demand.0.is_finite() {
+            let (lo, hi) = bracket(best_demand.1);
+            let hi = hi.min(scan.demand_until);
+            let (t, v) = golden_max(lo, hi.max(lo), |t| {
+                let (d, _, fz) = self.demand(side, t, eval(t), forced);
+                if fz > 0.0 { d } else { 0.0 }
+            });
+            let (t, v) = if v >= best_demand.0 {
+                (t, v)
+            } else {
+                (at(best_demand.1), best_demand.0)
+            };
+            if v > self.peak_demand.0 {
+                self.peak_demand = (v, t);
+            }
+        }
+    }
+
+    /// The samples of a `piece` of rocking (ending at `tb`): the largest |θ|
+    /// and, while the demand is followed (`follow`), the largest demand;
+    /// where it first lifts off or exceeds μ, refined.
+    fn scan<E: Fn(f64) -> State>(
+        &mut self,
+        piece: &Piece,
+        tb: f64,
+        follow: bool,
+        eval: &E,
+    ) -> Scan {
+        let (side, forced) = (piece.side, piece.forced);
         let mut best_theta = (f64::NEG_INFINITY, 0usize);
         let mut best_demand = (f64::NEG_INFINITY, 0usize);
         let mut prev: Option<(f64, f64, f64)> = None;
-        // Pure rocking (and so the demand) is meaningful only while f_z > 0.
-        let follow = self.req.reactions && self.reactions_on && self.first_lift_off.is_none();
         let mut demand_until = tb;
         let mut following = follow;
-        for k in 0..=n {
-            let t = ta + span * (k as f64) / (n as f64);
+        for k in 0..=piece.n {
+            let t = piece.at(k);
             let y = eval(t);
             if y[0].abs() > best_theta.0 {
                 best_theta = (y[0].abs(), k);
@@ -316,7 +405,7 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             if fz <= 0.0 {
                 let tl = match prev {
                     Some((tp, _, _)) => {
-                        self.refine_crossing(tp, t, side, forced, &eval, |_, fz| -fz)
+                        self.refine_crossing(tp, t, side, forced, eval, |_, fz| -fz)
                     }
                     None => t,
                 };
@@ -334,33 +423,17 @@ impl<'a, G: Forcing> Tracker<'a, G> {
             {
                 self.first_sliding = Some(match prev {
                     Some((tp, dp, _)) if dp <= mu => {
-                        self.refine_crossing(tp, t, side, forced, &eval, |d, _| d - mu)
+                        self.refine_crossing(tp, t, side, forced, eval, |d, _| d - mu)
                     }
                     _ => t,
                 });
             }
             prev = Some((t, d, fz));
         }
-        let at = |k: usize| ta + span * (k as f64) / (n as f64);
-        let bracket = |k: usize| (at(k.saturating_sub(1)), at((k + 1).min(n)));
-        let (lo, hi) = bracket(best_theta.1);
-        let (_, v) = golden_max(lo, hi, |t| eval(t)[0].abs());
-        self.peak_theta = self.peak_theta.max(v.max(best_theta.0));
-        if follow && best_demand.0.is_finite() {
-            let (lo, hi) = bracket(best_demand.1);
-            let hi = hi.min(demand_until);
-            let (t, v) = golden_max(lo, hi.max(lo), |t| {
-                let (d, _, fz) = self.demand(side, t, eval(t), forced);
-                if fz > 0.0 { d } else { 0.0 }
-            });
-            let (t, v) = if v >= best_demand.0 {
-                (t, v)
-            } else {
-                (at(best_demand.1), best_demand.0)
-            };
-            if v > self.peak_demand.0 {
-                self.peak_demand = (v, t);
-            }
+        Scan {
+            theta: best_theta,
+            demand: best_demand,
+            demand_until,
         }
     }
 

@@ -12,13 +12,14 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::bands::{Band, Column, cell_edges, cells, simplify, tile};
+use super::bands::{Band, Column, Piece, cell_edges, cells, simplify, tile};
 use super::style::{
-    AXIS, CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MIXED, OBSERVATIONS, Swatch, TICKS,
-    X_LABEL_AREA, axis_range, chart_on, draw_legend, fmt_num, text, tick, tint,
+    AXIS, Area, CONSISTENT, Chart, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MIXED, OBSERVATIONS,
+    Swatch, TICKS, X_LABEL_AREA, axis_range, chart_on, draw_legend, fmt_num, text, tick, tint,
 };
 use super::{block_text, render, shape_title};
-use crate::kinds::forensic::{ForensicFrequency, ForensicResult};
+use crate::jobs::contact::ContactNorm;
+use crate::kinds::forensic::{ForensicFrequency, ForensicResult, Observation};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -154,47 +155,159 @@ fn columns(frequencies: &[ForensicFrequency], names: &[String], from: f64, to: f
     map
 }
 
-/// The figure of a `forensic` result.
-pub fn svg(result: &ForensicResult) -> Result<String, String> {
-    let (from, to) = (result.a_p_g.from, result.a_p_g.to);
-    if to.partial_cmp(&from) != Some(std::cmp::Ordering::Greater) {
-        return Err(format!("empty amplitude range {from}–{to} g"));
-    }
-    let observations = &result.observations;
-    let names: Vec<String> = observations.iter().map(|o| o.name.clone()).collect();
-    let frequencies = &result.frequencies;
-    if frequencies.is_empty() {
-        return Err("the forensic result has no frequencies".into());
-    }
-    let mut map = columns(frequencies, &names, from, to);
-    map.sort_by(|a, b| a.x.total_cmp(&b.x));
-    let xs: Vec<f64> = map.iter().map(|c| c.x).collect();
-    let (fmin, fmax) = (xs[0], xs[xs.len() - 1]);
-    // A lone frequency is a cell a fifth of itself wide.
-    let half = 0.1 * fmin.max(0.01);
-    let edges = cell_edges(&xs, half);
-    let (x0, x1) = (edges[0].0, edges[edges.len() - 1].1);
-    let drawn = cells(&map, half);
-    let mut shaded = drawn.pieces;
-    // The consistent region on top: nothing hides a sliver of it.
-    shaded.sort_by_key(|p| p.class == 0);
-    // An observation's boundary: where its verdict changes across an edge.
-    let boundaries: Vec<Vec<[(f64, f64); 2]>> = (0..names.len())
-        .map(|k| {
-            let bit = 1usize << (k % usize::BITS as usize);
-            drawn
-                .edges
-                .iter()
-                .filter(|e| (e.a ^ e.b) & bit != 0)
-                .map(|e| e.segment)
-                .collect()
-        })
-        .collect();
-    let min_g = result.bounds.min_g;
-    let max_g = result.bounds.max_g;
-    let f_bounds = result.bounds.frequency_hz.map(|[a, b]| (a, b));
-    let consistent_anywhere = shaded.iter().any(|p| p.class == 0);
+/// The frame drawn around the bounds of the consistent region, dashed, its
+/// highest and lowest levels labelled inside the chart.
+pub(crate) struct Frame {
+    /// Its left and right edges.
+    pub x: (f64, f64),
+    /// Its lowest and highest levels.
+    pub y: (f64, f64),
+    /// The chart's range of levels: a label too near one of its ends
+    /// stands on the other side of its level.
+    pub range: (f64, f64),
+    /// Where the labels stand: at x, moved right by px, aligned.
+    pub labels_at: (f64, i32, HPos),
+    /// The labels of the highest and the lowest level.
+    pub labels: [String; 2],
+}
 
+/// Draws `frame` on `chart`.
+pub(crate) fn draw_frame(chart: &mut Chart<'_, '_>, frame: Frame) -> Drawn {
+    let ((a, b), (lo, hi), (from, to)) = (frame.x, frame.y, frame.range);
+    chart.draw_series(std::iter::once(DashedPathElement::new(
+        vec![(a, lo), (b, lo), (b, hi), (a, hi), (a, lo)],
+        8,
+        5,
+        INK.stroke_width(2),
+    )))?;
+    let (x, dx, align) = frame.labels_at;
+    let label = |s: String, y: f64, above: bool| {
+        let (v, dy) = if above {
+            (VPos::Bottom, -5)
+        } else {
+            (VPos::Top, 5)
+        };
+        EmptyElement::at((x, y)) + Text::new(s, (dx, dy), text(LEGEND, INK).pos(Pos::new(align, v)))
+    };
+    let room = 0.06 * (to - from);
+    let [highest, lowest] = frame.labels;
+    chart.draw_series([
+        label(highest, hi, hi < to - room),
+        label(lowest, lo, lo < from + room),
+    ])?;
+    Ok(())
+}
+
+/// The legend's note of each observation's block.
+pub(crate) fn block_notes(legend: &mut Legend, names: &[String], observations: &[Observation]) {
+    for (name, o) in names.iter().zip(observations) {
+        legend.note(format!("{name}: {}", block_text(&o.block)));
+    }
+}
+
+/// The legend's note on a Coulomb floor under the observed blocks.
+pub(crate) fn sliding_note(contact: &ContactNorm) -> String {
+    format!(
+        "{}: the blocks may slide and slide-rock",
+        super::floor_note(contact)
+    )
+}
+
+/// A forensic map as drawn: its cells, the observations' boundaries and
+/// the bounds of the consistent region.
+struct Map<'a> {
+    result: &'a ForensicResult,
+    /// The observations' names.
+    names: Vec<String>,
+    /// The amplitude range, g.
+    from: f64,
+    to: f64,
+    /// The computed frequencies in order, Hz.
+    xs: Vec<f64>,
+    /// The cell of each frequency, Hz.
+    edges: Vec<(f64, f64)>,
+    /// The frequency range drawn, Hz.
+    x0: f64,
+    x1: f64,
+    /// The cells' pieces, the consistent ones last.
+    shaded: Vec<Piece>,
+    /// The boundary of each observation: where its verdict changes across
+    /// an edge.
+    boundaries: Vec<Vec<[(f64, f64); 2]>>,
+    /// Some pulse is consistent with every observation.
+    consistent_anywhere: bool,
+}
+
+impl<'a> Map<'a> {
+    fn of(result: &'a ForensicResult) -> Result<Map<'a>, String> {
+        let (from, to) = (result.a_p_g.from, result.a_p_g.to);
+        if to.partial_cmp(&from) != Some(std::cmp::Ordering::Greater) {
+            return Err(format!("empty amplitude range {from}–{to} g"));
+        }
+        let names: Vec<String> = result.observations.iter().map(|o| o.name.clone()).collect();
+        let frequencies = &result.frequencies;
+        if frequencies.is_empty() {
+            return Err("the forensic result has no frequencies".into());
+        }
+        let mut map = columns(frequencies, &names, from, to);
+        map.sort_by(|a, b| a.x.total_cmp(&b.x));
+        let xs: Vec<f64> = map.iter().map(|c| c.x).collect();
+        // A lone frequency is a cell a fifth of itself wide.
+        let half = 0.1 * xs[0].max(0.01);
+        let edges = cell_edges(&xs, half);
+        let (x0, x1) = (edges[0].0, edges[edges.len() - 1].1);
+        let drawn = cells(&map, half);
+        let mut shaded = drawn.pieces;
+        // The consistent region on top: nothing hides a sliver of it.
+        shaded.sort_by_key(|p| p.class == 0);
+        let boundaries: Vec<Vec<[(f64, f64); 2]>> = (0..names.len())
+            .map(|k| {
+                let bit = 1usize << (k % usize::BITS as usize);
+                drawn
+                    .edges
+                    .iter()
+                    .filter(|e| (e.a ^ e.b) & bit != 0)
+                    .map(|e| e.segment)
+                    .collect()
+            })
+            .collect();
+        let consistent_anywhere = shaded.iter().any(|p| p.class == 0);
+        Ok(Map {
+            result,
+            names,
+            from,
+            to,
+            xs,
+            edges,
+            x0,
+            x1,
+            shaded,
+            boundaries,
+            consistent_anywhere,
+        })
+    }
+
+    /// The lowest and highest computed frequencies, Hz.
+    fn frequency_range(&self) -> (f64, f64) {
+        (self.xs[0], self.xs[self.xs.len() - 1])
+    }
+}
+
+/// The pulse family's name in the figure: "one-sine".
+fn pulse_name(result: &ForensicResult) -> String {
+    result
+        .pulse
+        .as_ref()
+        .or(result.spec.pulse.as_ref())
+        .map_or_else(|| "pulse".to_string(), |p| shape_title(p.shape()))
+}
+
+/// The legend of a forensic map: its fills and lines, then the notes on
+/// the observations, the pulses and the frequencies.
+fn legend(map: &Map) -> Legend {
+    let result = map.result;
+    let names = &map.names;
+    let observations = &result.observations;
     let mut legend = Legend::default();
     legend.entry(
         Swatch::Fill(CONSISTENT),
@@ -208,12 +321,24 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
             format!("{name} {seen}"),
         );
     }
-    if shaded.iter().any(|p| p.class.count_ones() > 1) {
+    if map.shaded.iter().any(|p| p.class.count_ones() > 1) {
         legend.entry(
             Swatch::Fill(fill((1 << names.len().min(2)) - 1)),
             "ruled out by several (mixed shade)",
         );
     }
+    bounds_entries(&mut legend, result);
+    block_notes(&mut legend, names, observations);
+    notes(&mut legend, map);
+    legend
+}
+
+/// The legend's entry of the bounds of the consistent region, and of the
+/// mixed zones with a note on them.
+fn bounds_entries(legend: &mut Legend, result: &ForensicResult) {
+    let frequencies = &result.frequencies;
+    let (min_g, max_g) = (result.bounds.min_g, result.bounds.max_g);
+    let f_bounds = result.bounds.frequency_hz.map(|[a, b]| (a, b));
     if let (Some(lo), Some(hi)) = (min_g, max_g) {
         let count = envelope_count(frequencies);
         let with_any = frequencies
@@ -267,36 +392,34 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
             "not every pulse inside the envelope is consistent: only the filled cells are (CSV lists each interval)",
         );
     }
-    for (name, o) in names.iter().zip(observations) {
-        legend.note(format!("{name}: {}", block_text(&o.block)));
-    }
-    let formulation = result.formulation.name();
-    let pulse = result
-        .pulse
-        .as_ref()
-        .or(result.spec.pulse.as_ref())
-        .map_or_else(|| "pulse".to_string(), |p| shape_title(p.shape()));
+}
+
+/// The legend's notes on the pulses, the floor, the vertical motion and
+/// the frequencies computed.
+fn notes(legend: &mut Legend, map: &Map) {
+    let result = map.result;
+    let frequencies = &result.frequencies;
+    let (fmin, fmax) = map.frequency_range();
     legend.note(format!(
-        "{pulse} pulses, {formulation} formulation; {} frequenc{}, amplitudes {}–{} g",
+        "{} pulses, {} formulation; {} frequenc{}, amplitudes {}–{} g",
+        pulse_name(result),
+        result.formulation.name(),
         frequencies.len(),
         if frequencies.len() == 1 { "y" } else { "ies" },
-        fmt_num(from, 3),
-        fmt_num(to, 3)
+        fmt_num(map.from, 3),
+        fmt_num(map.to, 3)
     ));
     if let Some(c) = &result.spec.contact {
-        legend.note(format!(
-            "{}: the blocks may slide and slide-rock",
-            super::floor_note(c)
-        ));
+        legend.note(sliding_note(c));
     }
     if let Some(v) = result.spec.scaled_vertical() {
-        let g = observations.first().map_or(9.81, |o| o.block.g);
+        let g = result.observations.first().map_or(9.81, |o| o.block.g);
         legend.note(format!(
             "vertical ground motion {} (positive up), scaled with each pulse",
             super::scaled_vertical_text(&v, g)
         ));
     }
-    legend.note(if xs.len() > 1 {
+    legend.note(if map.xs.len() > 1 {
         format!(
             "each computed frequency is a cell reaching half-way to its neighbours; the map spans the computed {}–{} Hz; nothing is interpolated between frequencies",
             fmt_num(fmin, 3),
@@ -305,101 +428,104 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
     } else {
         format!("one frequency computed: {} Hz", fmt_num(fmin, 3))
     });
-    if !consistent_anywhere {
+    if !map.consistent_anywhere {
         legend.note("no pulse of this family is consistent with every observation");
     }
+}
 
-    let title =
-        format!("Forensic map: {pulse} pulses consistent with what was seen ({formulation})");
+/// Draws the chart of `map` in `area`: its cells, the axes (f_p and ω_p,
+/// a_p in g), the observations' boundaries and the frame of the bounds.
+fn draw_map(area: &Area, map: &Map) -> Drawn {
+    let (x0, x1, from, to) = (map.x0, map.x1, map.from, map.to);
+    let chart = chart_on(area)
+        .top_x_label_area_size(X_LABEL_AREA)
+        .build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", from, to)?)?;
+    let tau = std::f64::consts::TAU;
+    let mut chart = chart.set_secondary_coord(axis_range("top", x0 * tau, x1 * tau)?, from..to);
+    for piece in &map.shaded {
+        chart.draw_series(std::iter::once(Polygon::new(
+            piece.polygon.clone(),
+            fill(piece.class).filled(),
+        )))?;
+    }
+    chart
+        .configure_mesh()
+        .x_desc("pulse frequency f_p (Hz)")
+        .y_desc("pulse amplitude a_p (g)")
+        .label_style(text(TICKS, INK))
+        .axis_desc_style(text(AXIS, INK))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .light_line_style(TRANSPARENT)
+        .bold_line_style(RGBColor(120, 120, 120).mix(0.25))
+        .draw()?;
+    chart
+        .configure_secondary_axes()
+        .x_desc("ω_p (rad/s)")
+        .label_style(text(TICKS, INK))
+        .axis_desc_style(text(AXIS, INK))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .draw()?;
+    for (k, lines) in map.boundaries.iter().enumerate() {
+        chart.draw_series(
+            lines
+                .iter()
+                .map(|e| PathElement::new(e.to_vec(), colour(k).stroke_width(2))),
+        )?;
+    }
+    let bounds = &map.result.bounds;
+    if let (Some(lo), Some(hi), Some([fa, fb])) = (bounds.min_g, bounds.max_g, bounds.frequency_hz)
+    {
+        // Around the cells of the bounding frequencies.
+        let cell = |f: f64| {
+            map.xs
+                .iter()
+                .position(|x| (x - f).abs() <= 1e-9 * f.abs().max(1.0))
+                .map(|k| map.edges[k])
+        };
+        let fa = cell(fa).map_or(fa, |c| c.0);
+        let fb = cell(fb).map_or(fb, |c| c.1);
+        draw_frame(
+            &mut chart,
+            Frame {
+                x: (fa, fb),
+                y: (lo, hi),
+                range: (from, to),
+                labels_at: (fa, 5, HPos::Left),
+                labels: [
+                    format!("highest {} g", fmt_num(hi, 3)),
+                    format!("lowest {} g", fmt_num(lo, 3)),
+                ],
+            },
+        )?;
+    }
+    if !map.consistent_anywhere {
+        let mid = (0.5 * (x0 + x1), 0.5 * (from + to));
+        chart.draw_series(std::iter::once(
+            EmptyElement::at(mid)
+                + Text::new(
+                    "no consistent pulse".to_string(),
+                    (0, 0),
+                    text(AXIS + 4, INK).pos(Pos::new(HPos::Center, VPos::Center)),
+                ),
+        ))?;
+    }
+    Ok(())
+}
+
+/// The figure of a `forensic` result.
+pub fn svg(result: &ForensicResult) -> Result<String, String> {
+    let map = Map::of(result)?;
+    let legend = legend(&map);
+    let title = format!(
+        "Forensic map: {} pulses consistent with what was seen ({})",
+        pulse_name(result),
+        result.formulation.name()
+    );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
-        let chart = chart_on(&chart_area)
-            .top_x_label_area_size(X_LABEL_AREA)
-            .build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", from, to)?)?;
-        let tau = std::f64::consts::TAU;
-        let mut chart = chart.set_secondary_coord(axis_range("top", x0 * tau, x1 * tau)?, from..to);
-        for piece in &shaded {
-            chart.draw_series(std::iter::once(Polygon::new(
-                piece.polygon.clone(),
-                fill(piece.class).filled(),
-            )))?;
-        }
-        chart
-            .configure_mesh()
-            .x_desc("pulse frequency f_p (Hz)")
-            .y_desc("pulse amplitude a_p (g)")
-            .label_style(text(TICKS, INK))
-            .axis_desc_style(text(AXIS, INK))
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
-            .light_line_style(TRANSPARENT)
-            .bold_line_style(RGBColor(120, 120, 120).mix(0.25))
-            .draw()?;
-        chart
-            .configure_secondary_axes()
-            .x_desc("ω_p (rad/s)")
-            .label_style(text(TICKS, INK))
-            .axis_desc_style(text(AXIS, INK))
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
-            .draw()?;
-        for (k, lines) in boundaries.iter().enumerate() {
-            chart.draw_series(
-                lines
-                    .iter()
-                    .map(|e| PathElement::new(e.to_vec(), colour(k).stroke_width(2))),
-            )?;
-        }
-        if let (Some(lo), Some(hi), Some((fa, fb))) = (min_g, max_g, f_bounds) {
-            // Around the cells of the bounding frequencies.
-            let cell = |f: f64| {
-                xs.iter()
-                    .position(|x| (x - f).abs() <= 1e-9 * f.abs().max(1.0))
-                    .map(|k| edges[k])
-            };
-            let fa = cell(fa).map_or(fa, |c| c.0);
-            let fb = cell(fb).map_or(fb, |c| c.1);
-            let frame = vec![(fa, lo), (fb, lo), (fb, hi), (fa, hi), (fa, lo)];
-            chart.draw_series(std::iter::once(DashedPathElement::new(
-                frame,
-                8,
-                5,
-                INK.stroke_width(2),
-            )))?;
-            let label = |s: String, at: (f64, f64), above: bool| {
-                let (v, dy) = if above {
-                    (VPos::Bottom, -5)
-                } else {
-                    (VPos::Top, 5)
-                };
-                EmptyElement::at(at)
-                    + Text::new(s, (5, dy), text(LEGEND, INK).pos(Pos::new(HPos::Left, v)))
-            };
-            let room = 0.06 * (to - from);
-            chart.draw_series([
-                label(
-                    format!("highest {} g", fmt_num(hi, 3)),
-                    (fa, hi),
-                    hi < to - room,
-                ),
-                label(
-                    format!("lowest {} g", fmt_num(lo, 3)),
-                    (fa, lo),
-                    lo < from + room,
-                ),
-            ])?;
-        }
-        if !consistent_anywhere {
-            let mid = (0.5 * (x0 + x1), 0.5 * (from + to));
-            chart.draw_series(std::iter::once(
-                EmptyElement::at(mid)
-                    + Text::new(
-                        "no consistent pulse".to_string(),
-                        (0, 0),
-                        text(AXIS + 4, INK).pos(Pos::new(HPos::Center, VPos::Center)),
-                    ),
-            ))?;
-        }
+        draw_map(&chart_area, &map)?;
         draw_legend(&side, &legend)
     })
 }

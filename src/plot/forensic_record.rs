@@ -6,18 +6,19 @@
 //! the computed columns are drawn: there is nothing between observations to
 //! interpolate.
 
-use plotters::element::DashedPathElement;
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::text_anchor::HPos;
 
 use super::bands::{Band, Column, MIN_VISIBLE, over, tile, widen};
-use super::forensic::{colour, fill, intervals, partition};
-use super::style::{
-    CONSISTENT, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MIXED, Swatch, X_LABEL_AREA,
-    Y_LABEL_AREA, axis_range, draw_legend, fmt_num, mesh, scaled_pga_axis, text, tint,
+use super::forensic::{
+    Frame, block_notes, colour, draw_frame, fill, intervals, partition, sliding_note,
 };
-use super::{block_text, render};
-use crate::kinds::forensic::ForensicResult;
+use super::render;
+use super::style::{
+    Area, CONSISTENT, Drawn, INK, LEGEND_WIDTH, Legend, MIXED, Swatch, X_LABEL_AREA, Y_LABEL_AREA,
+    axis_range, draw_legend, fmt_num, mesh, scaled_pga_axis, tint,
+};
+use crate::kinds::forensic::{ForensicResult, RecordObservationSet};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -95,29 +96,82 @@ pub fn columns(result: &ForensicResult) -> Result<((f64, f64), Vec<Column>), Str
     Ok(((from, to), columns))
 }
 
-/// The figure of a `forensic` result on a `ground_motion`.
-pub fn svg(result: &ForensicResult) -> Result<String, String> {
-    let ((from, to), columns) = columns(result)?;
-    let pga_g = result.record.as_ref().map(|r| r.peaks.pga_g);
-    let per = result
-        .per_observation
-        .as_deref()
-        .ok_or("the result has no per_observation")?;
-    let observations = &result.observations;
-    let n = per.len();
-    let names: Vec<String> = per.iter().map(|o| o.name.clone()).collect();
-    let consistent_anywhere = columns
-        .last()
-        .is_some_and(|all| all.bands.iter().any(|b| b.class == 0));
-    let thresholds: Vec<(f64, f64)> = per
-        .iter()
-        .enumerate()
-        .map(|(k, o)| ((k + 1) as f64, o.threshold_scale))
-        .filter(|&(_, s)| s > from && s < to)
-        .collect();
-    let lo = result.bounds.min_scale;
-    let hi = result.bounds.max_scale;
+/// A record query as its figure draws it: the scale range, one column per
+/// observation and one for all of them, the observations' names.
+struct Query<'a> {
+    result: &'a ForensicResult,
+    /// Each observation's sets of scales.
+    per: &'a [RecordObservationSet],
+    /// The observations' names.
+    names: Vec<String>,
+    /// Names too long for a column's label are numbered, spelt in the
+    /// legend.
+    numbered: bool,
+    /// The scale range.
+    from: f64,
+    to: f64,
+    /// The columns: observation k (1-based) at k, all at n + 1.
+    columns: Vec<Column>,
+    /// The unscaled record's PGA, g.
+    pga_g: Option<f64>,
+}
 
+impl<'a> Query<'a> {
+    fn of(result: &'a ForensicResult) -> Result<Query<'a>, String> {
+        let ((from, to), columns) = columns(result)?;
+        let per = result
+            .per_observation
+            .as_deref()
+            .ok_or("the result has no per_observation")?;
+        let names: Vec<String> = per.iter().map(|o| o.name.clone()).collect();
+        let numbered = per.len() > 6 || names.iter().any(|name| name.chars().count() > 12);
+        Ok(Query {
+            result,
+            per,
+            names,
+            numbered,
+            from,
+            to,
+            columns,
+            pga_g: result.record.as_ref().map(|r| r.peaks.pga_g),
+        })
+    }
+
+    /// Some scale is consistent with every observation.
+    fn consistent_anywhere(&self) -> bool {
+        self.columns
+            .last()
+            .is_some_and(|all| all.bands.iter().any(|b| b.class == 0))
+    }
+
+    /// The label under each column: the observation's name (shortened), its
+    /// number, or "all".
+    fn labels(&self) -> Vec<String> {
+        let n = self.per.len();
+        (1..=n + 1)
+            .map(|k| {
+                if k == n + 1 {
+                    "all".to_string()
+                } else if self.numbered {
+                    k.to_string()
+                } else {
+                    let name = &self.names[k - 1];
+                    if name.chars().count() > 12 {
+                        format!("{}…", name.chars().take(11).collect::<String>())
+                    } else {
+                        name.clone()
+                    }
+                }
+            })
+            .collect()
+    }
+}
+
+/// The legend of a record query's figure: the fills, each observation and
+/// what was seen of it, the rocking threshold and the bounds; then the
+/// notes on the blocks, the record and the floor.
+fn legend(q: &Query) -> Legend {
+    let (result, per) = (q.result, q.per);
     let mut legend = Legend::default();
     legend.entry(
         Swatch::Fill(CONSISTENT),
@@ -127,7 +181,6 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         Swatch::Fill(tint(CONSISTENT, 0.12)),
         "allowed by this observation",
     );
-    let mixed_all = result.mixed_scale.as_deref().unwrap_or_default();
     if per.iter().any(|o| !o.mixed_scale.is_empty()) {
         legend.entry(
             Swatch::Fill(MIXED),
@@ -135,9 +188,7 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         );
     }
     legend.entry(Swatch::Heading, "ruled out by:");
-    // Names longer than a column's label are numbered, spelt in the legend.
-    let numbered = n > 6 || names.iter().any(|name| name.chars().count() > 12);
-    for (k, name) in names.iter().enumerate() {
+    for (k, name) in q.names.iter().enumerate() {
         let seen = result
             .observations
             .get(k)
@@ -153,75 +204,90 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
                 },
                 |o| o.seen(),
             );
-        let label = if numbered {
+        let label = if q.numbered {
             format!("{}: {name} {seen}", k + 1)
         } else {
             format!("{name} {seen}")
         };
         legend.entry(Swatch::Boxed(fill(1 << k), colour(k)), label);
     }
-    let formulation = result.formulation.name();
     legend.entry(
         Swatch::Line(INK, 3),
-        if formulation == "linear" {
+        if result.formulation.name() == "linear" {
             "starts to rock (PGA = g α)"
         } else {
             "starts to rock (PGA = g tan α)"
         },
     );
-    if let (Some(lo), Some(hi)) = (lo, hi) {
-        let all = intervals(result.consistent_scale.as_deref().unwrap_or_default());
-        let pga = |a: f64, b: f64| {
-            pga_g.map_or(String::new(), |p| {
-                format!(" (PGA {}–{} g)", fmt_num(a * p, 3), fmt_num(b * p, 3))
-            })
-        };
-        if all.len() > 1 || !mixed_all.is_empty() {
-            let measure: f64 = all.iter().map(|(a, b)| b - a).sum();
-            let mixed_width: f64 = mixed_all
-                .iter()
-                .map(|z| z.to - z.from)
-                .fold(0.0, |a, w| a + w);
-            legend.entry(
-                Swatch::Dashed(INK, 2),
-                format!(
-                    "envelope of {} certain consistent interval{}: lowest {}, highest {}{}",
-                    all.len(),
-                    if all.len() == 1 { "" } else { "s" },
-                    fmt_num(lo, 4),
-                    fmt_num(hi, 4),
-                    pga(lo, hi)
-                ),
-            );
-            let zones = if mixed_all.is_empty() {
-                String::new()
-            } else {
-                format!(
-                    "; {} mixed zone{} {} wide in all",
-                    mixed_all.len(),
-                    if mixed_all.len() == 1 { "" } else { "s" },
-                    fmt_num(mixed_width, 4),
-                )
-            };
-            legend.note(format!(
-                "not every scale inside the envelope is consistent: the certain intervals are {} wide in all{zones} (CSV lists each)",
-                fmt_num(measure, 4),
-            ));
+    bounds_entry(&mut legend, q);
+    block_notes(&mut legend, &q.names, &result.observations);
+    notes(&mut legend, q);
+    legend
+}
+
+/// The legend's entry of the bounds of the consistent scales: one interval,
+/// or the envelope of several (or of mixed zones) with a note on their
+/// widths.
+fn bounds_entry(legend: &mut Legend, q: &Query) {
+    let result = q.result;
+    let (Some(lo), Some(hi)) = (result.bounds.min_scale, result.bounds.max_scale) else {
+        return;
+    };
+    let mixed_all = result.mixed_scale.as_deref().unwrap_or_default();
+    let all = intervals(result.consistent_scale.as_deref().unwrap_or_default());
+    let pga = |a: f64, b: f64| {
+        q.pga_g.map_or(String::new(), |p| {
+            format!(" (PGA {}–{} g)", fmt_num(a * p, 3), fmt_num(b * p, 3))
+        })
+    };
+    if all.len() > 1 || !mixed_all.is_empty() {
+        let measure: f64 = all.iter().map(|(a, b)| b - a).sum();
+        let mixed_width: f64 = mixed_all
+            .iter()
+            .map(|z| z.to - z.from)
+            .fold(0.0, |a, w| a + w);
+        legend.entry(
+            Swatch::Dashed(INK, 2),
+            format!(
+                "envelope of {} certain consistent interval{}: lowest {}, highest {}{}",
+                all.len(),
+                if all.len() == 1 { "" } else { "s" },
+                fmt_num(lo, 4),
+                fmt_num(hi, 4),
+                pga(lo, hi)
+            ),
+        );
+        let zones = if mixed_all.is_empty() {
+            String::new()
         } else {
-            legend.entry(
-                Swatch::Dashed(INK, 2),
-                format!(
-                    "consistent: scale {}–{}{}, one interval",
-                    fmt_num(lo, 4),
-                    fmt_num(hi, 4),
-                    pga(lo, hi)
-                ),
-            );
-        }
+            format!(
+                "; {} mixed zone{} {} wide in all",
+                mixed_all.len(),
+                if mixed_all.len() == 1 { "" } else { "s" },
+                fmt_num(mixed_width, 4),
+            )
+        };
+        legend.note(format!(
+            "not every scale inside the envelope is consistent: the certain intervals are {} wide in all{zones} (CSV lists each)",
+            fmt_num(measure, 4),
+        ));
+    } else {
+        legend.entry(
+            Swatch::Dashed(INK, 2),
+            format!(
+                "consistent: scale {}–{}{}, one interval",
+                fmt_num(lo, 4),
+                fmt_num(hi, 4),
+                pga(lo, hi)
+            ),
+        );
     }
-    for (name, o) in names.iter().zip(observations) {
-        legend.note(format!("{name}: {}", block_text(&o.block)));
-    }
+}
+
+/// The legend's notes on the record, the vertical motion, the floor and
+/// the formulation.
+fn notes(legend: &mut Legend, q: &Query) {
+    let result = q.result;
     if let Some(r) = &result.record {
         legend.note(format!(
             "record: {} samples, dt = {} s; PGA {} g, PGV {} m/s (unscaled)",
@@ -232,129 +298,121 @@ pub fn svg(result: &ForensicResult) -> Result<String, String> {
         ));
     }
     if let Some(v) = result.spec.scaled_vertical() {
-        let g = observations.first().map_or(9.81, |o| o.block.g);
+        let g = result.observations.first().map_or(9.81, |o| o.block.g);
         legend.note(format!(
             "vertical ground motion {} (positive up)",
             super::scaled_vertical_text(&v, g)
         ));
     }
     if let Some(c) = &result.spec.contact {
-        legend.note(format!(
-            "{}: the blocks may slide and slide-rock",
-            super::floor_note(c)
-        ));
+        legend.note(sliding_note(c));
     }
     legend.note(format!(
-        "{formulation} formulation; each column is one computed observation, the last their intersection"
+        "{} formulation; each column is one computed observation, the last their intersection",
+        result.formulation.name()
     ));
-    if !consistent_anywhere {
+    if !q.consistent_anywhere() {
         legend.note("no scale of this record is consistent with every observation");
     }
+}
 
-    let labels: Vec<String> = (1..=n + 1)
-        .map(|k| {
-            if k == n + 1 {
-                "all".to_string()
-            } else if numbered {
-                k.to_string()
-            } else {
-                let name = &names[k - 1];
-                if name.chars().count() > 12 {
-                    format!("{}…", name.chars().take(11).collect::<String>())
-                } else {
-                    name.clone()
-                }
-            }
-        })
-        .collect();
-    let title =
-        format!("Forensic map: scales of the record consistent with what was seen ({formulation})");
+/// Draws the chart of a record query in `area`: its columns, the axes
+/// (scale, and the scaled PGA), each observation's threshold and the frame
+/// of the bounds.
+fn draw_chart(area: &Area, q: &Query) -> Drawn {
+    let (from, to, n) = (q.from, q.to, q.per.len());
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .margin(10)
+        .margin_right(14)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA);
+    if q.pga_g.is_some() {
+        builder.right_y_label_area_size(Y_LABEL_AREA);
+    }
+    let x1 = n as f64 + 1.5;
+    let chart = builder.build_cartesian_2d(0.5..x1, axis_range("y", from, to)?)?;
+    let p = q.pga_g.unwrap_or(1.0);
+    let mut chart = chart.set_secondary_coord(0.5..x1, axis_range("right", from * p, to * p)?);
+    for Column { x, bands } in &q.columns {
+        chart.draw_series(bands.iter().map(|b| {
+            Rectangle::new(
+                [(x - HALF, b.lo), (x + HALF, b.hi)],
+                shade(b.class).filled(),
+            )
+        }))?;
+    }
+    let labels = q.labels();
+    let label_of = |v: &f64| -> String {
+        let k = v.round();
+        if (v - k).abs() < 1e-9 && k >= 1.0 {
+            labels.get(k as usize - 1).cloned().unwrap_or_default()
+        } else {
+            String::new()
+        }
+    };
+    mesh(&mut chart, "observation", "scale factor")
+        .x_labels(n + 2)
+        .x_label_formatter(&label_of)
+        .disable_x_mesh()
+        .draw()?;
+    if q.pga_g.is_some() {
+        scaled_pga_axis(&mut chart)?;
+    }
+    // Column outlines: observation k in its colour.
+    for Column { x, .. } in &q.columns {
+        let k = *x as usize;
+        let c = if k <= n { colour(k - 1) } else { INK };
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(x - HALF, from), (x + HALF, to)],
+            c.stroke_width(2),
+        )))?;
+    }
+    let thresholds = q
+        .per
+        .iter()
+        .enumerate()
+        .map(|(k, o)| ((k + 1) as f64, o.threshold_scale))
+        .filter(|&(_, s)| s > from && s < to);
+    chart.draw_series(
+        thresholds.map(|(x, s)| {
+            PathElement::new(vec![(x - HALF, s), (x + HALF, s)], INK.stroke_width(3))
+        }),
+    )?;
+    let bounds = &q.result.bounds;
+    if let (Some(lo), Some(hi)) = (bounds.min_scale, bounds.max_scale) {
+        let x = (n + 1) as f64;
+        // Inside the intersection's column, outside the consistent span;
+        // right-aligned on the column's right edge: the text runs left over
+        // the gap between columns, never into the frame.
+        draw_frame(
+            &mut chart,
+            Frame {
+                x: (x - HALF - 0.08, x + HALF + 0.08),
+                y: (lo, hi),
+                range: (from, to),
+                labels_at: (x + HALF, 0, HPos::Right),
+                labels: [
+                    format!("highest {}", fmt_num(hi, 4)),
+                    format!("lowest {}", fmt_num(lo, 4)),
+                ],
+            },
+        )?;
+    }
+    Ok(())
+}
+
+/// The figure of a `forensic` result on a `ground_motion`.
+pub fn svg(result: &ForensicResult) -> Result<String, String> {
+    let q = Query::of(result)?;
+    let legend = legend(&q);
+    let title = format!(
+        "Forensic map: scales of the record consistent with what was seen ({})",
+        result.formulation.name()
+    );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
-        let mut builder = ChartBuilder::on(&chart_area);
-        builder
-            .margin(10)
-            .margin_right(14)
-            .x_label_area_size(X_LABEL_AREA)
-            .y_label_area_size(Y_LABEL_AREA);
-        if pga_g.is_some() {
-            builder.right_y_label_area_size(Y_LABEL_AREA);
-        }
-        let x1 = n as f64 + 1.5;
-        let chart = builder.build_cartesian_2d(0.5..x1, axis_range("y", from, to)?)?;
-        let p = pga_g.unwrap_or(1.0);
-        let mut chart = chart.set_secondary_coord(0.5..x1, axis_range("right", from * p, to * p)?);
-        for Column { x, bands } in &columns {
-            chart.draw_series(bands.iter().map(|b| {
-                Rectangle::new(
-                    [(x - HALF, b.lo), (x + HALF, b.hi)],
-                    shade(b.class).filled(),
-                )
-            }))?;
-        }
-        let label_of = |v: &f64| -> String {
-            let k = v.round();
-            if (v - k).abs() < 1e-9 && k >= 1.0 {
-                labels.get(k as usize - 1).cloned().unwrap_or_default()
-            } else {
-                String::new()
-            }
-        };
-        mesh(&mut chart, "observation", "scale factor")
-            .x_labels(n + 2)
-            .x_label_formatter(&label_of)
-            .disable_x_mesh()
-            .draw()?;
-        if pga_g.is_some() {
-            scaled_pga_axis(&mut chart)?;
-        }
-        // Column outlines: observation k in its colour.
-        for Column { x, .. } in &columns {
-            let k = *x as usize;
-            let c = if k <= n { colour(k - 1) } else { INK };
-            chart.draw_series(std::iter::once(Rectangle::new(
-                [(x - HALF, from), (x + HALF, to)],
-                c.stroke_width(2),
-            )))?;
-        }
-        chart.draw_series(thresholds.iter().map(|&(x, s)| {
-            PathElement::new(vec![(x - HALF, s), (x + HALF, s)], INK.stroke_width(3))
-        }))?;
-        if let (Some(lo), Some(hi)) = (lo, hi) {
-            let x = (n + 1) as f64;
-            let (a, b) = (x - HALF - 0.08, x + HALF + 0.08);
-            chart.draw_series(std::iter::once(DashedPathElement::new(
-                vec![(a, lo), (b, lo), (b, hi), (a, hi), (a, lo)],
-                8,
-                5,
-                INK.stroke_width(2),
-            )))?;
-            // Inside the intersection's column, outside the consistent span.
-            let room = 0.06 * (to - from);
-            let label = |s: String, at: (f64, f64), above: bool| {
-                let (v, dy) = if above {
-                    (VPos::Bottom, -5)
-                } else {
-                    (VPos::Top, 5)
-                };
-                // Right-aligned on the column's right edge: the text runs
-                // left over the gap between columns, never into the frame.
-                EmptyElement::at((at.0 + HALF, at.1))
-                    + Text::new(s, (0, dy), text(LEGEND, INK).pos(Pos::new(HPos::Right, v)))
-            };
-            chart.draw_series([
-                label(
-                    format!("highest {}", fmt_num(hi, 4)),
-                    (x, hi),
-                    hi < to - room,
-                ),
-                label(
-                    format!("lowest {}", fmt_num(lo, 4)),
-                    (x, lo),
-                    lo < from + room,
-                ),
-            ])?;
-        }
+        draw_chart(&chart_area, &q)?;
         draw_legend(&side, &legend)
     })
 }

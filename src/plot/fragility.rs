@@ -258,43 +258,57 @@ fn draw_inputs(area: &Area, lines: &[Vec<String>]) -> Drawn {
     Ok(())
 }
 
-/// The figure of a `fragility` result.
-pub fn svg(result: &FragilityResult) -> Result<String, String> {
-    // Stripes with a probability (under a vertical motion, one whose every
-    // sample lifted off has none: marked apart).
-    let stripes: Vec<(f64, f64, f64, f64)> = result
-        .stripes
-        .iter()
-        .filter(|s| s.p.is_finite())
-        .map(|s| (s.im, s.p, s.interval_95[0], s.interval_95[1]))
-        .collect();
-    let undecided: Vec<f64> = result
-        .stripes
-        .iter()
-        .filter(|s| !s.p.is_finite())
-        .map(|s| s.im)
-        .collect();
-    let lifted: u64 = result.stripes.iter().filter_map(|s| s.lift_off).sum();
-    let Some((lo, hi)) = computed_range(result) else {
-        return Err("the result has no stripes".into());
-    };
-    let fit = result.lognormal.as_ref();
-    let pieces = fit_pieces(result);
-    let outline = band(result);
-    let x_max = x_end(hi);
-    let falls = &result.falls_at;
-    let unit = im_unit(result.im);
-    let x_desc = match result.im {
-        Im::PgvMS => "PGV (m/s)",
-        Im::PgaG => "PGA (g)",
-    };
+/// A fragility as drawn: its stripes, its fit and band, the axis's end.
+struct Drawing<'a> {
+    /// (intensity, P, 95 % interval) of each stripe with a probability
+    /// (under a vertical motion, one whose every sample lifted off has
+    /// none: marked apart).
+    stripes: Vec<(f64, f64, f64, f64)>,
+    /// The intensities of the stripes without a verdict.
+    undecided: Vec<f64>,
+    /// The fitted curve's pieces.
+    pieces: Vec<FitPiece>,
+    /// The outline of the bootstrap band.
+    outline: Vec<(f64, f64)>,
+    /// The end of the intensity axis.
+    x_max: f64,
+    /// The stripes where P falls below the one before.
+    falls: &'a [f64],
+}
 
+impl<'a> Drawing<'a> {
+    fn of(result: &'a FragilityResult, hi: f64) -> Drawing<'a> {
+        Drawing {
+            stripes: result
+                .stripes
+                .iter()
+                .filter(|s| s.p.is_finite())
+                .map(|s| (s.im, s.p, s.interval_95[0], s.interval_95[1]))
+                .collect(),
+            undecided: result
+                .stripes
+                .iter()
+                .filter(|s| !s.p.is_finite())
+                .map(|s| s.im)
+                .collect(),
+            pieces: fit_pieces(result),
+            outline: band(result),
+            x_max: x_end(hi),
+            falls: &result.falls_at,
+        }
+    }
+}
+
+/// The legend of a fragility: the stripes, the fit and its band, the marks
+/// of falling and undecided stripes, and the notes on lift-off and the fit.
+fn legend(result: &FragilityResult, d: &Drawing, (lo, hi): (f64, f64)) -> Legend {
+    let unit = im_unit(result.im);
     let mut legend = Legend::default();
     legend.entry(
         Swatch::Mark(Marker::Dot, INK),
         "P(topple) per stripe, 95 % Wilson interval",
     );
-    if let Some(f) = fit {
+    if let Some(f) = &result.lognormal {
         let [m_lo, m_hi] = f.median_interval_95;
         let interval = if m_lo.is_finite() && m_hi.is_finite() {
             format!(" (95 %: {}–{})", fmt_num(m_lo, 3), with_unit(m_hi, unit))
@@ -309,7 +323,7 @@ pub fn svg(result: &FragilityResult) -> Result<String, String> {
                 fmt_num(f.beta, 3)
             ),
         );
-        if pieces.iter().any(|p| p.extrapolated) {
+        if d.pieces.iter().any(|p| p.extrapolated) {
             legend.entry(
                 Swatch::Dashed(MODE1, 2),
                 format!(
@@ -323,18 +337,19 @@ pub fn svg(result: &FragilityResult) -> Result<String, String> {
     } else {
         legend.note("no lognormal fit: the counts do not bound one");
     }
-    if !falls.is_empty() {
+    if !d.falls.is_empty() {
         legend.entry(
             Swatch::Mark(Marker::Ring, MODE1),
             "falls below the stripe before (safe regions)",
         );
     }
-    if !undecided.is_empty() {
+    if !d.undecided.is_empty() {
         legend.entry(
             Swatch::Mark(Marker::Cross, MUTED),
             "every sample lifted off: no verdict",
         );
     }
+    let lifted: u64 = result.stripes.iter().filter_map(|s| s.lift_off).sum();
     if lifted > 0 {
         let first = result
             .stripes
@@ -347,61 +362,80 @@ pub fn svg(result: &FragilityResult) -> Result<String, String> {
             with_unit(first, unit)
         ));
     }
-    if fit.is_some() {
+    if result.lognormal.is_some() {
         legend.note("the empirical points are the answer, the fit a summary");
     }
+    legend
+}
+
+/// Draws the chart of a fragility in `area`: the band, the fit, each
+/// stripe's probability and interval, the marks of falling and undecided
+/// stripes.
+fn draw_chart(area: &Area, result: &FragilityResult, d: &Drawing) -> Drawn {
+    let x_desc = match result.im {
+        Im::PgvMS => "PGV (m/s)",
+        Im::PgaG => "PGA (g)",
+    };
+    let mut chart = chart_on(area).build_cartesian_2d(axis_range("x", 0.0, d.x_max)?, 0.0..1.0)?;
+    mesh(&mut chart, x_desc, "P(topple)").draw()?;
+    if d.outline.len() > 2 {
+        chart.draw_series(std::iter::once(Polygon::new(
+            d.outline.clone(),
+            tint(MODE1, 0.2).filled(),
+        )))?;
+    }
+    for piece in &d.pieces {
+        if piece.extrapolated {
+            chart.draw_series(std::iter::once(DashedPathElement::new(
+                piece.points.clone(),
+                9,
+                6,
+                MODE1.stroke_width(2),
+            )))?;
+        } else {
+            chart.draw_series(LineSeries::new(piece.points.clone(), MODE1.stroke_width(3)))?;
+        }
+    }
+    chart.draw_series(
+        d.stripes
+            .iter()
+            .map(|&(x, _, lo, hi)| PathElement::new(vec![(x, lo), (x, hi)], INK.stroke_width(2))),
+    )?;
+    chart.draw_series(
+        d.stripes
+            .iter()
+            .map(|&(x, p, _, _)| marker((x, p), Marker::Dot, 6, INK)),
+    )?;
+    chart.draw_series(
+        d.stripes
+            .iter()
+            .filter(|s| d.falls.contains(&s.0))
+            .map(|&(x, p, _, _)| marker((x, p), Marker::Ring, 11, MODE1)),
+    )?;
+    chart.draw_series(
+        d.undecided
+            .iter()
+            .map(|&x| marker((x, 0.5), Marker::Cross, 8, MUTED)),
+    )?;
+    Ok(())
+}
+
+/// The figure of a `fragility` result.
+pub fn svg(result: &FragilityResult) -> Result<String, String> {
+    let Some(range) = computed_range(result) else {
+        return Err("the result has no stripes".into());
+    };
+    let drawing = Drawing::of(result, range.1);
+    let legend = legend(result, &drawing, range);
     let listed = box_lines(&inputs(result), LEGEND_WIDTH - 16);
     let legend_h = legend_height(&legend, LEGEND_WIDTH, 1);
     let height = HEIGHT.max(TITLE_AREA + legend_h + box_height(&listed) + 24);
-
     render(
         (WIDTH, height),
         "Fragility: probability of toppling",
         |area| -> Drawn {
             let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
-            let mut chart =
-                chart_on(&chart_area).build_cartesian_2d(axis_range("x", 0.0, x_max)?, 0.0..1.0)?;
-            mesh(&mut chart, x_desc, "P(topple)").draw()?;
-            if outline.len() > 2 {
-                chart.draw_series(std::iter::once(Polygon::new(
-                    outline.clone(),
-                    tint(MODE1, 0.2).filled(),
-                )))?;
-            }
-            for piece in &pieces {
-                if piece.extrapolated {
-                    chart.draw_series(std::iter::once(DashedPathElement::new(
-                        piece.points.clone(),
-                        9,
-                        6,
-                        MODE1.stroke_width(2),
-                    )))?;
-                } else {
-                    chart.draw_series(LineSeries::new(
-                        piece.points.clone(),
-                        MODE1.stroke_width(3),
-                    ))?;
-                }
-            }
-            chart.draw_series(stripes.iter().map(|&(x, _, lo, hi)| {
-                PathElement::new(vec![(x, lo), (x, hi)], INK.stroke_width(2))
-            }))?;
-            chart.draw_series(
-                stripes
-                    .iter()
-                    .map(|&(x, p, _, _)| marker((x, p), Marker::Dot, 6, INK)),
-            )?;
-            chart.draw_series(
-                stripes
-                    .iter()
-                    .filter(|s| falls.contains(&s.0))
-                    .map(|&(x, p, _, _)| marker((x, p), Marker::Ring, 11, MODE1)),
-            )?;
-            chart.draw_series(
-                undecided
-                    .iter()
-                    .map(|&x| marker((x, 0.5), Marker::Cross, 8, MUTED)),
-            )?;
+            draw_chart(&chart_area, result, &drawing)?;
             let (upper, lower) = side.split_vertically(legend_h);
             draw_legend(&upper, &legend)?;
             draw_inputs(&lower.margin(8, 0, 8, 16), &listed)

@@ -6,8 +6,9 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use super::style::{
-    AXIS, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, REFERENCE, Swatch, TICKS,
-    X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num, marker, text, tick,
+    AXIS, Area, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, REFERENCE, Swatch,
+    TICKS, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num, marker, text,
+    tick,
 };
 use super::{block_text, render, shape_title};
 use crate::kinds::friction_spectrum::FrictionResult;
@@ -28,12 +29,11 @@ struct Point {
     lift_off: bool,
 }
 
-/// The figure of a `friction_spectrum` result.
-pub fn svg(result: &FrictionResult) -> Result<String, String> {
-    let spec = &result.spec;
-    let alpha = spec.block.alpha;
-    let tan = alpha.tan();
-    let points: Vec<Point> = result
+/// The amplitudes of a friction spectrum drawn: those with a bounded peak
+/// demand, and those that lift off.
+fn points(result: &FrictionResult) -> Vec<Point> {
+    let tan = result.spec.block.alpha.tan();
+    result
         .points
         .iter()
         .filter_map(|p| {
@@ -54,71 +54,175 @@ pub fn svg(result: &FrictionResult) -> Result<String, String> {
                 lift_off,
             })
         })
-        .collect();
-    if points.is_empty() {
-        return Err("the friction spectrum has no points".into());
-    }
-    // μ of the block over tan α; μ can be any size (1e308 for "never
-    // slides"), so it sets the scale only when it is near the demand.
-    let mu_of_block = spec.block.mu;
-    let mu = mu_of_block.map(|m| m / tan);
-    // Lift-off makes the demand unbounded: the range follows the others, and
-    // lift-off amplitudes are marked on the top edge.
-    // Near lift-off f_z is small and the demand very large though bounded: the
-    // range stops at a few times the demand when rocking starts, and points
-    // above it sit on the top edge (their values are in the JSON and CSV).
-    let demand_scale = |extra: Option<f64>| {
-        let start_demand = points
-            .iter()
-            .filter_map(|p| p.initiation)
-            .chain(extra)
-            .filter(|d| d.is_finite())
-            .fold(1.0f64, f64::max);
-        let cap = (4.0 * start_demand).max(6.0);
-        let highest = points
+        .collect()
+}
+
+/// The friction spectrum as drawn: its points, the ranges of its axes and
+/// its curves.
+struct Drawing {
+    points: Vec<Point>,
+    /// The amplitude axis, a_p/(αg).
+    x0: f64,
+    x1: f64,
+    /// The top of the demand axis, μ_min/tan α.
+    top: f64,
+    /// The block's μ over tan α, where it is near the demand.
+    mu_on_scale: Option<f64>,
+    /// The peak demands above the top.
+    off_scale: Vec<f64>,
+    /// The demand curve, broken wherever the demand is unbounded.
+    peak_runs: Vec<Vec<(f64, f64)>>,
+    /// The demand when rocking starts.
+    initiation: Vec<(f64, f64)>,
+}
+
+impl Drawing {
+    fn of(result: &FrictionResult) -> Result<Drawing, String> {
+        let spec = &result.spec;
+        let tan = spec.block.alpha.tan();
+        let points = points(result);
+        if points.is_empty() {
+            return Err("the friction spectrum has no points".into());
+        }
+        // μ of the block over tan α; μ can be any size (1e308 for "never
+        // slides"), so it sets the scale only when it is near the demand.
+        let mu = spec.block.mu.map(|m| m / tan);
+        let (x0, x1) = amplitude_range(&points);
+        let without_mu = demand_scale(&points, None);
+        let mu_on_scale = mu.filter(|m| m.is_finite() && *m <= 2.0 * without_mu);
+        let top = demand_scale(&points, mu_on_scale);
+        let off_scale: Vec<f64> = points
             .iter()
             .filter_map(|p| p.peak)
-            .chain(points.iter().filter_map(|p| p.initiation))
-            .chain(extra)
-            .filter(|d| d.is_finite())
-            .fold(1.2f64, f64::max);
-        highest.min(cap) * 1.12
-    };
+            .filter(|d| *d > top)
+            .collect();
+        let peak_runs: Vec<Vec<(f64, f64)>> = points
+            .chunk_by(|a, b| a.peak.is_some() == b.peak.is_some())
+            .filter(|run| run[0].peak.is_some())
+            .map(|run| run.iter().filter_map(|p| Some((p.a, p.peak?))).collect())
+            .collect();
+        let initiation: Vec<(f64, f64)> = points
+            .iter()
+            .filter_map(|p| Some((p.a, p.initiation?)))
+            .collect();
+        Ok(Drawing {
+            points,
+            x0,
+            x1,
+            top,
+            mu_on_scale,
+            off_scale,
+            peak_runs,
+            initiation,
+        })
+    }
+}
+
+/// The top of the demand axis, over the demands of `points` and `extra`.
+///
+/// Lift-off makes the demand unbounded: the range follows the others, and
+/// lift-off amplitudes are marked on the top edge. Near lift-off f_z is
+/// small and the demand very large though bounded: the range stops at a few
+/// times the demand when rocking starts, and points above it sit on the top
+/// edge (their values are in the JSON and CSV).
+fn demand_scale(points: &[Point], extra: Option<f64>) -> f64 {
+    let start_demand = points
+        .iter()
+        .filter_map(|p| p.initiation)
+        .chain(extra)
+        .filter(|d| d.is_finite())
+        .fold(1.0f64, f64::max);
+    let cap = (4.0 * start_demand).max(6.0);
+    let highest = points
+        .iter()
+        .filter_map(|p| p.peak)
+        .chain(points.iter().filter_map(|p| p.initiation))
+        .chain(extra)
+        .filter(|d| d.is_finite())
+        .fold(1.2f64, f64::max);
+    highest.min(cap) * 1.12
+}
+
+/// The amplitude axis of `points`, with a margin.
+fn amplitude_range(points: &[Point]) -> (f64, f64) {
     let xmin = points.iter().map(|p| p.a).fold(f64::INFINITY, f64::min);
     let xmax = points.iter().map(|p| p.a).fold(f64::NEG_INFINITY, f64::max);
-    let (x0, x1) = if xmax > xmin {
+    if xmax > xmin {
         (
             0.0f64.max(xmin - 0.03 * (xmax - xmin)),
             xmax + 0.03 * (xmax - xmin),
         )
     } else {
         (xmin * 0.9, xmax * 1.1 + 0.1)
-    };
-    let without_mu = demand_scale(None);
-    let mu_on_scale = mu.filter(|m| m.is_finite() && *m <= 2.0 * without_mu);
-    let top = demand_scale(mu_on_scale);
-    let off_scale: Vec<f64> = points
-        .iter()
-        .filter_map(|p| p.peak)
-        .filter(|d| *d > top)
-        .collect();
-    // The demand curve, broken wherever the demand is unbounded.
-    let peak_runs: Vec<Vec<(f64, f64)>> = points
-        .chunk_by(|a, b| a.peak.is_some() == b.peak.is_some())
-        .filter(|run| run[0].peak.is_some())
-        .map(|run| run.iter().filter_map(|p| Some((p.a, p.peak?))).collect())
-        .collect();
-    let lift_off_edge = top * 0.94;
-    let initiation: Vec<(f64, f64)> = points
-        .iter()
-        .filter_map(|p| Some((p.a, p.initiation?)))
-        .collect();
+    }
+}
 
+/// The legend of a friction spectrum: its curves and markers, the levels of
+/// μ, then the notes on the block, the pulse and the outcome.
+fn legend(result: &FrictionResult, d: &Drawing) -> Legend {
+    let spec = &result.spec;
+    let tan = spec.block.alpha.tan();
+    let points = &d.points;
     let mut legend = Legend::default();
     legend.entry(
         Swatch::Line(PEAK, 2),
         "peak |f_x/f_z| / tan α over the rocking history (eq. 20)",
     );
+    marker_entries(&mut legend, points);
+    if !d.off_scale.is_empty() {
+        legend.note(format!(
+            "{} amplitude{} above the scale (up to {} tan α), drawn on the top edge",
+            d.off_scale.len(),
+            if d.off_scale.len() == 1 { "" } else { "s" },
+            fmt_num(d.off_scale.iter().copied().fold(0.0, f64::max), 3)
+        ));
+    }
+    if !d.initiation.is_empty() {
+        legend.entry(
+            Swatch::Dashed(INITIATION, 2),
+            "when rocking starts (eq. 7; eq. 51 for one-cosine)",
+        );
+    }
+    legend.entry(Swatch::Dashed(MUTED, 1), "μ = tan α");
+    match (spec.block.mu, d.mu_on_scale) {
+        (_, Some(m)) => legend.entry(
+            Swatch::Dashed(REFERENCE, 2),
+            format!("μ of the block = {} (slides above)", fmt_num(m * tan, 3)),
+        ),
+        (Some(m), None) => legend.note(format!(
+            "μ of the block = {}: far above the demand drawn (no sliding here)",
+            fmt_num(m, 3)
+        )),
+        (None, None) => {}
+    }
+    legend.note(block_text(&spec.block));
+    legend.note(format!(
+        "{} pulse, ω_p/p = {}, {} formulation",
+        shape_title(spec.pulse.shape()),
+        fmt_num(result.omega_ratio, 4),
+        spec.formulation.name()
+    ));
+    let vertical = crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None)
+        .map(|v| super::scaled_vertical_text(&v, spec.block.g));
+    if let Some(v) = &vertical {
+        legend.note(format!("vertical ground motion {v} (positive up)"));
+    }
+    legend.note(format!(
+        "right axis: μ_min = tan α × left axis (tan α = {})",
+        fmt_num(tan, 3)
+    ));
+    if let Some(first) = points.iter().find(|p| p.overturned) {
+        legend.note(format!(
+            "first overturning amplitude: {} αg",
+            fmt_num(first.a, 4)
+        ));
+    }
+    legend
+}
+
+/// The legend's entries of the markers the `points` show: survival,
+/// overturning in mode 1 or 2, lift-off.
+fn marker_entries(legend: &mut Legend, points: &[Point]) {
     let survived = points.iter().any(|p| !p.overturned);
     let mode1 = points.iter().any(|p| p.overturned && p.mode != Some(2));
     let mode2 = points.iter().any(|p| p.overturned && p.mode == Some(2));
@@ -143,57 +247,99 @@ pub fn svg(result: &FrictionResult) -> Result<String, String> {
             "lift-off (f_z → 0): demand unbounded, no μ suffices",
         );
     }
-    if !off_scale.is_empty() {
-        legend.note(format!(
-            "{} amplitude{} above the scale (up to {} tan α), drawn on the top edge",
-            off_scale.len(),
-            if off_scale.len() == 1 { "" } else { "s" },
-            fmt_num(off_scale.iter().copied().fold(0.0, f64::max), 3)
-        ));
-    }
-    if !initiation.is_empty() {
-        legend.entry(
-            Swatch::Dashed(INITIATION, 2),
-            "when rocking starts (eq. 7; eq. 51 for one-cosine)",
-        );
-    }
-    legend.entry(Swatch::Dashed(MUTED, 1), "μ = tan α");
-    match (mu_of_block, mu_on_scale) {
-        (_, Some(m)) => legend.entry(
-            Swatch::Dashed(REFERENCE, 2),
-            format!("μ of the block = {} (slides above)", fmt_num(m * tan, 3)),
-        ),
-        (Some(m), None) => legend.note(format!(
-            "μ of the block = {}: far above the demand drawn (no sliding here)",
-            fmt_num(m, 3)
-        )),
-        (None, None) => {}
-    }
-    legend.note(block_text(&spec.block));
-    let pulse = shape_title(spec.pulse.shape());
-    let ratio = fmt_num(result.omega_ratio, 4);
-    legend.note(format!(
-        "{pulse} pulse, ω_p/p = {ratio}, {} formulation",
-        spec.formulation.name()
-    ));
-    let vertical = crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None)
-        .map(|v| super::scaled_vertical_text(&v, spec.block.g));
-    if let Some(v) = &vertical {
-        legend.note(format!("vertical ground motion {v} (positive up)"));
-    }
-    legend.note(format!(
-        "right axis: μ_min = tan α × left axis (tan α = {})",
-        fmt_num(tan, 3)
-    ));
-    if let Some(first) = points.iter().find(|p| p.overturned) {
-        legend.note(format!(
-            "first overturning amplitude: {} αg",
-            fmt_num(first.a, 4)
-        ));
-    }
+}
 
+/// Draws the chart of a friction spectrum in `area`: the axes (a_p in αg
+/// and g, the demand over tan α and μ_min), the levels of μ, the curves and
+/// the markers of each amplitude.
+fn draw_chart(area: &Area, result: &FrictionResult, d: &Drawing) -> Drawn {
+    let alpha = result.spec.block.alpha;
+    let tan = alpha.tan();
+    let (x0, x1, top) = (d.x0, d.x1, d.top);
+    let chart = ChartBuilder::on(area)
+        .margin(10)
+        .margin_right(14)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA)
+        .top_x_label_area_size(X_LABEL_AREA)
+        .right_y_label_area_size(Y_LABEL_AREA)
+        .build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", 0.0, top)?)?;
+    let mut chart = chart.set_secondary_coord(
+        axis_range("top", x0 * alpha, x1 * alpha)?,
+        axis_range("right", 0.0, top * tan)?,
+    );
+    chart
+        .configure_mesh()
+        .x_desc("a_p / (α g)")
+        .y_desc("μ_min / tan α")
+        .label_style(text(TICKS, INK))
+        .axis_desc_style(text(AXIS, INK))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .light_line_style(RGBColor(245, 245, 245))
+        .bold_line_style(RGBColor(220, 220, 220))
+        .draw()?;
+    chart
+        .configure_secondary_axes()
+        .x_desc("a_p / g")
+        .y_desc("μ_min")
+        .label_style(text(TICKS, INK))
+        .axis_desc_style(text(AXIS, INK))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
+        .draw()?;
+    let level = |y: f64, style: ShapeStyle, dash: u32| {
+        DashedPathElement::new(vec![(x0, y), (x1, y)], dash, dash, style)
+    };
+    chart.draw_series(std::iter::once(level(1.0, MUTED.stroke_width(1), 4)))?;
+    if let Some(m) = d.mu_on_scale.filter(|m| *m < top) {
+        chart.draw_series(std::iter::once(level(m, REFERENCE.stroke_width(2), 7)))?;
+    }
+    for part in clip_y(&d.initiation, 0.0, top) {
+        chart.draw_series(DashedLineSeries::new(
+            part,
+            8,
+            5,
+            INITIATION.stroke_width(2),
+        ))?;
+    }
+    for run in &d.peak_runs {
+        for part in clip_y(run, 0.0, top) {
+            chart.draw_series(LineSeries::new(part, PEAK.stroke_width(2)))?;
+        }
+    }
+    chart.draw_series(
+        d.points
+            .iter()
+            .filter_map(|p| Some((p, p.peak?.min(top * 0.995))))
+            .map(|(p, peak)| {
+                let (kind, colour) = match (p.overturned, p.mode) {
+                    (false, _) => (Marker::Ring, PEAK),
+                    (true, Some(2)) => (Marker::Square, MODE2),
+                    (true, _) => (Marker::Triangle, MODE1),
+                };
+                marker((p.a, peak), kind, 8, colour)
+            }),
+    )?;
+    let lift_off_edge = top * 0.94;
+    chart.draw_series(
+        d.points
+            .iter()
+            .filter(|p| p.lift_off)
+            .map(|p| marker((p.a, lift_off_edge), Marker::Cross, 12, INK)),
+    )?;
+    Ok(())
+}
+
+/// The figure of a `friction_spectrum` result.
+pub fn svg(result: &FrictionResult) -> Result<String, String> {
+    let spec = &result.spec;
+    let drawing = Drawing::of(result)?;
+    let legend = legend(result, &drawing);
     let title = format!(
-        "Friction needed for pure rocking: {pulse} pulse, ω_p/p = {ratio}{}",
+        "Friction needed for pure rocking: {} pulse, ω_p/p = {}{}",
+        shape_title(spec.pulse.shape()),
+        fmt_num(result.omega_ratio, 4),
         crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None).map_or(
             String::new(),
             |v| format!(", {}", super::scaled_vertical_title(&v))
@@ -201,77 +347,7 @@ pub fn svg(result: &FrictionResult) -> Result<String, String> {
     );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {
         let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
-        let chart = ChartBuilder::on(&chart_area)
-            .margin(10)
-            .margin_right(14)
-            .x_label_area_size(X_LABEL_AREA)
-            .y_label_area_size(Y_LABEL_AREA)
-            .top_x_label_area_size(X_LABEL_AREA)
-            .right_y_label_area_size(Y_LABEL_AREA)
-            .build_cartesian_2d(axis_range("x", x0, x1)?, axis_range("y", 0.0, top)?)?;
-        let mut chart = chart.set_secondary_coord(
-            axis_range("top", x0 * alpha, x1 * alpha)?,
-            axis_range("right", 0.0, top * tan)?,
-        );
-        chart
-            .configure_mesh()
-            .x_desc("a_p / (α g)")
-            .y_desc("μ_min / tan α")
-            .label_style(text(TICKS, INK))
-            .axis_desc_style(text(AXIS, INK))
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
-            .light_line_style(RGBColor(245, 245, 245))
-            .bold_line_style(RGBColor(220, 220, 220))
-            .draw()?;
-        chart
-            .configure_secondary_axes()
-            .x_desc("a_p / g")
-            .y_desc("μ_min")
-            .label_style(text(TICKS, INK))
-            .axis_desc_style(text(AXIS, INK))
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
-            .draw()?;
-        let level = |y: f64, style: ShapeStyle, dash: u32| {
-            DashedPathElement::new(vec![(x0, y), (x1, y)], dash, dash, style)
-        };
-        chart.draw_series(std::iter::once(level(1.0, MUTED.stroke_width(1), 4)))?;
-        if let Some(m) = mu_on_scale.filter(|m| *m < top) {
-            chart.draw_series(std::iter::once(level(m, REFERENCE.stroke_width(2), 7)))?;
-        }
-        for part in clip_y(&initiation, 0.0, top) {
-            chart.draw_series(DashedLineSeries::new(
-                part,
-                8,
-                5,
-                INITIATION.stroke_width(2),
-            ))?;
-        }
-        for run in &peak_runs {
-            for part in clip_y(run, 0.0, top) {
-                chart.draw_series(LineSeries::new(part, PEAK.stroke_width(2)))?;
-            }
-        }
-        chart.draw_series(
-            points
-                .iter()
-                .filter_map(|p| Some((p, p.peak?.min(top * 0.995))))
-                .map(|(p, peak)| {
-                    let (kind, colour) = match (p.overturned, p.mode) {
-                        (false, _) => (Marker::Ring, PEAK),
-                        (true, Some(2)) => (Marker::Square, MODE2),
-                        (true, _) => (Marker::Triangle, MODE1),
-                    };
-                    marker((p.a, peak), kind, 8, colour)
-                }),
-        )?;
-        chart.draw_series(
-            points
-                .iter()
-                .filter(|p| p.lift_off)
-                .map(|p| marker((p.a, lift_off_edge), Marker::Cross, 12, INK)),
-        )?;
+        draw_chart(&chart_area, result, &drawing)?;
         draw_legend(&side, &legend)
     })
 }

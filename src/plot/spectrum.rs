@@ -436,18 +436,22 @@ fn boundary(panel: &Panel) -> Vec<Vec<(f64, f64)>> {
 /// draws (with `beside`, the pure-rocking boundary over the floor's chart),
 /// then the notes on `spec` and its own lines, `own`.
 fn legend(spec: &SpectrumJob, own: &Panel, panels: &[&Panel], beside: bool) -> Legend {
-    let lines = own.lines;
-    let (x0, _) = own.drawn.x_range;
     let used = |class: usize| panels.iter().any(|p| p.shades(class));
-    let beta = match spec.pulse.shape() {
-        PulseShape::OneCosine => "1/4",
-        _ => "1/6",
-    };
     let mut legend = region_legend(
         used,
         "no rocking (below the threshold)",
         spec.contact.is_some(),
     );
+    mark_entries(&mut legend, spec, panels, beside);
+    closed_form_entries(&mut legend, spec, own, panels);
+    notes(&mut legend, spec, own.lines);
+    legend
+}
+
+/// The legend's entries of the markers any of `panels` draws (the computed
+/// minimum, in a mixed zone, the lowest certain overturning) and, `beside`,
+/// of the pure-rocking boundary over the floor's chart.
+fn mark_entries(legend: &mut Legend, spec: &SpectrumJob, panels: &[&Panel], beside: bool) {
     if panels.iter().any(|p| !p.drawn.minimum.is_empty()) {
         legend.entry(
             Swatch::Mark(Marker::Dot, INK),
@@ -475,6 +479,16 @@ fn legend(spec: &SpectrumJob, own: &Panel, panels: &[&Panel], beside: bool) -> L
             "pure rocking boundary: its minimum overturning acceleration (left), drawn over the Coulomb floor's chart",
         );
     }
+}
+
+/// The legend's entries of the closed forms any of `panels` draws (eq. 21,
+/// the mode-2 boundary), or a note on why eq. 21 is not drawn over `own`.
+fn closed_form_entries(legend: &mut Legend, spec: &SpectrumJob, own: &Panel, panels: &[&Panel]) {
+    let (x0, _) = own.drawn.x_range;
+    let beta = match spec.pulse.shape() {
+        PulseShape::OneCosine => "1/4",
+        _ => "1/6",
+    };
     if panels.iter().any(|p| !p.eq21.is_empty()) {
         legend.entry(
             Swatch::Dashed(REFERENCE, 3),
@@ -496,6 +510,12 @@ fn legend(spec: &SpectrumJob, own: &Panel, panels: &[&Panel], beside: bool) -> L
             "mode-2 boundary, corrected eq. 47 (linear closed form)",
         );
     }
+}
+
+/// The legend's notes on the spectrum's `lines` and `spec`: its mixed
+/// zones, the block, the pulse, the floor, the vertical motion, the shading
+/// and the axes.
+fn notes(legend: &mut Legend, spec: &SpectrumJob, lines: &[FrequencyDoc]) {
     let zones: Vec<&crate::jobs::mixed::MixedDoc> = lines.iter().flat_map(|l| &l.mixed).collect();
     if !zones.is_empty() {
         legend.note(format!(
@@ -555,7 +575,6 @@ fn legend(spec: &SpectrumJob, own: &Panel, panels: &[&Panel], beside: bool) -> L
         fmt_num(MIN_VISIBLE * 100.0, 2)
     ));
     legend.note("top axis: f_p = (ω_p/p)·p/2π; right axis: a_p in g = α × a_p/(αg)");
-    legend
 }
 
 /// The title of a spectrum figure.

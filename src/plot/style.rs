@@ -3,6 +3,7 @@
 
 use plotters::chart::{DualCoordChartContext, MeshStyle, SecondaryMeshStyle};
 use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::{CoordTranslate, Shift};
 use plotters::element::ComposedElement;
 use plotters::element::DashedPathElement;
@@ -13,6 +14,10 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 pub type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 /// What drawing returns.
 pub type Drawn = Result<(), Box<dyn std::error::Error>>;
+/// A chart of an SVG figure on two axes of numbers (a time panel's: time
+/// against its quantity).
+pub type Chart<'a, 'b> =
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// Font family (SVG viewers substitute their sans-serif).
 pub const FONT: &str = "sans-serif";

@@ -5,12 +5,13 @@
 //! an uncertain age at its median with E[exp(−λ_t T)]; several rocks' joint
 //! probability noted.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::forensic::colour;
 use super::render;
 use super::style::{
-    Drawn, INK, LEGEND_WIDTH, Legend, MUTED, Marker, NOTE, Swatch, axis_range, chart_on,
+    Area, Drawn, INK, LEGEND_WIDTH, Legend, MUTED, Marker, NOTE, Swatch, axis_range, chart_on,
     draw_legend, fmt_num, left_top, legend_height, marker, mesh, right_top, text_width,
 };
 use crate::kinds::survival::{RockResult, SurvivalResult};
@@ -184,27 +185,26 @@ pub fn age_label(rock: Option<&str>, age: f64, p: f64, uncertain: bool) -> Vec<S
         .collect()
 }
 
-/// The figure of a `survival` result.
-pub fn svg(result: &SurvivalResult) -> Result<String, String> {
-    let rocks = &result.rocks;
-    if rocks.is_empty() {
-        return Err("the result has no rocks".into());
+/// The ages marked on a rock's curve: (age, P_s, uncertain) of each age
+/// asked for, and of its uncertain age at the median.
+fn marked(r: &RockResult) -> Vec<(f64, f64, bool)> {
+    let mut p: Vec<(f64, f64, bool)> = r
+        .ages
+        .iter()
+        .map(|a| (a.age_years, a.survival_probability, false))
+        .collect();
+    if let Some(d) = &r.age_distribution {
+        p.push((d.median_age_years, d.survival_probability, true));
     }
-    let points = |r: &RockResult| -> Vec<(f64, f64, bool)> {
-        let mut p: Vec<(f64, f64, bool)> = r
-            .ages
-            .iter()
-            .map(|a| (a.age_years, a.survival_probability, false))
-            .collect();
-        if let Some(d) = &r.age_distribution {
-            p.push((d.median_age_years, d.survival_probability, true));
-        }
-        p
-    };
-    // The age axis: two decades around the rocks' mean return periods and ages.
+    p
+}
+
+/// The age axis: two decades around the rocks' mean return periods and
+/// ages, years.
+fn age_range(rocks: &[RockResult]) -> (f64, f64) {
     let mut ts: Vec<f64> = rocks
         .iter()
-        .flat_map(|r| points(r).into_iter().map(|p| p.0))
+        .flat_map(|r| marked(r).into_iter().map(|p| p.0))
         .chain(
             rocks
                 .iter()
@@ -215,11 +215,15 @@ pub fn svg(result: &SurvivalResult) -> Result<String, String> {
         .filter(|t| t.is_finite() && *t > 0.0)
         .collect();
     ts.sort_by(f64::total_cmp);
-    let (lo, hi) = match (ts.first(), ts.last()) {
+    match (ts.first(), ts.last()) {
         (Some(&a), Some(&b)) => (a / 10.0, b * 10.0),
         _ => (1.0, 1e6),
-    };
-    let curves: Vec<Vec<(f64, f64)>> = rocks
+    }
+}
+
+/// Each rock's survival curve exp(−λ_t T) over the ages `lo`–`hi`.
+fn curves(rocks: &[RockResult], (lo, hi): (f64, f64)) -> Vec<Vec<(f64, f64)>> {
+    rocks
         .iter()
         .map(|r| {
             let l = r.annual_toppling_rate;
@@ -230,8 +234,13 @@ pub fn svg(result: &SurvivalResult) -> Result<String, String> {
                 })
                 .collect()
         })
-        .collect();
+        .collect()
+}
 
+/// The legend of a survival figure: each rock's rate, the marks of the
+/// ages, then the joint probability and the model.
+fn legend(result: &SurvivalResult) -> Legend {
+    let rocks = &result.rocks;
     let mut legend = Legend::default();
     for (k, r) in rocks.iter().enumerate() {
         let name = &r.name;
@@ -275,93 +284,131 @@ pub fn svg(result: &SurvivalResult) -> Result<String, String> {
         "hazard in {}, interpolated log-log",
         result.im.name()
     ));
+    legend
+}
 
+/// A mark of an age on the chart: (age, P_s, its label's lines).
+type AgeMark = (f64, f64, Vec<String>);
+
+/// Draws the chart of a survival figure in `area`: each rock's curve, its
+/// ages marked and labelled; returns how many labels were left out for
+/// room, of how many.
+fn draw_chart(
+    area: &Area,
+    rocks: &[RockResult],
+    curves: &[Vec<(f64, f64)>],
+    (lo, hi): (f64, f64),
+) -> Result<(usize, usize), Box<dyn std::error::Error>> {
+    let mut chart =
+        chart_on(area).build_cartesian_2d(axis_range("x", lo, hi)?.log_scale(), 0.0..1.0)?;
+    mesh(&mut chart, "age T (years)", "P(still standing)").draw()?;
+    for (k, c) in curves.iter().enumerate() {
+        chart.draw_series(LineSeries::new(c.clone(), colour(k).stroke_width(3)))?;
+    }
+    for (k, r) in rocks.iter().enumerate() {
+        chart.draw_series(marked(r).into_iter().map(|(t, p, uncertain)| {
+            marker(
+                (t, p),
+                if uncertain {
+                    Marker::Square
+                } else {
+                    Marker::Dot
+                },
+                6,
+                colour(k),
+            )
+        }))?;
+    }
+    // Every mark labelled, left to right, placed among the others.
+    let several = rocks.len() > 1;
+    let mut marks: Vec<AgeMark> = rocks
+        .iter()
+        .flat_map(|r| {
+            let name = several.then_some(r.name.as_str());
+            marked(r)
+                .into_iter()
+                .map(move |(t, p, uncertain)| (t, p, age_label(name, t, p, uncertain)))
+        })
+        .filter(|(t, p, _)| *t >= lo && *t <= hi && p.is_finite())
+        .collect();
+    marks.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
+    let anchors: Vec<(i32, i32)> = marks
+        .iter()
+        .map(|(t, p, _)| chart.backend_coord(&(*t, *p)))
+        .collect();
+    let sizes: Vec<(i32, i32)> = marks.iter().map(|m| label_size(&m.2)).collect();
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    let bounds = (xs.start, ys.start, xs.end, ys.end);
+    let clear: Vec<(i32, i32)> = curves
+        .iter()
+        .flat_map(|c| {
+            let px: Vec<(i32, i32)> = c.iter().map(|q| chart.backend_coord(q)).collect();
+            dense(&px)
+        })
+        .collect();
+    let places = place_labels(&anchors, &sizes, bounds, &clear);
+    for ((mark, at), place) in marks.iter().zip(&anchors).zip(&places) {
+        if let Some(place) = place {
+            draw_label(&mut chart, mark, *at, place)?;
+        }
+    }
+    let left_out = places.iter().filter(|p| p.is_none()).count();
+    Ok((left_out, places.len()))
+}
+
+/// Draws the label of `mark` (at `at`, px) where it was placed: beside it,
+/// or stacked away with a leader line to it.
+fn draw_label<X: Ranged<ValueType = f64>>(
+    chart: &mut ChartContext<'_, SVGBackend<'_>, Cartesian2d<X, RangedCoordf64>>,
+    mark: &AgeMark,
+    at: (i32, i32),
+    place: &Placed,
+) -> Drawn {
+    let (l, t, r, _) = place.area;
+    let offset = |q: (i32, i32)| (q.0 - at.0, q.1 - at.1);
+    // Left of its mark the text ends at the box's right edge, so
+    // that it stands by the mark (or its leader) whatever its width.
+    let (text_at, style) = if r <= at.0 {
+        (offset((r - PAD, t + PAD)), right_top(LABEL, INK))
+    } else {
+        (offset((l + PAD, t + PAD)), left_top(LABEL, INK))
+    };
+    let lead = if place.led {
+        vec![(0, 0), offset(nearest(place.area, at))]
+    } else {
+        Vec::new()
+    };
+    chart.draw_series(std::iter::once(
+        EmptyElement::at((mark.0, mark.1)) + PathElement::new(lead, MUTED.stroke_width(1)),
+    ))?;
+    chart.draw_series(mark.2.iter().enumerate().map(|(k, line)| {
+        let at = (text_at.0, text_at.1 + k as i32 * LINE);
+        EmptyElement::at((mark.0, mark.1)) + Text::new(line.clone(), at, style.clone())
+    }))?;
+    Ok(())
+}
+
+/// The figure of a `survival` result.
+pub fn svg(result: &SurvivalResult) -> Result<String, String> {
+    let rocks = &result.rocks;
+    if rocks.is_empty() {
+        return Err("the result has no rocks".into());
+    }
+    let range = age_range(rocks);
+    let curves = curves(rocks, range);
+    let legend = legend(result);
     let height = HEIGHT.max(TITLE_AREA + legend_height(&legend, LEGEND_WIDTH, 1) + LATE_NOTE);
     render(
         (WIDTH, height),
         "Survival under the hazard model",
         |area| -> Drawn {
             let (chart_area, side) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
-            let mut chart = chart_on(&chart_area)
-                .build_cartesian_2d(axis_range("x", lo, hi)?.log_scale(), 0.0..1.0)?;
-            mesh(&mut chart, "age T (years)", "P(still standing)").draw()?;
-            for (k, c) in curves.iter().enumerate() {
-                chart.draw_series(LineSeries::new(c.clone(), colour(k).stroke_width(3)))?;
-            }
-            for (k, r) in rocks.iter().enumerate() {
-                chart.draw_series(points(r).into_iter().map(|(t, p, uncertain)| {
-                    marker(
-                        (t, p),
-                        if uncertain {
-                            Marker::Square
-                        } else {
-                            Marker::Dot
-                        },
-                        6,
-                        colour(k),
-                    )
-                }))?;
-            }
-            // Every mark labelled, left to right, placed among the others.
-            let several = rocks.len() > 1;
-            let mut marks: Vec<(f64, f64, Vec<String>)> = rocks
-                .iter()
-                .flat_map(|r| {
-                    let name = several.then_some(r.name.as_str());
-                    points(r)
-                        .into_iter()
-                        .map(move |(t, p, uncertain)| (t, p, age_label(name, t, p, uncertain)))
-                })
-                .filter(|(t, p, _)| *t >= lo && *t <= hi && p.is_finite())
-                .collect();
-            marks.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
-            let anchors: Vec<(i32, i32)> = marks
-                .iter()
-                .map(|(t, p, _)| chart.backend_coord(&(*t, *p)))
-                .collect();
-            let sizes: Vec<(i32, i32)> = marks.iter().map(|m| label_size(&m.2)).collect();
-            let (xs, ys) = chart.plotting_area().get_pixel_range();
-            let bounds = (xs.start, ys.start, xs.end, ys.end);
-            let clear: Vec<(i32, i32)> = curves
-                .iter()
-                .flat_map(|c| {
-                    let px: Vec<(i32, i32)> = c.iter().map(|q| chart.backend_coord(q)).collect();
-                    dense(&px)
-                })
-                .collect();
-            let places = place_labels(&anchors, &sizes, bounds, &clear);
+            let (left_out, labels) = draw_chart(&chart_area, rocks, &curves, range)?;
             let mut legend = legend.clone();
-            let left_out = places.iter().filter(|p| p.is_none()).count();
             if left_out > 0 {
                 legend.note(format!(
-                    "{left_out} of {} ages' labels left out for room (their marks stand)",
-                    places.len()
+                    "{left_out} of {labels} ages' labels left out for room (their marks stand)"
                 ));
-            }
-            for ((mark, at), place) in marks.iter().zip(&anchors).zip(&places) {
-                let Some(place) = place else { continue };
-                let (l, t, r, _) = place.area;
-                let offset = |q: (i32, i32)| (q.0 - at.0, q.1 - at.1);
-                // Left of its mark the text ends at the box's right edge, so
-                // that it stands by the mark (or its leader) whatever its width.
-                let (text_at, style) = if r <= at.0 {
-                    (offset((r - PAD, t + PAD)), right_top(LABEL, INK))
-                } else {
-                    (offset((l + PAD, t + PAD)), left_top(LABEL, INK))
-                };
-                let lead = if place.led {
-                    vec![(0, 0), offset(nearest(place.area, *at))]
-                } else {
-                    Vec::new()
-                };
-                chart.draw_series(std::iter::once(
-                    EmptyElement::at((mark.0, mark.1))
-                        + PathElement::new(lead, MUTED.stroke_width(1)),
-                ))?;
-                chart.draw_series(mark.2.iter().enumerate().map(|(k, line)| {
-                    let at = (text_at.0, text_at.1 + k as i32 * LINE);
-                    EmptyElement::at((mark.0, mark.1)) + Text::new(line.clone(), at, style.clone())
-                }))?;
             }
             draw_legend(&side, &legend)
         },

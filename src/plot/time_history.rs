@@ -30,7 +30,7 @@ use super::window::Window;
 use super::{block_text, render, shape_title};
 use crate::dynamics::Formulation;
 use crate::jobs::contact::{ContactNorm, ModeDoc};
-use crate::kinds::time_history::TimeHistoryResult;
+use crate::kinds::time_history::{SeriesDoc, TimeHistoryJob, TimeHistoryResult};
 
 const WIDTH: u32 = 1120;
 const TITLE_AREA: u32 = 44;
@@ -273,52 +273,143 @@ fn broken_at(line: &[(f64, f64)], times: &[f64]) -> Vec<(f64, f64)> {
     out
 }
 
-/// The figure of a `time_history` result, over `window` or, without one,
-/// the whole history (with a zoomed column for a short pulse).
-pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String, String> {
-    let spec = &result.spec;
-    let alpha = spec.block.alpha;
-    let p = spec.block.p;
-    let g = spec.block.g;
-    let mu = spec.block.mu;
-    let linear = spec.formulation == Formulation::Linear;
-    let motion = Motion::of(spec);
-    let vertical = Vertical::of(spec);
-    let series = result.series.as_ref();
-    let t: &[f64] = series.map_or(&[], |s| &s.t);
-    let simulated = Some(result.end_time)
-        .filter(|t| *t > 0.0 && t.is_finite())
-        .unwrap_or(1.0);
-    // Under a record the axis runs to its end, however early the block
-    // stopped: the record did not end there.
-    let record_end = match (&motion, &vertical) {
-        (Some(m @ Motion::Record { .. }), Some(v)) => Some(m.duration().max(v.end(m))),
-        (Some(m @ Motion::Record { .. }), None) => Some(m.duration()),
-        _ => None,
-    };
-    let t_end = record_end.map_or(simulated, |r| r.max(simulated));
-    // The block at rest for good from then on (not after overturning).
-    let at_rest_from = result.rest_time.filter(|_| !result.overturned);
-    let impacts: Vec<(f64, f64, f64)> = result
-        .impacts
-        .iter()
-        .flatten()
-        .map(|i| (i.t, i.theta_dot_before, i.theta_dot_after))
-        .collect();
-    let impact_times: Vec<f64> = impacts.iter().map(|i| i.0).collect();
+/// What the figure reads of a time history beside its curves: the block,
+/// the ground motion, how long the history runs, its impacts and modes.
+struct History<'a> {
+    result: &'a TimeHistoryResult,
+    spec: &'a TimeHistoryJob,
+    alpha: f64,
+    p: f64,
+    g: f64,
+    mu: Option<f64>,
+    linear: bool,
+    motion: Option<Motion>,
+    vertical: Option<Vertical>,
+    series: Option<&'a SeriesDoc>,
+    /// The series' times (none without a series), s.
+    t: &'a [f64],
+    /// The end of the history simulated (1 s when it has none).
+    simulated: f64,
+    /// Under a record, its end (or its vertical's, if later), s.
+    record_end: Option<f64>,
+    /// The end of the time axis, s.
+    t_end: f64,
+    /// The block at rest for good from then on (not after overturning).
+    at_rest_from: Option<f64>,
+    /// (t, θ̇ before, θ̇ after) of each impact listed.
+    impacts: Vec<(f64, f64, f64)>,
+    /// The times of the impacts listed, s.
+    impact_times: Vec<f64>,
+    /// Ground acceleration reaches the rocking threshold at g tan α (α g
+    /// linearised), in g.
+    threshold: f64,
+    /// On a Coulomb floor with μ < tan α a block at rest starts to slide at
+    /// μ g, before it could rock (without a vertical motion).
+    sliding_level: Option<f64>,
+    /// The modes of a block on a Coulomb floor (none elsewhere).
+    modes: &'a [ModeDoc],
+    /// The base's slip at each change of mode.
+    slip: Vec<(f64, f64)>,
+    /// Under a record, its peak |ü_g|, m/s².
+    record_peak: Option<f64>,
+}
 
-    // The spans drawn, one column each.
-    let zoom = match (window, &motion) {
+impl<'a> History<'a> {
+    fn of(result: &'a TimeHistoryResult) -> History<'a> {
+        let spec = &result.spec;
+        let alpha = spec.block.alpha;
+        let linear = spec.formulation == Formulation::Linear;
+        let motion = Motion::of(spec);
+        let vertical = Vertical::of(spec);
+        let series = result.series.as_ref();
+        let simulated = Some(result.end_time)
+            .filter(|t| *t > 0.0 && t.is_finite())
+            .unwrap_or(1.0);
+        // Under a record the axis runs to its end, however early the block
+        // stopped: the record did not end there.
+        let record_end = match (&motion, &vertical) {
+            (Some(m @ Motion::Record { .. }), Some(v)) => Some(m.duration().max(v.end(m))),
+            (Some(m @ Motion::Record { .. }), None) => Some(m.duration()),
+            _ => None,
+        };
+        let impacts: Vec<(f64, f64, f64)> = result
+            .impacts
+            .iter()
+            .flatten()
+            .map(|i| (i.t, i.theta_dot_before, i.theta_dot_after))
+            .collect();
+        let sliding_level = spec
+            .contact
+            .as_ref()
+            .map(|c| c.mu)
+            .filter(|m| vertical.is_none() && *m < alpha.tan());
+        let modes: &[ModeDoc] = result.modes.as_deref().unwrap_or(&[]);
+        let record_peak = match &motion {
+            Some(m @ Motion::Record { .. }) => Some(m.peak()),
+            _ => None,
+        };
+        History {
+            result,
+            spec,
+            alpha,
+            p: spec.block.p,
+            g: spec.block.g,
+            mu: spec.block.mu,
+            linear,
+            series,
+            t: series.map_or(&[], |s| &s.t),
+            simulated,
+            record_end,
+            t_end: record_end.map_or(simulated, |r| r.max(simulated)),
+            at_rest_from: result.rest_time.filter(|_| !result.overturned),
+            impact_times: impacts.iter().map(|i| i.0).collect(),
+            impacts,
+            threshold: if linear { alpha } else { alpha.tan() },
+            sliding_level,
+            modes,
+            slip: slip_at_changes(modes),
+            record_peak,
+            motion,
+            vertical,
+        }
+    }
+
+    /// The series `v` against its times, divided by `scale`.
+    fn sampled(&self, v: &[f64], scale: f64) -> Vec<(f64, f64)> {
+        self.t.iter().zip(v).map(|(&t, v)| (t, v / scale)).collect()
+    }
+
+    /// The levels of the ground acceleration's panel: ± the rocking
+    /// threshold and, where the block slides first, ± μ.
+    fn ground_refs(&self) -> Vec<f64> {
+        let mut refs = vec![self.threshold, -self.threshold];
+        refs.extend(self.sliding_level.iter().flat_map(|m| [*m, -*m]));
+        refs
+    }
+}
+
+/// The end of the zoomed column, if the figure has one: the block's
+/// response under a record, the pulse and its first impacts under a pulse
+/// (none over a window).
+fn zoom(h: &History, window: Option<Window>) -> Option<f64> {
+    match (window, &h.motion) {
         (Some(_), _) | (None, None) => None,
-        (None, Some(Motion::Record { .. })) => response_end(simulated, t_end),
-        (None, Some(m)) => zoom_end(m.duration(), &impact_times, t_end),
-    };
-    let (zoom_heading, whole_heading) = if record_end.is_some() {
+        (None, Some(Motion::Record { .. })) => response_end(h.simulated, h.t_end),
+        (None, Some(m)) => zoom_end(m.duration(), &h.impact_times, h.t_end),
+    }
+}
+
+/// The spans drawn, one column each, with their headings: the window, or
+/// the zoomed span and the whole history, or the whole history alone
+/// (without a heading).
+fn spans(h: &History, window: Option<Window>, zoom: Option<f64>) -> Vec<(Span, String)> {
+    let t_end = h.t_end;
+    let (zoom_heading, whole_heading) = if h.record_end.is_some() {
         ("the block's response", "the whole record")
     } else {
         ("the pulse and first impacts", "the whole history")
     };
-    let spans: Vec<(Span, String)> = match (window, zoom) {
+    match (window, zoom) {
         (Some(w), _) => vec![(
             Span {
                 t0: w.start(),
@@ -358,74 +449,88 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             },
             String::new(),
         )],
-    };
-    let (from, to) = spans
-        .iter()
-        .fold((0.0f64, t_end), |(a, b), (s, _)| (a.min(s.t0), b.max(s.t1)));
+    }
+}
 
-    // Ground acceleration reaches the rocking threshold at g tan α (α g linearised).
-    let threshold = if linear { alpha } else { alpha.tan() };
-    // On a Coulomb floor with μ < tan α a block at rest starts to slide at
-    // μ g, before it could rock (without a vertical motion).
-    let sliding_level = spec
-        .contact
-        .as_ref()
-        .map(|c| c.mu)
-        .filter(|m| vertical.is_none() && *m < alpha.tan());
-    let mut ground_refs = vec![threshold, -threshold];
-    ground_refs.extend(sliding_level.iter().flat_map(|m| [*m, -*m]));
-    let modes: &[ModeDoc] = result.modes.as_deref().unwrap_or(&[]);
-    let slip = slip_at_changes(modes);
-    let ground_from_motion = motion.as_ref().map(|m| m.curve(from, to, g));
-    // ü_v/g from the spec (as ü_g), else from the series.
-    let vertical_from_motion = match (&motion, &vertical) {
-        (Some(m), Some(v)) => Some(v.curve(m, from, to, g)),
-        _ => None,
-    };
-    let vertical_panel = |line: Vec<(f64, f64)>, label: &str| {
-        // ü_v = −g, where the ground falls away and the block leaves it,
-        // is shown once the ground falls at half that.
-        let falls = line.iter().any(|p| p.1 <= -FALLING);
-        Panel {
-            desc: VERTICAL_DESC.into(),
-            label: format!("vertical ground acceleration ü_v/g, positive up{label}"),
-            colour: VERTICAL,
-            line,
-            dashed: false,
-            points: Vec::new(),
-            scale: Scale::Symmetric {
-                floor: if falls { 1.1 } else { 0.1 },
+/// The ground's accelerations from the spec's motion over the time drawn,
+/// in g: none without a motion, the vertical one only under a vertical
+/// motion.
+struct GroundCurves {
+    horizontal: Option<Vec<(f64, f64)>>,
+    vertical: Option<Vec<(f64, f64)>>,
+}
+
+impl GroundCurves {
+    fn of(h: &History, from: f64, to: f64) -> GroundCurves {
+        GroundCurves {
+            horizontal: h.motion.as_ref().map(|m| m.curve(from, to, h.g)),
+            // ü_v/g from the spec (as ü_g), else from the series.
+            vertical: match (&h.motion, &h.vertical) {
+                (Some(m), Some(v)) => Some(v.curve(m, from, to, h.g)),
+                _ => None,
             },
-            refs: if falls { vec![-1.0] } else { Vec::new() },
-            impacts: false,
-            end: None,
+        }
+    }
+}
+
+/// The panels of the figure, with what its legend says of them.
+struct Panels {
+    list: Vec<Panel>,
+    /// The largest |f_x/f_z| when its curve leaves the panel.
+    clipped_ratio: Option<f64>,
+    /// Where the f_x/f_z curve stops on purpose.
+    ratio_end: Option<End>,
+}
+
+/// The panels of the figure over the time drawn (to `to`): those of the
+/// series, or without one those of the ground motion and the impacts; then
+/// the base's slip on a Coulomb floor.
+fn panels(h: &History, to: f64, curves: GroundCurves) -> Result<Panels, String> {
+    let mut panels = match h.series.filter(|_| !h.t.is_empty()) {
+        Some(s) => series_panels(h, s, curves, to),
+        None => {
+            let list = motion_panels(h, curves);
+            if list.is_empty() && h.slip.is_empty() {
+                return Err(format!(
+                    "nothing to draw: {NO_SERIES} (the result has no impacts and its spec no ground motion)"
+                ));
+            }
+            Panels {
+                list,
+                clipped_ratio: None,
+                ratio_end: None,
+            }
         }
     };
-    // The base's slip at each sample, where the series has it (on a
-    // Coulomb floor): kept still to the end of what is drawn once the block
-    // is at rest for good.
-    let slip_line: Vec<(f64, f64)> = series
-        .and_then(|s| s.slide_m.as_deref())
-        .map(|slide| {
-            let line: Vec<(f64, f64)> = t.iter().copied().zip(slide.iter().copied()).collect();
-            match (at_rest_from, line.last()) {
-                (Some(tr), Some(&(_, last))) => continued(line, &[(tr, last), (to, last)]),
-                _ => line,
-            }
-        })
-        .unwrap_or_default();
-    let mut panels = Vec::new();
-    let mut clipped_ratio = None;
-    let mut ratio_end = None;
-    if let Some(s) = series.filter(|_| !t.is_empty()) {
-        let zip = |v: &[f64], scale: f64| -> Vec<(f64, f64)> {
-            t.iter().zip(v).map(|(&t, v)| (t, v / scale)).collect()
-        };
+    panels.list.extend(slip_panel(h, slip_line(h, to)));
+    Ok(panels)
+}
+
+/// The series' curves in the panels' units; once the block is at rest for
+/// good, held still to the end of what is drawn (`to`).
+struct Sampled {
+    /// ü_g/g, from the spec's motion where it has one.
+    ground: Vec<(f64, f64)>,
+    /// θ/α.
+    theta: Vec<(f64, f64)>,
+    /// θ̇/p.
+    theta_dot: Vec<(f64, f64)>,
+    /// f_x/f_z, NaN where f_z ≤ 0.
+    ratio: Vec<(f64, f64)>,
+}
+
+impl Sampled {
+    fn of(
+        h: &History,
+        s: &SeriesDoc,
+        ground_from_motion: Option<&Vec<(f64, f64)>>,
+        to: f64,
+    ) -> Sampled {
         let ground = ground_from_motion
-            .clone()
-            .unwrap_or_else(|| zip(&s.ground_acceleration, g));
-        let mut theta = zip(&s.theta, alpha);
-        let mut theta_dot = zip(&s.theta_dot, p);
+            .cloned()
+            .unwrap_or_else(|| h.sampled(&s.ground_acceleration, h.g));
+        let mut theta = h.sampled(&s.theta, h.alpha);
+        let mut theta_dot = h.sampled(&s.theta_dot, h.p);
         // Null where f_z ≤ 0: NaN, so that the line stops there.
         let fx_over_fz: Vec<f64> = s
             .fx_over_fz
@@ -433,209 +538,312 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             .flatten()
             .map(|v| v.unwrap_or(f64::NAN))
             .collect();
-        let mut ratio = zip(&fx_over_fz, 1.0);
+        let mut ratio = h.sampled(&fx_over_fz, 1.0);
         // At rest for good the block stays still to the end of what is
         // drawn, its friction demand f_x/f_z = ü_g/g (the series' own at rest).
-        if let Some(tr) = at_rest_from {
+        if let Some(tr) = h.at_rest_from {
             let still = [(tr, 0.0), (to, 0.0)];
             theta = continued(theta, &still);
             theta_dot = continued(theta_dot, &still);
             if !ratio.is_empty() {
-                let demand = ground_from_motion
-                    .as_ref()
-                    .map_or(still.to_vec(), |g| crop(g, tr, to));
+                let demand = ground_from_motion.map_or(still.to_vec(), |g| crop(g, tr, to));
                 ratio = continued(ratio, &demand);
             }
         }
-        if !ground.is_empty() {
-            panels.push(Panel {
-                desc: "ü_g / g".into(),
-                label: "ground acceleration ü_g/g".into(),
-                colour: GROUND,
-                line: ground,
-                dashed: false,
-                points: Vec::new(),
-                scale: Scale::Symmetric {
-                    floor: threshold * 1.3,
-                },
-                refs: ground_refs.clone(),
-                impacts: false,
-                end: None,
-            });
-        }
-        let vertical_line = vertical_from_motion
-            .clone()
-            .or_else(|| s.ground_vertical_acceleration.as_deref().map(|v| zip(v, g)));
-        if let Some(line) = vertical_line.filter(|l| !l.is_empty()) {
-            panels.push(vertical_panel(line, ""));
-        }
-        panels.push(Panel {
-            desc: "θ / α".into(),
-            label: format!("rotation θ/α (α = {} rad)", fmt_num(alpha, 3)),
-            colour: THETA,
-            line: theta,
-            dashed: false,
-            points: Vec::new(),
-            scale: Scale::Symmetric { floor: 1.25 },
-            refs: vec![1.0, -1.0],
-            impacts: true,
-            end: None,
-        });
-        if !theta_dot.is_empty() {
-            panels.push(Panel {
-                desc: "θ̇ / p".into(),
-                label: format!("angular velocity θ̇/p (p = {} rad/s)", fmt_num(p, 3)),
-                colour: RGBColor(0, 120, 120),
-                line: theta_dot,
-                dashed: false,
-                points: Vec::new(),
-                scale: Scale::Symmetric { floor: 0.1 },
-                refs: Vec::new(),
-                impacts: false,
-                end: None,
-            });
-        }
-        if !ratio.is_empty() {
-            let (line, end) = friction_demand(&ratio, result);
-            let line = broken_at(&line, &impact_times);
-            // Close to lift-off f_z is small and the demand large: the range
-            // follows the peak demand while rocking, or, when the block lifts
-            // off, twice the demand when rocking starts.
-            let largest = line
-                .iter()
-                .map(|q| q.1.abs())
-                .filter(|v| v.is_finite())
-                .fold(0.0, f64::max);
-            let scale = result
-                .peak_friction_demand
-                .or_else(|| {
-                    result
-                        .lift_off_time
-                        .and(result.initiation_friction_demand)
-                        .map(|d| 2.0 * d)
-                })
-                .unwrap_or(largest)
-                .max(threshold.max(mu.unwrap_or(0.0)));
-            let (floor, cap) = (alpha.tan() * 1.3, scale * 1.3);
-            if largest * 1.12 > cap.max(floor) {
-                clipped_ratio = Some(largest);
-            }
-            let mut refs = vec![alpha.tan(), -alpha.tan()];
-            refs.extend(mu.iter().flat_map(|m| [*m, -*m]));
-            ratio_end.clone_from(&end);
-            panels.push(Panel {
-                desc: "f_x / f_z".into(),
-                label: "friction demand f_x/f_z".into(),
-                colour: RATIO,
-                line,
-                dashed: false,
-                points: Vec::new(),
-                scale: Scale::Capped { floor, cap },
-                refs,
-                impacts: false,
-                end,
-            });
-        }
-    } else {
-        if let (Some(motion), Some(ground)) = (&motion, ground_from_motion) {
-            panels.push(Panel {
-                desc: "ü_g / g".into(),
-                label: match motion {
-                    Motion::Pulse(_) => "ground acceleration ü_g/g (from the pulse)".into(),
-                    Motion::Record { .. } => "ground acceleration ü_g/g (the record)".into(),
-                },
-                colour: GROUND,
-                line: ground,
-                dashed: false,
-                points: Vec::new(),
-                scale: Scale::Symmetric {
-                    floor: threshold * 1.3,
-                },
-                refs: ground_refs.clone(),
-                impacts: false,
-                end: None,
-            });
-        }
-        if let (Some(motion), Some(line)) = (&motion, vertical_from_motion) {
-            panels.push(vertical_panel(
-                line,
-                match motion {
-                    Motion::Pulse(_) => " (from the spec)",
-                    Motion::Record { .. } => " (the record)",
-                },
-            ));
-        }
-        if !impacts.is_empty() {
-            let mut points = Vec::new();
-            for &(t, before, after) in &impacts {
-                points.push(((t, before / p), Marker::Ring));
-                points.push(((t, after / p), Marker::Dot));
-            }
-            panels.push(Panel {
-                desc: "θ̇ / p at impacts".into(),
-                label: "θ̇/p before (○) and after (●) each impact".into(),
-                colour: RGBColor(0, 120, 120),
-                line: Vec::new(),
-                dashed: false,
-                points,
-                scale: Scale::Symmetric { floor: 0.05 },
-                refs: Vec::new(),
-                impacts: true,
-                end: None,
-            });
-        }
-        if panels.is_empty() && slip.is_empty() {
-            return Err(format!(
-                "nothing to draw: {NO_SERIES} (the result has no impacts and its spec no ground motion)"
-            ));
+        Sampled {
+            ground,
+            theta,
+            theta_dot,
+            ratio,
         }
     }
+}
 
+/// The panels of a history with a series: ü_g/g, ü_v/g under a vertical
+/// motion, θ/α, θ̇/p and f_x/f_z (those the series has).
+fn series_panels(h: &History, s: &SeriesDoc, curves: GroundCurves, to: f64) -> Panels {
+    let sampled = Sampled::of(h, s, curves.horizontal.as_ref(), to);
+    let mut list = Vec::new();
+    if !sampled.ground.is_empty() {
+        list.push(ground_panel(
+            h,
+            sampled.ground,
+            "ground acceleration ü_g/g".into(),
+        ));
+    }
+    let vertical_line = curves.vertical.or_else(|| {
+        s.ground_vertical_acceleration
+            .as_deref()
+            .map(|v| h.sampled(v, h.g))
+    });
+    if let Some(line) = vertical_line.filter(|l| !l.is_empty()) {
+        list.push(vertical_panel(line, ""));
+    }
+    list.push(Panel {
+        refs: vec![1.0, -1.0],
+        impacts: true,
+        ..Panel::curve(
+            "θ / α",
+            format!("rotation θ/α (α = {} rad)", fmt_num(h.alpha, 3)),
+            THETA,
+            sampled.theta,
+            Scale::Symmetric { floor: 1.25 },
+        )
+    });
+    if !sampled.theta_dot.is_empty() {
+        list.push(Panel::curve(
+            "θ̇ / p",
+            format!("angular velocity θ̇/p (p = {} rad/s)", fmt_num(h.p, 3)),
+            RGBColor(0, 120, 120),
+            sampled.theta_dot,
+            Scale::Symmetric { floor: 0.1 },
+        ));
+    }
+    let mut clipped_ratio = None;
+    let mut ratio_end = None;
+    if !sampled.ratio.is_empty() {
+        let (panel, clipped) = friction_panel(h, &sampled.ratio);
+        clipped_ratio = clipped;
+        ratio_end.clone_from(&panel.end);
+        list.push(panel);
+    }
+    Panels {
+        list,
+        clipped_ratio,
+        ratio_end,
+    }
+}
+
+/// The panel of the ground acceleration ü_g/g, labelled `label`.
+fn ground_panel(h: &History, line: Vec<(f64, f64)>, label: String) -> Panel {
+    Panel {
+        refs: h.ground_refs(),
+        ..Panel::curve(
+            "ü_g / g",
+            label,
+            GROUND,
+            line,
+            Scale::Symmetric {
+                floor: h.threshold * 1.3,
+            },
+        )
+    }
+}
+
+/// The panel of the vertical ground acceleration ü_v/g, its label ended by
+/// `label`.
+fn vertical_panel(line: Vec<(f64, f64)>, label: &str) -> Panel {
+    // ü_v = −g, where the ground falls away and the block leaves it,
+    // is shown once the ground falls at half that.
+    let falls = line.iter().any(|p| p.1 <= -FALLING);
+    Panel {
+        refs: if falls { vec![-1.0] } else { Vec::new() },
+        ..Panel::curve(
+            VERTICAL_DESC,
+            format!("vertical ground acceleration ü_v/g, positive up{label}"),
+            VERTICAL,
+            line,
+            Scale::Symmetric {
+                floor: if falls { 1.1 } else { 0.1 },
+            },
+        )
+    }
+}
+
+/// The panel of the friction demand f_x/f_z of the series (`ratio`), with
+/// the largest |f_x/f_z| when its curve leaves the panel.
+fn friction_panel(h: &History, ratio: &[(f64, f64)]) -> (Panel, Option<f64>) {
+    let result = h.result;
+    let alpha = h.alpha;
+    let (line, end) = friction_demand(ratio, result);
+    let line = broken_at(&line, &h.impact_times);
+    // Close to lift-off f_z is small and the demand large: the range
+    // follows the peak demand while rocking, or, when the block lifts
+    // off, twice the demand when rocking starts.
+    let largest = line
+        .iter()
+        .map(|q| q.1.abs())
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max);
+    let scale = result
+        .peak_friction_demand
+        .or_else(|| {
+            result
+                .lift_off_time
+                .and(result.initiation_friction_demand)
+                .map(|d| 2.0 * d)
+        })
+        .unwrap_or(largest)
+        .max(h.threshold.max(h.mu.unwrap_or(0.0)));
+    let (floor, cap) = (alpha.tan() * 1.3, scale * 1.3);
+    let clipped = (largest * 1.12 > cap.max(floor)).then_some(largest);
+    let mut refs = vec![alpha.tan(), -alpha.tan()];
+    refs.extend(h.mu.iter().flat_map(|m| [*m, -*m]));
+    let panel = Panel {
+        refs,
+        end,
+        ..Panel::curve(
+            "f_x / f_z",
+            "friction demand f_x/f_z",
+            RATIO,
+            line,
+            Scale::Capped { floor, cap },
+        )
+    };
+    (panel, clipped)
+}
+
+/// The panels of a history without a series: the ground's accelerations
+/// from the spec's motion, and θ̇/p before and after each impact.
+fn motion_panels(h: &History, curves: GroundCurves) -> Vec<Panel> {
+    let mut list = Vec::new();
+    if let (Some(motion), Some(ground)) = (&h.motion, curves.horizontal) {
+        let label = match motion {
+            Motion::Pulse(_) => "ground acceleration ü_g/g (from the pulse)",
+            Motion::Record { .. } => "ground acceleration ü_g/g (the record)",
+        };
+        list.push(ground_panel(h, ground, label.into()));
+    }
+    if let (Some(motion), Some(line)) = (&h.motion, curves.vertical) {
+        list.push(vertical_panel(
+            line,
+            match motion {
+                Motion::Pulse(_) => " (from the spec)",
+                Motion::Record { .. } => " (the record)",
+            },
+        ));
+    }
+    if !h.impacts.is_empty() {
+        let mut points = Vec::new();
+        for &(t, before, after) in &h.impacts {
+            points.push(((t, before / h.p), Marker::Ring));
+            points.push(((t, after / h.p), Marker::Dot));
+        }
+        list.push(Panel {
+            points,
+            impacts: true,
+            ..Panel::curve(
+                "θ̇ / p at impacts",
+                "θ̇/p before (○) and after (●) each impact",
+                RGBColor(0, 120, 120),
+                Vec::new(),
+                Scale::Symmetric { floor: 0.05 },
+            )
+        });
+    }
+    list
+}
+
+/// The base's slip at each sample, where the series has it (on a Coulomb
+/// floor): kept still to the end of what is drawn (`to`) once the block is
+/// at rest for good.
+fn slip_line(h: &History, to: f64) -> Vec<(f64, f64)> {
+    h.series
+        .and_then(|s| s.slide_m.as_deref())
+        .map(|slide| {
+            let line: Vec<(f64, f64)> = h.t.iter().copied().zip(slide.iter().copied()).collect();
+            match (h.at_rest_from, line.last()) {
+                (Some(tr), Some(&(_, last))) => continued(line, &[(tr, last), (to, last)]),
+                _ => line,
+            }
+        })
+        .unwrap_or_default()
+}
+
+/// The panel of the base's slip on a Coulomb floor: the `slip_line` of the
+/// series marked at each change of mode, or without one the slip at the
+/// changes only, joined by a dashed line; none when the slip is unknown.
+fn slip_panel(h: &History, slip_line: Vec<(f64, f64)>) -> Option<Panel> {
+    let points = || h.slip.iter().map(|&q| (q, Marker::Dot)).collect();
+    let scale = Scale::Symmetric { floor: 0.01 };
     if !slip_line.is_empty() {
         // A marker between two stretches of one mode: the base slides the
         // other way from there.
-        let reversals = modes
+        let reversals = h
+            .modes
             .windows(2)
             .any(|w| w[0].mode == w[1].mode && w[0].direction != w[1].direction);
-        panels.push(Panel {
-            desc: SLIP_DESC.into(),
-            label: format!(
-                "slip of the base on the floor (m, + towards +x); ● at each change of mode{}",
-                if reversals {
-                    " or of the way it slides"
-                } else {
-                    ""
-                }
-            ),
-            colour: SLIP,
-            line: slip_line,
-            dashed: false,
-            points: slip.iter().map(|&q| (q, Marker::Dot)).collect(),
-            scale: Scale::Symmetric { floor: 0.01 },
-            refs: Vec::new(),
-            impacts: false,
-            end: None,
-        });
-    } else if !slip.is_empty() {
-        panels.push(Panel {
-            desc: SLIP_DESC.into(),
-            label: "slip at mode changes (m, + towards +x): the base's slip on the floor, known at the markers only; the dashed line joins them".into(),
-            colour: SLIP,
-            line: slip.clone(),
+        let label = format!(
+            "slip of the base on the floor (m, + towards +x); ● at each change of mode{}",
+            if reversals {
+                " or of the way it slides"
+            } else {
+                ""
+            }
+        );
+        Some(Panel {
+            points: points(),
+            ..Panel::curve(SLIP_DESC, label, SLIP, slip_line, scale)
+        })
+    } else if !h.slip.is_empty() {
+        Some(Panel {
             dashed: true,
-            points: slip.iter().map(|&q| (q, Marker::Dot)).collect(),
-            scale: Scale::Symmetric { floor: 0.01 },
-            refs: Vec::new(),
-            impacts: false,
-            end: None,
-        });
+            points: points(),
+            ..Panel::curve(
+                SLIP_DESC,
+                "slip at mode changes (m, + towards +x): the base's slip on the floor, known at the markers only; the dashed line joins them",
+                SLIP,
+                h.slip.clone(),
+                scale,
+            )
+        })
+    } else {
+        None
     }
+}
 
-    let overturned = result.overturned;
-    let mode = result.mode.unwrap_or(1);
-    let mut marks = Vec::new();
+/// The legend of the figure and the lines marked across its panels.
+fn legend(h: &History, zoom: Option<f64>, panels: &Panels) -> (Legend, Vec<Mark>) {
     let mut legend = Legend::default();
-    match &motion {
+    motion_entries(&mut legend, h, zoom);
+    mode_entries(&mut legend, h.modes);
+    panel_entries(&mut legend, &panels.list);
+    if let Some(end) = &panels.ratio_end {
+        legend.entry(
+            Swatch::Mark(Marker::Ring, RATIO),
+            match end.label.as_str() {
+                "bound to overturn" => format!(
+                    "f_x/f_z stops at t = {} s: the block is bound to overturn (its fall is not counted)",
+                    fmt_num(end.t, 4)
+                ),
+                _ => format!(
+                    "f_x/f_z stops at t = {} s: lift-off, f_z = 0 (the demand is unbounded)",
+                    fmt_num(end.t, 4)
+                ),
+            },
+        );
+    }
+    legend.entry(
+        Swatch::Dashed(MUTED, 1),
+        format!("levels: {}", levels(h, &panels.list).join("; ")),
+    );
+    if !h.impacts.is_empty() {
+        legend.entry(
+            Swatch::Mark(Marker::Tick, INK),
+            format!("impact ({} listed)", h.impacts.len()),
+        );
+    }
+    let marks = ending(&mut legend, h);
+    legend.note(block_text(&h.spec.block));
+    motion_notes(&mut legend, h);
+    legend.note(format!(
+        "{} formulation, solver {}",
+        h.spec.formulation.name(),
+        h.spec.solver.method.name()
+    ));
+    if let Some(contact) = &h.spec.contact {
+        for note in coulomb_notes(h.result, contact) {
+            legend.note(note);
+        }
+    }
+    outcome_notes(&mut legend, h, panels.clipped_ratio);
+    (legend, marks)
+}
+
+/// The legend's entries of the ground motion shaded and of the span drawn
+/// larger at left (ending at `zoom`).
+fn motion_entries(legend: &mut Legend, h: &History, zoom: Option<f64>) {
+    match &h.motion {
         Some(m @ Motion::Pulse(_)) => legend.entry(
             Swatch::Fill(PULSE),
             format!("pulse: 0 ≤ t ≤ {} s", fmt_num(m.duration(), 3)),
@@ -652,7 +860,11 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             format!("0–{} s, drawn larger at left", fmt_num(z, 3)),
         );
     }
-    // The modes that occur, each with its fill in the band.
+}
+
+/// The legend's entries of the modes that occur, each with its fill in the
+/// band along the time axis, in the order of [`MODES`].
+fn mode_entries(legend: &mut Legend, modes: &[ModeDoc]) {
     let mut occurring: Vec<&str> = Vec::new();
     for m in modes {
         if !occurring.contains(&m.mode.as_str()) {
@@ -665,7 +877,11 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         let swatch = fill.map_or(Swatch::Boxed(WHITE, MUTED), Swatch::Fill);
         legend.entry(swatch, format!("mode: {label}"));
     }
-    for panel in &panels {
+}
+
+/// The legend's entry of each panel: its curve, its markers or both.
+fn panel_entries(legend: &mut Legend, panels: &[Panel]) {
+    for panel in panels {
         let swatch = if panel.dashed {
             Swatch::DashedMark(panel.colour, Marker::Dot)
         } else if panel.line.is_empty() {
@@ -677,23 +893,12 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
         };
         legend.entry(swatch, panel.label.clone());
     }
-    if let Some(end) = &ratio_end {
-        legend.entry(
-            Swatch::Mark(Marker::Ring, RATIO),
-            match end.label.as_str() {
-                "bound to overturn" => format!(
-                    "f_x/f_z stops at t = {} s: the block is bound to overturn (its fall is not counted)",
-                    fmt_num(end.t, 4)
-                ),
-                _ => format!(
-                    "f_x/f_z stops at t = {} s: lift-off, f_z = 0 (the demand is unbounded)",
-                    fmt_num(end.t, 4)
-                ),
-            },
-        );
-    }
+}
+
+/// The reference levels the `panels` draw, as the legend names them.
+fn levels(h: &History, panels: &[Panel]) -> Vec<String> {
     let mut refs = vec!["θ = ±α".to_string()];
-    refs.push(if linear {
+    refs.push(if h.linear {
         "ü_g = ±αg (rocking starts)".to_string()
     } else {
         "ü_g = ±g\u{a0}tan\u{a0}α (rocking starts)".to_string()
@@ -704,7 +909,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
     {
         refs.push("ü_v = −g (the ground falls away)".into());
     }
-    if let Some(m) = sliding_level {
+    if let Some(m) = h.sliding_level {
         refs.push(format!(
             "ü_g = ±μg = ±{}\u{a0}g (sliding starts)",
             fmt_num(m, 3)
@@ -712,21 +917,22 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
     }
     if panels.iter().any(|p| p.desc == "f_x / f_z") {
         refs.push("f_x/f_z = ±tan\u{a0}α".into());
-        if let Some(m) = mu {
+        if let Some(m) = h.mu {
             refs.push(format!("±μ = {}", fmt_num(m, 3)));
         }
     }
-    legend.entry(
-        Swatch::Dashed(MUTED, 1),
-        format!("levels: {}", refs.join("; ")),
-    );
-    if !impacts.is_empty() {
-        legend.entry(
-            Swatch::Mark(Marker::Tick, INK),
-            format!("impact ({} listed)", impacts.len()),
-        );
-    }
-    if overturned && let Some(to) = result.overturn_time {
+    refs
+}
+
+/// How the history ends, in the legend and as lines across the panels:
+/// overturning or rest for good; and lift-off marked.
+fn ending(legend: &mut Legend, h: &History) -> Vec<Mark> {
+    let result = h.result;
+    let mode = result.mode.unwrap_or(1);
+    let mut marks = Vec::new();
+    if result.overturned
+        && let Some(to) = result.overturn_time
+    {
         let label = format!(
             "overturned, mode {mode} ({}), t = {} s",
             if mode == 2 {
@@ -742,11 +948,11 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             colour: mode_colour(mode),
             label: format!("overturns (mode {mode})"),
         });
-    } else if let Some(tr) = at_rest_from {
-        let until = if record_end.is_some_and(|r| r > tr) {
+    } else if let Some(tr) = h.at_rest_from {
+        let until = if h.record_end.is_some_and(|r| r > tr) {
             format!(
                 ", to the record's end at {} s (the ground stays below the rocking threshold)",
-                fmt_num(t_end, 4)
+                fmt_num(h.t_end, 4)
             )
         } else {
             String::new()
@@ -768,9 +974,14 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             label: "lift-off (f_z = 0)".into(),
         });
     }
+    marks
+}
 
-    legend.note(block_text(&spec.block));
-    if let Some(pulse) = &spec.pulse {
+/// The legend's notes on the ground motion: the pulse's amplitude and
+/// frequency, the record's samples and peak, the vertical motion.
+fn motion_notes(legend: &mut Legend, h: &History) {
+    let (alpha, p, g) = (h.alpha, h.p, h.g);
+    if let Some(pulse) = &h.spec.pulse {
         let (a, w) = (pulse.a_p, pulse.omega_p);
         legend.note(format!(
             "a_p = {} m/s² = {} g = {} αg",
@@ -785,60 +996,59 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             fmt_num(w / p, 4)
         ));
     }
-    let record_peak = match &motion {
-        Some(m @ Motion::Record { dt, acc }) => {
-            let peak = m.peak();
-            legend.note(format!(
-                "record: {} samples every {} s, peak |ü_g| = {} g = {} αg",
-                acc.len(),
-                fmt_num(*dt, 3),
-                fmt_num(peak / g, 3),
-                fmt_num(peak / (alpha * g), 3)
-            ));
-            Some(peak)
-        }
-        _ => None,
-    };
-    if let (Some(m), Some(v)) = (&motion, &vertical) {
-        let peak = v.peak(m);
-        legend.note(match (v, &spec.ground_motion) {
-            (Vertical::Ratio(r), _) => format!(
-                "vertical: ü_v = {} ü_g, peak |ü_v| = {} g",
-                fmt_num(*r, 4),
-                fmt_num(peak / g, 3)
-            ),
-            (Vertical::Own { motion: own, .. }, Some(_)) => format!(
-                "vertical record: {} samples, peak |ü_v| = {} g",
+    if let (Some(Motion::Record { dt, acc }), Some(peak)) = (&h.motion, h.record_peak) {
+        legend.note(format!(
+            "record: {} samples every {} s, peak |ü_g| = {} g = {} αg",
+            acc.len(),
+            fmt_num(*dt, 3),
+            fmt_num(peak / g, 3),
+            fmt_num(peak / (alpha * g), 3)
+        ));
+    }
+    if let (Some(m), Some(v)) = (&h.motion, &h.vertical) {
+        legend.note(vertical_note(h, m, v));
+    }
+}
+
+/// The legend's note on the vertical motion `v` beside the horizontal `m`:
+/// a ratio, a record or a pulse of its own, with its peak.
+fn vertical_note(h: &History, m: &Motion, v: &Vertical) -> String {
+    let g = h.g;
+    let peak = v.peak(m);
+    match (v, &h.spec.ground_motion) {
+        (Vertical::Ratio(r), _) => format!(
+            "vertical: ü_v = {} ü_g, peak |ü_v| = {} g",
+            fmt_num(*r, 4),
+            fmt_num(peak / g, 3)
+        ),
+        (Vertical::Own { motion: own, .. }, Some(_)) => format!(
+            "vertical record: {} samples, peak |ü_v| = {} g",
+            match own {
+                Motion::Record { acc, .. } => acc.len(),
+                Motion::Pulse(_) => 0,
+            },
+            fmt_num(peak / g, 3)
+        ),
+        (Vertical::Own { motion: own, delay }, None) => format!(
+            "vertical pulse: a_v = {} g, {} ≤ t ≤ {} s",
+            fmt_num(
                 match own {
-                    Motion::Record { acc, .. } => acc.len(),
-                    Motion::Pulse(_) => 0,
-                },
-                fmt_num(peak / g, 3)
+                    Motion::Pulse(p) => p.amplitude,
+                    Motion::Record { .. } => peak,
+                } / g,
+                4
             ),
-            (Vertical::Own { motion: own, delay }, None) => format!(
-                "vertical pulse: a_v = {} g, {} ≤ t ≤ {} s",
-                fmt_num(
-                    match own {
-                        Motion::Pulse(p) => p.amplitude,
-                        Motion::Record { .. } => peak,
-                    } / g,
-                    4
-                ),
-                fmt_num(*delay, 4),
-                fmt_num(delay + own.duration(), 4)
-            ),
-        });
+            fmt_num(*delay, 4),
+            fmt_num(delay + own.duration(), 4)
+        ),
     }
-    legend.note(format!(
-        "{} formulation, solver {}",
-        spec.formulation.name(),
-        spec.solver.method.name()
-    ));
-    if let Some(contact) = &spec.contact {
-        for note in coulomb_notes(result, contact) {
-            legend.note(note);
-        }
-    }
+}
+
+/// The legend's notes on the outcome: the impacts, the peaks of θ/α and
+/// f_x/f_z (and the largest f_x/f_z, `clipped_ratio`, when it leaves its
+/// panel), the warnings, and what a result without a series lacks.
+fn outcome_notes(legend: &mut Legend, h: &History, clipped_ratio: Option<f64>) {
+    let result = h.result;
     let n = result.impact_count;
     let summed = result.chatter_impacts_summed;
     let plural = if n == 1 { "" } else { "s" };
@@ -847,7 +1057,7 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
     } else {
         format!("{n} impact{plural}")
     });
-    if !overturned {
+    if !result.overturned {
         legend.note(format!(
             "peak |θ|/α = {}",
             fmt_num(result.peak_theta_over_alpha, 3)
@@ -869,15 +1079,21 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             None => format!("warning: {kind}"),
         });
     }
-    if series.is_none() {
-        legend.note(if spec.contact.is_some() {
+    if h.series.is_none() {
+        legend.note(if h.spec.contact.is_some() {
             NO_SERIES_COULOMB
         } else {
             NO_SERIES
         });
     }
+}
 
-    let title = match (&spec.pulse, record_peak) {
+/// The figure's title: the record's peak or the pulse's shape, amplitude
+/// and frequency, and the formulation.
+fn title(h: &History) -> String {
+    let (alpha, g) = (h.alpha, h.g);
+    let spec = h.spec;
+    match (&spec.pulse, h.record_peak) {
         (_, Some(peak)) => format!(
             "Rocking time history: recorded ground motion, peak {} αg ({})",
             fmt_num(peak / (alpha * g), 3),
@@ -887,16 +1103,22 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
             "Rocking time history: {} pulse, a_p = {} αg, ω_p/p = {} ({})",
             shape_title(pulse.shape),
             fmt_num(pulse.a_p / (alpha * g), 4),
-            fmt_num(pulse.omega_p / p, 4),
+            fmt_num(pulse.omega_p / h.p, 4),
             spec.formulation.name()
         ),
         _ => "Rocking time history".to_string(),
-    };
-    let shared = Shared {
-        motion_end: motion.as_ref().map(Motion::duration),
-        impacts: impact_times,
+    }
+}
+
+/// What every panel shares: the ground motion's end, the impacts, the
+/// `marks` and the band of modes.
+fn shared(h: History, marks: Vec<Mark>) -> Shared {
+    Shared {
+        motion_end: h.motion.as_ref().map(Motion::duration),
+        impacts: h.impact_times,
         marks,
-        bands: modes
+        bands: h
+            .modes
             .iter()
             .filter_map(|m| {
                 mode_band(&m.mode).0.map(|colour| Band {
@@ -906,7 +1128,23 @@ pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String,
                 })
             })
             .collect(),
-    };
+    }
+}
+
+/// The figure of a `time_history` result, over `window` or, without one,
+/// the whole history (with a zoomed column for a short pulse).
+pub fn svg(result: &TimeHistoryResult, window: Option<Window>) -> Result<String, String> {
+    let h = History::of(result);
+    let zoom = zoom(&h, window);
+    let spans = spans(&h, window, zoom);
+    let (from, to) = spans.iter().fold((0.0f64, h.t_end), |(a, b), (s, _)| {
+        (a.min(s.t0), b.max(s.t1))
+    });
+    let panels = panels(&h, to, GroundCurves::of(&h, from, to))?;
+    let (legend, marks) = legend(&h, zoom, &panels);
+    let title = title(&h);
+    let shared = shared(h, marks);
+    let panels = panels.list;
     let layout = Layout::new(panels.len(), !spans[0].1.is_empty(), &legend);
     render((WIDTH, layout.height), &title, |area| {
         draw(area, &layout, &panels, &spans, &shared, &legend)
@@ -996,8 +1234,8 @@ pub(crate) mod tests {
         GROUND, MODES, NO_SERIES_COULOMB, RATIO, SLIP, THETA, TimeHistoryResult, VERTICAL,
         mode_band, response_end, slip_at_changes, zoom_end,
     };
-    use crate::jobs::contact::ModeDoc;
     use crate::kinds::JobResult;
+    use crate::jobs::contact::ModeDoc;
     use crate::plot::style::{REST, fmt_num};
     use crate::plot::tests::{hex, shapes, x_extent};
     use crate::plot::time_panel::BAND_HEIGHT;

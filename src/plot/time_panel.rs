@@ -4,14 +4,13 @@
 //! lift-off marked, where a curve stops on purpose an open marker, and on a
 //! Coulomb floor the block's modes as a band along the time axis.
 
-use plotters::coord::types::RangedCoordf64;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::style::{
-    AXIS, Area, Drawn, INK, LEGEND, MUTED, Marker, PULSE, TICKS, axis_range, clip_y, left_top,
-    marker, right_top, text, text_width, tick,
+    AXIS, Area, Chart, Drawn, INK, LEGEND, MUTED, Marker, PULSE, TICKS, axis_range, clip_y,
+    left_top, marker, right_top, text, text_width, tick,
 };
 use super::survival::{Box4, overlap};
 
@@ -173,6 +172,30 @@ pub fn crop(points: &[(f64, f64)], t0: f64, t1: f64) -> Vec<(f64, f64)> {
 }
 
 impl Panel {
+    /// A solid curve `line` described `desc` and labelled `label`, its y
+    /// range chosen by `scale`: without markers, reference levels, impact
+    /// ticks or an end (a figure sets those it wants over this).
+    pub fn curve(
+        desc: impl Into<String>,
+        label: impl Into<String>,
+        colour: RGBColor,
+        line: Vec<(f64, f64)>,
+        scale: Scale,
+    ) -> Panel {
+        Panel {
+            desc: desc.into(),
+            label: label.into(),
+            colour,
+            line,
+            dashed: false,
+            points: Vec::new(),
+            scale,
+            refs: Vec::new(),
+            impacts: false,
+            end: None,
+        }
+    }
+
     /// The y range of this panel over `span`.
     pub fn range(&self, span: &Span) -> (f64, f64) {
         let shown = crop(&self.line, span.t0, span.t1)
@@ -278,9 +301,6 @@ pub fn draw_panel(area: &Area, panel: &Panel, span: &Span, shared: &Shared, plac
     draw_end(&mut chart, panel, span, (lo, hi), plot_width)?;
     Ok(())
 }
-
-/// A panel's chart: time against the panel's quantity.
-type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// Shades, over `span` of `chart` between `y` = [axis bottom, lowest value,
 /// top], the span a zoomed column shows, the time the ground moves and,

@@ -46,7 +46,34 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
     };
     let unit = unit(units, opts)?;
     let (npts, dt) = counts_and_step(counts, opts)?;
+    let acc = values(lines, unit, npts)?;
+    let warnings = npts
+        .filter(|&npts| npts != acc.len())
+        .map(|npts| npts_mismatch(npts, acc.len()))
+        .into_iter()
+        .collect();
+    // Line 2 names the event, station and component; line 1 is a title.
+    let name = [event, title]
+        .into_iter()
+        .map(|l| clip(l, MAX_NAME_CHARS))
+        .find(|l| !l.is_empty());
+    Ok(Parsed {
+        name,
+        unit,
+        dt,
+        acc,
+        warnings,
+        flat: true,
+    })
+}
 
+/// The accelerations of the value `lines` (after the header) in `unit`, in
+/// m/s², up to an END line (`npts`: the count line 4 states).
+fn values<'a>(
+    lines: impl Iterator<Item = (usize, &'a str)>,
+    unit: Unit,
+    npts: Option<usize>,
+) -> Result<Vec<f64>, ReadError> {
     let mut acc = Vec::with_capacity(npts.unwrap_or(0).min(MAX_RECORD_SAMPLES));
     let mut buffer = String::new();
     let mut ended_at = None;
@@ -101,36 +128,23 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
             }
         }
     }
+    Ok(acc)
+}
 
-    let mut warnings = Vec::new();
-    if let Some(npts) = npts.filter(|&npts| npts != acc.len()) {
-        let advice = if npts > acc.len() {
-            "the file may have been cut short: download it again"
-        } else {
-            "check that the file holds a single record"
-        };
-        warnings.push(RecordWarning {
-            kind: "npts_mismatch",
-            message: format!(
-                "line 4 says NPTS = {npts}, but the file holds {} values, which are used as \
-                 read; {advice}",
-                acc.len()
-            ),
-        });
+/// The warning that line 4's count, `npts`, is not the `found` values'.
+fn npts_mismatch(npts: usize, found: usize) -> RecordWarning {
+    let advice = if npts > found {
+        "the file may have been cut short: download it again"
+    } else {
+        "check that the file holds a single record"
+    };
+    RecordWarning {
+        kind: "npts_mismatch",
+        message: format!(
+            "line 4 says NPTS = {npts}, but the file holds {found} values, which are used as \
+             read; {advice}"
+        ),
     }
-    // Line 2 names the event, station and component; line 1 is a title.
-    let name = [event, title]
-        .into_iter()
-        .map(|l| clip(l, MAX_NAME_CHARS))
-        .find(|l| !l.is_empty());
-    Ok(Parsed {
-        name,
-        unit,
-        dt,
-        acc,
-        warnings,
-        flat: true,
-    })
 }
 
 /// The unit stated on line 3, checked against the option.

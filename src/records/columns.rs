@@ -233,10 +233,20 @@ impl Layout {
     }
 }
 
-/// Reads a column file.
-pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> {
-    let mut lines = numbered_lines(text);
-    // Comments, blank lines and up to two header rows, to the first data row.
+/// What comes before the data: the name the first comment gives, the rows
+/// of column names and units, and the first data row (its line number and
+/// text).
+struct Preamble<'a> {
+    name: Option<String>,
+    header: Header,
+    first: (usize, &'a str),
+}
+
+/// Reads comments, blank lines and up to two header rows from `lines`, to
+/// the first data row.
+fn preamble<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+) -> Result<Preamble<'a>, ReadError> {
     let mut comment_name = None;
     let mut header = Header {
         names: None,
@@ -278,21 +288,42 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
             }
         }
     };
-    let delimiter = Delimiter::of(first.1);
-    let count = delimiter.split(first.1).len();
-    let layout = Layout {
-        count,
-        names: header_row(&header.names, delimiter, count)?,
-        units: header_row(&header.units, delimiter, count)?,
-    };
-    let (time, acc_index) = choose_columns(&layout, opts)?;
-    let unit = unit(&layout, acc_index, opts)?;
+    Ok(Preamble {
+        name: comment_name,
+        header,
+        first,
+    })
+}
 
+/// How the data rows read: their delimiter and number of fields (those of
+/// the first data row, on line `first_line`), and the column and unit of
+/// the accelerations.
+struct Rows {
+    delimiter: Delimiter,
+    count: usize,
+    first_line: usize,
+    acc: usize,
+    unit: Unit,
+}
+
+/// The accelerations of the data `rows` in m/s² (the times going to
+/// `times`): one series, each row of `format`'s fields, all numbers.
+fn read_rows<'a>(
+    rows: impl Iterator<Item = (usize, &'a str)>,
+    format: &Rows,
+    times: &mut TimeColumn,
+) -> Result<Vec<f64>, ReadError> {
+    let Rows {
+        delimiter,
+        count,
+        first_line,
+        acc: acc_index,
+        unit,
+    } = *format;
     let mut acc = Vec::new();
-    let mut times = TimeColumn::new(time.map(|i| (i, time_scale(layout.name(i).unwrap_or("")))));
     let mut buffer = String::new();
     let mut blank: Option<usize> = None;
-    for (n, line) in std::iter::once(first).chain(lines) {
+    for (n, line) in rows {
         if is_comment(line) {
             continue;
         }
@@ -316,7 +347,7 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
                      by {}",
                     quote(line),
                     fields.len(),
-                    first.0,
+                    first_line,
                     delimiter.describe()
                 ),
             ));
@@ -338,14 +369,19 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
         acc.push(a);
         times.push(n, &fields)?;
     }
+    Ok(acc)
+}
 
-    let dt = match times.step(&layout)? {
+/// The time step: the time column's (agreeing with `opts.dt` if given
+/// too), or without one `opts.dt`.
+fn time_step(times: &TimeColumn, layout: &Layout, opts: &ReadOptions) -> Result<f64, ReadError> {
+    Ok(match times.step(layout)? {
         Some(found) => {
             super::agree_dt(opts.dt, found, "the time column")?;
             found
         }
         None => opts.dt.ok_or_else(|| {
-            let message = if count == 1 {
+            let message = if layout.count == 1 {
                 "a file of one column holds accelerations only: give dt, the time step in \
                  seconds"
                     .to_string()
@@ -358,9 +394,38 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
             };
             ReadError::new("dt", message)
         })?,
+    })
+}
+
+/// Reads a column file.
+pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> {
+    let mut lines = numbered_lines(text);
+    let Preamble {
+        name,
+        header,
+        first,
+    } = preamble(&mut lines)?;
+    let delimiter = Delimiter::of(first.1);
+    let count = delimiter.split(first.1).len();
+    let layout = Layout {
+        count,
+        names: header_row(&header.names, delimiter, count)?,
+        units: header_row(&header.units, delimiter, count)?,
     };
+    let (time, acc_index) = choose_columns(&layout, opts)?;
+    let unit = unit(&layout, acc_index, opts)?;
+    let format = Rows {
+        delimiter,
+        count,
+        first_line: first.0,
+        acc: acc_index,
+        unit,
+    };
+    let mut times = TimeColumn::new(time.map(|i| (i, time_scale(layout.name(i).unwrap_or("")))));
+    let acc = read_rows(std::iter::once(first).chain(lines), &format, &mut times)?;
+    let dt = time_step(&times, &layout, opts)?;
     Ok(Parsed {
-        name: comment_name,
+        name,
         unit,
         dt,
         acc,

@@ -87,18 +87,11 @@ fn is_number(value: &RawValue) -> bool {
     matches!(value.get().as_bytes().first(), Some(b'-' | b'0'..=b'9'))
 }
 
-/// Reads a JSON record.
-pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> {
-    let Members(members) = serde_json::from_str(text).map_err(|e| {
-        ReadError::body(
-            Some(e.line()).filter(|&l| l > 0),
-            format!(
-                "not a JSON record object ({e}): expected {{\"name\", \"dt\", \"unit\", \"acc\"}}"
-            ),
-        )
-    })?;
+/// The record's four fields among `members` (name, dt, unit, acc; null
+/// taken as absent), each given at most once and no other.
+fn fields<'a>(members: &[(String, &'a RawValue)]) -> Result<[Option<&'a RawValue>; 4], ReadError> {
     let mut found: [Option<&RawValue>; 4] = [None; 4];
-    for (key, value) in &members {
+    for (key, value) in members {
         let pointer = format!("/{}", key.replace('~', "~0").replace('/', "~1"));
         let Some(slot) = FIELDS.iter().position(|f| f == key) else {
             return Err(ReadError::new(
@@ -114,9 +107,12 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
             found[slot] = Some(value);
         }
     }
-    let [name, dt, unit, acc] = found;
+    Ok(found)
+}
 
-    let name = match name {
+/// The record's name: the string `name`, clipped.
+fn name_of(name: Option<&RawValue>) -> Result<Option<String>, ReadError> {
+    Ok(match name {
         None => None,
         Some(v) => match serde_json::from_str::<String>(v.get()) {
             Ok(s) => Some(clip(&s, MAX_NAME_CHARS)),
@@ -127,9 +123,13 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
                 ));
             }
         },
-    };
+    })
+}
 
-    let dt = match (dt, opts.dt) {
+/// The time step: the file's `dt` (agreeing with the option if given
+/// too), or the option's.
+fn dt_of(dt: Option<&RawValue>, opts: &ReadOptions) -> Result<f64, ReadError> {
+    Ok(match (dt, opts.dt) {
         (Some(v), option) => {
             let dt = is_number(v)
                 .then(|| number::parse(v.get()))
@@ -148,9 +148,13 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
                 "missing: the time step in seconds (or give the dt option)",
             ));
         }
-    };
+    })
+}
 
-    let unit = match (unit, opts.unit) {
+/// The unit of the accelerations: the file's `unit` (agreeing with the
+/// option if given too), or the option's.
+fn unit_of(unit: Option<&RawValue>, opts: &ReadOptions) -> Result<Unit, ReadError> {
+    Ok(match (unit, opts.unit) {
         (Some(v), option) => {
             let text = serde_json::from_str::<String>(v.get()).map_err(|_| {
                 ReadError::new("/unit", format!("must be a string, not {}", kind(v)))
@@ -173,8 +177,12 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
                 ),
             ));
         }
-    };
+    })
+}
 
+/// The accelerations of the array `acc` in `unit`, in m/s²: every element
+/// a finite number.
+fn acc_of(acc: Option<&RawValue>, unit: Unit) -> Result<Vec<f64>, ReadError> {
     let acc_raw = acc
         .ok_or_else(|| ReadError::new("/acc", "missing: the accelerations, an array of numbers"))?;
     let mut elements = Elements {
@@ -212,11 +220,28 @@ pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> 
         }
         samples.push(a);
     }
+    Ok(samples)
+}
+
+/// Reads a JSON record.
+pub(super) fn read(text: &str, opts: &ReadOptions) -> Result<Parsed, ReadError> {
+    let Members(members) = serde_json::from_str(text).map_err(|e| {
+        ReadError::body(
+            Some(e.line()).filter(|&l| l > 0),
+            format!(
+                "not a JSON record object ({e}): expected {{\"name\", \"dt\", \"unit\", \"acc\"}}"
+            ),
+        )
+    })?;
+    let [name, dt, unit, acc] = fields(&members)?;
+    let name = name_of(name)?;
+    let dt = dt_of(dt, opts)?;
+    let unit = unit_of(unit, opts)?;
     Ok(Parsed {
         name,
         unit,
         dt,
-        acc: samples,
+        acc: acc_of(acc, unit)?,
         warnings: Vec::new(),
         flat: true,
     })

@@ -168,6 +168,19 @@ async fn task_job(
         .map_err(TaskSpecError::Part)
 }
 
+/// A task being computed: what its worker watches while it runs and
+/// reports once it ends.
+struct Running<'a> {
+    state: &'a AppState,
+    owner: &'a str,
+    task: &'a TaskClaim,
+    /// The result's cache key (a job of one task is its own spec: its key
+    /// names the result).
+    key: String,
+    control: Arc<Control>,
+    started: Instant,
+}
+
 async fn execute(
     state: &AppState,
     owner: &str,
@@ -190,67 +203,22 @@ async fn execute(
             return;
         }
     };
-    // A job of one task is its own spec: its key names the result.
     let key = crate::kinds::key::cache_key(&job);
     let size = job.size();
     let control = Arc::new(Control::new());
     state.register(id, idx, control.clone());
     let busy_at_start = state.busy();
-    let (tx, mut rx) = oneshot::channel();
     let started = Instant::now();
-    {
-        let control = control.clone();
-        let engine = state.engine.clone();
-        state.pool.spawn(move || {
-            // A panic is reported as a failed job, never taken down with the pool.
-            // The result is serialised here too: large documents stay off the runtime.
-            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                engine(&job, &control).map(|result| Serialised {
-                    numerics: result
-                        .get("numerics")
-                        .map(|n| n.to_string())
-                        .unwrap_or_else(|| "null".into()),
-                    body: result.to_string(),
-                })
-            }));
-            if let Ok(r) = r {
-                let _ = tx.send(r);
-            }
-        });
-    }
-    let mut timed_out = false;
-    let outcome = loop {
-        tokio::select! {
-            done = &mut rx => {
-                break match done {
-                    Ok(r) => Outcome::Done(r),
-                    Err(_) => Outcome::Lost,
-                };
-            }
-            _ = tokio::time::sleep(state.config.heartbeat) => {
-                match state.store.heartbeat(id, idx, owner, control.progress(), state.config.lease).await {
-                    Ok(Some(Status::Queued | Status::Running)) => {}
-                    // Canceled, failed elsewhere, or the lease was taken over.
-                    Ok(_) => control.cancel(),
-                    Err(e) => warn!(error = %e, "heartbeat failed"),
-                }
-                if let Some(since) = stopping_since
-                    && since.elapsed() >= state.config.shutdown_grace
-                {
-                    control.cancel();
-                }
-                if !timed_out && started.elapsed() >= state.config.job_timeout {
-                    timed_out = true;
-                    control.cancel();
-                }
-            }
-            _ = shutdown.changed(), if stopping_since.is_none() => {
-                if *shutdown.borrow() {
-                    *stopping_since = Some(Instant::now());
-                }
-            }
-        }
+    let rx = compute(state, job, control.clone());
+    let running = Running {
+        state,
+        owner,
+        task: &task,
+        key,
+        control,
+        started,
     };
+    let (outcome, timed_out) = running.watch(rx, shutdown, stopping_since).await;
     // Tasks beside it: as it started and as it ends (itself included).
     let busy = (busy_at_start + state.busy()) as f64 / 2.0;
     state.unregister(id, idx);
@@ -258,70 +226,162 @@ async fn execute(
     if matches!(outcome, Outcome::Done(Ok(_))) {
         state.throughput.record(&task.kind, &size, seconds, busy);
     }
-    match outcome {
-        Outcome::Done(Ok(Serialised { body, numerics })) if task.tasks == 1 => {
-            // The task is the whole job: its result is the job's, in one write.
-            state.metrics.compute_seconds(&task.kind, seconds);
-            match state
-                .store
-                .complete_only(id, idx, owner, &body, &numerics, &now_rfc3339())
-                .await
-            {
-                Ok(true) => {
-                    state.results.put(id, &key, &body);
-                    info!(seconds, "succeeded");
+    running
+        .report(outcome, timed_out, seconds, stopping_since.is_some())
+        .await;
+}
+
+/// Computes `job` on the rayon pool under `control`; its result, serialised,
+/// comes through the channel returned (dropped unsent if it panicked).
+fn compute(
+    state: &AppState,
+    job: Job,
+    control: Arc<Control>,
+) -> oneshot::Receiver<Result<Serialised, JobError>> {
+    let (tx, rx) = oneshot::channel();
+    let engine = state.engine.clone();
+    state.pool.spawn(move || {
+        // A panic is reported as a failed job, never taken down with the pool.
+        // The result is serialised here too: large documents stay off the runtime.
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            engine(&job, &control).map(|result| Serialised {
+                numerics: result
+                    .get("numerics")
+                    .map(|n| n.to_string())
+                    .unwrap_or_else(|| "null".into()),
+                body: result.to_string(),
+            })
+        }));
+        if let Ok(r) = r {
+            let _ = tx.send(r);
+        }
+    });
+    rx
+}
+
+impl Running<'_> {
+    /// Waits for the computation's result on `rx`, keeping the task's lease
+    /// alive at each heartbeat; cancels it once its job is canceled or its
+    /// lease taken over, past the grace period of a shutdown, or past the
+    /// compute-time limit (then also says so).
+    async fn watch(
+        &self,
+        mut rx: oneshot::Receiver<Result<Serialised, JobError>>,
+        shutdown: &mut watch::Receiver<bool>,
+        stopping_since: &mut Option<Instant>,
+    ) -> (Outcome, bool) {
+        let (state, control) = (self.state, &self.control);
+        let (id, idx) = (self.task.computation, self.task.idx);
+        let mut timed_out = false;
+        let outcome = loop {
+            tokio::select! {
+                done = &mut rx => {
+                    break match done {
+                        Ok(r) => Outcome::Done(r),
+                        Err(_) => Outcome::Lost,
+                    };
                 }
-                Ok(false) => info!("finished after its job was canceled or its lease taken over"),
-                Err(e) => warn!(error = %e, "storing the result failed"),
-            }
-            state.announce(id);
-        }
-        Outcome::Done(Ok(Serialised { body, .. })) => {
-            state.metrics.compute_seconds(&task.kind, seconds);
-            match state.store.complete(id, idx, owner, &body).await {
-                Ok(true) => {
-                    info!(seconds, "task done");
-                    finish_job(state, id).await;
+                _ = tokio::time::sleep(state.config.heartbeat) => {
+                    match state.store.heartbeat(id, idx, self.owner, control.progress(), state.config.lease).await {
+                        Ok(Some(Status::Queued | Status::Running)) => {}
+                        // Canceled, failed elsewhere, or the lease was taken over.
+                        Ok(_) => control.cancel(),
+                        Err(e) => warn!(error = %e, "heartbeat failed"),
+                    }
+                    if let Some(since) = stopping_since
+                        && since.elapsed() >= state.config.shutdown_grace
+                    {
+                        control.cancel();
+                    }
+                    if !timed_out && self.started.elapsed() >= state.config.job_timeout {
+                        timed_out = true;
+                        control.cancel();
+                    }
                 }
-                Ok(false) => {
-                    info!("task finished after its job was canceled or its lease taken over")
+                _ = shutdown.changed(), if stopping_since.is_none() => {
+                    if *shutdown.borrow() {
+                        *stopping_since = Some(Instant::now());
+                    }
                 }
-                Err(e) => warn!(error = %e, "storing the task result failed"),
+            }
+        };
+        (outcome, timed_out)
+    }
+
+    /// Stores how the computation ended, `seconds` after it started: its
+    /// result (the job's own for a job of one task), or its failure; a task
+    /// canceled by a shutdown (`stopping`) is queued again.
+    async fn report(&self, outcome: Outcome, timed_out: bool, seconds: f64, stopping: bool) {
+        let (state, owner, task) = (self.state, self.owner, self.task);
+        let (id, idx) = (task.computation, task.idx);
+        match outcome {
+            Outcome::Done(Ok(Serialised { body, numerics })) if task.tasks == 1 => {
+                // The task is the whole job: its result is the job's, in one write.
+                state.metrics.compute_seconds(&task.kind, seconds);
+                match state
+                    .store
+                    .complete_only(id, idx, owner, &body, &numerics, &now_rfc3339())
+                    .await
+                {
+                    Ok(true) => {
+                        state.results.put(id, &self.key, &body);
+                        info!(seconds, "succeeded");
+                    }
+                    Ok(false) => {
+                        info!("finished after its job was canceled or its lease taken over")
+                    }
+                    Err(e) => warn!(error = %e, "storing the result failed"),
+                }
+                state.announce(id);
+            }
+            Outcome::Done(Ok(Serialised { body, .. })) => {
+                state.metrics.compute_seconds(&task.kind, seconds);
+                match state.store.complete(id, idx, owner, &body).await {
+                    Ok(true) => {
+                        info!(seconds, "task done");
+                        finish_job(state, id).await;
+                    }
+                    Ok(false) => {
+                        info!("task finished after its job was canceled or its lease taken over")
+                    }
+                    Err(e) => warn!(error = %e, "storing the task result failed"),
+                }
+            }
+            Outcome::Done(Err(JobError::Canceled)) if timed_out => {
+                let limit = state.config.job_timeout.as_secs_f64();
+                warn!(seconds, "past the compute-time limit");
+                state.metrics.timed_out.increment(1);
+                let reason = format!(
+                    "the computation ran past this service's limit of {limit} s (job_timeout); split the job or ask the operator to raise the limit"
+                );
+                self.fail(&reason).await;
+            }
+            Outcome::Done(Err(JobError::Canceled)) => {
+                if stopping {
+                    // Shutdown outlasted the grace period: the task runs again later.
+                    let _ = state.store.requeue(id, idx, owner).await;
+                    state.store.announce_queued().await;
+                    info!("task requeued at shutdown");
+                } else {
+                    info!("task canceled");
+                }
+            }
+            Outcome::Done(Err(e)) => {
+                warn!(error = %e, "failed");
+                self.fail(&e.to_string()).await;
+            }
+            Outcome::Lost => {
+                warn!("the computation panicked");
+                self.fail("internal error in the computation").await;
             }
         }
-        Outcome::Done(Err(JobError::Canceled)) if timed_out => {
-            let limit = state.config.job_timeout.as_secs_f64();
-            warn!(seconds, "past the compute-time limit");
-            state.metrics.timed_out.increment(1);
-            let reason = format!(
-                "the computation ran past this service's limit of {limit} s (job_timeout); split the job or ask the operator to raise the limit"
-            );
-            let _ = state.store.fail(id, &reason, &now_rfc3339()).await;
-            state.announce(id);
-        }
-        Outcome::Done(Err(JobError::Canceled)) => {
-            if stopping_since.is_some() {
-                // Shutdown outlasted the grace period: the task runs again later.
-                let _ = state.store.requeue(id, idx, owner).await;
-                state.store.announce_queued().await;
-                info!("task requeued at shutdown");
-            } else {
-                info!("task canceled");
-            }
-        }
-        Outcome::Done(Err(e)) => {
-            warn!(error = %e, "failed");
-            let _ = state.store.fail(id, &e.to_string(), &now_rfc3339()).await;
-            state.announce(id);
-        }
-        Outcome::Lost => {
-            warn!("the computation panicked");
-            let _ = state
-                .store
-                .fail(id, "internal error in the computation", &now_rfc3339())
-                .await;
-            state.announce(id);
-        }
+    }
+
+    /// Fails the task's job for `reason`, and says so to its watchers.
+    async fn fail(&self, reason: &str) {
+        let id = self.task.computation;
+        let _ = self.state.store.fail(id, reason, &now_rfc3339()).await;
+        self.state.announce(id);
     }
 }
 

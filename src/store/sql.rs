@@ -308,97 +308,8 @@ where
             .bind(new.tenant.to_string())
             .execute(&mut *tx)
             .await?;
-        // A new computation takes the id of the job that asks for it first.
-        let fresh = new.id.to_string();
-        let inserted = sqlx::query(
-            "INSERT INTO computations (id, key, kind, spec, status, created_at, tenant) \
-             VALUES ($1, $2, $3, $4, 'queued', $5, $6) ON CONFLICT (key) DO NOTHING",
-        )
-        .bind(fresh.clone())
-        .bind(new.key.to_string())
-        .bind(new.kind.to_string())
-        .bind(new.spec.to_string())
-        .bind(new.now.to_string())
-        .bind(new.tenant.to_string())
-        .execute(&mut *tx)
-        .await?
-        .rows();
-        // Whether work is queued by this submission (a new computation, or
-        // one that failed or was canceled, again).
-        let (computation, status, queued) = if inserted == 1 {
-            Self::insert_tasks(&mut tx, parse_id(&fresh)?, new.now, new.tasks).await?;
-            (fresh, Status::Queued, true)
-        } else {
-            let id: String = sqlx::query_scalar("SELECT id FROM computations WHERE key = $1")
-                .bind(new.key.to_string())
-                .fetch_one(&mut *tx)
-                .await?;
-            let (status, _) = self
-                .lock_computation(&mut tx, &id)
-                .await?
-                .ok_or_else(|| StoreError::Corrupt("computation vanished".into()))?;
-            if matches!(status, Status::Failed | Status::Canceled) {
-                sqlx::query(
-                    "UPDATE computations SET status = 'queued', error = NULL, numerics = NULL, started_at = NULL, \
-                     finished_at = NULL, tenant = $2, served_at = '' WHERE id = $1",
-                )
-                .bind(id.clone())
-                .bind(new.tenant.to_string())
-                .execute(&mut *tx)
-                .await?;
-                sqlx::query("DELETE FROM tasks WHERE computation_id = $1")
-                    .bind(id.clone())
-                    .execute(&mut *tx)
-                    .await?;
-                Self::insert_tasks(&mut tx, parse_id(&id)?, new.now, new.tasks).await?;
-                (id, Status::Queued, true)
-            } else {
-                (id, status, false)
-            }
-        };
-        // The job's own status follows its computation's from here on.
-        let started = matches!(status, Status::Running | Status::Succeeded).then_some(new.now);
-        let finished = (status == Status::Succeeded).then_some(new.now);
-        let own =
-            sqlx::query("SELECT id, status FROM jobs WHERE tenant = $1 AND computation_id = $2")
-                .bind(new.tenant.to_string())
-                .bind(computation.clone())
-                .fetch_optional(&mut *tx)
-                .await?;
-        let (job_id, cached) = match own {
-            Some(row) => {
-                let id: String = row.try_get("id")?;
-                let own_status = parse_status(&row.try_get::<String, _>("status")?)?;
-                if matches!(own_status, Status::Failed | Status::Canceled) {
-                    sqlx::query(
-                        "UPDATE jobs SET status = $2, error = NULL, started_at = $3, finished_at = $4 WHERE id = $1",
-                    )
-                    .bind(id.clone())
-                    .bind(status.as_str().to_string())
-                    .bind(started.map(str::to_string))
-                    .bind(finished.map(str::to_string))
-                    .execute(&mut *tx)
-                    .await?;
-                }
-                (id, !queued)
-            }
-            None => {
-                sqlx::query(
-                    "INSERT INTO jobs (id, tenant, computation_id, status, created_at, started_at, finished_at) \
-                     VALUES ($1, $2, $3, $4, $5, $6, $7)",
-                )
-                .bind(new.id.to_string())
-                .bind(new.tenant.to_string())
-                .bind(computation.clone())
-                .bind(status.as_str().to_string())
-                .bind(new.now.to_string())
-                .bind(started.map(str::to_string))
-                .bind(finished.map(str::to_string))
-                .execute(&mut *tx)
-                .await?;
-                (new.id.to_string(), !queued)
-            }
-        };
+        let (computation, status, queued) = self.computation_for(&mut tx, &new).await?;
+        let (job_id, cached) = Self::job_for(&mut tx, &new, &computation, status, queued).await?;
         // The records it names: while it is live, they are not deleted.
         for record in new.records {
             sqlx::query(
@@ -417,6 +328,113 @@ where
             .ok_or_else(|| StoreError::Corrupt("submitted job vanished".into()))?;
         tx.commit().await?;
         Ok(Submitted { job, cached })
+    }
+
+    /// The computation `new` asks for, in the transaction on `conn`: a new
+    /// one, its tasks queued, or the one of its key, queued again if it
+    /// failed or was canceled. Its id, its status, and whether work is
+    /// queued by this submission.
+    async fn computation_for(
+        &self,
+        conn: &mut DB::Connection,
+        new: &NewJob<'_>,
+    ) -> Result<(String, Status, bool), StoreError> {
+        // A new computation takes the id of the job that asks for it first.
+        let fresh = new.id.to_string();
+        let inserted = sqlx::query(
+            "INSERT INTO computations (id, key, kind, spec, status, created_at, tenant) \
+             VALUES ($1, $2, $3, $4, 'queued', $5, $6) ON CONFLICT (key) DO NOTHING",
+        )
+        .bind(fresh.clone())
+        .bind(new.key.to_string())
+        .bind(new.kind.to_string())
+        .bind(new.spec.to_string())
+        .bind(new.now.to_string())
+        .bind(new.tenant.to_string())
+        .execute(&mut *conn)
+        .await?
+        .rows();
+        if inserted == 1 {
+            Self::insert_tasks(conn, parse_id(&fresh)?, new.now, new.tasks).await?;
+            return Ok((fresh, Status::Queued, true));
+        }
+        let id: String = sqlx::query_scalar("SELECT id FROM computations WHERE key = $1")
+            .bind(new.key.to_string())
+            .fetch_one(&mut *conn)
+            .await?;
+        let (status, _) = self
+            .lock_computation(conn, &id)
+            .await?
+            .ok_or_else(|| StoreError::Corrupt("computation vanished".into()))?;
+        if !matches!(status, Status::Failed | Status::Canceled) {
+            return Ok((id, status, false));
+        }
+        sqlx::query(
+            "UPDATE computations SET status = 'queued', error = NULL, numerics = NULL, started_at = NULL, \
+             finished_at = NULL, tenant = $2, served_at = '' WHERE id = $1",
+        )
+        .bind(id.clone())
+        .bind(new.tenant.to_string())
+        .execute(&mut *conn)
+        .await?;
+        sqlx::query("DELETE FROM tasks WHERE computation_id = $1")
+            .bind(id.clone())
+            .execute(&mut *conn)
+            .await?;
+        Self::insert_tasks(conn, parse_id(&id)?, new.now, new.tasks).await?;
+        Ok((id, Status::Queued, true))
+    }
+
+    /// The tenant's job of `computation` (at `status`; `queued`: this
+    /// submission queued work), in the transaction on `conn`: a new job, or
+    /// its own job again (revived if it failed or was canceled). Its id,
+    /// and whether it is answered from what was computed before.
+    async fn job_for(
+        conn: &mut DB::Connection,
+        new: &NewJob<'_>,
+        computation: &str,
+        status: Status,
+        queued: bool,
+    ) -> Result<(String, bool), StoreError> {
+        // The job's own status follows its computation's from here on.
+        let started = matches!(status, Status::Running | Status::Succeeded).then_some(new.now);
+        let finished = (status == Status::Succeeded).then_some(new.now);
+        let own =
+            sqlx::query("SELECT id, status FROM jobs WHERE tenant = $1 AND computation_id = $2")
+                .bind(new.tenant.to_string())
+                .bind(computation.to_string())
+                .fetch_optional(&mut *conn)
+                .await?;
+        if let Some(row) = own {
+            let id: String = row.try_get("id")?;
+            let own_status = parse_status(&row.try_get::<String, _>("status")?)?;
+            if matches!(own_status, Status::Failed | Status::Canceled) {
+                sqlx::query(
+                    "UPDATE jobs SET status = $2, error = NULL, started_at = $3, finished_at = $4 WHERE id = $1",
+                )
+                .bind(id.clone())
+                .bind(status.as_str().to_string())
+                .bind(started.map(str::to_string))
+                .bind(finished.map(str::to_string))
+                .execute(&mut *conn)
+                .await?;
+            }
+            return Ok((id, !queued));
+        }
+        sqlx::query(
+            "INSERT INTO jobs (id, tenant, computation_id, status, created_at, started_at, finished_at) \
+             VALUES ($1, $2, $3, $4, $5, $6, $7)",
+        )
+        .bind(new.id.to_string())
+        .bind(new.tenant.to_string())
+        .bind(computation.to_string())
+        .bind(status.as_str().to_string())
+        .bind(new.now.to_string())
+        .bind(started.map(str::to_string))
+        .bind(finished.map(str::to_string))
+        .execute(&mut *conn)
+        .await?;
+        Ok((new.id.to_string(), !queued))
     }
 
     async fn cancel_in(

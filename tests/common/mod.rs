@@ -1,6 +1,7 @@
 //! A PostgreSQL database of its own for a test run, or a loud skip.
 #![allow(dead_code)]
 
+pub mod client;
 pub mod server;
 
 use sqlx::Connection;

@@ -182,6 +182,16 @@ pub mod http {
         }
     }
 
+    /// The value of the header `name` in the response head `headers`.
+    pub fn header(headers: &str, name: &str) -> Option<String> {
+        headers.lines().find_map(|l| {
+            let (k, v) = l.split_once(':')?;
+            k.trim()
+                .eq_ignore_ascii_case(name)
+                .then(|| v.trim().to_string())
+        })
+    }
+
     /// Sends one request (`Connection: close`) and returns the status and body.
     pub fn request(method: &str, url: &str, body: Option<&str>) -> std::io::Result<(u16, String)> {
         request_full(method, url, body).map(|(status, _, body)| (status, body))

@@ -73,6 +73,17 @@ fn run_sane(problem: &Problem, solver: Solver) -> Response {
         r.numerics.wall_time,
         r.warnings,
     );
+    numerics_are_sane(&r, solver, &what);
+    times_are_inside(&r, &what);
+    demand_is_sane(&r, &what);
+    outcome_is_consistent(&r, problem, &what);
+    r
+}
+
+/// The numerics report of `r` (solved by `solver`) fits its answer:
+/// steps and events where it rocked, finite estimates, the tolerances
+/// asked.
+fn numerics_are_sane(r: &Response, solver: Solver, what: &str) {
     let n = &r.numerics;
     assert_eq!(n.method, solver.name(), "{what}");
     if r.rocked {
@@ -109,7 +120,10 @@ fn run_sane(problem: &Problem, solver: Solver) -> Response {
             }
         }
     }
-    // Every reported time is finite and inside the simulated interval.
+}
+
+/// Every time `r` reports is finite and inside the simulated interval.
+fn times_are_inside(r: &Response, what: &str) {
     let end = r.end_time;
     assert!(end.is_finite() && end >= 0.0, "{what}: end time {end}");
     assert!(
@@ -142,6 +156,11 @@ fn run_sane(problem: &Problem, solver: Solver) -> Response {
         );
     }
     assert!(r.impacts.len() as u64 <= r.impact_count, "{what}");
+}
+
+/// The friction demand of `r` is finite where bounded, unbounded only
+/// after lift-off; its warnings' times are finite.
+fn demand_is_sane(r: &Response, what: &str) {
     if let Some(f) = r.friction {
         match (f.peak, f.peak_time) {
             (Some(peak), Some(time)) => {
@@ -164,6 +183,12 @@ fn run_sane(problem: &Problem, solver: Solver) -> Response {
             assert!(t.is_finite(), "{what}: warning time {t}");
         }
     }
+}
+
+/// The peak rotation of `r` stays below overturning, and its outcome's
+/// bookkeeping agrees: a mode and no rest when it overturned, neither a
+/// mode nor an overturning time when not.
+fn outcome_is_consistent(r: &Response, problem: &Problem, what: &str) {
     let cap = FRAC_PI_2 / problem.block.slenderness() * (1.0 + 1e-9);
     assert!(
         r.peak_theta_over_alpha.is_finite() && r.peak_theta_over_alpha <= cap,
@@ -178,7 +203,6 @@ fn run_sane(problem: &Problem, solver: Solver) -> Response {
         assert!(r.mode.is_none(), "{what}");
         assert!(r.overturn_time.is_none(), "{what}");
     }
-    r
 }
 
 fn problem(formulation: Formulation, block: Block, pulse: Pulse) -> Problem {

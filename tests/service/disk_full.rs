@@ -68,15 +68,6 @@ fn history(i: usize, series: usize) -> Value {
     })
 }
 
-fn header(headers: &str, name: &str) -> Option<String> {
-    headers.lines().find_map(|l| {
-        let (k, v) = l.split_once(':')?;
-        k.trim()
-            .eq_ignore_ascii_case(name)
-            .then(|| v.trim().to_string())
-    })
-}
-
 /// POST a job: (status, body, headers).
 fn post(base: &str, spec: &Value) -> (u16, Value, String) {
     let (status, head, body) =
@@ -86,6 +77,14 @@ fn post(base: &str, spec: &Value) -> (u16, Value, String) {
         status,
         serde_json::from_str(&body).unwrap_or(Value::Null),
         head,
+    )
+}
+
+/// Whether the job `j` has ended.
+fn ended(j: &Value) -> bool {
+    matches!(
+        j["status"].as_str(),
+        Some("succeeded" | "failed" | "canceled")
     )
 }
 
@@ -104,26 +103,50 @@ fn a_full_disk_is_507_or_503_then_recovers_by_itself_and_loses_nothing() {
     eprintln!("server log: {}", log.display());
     let server = Server::start(&db, &["--workers", "1", "--lease", "2"], Some(&log));
     let base = server.base.clone();
+    let filler = fs.0.join("filler");
 
-    // Jobs with large results (about 2 MB each) before the disk fills.
+    let mut acknowledged = large_jobs_stored(&base, &db);
+    fill(&filler);
+    refused_while_full(&base, &mut acknowledged);
+    let starved = stored_but_not_done_with_little_space(&base, &filler);
+    acknowledged.extend(starved);
+    recovers_once_space_comes_back(&base, &filler, &mut acknowledged);
+
+    // Every acknowledged job is there, always, and ends.
+    for id in &acknowledged {
+        let job = wait_until(&base, id, Duration::from_secs(120), ended);
+        assert!(
+            job["status"].is_string(),
+            "acknowledged job {id} vanished: {job}"
+        );
+    }
+    drop(server);
+    let integrity = block_on(async {
+        let mut conn = sqlx::SqliteConnection::connect(&db).await.expect("opens");
+        let rows: Vec<String> = sqlx::query_scalar("PRAGMA integrity_check")
+            .fetch_all(&mut conn)
+            .await
+            .expect("runs");
+        rows
+    });
+    assert_eq!(integrity, ["ok"]);
+}
+
+/// Jobs with large results (about 2 MB each) before the disk fills, stored
+/// and ended; then the write-ahead log of the database `db` truncated, so
+/// that the filled disk leaves it no slack to reuse. Their ids.
+fn large_jobs_stored(base: &str, db: &str) -> Vec<String> {
     let mut acknowledged: Vec<String> = Vec::new();
     for i in 0..6 {
-        let (status, job, _) = post(&base, &history(i, 20_000));
+        let (status, job, _) = post(base, &history(i, 20_000));
         assert!(status == 202 || status == 200, "{status} {job}");
         acknowledged.push(job["id"].as_str().expect("id").to_string());
     }
-    // Once they are stored, the write-ahead log is truncated so that the
-    // filled disk leaves it no slack to reuse.
     for id in &acknowledged {
-        wait_until(&base, id, Duration::from_secs(60), |j| {
-            matches!(
-                j["status"].as_str(),
-                Some("succeeded" | "failed" | "canceled")
-            )
-        });
+        wait_until(base, id, Duration::from_secs(60), ended);
     }
     block_on(async {
-        let mut conn = sqlx::SqliteConnection::connect(&db).await.expect("opens");
+        let mut conn = sqlx::SqliteConnection::connect(db).await.expect("opens");
         for _ in 0..50 {
             let busy: i64 = sqlx::query_scalar("PRAGMA wal_checkpoint(TRUNCATE)")
                 .fetch_one(&mut conn)
@@ -136,25 +159,28 @@ fn a_full_disk_is_507_or_503_then_recovers_by_itself_and_loses_nothing() {
         }
         conn.close().await.expect("closes");
     });
-    fill(&fs.0.join("filler"));
+    acknowledged
+}
 
-    // Writes fail now: every answer is a 2xx for a stored job, or 507/503
-    // with Retry-After; never a 500.
+/// Writes fail now: every answer is a 2xx for a stored job (its id added
+/// to `acknowledged`), or 507/503 with Retry-After; never a 500. `/readyz`
+/// answers 503.
+fn refused_while_full(base: &str, acknowledged: &mut Vec<String>) {
     let mut refused = 0;
     let mut codes = std::collections::BTreeMap::new();
     for i in 3..40 {
-        let (status, job, head) = post(&base, &history(i, 20_000));
+        let (status, job, head) = post(base, &history(i, 20_000));
         *codes.entry(status).or_insert(0) += 1;
         match status {
             200 | 202 => acknowledged.push(job["id"].as_str().expect("id").to_string()),
             507 | 503 => {
                 refused += 1;
                 assert!(
-                    header(&head, "retry-after").is_some(),
+                    http::header(&head, "retry-after").is_some(),
                     "{status} without Retry-After"
                 );
                 assert_eq!(
-                    header(&head, "content-type").as_deref(),
+                    http::header(&head, "content-type").as_deref(),
                     Some("application/problem+json")
                 );
             }
@@ -168,21 +194,24 @@ fn a_full_disk_is_507_or_503_then_recovers_by_itself_and_loses_nothing() {
         503,
         "/readyz while writes fail"
     );
+}
 
-    // A little space: submissions and claims fit, results of 2 MB do not.
-    let filler = fs.0.join("filler");
-    let size = std::fs::metadata(&filler).expect("filler").len();
+/// A little space (the `filler` shrunk): submissions and claims fit,
+/// results of 2 MB do not; the jobs acknowledged are not lost, not done.
+/// Their ids.
+fn stored_but_not_done_with_little_space(base: &str, filler: &Path) -> Vec<String> {
+    let size = std::fs::metadata(filler).expect("filler").len();
     std::fs::OpenOptions::new()
         .write(true)
-        .open(&filler)
+        .open(filler)
         .and_then(|f| f.set_len(size.saturating_sub(768 * 1024)))
         .expect("filler shrunk");
     let mut starved = Vec::new();
     for i in 100..104 {
-        let (status, job, head) = post(&base, &history(i, 20_000));
+        let (status, job, head) = post(base, &history(i, 20_000));
         match status {
             200 | 202 => starved.push(job["id"].as_str().expect("id").to_string()),
-            507 | 503 => assert!(header(&head, "retry-after").is_some()),
+            507 | 503 => assert!(http::header(&head, "retry-after").is_some()),
             other => panic!("POST answered {other} with little space: {job}"),
         }
     }
@@ -196,13 +225,17 @@ fn a_full_disk_is_507_or_503_then_recovers_by_itself_and_loses_nothing() {
             "{job}"
         );
     }
-    acknowledged.extend(starved);
+    starved
+}
 
-    // Space comes back: writes recover by themselves within seconds.
-    std::fs::remove_file(&filler).expect("filler removed");
+/// Space comes back (the `filler` removed): writes recover by themselves
+/// within seconds (the job then acknowledged added to `acknowledged`), and
+/// `/readyz` answers 200 again.
+fn recovers_once_space_comes_back(base: &str, filler: &Path, acknowledged: &mut Vec<String>) {
+    std::fs::remove_file(filler).expect("filler removed");
     let freed = Instant::now();
     let recovered = loop {
-        let (status, job, _) = post(&base, &history(1000, 100));
+        let (status, job, _) = post(base, &history(1000, 100));
         if status == 202 || status == 200 {
             acknowledged.push(job["id"].as_str().expect("id").to_string());
             break freed.elapsed();
@@ -222,30 +255,6 @@ fn a_full_disk_is_507_or_503_then_recovers_by_itself_and_loses_nothing() {
         );
         std::thread::sleep(Duration::from_millis(100));
     }
-
-    // Every acknowledged job is there, always, and ends.
-    for id in &acknowledged {
-        let job = wait_until(&base, id, Duration::from_secs(120), |j| {
-            matches!(
-                j["status"].as_str(),
-                Some("succeeded" | "failed" | "canceled")
-            )
-        });
-        assert!(
-            job["status"].is_string(),
-            "acknowledged job {id} vanished: {job}"
-        );
-    }
-    drop(server);
-    let integrity = block_on(async {
-        let mut conn = sqlx::SqliteConnection::connect(&db).await.expect("opens");
-        let rows: Vec<String> = sqlx::query_scalar("PRAGMA integrity_check")
-            .fetch_all(&mut conn)
-            .await
-            .expect("runs");
-        rows
-    });
-    assert_eq!(integrity, ["ok"]);
 }
 
 fn block_on<F: std::future::Future>(f: F) -> F::Output {

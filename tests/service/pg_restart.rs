@@ -111,15 +111,6 @@ impl Drop for Cluster {
     }
 }
 
-fn header(head: &str, name: &str) -> Option<String> {
-    head.lines().find_map(|l| {
-        let (k, v) = l.split_once(':')?;
-        k.trim()
-            .eq_ignore_ascii_case(name)
-            .then(|| v.trim().to_string())
-    })
-}
-
 fn history(a: f64) -> serde_json::Value {
     json!({
         "kind": "time_history",
@@ -179,7 +170,7 @@ fn a_stopped_database_is_503_fast_and_a_restarted_one_is_used_again() {
         eprintln!("{method} {path} with the database down: {status} in {took:?}");
         assert_eq!(status, 503, "{method} {path}: {head}");
         assert!(
-            header(&head, "retry-after").is_some(),
+            http::header(&head, "retry-after").is_some(),
             "{method} {path}: {head}"
         );
         assert!(

@@ -5,27 +5,13 @@
 //! PostgreSQL, also after the connection that carries the news was lost —,
 //! and live reads of jobs that can still change.
 
-use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use serde_json::{Value, json};
 use sqlx::Connection;
 
+use crate::common::client::{Tenant, tokens_file};
 use crate::common::server::{Server, sqlite_url, temp_dir};
-
-/// Writes a tokens file for `names` in `dir`; returns it and the tokens.
-fn tokens_file(dir: &Path, names: &[&str]) -> (PathBuf, Vec<String>) {
-    let mut lines = Vec::new();
-    let mut tokens = Vec::new();
-    for name in names {
-        let token = format!("tpl_{}", uuid::Uuid::now_v7().simple());
-        lines.push(format!("{name} blake3:{}", blake3::hash(token.as_bytes())));
-        tokens.push(token);
-    }
-    let path = dir.join("tokens");
-    std::fs::write(&path, lines.join("\n") + "\n").expect("tokens file");
-    (path, tokens)
-}
 
 /// An answer: its status, entity tag and body.
 #[derive(Debug, PartialEq)]
@@ -50,27 +36,11 @@ impl Reply {
 }
 
 /// A client of one server acting for one tenant.
-struct Client {
-    http: reqwest::Client,
-    base: String,
-    token: Option<String>,
-}
+struct Client(Tenant);
 
 impl Client {
     fn new(base: &str, token: Option<&str>) -> Self {
-        Client {
-            http: reqwest::Client::new(),
-            base: base.to_string(),
-            token: token.map(str::to_string),
-        }
-    }
-
-    fn request(&self, method: reqwest::Method, path: &str) -> reqwest::RequestBuilder {
-        let r = self.http.request(method, format!("{}{path}", self.base));
-        match &self.token {
-            Some(t) => r.bearer_auth(t),
-            None => r,
-        }
+        Client(Tenant::new(base, token))
     }
 
     async fn reply(r: reqwest::RequestBuilder) -> Result<Reply, reqwest::Error> {
@@ -86,14 +56,15 @@ impl Client {
     }
 
     async fn get(&self, path: &str) -> Reply {
-        Self::reply(self.request(reqwest::Method::GET, path))
+        Self::reply(self.0.request(reqwest::Method::GET, path))
             .await
             .expect("the server answers")
     }
 
     async fn get_if_none_match(&self, path: &str, etag: &str) -> Reply {
         Self::reply(
-            self.request(reqwest::Method::GET, path)
+            self.0
+                .request(reqwest::Method::GET, path)
                 .header("if-none-match", etag),
         )
         .await
@@ -102,18 +73,18 @@ impl Client {
 
     /// A GET given up after `limit`.
     async fn get_within(&self, path: &str, limit: Duration) -> Result<Reply, reqwest::Error> {
-        Self::reply(self.request(reqwest::Method::GET, path).timeout(limit)).await
+        Self::reply(self.0.request(reqwest::Method::GET, path).timeout(limit)).await
     }
 
     async fn delete(&self, path: &str) -> u16 {
-        Self::reply(self.request(reqwest::Method::DELETE, path))
+        Self::reply(self.0.request(reqwest::Method::DELETE, path))
             .await
             .expect("the server answers")
             .status
     }
 
     async fn post(&self, path: &str, spec: &Value) -> (u16, Value) {
-        let reply = Self::reply(self.request(reqwest::Method::POST, path).json(spec))
+        let reply = Self::reply(self.0.request(reqwest::Method::POST, path).json(spec))
             .await
             .expect("the server answers");
         (

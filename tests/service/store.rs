@@ -5,7 +5,9 @@ use std::time::Duration;
 
 use topple::store::postgres::PgStore;
 use topple::store::sqlite::SqliteStore;
-use topple::store::{Deleted, JobStore, ListQuery, NewJob, Status, now_rfc3339};
+use topple::store::{
+    Deleted, JobRecord, JobStore, ListQuery, NewJob, Status, TaskClaim, now_rfc3339,
+};
 use uuid::Uuid;
 
 async fn sqlite() -> Arc<dyn JobStore> {
@@ -328,6 +330,19 @@ async fn a_single_task_job_completes_in_one_write(store: &dyn JobStore) {
     );
 }
 
+/// A claim by worker "w" (none when nothing is queued).
+async fn claim(store: &dyn JobStore, lease: Duration) -> Option<TaskClaim> {
+    store
+        .claim("w", &now_rfc3339(), lease)
+        .await
+        .expect("claims")
+}
+
+/// The tenant's job `id`, which exists.
+async fn job_of(store: &dyn JobStore, tenant: &str, id: Uuid) -> JobRecord {
+    store.get(tenant, id).await.expect("reads").expect("exists")
+}
+
 async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
     let lease = Duration::from_secs(30);
     let a = submit_as(store, "alice", "shared", 2).await;
@@ -337,9 +352,43 @@ async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
     assert_ne!(a.job.id, b.job.id);
     assert_eq!(a.job.computation, b.job.computation);
     let c = a.job.computation;
-    // Neither sees, lists, cancels or deletes the other's job.
-    assert!(store.get("bob", a.job.id).await.expect("reads").is_none());
-    assert!(store.get("alice", b.job.id).await.expect("reads").is_none());
+    let shared = Shared {
+        c,
+        alice: a.job.id,
+        bob: b.job.id,
+    };
+    neither_reaches_the_others_job(store, shared).await;
+    let tasks = computed_once(store, shared, lease).await;
+    a_cancel_leaves_the_others_job(store, shared, &tasks[0], lease).await;
+    a_canceled_job_gets_the_result_without_recomputing(store, shared, &tasks, lease).await;
+    a_result_stays_while_any_job_refers_to_it(store, shared).await;
+    // The same spec again is new work.
+    let fresh = submit_as(store, "alice", "shared", 2).await;
+    assert!(!fresh.cached);
+    assert_ne!(fresh.job.computation, c);
+    // The last live job canceled stops the computation.
+    let stop = store
+        .cancel("alice", fresh.job.id, &now_rfc3339())
+        .await
+        .expect("cancels")
+        .expect("exists");
+    assert!(stop.stopped);
+    assert!(claim(store, lease).await.is_none());
+}
+
+/// Alice's and Bob's jobs over one computation, `c`.
+#[derive(Clone, Copy)]
+struct Shared {
+    c: Uuid,
+    alice: Uuid,
+    bob: Uuid,
+}
+
+/// Neither tenant sees, lists, cancels or deletes the other's job.
+async fn neither_reaches_the_others_job(store: &dyn JobStore, shared: Shared) {
+    let Shared { alice, bob, .. } = shared;
+    assert!(store.get("bob", alice).await.expect("reads").is_none());
+    assert!(store.get("alice", bob).await.expect("reads").is_none());
     let listed = |tenant: &'static str| async move {
         store
             .list(
@@ -355,49 +404,47 @@ async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
             .map(|j| j.id)
             .collect::<Vec<_>>()
     };
-    assert_eq!(listed("alice").await, vec![a.job.id]);
-    assert_eq!(listed("bob").await, vec![b.job.id]);
+    assert_eq!(listed("alice").await, vec![alice]);
+    assert_eq!(listed("bob").await, vec![bob]);
     assert!(
         store
-            .cancel("bob", a.job.id, &now_rfc3339())
+            .cancel("bob", alice, &now_rfc3339())
             .await
             .expect("cancels")
             .is_none()
     );
     assert_eq!(
-        store.delete("alice", b.job.id).await.expect("deletes"),
+        store.delete("alice", bob).await.expect("deletes"),
         Deleted::NotFound
     );
-    // One computation, computed once: its two tasks, then nothing.
-    let t0 = store
-        .claim("w", &now_rfc3339(), lease)
-        .await
-        .expect("claims")
-        .expect("task");
-    let t1 = store
-        .claim("w", &now_rfc3339(), lease)
-        .await
-        .expect("claims")
-        .expect("task");
+}
+
+/// One computation, computed once: its two tasks claimed, then nothing;
+/// both tenants' jobs running.
+async fn computed_once(store: &dyn JobStore, shared: Shared, lease: Duration) -> [TaskClaim; 2] {
+    let Shared { c, alice, bob } = shared;
+    let t0 = claim(store, lease).await.expect("task");
+    let t1 = claim(store, lease).await.expect("task");
     assert_eq!((t0.computation, t1.computation), (c, c));
-    assert!(
-        store
-            .claim("w", &now_rfc3339(), lease)
-            .await
-            .expect("claims")
-            .is_none()
-    );
-    for tenant_job in [("alice", a.job.id), ("bob", b.job.id)] {
-        let job = store
-            .get(tenant_job.0, tenant_job.1)
-            .await
-            .expect("reads")
-            .expect("exists");
+    assert!(claim(store, lease).await.is_none());
+    for tenant_job in [("alice", alice), ("bob", bob)] {
+        let job = job_of(store, tenant_job.0, tenant_job.1).await;
         assert_eq!(job.status, Status::Running, "{tenant_job:?}");
     }
-    // Bob cancels: his job only; Alice's still needs the computation.
+    [t0, t1]
+}
+
+/// Bob cancels: his job only; Alice's still needs the computation (its
+/// task `t0` still beats), and is not deleted while live.
+async fn a_cancel_leaves_the_others_job(
+    store: &dyn JobStore,
+    shared: Shared,
+    t0: &TaskClaim,
+    lease: Duration,
+) {
+    let Shared { c, alice, bob } = shared;
     let canceled = store
-        .cancel("bob", b.job.id, &now_rfc3339())
+        .cancel("bob", bob, &now_rfc3339())
         .await
         .expect("cancels")
         .expect("his job");
@@ -414,10 +461,22 @@ async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
     );
     // A deletion of a live job is refused; of Bob's canceled one, done.
     assert!(matches!(
-        store.delete("alice", a.job.id).await.expect("deletes"),
+        store.delete("alice", alice).await.expect("deletes"),
         Deleted::NotFinished(_)
     ));
-    for t in [&t0, &t1] {
+}
+
+/// The computation succeeds for Alice; Bob's canceled job stays
+/// canceled, and submitting again gives it the result at once, without
+/// recomputing.
+async fn a_canceled_job_gets_the_result_without_recomputing(
+    store: &dyn JobStore,
+    shared: Shared,
+    tasks: &[TaskClaim; 2],
+    lease: Duration,
+) {
+    let Shared { c, alice, bob } = shared;
+    for t in tasks {
         assert!(
             store
                 .complete(c, t.idx, "w", "\"part\"")
@@ -431,47 +490,34 @@ async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
             .await
             .expect("stores")
     );
-    let done = store
-        .get("alice", a.job.id)
-        .await
-        .expect("reads")
-        .expect("exists");
+    let done = job_of(store, "alice", alice).await;
     assert_eq!(
         (done.status, done.numerics.as_deref()),
         (Status::Succeeded, Some("{\"n\":2}"))
     );
-    // Bob's canceled job stays canceled; submitting again gives it the result
-    // at once, without recomputing.
-    let bob = store
-        .get("bob", b.job.id)
-        .await
-        .expect("reads")
-        .expect("exists");
-    assert_eq!(bob.status, Status::Canceled);
+    assert_eq!(job_of(store, "bob", bob).await.status, Status::Canceled);
     let again = submit_as(store, "bob", "shared", 2).await;
     assert_eq!(
         (again.job.id, again.job.status, again.cached),
-        (b.job.id, Status::Succeeded, true)
+        (bob, Status::Succeeded, true)
     );
-    assert!(
-        store
-            .claim("w", &now_rfc3339(), lease)
-            .await
-            .expect("claims")
-            .is_none()
-    );
-    // A third tenant gets a job of its own, done already.
+    assert!(claim(store, lease).await.is_none());
+}
+
+/// A third tenant gets a job of its own, done already; deletions leave the
+/// computation's result while any job refers to it.
+async fn a_result_stays_while_any_job_refers_to_it(store: &dyn JobStore, shared: Shared) {
+    let Shared { c, alice, bob } = shared;
     let carol = submit_as(store, "carol", "shared", 2).await;
     assert_eq!((carol.job.status, carol.cached), (Status::Succeeded, true));
-    assert_ne!(carol.job.id, a.job.id);
-    // Deletions: the result stays while any job refers to it.
+    assert_ne!(carol.job.id, alice);
     assert_eq!(
-        store.delete("bob", b.job.id).await.expect("deletes"),
+        store.delete("bob", bob).await.expect("deletes"),
         Deleted::Gone
     );
-    assert!(store.get("bob", b.job.id).await.expect("reads").is_none());
+    assert!(store.get("bob", bob).await.expect("reads").is_none());
     assert_eq!(
-        store.delete("alice", a.job.id).await.expect("deletes"),
+        store.delete("alice", alice).await.expect("deletes"),
         Deleted::Gone
     );
     assert!(store.result(c).await.expect("reads").is_some());
@@ -481,24 +527,6 @@ async fn tenants_share_computations_not_jobs(store: &dyn JobStore) {
     );
     assert!(store.result(c).await.expect("reads").is_none());
     assert!(store.computation(c).await.expect("reads").is_none());
-    // The same spec again is new work.
-    let fresh = submit_as(store, "alice", "shared", 2).await;
-    assert!(!fresh.cached);
-    assert_ne!(fresh.job.computation, c);
-    // The last live job canceled stops the computation.
-    let stop = store
-        .cancel("alice", fresh.job.id, &now_rfc3339())
-        .await
-        .expect("cancels")
-        .expect("exists");
-    assert!(stop.stopped);
-    assert!(
-        store
-            .claim("w", &now_rfc3339(), lease)
-            .await
-            .expect("claims")
-            .is_none()
-    );
 }
 
 async fn retention_purges_old_finished_jobs_and_their_results(store: &dyn JobStore) {

@@ -3,57 +3,21 @@
 //! turns for a small job behind big ones — on SQLite, and on two instances
 //! sharing PostgreSQL.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{Duration, Instant};
 
+use crate::common::client::{Tenant, tokens_file};
 use crate::common::server::{Server, sqlite_url, temp_dir};
 use serde_json::{Value, json};
 use sqlx::Connection;
 
-/// A tenant's token and the line of the tokens file that admits it.
-fn token_line(name: &str) -> (String, String) {
-    let token = format!("tpl_{}", uuid::Uuid::now_v7().simple());
-    let digest = blake3::hash(token.as_bytes()).to_hex();
-    (token, format!("{name} blake3:{digest}"))
-}
-
-/// Writes a tokens file for `names` in `dir`; returns it and the tokens.
-fn tokens_file(dir: &Path, names: &[&str]) -> (PathBuf, Vec<String>) {
-    let mut lines = vec!["# tenants of this test".to_string()];
-    let mut tokens = Vec::new();
-    for name in names {
-        let (token, line) = token_line(name);
-        lines.push(line);
-        tokens.push(token);
-    }
-    let path = dir.join("tokens");
-    std::fs::write(&path, lines.join("\n") + "\n").expect("tokens file");
-    (path, tokens)
-}
-
 /// A client of one server acting for one tenant (or none).
 #[derive(Clone)]
-struct Client {
-    http: reqwest::Client,
-    base: String,
-    token: Option<String>,
-}
+struct Client(Tenant);
 
 impl Client {
     fn new(base: &str, token: Option<&str>) -> Self {
-        Client {
-            http: reqwest::Client::new(),
-            base: base.to_string(),
-            token: token.map(str::to_string),
-        }
-    }
-
-    fn request(&self, method: reqwest::Method, path: &str) -> reqwest::RequestBuilder {
-        let r = self.http.request(method, format!("{}{path}", self.base));
-        match &self.token {
-            Some(t) => r.bearer_auth(t),
-            None => r,
-        }
+        Client(Tenant::new(base, token))
     }
 
     async fn send(r: reqwest::RequestBuilder) -> (u16, Value) {
@@ -64,15 +28,15 @@ impl Client {
     }
 
     async fn post(&self, path: &str, spec: &Value) -> (u16, Value) {
-        Self::send(self.request(reqwest::Method::POST, path).json(spec)).await
+        Self::send(self.0.request(reqwest::Method::POST, path).json(spec)).await
     }
 
     async fn get(&self, path: &str) -> (u16, Value) {
-        Self::send(self.request(reqwest::Method::GET, path)).await
+        Self::send(self.0.request(reqwest::Method::GET, path)).await
     }
 
     async fn delete(&self, path: &str) -> (u16, Value) {
-        Self::send(self.request(reqwest::Method::DELETE, path)).await
+        Self::send(self.0.request(reqwest::Method::DELETE, path)).await
     }
 
     async fn submit(&self, spec: &Value) -> Value {
@@ -323,6 +287,7 @@ async fn tenants_on_sqlite() {
     cancel_by_one_leaves_the_other_running(&alice, &bob).await;
     // The audit log: one line per write, naming tenant, job and request.
     let marked = alice
+        .0
         .request(reqwest::Method::POST, "/v1/jobs")
         .header("x-request-id", "audit-me-1")
         .json(&time_history(2.0));
@@ -359,6 +324,7 @@ async fn tenants_on_sqlite() {
         );
     }
     let resp = alice
+        .0
         .request(reqwest::Method::POST, "/v1/jobs")
         .json(&spectrum(400, 3.4))
         .send()
