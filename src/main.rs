@@ -262,7 +262,10 @@ fn run(spec_path: &str, plot: Option<&str>, format: &str) -> Result<(), (u8, Str
         None
     };
     let out = match typed {
-        Some(typed) if format == "csv" => topple::api::csv::to_csv(&typed).trim_end().to_string(),
+        Some(typed) if format == "csv" => topple::api::csv::to_csv(&typed)
+            .map_err(|e| (1, e.to_string()))?
+            .trim_end()
+            .to_string(),
         _ => serde_json::to_string_pretty(&result).map_err(|e| (1, e.to_string()))?,
     };
     // A closed pipe (`topple run spec | head`) is not an error worth a panic.

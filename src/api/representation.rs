@@ -147,7 +147,9 @@ pub(crate) async fn csv_response(
             let turn = render_turn(state, doc.as_str().len()).await?;
             let (table, kind) = tokio::task::spawn_blocking(move || {
                 let _turn = turn;
-                read_result(doc.as_str()).map(|r| (to_csv(&r), r.job_kind().name()))
+                let r = read_result(doc.as_str())?;
+                let table = to_csv(&r).map_err(|e| Problem::internal(e.to_string()))?;
+                Ok::<_, Problem>((table, r.job_kind().name()))
             })
             .await
             .map_err(stopped)??;
@@ -193,6 +195,7 @@ fn csv_pieces(
         })
         .await
         .map_err(std::io::Error::other)?;
+        let more = more.map_err(std::io::Error::other)?;
         if piece.is_empty() && !more {
             return Ok(None);
         }

@@ -26,7 +26,7 @@ fn every_kind_has_an_estimate_a_table_and_a_figure() {
         assert_eq!(doc["kind"], kind.name());
         let typed = JobResult::from_value(doc).unwrap_or_else(|e| panic!("{kind:?}: {e}"));
         assert_eq!(typed.job_kind(), *kind);
-        let table = topple::api::csv::to_csv(&typed);
+        let table = topple::api::csv::to_csv(&typed).expect("a table");
         assert!(table.lines().count() >= 2, "{kind:?}: {table}");
         let figure = topple::plot::svg(&typed).unwrap_or_else(|e| panic!("{kind:?}: {e}"));
         assert!(figure.starts_with("<svg"), "{kind:?}");
@@ -55,7 +55,7 @@ fn a_lift_off_point_is_null_flagged_and_marked_in_csv_and_svg() {
     let tl = lifted["lift_off_time"].as_f64().expect("time");
     assert!((tl - 0.410_511_6).abs() < 1e-6, "{tl}");
     let typed = JobResult::from_value(doc).expect("a friction spectrum");
-    let csv = topple::api::csv::to_csv(&typed);
+    let csv = topple::api::csv::to_csv(&typed).expect("a table");
     let header: Vec<&str> = csv.lines().next().expect("header").split(',').collect();
     let row: Vec<&str> = csv.lines().nth(2).expect("row").split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).expect(name);

@@ -3,12 +3,13 @@
 
 use serde_json::Value;
 
+use super::SIGNIFICANT_DIGITS;
 use super::number::significant_digits;
 use super::tests::{
     FORENSIC, FORENSIC_RECORD, FRAGILITY, FRICTION, RECORD_SPECTRUM, SPECTRUM, SURVIVAL,
-    TIME_HISTORY, json_text, lines,
+    TIME_HISTORY, cell, csv_of, json_text, lines,
 };
-use super::{SIGNIFICANT_DIGITS, cell, quote, to_csv};
+use super::text::quote;
 use crate::kinds::{JobKind, JobResult};
 
 /// The pointers of every scalar of `v` under `at`: objects are entered,
@@ -104,7 +105,7 @@ fn holds_every_field(csv: &str, rows: &[Vec<Part<'_>>], derived: &[&str]) {
 /// A spec's result as its document and its table.
 fn document_and_table(spec: &str) -> (Value, String) {
     let doc = crate::plot::tests::computed(spec);
-    let table = to_csv(&JobResult::from_value(doc.clone()).expect("typed"));
+    let table = csv_of(&JobResult::from_value(doc.clone()).expect("typed"));
     (doc, table)
 }
 
@@ -576,7 +577,7 @@ fn time_history_rows_of(spec: &str, vertical: bool) {
     ];
     let fields = doc.as_object_mut().expect("a document");
     fields.remove("series");
-    let table = |doc: &Value| to_csv(&JobResult::from_value(doc.clone()).expect("typed"));
+    let table = |doc: &Value| csv_of(&JobResult::from_value(doc.clone()).expect("typed"));
     let csv = table(&doc);
     let rows: Vec<Vec<Part>> = items(&doc["impacts"])
         .iter()

@@ -1,6 +1,8 @@
 //! Numbers as a CSV table writes them: to 15 significant digits, in JSON's
 //! style.
 
+use serde::{Serialize, Serializer};
+
 /// The significant digits a CSV number keeps: 15, the most any decimal
 /// keeps through a double and back. Beyond them a double's digits are the
 /// rounding of the arithmetic that made it (a grid from 0.1 to 1 in 10 steps
@@ -62,6 +64,16 @@ pub fn number(x: f64) -> String {
         .filter(|r| r.is_finite())
         .and_then(json_number)
         .unwrap_or(shortest)
+}
+
+/// A number cell: `x` as [`number`] writes it (empty when not finite).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Number(pub(super) f64);
+
+impl Serialize for Number {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(&number(self.0))
+    }
 }
 
 /// `x` as JSON writes it (the shortest decimal that reads back as `x`).
