@@ -17,12 +17,19 @@
 //!   columns, JSON) read into samples in m/s², pure: units converted exactly,
 //!   content-addressed ids, and guards against a silent misread (time taken
 //!   for acceleration, a unit off by 100 or g, an uncorrected baseline).
-//! - [`jobs`]: the job kinds (time histories, spectra, friction spectra,
-//!   forensic queries, record spectra, fragility, survival), each one module
-//!   and one line of the registry: the job-spec JSON, its validation into
-//!   domain types, service limits, canonical cache keys, splitting into
-//!   tasks, and the result documents, read back into their types
-//!   ([`jobs::JobResult`]) for tables and figures.
+//! - [`kinds`]: the job kinds (time histories, spectra, friction spectra,
+//!   forensic queries, record spectra, fragility, survival), each a folder
+//!   (`src/kinds/<kind>/`: its spec and validation, result, run, example and
+//!   `impl Kind`) and one line of the registry, from which the job enum, the
+//!   kind enum, every dispatch and the API description's unions are
+//!   generated; service limits, canonical cache keys, splitting into tasks,
+//!   and results read back into their types ([`kinds::JobResult`]) for
+//!   tables and figures.
+//! - [`jobs`]: what kinds are made of, below them: the typed
+//!   [`jobs::kind::Kind`] trait, spec parts (block, pulse, ground motion,
+//!   contact, vertical motion, distributions) and their validation into
+//!   domain types, typed names, warnings, errors, cost estimates, and the
+//!   parts a scan is cut into.
 //! - [`store`]: one storage trait for jobs, tasks, results and records;
 //!   SQLite and PostgreSQL implementations.
 //! - [`service`]: the server without its routes: the state of an instance,

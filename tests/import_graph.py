@@ -7,8 +7,8 @@ which uses the library by name), finds the paths that reach another module —
 `crate::X…`, `use crate::{X…, Y…}`, and `super::` chains — and fails when
 those references make a cycle between top-level modules (api, service,
 store, jobs, dynamics, …), or between the files of one top-level module
-(src/jobs/spec.rs and src/jobs/forensic.rs, say; a folder below one, like
-src/jobs/forensic/, counts with its file). A name that a module's mod.rs
+(src/jobs/spec.rs and src/jobs/kind.rs, say; a folder below one, like
+src/kinds/forensic/, counts as one file). A name that a module's mod.rs
 re-exports (`pub use registry::Job`) counts as a use of the file it comes
 from.
 

@@ -11,8 +11,8 @@
 //! Numbers are written to [`SIGNIFICANT_DIGITS`] ([`number`]): a value the
 //! user wrote reads as written (a grid value 0.7999999999999999 as 0.8).
 
-use crate::kinds::JobResult;
 use crate::jobs::names::Excitation;
+use crate::kinds::JobResult;
 
 mod forensic;
 mod forensic_record;

@@ -1,10 +1,11 @@
-//! What a job kind is: the [`Kind`] trait. A kind is one module of `jobs`
-//! (its spec, validated job and result types, and its `impl Kind`) plus one
-//! line of the registry ([`super::registry`]), from which the job enum, the
-//! kind list, every dispatch, the `?kind=` enum and the API description's
-//! unions are generated. Its table (`table`) and figure (`plot`) are chosen
-//! by an exhaustive match on [`super::JobKind`], so the compiler asks for
-//! both when a kind is added. `docs/adding-a-kind.md` walks through it.
+//! What a job kind is: the [`Kind`] trait. A kind is one folder of
+//! `src/kinds/` (its spec, validated job and result types, example and
+//! `impl Kind`) plus one line of the registry (`crate::kinds::registry`),
+//! from which the job enum, the kind list, every dispatch, the `?kind=` enum
+//! and the API description's unions are generated. Its table (`api::csv`)
+//! and figure (`plot`) are chosen by an exhaustive match on `JobKind`, so the
+//! compiler asks for both when a kind is added. `docs/adding-a-kind.md`
+//! walks through it.
 
 use std::fmt::Debug;
 

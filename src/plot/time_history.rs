@@ -1234,8 +1234,8 @@ pub(crate) mod tests {
         GROUND, MODES, NO_SERIES_COULOMB, RATIO, SLIP, THETA, TimeHistoryResult, VERTICAL,
         mode_band, response_end, slip_at_changes, zoom_end,
     };
-    use crate::kinds::JobResult;
     use crate::jobs::contact::ModeDoc;
+    use crate::kinds::JobResult;
     use crate::plot::style::{REST, fmt_num};
     use crate::plot::tests::{hex, shapes, x_extent};
     use crate::plot::time_panel::BAND_HEIGHT;

@@ -74,9 +74,9 @@ struct Row<'a> {
 #[cfg(test)]
 mod tests {
     use super::super::tests::{FORENSIC, cell, csv_of, lines};
+    use crate::jobs::names::Excitation;
     use crate::kinds::JobResult;
     use crate::kinds::forensic::{ForensicFrequency, Observation, ObservationSet};
-    use crate::jobs::names::Excitation;
     use crate::plot::tests::typed;
 
     /// A pulse query's observations and frequencies set to `observations`

@@ -9,8 +9,8 @@ use serde::Serialize;
 use super::number::Number;
 use super::table::{Table, TableError};
 use super::text::Text;
-use crate::kinds::forensic::ForensicResult;
 use crate::jobs::mixed::MixedDoc;
+use crate::kinds::forensic::ForensicResult;
 
 /// The rows for all observations, then for each.
 pub(super) fn rows(r: &ForensicResult, table: &mut Table) -> Result<(), TableError> {
@@ -161,9 +161,9 @@ struct Row<'a> {
 #[cfg(test)]
 mod tests {
     use super::super::tests::{FORENSIC_RECORD, cell, csv_of, lines};
+    use crate::jobs::names::Excitation;
     use crate::kinds::JobResult;
     use crate::kinds::forensic::RecordObservationSet;
-    use crate::jobs::names::Excitation;
     use crate::plot::tests::typed;
 
     #[test]

@@ -84,9 +84,9 @@ struct Undecided {
 #[cfg(test)]
 mod tests {
     use super::super::tests::{FRAGILITY, cell, csv_of, lines};
+    use crate::jobs::names::Im;
     use crate::kinds::JobResult;
     use crate::kinds::fragility::StripeResult;
-    use crate::jobs::names::Im;
     use crate::plot::tests::typed;
 
     /// Under a vertical motion a last column counts the lift-offs, and a
