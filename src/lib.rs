@@ -66,3 +66,4 @@ pub mod service;
 pub mod spectrum;
 pub mod startup;
 pub mod store;
+pub mod table;

@@ -254,8 +254,10 @@ fn run(spec_path: &str, plot: Option<&str>, format: &str) -> Result<(), (u8, Str
         let typed = topple::kinds::JobResult::from_value(result.clone())
             .map_err(|e| (1, format!("the result does not read back: {e}")))?;
         if let Some(path) = plot {
-            topple::plot::plot_result(&typed, path)
+            let figure = typed
+                .figure(None)
                 .map_err(|e| (1, format!("cannot plot: {e}")))?;
+            std::fs::write(path, figure).map_err(|e| (1, format!("cannot plot: {e}")))?;
         }
         Some(typed)
     } else {

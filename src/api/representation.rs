@@ -231,7 +231,7 @@ pub(crate) async fn figure(
     let turn = render_turn(state, body.as_str().len()).await?;
     tokio::task::spawn_blocking(move || {
         let _turn = turn;
-        read_result(body.as_str()).map(|r| crate::plot::svg_in(&r, window))
+        read_result(body.as_str()).map(|r| r.figure(window))
     })
     .await
     .map_err(|_| Problem::internal("figure rendering stopped"))??

@@ -1,5 +1,5 @@
 //! The job kinds, each a folder: its spec and validation, result, run,
-//! example and `impl Kind` ([`crate::jobs::kind::Kind`]), registered in one
+//! example and `impl Kind` ([`crate::kinds::kind::Kind`]), registered in one
 //! line of [`registry`], from which the job enum [`Job`], the kind enum
 //! [`JobKind`], every dispatch over kinds and the API description's unions
 //! are generated. What kinds share (spec parts, names, warnings, costs)
@@ -9,6 +9,7 @@ pub mod forensic;
 pub mod fragility;
 pub mod friction_spectrum;
 pub mod key;
+pub mod kind;
 pub mod limits;
 pub mod record_spectrum;
 pub mod registry;
@@ -90,7 +91,7 @@ impl Job {
 
     /// The job's result from its tasks' results (in task order): one task's
     /// document is the result; several (or a part's) are assembled by the
-    /// kind ([`crate::jobs::kind::Kind::assemble`]), then given the job's
+    /// kind ([`crate::kinds::kind::Kind::assemble`]), then given the job's
     /// warnings and the engine.
     pub fn assemble(&self, mut parts: Vec<Value>) -> Result<Value, JobError> {
         if parts.len() == 1 && parts[0].get("part").is_none() {

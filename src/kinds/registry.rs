@@ -12,8 +12,9 @@ use utoipa::openapi::schema::{Discriminator, OneOfBuilder, Schema};
 use utoipa::openapi::{Ref, RefOr};
 use utoipa::{PartialSchema, ToSchema};
 
+use super::kind::{Kind, Output};
 use crate::jobs::error::{JobError, SpecError};
-use crate::jobs::kind::{Envelope, Kind, Output, Size, document};
+use crate::jobs::kind::{Envelope, Size, document};
 use crate::jobs::warning::WarningDoc;
 use crate::spectrum::Control;
 
@@ -322,6 +323,23 @@ macro_rules! kinds {
             pub fn job_kind(&self) -> JobKind {
                 match self {
                     $( JobResult::$variant(_) => JobKind::$variant, )*
+                }
+            }
+
+            /// The result's table (CSV text).
+            pub fn table(&self) -> Result<String, crate::table::TableError> {
+                let mut table = crate::table::Table::new();
+                match self {
+                    $( JobResult::$variant(r) => <$kind as Kind>::table(r, &mut table)?, )*
+                }
+                table.finish()
+            }
+
+            /// The result's figure (SVG text) over `window` (a span of time:
+            /// time histories only; `None`: the whole result).
+            pub fn figure(&self, window: Option<crate::plot::Window>) -> Result<String, crate::plot::FigureError> {
+                match self {
+                    $( JobResult::$variant(r) => <$kind as Kind>::figure(r, window), )*
                 }
             }
 

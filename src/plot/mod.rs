@@ -1,29 +1,19 @@
-//! SVG figures of result documents (plotters, SVG backend: no system fonts
-//! needed). [`svg`] renders any result kind to a string, [`svg_in`] a time
-//! history over a [`Window`] of time; [`plot_result`] writes a figure to a
-//! file.
+//! What the figures of result documents are drawn with (plotters, SVG
+//! backend: no system fonts needed): style, bands, time panels, windows, a
+//! figure's frame ([`render`]) and the notes several figures carry. Each
+//! kind's figure is in its folder (`src/kinds/<kind>/figure.rs`), drawn with
+//! these; `JobResult::figure` picks it.
 
 pub mod bands;
-pub mod forensic;
-pub mod forensic_record;
-pub mod fragility;
-pub mod friction;
-pub mod motion;
 pub mod precision;
-pub mod record_spectrum;
-pub mod spectrum;
 pub mod style;
-pub mod survival;
-pub mod time_history;
 pub mod time_panel;
 pub mod window;
 
 use plotters::prelude::*;
 
 use crate::dynamics::PulseShape;
-use crate::jobs::names::Excitation;
 use crate::jobs::spec::BlockNorm;
-use crate::kinds::{JobKind, JobResult};
 
 pub use precision::precision_diagram;
 use style::{Area, Drawn, INK, TITLE};
@@ -51,43 +41,6 @@ impl std::fmt::Display for FigureError {
 }
 
 impl std::error::Error for FigureError {}
-
-/// The figure of a result, as SVG text.
-pub fn svg(result: &JobResult) -> Result<String, String> {
-    svg_in(result, None).map_err(|e| e.to_string())
-}
-
-/// The figure of a result over `window` (time histories only; `None`: the
-/// whole result), as SVG text.
-pub fn svg_in(result: &JobResult, window: Option<Window>) -> Result<String, FigureError> {
-    if window.is_some() && result.job_kind() != JobKind::TimeHistory {
-        return Err(FigureError::Window(format!(
-            "a window is a span of time: it applies to time histories, not to a {} result",
-            result.job_kind().name().replace('_', " ")
-        )));
-    }
-    // Every kind has a figure: the match is exhaustive.
-    match result {
-        JobResult::TimeHistory(r) => time_history::svg(r, window),
-        JobResult::Spectrum(r) => spectrum::svg(r),
-        JobResult::FrictionSpectrum(r) => friction::svg(r),
-        JobResult::Forensic(r) if r.excitation == Excitation::GroundMotion => {
-            forensic_record::svg(r)
-        }
-        JobResult::Forensic(r) => forensic::svg(r),
-        JobResult::RecordSpectrum(r) => record_spectrum::svg(r),
-        JobResult::Survival(r) => survival::svg(r),
-        JobResult::Fragility(r) => fragility::svg(r),
-    }
-    .map_err(FigureError::Result)
-}
-
-/// Writes the figure of a result to `path` (SVG).
-pub fn plot_result(result: &JobResult, path: &str) -> Result<(), Box<dyn std::error::Error>> {
-    let text = svg(result)?;
-    std::fs::write(path, text)?;
-    Ok(())
-}
 
 /// Draws a `width` × `height` figure titled `title` with `draw` and returns
 /// its SVG text.
@@ -168,7 +121,7 @@ pub(crate) fn scaled_vertical_text(v: &crate::jobs::vertical::ScaledVertical, g:
         ),
         ScaledVertical::Samples(s) => format!(
             "ü_v: the record's own vertical, scaled with it (PGA_v {} g unscaled)",
-            fmt_num(crate::kinds::record_spectrum::pga(s) / g, 4)
+            fmt_num(crate::records::pga(s) / g, 4)
         ),
     }
 }
@@ -206,6 +159,7 @@ pub fn floor_note(contact: &crate::jobs::contact::ContactNorm) -> String {
 pub(crate) mod tests {
     use super::*;
     use crate::dynamics::excitation::Real;
+    use crate::kinds::JobResult;
     use serde_json::Value;
 
     /// The result `topple run` prints for the spec `text`.
@@ -271,22 +225,11 @@ pub(crate) mod tests {
     fn a_window_is_for_time_histories_only() {
         let w = Window::new(0.0, 1.0).expect("window");
         let doc = typed(include_str!("../../specs/one_cosine_friction.json"));
-        let e = svg_in(&doc, Some(w)).unwrap_err();
+        let e = doc.figure(Some(w)).unwrap_err();
         assert!(
             matches!(&e, FigureError::Window(text) if text.contains("friction spectrum")),
             "{e:?}"
         );
-    }
-
-    #[test]
-    fn plot_result_writes_the_svg() {
-        let doc = typed(include_str!("../../specs/one_cosine_friction.json"));
-        let path = std::env::temp_dir().join(format!("topple-plot-{}.svg", std::process::id()));
-        let path = path.to_string_lossy().to_string();
-        plot_result(&doc, &path).expect("written");
-        let text = std::fs::read_to_string(&path).expect("read");
-        let _ = std::fs::remove_file(&path);
-        assert_eq!(text, svg(&doc).expect("svg"));
     }
 
     #[test]

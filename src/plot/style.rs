@@ -605,6 +605,14 @@ pub fn chart_on<'a, 'b, DB: DrawingBackend>(
     builder
 }
 
+/// A box in pixels: left, top, right, bottom.
+pub type Box4 = (i32, i32, i32, i32);
+
+/// Whether two boxes overlap (touching is not overlapping).
+pub fn overlap(a: Box4, b: Box4) -> bool {
+    a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,7 +12,7 @@ use super::style::{
     AXIS, Area, Chart, Drawn, INK, LEGEND, MUTED, Marker, PULSE, TICKS, axis_range, clip_y,
     left_top, marker, right_top, text, text_width, tick,
 };
-use super::survival::{Box4, overlap};
+use super::style::{Box4, overlap};
 
 /// Shade of the span a zoomed column shows, in the whole-history column.
 pub const ZOOMED: RGBColor = RGBColor(228, 233, 242);

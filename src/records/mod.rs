@@ -337,6 +337,11 @@ fn agree_unit(option: Option<Unit>, stated: Unit, source: &str) -> Result<(), Re
     }
 }
 
+/// The peak ground acceleration of `acc` (its largest magnitude).
+pub fn pga(acc: &[f64]) -> f64 {
+    acc.iter().fold(0.0f64, |m, a| m.max(a.abs()))
+}
+
 /// The content address of a record: 32 lowercase hex digits of the blake3
 /// hash of `dt`'s and every sample's f64 bits (little-endian), −0.0 counted
 /// as 0.0. The same motion uploaded twice, in any format or unit that reads

@@ -28,7 +28,9 @@ fn every_kind_has_an_estimate_a_table_and_a_figure() {
         assert_eq!(typed.job_kind(), *kind);
         let table = topple::api::csv::to_csv(&typed).expect("a table");
         assert!(table.lines().count() >= 2, "{kind:?}: {table}");
-        let figure = topple::plot::svg(&typed).unwrap_or_else(|e| panic!("{kind:?}: {e}"));
+        let figure = typed
+            .figure(None)
+            .unwrap_or_else(|e| panic!("{kind:?}: {e}"));
         assert!(figure.starts_with("<svg"), "{kind:?}");
     }
 }
@@ -61,7 +63,7 @@ fn a_lift_off_point_is_null_flagged_and_marked_in_csv_and_svg() {
     let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
     assert_eq!(row[col("peak_friction_demand")], "");
     assert_eq!(row[col("lift_off")], "true");
-    let svg = topple::plot::svg(&typed).expect("svg");
+    let svg = typed.figure(None).expect("svg");
     assert!(svg.contains("lift-off (f_z → 0)"), "legend");
     assert!(
         !svg.contains("e9"),

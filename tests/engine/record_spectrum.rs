@@ -208,7 +208,7 @@ fn a_split_record_spectrum_assembles_to_the_whole() {
     assert_eq!(assembled["numerics"]["tasks"], tasks.len());
     // A figure and a CSV table of it.
     let typed = topple::kinds::JobResult::from_value(whole).expect("a record spectrum");
-    let svg = topple::plot::svg(&typed).expect("a figure");
+    let svg = typed.figure(None).expect("a figure");
     assert!(svg.contains("block size R (m)") && svg.contains("scale factor"));
 }
 

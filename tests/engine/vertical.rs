@@ -794,7 +794,7 @@ fn a_record_spectrum_under_a_vertical_ratio_scans_below_lift_off() {
     }
     assert!(checked > 0);
     // The figure shades the lift-off and says so.
-    let svg = topple::plot::record_spectrum::svg(&result).expect("a figure");
+    let svg = topple::kinds::record_spectrum::figure::svg(&result).expect("a figure");
     assert!(svg.contains("lift-off"), "no lift-off in the legend");
 }
 
@@ -917,7 +917,7 @@ fn a_record_spectrum_under_its_own_vertical_samples_scans_from_their_threshold_t
     }
     assert!(checked > 0);
     // The figure names the record's own vertical motion and the lift-off.
-    let svg = topple::plot::record_spectrum::svg(&result).expect("a figure");
+    let svg = topple::kinds::record_spectrum::figure::svg(&result).expect("a figure");
     assert!(svg.contains("own vertical"), "no vertical in the figure");
     assert!(svg.contains("lift-off"), "no lift-off in the legend");
 }

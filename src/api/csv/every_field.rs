@@ -4,13 +4,13 @@
 use serde_json::Value;
 
 use super::SIGNIFICANT_DIGITS;
-use super::number::significant_digits;
 use super::tests::{
     FORENSIC, FORENSIC_RECORD, FRAGILITY, FRICTION, RECORD_SPECTRUM, SPECTRUM, SURVIVAL,
     TIME_HISTORY, cell, csv_of, json_text, lines,
 };
-use super::text::quote;
 use crate::kinds::{JobKind, JobResult};
+use crate::table::number::significant_digits;
+use crate::table::text::quote;
 
 /// The pointers of every scalar of `v` under `at`: objects are entered,
 /// arrays are not (a list is the table's rows, or is left out of it).

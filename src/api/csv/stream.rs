@@ -7,10 +7,10 @@ use serde::{Serialize, Serializer};
 use serde_json::Value;
 use serde_json::value::RawValue;
 
-use super::number::Number;
-use super::table::{Table, TableError};
-use super::text::Text;
-use super::time_history::SeriesRow;
+use crate::kinds::time_history::table::SeriesRow;
+use crate::table::number::Number;
+use crate::table::text::Text;
+use crate::table::{Table, TableError};
 
 /// A series table being read from a stored document.
 ///
@@ -112,7 +112,7 @@ impl SeriesRows {
             Table::new()
         };
         let mut more = true;
-        while out.len() + table.len()? < min {
+        while out.len() + table.written()? < min {
             let [t, theta, theta_dot, ground, fx] = self
                 .next
                 .each_mut()

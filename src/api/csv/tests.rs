@@ -5,36 +5,36 @@ use crate::kinds::JobResult;
 use crate::kinds::time_history::TimeHistoryResult;
 use crate::plot::tests::typed;
 
-pub(super) const TIME_HISTORY: &str = r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_ratio":3,"a_p_alpha_g":2.5},"outputs":{"series":20}}"#;
-pub(super) const SPECTRUM: &str = r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":[2,4],"a_max_alpha_g":6}"#;
-pub(super) const FRICTION: &str = r#"{"kind":"friction_spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"omega_ratio":3,"a_alpha_g":[1.5,3]}"#;
-pub(super) const FORENSIC: &str = r#"{"kind":"forensic","pulse":{"type":"one_sine"},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false}],"frequency_hz":{"from":0.5,"to":2,"steps":3},"a_p_g":{"from":0.05,"to":2.0}}"#;
-pub(super) const FORENSIC_RECORD: &str = r#"{"kind":"forensic","ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false}],"pga_g":{"from":0.05,"to":2.0}}"#;
-pub(super) const RECORD_SPECTRUM: &str = r#"{"kind":"record_spectrum","block":{"alpha":0.2},"p":[1.5,3],"scale":{"from":0.5,"to":3},"ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]}}"#;
-pub(super) const SURVIVAL: &str = r#"{"kind":"survival","hazard":{"im":"pga_g","points":[[0.1,0.01],[0.5,0.0005],[1.0,0.00005]]},"fragility":{"median_g":0.4,"beta":0.4},"age_years":[1000]}"#;
-pub(super) const FRAGILITY: &str = r#"{"kind":"fragility","block":{"alpha":0.2,"p":2.0},"pulse":{"type":"one_sine","omega_ratio":3},"stripes":[0.2,0.4],"samples":8,"seed":1}"#;
+pub(crate) const TIME_HISTORY: &str = r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_ratio":3,"a_p_alpha_g":2.5},"outputs":{"series":20}}"#;
+pub(crate) const SPECTRUM: &str = r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"formulation":"linear","omega_ratio":[2,4],"a_max_alpha_g":6}"#;
+pub(crate) const FRICTION: &str = r#"{"kind":"friction_spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"omega_ratio":3,"a_alpha_g":[1.5,3]}"#;
+pub(crate) const FORENSIC: &str = r#"{"kind":"forensic","pulse":{"type":"one_sine"},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false}],"frequency_hz":{"from":0.5,"to":2,"steps":3},"a_p_g":{"from":0.05,"to":2.0}}"#;
+pub(crate) const FORENSIC_RECORD: &str = r#"{"kind":"forensic","ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]},"observations":[{"name":"transformer","b":0.6,"h":1.2,"overturned":false}],"pga_g":{"from":0.05,"to":2.0}}"#;
+pub(crate) const RECORD_SPECTRUM: &str = r#"{"kind":"record_spectrum","block":{"alpha":0.2},"p":[1.5,3],"scale":{"from":0.5,"to":3},"ground_motion":{"dt":0.02,"unit":"g","acc":[0,0.1,0.3,0.2,-0.3,-0.2,0.1,0]}}"#;
+pub(crate) const SURVIVAL: &str = r#"{"kind":"survival","hazard":{"im":"pga_g","points":[[0.1,0.01],[0.5,0.0005],[1.0,0.00005]]},"fragility":{"median_g":0.4,"beta":0.4},"age_years":[1000]}"#;
+pub(crate) const FRAGILITY: &str = r#"{"kind":"fragility","block":{"alpha":0.2,"p":2.0},"pulse":{"type":"one_sine","omega_ratio":3},"stripes":[0.2,0.4],"samples":8,"seed":1}"#;
 
-pub(super) fn lines(csv: &str) -> Vec<&str> {
+pub(crate) fn lines(csv: &str) -> Vec<&str> {
     csv.lines().collect()
 }
 
 /// `x` as serde_json writes it.
-pub(super) fn json_text<T: serde::Serialize>(x: &T) -> String {
+pub(crate) fn json_text<T: serde::Serialize>(x: &T) -> String {
     serde_json::to_string(x).expect("json")
 }
 
 /// The table of `result`.
-pub(super) fn csv_of(result: &JobResult) -> String {
+pub(crate) fn csv_of(result: &JobResult) -> String {
     super::to_csv(result).expect("a table")
 }
 
 /// `x` as a table writes it.
-pub(super) fn cell(x: &f64) -> String {
+pub(crate) fn cell(x: &f64) -> String {
     super::number(*x)
 }
 
 /// The time history of [`TIME_HISTORY`].
-pub(super) fn time_history_result() -> TimeHistoryResult {
+pub(crate) fn time_history_result() -> TimeHistoryResult {
     match typed(TIME_HISTORY) {
         JobResult::TimeHistory(r) => *r,
         other => panic!("not a time history: {:?}", other.job_kind()),
@@ -42,7 +42,7 @@ pub(super) fn time_history_result() -> TimeHistoryResult {
 }
 
 /// The table of time history `r`.
-pub(super) fn th_table(r: &TimeHistoryResult) -> String {
+pub(crate) fn th_table(r: &TimeHistoryResult) -> String {
     csv_of(&JobResult::TimeHistory(Box::new(r.clone())))
 }
 

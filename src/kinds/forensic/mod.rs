@@ -9,6 +9,11 @@
 //! transition, so the sets are intervals located to `tolerance_g`, not grid
 //! samples); the sets of all observations are intersected.
 
+pub mod figure;
+pub mod figure_record;
+pub mod table;
+pub mod table_record;
+
 pub mod mixed;
 pub mod record;
 pub mod scan;
@@ -1187,7 +1192,7 @@ impl ForensicJob {
 /// with blocks seen overturned or standing.
 pub struct Forensic;
 
-impl crate::jobs::kind::Kind for Forensic {
+impl crate::kinds::kind::Kind for Forensic {
     const NAME: &'static str = crate::jobs::names::tag::Forensic::NAME;
     const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Forensic query";
@@ -1217,12 +1222,34 @@ impl crate::jobs::kind::Kind for Forensic {
     fn run(
         job: &ForensicJob,
         control: &Control,
-    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
-        use crate::jobs::kind::Output;
+    ) -> Result<crate::kinds::kind::Output<Self>, crate::jobs::JobError> {
+        use crate::kinds::kind::Output;
         Ok(match job.part {
             // A task's transitions, assembled by the service.
             Some(p) => Output::Part(job.run_part(p, control)?),
             None => Output::Whole(job.run(control)?),
+        })
+    }
+
+    /// A query over a record's scales has a table and a figure of its
+    /// own (scales and PGAs, not frequencies and amplitudes).
+    fn table(
+        result: &ForensicResult,
+        table: &mut crate::table::Table,
+    ) -> Result<(), crate::table::TableError> {
+        match result.excitation {
+            Excitation::GroundMotion => table_record::rows(result, table),
+            Excitation::Pulse => table::rows(result, table),
+        }
+    }
+
+    fn figure(
+        result: &ForensicResult,
+        window: Option<crate::plot::Window>,
+    ) -> Result<String, crate::plot::FigureError> {
+        crate::kinds::kind::whole_figure::<Self>(window, || match result.excitation {
+            Excitation::GroundMotion => figure_record::svg(result),
+            Excitation::Pulse => figure::svg(result),
         })
     }
 

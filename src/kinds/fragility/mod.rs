@@ -18,6 +18,9 @@
 //! apart (`lift_off`) and each stripe's probability is taken over the
 //! samples decided.
 
+pub mod figure;
+pub mod table;
+
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{Rng, SeedableRng};
 use rayon::prelude::*;
@@ -1504,7 +1507,7 @@ impl FragilityJob {
 /// intensity measure, by Monte Carlo; split into parts of whole units.
 pub struct Fragility;
 
-impl crate::jobs::kind::Kind for Fragility {
+impl crate::kinds::kind::Kind for Fragility {
     const NAME: &'static str = crate::jobs::names::tag::Fragility::NAME;
     const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Fragility";
@@ -1516,13 +1519,26 @@ impl crate::jobs::kind::Kind for Fragility {
     fn run(
         job: &FragilityJob,
         control: &Control,
-    ) -> Result<crate::jobs::kind::Output<Self>, JobError> {
-        use crate::jobs::kind::Output;
+    ) -> Result<crate::kinds::kind::Output<Self>, JobError> {
+        use crate::kinds::kind::Output;
         if job.part.is_some() {
             // A task's counts, assembled by the service.
             return Ok(Output::Part(job.run_part(control)?));
         }
         Ok(Output::Whole(job.run(control)?))
+    }
+    fn table(
+        result: &FragilityResult,
+        table: &mut crate::table::Table,
+    ) -> Result<(), crate::table::TableError> {
+        table::rows(result, table)
+    }
+
+    fn figure(
+        result: &FragilityResult,
+        window: Option<crate::plot::Window>,
+    ) -> Result<String, crate::plot::FigureError> {
+        crate::kinds::kind::whole_figure::<Self>(window, || figure::svg(result))
     }
 
     fn size(job: &FragilityJob) -> crate::jobs::kind::Size {

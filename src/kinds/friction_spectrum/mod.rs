@@ -1,5 +1,8 @@
 //! The `friction_spectrum` job: the friction pure rocking needs (paper Fig. 9).
 
+pub mod figure;
+pub mod table;
+
 use serde::{Deserialize, Serialize};
 
 use super::spectrum::{PulseFamily, SpectrumNumerics, validate_family};
@@ -292,7 +295,7 @@ pub struct FrictionSpectrum;
 /// at 60 µs).
 const FRICTION_COST: f64 = 6.0;
 
-impl crate::jobs::kind::Kind for FrictionSpectrum {
+impl crate::kinds::kind::Kind for FrictionSpectrum {
     const NAME: &'static str = crate::jobs::names::tag::FrictionSpectrum::NAME;
     const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Friction spectrum";
@@ -304,8 +307,21 @@ impl crate::jobs::kind::Kind for FrictionSpectrum {
     fn run(
         job: &FrictionJob,
         control: &Control,
-    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
-        Ok(crate::jobs::kind::Output::Whole(job.run(control)?))
+    ) -> Result<crate::kinds::kind::Output<Self>, crate::jobs::JobError> {
+        Ok(crate::kinds::kind::Output::Whole(job.run(control)?))
+    }
+    fn table(
+        result: &FrictionResult,
+        table: &mut crate::table::Table,
+    ) -> Result<(), crate::table::TableError> {
+        table::rows(result, table)
+    }
+
+    fn figure(
+        result: &FrictionResult,
+        window: Option<crate::plot::Window>,
+    ) -> Result<String, crate::plot::FigureError> {
+        crate::kinds::kind::whole_figure::<Self>(window, || figure::svg(result))
     }
 
     fn size(job: &FrictionJob) -> crate::jobs::kind::Size {

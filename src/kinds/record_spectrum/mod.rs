@@ -8,6 +8,9 @@
 //! the pulse spectra's, expressed in scale units: step 0.02·s_α and tolerance
 //! 1e-4·s_α, with s_α = αg/PGA the scale at which the record's PGA reaches αg.
 
+pub mod figure;
+pub mod table;
+
 use crate::jobs::mixed::{MixedDoc, minimum_place};
 use serde::{Deserialize, Serialize};
 
@@ -866,7 +869,7 @@ impl RecordSpectrumJob {
 /// The `record_spectrum` kind: the rocking spectrum of a recorded motion.
 pub struct RecordSpectrum;
 
-impl crate::jobs::kind::Kind for RecordSpectrum {
+impl crate::kinds::kind::Kind for RecordSpectrum {
     const NAME: &'static str = crate::jobs::names::tag::RecordSpectrum::NAME;
     const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Record spectrum";
@@ -878,13 +881,27 @@ impl crate::jobs::kind::Kind for RecordSpectrum {
     fn run(
         job: &RecordSpectrumJob,
         control: &Control,
-    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
-        use crate::jobs::kind::Output;
+    ) -> Result<crate::kinds::kind::Output<Self>, crate::jobs::JobError> {
+        use crate::kinds::kind::Output;
         Ok(match job.part {
             // A task's transitions, assembled by the service.
             Some(p) => Output::Part(part::run(job, p, control)?),
             None => Output::Whole(job.run(control)?),
         })
+    }
+
+    fn table(
+        result: &RecordSpectrumResult,
+        table: &mut crate::table::Table,
+    ) -> Result<(), crate::table::TableError> {
+        table::rows(result, table)
+    }
+
+    fn figure(
+        result: &RecordSpectrumResult,
+        window: Option<crate::plot::Window>,
+    ) -> Result<String, crate::plot::FigureError> {
+        crate::kinds::kind::whole_figure::<Self>(window, || figure::svg(result))
     }
 
     /// Scan points of every size, each bisected down to the tolerance

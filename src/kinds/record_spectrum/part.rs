@@ -83,7 +83,7 @@ impl scan_parts::Parted for RecordSpectrumJob {
     /// Parts of about [`crate::jobs::cost::TASK_CPU_S`], each size costing
     /// its share of the job's estimate.
     fn cut(&self) -> Vec<Part> {
-        use crate::jobs::kind::Kind;
+        use crate::kinds::kind::Kind;
         let size = super::RecordSpectrum::size(self);
         parts(
             self,

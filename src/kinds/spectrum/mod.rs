@@ -1,5 +1,8 @@
 //! The `spectrum` job: overturning spectra (paper Figs. 6, 10, 11).
 
+pub mod figure;
+pub mod table;
+
 mod concatenate;
 
 use serde::{Deserialize, Serialize};
@@ -937,7 +940,7 @@ impl SpectrumJob {
 /// family.
 pub struct Spectrum;
 
-impl crate::jobs::kind::Kind for Spectrum {
+impl crate::kinds::kind::Kind for Spectrum {
     const NAME: &'static str = crate::jobs::names::tag::Spectrum::NAME;
     const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Overturning spectrum";
@@ -949,8 +952,21 @@ impl crate::jobs::kind::Kind for Spectrum {
     fn run(
         job: &SpectrumJob,
         control: &Control,
-    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
-        Ok(crate::jobs::kind::Output::Whole(job.run(control)?))
+    ) -> Result<crate::kinds::kind::Output<Self>, crate::jobs::JobError> {
+        Ok(crate::kinds::kind::Output::Whole(job.run(control)?))
+    }
+    fn table(
+        result: &SpectrumResult,
+        table: &mut crate::table::Table,
+    ) -> Result<(), crate::table::TableError> {
+        table::rows(result, table)
+    }
+
+    fn figure(
+        result: &SpectrumResult,
+        window: Option<crate::plot::Window>,
+    ) -> Result<String, crate::plot::FigureError> {
+        crate::kinds::kind::whole_figure::<Self>(window, || figure::svg(result))
     }
 
     fn size(job: &SpectrumJob) -> crate::jobs::kind::Size {

@@ -5,6 +5,9 @@
 //! ([`HazardCurve::toppling_rate`]); topplings are a Poisson process, so a
 //! rock of age T stands with P_s = exp(−λ_t T) ([`Age::survival`]).
 
+pub mod figure;
+pub mod table;
+
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -575,7 +578,7 @@ impl SurvivalJob {
 /// stand under a hazard model (closed forms).
 pub struct Survival;
 
-impl crate::jobs::kind::Kind for Survival {
+impl crate::kinds::kind::Kind for Survival {
     const NAME: &'static str = crate::jobs::names::tag::Survival::NAME;
     const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Survival";
@@ -587,8 +590,22 @@ impl crate::jobs::kind::Kind for Survival {
     fn run(
         job: &SurvivalJob,
         control: &crate::spectrum::Control,
-    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
-        crate::jobs::kind::run_one::<Self>(control, || Ok(job.run()))
+    ) -> Result<crate::kinds::kind::Output<Self>, crate::jobs::JobError> {
+        crate::kinds::kind::run_one::<Self>(control, || Ok(job.run()))
+    }
+
+    fn table(
+        result: &SurvivalResult,
+        table: &mut crate::table::Table,
+    ) -> Result<(), crate::table::TableError> {
+        table::rows(result, table)
+    }
+
+    fn figure(
+        result: &SurvivalResult,
+        window: Option<crate::plot::Window>,
+    ) -> Result<String, crate::plot::FigureError> {
+        crate::kinds::kind::whole_figure::<Self>(window, || figure::svg(result))
     }
 
     /// Closed forms and a quadrature: under a millisecond.

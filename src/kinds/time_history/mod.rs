@@ -1,6 +1,10 @@
 //! The `time_history` job: one block, one ground motion (a pulse or a sampled
 //! record), one response.
 
+pub mod figure;
+pub mod motion;
+pub mod table;
+
 use serde::{Deserialize, Serialize};
 
 use crate::dynamics::PulsePair;
@@ -702,7 +706,7 @@ impl TimeHistoryJob {
 /// record.
 pub struct TimeHistory;
 
-impl crate::jobs::kind::Kind for TimeHistory {
+impl crate::kinds::kind::Kind for TimeHistory {
     const NAME: &'static str = crate::jobs::names::tag::TimeHistory::NAME;
     const EXAMPLE: &'static str = include_str!("example.json");
     const LABEL: &'static str = "Time history";
@@ -714,8 +718,21 @@ impl crate::jobs::kind::Kind for TimeHistory {
     fn run(
         job: &TimeHistoryJob,
         control: &crate::spectrum::Control,
-    ) -> Result<crate::jobs::kind::Output<Self>, crate::jobs::JobError> {
-        crate::jobs::kind::run_one::<Self>(control, || Ok(job.run()?))
+    ) -> Result<crate::kinds::kind::Output<Self>, crate::jobs::JobError> {
+        crate::kinds::kind::run_one::<Self>(control, || Ok(job.run()?))
+    }
+    fn table(
+        result: &TimeHistoryResult,
+        table: &mut crate::table::Table,
+    ) -> Result<(), crate::table::TableError> {
+        table::rows(result, table)
+    }
+
+    fn figure(
+        result: &TimeHistoryResult,
+        window: Option<crate::plot::Window>,
+    ) -> Result<String, crate::plot::FigureError> {
+        figure::svg(result, window).map_err(crate::plot::FigureError::Result)
     }
 
     fn size(job: &TimeHistoryJob) -> crate::jobs::kind::Size {

@@ -9,16 +9,16 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::HPos;
 
-use super::bands::{Band, Column, MIN_VISIBLE, over, tile, widen};
-use super::forensic::{
+use super::figure::{
     Frame, block_notes, colour, draw_frame, fill, intervals, partition, sliding_note,
 };
-use super::render;
-use super::style::{
+use crate::kinds::forensic::{ForensicResult, RecordObservationSet};
+use crate::plot::bands::{Band, Column, MIN_VISIBLE, over, tile, widen};
+use crate::plot::render;
+use crate::plot::style::{
     Area, CONSISTENT, Drawn, INK, LEGEND_WIDTH, Legend, MIXED, Swatch, X_LABEL_AREA, Y_LABEL_AREA,
     axis_range, draw_legend, fmt_num, mesh, scaled_pga_axis, tint,
 };
-use crate::kinds::forensic::{ForensicResult, RecordObservationSet};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -301,7 +301,7 @@ fn notes(legend: &mut Legend, q: &Query) {
         let g = result.observations.first().map_or(9.81, |o| o.block.g);
         legend.note(format!(
             "vertical ground motion {} (positive up)",
-            super::scaled_vertical_text(&v, g)
+            crate::plot::scaled_vertical_text(&v, g)
         ));
     }
     if let Some(c) = &result.spec.contact {
@@ -428,7 +428,9 @@ mod tests {
 
     /// The computed Point Reyes record query.
     fn computed() -> ForensicResult {
-        match typed(include_str!("../../specs/point_reyes_forensic_record.json")) {
+        match typed(include_str!(
+            "../../../specs/point_reyes_forensic_record.json"
+        )) {
             JobResult::Forensic(r) => *r,
             other => panic!("not a forensic result: {:?}", other.job_kind()),
         }
@@ -609,6 +611,6 @@ mod tests {
         let doc = computed();
         let pga = doc.record.as_ref().expect("a record").peaks.pga_g;
         let svg = super::svg(&doc).expect("svg");
-        crate::plot::spectrum::tests::assert_right_axis_is_left_times(&svg, pga);
+        crate::kinds::spectrum::figure::tests::assert_right_axis_is_left_times(&svg, pga);
     }
 }

@@ -68,7 +68,7 @@ pub fn number(x: f64) -> String {
 
 /// A number cell: `x` as [`number`] writes it (empty when not finite).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Number(pub(super) f64);
+pub struct Number(pub f64);
 
 impl Serialize for Number {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
@@ -129,7 +129,7 @@ impl Digits {
 
 /// The significant digits of decimal `text` (`1.25e-7`: 3; `100.0`: 1).
 #[cfg(test)]
-pub(super) fn significant_digits(text: &str) -> usize {
+pub fn significant_digits(text: &str) -> usize {
     Digits::of(text).map_or(usize::MAX, |d| d.digits.len())
 }
 

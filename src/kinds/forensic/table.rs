@@ -5,13 +5,13 @@
 
 use serde::Serialize;
 
-use super::number::Number;
-use super::table::{Table, TableError};
-use super::text::Text;
 use crate::kinds::forensic::{ForensicFrequency, ForensicResult};
+use crate::table::number::Number;
+use crate::table::text::Text;
+use crate::table::{Table, TableError};
 
 /// The rows for all observations, then for each.
-pub(super) fn rows(r: &ForensicResult, table: &mut Table) -> Result<(), TableError> {
+pub fn rows(r: &ForensicResult, table: &mut Table) -> Result<(), TableError> {
     for f in &r.frequencies {
         intervals(table, f, "", None, &f.consistent_g)?;
     }
@@ -73,7 +73,7 @@ struct Row<'a> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{FORENSIC, cell, csv_of, lines};
+    use crate::api::csv::tests::{FORENSIC, cell, csv_of, lines};
     use crate::jobs::names::Excitation;
     use crate::kinds::JobResult;
     use crate::kinds::forensic::{ForensicFrequency, Observation, ObservationSet};

@@ -4,14 +4,14 @@
 
 use serde::Serialize;
 
-use super::number::Number;
-use super::table::{Named, Table, TableError};
-use super::text::Text;
 use crate::jobs::names::Im;
 use crate::kinds::survival::{RockResult, SurvivalResult};
+use crate::table::number::Number;
+use crate::table::text::Text;
+use crate::table::{Named, Table, TableError};
 
 /// A row per rock and age, then the joint row.
-pub(super) fn rows(r: &SurvivalResult, table: &mut Table) -> Result<(), TableError> {
+pub fn rows(r: &SurvivalResult, table: &mut Table) -> Result<(), TableError> {
     // The fragility's median, its column named after the intensity measure.
     let median = |value| Named {
         name: median_column(r.im),
@@ -115,7 +115,7 @@ impl Rates {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{SURVIVAL, cell, csv_of, lines};
+    use crate::api::csv::tests::{SURVIVAL, cell, csv_of, lines};
     use crate::kinds::JobResult;
     use crate::kinds::survival::{AgeDistributionResult, AgeResult, JointResult};
     use crate::plot::tests::typed;

@@ -18,14 +18,14 @@
 
 use serde::Serialize;
 
-use super::number::Number;
-use super::table::{Columns, Table, TableError};
-use super::text::Text;
 use crate::jobs::mixed::MixedDoc;
 use crate::kinds::spectrum::{FrequencyDoc, SlidePointDoc, SpectrumResult, TransitionDoc};
+use crate::table::number::Number;
+use crate::table::text::Text;
+use crate::table::{Columns, Table, TableError};
 
 /// The rows of every frequency of the spectrum, then of those beside it.
-pub(super) fn rows(r: &SpectrumResult, table: &mut Table) -> Result<(), TableError> {
+pub fn rows(r: &SpectrumResult, table: &mut Table) -> Result<(), TableError> {
     let tail = Tail {
         slides: r
             .spectrum
@@ -285,8 +285,8 @@ struct Floor {
 mod tests {
     use serde_json::Value;
 
-    use super::super::tests::{SPECTRUM, cell, csv_of, lines};
     use super::*;
+    use crate::api::csv::tests::{SPECTRUM, cell, csv_of, lines};
     use crate::kinds::JobResult;
     use crate::kinds::spectrum::PulseScalesDoc;
     use crate::plot::tests::typed;

@@ -3,12 +3,12 @@
 
 use serde::Serialize;
 
-use super::number::Number;
-use super::table::{Table, TableError};
 use crate::kinds::friction_spectrum::{FrictionPointDoc, FrictionResult};
+use crate::table::number::Number;
+use crate::table::{Table, TableError};
 
 /// A row per amplitude.
-pub(super) fn rows(r: &FrictionResult, table: &mut Table) -> Result<(), TableError> {
+pub fn rows(r: &FrictionResult, table: &mut Table) -> Result<(), TableError> {
     for p in &r.points {
         table.row(Row::of(r, p))?;
     }
@@ -71,7 +71,7 @@ impl Row {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{FRICTION, cell, csv_of, lines};
+    use crate::api::csv::tests::{FRICTION, cell, csv_of, lines};
     use crate::kinds::JobResult;
     use crate::kinds::friction_spectrum::FrictionPointDoc;
     use crate::plot::tests::typed;

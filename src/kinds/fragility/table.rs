@@ -8,12 +8,12 @@
 
 use serde::Serialize;
 
-use super::number::Number;
-use super::table::{Columns, Named, Table, TableError};
 use crate::kinds::fragility::{FragilityResult, StripeResult};
+use crate::table::number::Number;
+use crate::table::{Columns, Named, Table, TableError};
 
 /// A row per stripe.
-pub(super) fn rows(r: &FragilityResult, table: &mut Table) -> Result<(), TableError> {
+pub fn rows(r: &FragilityResult, table: &mut Table) -> Result<(), TableError> {
     let lift_off = r.stripes.iter().any(|s| s.lift_off.is_some());
     let undecided = r.stripes.iter().any(|s| s.undecided.is_some());
     for s in &r.stripes {
@@ -83,7 +83,7 @@ struct Undecided {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{FRAGILITY, cell, csv_of, lines};
+    use crate::api::csv::tests::{FRAGILITY, cell, csv_of, lines};
     use crate::jobs::names::Im;
     use crate::kinds::JobResult;
     use crate::kinds::fragility::StripeResult;

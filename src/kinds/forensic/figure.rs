@@ -12,14 +12,14 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::bands::{Band, Column, Piece, cell_edges, cells, simplify, tile};
-use super::style::{
+use crate::jobs::contact::ContactNorm;
+use crate::kinds::forensic::{ForensicFrequency, ForensicResult, Observation};
+use crate::plot::bands::{Band, Column, Piece, cell_edges, cells, simplify, tile};
+use crate::plot::style::{
     AXIS, Area, CONSISTENT, Chart, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MIXED, OBSERVATIONS,
     Swatch, TICKS, X_LABEL_AREA, axis_range, chart_on, draw_legend, fmt_num, text, tick, tint,
 };
-use super::{block_text, render, shape_title};
-use crate::jobs::contact::ContactNorm;
-use crate::kinds::forensic::{ForensicFrequency, ForensicResult, Observation};
+use crate::plot::{block_text, render, shape_title};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -141,7 +141,7 @@ fn columns(frequencies: &[ForensicFrequency], names: &[String], from: f64, to: f
             bands = tile(
                 from,
                 to,
-                &super::bands::over(&bands, &zones, MIXED_CLASS),
+                &crate::plot::bands::over(&bands, &zones, MIXED_CLASS),
                 0,
             );
         }
@@ -209,7 +209,7 @@ pub(crate) fn block_notes(legend: &mut Legend, names: &[String], observations: &
 pub(crate) fn sliding_note(contact: &ContactNorm) -> String {
     format!(
         "{}: the blocks may slide and slide-rock",
-        super::floor_note(contact)
+        crate::plot::floor_note(contact)
     )
 }
 
@@ -416,7 +416,7 @@ fn notes(legend: &mut Legend, map: &Map) {
         let g = result.observations.first().map_or(9.81, |o| o.block.g);
         legend.note(format!(
             "vertical ground motion {} (positive up), scaled with each pulse",
-            super::scaled_vertical_text(&v, g)
+            crate::plot::scaled_vertical_text(&v, g)
         ));
     }
     legend.note(if map.xs.len() > 1 {
@@ -629,7 +629,7 @@ mod tests {
         use crate::plot::bands::cells;
         use crate::plot::tests::{hex, shapes, x_extent};
         let JobResult::Forensic(result) =
-            typed(include_str!("../../specs/point_reyes_forensic.json"))
+            typed(include_str!("../../../specs/point_reyes_forensic.json"))
         else {
             panic!("not a forensic result");
         };

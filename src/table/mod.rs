@@ -4,8 +4,11 @@
 //!
 //! A row is a `#[derive(Serialize)]` struct whose field names are the
 //! columns' headers, or a tuple of such structs, written side by side. Its
-//! cells are [`Number`](super::number::Number)s, [`Text`](super::text::Text)s,
+//! cells are [`Number`](crate::table::number::Number)s, [`Text`](crate::table::text::Text)s,
 //! counts and flags; an `Option` cell is empty when `None`.
+
+pub mod number;
+pub mod text;
 
 use serde::Serialize;
 use serde::ser::{SerializeStruct, SerializeTuple, Serializer};
@@ -19,23 +22,29 @@ pub struct TableError(#[from] csv::Error);
 /// A CSV table being written, row by row.
 ///
 /// Rows end with `\n`. The writer adds no quotes: numbers never need them,
-/// and text is quoted by its [`Text`](super::text::Text) cell, which also
+/// and text is quoted by its [`Text`](crate::table::text::Text) cell, which also
 /// guards it against being read as a formula (a guarded cell is quoted
 /// whatever it holds, a choice the writer's quoting styles cannot make per
 /// cell). Every row has as many fields as the header.
-pub(super) struct Table {
+pub struct Table {
     writer: csv::Writer<Vec<u8>>,
+}
+
+impl Default for Table {
+    fn default() -> Table {
+        Table::new()
+    }
 }
 
 impl Table {
     /// A table whose first row is preceded by its header: the row's field
     /// names.
-    pub(super) fn new() -> Table {
+    pub fn new() -> Table {
         Table::with_header(true)
     }
 
     /// Rows without a header (the rest of a table already begun).
-    pub(super) fn headless() -> Table {
+    pub fn headless() -> Table {
         Table::with_header(false)
     }
 
@@ -49,18 +58,18 @@ impl Table {
     }
 
     /// Writes `row`, after the header when it is the first.
-    pub(super) fn row(&mut self, row: impl Serialize) -> Result<(), TableError> {
+    pub fn row(&mut self, row: impl Serialize) -> Result<(), TableError> {
         Ok(self.writer.serialize(row)?)
     }
 
     /// The bytes written so far.
-    pub(super) fn len(&mut self) -> Result<usize, TableError> {
+    pub fn written(&mut self) -> Result<usize, TableError> {
         self.writer.flush().map_err(csv::Error::from)?;
         Ok(self.writer.get_ref().len())
     }
 
     /// The table's text.
-    pub(super) fn finish(self) -> Result<String, TableError> {
+    pub fn finish(self) -> Result<String, TableError> {
         let bytes = self
             .writer
             .into_inner()
@@ -80,7 +89,7 @@ impl Table {
 ///
 /// In a row, it comes after the struct of the columns every table has:
 /// `(Row, Columns<Added>)`.
-pub(super) struct Columns<T>(pub(super) Option<T>);
+pub struct Columns<T>(pub Option<T>);
 
 impl<T: Serialize> Serialize for Columns<T> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
@@ -94,9 +103,9 @@ impl<T: Serialize> Serialize for Columns<T> {
 
 /// One column whose name the table chooses (a fragility's first column is
 /// named after its intensity measure): header `name`, cells `value`.
-pub(super) struct Named<T> {
-    pub(super) name: &'static str,
-    pub(super) value: T,
+pub struct Named<T> {
+    pub name: &'static str,
+    pub value: T,
 }
 
 impl<T: Serialize> Serialize for Named<T> {
@@ -171,7 +180,10 @@ mod tests {
             )
         };
         table.row(row(0.5)).expect("a row");
-        assert_eq!(table.len().expect("a length"), "pga_g,a,b\n0.5,3,\n".len());
+        assert_eq!(
+            table.written().expect("a length"),
+            "pga_g,a,b\n0.5,3,\n".len()
+        );
         let mut rest = Table::headless();
         rest.row(row(1.5)).expect("a row");
         assert_eq!(table.finish().expect("a table"), "pga_g,a,b\n0.5,3,\n");
@@ -180,7 +192,7 @@ mod tests {
 
     #[test]
     fn cells_of_numbers_options_flags_and_counts() {
-        use super::super::number::Number;
+        use crate::table::number::Number;
         #[derive(Serialize)]
         struct Cells {
             one: Number,

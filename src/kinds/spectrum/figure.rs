@@ -10,16 +10,17 @@
 
 use plotters::prelude::*;
 
-use super::bands::{Band, Column, MIN_VISIBLE, Piece, cell_edges, joined_cells, over, tile, widen};
-use super::style::{
+use crate::dynamics::PulseShape;
+use crate::kinds::spectrum::{FrequencyDoc, SpectrumJob, SpectrumResult, TransitionDoc};
+use crate::plot::bands::{
+    Band, Column, MIN_VISIBLE, Piece, cell_edges, joined_cells, over, tile, widen,
+};
+use crate::plot::style::{
     Area, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MIXED, MODE1, MODE2, MUTED, Marker, NO_ROCKING,
     REFERENCE, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend,
     draw_legend_columns, fmt_num, legend_height, marker, mesh, secondary_mesh, text, tint,
 };
-use super::{block_text, render, shape_title};
-use crate::dynamics::PulseShape;
-use crate::kinds::record_spectrum::ScaleTransitionDoc;
-use crate::kinds::spectrum::{FrequencyDoc, SpectrumJob, SpectrumResult, TransitionDoc};
+use crate::plot::{block_text, render, shape_title};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -144,16 +145,6 @@ impl From<&TransitionDoc> for Crossing {
     fn from(t: &TransitionDoc) -> Self {
         Crossing {
             at: t.a_alpha_g,
-            up: t.direction == "up",
-            mode: t.mode,
-        }
-    }
-}
-
-impl From<&ScaleTransitionDoc> for Crossing {
-    fn from(t: &ScaleTransitionDoc) -> Self {
-        Crossing {
-            at: t.scale,
             up: t.direction == "up",
             mode: t.mode,
         }
@@ -585,7 +576,7 @@ fn title(spec: &SpectrumJob) -> String {
         spec.formulation.name(),
         crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None).map_or(
             String::new(),
-            |v| format!(", {}", super::scaled_vertical_title(&v))
+            |v| format!(", {}", crate::plot::scaled_vertical_title(&v))
         )
     )
 }
@@ -756,7 +747,7 @@ fn svg_beside(result: &SpectrumResult) -> Result<String, String> {
 /// The vertical motion of a spectrum, as its figure names it.
 fn vertical_text(spec: &SpectrumJob) -> Option<String> {
     crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None)
-        .map(|v| super::scaled_vertical_text(&v, spec.block.g))
+        .map(|v| crate::plot::scaled_vertical_text(&v, spec.block.g))
 }
 
 #[cfg(test)]
@@ -965,7 +956,7 @@ pub(crate) mod tests {
         use crate::plot::style::REFERENCE;
         use crate::plot::tests::{hex, shapes, x_extent};
         let mut result = computed(include_str!(
-            "../../specs/locomotive_spectrum_nonlinear.json"
+            "../../../specs/locomotive_spectrum_nonlinear.json"
         ));
         assert_eq!(result.spectrum.len(), 40);
         let eq21 = super::eq21_line(&result.spectrum, 0.25, 10.0);
@@ -1063,7 +1054,7 @@ pub(crate) mod tests {
     fn cells_of_a_class_meet_without_a_gap() {
         use crate::plot::bands::cell_edges;
         let result = computed(include_str!(
-            "../../specs/locomotive_spectrum_nonlinear.json"
+            "../../../specs/locomotive_spectrum_nonlinear.json"
         ));
         let d = super::drawing(&result).expect("drawing");
         let mut columns = d.columns.clone();
@@ -1133,7 +1124,7 @@ pub(crate) mod tests {
     fn every_minimum_lies_in_an_overturning_cell() {
         use crate::plot::bands::cell_edges;
         let result = computed(include_str!(
-            "../../specs/locomotive_spectrum_nonlinear.json"
+            "../../../specs/locomotive_spectrum_nonlinear.json"
         ));
         let d = super::drawing(&result).expect("drawing");
         let xs: Vec<f64> = d.columns.iter().map(|c| c.x).collect();
@@ -1241,7 +1232,7 @@ pub(crate) mod tests {
     fn the_right_axis_reads_the_left_in_g() {
         for (text, a_max_g) in [
             (
-                include_str!("../../specs/locomotive_spectrum_nonlinear.json"),
+                include_str!("../../../specs/locomotive_spectrum_nonlinear.json"),
                 None,
             ),
             (

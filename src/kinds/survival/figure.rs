@@ -8,13 +8,14 @@
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::forensic::colour;
-use super::render;
-use super::style::{
+use crate::kinds::forensic::figure::colour;
+use crate::kinds::survival::{RockResult, SurvivalResult};
+use crate::plot::render;
+use crate::plot::style::{
     Area, Drawn, INK, LEGEND_WIDTH, Legend, MUTED, Marker, NOTE, Swatch, axis_range, chart_on,
     draw_legend, fmt_num, left_top, legend_height, marker, mesh, right_top, text_width,
 };
-use crate::kinds::survival::{RockResult, SurvivalResult};
+pub use crate::plot::style::{Box4, overlap};
 
 const WIDTH: u32 = 1120;
 /// Least height of the figure (taller when the legend needs it).
@@ -35,14 +36,6 @@ const GAP: i32 = 6;
 const MARK: i32 = 5;
 /// How many label heights a label may be stacked away from its mark.
 const MAX_STACK: i32 = 24;
-
-/// A box in pixels: left, top, right, bottom.
-pub type Box4 = (i32, i32, i32, i32);
-
-/// Whether two boxes overlap (touching is not overlapping).
-pub fn overlap(a: Box4, b: Box4) -> bool {
-    a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3
-}
 
 /// The room a label of `lines` takes, px (the legend's estimate of text
 /// width).
@@ -427,7 +420,7 @@ mod tests {
 
     /// The computed survival of the power-law hazard (one rock, three ages).
     fn computed() -> SurvivalResult {
-        match typed(include_str!("../../specs/survival_power_law.json")) {
+        match typed(include_str!("../../../specs/survival_power_law.json")) {
             JobResult::Survival(r) => *r,
             other => panic!("not a survival result: {:?}", other.job_kind()),
         }
@@ -520,7 +513,7 @@ mod tests {
     /// The hazard of specs/survival_power_law.json.
     fn hazard() -> String {
         let spec: serde_json::Value =
-            serde_json::from_str(include_str!("../../specs/survival_power_law.json"))
+            serde_json::from_str(include_str!("../../../specs/survival_power_law.json"))
                 .expect("json");
         spec["hazard"].to_string()
     }

@@ -7,17 +7,19 @@
 
 use plotters::prelude::*;
 
-use super::bands::{Band, MIN_VISIBLE, over, tile, widen};
-use super::render;
-use super::spectrum::{
+use crate::kinds::record_spectrum::{
+    RecordSpectrumJob, RecordSpectrumResult, ScaleTransitionDoc, SizeDoc,
+};
+use crate::kinds::spectrum::figure::{
     CLASS_LIFT_OFF, CLASS_MIXED, CLASS_MODE1, CLASS_MODE2, CLASS_NO_ROCKING, CLASS_SAFE, Crossing,
     fill, kept, region_legend, regions_of,
 };
-use super::style::{
+use crate::plot::bands::{Band, MIN_VISIBLE, over, tile, widen};
+use crate::plot::render;
+use crate::plot::style::{
     Drawn, INK, LEGEND_WIDTH, Legend, Marker, Swatch, X_LABEL_AREA, Y_LABEL_AREA, axis_range,
     draw_legend, fmt_num, marker, mesh, scaled_pga_axis,
 };
-use crate::kinds::record_spectrum::{RecordSpectrumJob, RecordSpectrumResult, SizeDoc};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 680;
@@ -336,7 +338,7 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
     let (x0, x1) = drawn.x_range;
     let title = match spec
         .scaled_vertical()
-        .map(|v| super::scaled_vertical_title(&v))
+        .map(|v| crate::plot::scaled_vertical_title(&v))
     {
         None => format!("Rocking spectrum of a record: {formulation} formulation"),
         Some(v) => format!("Rocking spectrum of a record: {formulation} formulation, {v}"),
@@ -385,7 +387,17 @@ pub fn svg(result: &RecordSpectrumResult) -> Result<String, String> {
 /// The vertical motion of a record spectrum, as its figure names it.
 fn vertical_text(spec: &RecordSpectrumJob) -> Option<String> {
     spec.scaled_vertical()
-        .map(|v| super::scaled_vertical_text(&v, spec.block.g))
+        .map(|v| crate::plot::scaled_vertical_text(&v, spec.block.g))
+}
+
+impl From<&ScaleTransitionDoc> for Crossing {
+    fn from(t: &ScaleTransitionDoc) -> Self {
+        Crossing {
+            at: t.scale,
+            up: t.direction == "up",
+            mode: t.mode,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -395,9 +407,9 @@ mod tests {
     use crate::kinds::record_spectrum::{
         RecordSpectrumResult, ScaleModeChangeDoc, ScalePrincipalDoc, ScaleTransitionDoc, SizeDoc,
     };
+    use crate::kinds::spectrum::figure::overturns;
+    use crate::kinds::spectrum::figure::{CLASS_MODE1, CLASS_MODE2, CLASS_SAFE, fill};
     use crate::plot::bands::MIN_VISIBLE;
-    use crate::plot::spectrum::overturns;
-    use crate::plot::spectrum::{CLASS_MODE1, CLASS_MODE2, CLASS_SAFE, fill};
     use crate::plot::style::fmt_num;
     use crate::plot::tests::{hex, typed};
 
@@ -461,7 +473,7 @@ mod tests {
     }
 
     fn computed() -> RecordSpectrumResult {
-        match typed(include_str!("../../specs/record_spectrum_one_sine.json")) {
+        match typed(include_str!("../../../specs/record_spectrum_one_sine.json")) {
             JobResult::RecordSpectrum(r) => *r,
             other => panic!("not a record spectrum: {:?}", other.job_kind()),
         }
@@ -633,6 +645,9 @@ mod tests {
     fn the_right_axis_reads_the_scaled_pga() {
         let doc = computed();
         let svg = super::svg(&doc).expect("svg");
-        crate::plot::spectrum::tests::assert_right_axis_is_left_times(&svg, doc.record.peaks.pga_g);
+        crate::kinds::spectrum::figure::tests::assert_right_axis_is_left_times(
+            &svg,
+            doc.record.peaks.pga_g,
+        );
     }
 }

@@ -6,14 +6,14 @@
 
 use serde::Serialize;
 
-use super::number::Number;
-use super::table::{Table, TableError};
-use super::text::Text;
 use crate::jobs::mixed::MixedDoc;
 use crate::kinds::forensic::ForensicResult;
+use crate::table::number::Number;
+use crate::table::text::Text;
+use crate::table::{Table, TableError};
 
 /// The rows for all observations, then for each.
-pub(super) fn rows(r: &ForensicResult, table: &mut Table) -> Result<(), TableError> {
+pub fn rows(r: &ForensicResult, table: &mut Table) -> Result<(), TableError> {
     let all = Observation {
         name: "",
         seen: None,
@@ -160,7 +160,7 @@ struct Row<'a> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{FORENSIC_RECORD, cell, csv_of, lines};
+    use crate::api::csv::tests::{FORENSIC_RECORD, cell, csv_of, lines};
     use crate::jobs::names::Excitation;
     use crate::kinds::JobResult;
     use crate::kinds::forensic::RecordObservationSet;

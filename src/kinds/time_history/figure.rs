@@ -19,18 +19,18 @@
 use plotters::prelude::*;
 
 use super::motion::{Motion, Vertical};
-use super::style::{
-    Area, Drawn, INK, LEGEND, Legend, MUTED, Marker, PULSE, REST, Swatch, draw_legend_columns,
-    fmt_num, legend_height, mode_colour, text, tint,
-};
-use super::time_panel::{
-    Band, End, Mark, Panel, Place, Scale, Shared, Span, ZOOMED, crop, draw_panel,
-};
-use super::window::Window;
-use super::{block_text, render, shape_title};
 use crate::dynamics::Formulation;
 use crate::jobs::contact::{ContactNorm, ModeDoc};
 use crate::kinds::time_history::{SeriesDoc, TimeHistoryJob, TimeHistoryResult};
+use crate::plot::style::{
+    Area, Drawn, INK, LEGEND, Legend, MUTED, Marker, PULSE, REST, Swatch, draw_legend_columns,
+    fmt_num, legend_height, mode_colour, text, tint,
+};
+use crate::plot::time_panel::{
+    Band, End, Mark, Panel, Place, Scale, Shared, Span, ZOOMED, crop, draw_panel,
+};
+use crate::plot::window::Window;
+use crate::plot::{block_text, render, shape_title};
 
 const WIDTH: u32 = 1120;
 const TITLE_AREA: u32 = 44;
@@ -131,7 +131,7 @@ fn towards(value: f64) -> Option<&'static str> {
 /// The notes of a history on the Coulomb floor `contact`: the friction, how
 /// the block first moved, its slip, the side it overturned to.
 fn coulomb_notes(result: &TimeHistoryResult, contact: &ContactNorm) -> Vec<String> {
-    let mut notes = vec![super::floor_note(contact)];
+    let mut notes = vec![crate::plot::floor_note(contact)];
     if result.answered_by.as_deref() == Some("pure_rocking") {
         notes.push(
             "the friction pure rocking needs never exceeds μ: the block rocks without sliding"
@@ -1265,7 +1265,7 @@ pub(crate) mod tests {
     /// Fig. 7: a one-sine pulse of 3.02 αg at ω_p/p = 5, linear, exact;
     /// `series` samples.
     fn fig7(series: usize) -> TimeHistoryResult {
-        let spec = include_str!("../../specs/fig7_linear_exact.json")
+        let spec = include_str!("../../../specs/fig7_linear_exact.json")
             .replace("\"series\": 400", &format!("\"series\": {series}"));
         computed(&spec)
     }
@@ -1391,7 +1391,7 @@ pub(crate) mod tests {
 
     #[test]
     fn friction_demand_stops_when_the_block_is_bound_to_overturn() {
-        let result = computed(include_str!("../../specs/locomotive_nonlinear.json"));
+        let result = computed(include_str!("../../../specs/locomotive_nonlinear.json"));
         let bound = result
             .friction_demand_followed_until
             .expect("bound to overturn");
@@ -1957,7 +1957,7 @@ pub(crate) mod tests {
     /// of marks overlap.
     #[test]
     fn labels_of_close_marks_do_not_overlap() {
-        use crate::plot::survival::overlap;
+        use crate::kinds::survival::figure::overlap;
         use crate::plot::time_panel::LABEL_ROW;
         let result = computed(
             r#"{"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14, "eta": 0.9},

@@ -8,7 +8,7 @@ use serde::{Serialize, Serializer};
 /// A text cell ([`quote`]): names given by the user, and the words a result
 /// writes (a transition's direction, say).
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Text<T>(pub(super) T);
+pub struct Text<T>(pub T);
 
 impl<T: AsRef<str>> Serialize for Text<T> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
@@ -21,7 +21,7 @@ impl<T: AsRef<str>> Serialize for Text<T> {
 /// as a formula, so it gets a leading `'` and quotes (OWASP's rule for CSV
 /// injection). Only text goes through here; numbers are written as they
 /// are.
-pub(super) fn quote(s: &str) -> Cow<'_, str> {
+pub fn quote(s: &str) -> Cow<'_, str> {
     if s.starts_with(['=', '+', '-', '@', '\t', '\r']) {
         Cow::Owned(format!("\"'{}\"", s.replace('"', "\"\"")))
     } else if s.contains([',', '"', '\n', '\r']) {

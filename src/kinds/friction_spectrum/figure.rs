@@ -5,13 +5,13 @@
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-use super::style::{
+use crate::kinds::friction_spectrum::FrictionResult;
+use crate::plot::style::{
     AXIS, Area, Drawn, INK, LEGEND_WIDTH, Legend, MODE1, MODE2, MUTED, Marker, REFERENCE, Swatch,
     TICKS, X_LABEL_AREA, Y_LABEL_AREA, axis_range, clip_y, draw_legend, fmt_num, marker, text,
     tick,
 };
-use super::{block_text, render, shape_title};
-use crate::kinds::friction_spectrum::FrictionResult;
+use crate::plot::{block_text, render, shape_title};
 
 const WIDTH: u32 = 1120;
 const HEIGHT: u32 = 620;
@@ -203,7 +203,7 @@ fn legend(result: &FrictionResult, d: &Drawing) -> Legend {
         spec.formulation.name()
     ));
     let vertical = crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None)
-        .map(|v| super::scaled_vertical_text(&v, spec.block.g));
+        .map(|v| crate::plot::scaled_vertical_text(&v, spec.block.g));
     if let Some(v) = &vertical {
         legend.note(format!("vertical ground motion {v} (positive up)"));
     }
@@ -342,7 +342,7 @@ pub fn svg(result: &FrictionResult) -> Result<String, String> {
         fmt_num(result.omega_ratio, 4),
         crate::jobs::vertical::ScaledVertical::of(spec.vertical.as_ref(), None).map_or(
             String::new(),
-            |v| format!(", {}", super::scaled_vertical_title(&v))
+            |v| format!(", {}", crate::plot::scaled_vertical_title(&v))
         )
     );
     render((WIDTH, HEIGHT), &title, |area| -> Drawn {

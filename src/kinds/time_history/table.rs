@@ -3,13 +3,13 @@
 
 use serde::Serialize;
 
-use super::number::Number;
-use super::table::{Columns, Table, TableError};
-use super::text::Text;
 use crate::kinds::time_history::{ImpactDoc, SeriesDoc, TimeHistoryResult};
+use crate::table::number::Number;
+use crate::table::text::Text;
+use crate::table::{Columns, Table, TableError};
 
 /// The series when there is one; else the impacts; else a one-row summary.
-pub(super) fn rows(r: &TimeHistoryResult, table: &mut Table) -> Result<(), TableError> {
+pub fn rows(r: &TimeHistoryResult, table: &mut Table) -> Result<(), TableError> {
     if let Some(s) = &r.series
         && series(s, r.spec.block.g, table)?
     {
@@ -32,37 +32,37 @@ pub(super) fn rows(r: &TimeHistoryResult, table: &mut Table) -> Result<(), Table
 /// columns every series has, as columns added later do.
 ///
 /// Cells `C` are the samples of a typed result, or those read from a stored
-/// document ([`super::stream`]).
+/// document ([`crate::api::csv::stream`]).
 #[derive(Serialize)]
-pub(super) struct SeriesRow<'a, C> {
+pub struct SeriesRow<'a, C> {
     /// Time, s.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) t_s: Option<C>,
+    pub t_s: Option<C>,
     /// The block's rotation θ, rad.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) theta_rad: Option<C>,
+    pub theta_rad: Option<C>,
     /// Its rate θ̇, rad/s.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) theta_dot_rad_per_s: Option<C>,
+    pub theta_dot_rad_per_s: Option<C>,
     /// The horizontal ground acceleration, m/s².
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) ground_acceleration_m_per_s2: Option<C>,
+    pub ground_acceleration_m_per_s2: Option<C>,
     /// The friction demand f_x/f_z (empty where it is not defined).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) fx_over_fz: Option<C>,
+    pub fx_over_fz: Option<C>,
     /// The vertical ground acceleration, m/s².
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) ground_vertical_acceleration_m_per_s2: Option<C>,
+    pub ground_vertical_acceleration_m_per_s2: Option<C>,
     /// The same in g (with the block's g).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) ug_v_g: Option<C>,
+    pub ug_v_g: Option<C>,
     /// On a Coulomb floor: the base's slip, m.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) slide_m: Option<C>,
+    pub slide_m: Option<C>,
     /// On a Coulomb floor: how the block moves (the result's word, as it
     /// is).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) mode: Option<Option<&'a str>>,
+    pub mode: Option<Option<&'a str>>,
 }
 
 /// The series' rows, when it has samples (whether it had).
@@ -273,8 +273,8 @@ struct Coulomb<'a> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::stream::SeriesRows;
-    use super::super::tests::{TIME_HISTORY, cell, lines, th_table, time_history_result};
+    use crate::api::csv::stream::SeriesRows;
+    use crate::api::csv::tests::{TIME_HISTORY, cell, lines, th_table, time_history_result};
     use crate::kinds::JobResult;
     use crate::kinds::time_history::{ImpactDoc, SeriesDoc};
     use crate::plot::tests::typed;

@@ -8,15 +8,15 @@
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
-use super::style::{
-    Area, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MODE1, MUTED, Marker, NOTE, Swatch, axis_range,
-    chars_in, chart_on, draw_legend, fmt_num, legend_height, marker, mesh, text, tint, wrap,
-};
-use super::time_panel::crop;
-use super::{render, shape_title};
 use crate::jobs::distribution::DistributionNorm;
 use crate::jobs::names::Im;
 use crate::kinds::fragility::{FragilityResult, UncertainNorm};
+use crate::plot::style::{
+    Area, Drawn, INK, LEGEND, LEGEND_WIDTH, Legend, MODE1, MUTED, Marker, NOTE, Swatch, axis_range,
+    chars_in, chart_on, draw_legend, fmt_num, legend_height, marker, mesh, text, tint, wrap,
+};
+use crate::plot::time_panel::crop;
+use crate::plot::{render, shape_title};
 
 const WIDTH: u32 = 1120;
 /// Least height of the figure (taller when the legend and inputs need it).

@@ -4,14 +4,14 @@
 
 use serde::Serialize;
 
-use super::number::Number;
-use super::table::{Table, TableError};
-use super::text::Text;
 use crate::jobs::mixed::MixedDoc;
 use crate::kinds::record_spectrum::{RecordSpectrumResult, ScaleTransitionDoc, SizeDoc};
+use crate::table::number::Number;
+use crate::table::text::Text;
+use crate::table::{Table, TableError};
 
 /// The rows of every block size.
-pub(super) fn rows(r: &RecordSpectrumResult, table: &mut Table) -> Result<(), TableError> {
+pub fn rows(r: &RecordSpectrumResult, table: &mut Table) -> Result<(), TableError> {
     for size in &r.spectrum {
         if size.transitions.is_empty() {
             table.row(Row::of_line(size))?;
@@ -161,7 +161,7 @@ impl<'a> Row<'a> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{RECORD_SPECTRUM, cell, csv_of, lines};
+    use crate::api::csv::tests::{RECORD_SPECTRUM, cell, csv_of, lines};
     use crate::kinds::JobResult;
     use crate::plot::tests::typed;
 
