@@ -1133,6 +1133,42 @@ impl ForensicJob {
         let pulse = self
             .pulse
             .ok_or(ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
+        let frequencies = self.frequency_sets(sets);
+        let bounds = Self::pulse_bounds(&frequencies);
+        Ok(ForensicResult {
+            warnings: Vec::new(),
+            kind: tag::Forensic,
+            formulation: self.formulation,
+            excitation: Excitation::Pulse,
+            pulse: Some(pulse),
+            record: None,
+            a_p_g: self.range_g(),
+            scale: None,
+            observations: self.observations.clone(),
+            frequencies,
+            consistent_scale: None,
+            consistent_pga_g: None,
+            mixed_scale: None,
+            mixed_pga_g: None,
+            per_observation: None,
+            bounds,
+            lift_off_above_g: self.lift_off_g().map(|(_, hi)| hi),
+            numerics: ForensicNumerics {
+                cost: ScanCost::new(&self.solver, stats),
+                tolerance_g: self.tolerance_g,
+                scan_step_g: self.scan_step_g,
+                wall_time_s: 0.0,
+                tasks: None,
+            },
+            spec: self.clone(),
+            engine: None,
+        })
+    }
+
+    /// Per frequency, the amplitudes, g, consistent with every observation,
+    /// and each observation's own, with their mixed zones
+    /// (`sets[observation][frequency]`).
+    fn frequency_sets(&self, sets: &[Vec<LineSet>]) -> Vec<ForensicFrequency> {
         let two_pi = 2.0 * std::f64::consts::PI;
         let AmplitudeRange { from, to } = self.range_g();
         // Each observation's certain intervals and mixed zones, per frequency.
@@ -1152,8 +1188,7 @@ impl ForensicJob {
                     .unzip()
             })
             .unzip();
-        let frequencies: Vec<ForensicFrequency> = self
-            .frequency_hz
+        self.frequency_hz
             .iter()
             .enumerate()
             .map(|(k, &f)| {
@@ -1185,7 +1220,12 @@ impl ForensicJob {
                     per_observation,
                 }
             })
-            .collect();
+            .collect()
+    }
+
+    /// The bounds of the consistent amplitudes, g, over the frequencies, and
+    /// the frequencies, Hz, where some are.
+    fn pulse_bounds(frequencies: &[ForensicFrequency]) -> Bounds {
         let mut bounds = Bounds {
             min_g: None,
             max_g: None,
@@ -1193,7 +1233,7 @@ impl ForensicJob {
             min_scale: None,
             max_scale: None,
         };
-        for f in &frequencies {
+        for f in frequencies {
             if let (Some(first), Some(last)) = (f.consistent_g.first(), f.consistent_g.last()) {
                 bounds.min_g = Some(bounds.min_g.map_or(first[0], |m| m.min(first[0])));
                 bounds.max_g = Some(bounds.max_g.map_or(last[1], |m| m.max(last[1])));
@@ -1203,34 +1243,7 @@ impl ForensicJob {
                 });
             }
         }
-        Ok(ForensicResult {
-            warnings: Vec::new(),
-            kind: tag::Forensic,
-            formulation: self.formulation,
-            excitation: Excitation::Pulse,
-            pulse: Some(pulse),
-            record: None,
-            a_p_g: self.range_g(),
-            scale: None,
-            observations: self.observations.clone(),
-            frequencies,
-            consistent_scale: None,
-            consistent_pga_g: None,
-            mixed_scale: None,
-            mixed_pga_g: None,
-            per_observation: None,
-            bounds,
-            lift_off_above_g: self.lift_off_g().map(|(_, hi)| hi),
-            numerics: ForensicNumerics {
-                cost: ScanCost::new(&self.solver, stats),
-                tolerance_g: self.tolerance_g,
-                scan_step_g: self.scan_step_g,
-                wall_time_s: 0.0,
-                tasks: None,
-            },
-            spec: self.clone(),
-            engine: None,
-        })
+        bounds
     }
 }
 
