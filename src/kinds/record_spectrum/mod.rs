@@ -704,6 +704,66 @@ pub struct RecordSpectrumResult {
 
 crate::envelope!(RecordSpectrumResult);
 
+/// Levels (αg over the record's PGA) read as scale factors and as the scaled
+/// record's PGA, g.
+#[derive(Clone, Copy)]
+struct ToScale {
+    /// The scale factor of a level of 1 (αg/PGA).
+    unit: f64,
+    /// The record's PGA, m/s².
+    peak: f64,
+    /// g, m/s².
+    g: f64,
+}
+
+impl ToScale {
+    /// The scale factor of `level`.
+    fn scale(self, level: f64) -> f64 {
+        level * self.unit
+    }
+
+    /// The PGA, g, of the record scaled to `level`.
+    fn pga_g(self, level: f64) -> f64 {
+        self.scale(level) * self.peak / self.g
+    }
+
+    /// A transition over the scale factor.
+    fn transition(self, t: &Transition) -> ScaleTransitionDoc {
+        ScaleTransitionDoc {
+            scale: self.scale(t.at),
+            pga_g: self.pga_g(t.at),
+            direction: match t.direction {
+                Direction::Up => "up",
+                Direction::Down => "down",
+                Direction::SlideIn => "slide_in",
+                Direction::SlideOut => "slide_out",
+            }
+            .to_string(),
+            mode: t.mode,
+            impacts: t.impacts,
+            bracket: [self.scale(t.bracket.0), self.scale(t.bracket.1)],
+        }
+    }
+
+    /// A change of overturning mode over the scale factor.
+    fn mode_change(self, m: &ModeChange) -> ScaleModeChangeDoc {
+        ScaleModeChangeDoc {
+            scale: self.scale(m.at),
+            from_mode: m.from,
+            to_mode: m.to,
+            bracket: [self.scale(m.bracket.0), self.scale(m.bracket.1)],
+        }
+    }
+
+    /// The safe intervals of `d` as scale factors.
+    fn intervals(self, d: &Derived) -> Vec<[f64; 2]> {
+        d.safe_intervals
+            .iter()
+            .map(|&(a, b)| [self.scale(a), self.scale(b)])
+            .collect()
+    }
+}
+
 impl RecordSpectrumJob {
     /// The block at frequency parameter `p` (an error for values no
     /// validated spec holds).
@@ -871,69 +931,12 @@ impl RecordSpectrumJob {
         let g = self.block.g;
         let peak = pga(&self.ground_motion.acc);
         let threshold = self.threshold_alpha_g();
-        let to_scale = |level: f64| level * unit;
-        let transition = |t: &Transition| ScaleTransitionDoc {
-            scale: to_scale(t.at),
-            pga_g: to_scale(t.at) * peak / g,
-            direction: match t.direction {
-                Direction::Up => "up",
-                Direction::Down => "down",
-                Direction::SlideIn => "slide_in",
-                Direction::SlideOut => "slide_out",
-            }
-            .to_string(),
-            mode: t.mode,
-            impacts: t.impacts,
-            bracket: [to_scale(t.bracket.0), to_scale(t.bracket.1)],
-        };
-        let mode_change = |m: &ModeChange| ScaleModeChangeDoc {
-            scale: to_scale(m.at),
-            from_mode: m.from,
-            to_mode: m.to,
-            bracket: [to_scale(m.bracket.0), to_scale(m.bracket.1)],
-        };
-        let intervals = |d: &Derived| -> Vec<[f64; 2]> {
-            d.safe_intervals
-                .iter()
-                .map(|&(a, b)| [to_scale(a), to_scale(b)])
-                .collect()
-        };
+        let to = ToScale { unit, peak, g };
         let spectrum = self
             .p
             .iter()
             .zip(lines)
-            .map(|(&p, l): (&f64, &LineScan)| SizeDoc {
-                p,
-                r_m: size_of_p(p, g),
-                threshold_scale: to_scale(threshold),
-                transitions: l.transitions.iter().map(transition).collect(),
-                mode_changes: l.mode_changes.iter().map(mode_change).collect(),
-                min_overturn_scale: l.derived.min_overturn.map(to_scale),
-                min_overturn_pga_g: l.derived.min_overturn.map(|a| to_scale(a) * peak / g),
-                min_overturn_mode: l.derived.min_overturn_mode,
-                safe_intervals: intervals(&l.derived),
-                overturns_above_scale: l.derived.overturns_above.map(to_scale),
-                principal: ScalePrincipalDoc {
-                    transitions: l.principal_transitions.iter().map(transition).collect(),
-                    min_overturn_scale: l.principal.min_overturn.map(to_scale),
-                    min_overturn_mode: l.principal.min_overturn_mode,
-                    safe_intervals: intervals(&l.principal),
-                    overturns_above_scale: l.principal.overturns_above.map(to_scale),
-                },
-                lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to_scale(hi)),
-                mixed: l
-                    .mixed
-                    .iter()
-                    .map(|z| MixedDoc::overturning(z, unit))
-                    .collect(),
-                min_overturn_in: minimum_place(&l.derived, unit).0,
-                min_overturn_zone: minimum_place(&l.derived, unit).1,
-                min_certain_overturn_scale: l.derived.min_certain_overturn.map(to_scale),
-                min_certain_overturn_pga_g: l
-                    .derived
-                    .min_certain_overturn
-                    .map(|a| to_scale(a) * peak / g),
-            })
+            .map(|(&p, l): (&f64, &LineScan)| self.size_doc(p, l, to, threshold))
             .collect();
         let n = self.ground_motion.acc.len();
         Ok(RecordSpectrumResult {
@@ -945,7 +948,7 @@ impl RecordSpectrumJob {
                 duration_s: (n - 1) as f64 * self.ground_motion.dt,
             },
             spectrum,
-            lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to_scale(hi)),
+            lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to.scale(hi)),
             numerics: RecordSpectrumNumerics {
                 cost: ScanCost::new(&self.solver, stats),
                 tolerance: self.tolerance,
@@ -960,6 +963,45 @@ impl RecordSpectrumJob {
             warnings: Vec::new(),
             engine: None,
         })
+    }
+
+    /// The document of the block size `p` from its line `l` (levels read as
+    /// scales by `to`; the rocking threshold `threshold`, αg).
+    fn size_doc(&self, p: f64, l: &LineScan, to: ToScale, threshold: f64) -> SizeDoc {
+        let g = self.block.g;
+        SizeDoc {
+            p,
+            r_m: size_of_p(p, g),
+            threshold_scale: to.scale(threshold),
+            transitions: l.transitions.iter().map(|t| to.transition(t)).collect(),
+            mode_changes: l.mode_changes.iter().map(|m| to.mode_change(m)).collect(),
+            min_overturn_scale: l.derived.min_overturn.map(|a| to.scale(a)),
+            min_overturn_pga_g: l.derived.min_overturn.map(|a| to.pga_g(a)),
+            min_overturn_mode: l.derived.min_overturn_mode,
+            safe_intervals: to.intervals(&l.derived),
+            overturns_above_scale: l.derived.overturns_above.map(|a| to.scale(a)),
+            principal: ScalePrincipalDoc {
+                transitions: l
+                    .principal_transitions
+                    .iter()
+                    .map(|t| to.transition(t))
+                    .collect(),
+                min_overturn_scale: l.principal.min_overturn.map(|a| to.scale(a)),
+                min_overturn_mode: l.principal.min_overturn_mode,
+                safe_intervals: to.intervals(&l.principal),
+                overturns_above_scale: l.principal.overturns_above.map(|a| to.scale(a)),
+            },
+            lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to.scale(hi)),
+            mixed: l
+                .mixed
+                .iter()
+                .map(|z| MixedDoc::overturning(z, to.unit))
+                .collect(),
+            min_overturn_in: minimum_place(&l.derived, to.unit).0,
+            min_overturn_zone: minimum_place(&l.derived, to.unit).1,
+            min_certain_overturn_scale: l.derived.min_certain_overturn.map(|a| to.scale(a)),
+            min_certain_overturn_pga_g: l.derived.min_certain_overturn.map(|a| to.pga_g(a)),
+        }
     }
 }
 
