@@ -113,6 +113,49 @@ fn required(v: Option<f64>, at: &str, name: &str, dist: &str) -> Result<f64, Spe
     })
 }
 
+/// Where a distribution is validated, and the range its every value must lie
+/// in.
+struct Within<'a> {
+    /// Its JSON pointer.
+    at: &'a str,
+    /// Its family, as given.
+    dist: &'a str,
+    /// The lower end of the range.
+    lo: f64,
+    /// The upper end of the range.
+    hi: f64,
+    /// Whether `lo` itself is excluded.
+    open_lo: bool,
+    /// The quantity, in messages.
+    what: &'a str,
+    /// The range, as written in messages.
+    range: String,
+}
+
+impl Within<'_> {
+    /// None of `names` (a field and whether it is given) is given: the first
+    /// given is an error, a field this family has not.
+    fn not_for(&self, names: &[(&str, bool)]) -> Result<(), SpecError> {
+        let (at, dist) = (self.at, self.dist);
+        match names.iter().find(|(_, given)| *given) {
+            Some((name, _)) => Err(SpecError::at(
+                format!("{at}/{name}"),
+                format!("a {dist} distribution has no {name}"),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Whether `x` lies in the range.
+    fn inside(&self, x: f64) -> bool {
+        (if self.open_lo {
+            x > self.lo
+        } else {
+            x >= self.lo
+        }) && x <= self.hi
+    }
+}
+
 impl DistributionSpec {
     /// Validates the distribution at `at`, whose every value must lie in
     /// `[lo, hi]` (`what` names the quantity in messages; `open_lo`: the
@@ -130,124 +173,24 @@ impl DistributionSpec {
                 "missing field: normal | lognormal | uniform",
             )
         })?;
-        let not_for = |names: &[(&str, bool)]| -> Result<(), SpecError> {
-            match names.iter().find(|(_, given)| *given) {
-                Some((name, _)) => Err(SpecError::at(
-                    format!("{at}/{name}"),
-                    format!("a {dist} distribution has no {name}"),
-                )),
-                None => Ok(()),
-            }
-        };
         let range = if open_lo {
             format!("({lo}, {hi}]")
         } else {
             format!("[{lo}, {hi}]")
         };
-        let inside = |x: f64| (if open_lo { x > lo } else { x >= lo }) && x <= hi;
+        let within = Within {
+            at,
+            dist,
+            lo,
+            hi,
+            open_lo,
+            what,
+            range,
+        };
         let norm = match dist {
-            "normal" => {
-                not_for(&[
-                    ("median", self.median.is_some()),
-                    ("beta", self.beta.is_some()),
-                ])?;
-                let mean = required(self.mean, at, "mean", dist)?;
-                let sd = required(self.sd, at, "sd", dist)?;
-                if sd <= 0.0 {
-                    return Err(SpecError::at(format!("{at}/sd"), "must be > 0"));
-                }
-                let min = finite(self.min, at, "min")?;
-                let max = finite(self.max, at, "max")?;
-                // Every sample must be valid: the truncation must keep the
-                // law inside the quantity's range.
-                let (a, b) = (
-                    min.unwrap_or(f64::NEG_INFINITY),
-                    max.unwrap_or(f64::INFINITY),
-                );
-                let lower_ok = if open_lo { a > lo } else { a >= lo };
-                if !lower_ok {
-                    return Err(SpecError::at(
-                        format!("{at}/min"),
-                        format!(
-                            "{what} must lie in {range}: a normal distribution needs min (truncation) inside it (got {})",
-                            min.map_or("none".to_string(), |m| m.to_string())
-                        ),
-                    ));
-                }
-                if b > hi {
-                    return Err(SpecError::at(
-                        format!("{at}/max"),
-                        format!(
-                            "{what} must lie in {range}: a normal distribution needs max (truncation) inside it (got {})",
-                            max.map_or("none".to_string(), |m| m.to_string())
-                        ),
-                    ));
-                }
-                if b <= a {
-                    return Err(SpecError::at(format!("{at}/max"), "must exceed min"));
-                }
-                let mass = crate::probability::normal::between((a - mean) / sd, (b - mean) / sd);
-                if mass < 1e-9 {
-                    return Err(SpecError::at(
-                        at,
-                        format!(
-                            "the truncation [{a}, {b}] keeps only {mass:.1e} of the law: move mean or widen it"
-                        ),
-                    ));
-                }
-                DistributionNorm::Normal { mean, sd, min, max }
-            }
-            "lognormal" => {
-                not_for(&[
-                    ("mean", self.mean.is_some()),
-                    ("sd", self.sd.is_some()),
-                    ("min", self.min.is_some()),
-                    ("max", self.max.is_some()),
-                ])?;
-                let median = required(self.median, at, "median", dist)?;
-                let beta = required(self.beta, at, "beta", dist)?;
-                if !(median > 0.0 && inside(median)) {
-                    return Err(SpecError::at(
-                        format!("{at}/median"),
-                        format!("{what} must lie in {range} (got {median})"),
-                    ));
-                }
-                if !(beta > 0.0 && beta <= 3.0) {
-                    return Err(SpecError::at(format!("{at}/beta"), "must lie in (0, 3]"));
-                }
-                if lo > 0.0 || hi.is_finite() {
-                    return Err(SpecError::at(
-                        format!("{at}/dist"),
-                        format!(
-                            "{what} must lie in {range}: a lognormal reaches from 0 to ∞; use a truncated normal or a uniform"
-                        ),
-                    ));
-                }
-                DistributionNorm::Lognormal { median, beta }
-            }
-            "uniform" => {
-                not_for(&[
-                    ("mean", self.mean.is_some()),
-                    ("sd", self.sd.is_some()),
-                    ("median", self.median.is_some()),
-                    ("beta", self.beta.is_some()),
-                ])?;
-                let min = required(self.min, at, "min", dist)?;
-                let max = required(self.max, at, "max", dist)?;
-                if !inside(min) {
-                    return Err(SpecError::at(
-                        format!("{at}/min"),
-                        format!("{what} must lie in {range} (got {min})"),
-                    ));
-                }
-                if !(max > min && max <= hi) {
-                    return Err(SpecError::at(
-                        format!("{at}/max"),
-                        format!("must exceed min and lie in {range} (got {max})"),
-                    ));
-                }
-                DistributionNorm::Uniform { min, max }
-            }
+            "normal" => self.normal(&within)?,
+            "lognormal" => self.lognormal(&within)?,
+            "uniform" => self.uniform(&within)?,
             other => {
                 return Err(SpecError::at(
                     format!("{at}/dist"),
@@ -258,6 +201,142 @@ impl DistributionSpec {
             }
         };
         Ok(norm)
+    }
+
+    /// A normal distribution: mean, sd > 0, and a truncation [min, max]
+    /// inside the range that keeps some of the law.
+    fn normal(&self, within: &Within) -> Result<DistributionNorm, SpecError> {
+        let Within {
+            at,
+            dist,
+            lo,
+            hi,
+            open_lo,
+            what,
+            ref range,
+        } = *within;
+        within.not_for(&[
+            ("median", self.median.is_some()),
+            ("beta", self.beta.is_some()),
+        ])?;
+        let mean = required(self.mean, at, "mean", dist)?;
+        let sd = required(self.sd, at, "sd", dist)?;
+        if sd <= 0.0 {
+            return Err(SpecError::at(format!("{at}/sd"), "must be > 0"));
+        }
+        let min = finite(self.min, at, "min")?;
+        let max = finite(self.max, at, "max")?;
+        // Every sample must be valid: the truncation must keep the
+        // law inside the quantity's range.
+        let (a, b) = (
+            min.unwrap_or(f64::NEG_INFINITY),
+            max.unwrap_or(f64::INFINITY),
+        );
+        let lower_ok = if open_lo { a > lo } else { a >= lo };
+        if !lower_ok {
+            return Err(SpecError::at(
+                format!("{at}/min"),
+                format!(
+                    "{what} must lie in {range}: a normal distribution needs min (truncation) inside it (got {})",
+                    min.map_or("none".to_string(), |m| m.to_string())
+                ),
+            ));
+        }
+        if b > hi {
+            return Err(SpecError::at(
+                format!("{at}/max"),
+                format!(
+                    "{what} must lie in {range}: a normal distribution needs max (truncation) inside it (got {})",
+                    max.map_or("none".to_string(), |m| m.to_string())
+                ),
+            ));
+        }
+        if b <= a {
+            return Err(SpecError::at(format!("{at}/max"), "must exceed min"));
+        }
+        let mass = crate::probability::normal::between((a - mean) / sd, (b - mean) / sd);
+        if mass < 1e-9 {
+            return Err(SpecError::at(
+                at,
+                format!(
+                    "the truncation [{a}, {b}] keeps only {mass:.1e} of the law: move mean or widen it"
+                ),
+            ));
+        }
+        Ok(DistributionNorm::Normal { mean, sd, min, max })
+    }
+
+    /// A lognormal distribution: its median in the range, beta in (0, 3],
+    /// for a quantity ranging from 0 to ∞ only.
+    fn lognormal(&self, within: &Within) -> Result<DistributionNorm, SpecError> {
+        let Within {
+            at,
+            dist,
+            lo,
+            hi,
+            what,
+            ref range,
+            ..
+        } = *within;
+        within.not_for(&[
+            ("mean", self.mean.is_some()),
+            ("sd", self.sd.is_some()),
+            ("min", self.min.is_some()),
+            ("max", self.max.is_some()),
+        ])?;
+        let median = required(self.median, at, "median", dist)?;
+        let beta = required(self.beta, at, "beta", dist)?;
+        if !(median > 0.0 && within.inside(median)) {
+            return Err(SpecError::at(
+                format!("{at}/median"),
+                format!("{what} must lie in {range} (got {median})"),
+            ));
+        }
+        if !(beta > 0.0 && beta <= 3.0) {
+            return Err(SpecError::at(format!("{at}/beta"), "must lie in (0, 3]"));
+        }
+        if lo > 0.0 || hi.is_finite() {
+            return Err(SpecError::at(
+                format!("{at}/dist"),
+                format!(
+                    "{what} must lie in {range}: a lognormal reaches from 0 to ∞; use a truncated normal or a uniform"
+                ),
+            ));
+        }
+        Ok(DistributionNorm::Lognormal { median, beta })
+    }
+
+    /// A uniform distribution: min and max in the range, max above min.
+    fn uniform(&self, within: &Within) -> Result<DistributionNorm, SpecError> {
+        let Within {
+            at,
+            dist,
+            hi,
+            what,
+            ref range,
+            ..
+        } = *within;
+        within.not_for(&[
+            ("mean", self.mean.is_some()),
+            ("sd", self.sd.is_some()),
+            ("median", self.median.is_some()),
+            ("beta", self.beta.is_some()),
+        ])?;
+        let min = required(self.min, at, "min", dist)?;
+        let max = required(self.max, at, "max", dist)?;
+        if !within.inside(min) {
+            return Err(SpecError::at(
+                format!("{at}/min"),
+                format!("{what} must lie in {range} (got {min})"),
+            ));
+        }
+        if !(max > min && max <= hi) {
+            return Err(SpecError::at(
+                format!("{at}/max"),
+                format!("must exceed min and lie in {range} (got {max})"),
+            ));
+        }
+        Ok(DistributionNorm::Uniform { min, max })
     }
 }
 

@@ -391,6 +391,15 @@ pub mod rules {
     /// The rules, by schema name.
     fn table() -> Vec<(&'static str, Vec<Value>)> {
         let frequency = ["omega_ratio", "omega_p", "frequency_hz"];
+        let mut rules = block_and_pulse_rules();
+        rules.extend(spectrum_and_forensic_rules(&frequency));
+        rules.extend(probability_rules(&frequency));
+        rules.extend(record_rules());
+        rules
+    }
+
+    /// The rules of blocks, observations and pulses.
+    fn block_and_pulse_rules() -> Vec<(&'static str, Vec<Value>)> {
         vec![
             (
                 "BlockSpec",
@@ -427,24 +436,35 @@ pub mod rules {
                     gamma_and_nu_for_mavroeidis_papageorgiou_only(),
                 ],
             ),
+        ]
+    }
+
+    /// The rules of spectra and forensic queries, `frequency` naming the
+    /// fields of a frequency axis.
+    fn spectrum_and_forensic_rules(frequency: &[&str]) -> Vec<(&'static str, Vec<Value>)> {
+        vec![
             (
                 "SpectrumSpec",
                 vec![
-                    exactly_one(&frequency),
+                    exactly_one(frequency),
                     at_most_one(&["a_max_alpha_g", "a_max", "a_max_g"]),
                 ],
             ),
             (
                 "FrictionSpectrumSpec",
                 vec![
-                    exactly_one(&frequency),
+                    exactly_one(frequency),
                     exactly_one(&["a_alpha_g", "a_p", "a_p_g"]),
                 ],
             ),
-            (
-                "ForensicSpec",
-                vec![forensic_on_pulse_or_record(&frequency)],
-            ),
+            ("ForensicSpec", vec![forensic_on_pulse_or_record(frequency)]),
+        ]
+    }
+
+    /// The rules of survival and fragility, and their uncertain blocks and
+    /// pulses (`frequency` naming the fields of a frequency axis).
+    fn probability_rules(frequency: &[&str]) -> Vec<(&'static str, Vec<Value>)> {
+        vec![
             (
                 "SurvivalSpec",
                 vec![json!({"oneOf": [
@@ -474,12 +494,18 @@ pub mod rules {
             (
                 "UncertainPulseSpec",
                 vec![
-                    exactly_one(&frequency),
+                    exactly_one(frequency),
                     n_for_cn_only(),
                     symmetric_for_ricker_only(),
                     gamma_and_nu_for_mavroeidis_papageorgiou_only(),
                 ],
             ),
+        ]
+    }
+
+    /// The rules of records and record spectra.
+    fn record_rules() -> Vec<(&'static str, Vec<Value>)> {
+        vec![
             ("GroundMotionSpec", vec![samples_or_stored_record()]),
             ("NamedMotionSpec", vec![samples_or_stored_record()]),
             (

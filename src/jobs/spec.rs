@@ -1007,85 +1007,11 @@ pub fn validate_ground_motion(
     block: &BlockNorm,
     base: &str,
 ) -> Result<(GroundMotionNorm, Record), SpecError> {
-    if spec.vertical.is_some() {
-        return Err(SpecError::at(
-            format!("{base}/vertical"),
-            "vertical ground motion is simulated by time_history jobs only",
-        ));
-    }
-    if spec.record.is_some() {
-        return Err(SpecError::at(
-            format!("{base}/record"),
-            "names a stored record, which only the service reads (POST /v1/records): offline, give the samples or a file",
-        ));
-    }
-    if spec.file.is_some() {
-        return Err(SpecError::at(
-            format!("{base}/file"),
-            "a file is read by `topple run` only: upload it (POST /v1/records) and name it with {\"record\": id}",
-        ));
-    }
-    let dt = spec
-        .dt
-        .ok_or_else(|| SpecError::at(format!("{base}/dt"), "missing field (s)"))?;
-    if !(dt.is_finite() && (RECORD_DT_RANGE.0..=RECORD_DT_RANGE.1).contains(&dt)) {
-        return Err(SpecError::at(
-            format!("{base}/dt"),
-            format!(
-                "must satisfy {:e} <= dt <= {} (s)",
-                RECORD_DT_RANGE.0, RECORD_DT_RANGE.1
-            ),
-        ));
-    }
-    let unit_text = spec
-        .unit
-        .as_deref()
-        .ok_or_else(|| SpecError::at(format!("{base}/unit"), "missing field: g | m/s2 | cm/s2"))?;
-    let unit = crate::records::Unit::parse(unit_text).ok_or_else(|| {
-        SpecError::at(
-            format!("{base}/unit"),
-            format!("unknown unit {unit_text:?}: expected g | m/s2 | cm/s2 (gal)"),
-        )
-    })?;
-    let acc = spec
-        .acc
-        .as_ref()
-        .ok_or_else(|| SpecError::at(format!("{base}/acc"), "missing field"))?;
-    if acc.len() < 2 || acc.len() > MAX_RECORD_SAMPLES {
-        return Err(SpecError::at(
-            format!("{base}/acc"),
-            format!(
-                "must hold 2 to {MAX_RECORD_SAMPLES} samples (got {})",
-                acc.len()
-            ),
-        ));
-    }
-    if crate::records::looks_interleaved(acc) {
-        return Err(SpecError::at(
-            format!("{base}/acc"),
-            "every other value rises by a constant step: these look like (time, acceleration) pairs read as one series; give the accelerations alone with dt, or upload the file (POST /v1/records) as two columns",
-        ));
-    }
-    // A record in g is in the block's g (as a pulse's a_p_g is).
-    let to_m_s2 = |a: f64| match unit {
-        crate::records::Unit::G => a * block.g,
-        crate::records::Unit::MetresPerSecondSquared => a,
-        crate::records::Unit::CentimetresPerSecondSquared => a / 100.0,
-    };
-    let bound = MAX_AMPLITUDE_ALPHA_G * block.alpha * block.g;
-    let mut samples = Vec::with_capacity(acc.len());
-    for (k, &a) in acc.iter().enumerate() {
-        let a = to_m_s2(a);
-        if !(a.is_finite() && a.abs() <= bound) {
-            return Err(SpecError::at(
-                format!("{base}/acc/{k}"),
-                format!(
-                    "must be a finite number with |acc|/(alpha g) <= {MAX_AMPLITUDE_ALPHA_G:e}"
-                ),
-            ));
-        }
-        samples.push(a);
-    }
+    samples_only(spec, base)?;
+    let dt = record_dt(spec, base)?;
+    let unit = record_unit(spec, base)?;
+    let acc = record_acc(spec, base)?;
+    let samples = samples_in_m_s2(acc, unit, block, base)?;
     let pga_g = samples.iter().fold(0.0f64, |m, a| m.max(a.abs())) / crate::records::G_M_S2;
     if let crate::records::PgaCheck::Implausible(hint) = crate::records::check_pga(pga_g, unit)
         && spec.allow_large_pga != Some(true)
@@ -1107,4 +1033,115 @@ pub fn validate_ground_motion(
         },
         record,
     ))
+}
+
+/// A record read here is given by its samples: no vertical motion, no stored
+/// record, no file.
+fn samples_only(spec: &GroundMotionSpec, base: &str) -> Result<(), SpecError> {
+    if spec.vertical.is_some() {
+        return Err(SpecError::at(
+            format!("{base}/vertical"),
+            "vertical ground motion is simulated by time_history jobs only",
+        ));
+    }
+    if spec.record.is_some() {
+        return Err(SpecError::at(
+            format!("{base}/record"),
+            "names a stored record, which only the service reads (POST /v1/records): offline, give the samples or a file",
+        ));
+    }
+    if spec.file.is_some() {
+        return Err(SpecError::at(
+            format!("{base}/file"),
+            "a file is read by `topple run` only: upload it (POST /v1/records) and name it with {\"record\": id}",
+        ));
+    }
+    Ok(())
+}
+
+/// The record's time step, s, in `RECORD_DT_RANGE`.
+fn record_dt(spec: &GroundMotionSpec, base: &str) -> Result<f64, SpecError> {
+    let dt = spec
+        .dt
+        .ok_or_else(|| SpecError::at(format!("{base}/dt"), "missing field (s)"))?;
+    if !(dt.is_finite() && (RECORD_DT_RANGE.0..=RECORD_DT_RANGE.1).contains(&dt)) {
+        return Err(SpecError::at(
+            format!("{base}/dt"),
+            format!(
+                "must satisfy {:e} <= dt <= {} (s)",
+                RECORD_DT_RANGE.0, RECORD_DT_RANGE.1
+            ),
+        ));
+    }
+    Ok(dt)
+}
+
+/// The unit of the record's samples.
+fn record_unit(spec: &GroundMotionSpec, base: &str) -> Result<crate::records::Unit, SpecError> {
+    let unit_text = spec
+        .unit
+        .as_deref()
+        .ok_or_else(|| SpecError::at(format!("{base}/unit"), "missing field: g | m/s2 | cm/s2"))?;
+    crate::records::Unit::parse(unit_text).ok_or_else(|| {
+        SpecError::at(
+            format!("{base}/unit"),
+            format!("unknown unit {unit_text:?}: expected g | m/s2 | cm/s2 (gal)"),
+        )
+    })
+}
+
+/// The record's samples as given: 2 to `MAX_RECORD_SAMPLES` of them, not
+/// (time, acceleration) pairs read as one series.
+fn record_acc<'a>(spec: &'a GroundMotionSpec, base: &str) -> Result<&'a [f64], SpecError> {
+    let acc = spec
+        .acc
+        .as_ref()
+        .ok_or_else(|| SpecError::at(format!("{base}/acc"), "missing field"))?;
+    if acc.len() < 2 || acc.len() > MAX_RECORD_SAMPLES {
+        return Err(SpecError::at(
+            format!("{base}/acc"),
+            format!(
+                "must hold 2 to {MAX_RECORD_SAMPLES} samples (got {})",
+                acc.len()
+            ),
+        ));
+    }
+    if crate::records::looks_interleaved(acc) {
+        return Err(SpecError::at(
+            format!("{base}/acc"),
+            "every other value rises by a constant step: these look like (time, acceleration) pairs read as one series; give the accelerations alone with dt, or upload the file (POST /v1/records) as two columns",
+        ));
+    }
+    Ok(acc)
+}
+
+/// The samples `acc`, given in `unit`, in m/s², each finite and within
+/// `MAX_AMPLITUDE_ALPHA_G` αg of `block`.
+fn samples_in_m_s2(
+    acc: &[f64],
+    unit: crate::records::Unit,
+    block: &BlockNorm,
+    base: &str,
+) -> Result<Vec<f64>, SpecError> {
+    // A record in g is in the block's g (as a pulse's a_p_g is).
+    let to_m_s2 = |a: f64| match unit {
+        crate::records::Unit::G => a * block.g,
+        crate::records::Unit::MetresPerSecondSquared => a,
+        crate::records::Unit::CentimetresPerSecondSquared => a / 100.0,
+    };
+    let bound = MAX_AMPLITUDE_ALPHA_G * block.alpha * block.g;
+    let mut samples = Vec::with_capacity(acc.len());
+    for (k, &a) in acc.iter().enumerate() {
+        let a = to_m_s2(a);
+        if !(a.is_finite() && a.abs() <= bound) {
+            return Err(SpecError::at(
+                format!("{base}/acc/{k}"),
+                format!(
+                    "must be a finite number with |acc|/(alpha g) <= {MAX_AMPLITUDE_ALPHA_G:e}"
+                ),
+            ));
+        }
+        samples.push(a);
+    }
+    Ok(samples)
 }

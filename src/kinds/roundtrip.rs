@@ -191,16 +191,22 @@ fn with(doc: &Value, at: &str, v: Value) -> Value {
     doc
 }
 
-#[test]
-fn a_result_with_a_field_of_the_wrong_type_is_refused() {
-    // (kind, spec, changes: (pointer, wrong value)).
-    type Case<'a> = (&'a str, Value, &'a [(&'a str, Value)]);
-    let cases: [Case; 7] = [
-        (
-            "time_history",
-            json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14},
-                   "pulse": {"type": "cn", "n": 2, "omega_ratio": 3.0, "a_p_alpha_g": 2.5}}),
-            &[
+/// A result document of `kind`, from `spec`, and changes that give one of
+/// its fields a value of the wrong type: (pointer, wrong value).
+struct WrongTypes {
+    kind: &'static str,
+    spec: Value,
+    changes: Vec<(&'static str, Value)>,
+}
+
+/// The wrong types tried on the results of the pulse kinds.
+fn wrong_types_of_pulse_kinds() -> Vec<WrongTypes> {
+    vec![
+        WrongTypes {
+            kind: "time_history",
+            spec: json!({"kind": "time_history", "block": {"alpha": 0.25, "p": 2.14},
+                         "pulse": {"type": "cn", "n": 2, "omega_ratio": 3.0, "a_p_alpha_g": 2.5}}),
+            changes: vec![
                 ("/kind", json!("spectrum")),
                 ("/rocked", json!("yes")),
                 ("/impact_count", json!(-1)),
@@ -214,78 +220,97 @@ fn a_result_with_a_field_of_the_wrong_type_is_refused() {
                 ("/spec/block/alpha", json!("0.25")),
                 ("/engine/name", json!(1)),
             ],
-        ),
-        (
-            "spectrum",
-            json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14}, "pulse": {"type": "one_sine"},
-                   "formulation": "linear", "omega_ratio": [2.0], "a_max_alpha_g": 6}),
-            &[
+        },
+        WrongTypes {
+            kind: "spectrum",
+            spec: json!({"kind": "spectrum", "block": {"alpha": 0.25, "p": 2.14}, "pulse": {"type": "one_sine"},
+                         "formulation": "linear", "omega_ratio": [2.0], "a_max_alpha_g": 6}),
+            changes: vec![
                 ("/kind", json!("time_history")),
                 ("/spectrum/0/transitions/0/bracket", json!([1.0])),
                 ("/spectrum/0/min_overturn_alpha_g", json!("none")),
                 ("/numerics/simulations", json!(null)),
                 ("/spec/pulse", json!({"type": "one_sine", "n": 1})),
             ],
-        ),
-        (
-            "friction_spectrum",
-            json!({"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14},
-                   "pulse": {"type": "one_cosine"}, "omega_ratio": 4.0, "a_alpha_g": [2.0]}),
-            &[
+        },
+        WrongTypes {
+            kind: "friction_spectrum",
+            spec: json!({"kind": "friction_spectrum", "block": {"alpha": 0.25, "p": 2.14},
+                         "pulse": {"type": "one_cosine"}, "omega_ratio": 4.0, "a_alpha_g": [2.0]}),
+            changes: vec![
                 ("/kind", json!(7)),
                 ("/points/0/overturned", json!(0)),
                 ("/spec/a_alpha_g", json!(2.0)),
             ],
-        ),
-        (
-            "forensic",
-            json!({"kind": "forensic", "pulse": {"type": "one_sine"},
-                   "observations": [{"b": 0.3, "h": 1.2, "overturned": true}],
-                   "frequency_hz": [1.0], "a_p_g": {"from": 0.1, "to": 1.0}}),
-            &[
+        },
+        WrongTypes {
+            kind: "forensic",
+            spec: json!({"kind": "forensic", "pulse": {"type": "one_sine"},
+                         "observations": [{"b": 0.3, "h": 1.2, "overturned": true}],
+                         "frequency_hz": [1.0], "a_p_g": {"from": 0.1, "to": 1.0}}),
+            changes: vec![
                 ("/excitation", json!("record")),
                 ("/formulation", json!(true)),
                 ("/bounds/min_g", json!([0.1])),
                 ("/observations/0/overturned", json!("true")),
             ],
-        ),
-        (
-            "record_spectrum",
-            json!({"kind": "record_spectrum", "block": {"alpha": 0.2},
-                   "ground_motion": {"dt": 0.01, "unit": "g", "acc": record(0.5)},
-                   "p": [2.0], "scale": {"to": 3.0}}),
-            &[
+        },
+    ]
+}
+
+/// The wrong types tried on the results of record spectra, survival and
+/// fragility.
+fn wrong_types_of_record_and_probability_kinds() -> Vec<WrongTypes> {
+    vec![
+        WrongTypes {
+            kind: "record_spectrum",
+            spec: json!({"kind": "record_spectrum", "block": {"alpha": 0.2},
+                         "ground_motion": {"dt": 0.01, "unit": "g", "acc": record(0.5)},
+                         "p": [2.0], "scale": {"to": 3.0}}),
+            changes: vec![
                 ("/spec/ground_motion/unit", json!("g")),
                 ("/spec/ground_motion/acc/3", json!("0.1")),
                 ("/record/samples", json!(-3)),
             ],
-        ),
-        (
-            "survival",
-            json!({"kind": "survival", "hazard": {"im": "pga_g", "points": [[0.1, 0.01], [1.0, 1e-5]]},
-                   "fragility": {"median_g": 0.5, "beta": 0.4}, "age_years": 1000}),
-            &[
+        },
+        WrongTypes {
+            kind: "survival",
+            spec: json!({"kind": "survival", "hazard": {"im": "pga_g", "points": [[0.1, 0.01], [1.0, 1e-5]]},
+                         "fragility": {"median_g": 0.5, "beta": 0.4}, "age_years": 1000}),
+            changes: vec![
                 ("/im", json!("pga")),
                 ("/spec/hazard/im", json!("PGA_G")),
                 ("/spec/rocks/0/age_years", json!("old")),
                 ("/rocks/0/ages/0/survival_probability", json!({})),
             ],
-        ),
-        (
-            "fragility",
-            json!({"kind": "fragility", "block": {"alpha": 0.25, "p": 2.0},
-                   "pulse": {"type": "one_sine", "omega_ratio": 3.0}, "stripes": [0.3, 0.6],
-                   "samples": 10}),
-            &[
+        },
+        WrongTypes {
+            kind: "fragility",
+            spec: json!({"kind": "fragility", "block": {"alpha": 0.25, "p": 2.0},
+                         "pulse": {"type": "one_sine", "omega_ratio": 3.0}, "stripes": [0.3, 0.6],
+                         "samples": 10}),
+            changes: vec![
                 ("/kind", json!("Fragility")),
                 ("/im", Value::Null),
                 ("/stripes/0/n", json!(-10)),
                 ("/spec/block/alpha", json!({"dist": "cauchy"})),
                 ("/spec/seed", json!("1")),
             ],
-        ),
-    ];
-    for (kind, spec, changes) in cases {
+        },
+    ]
+}
+
+#[test]
+fn a_result_with_a_field_of_the_wrong_type_is_refused() {
+    let cases = wrong_types_of_pulse_kinds()
+        .into_iter()
+        .chain(wrong_types_of_record_and_probability_kinds());
+    for WrongTypes {
+        kind,
+        spec,
+        changes,
+    } in cases
+    {
         let (job, doc) = run(&spec);
         assert_eq!(job.kind(), kind);
         assert_eq!(same_after_roundtrip(&doc), Ok(()), "{kind}");

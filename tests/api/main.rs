@@ -469,6 +469,15 @@ async fn assert_problem(r: reqwest::Response, status: u16, pointer: Option<&str>
 #[tokio::test]
 async fn bad_input_gets_problem_json_naming_the_field_never_a_500() {
     let app = spawn_app("bad").await;
+    specs_at_fault_are_named(&app).await;
+    paths_and_queries_at_fault_are_named(&app).await;
+    results_not_ready_in_an_unknown_format_or_deleted(&app).await;
+    app.stop().await;
+}
+
+/// A body that is not JSON, fields out of range, unknown, given twice or not
+/// numbers, and a body too large: each a problem naming the field.
+async fn specs_at_fault_are_named(app: &TestApp) {
     let post = |body: String| {
         app.client
             .post(app.url("/v1/jobs"))
@@ -513,6 +522,11 @@ async fn bad_input_gets_problem_json_naming_the_field_never_a_500() {
     );
     let r = post(huge).await.expect("r");
     assert_problem(r, 413, None).await;
+}
+
+/// Ids, paths, methods and query parameters at fault: each a problem naming
+/// the parameter.
+async fn paths_and_queries_at_fault_are_named(app: &TestApp) {
     let get = |path: &str| app.client.get(app.url(path)).send();
     assert_problem(
         get("/v1/jobs/not-a-uuid").await.expect("r"),
@@ -557,6 +571,12 @@ async fn bad_input_gets_problem_json_naming_the_field_never_a_500() {
         .await
         .expect("r");
     assert_problem(r, 400, Some("#/wait")).await;
+}
+
+/// A result not ready is a conflict, a history's CSV without series its
+/// impacts table, a format unknown a 400, and a deleted job not found.
+async fn results_not_ready_in_an_unknown_format_or_deleted(app: &TestApp) {
+    let get = |path: &str| app.client.get(app.url(path)).send();
     // A result that is not ready is a conflict; a CSV of a history without series a 400.
     let (_, job, _) = app.post("/v1/jobs", &spectrum(100)).await;
     let id = job["id"].as_str().expect("id");
@@ -590,7 +610,6 @@ async fn bad_input_gets_problem_json_naming_the_field_never_a_500() {
     assert_eq!(r.status().as_u16(), 204);
     let r = get(&format!("/v1/jobs/{id}")).await.expect("r");
     assert_problem(r, 404, Some("#/id")).await;
-    app.stop().await;
 }
 
 #[tokio::test]

@@ -269,7 +269,20 @@ async fn a_vertical_record_named_by_id_is_the_spec_embedding_its_samples() {
     assert_eq!(a["key"], b["key"], "one computation");
     assert_eq!(b["cached"], true);
     assert_eq!(a["result"], b["result"]);
-    let result = &a["result"];
+    let steps = assert_result_carries_vertical(&a["result"], &samples);
+    let job = a["id"].as_str().expect("job id");
+    assert_csv_carries_vertical(&app, job, steps).await;
+    let horizontals = [
+        json!({"record": hid}),
+        json!({"dt": dt, "acc": h, "unit": "g"}),
+    ];
+    vertical_records_at_fault_are_named(&app, &spec, &vid, &horizontals).await;
+    app.stop().await;
+}
+
+/// The result of a time history under the vertical record of `samples`
+/// holds it in its spec, its peaks and its series; the series' length.
+fn assert_result_carries_vertical(result: &Value, samples: &Value) -> usize {
     assert_eq!(
         result["spec"]["ground_motion"]["vertical"]["acc"], samples["acc"],
         "{result}"
@@ -291,8 +304,12 @@ async fn a_vertical_record_named_by_id_is_the_spec_embedding_its_samples() {
     assert_eq!(uv.len(), t.len());
     assert_eq!(uv[0], samples["acc"][0]);
     assert!(uv.iter().filter_map(Value::as_f64).any(|a| a != 0.0));
-    // The CSV adds its columns at the end: m/s², and g.
-    let job = a["id"].as_str().expect("job id");
+    t.len()
+}
+
+/// The CSV of `job`, a series of `steps` rows, adds the vertical's columns
+/// at the end: m/s², and g.
+async fn assert_csv_carries_vertical(app: &TestApp, job: &str, steps: usize) {
     let (status, _, table) = app
         .get_text(&format!("/v1/jobs/{job}/result?format=csv"))
         .await;
@@ -302,10 +319,19 @@ async fn a_vertical_record_named_by_id_is_the_spec_embedding_its_samples() {
         header.ends_with(",ground_vertical_acceleration_m_per_s2,ug_v_g"),
         "{header}"
     );
-    assert_eq!(table.lines().count(), t.len() + 1);
+    assert_eq!(table.lines().count(), steps + 1);
+}
 
-    // A vertical record on another dt; an unknown one; fields beside it; a file.
-    let (status, other, _) = upload(&app, "", at2(&motion_g(800, 0.005), 0.005)).await;
+/// A vertical record on another dt, an unknown one, fields beside the
+/// stored record `vid`, and a file are named, under each of `horizontals`
+/// in `spec`.
+async fn vertical_records_at_fault_are_named(
+    app: &TestApp,
+    spec: &Value,
+    vid: &str,
+    horizontals: &[Value],
+) {
+    let (status, other, _) = upload(app, "", at2(&motion_g(800, 0.005), 0.005)).await;
     assert_eq!(status, 201, "{other}");
     let other = other["id"].as_str().expect("id").to_string();
     for (vertical, pointer) in [
@@ -325,19 +351,15 @@ async fn a_vertical_record_named_by_id_is_the_spec_embedding_its_samples() {
         ),
         (json!({"file": "v.at2"}), "/ground_motion/vertical/file"),
     ] {
-        for horizontal in [
-            json!({"record": hid}),
-            json!({"dt": dt, "acc": h, "unit": "g"}),
-        ] {
+        for horizontal in horizontals {
             let mut spec = spec.clone();
-            spec["ground_motion"] = horizontal;
+            spec["ground_motion"] = horizontal.clone();
             spec["ground_motion"]["vertical"] = vertical.clone();
             let (status, problem, _) = app.post("/v1/jobs", &spec).await;
             assert_eq!(status, 422, "{problem}");
             assert_eq!(problem["pointer"], pointer, "{problem}");
         }
     }
-    app.stop().await;
 }
 
 #[tokio::test]

@@ -328,6 +328,52 @@ impl ForensicSpec {
             ));
         }
         let pulse = validate_family(pulse, "/pulse")?;
+        self.reject_record_axes()?;
+        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let vertical =
+            crate::jobs::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
+        let solver = crate::jobs::vertical::validate_solver_with_vertical(
+            self.solver.as_ref(),
+            formulation,
+            pulse.shape().is_sinusoidal(),
+            vertical.is_some(),
+            "/solver",
+        )?;
+        let observations = self.observations()?;
+        let frequency_hz = self.pulse_frequencies(&observations)?;
+        let AmplitudeRange { from, to } = self.pulse_amplitudes(&observations)?;
+        let (tolerance_g, scan_step_g) = amplitude_grid(
+            &observations,
+            to,
+            (self.tolerance_g, "/tolerance_g", 1.0),
+            (self.scan_step_g, "/scan_step_g", 1.0),
+            "/a_p_g/to",
+        )?;
+        Ok(ForensicJob {
+            kind: tag::Forensic,
+            pulse: Some(pulse),
+            ground_motion: None,
+            observations,
+            frequency_hz,
+            a_p_g: Some(AmplitudeRange { from, to }),
+            pga_g: None,
+            formulation,
+            scan_step_g,
+            tolerance_g,
+            solver,
+            vertical,
+            contact: crate::jobs::contact::validate_contact(
+                self.contact.as_ref(),
+                formulation,
+                "/contact",
+            )?,
+            part: None,
+        })
+    }
+
+    /// A pulse query gives none of a record query's fields (scale, pga_g,
+    /// tolerance, scan_step): the first given is the error.
+    fn reject_record_axes(&self) -> Result<(), SpecError> {
         for (given, name) in [
             (self.scale.is_some(), "scale"),
             (self.pga_g.is_some(), "pga_g"),
@@ -341,17 +387,13 @@ impl ForensicSpec {
                 ));
             }
         }
-        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let vertical =
-            crate::jobs::vertical::validate_scaled_vertical(self.vertical.as_ref(), "/vertical")?;
-        let solver = crate::jobs::vertical::validate_solver_with_vertical(
-            self.solver.as_ref(),
-            formulation,
-            pulse.shape().is_sinusoidal(),
-            vertical.is_some(),
-            "/solver",
-        )?;
-        let observations = self.observations()?;
+        Ok(())
+    }
+
+    /// The pulse frequencies, Hz, given in Hz, rad/s, or as ω_p/p where every
+    /// block shares p: each in [1e-3, 1e3] Hz and, for every block, within
+    /// `OMEGA_RATIO_RANGE` of its p.
+    fn pulse_frequencies(&self, observations: &[Observation]) -> Result<Vec<f64>, SpecError> {
         // Frequencies in Hz, rad/s, or ω_p/p where every block shares p.
         let tau = std::f64::consts::TAU;
         let ps: Vec<f64> = observations.iter().map(|o| o.block.p).collect();
@@ -397,25 +439,18 @@ impl ForensicSpec {
                 format!("every frequency must lie in [1e-3, 1e3] Hz; one is {bad} Hz"),
             ));
         }
-        for (i, o) in observations.iter().enumerate() {
-            for &f in &frequency_hz {
-                let ratio = 2.0 * std::f64::consts::PI * f / o.block.p;
-                if !(OMEGA_RATIO_RANGE.0..=OMEGA_RATIO_RANGE.1).contains(&ratio) {
-                    return Err(SpecError::at(
-                        &pointer,
-                        format!(
-                            "{f} Hz is ω_p/p = {ratio:.3e} for observation {i} ({}), outside [{}, {}]",
-                            o.name, OMEGA_RATIO_RANGE.0, OMEGA_RATIO_RANGE.1
-                        ),
-                    ));
-                }
-            }
-        }
+        check_omega_ratios(observations, &frequency_hz, &pointer)?;
+        Ok(frequency_hz)
+    }
+
+    /// The pulse amplitudes, g, given in g or in m/s² where every block
+    /// shares g: from in [0, 100], to in [1e-3, 100], to above from.
+    fn pulse_amplitudes(&self, observations: &[Observation]) -> Result<AmplitudeRange, SpecError> {
         // Amplitudes in g, or in m/s² where every block shares g.
         let range = match (self.a_p_g, self.a_p) {
             (Some(r), None) => r,
             (None, Some(r)) => {
-                let g = common_g(&observations).ok_or_else(|| {
+                let g = common_g(observations).ok_or_else(|| {
                     SpecError::at(
                         "/a_p",
                         "a_p in m/s² converts to g only when every block has the same g: give a_p_g",
@@ -450,50 +485,11 @@ impl ForensicSpec {
         if to <= from {
             return Err(SpecError::at("/a_p_g", "to must exceed from"));
         }
-        let (tolerance_g, scan_step_g) = amplitude_grid(
-            &observations,
-            to,
-            (self.tolerance_g, "/tolerance_g", 1.0),
-            (self.scan_step_g, "/scan_step_g", 1.0),
-            "/a_p_g/to",
-        )?;
-        Ok(ForensicJob {
-            kind: tag::Forensic,
-            pulse: Some(pulse),
-            ground_motion: None,
-            observations,
-            frequency_hz,
-            a_p_g: Some(AmplitudeRange { from, to }),
-            pga_g: None,
-            formulation,
-            scan_step_g,
-            tolerance_g,
-            solver,
-            vertical,
-            contact: crate::jobs::contact::validate_contact(
-                self.contact.as_ref(),
-                formulation,
-                "/contact",
-            )?,
-            part: None,
-        })
+        Ok(AmplitudeRange { from, to })
     }
 
     fn validate_record(&self, gm: &GroundMotionSpec) -> Result<ForensicJob, SpecError> {
-        for (given, name) in [
-            (self.frequency_hz.is_some(), "frequency_hz"),
-            (self.omega_p.is_some(), "omega_p"),
-            (self.omega_ratio.is_some(), "omega_ratio"),
-            (self.a_p_g.is_some(), "a_p_g"),
-            (self.a_p.is_some(), "a_p"),
-        ] {
-            if given {
-                return Err(SpecError::at(
-                    format!("/{name}"),
-                    "a record query's only unknown is the record's scale: give it as scale {\"from\", \"to\"} or as the scaled PGA pga_g {\"from\", \"to\"}",
-                ));
-            }
-        }
+        self.reject_pulse_axes()?;
         let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
         let observations = self.observations()?;
         let g = common_g(&observations).ok_or_else(|| {
@@ -528,6 +524,66 @@ impl ForensicSpec {
                 "the record has no motion (every sample is 0)",
             ));
         }
+        let (pga_g, s_name) = self.scaled_pga_g(peak_g)?;
+        let (tolerance_g, scan_step_g) = amplitude_grid(
+            &observations,
+            pga_g.to,
+            at_most_one_unit(
+                (self.tolerance_g, "/tolerance_g", 1.0),
+                (self.tolerance, "/tolerance", peak_g),
+            )?,
+            at_most_one_unit(
+                (self.scan_step_g, "/scan_step_g", 1.0),
+                (self.scan_step, "/scan_step", peak_g),
+            )?,
+            &format!("/{s_name}/to"),
+        )?;
+        Ok(ForensicJob {
+            kind: tag::Forensic,
+            pulse: None,
+            ground_motion: Some(ground_motion),
+            observations,
+            frequency_hz: Vec::new(),
+            a_p_g: None,
+            pga_g: Some(pga_g),
+            formulation,
+            scan_step_g,
+            tolerance_g,
+            solver,
+            vertical,
+            contact: crate::jobs::contact::validate_contact(
+                self.contact.as_ref(),
+                formulation,
+                "/contact",
+            )?,
+            part: None,
+        })
+    }
+
+    /// A record query gives none of a pulse query's axes (frequency_hz,
+    /// omega_p, omega_ratio, a_p_g, a_p): the first given is the error.
+    fn reject_pulse_axes(&self) -> Result<(), SpecError> {
+        for (given, name) in [
+            (self.frequency_hz.is_some(), "frequency_hz"),
+            (self.omega_p.is_some(), "omega_p"),
+            (self.omega_ratio.is_some(), "omega_ratio"),
+            (self.a_p_g.is_some(), "a_p_g"),
+            (self.a_p.is_some(), "a_p"),
+        ] {
+            if given {
+                return Err(SpecError::at(
+                    format!("/{name}"),
+                    "a record query's only unknown is the record's scale: give it as scale {\"from\", \"to\"} or as the scaled PGA pga_g {\"from\", \"to\"}",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The record's scaled PGA range, g, given as scale factors or as pga_g
+    /// (the record's own PGA is `peak_g`), with the name of the field that
+    /// gave it; its top in [1e-3, 100] g.
+    fn scaled_pga_g(&self, peak_g: f64) -> Result<(AmplitudeRange, &'static str), SpecError> {
         let (range, s_name, to_g) = in_one_unit(
             &[
                 (self.scale.as_ref(), "scale", peak_g),
@@ -551,43 +607,38 @@ impl ForensicSpec {
                 ),
             ));
         }
-        let (tolerance_g, scan_step_g) = amplitude_grid(
-            &observations,
-            to_g,
-            at_most_one_unit(
-                (self.tolerance_g, "/tolerance_g", 1.0),
-                (self.tolerance, "/tolerance", peak_g),
-            )?,
-            at_most_one_unit(
-                (self.scan_step_g, "/scan_step_g", 1.0),
-                (self.scan_step, "/scan_step", peak_g),
-            )?,
-            &format!("/{s_name}/to"),
-        )?;
-        Ok(ForensicJob {
-            kind: tag::Forensic,
-            pulse: None,
-            ground_motion: Some(ground_motion),
-            observations,
-            frequency_hz: Vec::new(),
-            a_p_g: None,
-            pga_g: Some(AmplitudeRange {
+        Ok((
+            AmplitudeRange {
                 from: from_g,
                 to: to_g,
-            }),
-            formulation,
-            scan_step_g,
-            tolerance_g,
-            solver,
-            vertical,
-            contact: crate::jobs::contact::validate_contact(
-                self.contact.as_ref(),
-                formulation,
-                "/contact",
-            )?,
-            part: None,
-        })
+            },
+            s_name,
+        ))
     }
+}
+
+/// Every frequency of `frequency_hz` (the field at `pointer`) is, for every
+/// observation's block, within `OMEGA_RATIO_RANGE` of its p.
+fn check_omega_ratios(
+    observations: &[Observation],
+    frequency_hz: &[f64],
+    pointer: &str,
+) -> Result<(), SpecError> {
+    for (i, o) in observations.iter().enumerate() {
+        for &f in frequency_hz {
+            let ratio = 2.0 * std::f64::consts::PI * f / o.block.p;
+            if !(OMEGA_RATIO_RANGE.0..=OMEGA_RATIO_RANGE.1).contains(&ratio) {
+                return Err(SpecError::at(
+                    pointer,
+                    format!(
+                        "{f} Hz is ω_p/p = {ratio:.3e} for observation {i} ({}), outside [{}, {}]",
+                        o.name, OMEGA_RATIO_RANGE.0, OMEGA_RATIO_RANGE.1
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The gravity every block shares, if they do.
@@ -1087,6 +1138,42 @@ impl ForensicJob {
         let pulse = self
             .pulse
             .ok_or(ScanError::Simulation(crate::dynamics::SimError::Tolerance))?;
+        let frequencies = self.frequency_sets(sets);
+        let bounds = Self::pulse_bounds(&frequencies);
+        Ok(ForensicResult {
+            warnings: Vec::new(),
+            kind: tag::Forensic,
+            formulation: self.formulation,
+            excitation: Excitation::Pulse,
+            pulse: Some(pulse),
+            record: None,
+            a_p_g: self.range_g(),
+            scale: None,
+            observations: self.observations.clone(),
+            frequencies,
+            consistent_scale: None,
+            consistent_pga_g: None,
+            mixed_scale: None,
+            mixed_pga_g: None,
+            per_observation: None,
+            bounds,
+            lift_off_above_g: self.lift_off_g().map(|(_, hi)| hi),
+            numerics: ForensicNumerics {
+                cost: ScanCost::new(&self.solver, stats),
+                tolerance_g: self.tolerance_g,
+                scan_step_g: self.scan_step_g,
+                wall_time_s: 0.0,
+                tasks: None,
+            },
+            spec: self.clone(),
+            engine: None,
+        })
+    }
+
+    /// Per frequency, the amplitudes, g, consistent with every observation,
+    /// and each observation's own, with their mixed zones
+    /// (`sets[observation][frequency]`).
+    fn frequency_sets(&self, sets: &[Vec<LineSet>]) -> Vec<ForensicFrequency> {
         let two_pi = 2.0 * std::f64::consts::PI;
         let AmplitudeRange { from, to } = self.range_g();
         // Each observation's certain intervals and mixed zones, per frequency.
@@ -1106,8 +1193,7 @@ impl ForensicJob {
                     .unzip()
             })
             .unzip();
-        let frequencies: Vec<ForensicFrequency> = self
-            .frequency_hz
+        self.frequency_hz
             .iter()
             .enumerate()
             .map(|(k, &f)| {
@@ -1139,7 +1225,12 @@ impl ForensicJob {
                     per_observation,
                 }
             })
-            .collect();
+            .collect()
+    }
+
+    /// The bounds of the consistent amplitudes, g, over the frequencies, and
+    /// the frequencies, Hz, where some are.
+    fn pulse_bounds(frequencies: &[ForensicFrequency]) -> Bounds {
         let mut bounds = Bounds {
             min_g: None,
             max_g: None,
@@ -1147,7 +1238,7 @@ impl ForensicJob {
             min_scale: None,
             max_scale: None,
         };
-        for f in &frequencies {
+        for f in frequencies {
             if let (Some(first), Some(last)) = (f.consistent_g.first(), f.consistent_g.last()) {
                 bounds.min_g = Some(bounds.min_g.map_or(first[0], |m| m.min(first[0])));
                 bounds.max_g = Some(bounds.max_g.map_or(last[1], |m| m.max(last[1])));
@@ -1157,34 +1248,7 @@ impl ForensicJob {
                 });
             }
         }
-        Ok(ForensicResult {
-            warnings: Vec::new(),
-            kind: tag::Forensic,
-            formulation: self.formulation,
-            excitation: Excitation::Pulse,
-            pulse: Some(pulse),
-            record: None,
-            a_p_g: self.range_g(),
-            scale: None,
-            observations: self.observations.clone(),
-            frequencies,
-            consistent_scale: None,
-            consistent_pga_g: None,
-            mixed_scale: None,
-            mixed_pga_g: None,
-            per_observation: None,
-            bounds,
-            lift_off_above_g: self.lift_off_g().map(|(_, hi)| hi),
-            numerics: ForensicNumerics {
-                cost: ScanCost::new(&self.solver, stats),
-                tolerance_g: self.tolerance_g,
-                scan_step_g: self.scan_step_g,
-                wall_time_s: 0.0,
-                tasks: None,
-            },
-            spec: self.clone(),
-            engine: None,
-        })
+        bounds
     }
 }
 

@@ -499,134 +499,164 @@ impl FragilitySpec {
                 ));
             }
             (Some(p), None) => {
-                let shape = parse_shape(
-                    &PulseSpec {
-                        kind: p.kind.clone(),
-                        n: p.n,
-                        symmetric: p.symmetric,
-                        gamma: p.gamma,
-                        nu: p.nu,
-                        ..PulseSpec::default()
-                    },
-                    "/pulse",
-                )?;
-                let given: Vec<(&str, &Value)> = [
-                    ("omega_p", p.omega_p.as_ref()),
-                    ("frequency_hz", p.frequency_hz.as_ref()),
-                    ("omega_ratio", p.omega_ratio.as_ref()),
-                ]
-                .into_iter()
-                .filter_map(|(n, v)| v.filter(|v| !v.is_null()).map(|v| (n, v)))
-                .collect();
-                let (name, value) = match given.as_slice() {
-                    [one] => *one,
-                    [] => {
-                        return Err(SpecError::at(
-                            "/pulse/omega_p",
-                            "missing field: the pulse frequency as omega_p (rad/s), frequency_hz or omega_ratio, a number or a distribution",
-                        ));
-                    }
-                    [_, second, ..] => {
-                        return Err(SpecError::at(
-                            format!("/pulse/{}", second.0),
-                            "give exactly one frequency (omega_p, frequency_hz, omega_ratio), not several",
-                        ));
-                    }
-                };
-                let at = format!("/pulse/{name}");
-                let v = uncertain(Some(value), &at, (0.0, f64::INFINITY), true, name)?;
-                let scale = if name == "frequency_hz" {
-                    std::f64::consts::TAU
-                } else {
-                    1.0
-                };
-                let v = v.map(|u| match u {
-                    UncertainNorm::Fixed(x) => UncertainNorm::Fixed(x * scale),
-                    UncertainNorm::Distribution(d) if scale == 1.0 => {
-                        UncertainNorm::Distribution(d)
-                    }
-                    UncertainNorm::Distribution(d) => UncertainNorm::Distribution(scaled(d, scale)),
-                });
-                let (omega_p, omega_ratio) = if name == "omega_ratio" {
-                    (None, v)
-                } else {
-                    (v, None)
-                };
-                (
-                    Some(UncertainPulseNorm {
-                        family: PulseFamily::of(shape),
-                        omega_p,
-                        omega_ratio,
-                    }),
-                    None,
-                    shape.is_sinusoidal(),
-                )
+                let (pulse, closed_form) = Self::validate_pulse(p)?;
+                (Some(pulse), None, closed_form)
             }
-            (None, Some(list)) => {
-                if list.is_empty() || list.len() > MAX_MOTIONS {
-                    return Err(SpecError::at(
-                        "/ground_motions",
-                        format!("give 1 to {MAX_MOTIONS} records"),
-                    ));
-                }
-                let nominal = BlockNorm {
-                    alpha: 1.0,
-                    p: 1.0,
-                    eta: 0.0,
-                    mu: None,
-                    g,
-                };
-                let motions = list
-                    .iter()
-                    .enumerate()
-                    .map(|(i, m)| {
-                        let at = format!("/ground_motions/{i}");
-                        if m.vertical.is_some() && self.vertical.is_some() {
-                            return Err(SpecError::at(
-                                format!("{at}/vertical"),
-                                "give each record's vertical motion, or one ratio for all (/vertical), not both",
-                            ));
-                        }
-                        let motion = crate::jobs::vertical::validate_record_with_vertical(
-                            &GroundMotionSpec {
-                                dt: m.dt,
-                                acc: m.acc.clone(),
-                                unit: m.unit.clone(),
-                                record: m.record.clone(),
-                                file: m.file.clone(),
-                                allow_large_pga: m.allow_large_pga,
-                                vertical: m.vertical.clone(),
-                            },
-                            &nominal,
-                            &at,
-                        )?;
-                        if motion.acc.iter().all(|a| *a == 0.0) {
-                            return Err(SpecError::at(
-                                format!("{at}/acc"),
-                                "the record has no motion (every sample is 0)",
-                            ));
-                        }
-                        if m.name
-                            .as_ref()
-                            .is_some_and(|n| n.chars().count() > MAX_NAME_CHARS)
-                        {
-                            return Err(SpecError::at(
-                                format!("{at}/name"),
-                                format!("a record's name is at most {MAX_NAME_CHARS} characters"),
-                            ));
-                        }
-                        Ok(NamedMotionNorm {
-                            name: m
-                                .name
-                                .clone()
-                                .filter(|n| !n.trim().is_empty())
-                                .unwrap_or_else(|| format!("record {}", i + 1)),
-                            motion,
-                        })
-                    })
-                    .collect::<Result<Vec<_>, SpecError>>()?;
-                (None, Some(motions), true)
+            (None, Some(list)) => (None, Some(self.named_motions(list, g)?), true),
+        })
+    }
+
+    /// The pulse family, at `/pulse`, with its frequency; whether a closed
+    /// form exists.
+    fn validate_pulse(p: &UncertainPulseSpec) -> Result<(UncertainPulseNorm, bool), SpecError> {
+        let shape = parse_shape(
+            &PulseSpec {
+                kind: p.kind.clone(),
+                n: p.n,
+                symmetric: p.symmetric,
+                gamma: p.gamma,
+                nu: p.nu,
+                ..PulseSpec::default()
+            },
+            "/pulse",
+        )?;
+        let (omega_p, omega_ratio) = Self::pulse_frequency(p)?;
+        Ok((
+            UncertainPulseNorm {
+                family: PulseFamily::of(shape),
+                omega_p,
+                omega_ratio,
+            },
+            shape.is_sinusoidal(),
+        ))
+    }
+
+    /// The pulse's frequency, a number or a distribution, given as exactly
+    /// one of omega_p (rad/s), frequency_hz (turned into rad/s) or omega_ratio:
+    /// `(omega_p, omega_ratio)`.
+    #[allow(clippy::type_complexity)]
+    fn pulse_frequency(
+        p: &UncertainPulseSpec,
+    ) -> Result<(Option<UncertainNorm>, Option<UncertainNorm>), SpecError> {
+        let given: Vec<(&str, &Value)> = [
+            ("omega_p", p.omega_p.as_ref()),
+            ("frequency_hz", p.frequency_hz.as_ref()),
+            ("omega_ratio", p.omega_ratio.as_ref()),
+        ]
+        .into_iter()
+        .filter_map(|(n, v)| v.filter(|v| !v.is_null()).map(|v| (n, v)))
+        .collect();
+        let (name, value) = match given.as_slice() {
+            [one] => *one,
+            [] => {
+                return Err(SpecError::at(
+                    "/pulse/omega_p",
+                    "missing field: the pulse frequency as omega_p (rad/s), frequency_hz or omega_ratio, a number or a distribution",
+                ));
             }
+            [_, second, ..] => {
+                return Err(SpecError::at(
+                    format!("/pulse/{}", second.0),
+                    "give exactly one frequency (omega_p, frequency_hz, omega_ratio), not several",
+                ));
+            }
+        };
+        let at = format!("/pulse/{name}");
+        let v = uncertain(Some(value), &at, (0.0, f64::INFINITY), true, name)?;
+        let scale = if name == "frequency_hz" {
+            std::f64::consts::TAU
+        } else {
+            1.0
+        };
+        let v = v.map(|u| match u {
+            UncertainNorm::Fixed(x) => UncertainNorm::Fixed(x * scale),
+            UncertainNorm::Distribution(d) if scale == 1.0 => UncertainNorm::Distribution(d),
+            UncertainNorm::Distribution(d) => UncertainNorm::Distribution(scaled(d, scale)),
+        });
+        Ok(if name == "omega_ratio" {
+            (None, v)
+        } else {
+            (v, None)
+        })
+    }
+
+    /// The named records of `/ground_motions`, 1 to `MAX_MOTIONS`, read with
+    /// gravity `g`.
+    fn named_motions(
+        &self,
+        list: &[NamedMotionSpec],
+        g: f64,
+    ) -> Result<Vec<NamedMotionNorm>, SpecError> {
+        if list.is_empty() || list.len() > MAX_MOTIONS {
+            return Err(SpecError::at(
+                "/ground_motions",
+                format!("give 1 to {MAX_MOTIONS} records"),
+            ));
+        }
+        let nominal = BlockNorm {
+            alpha: 1.0,
+            p: 1.0,
+            eta: 0.0,
+            mu: None,
+            g,
+        };
+        list.iter()
+            .enumerate()
+            .map(|(i, m)| self.named_motion(i, m, &nominal))
+            .collect()
+    }
+
+    /// The `i`th named record, read for the block `nominal`: its vertical
+    /// motion its own or the spec's (not both), some sample not 0, its name
+    /// (`record i+1` when blank) at most `MAX_NAME_CHARS` characters.
+    fn named_motion(
+        &self,
+        i: usize,
+        m: &NamedMotionSpec,
+        nominal: &BlockNorm,
+    ) -> Result<NamedMotionNorm, SpecError> {
+        let at = format!("/ground_motions/{i}");
+        if m.vertical.is_some() && self.vertical.is_some() {
+            return Err(SpecError::at(
+                format!("{at}/vertical"),
+                "give each record's vertical motion, or one ratio for all (/vertical), not both",
+            ));
+        }
+        let motion = crate::jobs::vertical::validate_record_with_vertical(
+            &GroundMotionSpec {
+                dt: m.dt,
+                acc: m.acc.clone(),
+                unit: m.unit.clone(),
+                record: m.record.clone(),
+                file: m.file.clone(),
+                allow_large_pga: m.allow_large_pga,
+                vertical: m.vertical.clone(),
+            },
+            nominal,
+            &at,
+        )?;
+        if motion.acc.iter().all(|a| *a == 0.0) {
+            return Err(SpecError::at(
+                format!("{at}/acc"),
+                "the record has no motion (every sample is 0)",
+            ));
+        }
+        if m.name
+            .as_ref()
+            .is_some_and(|n| n.chars().count() > MAX_NAME_CHARS)
+        {
+            return Err(SpecError::at(
+                format!("{at}/name"),
+                format!("a record's name is at most {MAX_NAME_CHARS} characters"),
+            ));
+        }
+        Ok(NamedMotionNorm {
+            name: m
+                .name
+                .clone()
+                .filter(|n| !n.trim().is_empty())
+                .unwrap_or_else(|| format!("record {}", i + 1)),
+            motion,
         })
     }
 }

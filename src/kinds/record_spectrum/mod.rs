@@ -22,8 +22,8 @@ use crate::jobs::error::JobError;
 use crate::jobs::names::{EngineDoc, tag};
 use crate::jobs::range::RangeSpec;
 use crate::jobs::spec::{
-    BlockSpec, GroundMotionNorm, GroundMotionSpec, SolverNorm, SolverSpec, SpecError, at_most_one,
-    in_one_unit, parse_formulation, validate_block,
+    BlockNorm, BlockSpec, GroundMotionNorm, GroundMotionSpec, SolverNorm, SolverSpec, SpecError,
+    at_most_one, in_one_unit, parse_formulation, validate_block,
 };
 use crate::jobs::vertical::ScaledVertical;
 use crate::spectrum::Control;
@@ -246,6 +246,89 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
 
     /// Validates into a runnable job.
     fn validate(&self) -> Result<RecordSpectrumJob, SpecError> {
+        let block = self.sizeless_block()?;
+        let (ground_motion, vertical, peak) = self.scaled_record(&block)?;
+        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
+        let contact =
+            crate::jobs::contact::validate_contact(self.contact.as_ref(), formulation, "/contact")?;
+        let solver = crate::jobs::vertical::validate_solver_with_vertical(
+            self.solver.as_ref(),
+            formulation,
+            true,
+            vertical.is_some() || ground_motion.vertical.is_some(),
+            "/solver",
+        )?;
+        let g = block.g;
+        let p = self.sizes_as_p(g)?;
+        // Scale factors, normalised; a level is the scaled PGA in α g.
+        let unit = block.alpha * g / peak; // s_α: the scale at which PGA = αg
+        let (scale, s_name) = self.scale_range(g, peak)?;
+        let levels = RecordLevels {
+            peak,
+            g,
+            alpha: block.alpha,
+            unit,
+            threshold: threshold_of(
+                formulation,
+                block.alpha,
+                g,
+                &ground_motion,
+                vertical.as_ref(),
+            ),
+        };
+        check_highest_scale(&scale, s_name, formulation, &levels)?;
+        let steps = self.search_steps(unit, scale.to)?;
+        Ok(RecordSpectrumJob {
+            kind: tag::RecordSpectrum,
+            ground_motion,
+            block: RecordBlockNorm {
+                alpha: block.alpha,
+                eta: block.eta,
+                g,
+            },
+            p,
+            scale,
+            formulation,
+            tolerance: steps.tolerance,
+            scan_step: steps.scan_step,
+            principal_relative_width: steps.principal,
+            solver,
+            vertical,
+            contact,
+            part: None,
+        })
+    }
+}
+
+/// A record's scale factors against its levels (a level is the scaled PGA
+/// in αg).
+struct RecordLevels {
+    /// The record's PGA, m/s².
+    peak: f64,
+    /// g, m/s².
+    g: f64,
+    /// The block's α, rad.
+    alpha: f64,
+    /// The scale factor at which the PGA is αg (s_α).
+    unit: f64,
+    /// The rocking threshold, αg.
+    threshold: f64,
+}
+
+/// The search along the scale factor of a record spectrum, validated.
+struct SearchSteps {
+    /// Bracket width, scale units.
+    tolerance: f64,
+    /// Scan step, scale units.
+    scan_step: f64,
+    /// Principal relative width.
+    principal: f64,
+}
+
+impl RecordSpectrumSpec {
+    /// The block without its size (the sizes are an axis): no p, b, h nor
+    /// mu given; validated with p = 1.
+    fn sizeless_block(&self) -> Result<BlockNorm, SpecError> {
         let block_spec = crate::jobs::spec::required(self.block.as_ref(), "/block")?;
         for (v, name) in [
             (block_spec.p, "p"),
@@ -265,13 +348,28 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
                 "a record spectrum computes overturning only: mu is not used (a floor with friction: contact {\"model\": \"coulomb\", \"mu\": …})",
             ));
         }
-        let block = validate_block(
+        validate_block(
             &BlockSpec {
                 p: Some(1.0),
                 ..block_spec.clone()
             },
             "/block",
-        )?;
+        )
+    }
+
+    /// The record, scaled, with its vertical motion and its PGA (not 0).
+    #[allow(clippy::type_complexity)]
+    fn scaled_record(
+        &self,
+        block: &BlockNorm,
+    ) -> Result<
+        (
+            GroundMotionNorm,
+            Option<crate::jobs::vertical::VerticalPulseNorm>,
+            f64,
+        ),
+        SpecError,
+    > {
         let gm = self.ground_motion.as_ref().ok_or_else(|| {
             SpecError::at(
                 "/ground_motion",
@@ -281,7 +379,7 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
         let (ground_motion, vertical) = crate::jobs::vertical::validate_scaled_record(
             self.vertical.as_ref(),
             gm,
-            &block,
+            block,
             "/ground_motion",
         )?;
         let peak = pga(&ground_motion.acc);
@@ -291,17 +389,11 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
                 "the record has no motion (every sample is 0)",
             ));
         }
-        let formulation = parse_formulation(self.formulation.as_deref(), "/formulation")?;
-        let contact =
-            crate::jobs::contact::validate_contact(self.contact.as_ref(), formulation, "/contact")?;
-        let solver = crate::jobs::vertical::validate_solver_with_vertical(
-            self.solver.as_ref(),
-            formulation,
-            true,
-            vertical.is_some() || ground_motion.vertical.is_some(),
-            "/solver",
-        )?;
-        let g = block.g;
+        Ok((ground_motion, vertical, peak))
+    }
+
+    /// The block sizes, given as p or R_m, as frequency parameters p, rad/s.
+    fn sizes_as_p(&self, g: f64) -> Result<Vec<f64>, SpecError> {
         let names = ["p", "R_m"];
         let (sizes, which) = at_most_one(
             "",
@@ -321,13 +413,16 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
         } else {
             P_RANGE
         };
-        let p: Vec<f64> = sizes
+        Ok(sizes
             .values(&pointer, lo, hi, MAX_SIZES)?
             .into_iter()
             .map(|v| if is_r { p_of_size(v, g) } else { v })
-            .collect();
-        // Scale factors, normalised; a level is the scaled PGA in α g.
-        let unit = block.alpha * g / peak; // s_α: the scale at which PGA = αg
+            .collect())
+    }
+
+    /// The scale factors, given as scale or pga_g, normalised to scale
+    /// factors, with the name of the field that gave them.
+    fn scale_range(&self, g: f64, peak: f64) -> Result<(ScaleRangeNorm, &'static str), SpecError> {
         let (range, s_name, to_scale) = in_one_unit(
             &[
                 (self.scale.as_ref(), "scale", 1.0),
@@ -342,44 +437,18 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
             )
         })?;
         let (from, to) = range.ends(s_name)?;
-        let scale = ScaleRangeNorm {
-            from: from * to_scale,
-            to: to * to_scale,
-        };
-        let threshold = threshold_of(
-            formulation,
-            block.alpha,
-            g,
-            &ground_motion,
-            vertical.as_ref(),
-        );
-        let level_to = scale.to / unit;
-        if level_to <= threshold {
-            return Err(SpecError::at(
-                format!("/{s_name}/to"),
-                format!(
-                    "the record scaled by {} has a PGA of {:.4} g, below the rocking threshold {:.4} g (g tan α{}): no block of this slenderness rocks; the scale must exceed {:.6}",
-                    scale.to,
-                    scale.to * peak / g,
-                    threshold * block.alpha,
-                    if formulation == Formulation::Linear {
-                        ", linear: g α"
-                    } else {
-                        ""
-                    },
-                    threshold * unit
-                ),
-            ));
-        }
-        if level_to > MAX_LEVEL {
-            return Err(SpecError::at(
-                format!("/{s_name}/to"),
-                format!(
-                    "the scaled PGA must not exceed {MAX_LEVEL:e} αg (scale {:.6e})",
-                    MAX_LEVEL * unit
-                ),
-            ));
-        }
+        Ok((
+            ScaleRangeNorm {
+                from: from * to_scale,
+                to: to * to_scale,
+            },
+            s_name,
+        ))
+    }
+
+    /// The tolerance, scan step and principal relative width, each in its
+    /// range (the first two in units of `unit`, αg/PGA).
+    fn search_steps(&self, unit: f64, highest: f64) -> Result<SearchSteps, SpecError> {
         let tolerance = self.tolerance.unwrap_or(DEFAULT_TOLERANCE * unit);
         if !(tolerance.is_finite() && tolerance >= 1e-9 * unit && tolerance <= 0.1 * unit) {
             return Err(SpecError::at(
@@ -400,7 +469,7 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
                 ),
             ));
         }
-        if scale.to / scan_step > MAX_SCAN_POINTS {
+        if highest / scan_step > MAX_SCAN_POINTS {
             return Err(SpecError::at(
                 "/scan_step",
                 format!("the highest scale over scan_step must not exceed {MAX_SCAN_POINTS:e}"),
@@ -413,26 +482,57 @@ impl crate::jobs::kind::Validate for RecordSpectrumSpec {
                 "must lie in [0, 1]",
             ));
         }
-        Ok(RecordSpectrumJob {
-            kind: tag::RecordSpectrum,
-            ground_motion,
-            block: RecordBlockNorm {
-                alpha: block.alpha,
-                eta: block.eta,
-                g,
-            },
-            p,
-            scale,
-            formulation,
+        Ok(SearchSteps {
             tolerance,
             scan_step,
-            principal_relative_width: principal,
-            solver,
-            vertical,
-            contact,
-            part: None,
+            principal,
         })
     }
+}
+
+/// The highest scale factor of `scale` (given as the field `s_name`) scales
+/// the record above its rocking threshold, and not above `MAX_LEVEL`.
+fn check_highest_scale(
+    scale: &ScaleRangeNorm,
+    s_name: &str,
+    formulation: Formulation,
+    levels: &RecordLevels,
+) -> Result<(), SpecError> {
+    let RecordLevels {
+        peak,
+        g,
+        alpha,
+        unit,
+        threshold,
+    } = *levels;
+    let level_to = scale.to / unit;
+    if level_to <= threshold {
+        return Err(SpecError::at(
+            format!("/{s_name}/to"),
+            format!(
+                "the record scaled by {} has a PGA of {:.4} g, below the rocking threshold {:.4} g (g tan α{}): no block of this slenderness rocks; the scale must exceed {:.6}",
+                scale.to,
+                scale.to * peak / g,
+                threshold * alpha,
+                if formulation == Formulation::Linear {
+                    ", linear: g α"
+                } else {
+                    ""
+                },
+                threshold * unit
+            ),
+        ));
+    }
+    if level_to > MAX_LEVEL {
+        return Err(SpecError::at(
+            format!("/{s_name}/to"),
+            format!(
+                "the scaled PGA must not exceed {MAX_LEVEL:e} αg (scale {:.6e})",
+                MAX_LEVEL * unit
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// A survive ↔ overturn transition over the scale factor.
@@ -607,6 +707,66 @@ pub struct RecordSpectrumResult {
 
 crate::envelope!(RecordSpectrumResult);
 
+/// Levels (αg over the record's PGA) read as scale factors and as the scaled
+/// record's PGA, g.
+#[derive(Clone, Copy)]
+struct ToScale {
+    /// The scale factor of a level of 1 (αg/PGA).
+    unit: f64,
+    /// The record's PGA, m/s².
+    peak: f64,
+    /// g, m/s².
+    g: f64,
+}
+
+impl ToScale {
+    /// The scale factor of `level`.
+    fn scale(self, level: f64) -> f64 {
+        level * self.unit
+    }
+
+    /// The PGA, g, of the record scaled to `level`.
+    fn pga_g(self, level: f64) -> f64 {
+        self.scale(level) * self.peak / self.g
+    }
+
+    /// A transition over the scale factor.
+    fn transition(self, t: &Transition) -> ScaleTransitionDoc {
+        ScaleTransitionDoc {
+            scale: self.scale(t.at),
+            pga_g: self.pga_g(t.at),
+            direction: match t.direction {
+                Direction::Up => "up",
+                Direction::Down => "down",
+                Direction::SlideIn => "slide_in",
+                Direction::SlideOut => "slide_out",
+            }
+            .to_string(),
+            mode: t.mode,
+            impacts: t.impacts,
+            bracket: [self.scale(t.bracket.0), self.scale(t.bracket.1)],
+        }
+    }
+
+    /// A change of overturning mode over the scale factor.
+    fn mode_change(self, m: &ModeChange) -> ScaleModeChangeDoc {
+        ScaleModeChangeDoc {
+            scale: self.scale(m.at),
+            from_mode: m.from,
+            to_mode: m.to,
+            bracket: [self.scale(m.bracket.0), self.scale(m.bracket.1)],
+        }
+    }
+
+    /// The safe intervals of `d` as scale factors.
+    fn intervals(self, d: &Derived) -> Vec<[f64; 2]> {
+        d.safe_intervals
+            .iter()
+            .map(|&(a, b)| [self.scale(a), self.scale(b)])
+            .collect()
+    }
+}
+
 impl RecordSpectrumJob {
     /// The block at frequency parameter `p` (an error for values no
     /// validated spec holds).
@@ -774,69 +934,12 @@ impl RecordSpectrumJob {
         let g = self.block.g;
         let peak = pga(&self.ground_motion.acc);
         let threshold = self.threshold_alpha_g();
-        let to_scale = |level: f64| level * unit;
-        let transition = |t: &Transition| ScaleTransitionDoc {
-            scale: to_scale(t.at),
-            pga_g: to_scale(t.at) * peak / g,
-            direction: match t.direction {
-                Direction::Up => "up",
-                Direction::Down => "down",
-                Direction::SlideIn => "slide_in",
-                Direction::SlideOut => "slide_out",
-            }
-            .to_string(),
-            mode: t.mode,
-            impacts: t.impacts,
-            bracket: [to_scale(t.bracket.0), to_scale(t.bracket.1)],
-        };
-        let mode_change = |m: &ModeChange| ScaleModeChangeDoc {
-            scale: to_scale(m.at),
-            from_mode: m.from,
-            to_mode: m.to,
-            bracket: [to_scale(m.bracket.0), to_scale(m.bracket.1)],
-        };
-        let intervals = |d: &Derived| -> Vec<[f64; 2]> {
-            d.safe_intervals
-                .iter()
-                .map(|&(a, b)| [to_scale(a), to_scale(b)])
-                .collect()
-        };
+        let to = ToScale { unit, peak, g };
         let spectrum = self
             .p
             .iter()
             .zip(lines)
-            .map(|(&p, l): (&f64, &LineScan)| SizeDoc {
-                p,
-                r_m: size_of_p(p, g),
-                threshold_scale: to_scale(threshold),
-                transitions: l.transitions.iter().map(transition).collect(),
-                mode_changes: l.mode_changes.iter().map(mode_change).collect(),
-                min_overturn_scale: l.derived.min_overturn.map(to_scale),
-                min_overturn_pga_g: l.derived.min_overturn.map(|a| to_scale(a) * peak / g),
-                min_overturn_mode: l.derived.min_overturn_mode,
-                safe_intervals: intervals(&l.derived),
-                overturns_above_scale: l.derived.overturns_above.map(to_scale),
-                principal: ScalePrincipalDoc {
-                    transitions: l.principal_transitions.iter().map(transition).collect(),
-                    min_overturn_scale: l.principal.min_overturn.map(to_scale),
-                    min_overturn_mode: l.principal.min_overturn_mode,
-                    safe_intervals: intervals(&l.principal),
-                    overturns_above_scale: l.principal.overturns_above.map(to_scale),
-                },
-                lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to_scale(hi)),
-                mixed: l
-                    .mixed
-                    .iter()
-                    .map(|z| MixedDoc::overturning(z, unit))
-                    .collect(),
-                min_overturn_in: minimum_place(&l.derived, unit).0,
-                min_overturn_zone: minimum_place(&l.derived, unit).1,
-                min_certain_overturn_scale: l.derived.min_certain_overturn.map(to_scale),
-                min_certain_overturn_pga_g: l
-                    .derived
-                    .min_certain_overturn
-                    .map(|a| to_scale(a) * peak / g),
-            })
+            .map(|(&p, l): (&f64, &LineScan)| self.size_doc(p, l, to, threshold))
             .collect();
         let n = self.ground_motion.acc.len();
         Ok(RecordSpectrumResult {
@@ -848,7 +951,7 @@ impl RecordSpectrumJob {
                 duration_s: (n - 1) as f64 * self.ground_motion.dt,
             },
             spectrum,
-            lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to_scale(hi)),
+            lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to.scale(hi)),
             numerics: RecordSpectrumNumerics {
                 cost: ScanCost::new(&self.solver, stats),
                 tolerance: self.tolerance,
@@ -863,6 +966,45 @@ impl RecordSpectrumJob {
             warnings: Vec::new(),
             engine: None,
         })
+    }
+
+    /// The document of the block size `p` from its line `l` (levels read as
+    /// scales by `to`; the rocking threshold `threshold`, αg).
+    fn size_doc(&self, p: f64, l: &LineScan, to: ToScale, threshold: f64) -> SizeDoc {
+        let g = self.block.g;
+        SizeDoc {
+            p,
+            r_m: size_of_p(p, g),
+            threshold_scale: to.scale(threshold),
+            transitions: l.transitions.iter().map(|t| to.transition(t)).collect(),
+            mode_changes: l.mode_changes.iter().map(|m| to.mode_change(m)).collect(),
+            min_overturn_scale: l.derived.min_overturn.map(|a| to.scale(a)),
+            min_overturn_pga_g: l.derived.min_overturn.map(|a| to.pga_g(a)),
+            min_overturn_mode: l.derived.min_overturn_mode,
+            safe_intervals: to.intervals(&l.derived),
+            overturns_above_scale: l.derived.overturns_above.map(|a| to.scale(a)),
+            principal: ScalePrincipalDoc {
+                transitions: l
+                    .principal_transitions
+                    .iter()
+                    .map(|t| to.transition(t))
+                    .collect(),
+                min_overturn_scale: l.principal.min_overturn.map(|a| to.scale(a)),
+                min_overturn_mode: l.principal.min_overturn_mode,
+                safe_intervals: to.intervals(&l.principal),
+                overturns_above_scale: l.principal.overturns_above.map(|a| to.scale(a)),
+            },
+            lift_off_above_scale: self.lift_off_level().map(|(_, hi)| to.scale(hi)),
+            mixed: l
+                .mixed
+                .iter()
+                .map(|z| MixedDoc::overturning(z, to.unit))
+                .collect(),
+            min_overturn_in: minimum_place(&l.derived, to.unit).0,
+            min_overturn_zone: minimum_place(&l.derived, to.unit).1,
+            min_certain_overturn_scale: l.derived.min_certain_overturn.map(|a| to.scale(a)),
+            min_certain_overturn_pga_g: l.derived.min_certain_overturn.map(|a| to.pga_g(a)),
+        }
     }
 }
 

@@ -284,9 +284,47 @@ impl crate::jobs::kind::Validate for SpectrumSpec {
         )?;
         let contact =
             crate::jobs::contact::validate_contact(self.contact.as_ref(), formulation, "/contact")?;
-        let residual_slide_steps = match &self.residual_slide {
+        let residual_slide_steps = self.residual_slide_steps(contact.is_some())?;
+        let no_sliding_beside = self.no_sliding_beside(contact.is_some())?;
+        let omega_ratio = self.omega_ratios(&block)?;
+        let a_max = self.a_max(&block)?;
+        let steps = self.scan_steps(a_max)?;
+        Ok(SpectrumJob {
+            kind: tag::Spectrum,
+            block,
+            pulse,
+            formulation,
+            omega_ratio,
+            a_max_alpha_g: a_max,
+            tolerance: steps.tolerance,
+            scan_step_alpha_g: steps.step,
+            principal_relative_width: steps.principal,
+            solver,
+            vertical,
+            contact,
+            residual_slide_steps,
+            no_sliding_beside,
+        })
+    }
+}
+
+/// The scan of a spectrum along the amplitude, validated.
+struct ScanSteps {
+    /// Bracket width, αg.
+    tolerance: f64,
+    /// Scan step, αg.
+    step: f64,
+    /// Principal relative width.
+    principal: f64,
+}
+
+impl SpectrumSpec {
+    /// The steps of the residual slide, when asked (only on a floor the
+    /// block can slide on, `sliding`).
+    fn residual_slide_steps(&self, sliding: bool) -> Result<Option<u32>, SpecError> {
+        Ok(match &self.residual_slide {
             None => None,
-            Some(_) if contact.is_none() => {
+            Some(_) if !sliding => {
                 return Err(SpecError::at(
                     "/residual_slide",
                     "a residual slide needs a floor the block can slide on: give contact {\"model\": \"coulomb\", \"mu\": …}",
@@ -302,17 +340,27 @@ impl crate::jobs::kind::Validate for SpectrumSpec {
                 }
                 Some(steps)
             }
-        };
+        })
+    }
+
+    /// Whether the spectrum without sliding is asked beside (only on a floor
+    /// the block can slide on, `sliding`).
+    fn no_sliding_beside(&self, sliding: bool) -> Result<bool, SpecError> {
         let no_sliding_beside = self.no_sliding_beside.unwrap_or(false);
-        if no_sliding_beside && contact.is_none() {
+        if no_sliding_beside && !sliding {
             return Err(SpecError::at(
                 "/no_sliding_beside",
                 "the spectrum without sliding goes beside one on a floor the block can slide on: give contact {\"model\": \"coulomb\", \"mu\": …} (pure rocking is already the no-sliding spectrum)",
             ));
         }
+        Ok(no_sliding_beside)
+    }
+
+    /// The frequencies, given in any unit, as ω_p/p of `block`, each in
+    /// `OMEGA_RATIO_RANGE`.
+    fn omega_ratios(&self, block: &BlockNorm) -> Result<Vec<f64>, SpecError> {
         // Frequencies in any unit, normalised to ω_p/p: one job, one cache key.
         let p = block.p;
-        let unit_g = block.alpha * block.g;
         let (range, name, to_ratio) = in_one_unit(
             &[
                 (self.omega_ratio.as_ref(), "omega_ratio", 1.0),
@@ -345,6 +393,13 @@ impl crate::jobs::kind::Validate for SpectrumSpec {
                 ),
             ));
         }
+        Ok(omega_ratio)
+    }
+
+    /// The highest amplitude, αg of `block`, given in αg, m/s² or g, in
+    /// [1, 1e4].
+    fn a_max(&self, block: &BlockNorm) -> Result<f64, SpecError> {
+        let unit_g = block.alpha * block.g;
         let (a_max, a_name) = match in_one_unit(
             &[
                 (self.a_max_alpha_g, "a_max_alpha_g", 1.0),
@@ -356,7 +411,12 @@ impl crate::jobs::kind::Validate for SpectrumSpec {
             None => (DEFAULT_A_MAX, "a_max_alpha_g"),
             Some((v, name, factor)) => (v * factor, name),
         };
-        let a_max = positive_in(a_max, 1.0, 1e4, &format!("/{a_name}"), "αg")?;
+        positive_in(a_max, 1.0, 1e4, &format!("/{a_name}"), "αg")
+    }
+
+    /// The tolerance, scan step and principal relative width, each in its
+    /// range (the scan up to `a_max`, αg).
+    fn scan_steps(&self, a_max: f64) -> Result<ScanSteps, SpecError> {
         let tolerance = positive_in(
             self.tolerance.unwrap_or(DEFAULT_TOLERANCE),
             1e-9,
@@ -385,21 +445,10 @@ impl crate::jobs::kind::Validate for SpectrumSpec {
             "/principal_relative_width",
             "",
         )?;
-        Ok(SpectrumJob {
-            kind: tag::Spectrum,
-            block,
-            pulse,
-            formulation,
-            omega_ratio,
-            a_max_alpha_g: a_max,
+        Ok(ScanSteps {
             tolerance,
-            scan_step_alpha_g: step,
-            principal_relative_width: principal,
-            solver,
-            vertical,
-            contact,
-            residual_slide_steps,
-            no_sliding_beside,
+            step,
+            principal,
         })
     }
 }
