@@ -236,10 +236,7 @@ fn threshold_of(
     }
 }
 
-/// The peak ground acceleration of `acc` (its largest magnitude).
-pub fn pga(acc: &[f64]) -> f64 {
-    acc.iter().fold(0.0f64, |m, a| m.max(a.abs()))
-}
+pub use crate::records::pga;
 
 impl crate::jobs::kind::Validate for RecordSpectrumSpec {
     type Job = RecordSpectrumJob;

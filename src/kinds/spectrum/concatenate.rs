@@ -15,24 +15,14 @@ pub fn concatenate(job: &SpectrumJob, parts: Vec<SpectrumResult>) -> SpectrumRes
     let mut numerics: Option<SpectrumNumerics> = None;
     let (mut error, mut wall) = (0.0f64, 0.0f64);
     let mut sums = [0u64; 7];
-    for part in parts {
+    for mut part in parts {
+        for (sum, n) in sums.iter_mut().zip(counts(&mut part.numerics.cost)) {
+            *sum += *n;
+        }
+        error = error.max(part.numerics.cost.error_estimate);
+        wall += part.numerics.wall_time_s;
         lines.extend(part.spectrum);
         no_sliding.extend(part.no_sliding);
-        let c = &part.numerics.cost;
-        let counts = [
-            c.simulations,
-            c.steps_accepted,
-            c.steps_rejected,
-            c.rhs_evaluations,
-            c.events,
-            c.verification_simulations,
-            c.undecided_simulations,
-        ];
-        for (sum, n) in sums.iter_mut().zip(counts) {
-            *sum += n;
-        }
-        error = error.max(c.error_estimate);
-        wall += part.numerics.wall_time_s;
         numerics.get_or_insert(part.numerics);
     }
     let mut numerics = numerics.unwrap_or_else(|| SpectrumNumerics {
@@ -42,17 +32,10 @@ pub fn concatenate(job: &SpectrumJob, parts: Vec<SpectrumResult>) -> SpectrumRes
         wall_time_s: 0.0,
         tasks: None,
     });
-    let c = &mut numerics.cost;
-    [
-        c.simulations,
-        c.steps_accepted,
-        c.steps_rejected,
-        c.rhs_evaluations,
-        c.events,
-        c.verification_simulations,
-        c.undecided_simulations,
-    ] = sums;
-    c.error_estimate = error;
+    for (n, sum) in counts(&mut numerics.cost).into_iter().zip(sums) {
+        *n = sum;
+    }
+    numerics.cost.error_estimate = error;
     numerics.wall_time_s = wall;
     numerics.tasks = Some(tasks);
     SpectrumResult {
@@ -64,4 +47,17 @@ pub fn concatenate(job: &SpectrumJob, parts: Vec<SpectrumResult>) -> SpectrumRes
         warnings: Vec::new(),
         engine: None,
     }
+}
+
+/// The counts of a scan's cost that add up over its tasks.
+fn counts(c: &mut ScanCost) -> [&mut u64; 7] {
+    [
+        &mut c.simulations,
+        &mut c.steps_accepted,
+        &mut c.steps_rejected,
+        &mut c.rhs_evaluations,
+        &mut c.events,
+        &mut c.verification_simulations,
+        &mut c.undecided_simulations,
+    ]
 }
