@@ -248,6 +248,18 @@ macro_rules! kinds {
                 }
             }
 
+            /// The typed result of the job computed whole under `control`
+            /// (before its input warnings and engine are added); `None` for
+            /// a task's part.
+            pub fn run_typed(&self, control: &Control) -> Result<Option<JobResult>, JobError> {
+                Ok(match self {
+                    $( Job::$variant(j) => match <$kind as Kind>::run(j, control)? {
+                        Output::Whole(result) => Some(JobResult::$variant(Box::new(result))),
+                        Output::Part(_) => None,
+                    }, )*
+                })
+            }
+
             /// The kind's assembly of several tasks' documents, read as
             /// its parts, into the job's result document.
             pub(crate) fn assemble_documents(&self, parts: Vec<Value>) -> Result<Value, JobError> {

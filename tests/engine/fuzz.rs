@@ -852,16 +852,8 @@ fn non_finite(v: &Value, pointer: &str, key: Option<&str>, out: &mut Vec<String>
 /// non-finite numbers (unlike `serde_json`, which writes them as `null`);
 /// `None` when the engine refuses the job.
 fn strict_result(job: &Job) -> Option<Result<String, serde_json::Error>> {
-    let control = Control::new();
-    match job {
-        Job::TimeHistory(j) => j.run().ok().map(|r| serde_jcs::to_string(&r)),
-        Job::Spectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
-        Job::FrictionSpectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
-        Job::Forensic(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
-        Job::RecordSpectrum(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
-        Job::Survival(j) => Some(serde_jcs::to_string(&j.run())),
-        Job::Fragility(j) => j.run(&control).ok().map(|r| serde_jcs::to_string(&r)),
-    }
+    let typed = job.run_typed(&Control::new()).ok().flatten()?;
+    Some(serde_jcs::to_string(&typed))
 }
 
 /// Runs `job`: it ends in a result with finite numbers only, or in an engine
