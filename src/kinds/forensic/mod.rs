@@ -374,20 +374,15 @@ impl ForensicSpec {
     /// A pulse query gives none of a record query's fields (scale, pga_g,
     /// tolerance, scan_step): the first given is the error.
     fn reject_record_axes(&self) -> Result<(), SpecError> {
-        for (given, name) in [
-            (self.scale.is_some(), "scale"),
-            (self.pga_g.is_some(), "pga_g"),
-            (self.tolerance.is_some(), "tolerance"),
-            (self.scan_step.is_some(), "scan_step"),
-        ] {
-            if given {
-                return Err(SpecError::at(
-                    format!("/{name}"),
-                    "scales a ground_motion: a pulse query's axes are the frequency (frequency_hz, omega_p, omega_ratio) and the amplitude (a_p_g, a_p), with tolerance_g and scan_step_g",
-                ));
-            }
-        }
-        Ok(())
+        first_given_refused(
+            &[
+                (self.scale.is_some(), "scale"),
+                (self.pga_g.is_some(), "pga_g"),
+                (self.tolerance.is_some(), "tolerance"),
+                (self.scan_step.is_some(), "scan_step"),
+            ],
+            "scales a ground_motion: a pulse query's axes are the frequency (frequency_hz, omega_p, omega_ratio) and the amplitude (a_p_g, a_p), with tolerance_g and scan_step_g",
+        )
     }
 
     /// The pulse frequencies, Hz, given in Hz, rad/s, or as ω_p/p where every
@@ -563,21 +558,16 @@ impl ForensicSpec {
     /// A record query gives none of a pulse query's axes (frequency_hz,
     /// omega_p, omega_ratio, a_p_g, a_p): the first given is the error.
     fn reject_pulse_axes(&self) -> Result<(), SpecError> {
-        for (given, name) in [
-            (self.frequency_hz.is_some(), "frequency_hz"),
-            (self.omega_p.is_some(), "omega_p"),
-            (self.omega_ratio.is_some(), "omega_ratio"),
-            (self.a_p_g.is_some(), "a_p_g"),
-            (self.a_p.is_some(), "a_p"),
-        ] {
-            if given {
-                return Err(SpecError::at(
-                    format!("/{name}"),
-                    "a record query's only unknown is the record's scale: give it as scale {\"from\", \"to\"} or as the scaled PGA pga_g {\"from\", \"to\"}",
-                ));
-            }
-        }
-        Ok(())
+        first_given_refused(
+            &[
+                (self.frequency_hz.is_some(), "frequency_hz"),
+                (self.omega_p.is_some(), "omega_p"),
+                (self.omega_ratio.is_some(), "omega_ratio"),
+                (self.a_p_g.is_some(), "a_p_g"),
+                (self.a_p.is_some(), "a_p"),
+            ],
+            "a record query's only unknown is the record's scale: give it as scale {\"from\", \"to\"} or as the scaled PGA pga_g {\"from\", \"to\"}",
+        )
     }
 
     /// The record's scaled PGA range, g, given as scale factors or as pga_g
@@ -639,6 +629,15 @@ fn check_omega_ratios(
         }
     }
     Ok(())
+}
+
+/// The first of `fields` (given, name) that is given, refused with
+/// `message` at its pointer.
+fn first_given_refused(fields: &[(bool, &str)], message: &str) -> Result<(), SpecError> {
+    match fields.iter().find(|(given, _)| *given) {
+        Some((_, name)) => Err(SpecError::at(format!("/{name}"), message)),
+        None => Ok(()),
+    }
 }
 
 /// The gravity every block shares, if they do.
