@@ -9,7 +9,7 @@
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use serde_json::{Value, json};
 use std::hint::black_box;
-use topple::kinds::Job;
+use topple::kinds::{Job, Task};
 use topple::spectrum::Control;
 
 #[path = "../tests/common/synthetic.rs"]
@@ -18,7 +18,7 @@ use synthetic::synthetic;
 
 /// The walkthrough's spec with `samples` per stripe, as one task of all its
 /// units: what a worker runs.
-fn pulse_task(samples: u32) -> (Job, u64) {
+fn pulse_task(samples: u32) -> (Task, u64) {
     let text = include_str!("../specs/pbr_fragility.json");
     let mut spec: Value = serde_json::from_str(text).expect("the spec reads");
     spec["stripes"] = json!({"from": 0.1, "to": 1.5, "steps": 20});
@@ -27,7 +27,7 @@ fn pulse_task(samples: u32) -> (Job, u64) {
 }
 
 /// The walkthrough's rock under four synthetic records of 2,000 samples.
-fn record_task(samples: u32) -> (Job, u64) {
+fn record_task(samples: u32) -> (Task, u64) {
     let motions: Vec<Value> = (0..4)
         .map(|k| {
             json!({"name": format!("synthetic {k}"), "dt": 0.01, "unit": "m/s2",
@@ -43,12 +43,15 @@ fn record_task(samples: u32) -> (Job, u64) {
     task(spec)
 }
 
-fn task(mut spec: Value) -> (Job, u64) {
+fn task(mut spec: Value) -> (Task, u64) {
     let Job::Fragility(job) = Job::from_value(&spec).expect("valid") else {
         unreachable!("a fragility spec");
     };
     spec["part"] = json!([0, job.units()]);
-    (Job::from_task(&spec).expect("a task"), job.simulations())
+    (
+        Task::from_spec(&spec).expect("a task"),
+        job.simulations(None),
+    )
 }
 
 fn fragility(c: &mut Criterion) {

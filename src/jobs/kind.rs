@@ -85,7 +85,7 @@ macro_rules! envelope {
 }
 
 /// The part of a kind that is never split: a task of it is the whole job.
-#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub enum NoPart {}
 
 /// `result` as a document, or the error that it cannot be one.

@@ -237,11 +237,10 @@ fn group_of(groups: &[Group], line: usize) -> Option<(usize, usize)> {
 }
 
 impl Part {
-    /// The part of a job of `groups` named by a task's `payload`
-    /// (`{"lines", "levels"}`), or why it does not fit the job.
-    pub fn of(groups: &[Group], payload: &serde_json::Value) -> Result<Part, JobError> {
-        let part: Part = serde_json::from_value(payload.clone())
-            .map_err(|e| JobError::Task(format!("a task's part does not read: {e}")))?;
+    /// Whether the part, read back from a task, is a part of a job of
+    /// `groups`, or why not.
+    pub fn fits(&self, groups: &[Group]) -> Result<(), JobError> {
+        let part = self;
         let [from, to] = part.lines;
         let [first, last] = part.levels;
         let fits = from < to
@@ -250,10 +249,11 @@ impl Part {
                 to <= start + group.lines && first <= last && last < group.points
             });
         if fits {
-            Ok(part)
+            Ok(())
         } else {
             Err(JobError::Task(format!(
-                "a task's part {payload} does not fit its job ({} lines)",
+                "a task's part {} does not fit its job ({} lines)",
+                serde_json::json!(part),
                 groups.iter().map(|g| g.lines).sum::<usize>()
             )))
         }
@@ -409,48 +409,6 @@ pub fn assemble(
     Ok((found, stats, wall))
 }
 
-/// A job of scan lines cut into [`Part`]s: what its `impl Kind` needs to
-/// split, name and read back its tasks ([`split`], [`task_payload`],
-/// [`part_of`]).
-pub trait Parted: Clone {
-    /// The part a task computes (`None`: the whole job).
-    fn part(&self) -> Option<Part>;
-    /// The task computing `part` of this job.
-    fn with_part(&self, part: Part) -> Self;
-    /// The job's parts (fewer than two: one task).
-    fn cut(&self) -> Vec<Part>;
-    /// The part a task's `payload` names, or why it does not fit the job.
-    fn fit(&self, payload: &serde_json::Value) -> Result<Part, JobError>;
-}
-
-/// The tasks of `job`: one per part, or the job itself.
-pub fn split<J: Parted>(job: &J) -> Vec<J> {
-    if job.part().is_some() {
-        return vec![job.clone()];
-    }
-    let parts = job.cut();
-    if parts.len() <= 1 {
-        return vec![job.clone()];
-    }
-    parts.into_iter().map(|p| job.with_part(p)).collect()
-}
-
-/// A task's stored payload, `{"part": …}`, when it is a part.
-pub fn task_payload<J: Parted>(job: &J) -> Option<String> {
-    job.part()
-        .map(|part| serde_json::json!({ "part": part }).to_string())
-}
-
-/// The task of `whole` a payload names (`{"part": …}`, no `kind`), or
-/// `None` when it names no part.
-pub fn part_of<J: Parted>(whole: &J, payload: &serde_json::Value) -> Option<Result<J, JobError>> {
-    let part = payload.get("part")?;
-    if payload.get("kind").is_some() {
-        return None;
-    }
-    Some(whole.fit(part).map(|p| whole.with_part(p)))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -493,15 +451,18 @@ mod tests {
             assert_eq!(ranges[1][1], 89);
             assert!(ranges.windows(2).all(|w| w[0][1] == w[1][0]), "{ranges:?}");
         }
-        // Every part fits the job by `Part::of`, a part across groups does not.
+        // Every part, as stored and read back, fits the job; a part across
+        // groups does not.
+        let read = |v: serde_json::Value| serde_json::from_value::<Part>(v).expect("a part");
         for q in &p {
-            let payload = serde_json::to_value(q).expect("writes");
-            assert_eq!(Part::of(&groups, &payload).expect("fits"), *q);
+            let back = read(serde_json::to_value(q).expect("writes"));
+            assert_eq!(back, *q);
+            back.fits(&groups).expect("fits");
         }
-        let across = serde_json::json!({"lines": [4, 6], "levels": [0, 1]});
-        assert!(Part::of(&groups, &across).is_err());
-        let beyond = serde_json::json!({"lines": [7, 8], "levels": [0, 90]});
-        assert!(Part::of(&groups, &beyond).is_err());
+        let across = read(serde_json::json!({"lines": [4, 6], "levels": [0, 1]}));
+        assert!(across.fits(&groups).is_err());
+        let beyond = read(serde_json::json!({"lines": [7, 8], "levels": [0, 90]}));
+        assert!(beyond.fits(&groups).is_err());
     }
 
     #[test]

@@ -91,10 +91,10 @@ mod tests {
             assert!(tasks.len() > 1 && tasks.len() <= MAX_TASKS);
             let mut lines = 0;
             for t in &tasks {
-                let Job::Spectrum(s) = t else {
+                let crate::kinds::Task::Spectrum(s) = t else {
                     panic!("a spectrum task");
                 };
-                lines += s.omega_ratio.len();
+                lines += s.job.omega_ratio.len();
                 // At most TASK_CPU_S, unless MAX_TASKS tasks must hold
                 // the job: then its lines spread evenly over them.
                 let line = whole.cpu_s / job_lines(&job) as f64;
@@ -132,6 +132,6 @@ mod tests {
             r#"{"kind":"time_history","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine","omega_ratio":5,"a_p_alpha_g":4}}"#,
         )
         .expect("valid");
-        assert_eq!(job.split(), vec![job.clone()]);
+        assert_eq!(job.split(), vec![crate::kinds::Task::whole(job.clone())]);
     }
 }

@@ -1,7 +1,5 @@
 //! The cache key of a job: two specs that mean the same thing share one key.
 
-use super::Job;
-
 pub use crate::jobs::engine::{BUILD_COMMIT, ENGINE_VERSION, engine_doc, engine_info};
 
 /// Rounds every number to 12 significant digits, so that the same quantity
@@ -29,14 +27,14 @@ fn canonical_numbers(v: &mut serde_json::Value) {
 /// The canonical form of a validated job: its normalised spec (SI units,
 /// every default filled in) with numbers rounded to 12 significant digits,
 /// serialised by RFC 8785 (JSON Canonicalization Scheme).
-pub fn canonical_spec(job: &Job) -> String {
+pub fn canonical_spec(job: &impl serde::Serialize) -> String {
     let mut value = serde_json::to_value(job).unwrap_or(serde_json::Value::Null);
     canonical_numbers(&mut value);
     serde_jcs::to_string(&value).unwrap_or_default()
 }
 
 /// The cache key: blake3 of the engine version and the canonical spec.
-pub fn cache_key(job: &Job) -> String {
+pub fn cache_key(job: &impl serde::Serialize) -> String {
     let mut h = blake3::Hasher::new();
     h.update(ENGINE_VERSION.as_bytes());
     h.update(b"\n");
@@ -47,6 +45,7 @@ pub fn cache_key(job: &Job) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kinds::Job;
 
     fn key(text: &str) -> String {
         cache_key(&Job::parse(text).expect("valid"))

@@ -14,6 +14,7 @@ use serde_json::Value;
 use utoipa::ToSchema;
 
 use crate::jobs::error::{JobError, SpecError};
+pub use crate::jobs::kind::NoPart;
 use crate::jobs::kind::{Envelope, Size, Validate};
 use crate::jobs::warning::WarningDoc;
 use crate::plot::{FigureError, Window};
@@ -30,6 +31,66 @@ pub enum Output<K: Kind + ?Sized> {
     Whole(K::Result),
     /// A part, read back and assembled once every task is done.
     Part(K::Part),
+}
+
+/// A task of a job of kind `K`: the job, and the part of it the task
+/// computes (`None`: the whole job). A part is the service's, never a
+/// field of a spec: it is stored as the task's payload (`{"part": …}`) and
+/// read back against the job ([`Kind::fits`]).
+pub struct Task<K: Kind + ?Sized> {
+    /// The job (a job of its own for a kind that splits into jobs).
+    pub job: K::Job,
+    /// The part of `job` the task computes.
+    pub part: Option<K::Range>,
+}
+
+impl<K: Kind + ?Sized> Task<K> {
+    /// The task computing the whole of `job`.
+    pub fn whole(job: K::Job) -> Task<K> {
+        Task { job, part: None }
+    }
+}
+
+impl<K: Kind + ?Sized> Task<K> {
+    /// The tasks of `job` cut into `parts`: one per part, or the whole job
+    /// when there are fewer than two.
+    pub fn parts(job: &K::Job, parts: Vec<K::Range>) -> Vec<Task<K>> {
+        if parts.len() <= 1 {
+            return vec![Task::whole(job.clone())];
+        }
+        parts
+            .into_iter()
+            .map(|p| Task {
+                job: job.clone(),
+                part: Some(p),
+            })
+            .collect()
+    }
+}
+
+impl<K: Kind + ?Sized> Clone for Task<K> {
+    fn clone(&self) -> Self {
+        Task {
+            job: self.job.clone(),
+            part: self.part,
+        }
+    }
+}
+
+impl<K: Kind + ?Sized> Debug for Task<K> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Task")
+            .field("kind", &K::NAME)
+            .field("job", &self.job)
+            .field("part", &self.part)
+            .finish()
+    }
+}
+
+impl<K: Kind + ?Sized> PartialEq for Task<K> {
+    fn eq(&self, other: &Self) -> bool {
+        self.job == other.job && self.part == other.part
+    }
 }
 
 /// A job kind.
@@ -49,6 +110,9 @@ pub trait Kind: 'static {
     /// What a task of a job split into parts computes ([`NoPart`] for a
     /// kind whose tasks are whole jobs).
     type Part: Debug + Serialize + DeserializeOwned;
+    /// Which part of a job a task computes ([`NoPart`] for a kind whose
+    /// tasks are whole jobs).
+    type Range: Copy + Debug + PartialEq + Serialize + DeserializeOwned + 'static;
 
     /// Validates a spec of this kind (a JSON object whose `kind` is
     /// [`Kind::NAME`]): read as [`Kind::Spec`], then validated.
@@ -56,10 +120,14 @@ pub trait Kind: 'static {
         super::spec::from_value::<Self::Spec>(value, "")?.validate()
     }
 
-    /// Computes the job under `control` (progress, cancellation): the result
-    /// before its input warnings and engine are added, or — for a task of a
-    /// job split into parts — the part.
-    fn run(job: &Self::Job, control: &Control) -> Result<Output<Self>, JobError>;
+    /// Computes `part` of the job (`None`: the whole job) under `control`
+    /// (progress, cancellation): the result before its input warnings and
+    /// engine are added, or — for a part — the part.
+    fn run(
+        job: &Self::Job,
+        part: Option<Self::Range>,
+        control: &Control,
+    ) -> Result<Output<Self>, JobError>;
 
     /// The result's table (`?format=csv`): its rows, written into `table`.
     fn table(result: &Self::Result, table: &mut Table) -> Result<(), TableError>;
@@ -68,8 +136,8 @@ pub trait Kind: 'static {
     /// whose figure has no time axis refuses a window ([`whole_figure`]).
     fn figure(result: &Self::Result, window: Option<Window>) -> Result<String, FigureError>;
 
-    /// How big the job is.
-    fn size(job: &Self::Job) -> Size;
+    /// How big `part` of the job is (`None`: the whole job).
+    fn size(job: &Self::Job, part: Option<Self::Range>) -> Size;
 
     /// The field that sets the job's grid and work, named when a limit is
     /// exceeded.
@@ -81,27 +149,16 @@ pub trait Kind: 'static {
         Vec::new()
     }
 
-    /// The tasks of the job (`size` is [`Kind::size`]); one by default.
-    fn split(job: &Self::Job, _size: &Size) -> Vec<Self::Job> {
-        vec![job.clone()]
+    /// The tasks of the job (`size` is [`Kind::size`]): parts of it, or
+    /// jobs of their own; one, the whole job, by default.
+    fn split(job: &Self::Job, _size: &Size) -> Vec<Task<Self>> {
+        vec![Task::whole(job.clone())]
     }
 
-    /// A task's stored payload when it is not the task's own spec (a part
-    /// of a job whose spec is stored once); `None` by default.
-    fn task_payload(_job: &Self::Job) -> Option<String> {
-        None
-    }
-
-    /// The task `payload` names as a part of `whole`; `None` when this kind
-    /// has no parts.
-    fn part_of(_whole: &Self::Job, _payload: &Value) -> Option<Result<Self::Job, JobError>> {
-        None
-    }
-
-    /// Whether the job is a task's part (its result is a part, assembled by
-    /// the service; it carries no warnings).
-    fn is_part(_job: &Self::Job) -> bool {
-        false
+    /// Whether `part`, read back from a stored task, is a part of `job`, or
+    /// why not.
+    fn fits(_job: &Self::Job, _part: &Self::Range) -> Result<(), JobError> {
+        Ok(())
     }
 
     /// The job's result from its tasks' parts (several, or a part's; in

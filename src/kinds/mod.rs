@@ -1,5 +1,7 @@
-//! The job kinds, each a folder: its spec and validation, result, run,
-//! example and `impl Kind` ([`crate::kinds::kind::Kind`]), registered in one
+//! The job kinds, each a folder: `spec.rs` (the spec as written, the
+//! validated job and the validation), `result.rs`, `run.rs`, `table.rs`,
+//! `figure.rs`, `example.json` and, in `mod.rs`, its `impl Kind`
+//! ([`crate::kinds::kind::Kind`]), registered in one
 //! line of [`registry`], from which the job enum [`Job`], the kind enum
 //! [`JobKind`], every dispatch over kinds and the API description's unions
 //! are generated. What kinds share (spec parts, names, warnings, costs)
@@ -24,7 +26,7 @@ use serde_json::Value;
 use crate::jobs::{JobError, SpecError, spec};
 use crate::spectrum::Control;
 
-pub use registry::{Job, JobKind, JobResult, JobSpec, KINDS, NormalizedSpec, ResultError};
+pub use registry::{Job, JobKind, JobResult, JobSpec, KINDS, NormalizedSpec, ResultError, Task};
 
 impl Job {
     /// Parses and validates a job spec from JSON text.
@@ -33,22 +35,10 @@ impl Job {
         Job::from_value(&value)
     }
 
-    /// Validates a job spec given as a JSON value: a whole job, as users
-    /// submit it (a task's `part` is refused).
+    /// Validates a job spec given as a JSON value, as users submit it: a
+    /// part of a job is the service's, never a spec's (a task's part is a
+    /// [`Task`]).
     pub fn from_value(value: &serde_json::Value) -> Result<Job, SpecError> {
-        let job = Job::from_task(value)?;
-        if job.is_part() {
-            return Err(SpecError::at(
-                "/part",
-                "unknown field `part`: the service sets a task's part when it splits a job",
-            ));
-        }
-        Ok(job)
-    }
-
-    /// Validates a task's spec as the service stored it ([`Job::split`]):
-    /// a job, or a part of one.
-    pub fn from_task(value: &serde_json::Value) -> Result<Job, SpecError> {
         let obj = value
             .as_object()
             .ok_or_else(|| SpecError::at("", "a job spec is a JSON object"))?;
@@ -79,12 +69,18 @@ impl Job {
                 ),
             )
         })?;
+        if obj.contains_key("part") && kind.has_parts() {
+            return Err(SpecError::at(
+                "/part",
+                "unknown field `part`: the service sets a task's part when it splits a job",
+            ));
+        }
         Job::of_kind(kind, value)
     }
 
     /// Runs the job under `control` (progress, cancellation) and returns its
-    /// result document: the kind's document, its input warnings (a task's
-    /// part carries none: the assembled result does) and the engine.
+    /// result document: the kind's document, its input warnings and the
+    /// engine.
     pub fn run(&self, control: &Control) -> Result<serde_json::Value, JobError> {
         self.run_document(control)
     }
@@ -98,5 +94,23 @@ impl Job {
             return Ok(parts.pop().unwrap_or(Value::Null));
         }
         self.assemble_documents(parts)
+    }
+}
+
+impl Task {
+    /// A task given as a job's spec with the part it computes (`"part"`,
+    /// absent for the whole job): how a task is written by hand, and how
+    /// the service stored a part before it named parts by their bounds
+    /// alone ([`Task::payload`]).
+    pub fn from_spec(value: &Value) -> Result<Task, SpecError> {
+        let mut value = value.clone();
+        let part = value.as_object_mut().and_then(|o| o.remove("part"));
+        let job = Job::from_value(&value)?;
+        match part {
+            Some(part) => {
+                Task::part(&job, &part).map_err(|e| SpecError::at("/part", e.to_string()))
+            }
+            None => Ok(Task::whole(job)),
+        }
     }
 }

@@ -74,6 +74,30 @@ fn read_as<T: serde::de::DeserializeOwned>(kind: JobKind, value: Value) -> Resul
     })
 }
 
+/// The document `part` of `job` computes (`None`: the whole job): the
+/// kind's result with the job's input warnings and the engine, or the part.
+fn run_document<K: Kind>(
+    job: &K::Job,
+    part: Option<K::Range>,
+    control: &Control,
+) -> Result<Value, JobError> {
+    match K::run(job, part, control)? {
+        Output::Whole(result) => whole::<K>(job, result),
+        Output::Part(part) => document(&part),
+    }
+}
+
+/// The task computing `part` (as stored) of `whole`, or why it is not one.
+fn part_of<K: Kind>(whole: &K::Job, part: &Value) -> Result<super::kind::Task<K>, JobError> {
+    let range = K::Range::deserialize(part)
+        .map_err(|e| JobError::Task(format!("a task's part {part} does not read: {e}")))?;
+    K::fits(whole, &range)?;
+    Ok(super::kind::Task {
+        job: whole.clone(),
+        part: Some(range),
+    })
+}
+
 /// The result document of `job`: `result` with the job's input warnings
 /// and the engine that computed it.
 fn whole<K: Kind>(job: &K::Job, mut result: K::Result) -> Result<Value, JobError> {
@@ -136,6 +160,15 @@ macro_rules! kinds {
                 }
             }
 
+            /// Whether a job of this kind may be split into parts (its
+            /// [`Kind::Range`] is not [`crate::jobs::kind::NoPart`]).
+            pub fn has_parts(self) -> bool {
+                match self {
+                    $( JobKind::$variant => std::any::TypeId::of::<<$kind as Kind>::Range>()
+                        != std::any::TypeId::of::<crate::jobs::kind::NoPart>(), )*
+                }
+            }
+
             /// A small spec of this kind ([`Kind::EXAMPLE`]).
             pub fn example(self) -> &'static str {
                 match self {
@@ -181,20 +214,17 @@ macro_rules! kinds {
             }
 
             /// The document the job computes: the kind's result with the
-            /// job's input warnings and the engine, or a task's part.
+            /// job's input warnings and the engine.
             pub(crate) fn run_document(&self, control: &Control) -> Result<Value, JobError> {
                 match self {
-                    $( Job::$variant(j) => match <$kind as Kind>::run(j, control)? {
-                        Output::Whole(result) => whole::<$kind>(j, result),
-                        Output::Part(part) => document(&part),
-                    }, )*
+                    $( Job::$variant(j) => run_document::<$kind>(j, None, control), )*
                 }
             }
 
             /// How big the job is.
             pub fn size(&self) -> Size {
                 match self {
-                    $( Job::$variant(j) => <$kind as Kind>::size(j), )*
+                    $( Job::$variant(j) => <$kind as Kind>::size(j, None), )*
                 }
             }
 
@@ -212,39 +242,14 @@ macro_rules! kinds {
                 }
             }
 
-            /// Whether the job is a task's part.
-            pub fn is_part(&self) -> bool {
-                match self {
-                    $( Job::$variant(j) => <$kind as Kind>::is_part(j), )*
-                }
-            }
-
-            /// The tasks of this job, as jobs of their own.
-            pub fn split(&self) -> Vec<Job> {
+            /// The tasks of this job: parts of it, or jobs of their own.
+            pub fn split(&self) -> Vec<Task> {
                 let size = self.size();
                 match self {
                     $( Job::$variant(j) => <$kind as Kind>::split(j, &size)
                         .into_iter()
-                        .map(|t| Job::$variant(Box::new(t)))
+                        .map(|t| Task::$variant(Box::new(t)))
                         .collect(), )*
-                }
-            }
-
-            /// A task's stored payload: its own job spec, or what the kind
-            /// stores instead (a part's bounds).
-            pub fn task_payload(&self) -> String {
-                let own = match self {
-                    $( Job::$variant(j) => <$kind as Kind>::task_payload(j), )*
-                };
-                own.unwrap_or_else(|| serde_json::to_string(self).unwrap_or_default())
-            }
-
-            /// The task a payload of [`Job::task_payload`] names: a part of
-            /// `whole`, or `None` when the payload is a job spec of its own.
-            pub fn part_of(whole: &Job, payload: &Value) -> Option<Result<Job, JobError>> {
-                match whole {
-                    $( Job::$variant(j) => <$kind as Kind>::part_of(j, payload)
-                        .map(|r| r.map(|t| Job::$variant(Box::new(t)))), )*
                 }
             }
 
@@ -253,7 +258,7 @@ macro_rules! kinds {
             /// a task's part.
             pub fn run_typed(&self, control: &Control) -> Result<Option<JobResult>, JobError> {
                 Ok(match self {
-                    $( Job::$variant(j) => match <$kind as Kind>::run(j, control)? {
+                    $( Job::$variant(j) => match <$kind as Kind>::run(j, None, control)? {
                         Output::Whole(result) => Some(JobResult::$variant(Box::new(result))),
                         Output::Part(_) => None,
                     }, )*
@@ -268,6 +273,86 @@ macro_rules! kinds {
                         let parts = read_parts::<$kind>(parts)?;
                         whole::<$kind>(j, <$kind as Kind>::assemble(j, parts)?)
                     } )*
+                }
+            }
+        }
+
+        /// A task of a job: the job, or a part of it
+        /// ([`crate::kinds::kind::Task`]).
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum Task {
+            $( $(#[doc = $doc])* $variant(Box<super::kind::Task<$kind>>), )*
+        }
+
+        impl Task {
+            /// The task computing the whole of `job`.
+            pub fn whole(job: Job) -> Task {
+                match job {
+                    $( Job::$variant(j) => Task::$variant(Box::new(super::kind::Task::whole(*j))), )*
+                }
+            }
+
+            /// The task computing `part` (a task's stored `{"part": …}`) of
+            /// `whole`, or why it is not a part of it.
+            pub fn part(whole: &Job, part: &Value) -> Result<Task, JobError> {
+                match whole {
+                    $( Job::$variant(j) => Ok(Task::$variant(Box::new(part_of::<$kind>(j, part)?))), )*
+                }
+            }
+
+            /// The task's job kind.
+            pub fn job_kind(&self) -> JobKind {
+                match self {
+                    $( Task::$variant(_) => JobKind::$variant, )*
+                }
+            }
+
+            /// Whether the task computes a part of its job (its result is
+            /// a part, assembled by the service; it carries no warnings).
+            pub fn is_part(&self) -> bool {
+                match self {
+                    $( Task::$variant(t) => t.part.is_some(), )*
+                }
+            }
+
+            /// The task's job, whole.
+            pub fn job(&self) -> Job {
+                match self {
+                    $( Task::$variant(t) => Job::$variant(Box::new(t.job.clone())), )*
+                }
+            }
+
+            /// The cache key of the task's job ([`super::key::cache_key`]):
+            /// its result's key when the task is the whole job.
+            pub fn key(&self) -> String {
+                match self {
+                    $( Task::$variant(t) => super::key::cache_key(&t.job), )*
+                }
+            }
+
+            /// How big the task is.
+            pub fn size(&self) -> Size {
+                match self {
+                    $( Task::$variant(t) => <$kind as Kind>::size(&t.job, t.part), )*
+                }
+            }
+
+            /// The task's stored payload: its part (`{"part": …}`; the job
+            /// is stored once, with the computation), or its own job spec.
+            pub fn payload(&self) -> String {
+                match self {
+                    $( Task::$variant(t) => match &t.part {
+                        Some(part) => serde_json::json!({ "part": part }).to_string(),
+                        None => serde_json::to_string(&t.job).unwrap_or_default(),
+                    }, )*
+                }
+            }
+
+            /// The document the task computes: its job's result with the
+            /// job's input warnings and the engine, or its part.
+            pub fn run(&self, control: &Control) -> Result<Value, JobError> {
+                match self {
+                    $( Task::$variant(t) => run_document::<$kind>(&t.job, t.part, control), )*
                 }
             }
         }

@@ -39,9 +39,9 @@ use crate::store::postgres::PgStore;
 use crate::store::sqlite::SqliteStore;
 use crate::store::{JobStore, StoreError};
 
-/// What computes a job: [`crate::kinds::Job::run`] unless an embedding supplies its own.
+/// What computes a task: [`crate::kinds::Task::run`] unless an embedding supplies its own.
 pub type Engine = Arc<
-    dyn Fn(&crate::kinds::Job, &Control) -> Result<serde_json::Value, crate::jobs::JobError>
+    dyn Fn(&crate::kinds::Task, &Control) -> Result<serde_json::Value, crate::jobs::JobError>
         + Send
         + Sync,
 >;

@@ -116,7 +116,11 @@ pub async fn prepare(
     let (job, key, spec, tasks) = off_runtime(move || {
         let key = cache_key(&job);
         let spec = serde_json::to_string(&job);
-        let tasks: Vec<String> = job.split().iter().map(Job::task_payload).collect();
+        let tasks: Vec<String> = job
+            .split()
+            .iter()
+            .map(crate::kinds::Task::payload)
+            .collect();
         (job, key, spec, tasks)
     })
     .await?;

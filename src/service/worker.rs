@@ -12,7 +12,7 @@ use uuid::Uuid;
 
 use super::AppState;
 use crate::jobs::{JobError, SpecError};
-use crate::kinds::Job;
+use crate::kinds::{Job, Task};
 use crate::spectrum::Control;
 use crate::store::{Status, StoreError, TaskClaim, now_rfc3339};
 
@@ -123,7 +123,7 @@ enum AssembleError {
 
 fn parse(spec: &str) -> Result<Job, TaskSpecError> {
     let value = serde_json::from_str::<Value>(spec)?;
-    Ok(Job::from_task(&value)?)
+    Ok(Job::from_value(&value)?)
 }
 
 /// The computation whose spec a worker read last, parsed: the parts of a
@@ -139,16 +139,16 @@ async fn blocking<T: Send + 'static>(
 }
 
 /// The job task `task` computes, read on the blocking pool: its payload, or
-/// the part it names ([`Job::task_payload`]) of its computation's spec.
+/// the part it names ([`Task::payload`]) of its computation's spec.
 async fn task_job(
     state: &AppState,
     task: &TaskClaim,
     whole: &mut Whole,
-) -> Result<Job, TaskSpecError> {
+) -> Result<Task, TaskSpecError> {
     let text = task.payload.clone();
     let payload: Value = blocking(move || Ok(serde_json::from_str(&text)?)).await?;
     if payload.get("kind").is_some() || payload.get("part").is_none() {
-        return blocking(move || Ok(Job::from_task(&payload)?)).await;
+        return blocking(move || Ok(Task::from_spec(&payload)?)).await;
     }
     let job = match whole {
         Some((id, job)) if *id == task.computation => job.clone(),
@@ -163,9 +163,8 @@ async fn task_job(
             job
         }
     };
-    Job::part_of(&job, &payload)
-        .unwrap_or_else(|| Err(JobError::Task("not a part".into())))
-        .map_err(TaskSpecError::Part)
+    let part = payload.get("part").cloned().unwrap_or(Value::Null);
+    blocking(move || Task::part(&job, &part).map_err(TaskSpecError::Part)).await
 }
 
 /// A task being computed: what its worker watches while it runs and
@@ -203,7 +202,7 @@ async fn execute(
             return;
         }
     };
-    let key = crate::kinds::key::cache_key(&job);
+    let key = job.key();
     let size = job.size();
     let control = Arc::new(Control::new());
     state.register(id, idx, control.clone());
@@ -235,7 +234,7 @@ async fn execute(
 /// comes through the channel returned (dropped unsent if it panicked).
 fn compute(
     state: &AppState,
-    job: Job,
+    job: Task,
     control: Arc<Control>,
 ) -> oneshot::Receiver<Result<Serialised, JobError>> {
     let (tx, rx) = oneshot::channel();

@@ -232,7 +232,7 @@ async fn a_panicking_handler_answers_500_problem_json_and_the_server_stays_up() 
 async fn a_panicking_job_fails_with_a_plain_reason_and_the_next_one_runs() {
     // The real engine, except for one amplitude where it panics.
     let engine: topple::service::Engine = Arc::new(|job, control| {
-        let spec = serde_json::to_value(job).unwrap_or_default();
+        let spec = serde_json::to_value(job.job()).unwrap_or_default();
         let level = |p: &str| spec.pointer(p).and_then(Value::as_f64).unwrap_or(f64::NAN);
         if (level("/pulse/a_p") / (level("/block/alpha") * level("/block/g")) - 6.5).abs() < 1e-9 {
             panic!("engine failed at /srv/topple/src/dynamics/secret.rs");

@@ -4,7 +4,7 @@
 //! histories (within the binomial error); a seed reproduces a result.
 
 use serde_json::{Value, json};
-use topple::kinds::Job;
+use topple::kinds::{Job, Task};
 use topple::spectrum::Control;
 
 fn run(spec: &Value) -> Value {
@@ -237,7 +237,7 @@ fn the_monte_carlo_error_falls_as_one_over_root_n() {
 fn run_part(spec: &Value, part: [usize; 2]) -> Value {
     let mut task = spec.clone();
     task["part"] = json!(part);
-    Job::from_task(&task)
+    Task::from_spec(&task)
         .expect("a task")
         .run(&Control::new())
         .expect("runs")
@@ -296,7 +296,7 @@ fn the_result_is_identical_whatever_the_split() {
     );
     let mut next = 0;
     for t in &tasks {
-        let Job::Fragility(f) = t else {
+        let Task::Fragility(f) = t else {
             panic!("a fragility task");
         };
         let [from, to] = f.part.expect("a part");
@@ -361,7 +361,7 @@ fn parts_that_do_not_tile_the_job_are_an_error_and_a_part_is_not_submitted() {
     let e = Job::from_value(&task).expect_err("a part is the service's");
     assert_eq!(e.pointer, "/part");
     task["part"] = json!([2, 9]);
-    let e = Job::from_task(&task).expect_err("out of range");
+    let e = Task::from_spec(&task).expect_err("out of range");
     assert_eq!(e.pointer, "/part");
 }
 

@@ -228,7 +228,7 @@ fn a_long_record_is_split_into_few_tasks_and_its_size_is_limited() {
         tasks.len()
     );
     for t in &tasks {
-        let payload = t.task_payload();
+        let payload = t.payload();
         assert!(
             payload.len() < 100 && payload.contains("levels"),
             "{payload}"

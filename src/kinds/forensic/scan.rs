@@ -147,9 +147,9 @@ impl ForensicJob {
             .collect()
     }
 
-    /// The query's size: scan points, estimated simulations and CPU seconds
-    /// of its lines (of its part's, for a task).
-    pub fn scan_size(&self) -> Result<Size, ScanError> {
+    /// The size of `part` of the query (`None`: the whole query): scan
+    /// points, estimated simulations and CPU seconds of its lines.
+    pub fn scan_size(&self, part: Option<Part>) -> Result<Size, ScanError> {
         let scans = self.observation_scans()?;
         let groups = self.groups(&scans);
         let per = self.simulation_s();
@@ -159,7 +159,7 @@ impl ForensicJob {
             let range = first..first + g.lines;
             first = range.end;
             let Some(grid) = s.grid else { continue };
-            let (lines, levels) = match self.part {
+            let (lines, levels) = match part {
                 Some(p) if range.contains(&p.lines[0]) => (
                     (p.lines[1] - p.lines[0]) as f64,
                     (p.levels[1] - p.levels[0] + 1) as f64,
@@ -308,13 +308,9 @@ impl ForensicJob {
         tasks: Option<usize>,
     ) -> Result<ForensicResult, ScanError> {
         let sets = self.overturning_sets(scans, found);
-        let job = ForensicJob {
-            part: None,
-            ..self.clone()
-        };
         let mut result = match &self.ground_motion {
-            Some(gm) => super::record::result(&job, gm, scans, &sets, stats)?,
-            None => job.pulse_result(&sets, stats)?,
+            Some(gm) => super::record::result(self, gm, scans, &sets, stats)?,
+            None => self.pulse_result(&sets, stats)?,
         };
         result.numerics.wall_time_s = wall_time_s;
         result.numerics.tasks = tasks;
@@ -381,20 +377,9 @@ impl ForensicJob {
     }
 }
 
-impl scan_parts::Parted for ForensicJob {
-    fn part(&self) -> Option<Part> {
-        self.part
-    }
-
-    fn with_part(&self, part: Part) -> Self {
-        ForensicJob {
-            part: Some(part),
-            ..self.clone()
-        }
-    }
-
-    /// Parts of about [`cost::TASK_CPU_S`].
-    fn cut(&self) -> Vec<Part> {
+impl ForensicJob {
+    /// The query's parts, of about [`cost::TASK_CPU_S`] each.
+    pub fn cut(&self) -> Vec<Part> {
         self.observation_scans().map_or(Vec::new(), |scans| {
             scan_parts::parts(
                 &self.groups(&scans),
@@ -404,17 +389,18 @@ impl scan_parts::Parted for ForensicJob {
         })
     }
 
-    fn fit(&self, payload: &serde_json::Value) -> Result<Part, JobError> {
+    /// Whether `part`, read back from a task, is a part of the query.
+    pub fn fits(&self, part: &Part) -> Result<(), JobError> {
         let scans = self
             .observation_scans()
             .map_err(|e| JobError::Task(e.to_string()))?;
-        Part::of(&self.groups(&scans), payload)
+        part.fits(&self.groups(&scans))
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use crate::jobs::scan_parts::{self, PartDoc};
+    use crate::jobs::scan_parts::PartDoc;
     use crate::kinds::Job;
     use crate::kinds::forensic::ForensicJob;
     use crate::spectrum::Control;
@@ -503,19 +489,14 @@ mod tests {
     #[test]
     fn a_task_names_its_part_and_is_sized_by_it() {
         let job = record_query();
-        let whole = job.scan_size().expect("sized");
+        let whole = job.scan_size(None).expect("sized");
         let scans = job.observation_scans().expect("blocks");
         let groups = job.groups(&scans);
         let parts = crate::jobs::scan_parts::parts(&groups, groups[0].line_s / 4.0, 4096);
         let mut points = 0;
         for &p in &parts {
-            let task = ForensicJob {
-                part: Some(p),
-                ..job.clone()
-            };
-            points += task.scan_size().expect("sized").grid_points;
-            let payload = serde_json::to_value(p).expect("writes");
-            assert_eq!(scan_parts::Parted::fit(&job, &payload).expect("fits"), p);
+            points += job.scan_size(Some(p)).expect("sized").grid_points;
+            job.fits(&p).expect("fits");
         }
         // Parts meet at a shared level: each boundary counted twice.
         assert!(

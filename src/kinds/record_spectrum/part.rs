@@ -21,9 +21,9 @@ fn groups(job: &RecordSpectrumJob, per_size: f64) -> [Group; 1] {
     }]
 }
 
-/// The part of `job` named by a task's `payload`, or why it does not fit.
-pub fn of(job: &RecordSpectrumJob, payload: &serde_json::Value) -> Result<Part, JobError> {
-    Part::of(&groups(job, 0.0), payload)
+/// Whether `part`, read back from a task, is a part of `job`, or why not.
+pub fn fits(job: &RecordSpectrumJob, part: &Part) -> Result<(), JobError> {
+    part.fits(&groups(job, 0.0))
 }
 
 /// The parts of `job` whose sizes each cost about `per_size` CPU seconds,
@@ -68,34 +68,17 @@ pub fn assemble(
     scan_parts::assemble(PART_KIND, &groups(job, 0.0), parts)
 }
 
-impl scan_parts::Parted for RecordSpectrumJob {
-    fn part(&self) -> Option<Part> {
-        self.part
-    }
-
-    fn with_part(&self, part: Part) -> Self {
-        RecordSpectrumJob {
-            part: Some(part),
-            ..self.clone()
-        }
-    }
-
-    /// Parts of about [`crate::jobs::cost::TASK_CPU_S`], each size costing
-    /// its share of the job's estimate.
-    fn cut(&self) -> Vec<Part> {
-        use crate::kinds::kind::Kind;
-        let size = super::RecordSpectrum::size(self);
-        parts(
-            self,
-            size.cpu_s / self.p.len().max(1) as f64,
-            crate::jobs::cost::TASK_CPU_S,
-            crate::jobs::split::MAX_PART_TASKS,
-        )
-    }
-
-    fn fit(&self, payload: &serde_json::Value) -> Result<Part, JobError> {
-        of(self, payload)
-    }
+/// The parts of `job`, of about [`crate::jobs::cost::TASK_CPU_S`] each, each
+/// size costing its share of the job's estimate.
+pub fn cut(job: &RecordSpectrumJob) -> Vec<Part> {
+    use crate::kinds::kind::Kind;
+    let size = super::RecordSpectrum::size(job, None);
+    parts(
+        job,
+        size.cpu_s / job.p.len().max(1) as f64,
+        crate::jobs::cost::TASK_CPU_S,
+        crate::jobs::split::MAX_PART_TASKS,
+    )
 }
 
 #[cfg(test)]
@@ -256,13 +239,11 @@ mod tests {
         .expect("runs");
         let e = assemble(&j, &[doc]).expect_err("a gap");
         assert!(e.to_string().contains("do not cover line 0"), "{e}");
-        assert!(of(&j, &serde_json::json!({"sizes": [0, 2], "levels": [0, 1]})).is_err());
-        assert!(
-            of(
-                &j,
-                &serde_json::json!({"sizes": [0, 1], "levels": [0, last]})
-            )
-            .is_ok()
-        );
+        // A part as stored (its lines once named `sizes`), read back.
+        let read = |v: serde_json::Value| serde_json::from_value::<Part>(v).expect("a part");
+        let beyond = read(serde_json::json!({"sizes": [0, 2], "levels": [0, 1]}));
+        assert!(fits(&j, &beyond).is_err());
+        let first = read(serde_json::json!({"sizes": [0, 1], "levels": [0, last]}));
+        assert!(fits(&j, &first).is_ok());
     }
 }
