@@ -3,18 +3,28 @@
 #
 #   bash bench/load.sh
 #
-# Builds the release binary, starts `topple serve` on a free 127.0.0.1 port
-# with a fresh SQLite database in a temporary directory and 2 workers, then:
+# Builds the release binary and the load client (examples/load.rs), starts
+# `topple serve` on a free 127.0.0.1 port with a fresh SQLite database in a
+# temporary directory and 2 workers, then:
 #   (a) with wrk, 64 connections, side by side in rounds: GET /healthz, and of
 #       one finished job its status, its result (JSON) and its result as CSV;
-#   (b) POST /v1/jobs?wait=10 of distinct time-history jobs, sequentially
-#       (and with 4 concurrent clients): client latency against the compute
-#       time the result reports;
+#   (b) POST /v1/jobs?wait=10 of distinct small time-history jobs, from 1, 4
+#       and 16 clients, on SQLite and on PostgreSQL (a private database on
+#       127.0.0.1:5432, made and dropped here): the service overhead (client
+#       latency minus the compute time the result reports) p50/p99, distinct
+#       jobs/s and the server's CPU time per job, for this binary and for the
+#       one built from the revision OLD_REV, side by side in alternating
+#       rounds (a fresh server and database for each); medians over the
+#       rounds and their ratios;
 #   (c) SIGTERM, and the server must exit 0 within a few seconds.
 #
 # Environment (all optional):
-#   WRK_SECONDS=10 WRK_CONNECTIONS=64 WRK_THREADS=2 READ_ROUNDS=3
-#   LATENCY_N=2000 CONCURRENT_N=2000 CONCURRENCY=4 (CONCURRENT_N=0 skips it)
+#   WRK_SECONDS=10 WRK_CONNECTIONS=64 WRK_THREADS=2 READ_ROUNDS=3 (0 skips (a))
+#   ROUNDS=3 SEQ_N=1000 CONC_N=3000 CLIENTS="1 4 16" STORES="sqlite postgres"
+#   OLD_REV=e23c234 OLD_BIN=path (else built in a worktree of OLD_REV under
+#     OLD_DIR=../topple-OLD_REV with its own target; OLD_BIN=none skips it)
+#   PG_URL=postgres://postgres@127.0.0.1:5432 (the server; a database is made on it)
+#   PY_LATENCY_N=0: also the Python client's sequential latency (bench/post_wait_latency.py)
 #   WORKERS=2 SHUTDOWN_LIMIT=5
 #   TOPPLE_BIN=path: benchmark this binary instead of building target/release/topple
 # Every request goes to 127.0.0.1; every loop is bounded in count and time.
@@ -25,9 +35,14 @@ WRK_SECONDS=${WRK_SECONDS:-10}
 WRK_CONNECTIONS=${WRK_CONNECTIONS:-64}
 WRK_THREADS=${WRK_THREADS:-2}
 READ_ROUNDS=${READ_ROUNDS:-3}
-LATENCY_N=${LATENCY_N:-2000}
-CONCURRENT_N=${CONCURRENT_N:-2000}
-CONCURRENCY=${CONCURRENCY:-4}
+ROUNDS=${ROUNDS:-3}
+SEQ_N=${SEQ_N:-1000}
+CONC_N=${CONC_N:-3000}
+CLIENTS=${CLIENTS:-"1 4 16"}
+STORES=${STORES:-"sqlite postgres"}
+OLD_REV=${OLD_REV:-e23c234}
+PG_URL=${PG_URL:-postgres://postgres@127.0.0.1:5432}
+PY_LATENCY_N=${PY_LATENCY_N:-0}
 WORKERS=${WORKERS:-2}
 SHUTDOWN_LIMIT=${SHUTDOWN_LIMIT:-5}
 
@@ -47,23 +62,40 @@ if ! command -v wrk >/dev/null 2>&1; then
 fi
 
 if [ -n "${TOPPLE_BIN:-}" ]; then
-  echo "== binary: $TOPPLE_BIN (TOPPLE_BIN; not building)"
+  echo "== binary: $TOPPLE_BIN (TOPPLE_BIN; not building it)"
+  cargo build --release --quiet --example load
 else
-  echo "== building: cargo build --release"
-  cargo build --release --quiet
+  echo "== building: cargo build --release (and the load client, examples/load.rs)"
+  cargo build --release --quiet --bin topple --example load
+fi
+if [ -z "${OLD_BIN:-}" ]; then
+  OLD_DIR=${OLD_DIR:-"$(pwd)/../topple-$OLD_REV"}
+  if [ ! -d "$OLD_DIR" ]; then
+    echo "== $OLD_REV: git worktree add --detach $OLD_DIR $OLD_REV"
+    git worktree add --detach "$OLD_DIR" "$OLD_REV" >/dev/null
+  fi
+  echo "== building $OLD_REV in $OLD_DIR (its own target)"
+  (cd "$OLD_DIR" && cargo build --release --quiet --bin topple)
+  OLD_BIN="$OLD_DIR/target/release/topple"
 fi
 
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/topple-load.XXXXXX")
-# The binary is copied so that a concurrent rebuild of target/ changes nothing here.
+# The binaries are copied so that a concurrent rebuild of target/ changes nothing here.
 cp "${TOPPLE_BIN:-target/release/topple}" "$WORK/topple"
+cp target/release/examples/load "$WORK/load"
+[ "$OLD_BIN" = none ] || cp "$OLD_BIN" "$WORK/topple-old"
 PORT=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 CLIENT=(python3 bench/post_wait_latency.py --port "$PORT")
 SERVER_PID=
 
+PG_DB=
 # shellcheck disable=SC2329  # invoked by the EXIT trap
 cleanup() {
   if [ -n "$SERVER_PID" ] && kill -0 "$SERVER_PID" 2>/dev/null; then
     kill -KILL "$SERVER_PID" 2>/dev/null || true
+  fi
+  if [ -n "$PG_DB" ]; then
+    psql "$PG_URL/postgres" -qc "DROP DATABASE IF EXISTS $PG_DB" >/dev/null 2>&1 || true
   fi
   rm -rf "$WORK"
 }
@@ -80,6 +112,7 @@ if ! "${CLIENT[@]}" ready --timeout 30; then
 fi
 
 # ---------------------------------------------------------------- (a)
+if [ "$READ_ROUNDS" -gt 0 ]; then
 echo
 echo "== (a) reads of one finished job beside GET /healthz: wrk -t$WRK_THREADS -c$WRK_CONNECTIONS" \
   "-d${WRK_SECONDS}s each, $READ_ROUNDS rounds in turn"
@@ -133,16 +166,119 @@ awk -v rounds="$READ_ROUNDS" -v average="$(loadavg)" '
     r = (base > 0 ? median("result") / base : 0)
     printf "RESULT (a) result / healthz = %.2f (target >= 0.80: %s) | load average %s\n", r, (r >= 0.8 ? "met" : "MISSED"), average
   }' "$WORK/reads.txt"
+fi
 
 # ---------------------------------------------------------------- (b)
 echo
-echo "== (b) POST /v1/jobs?wait=10, distinct jobs (no cache hits)"
-"${CLIENT[@]}" latency --n "$LATENCY_N" --concurrency 1 --base 3.0 --max-seconds 180 || status=1
-if [ "$CONCURRENT_N" -gt 0 ]; then
-  echo
-  "${CLIENT[@]}" latency --n "$CONCURRENT_N" --concurrency "$CONCURRENCY" --base 3.01 \
-    --max-seconds 180 || status=1
+echo "== (b) POST /v1/jobs?wait=10, distinct small jobs (no cache hits): clients $CLIENTS;" \
+  "$SEQ_N jobs sequentially, $CONC_N concurrently; stores: $STORES; $ROUNDS rounds," \
+  "this binary (new) and $OLD_REV (old) in turn, each on a fresh server and database"
+if [ "$PY_LATENCY_N" -gt 0 ]; then
+  "${CLIENT[@]}" latency --n "$PY_LATENCY_N" --concurrency 1 --base 3.0 --max-seconds 180 || status=1
 fi
+
+# Starts binary $1 on store $2 (a fresh database) as B_PID on B_PORT.
+start_bench_server() {
+  local bin=$1 store=$2 url
+  B_PORT=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+  if [ "$store" = postgres ]; then
+    PG_DB="topple_load_$$"
+    psql "$PG_URL/postgres" -qc "DROP DATABASE IF EXISTS $PG_DB" >/dev/null 2>&1
+    psql "$PG_URL/postgres" -qc "CREATE DATABASE $PG_DB" >/dev/null
+    url="$PG_URL/$PG_DB"
+  else
+    rm -f "$WORK"/b.db*
+    url="sqlite://$WORK/b.db"
+  fi
+  "$bin" serve --addr "127.0.0.1:$B_PORT" --database "$url" --workers "$WORKERS" \
+    >>"$WORK/bench-server.log" 2>&1 &
+  B_PID=$!
+  python3 bench/post_wait_latency.py --port "$B_PORT" ready --timeout 30 >/dev/null
+}
+
+# Stops the benchmark server: SIGTERM, then it must exit 0 in SHUTDOWN_LIMIT s.
+stop_bench_server() {
+  local rc=0 deadline=$(( $(date +%s) + SHUTDOWN_LIMIT ))
+  kill -TERM "$B_PID"
+  while kill -0 "$B_PID" 2>/dev/null && [ "$(date +%s)" -le "$deadline" ]; do sleep 0.05; done
+  if kill -0 "$B_PID" 2>/dev/null; then
+    echo "  the server still ran ${SHUTDOWN_LIMIT} s after SIGTERM: killed" >&2
+    kill -KILL "$B_PID" 2>/dev/null || true
+    status=1
+  fi
+  wait "$B_PID" 2>/dev/null || rc=$?
+  [ "$rc" = 0 ] || { echo "  the server exited $rc" >&2; status=1; }
+  if [ -n "$PG_DB" ]; then
+    psql "$PG_URL/postgres" -qc "DROP DATABASE IF EXISTS $PG_DB" >/dev/null 2>&1 || true
+    PG_DB=
+  fi
+}
+
+: >"$WORK/runs.jsonl"
+for store in $STORES; do
+  if [ "$store" = postgres ] && ! psql "$PG_URL/postgres" -qtAc 'SELECT 1' >/dev/null 2>&1; then
+    echo "  PostgreSQL at $PG_URL does not answer: skipping it" >&2
+    status=1
+    continue
+  fi
+  for round in $(seq 1 "$ROUNDS"); do
+    # Alternating order: old first in odd rounds, new first in even ones.
+    if [ "$OLD_BIN" = none ]; then order="new"
+    elif [ $((round % 2)) = 1 ]; then order="old new"
+    else order="new old"; fi
+    for which in $order; do
+      bin="$WORK/topple"; [ "$which" = old ] && bin="$WORK/topple-old"
+      start_bench_server "$bin" "$store"
+      for c in $CLIENTS; do
+        n=$CONC_N; [ "$c" = 1 ] && n=$SEQ_N
+        out=$("$WORK/load" --port "$B_PORT" --n "$n" --concurrency "$c" --base "$((3 + c)).0" \
+          --server-pid "$B_PID" --label "$store round $round $which") || status=1
+        grep -v '^RESULT ' <<<"$out" | sed 's/^/  /'
+        line=$(grep '^RESULT ' <<<"$out") || continue
+        python3 -c 'import json, sys; d = json.loads(sys.argv[1]); d.update(store=sys.argv[2], round=int(sys.argv[3]), which=sys.argv[4], load=sys.argv[5]); print(json.dumps(d))' \
+          "${line#RESULT }" "$store" "$round" "$which" "$(loadavg)" >>"$WORK/runs.jsonl"
+      done
+      stop_bench_server
+    done
+  done
+done
+python3 - "$WORK/runs.jsonl" "$(loadavg)" <<'PY'
+import json, statistics, sys
+runs = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+def med(rows, key):
+    v = [r[key] for r in rows if r.get(key) is not None]
+    return statistics.median(v) if v else float("nan")
+loads = sorted(float(r["load"].split()[0]) for r in runs)
+print(f"RESULT (b) medians over rounds; 1-minute load average during the runs: "
+      f"{loads[0] if loads else 0:.2f}..{loads[-1] if loads else 0:.2f}, now {sys.argv[2]}")
+print(f"RESULT (b) {'store':8} {'clients':>7} {'version':7} {'overhead p50':>12} {'p99':>8} {'jobs/s':>8} {'CPU/job':>8} {'client CPU/job':>14}")
+keys = sorted({(r["store"], r["concurrency"]) for r in runs}, key=lambda k: (k[0] != "sqlite", k[1]))
+for store, c in keys:
+    cell = {}
+    for which in ("old", "new"):
+        rows = [r for r in runs if r["store"] == store and r["concurrency"] == c and r["which"] == which]
+        if not rows:
+            continue
+        cell[which] = {k: med(rows, k) for k in ("overhead_p50_ms", "overhead_p99_ms", "jobs_per_s", "server_cpu_ms_per_job", "client_cpu_ms_per_job")}
+        m = cell[which]
+        print(f"RESULT (b) {store:8} {c:7d} {which:7} {m['overhead_p50_ms']:9.3f} ms {m['overhead_p99_ms']:8.3f} "
+              f"{m['jobs_per_s']:8.0f} {m['server_cpu_ms_per_job']:5.3f} ms {m['client_cpu_ms_per_job']:11.3f} ms  ({len(rows)} rounds)")
+    if "old" in cell and "new" in cell:
+        o, n = cell["old"], cell["new"]
+        r = lambda k, inv=False: (n[k] / o[k] if inv else o[k] / n[k]) if o[k] and n[k] else float("nan")
+        print(f"RESULT (b) {store:8} {c:7d} old/new: overhead p50 {r('overhead_p50_ms'):.1f}x, p99 {r('overhead_p99_ms'):.1f}x, "
+              f"jobs/s {r('jobs_per_s', True):.1f}x, CPU/job {r('server_cpu_ms_per_job'):.1f}x")
+for store in sorted({r["store"] for r in runs}):
+    for c, key, limit in ((1, "overhead_p50_ms", 1.0), (4, "overhead_p50_ms", 4.0)):
+        rows = [r for r in runs if r["store"] == store and r["concurrency"] == c and r["which"] == "new"]
+        if rows:
+            m = med(rows, key)
+            print(f"RESULT (b) target {store} {c} client(s) overhead p50 {m:.3f} ms <= {limit} ms: {'met' if m <= limit else 'MISSED'}")
+    rows = [r for r in runs if r["store"] == store and r["which"] == "new"]
+    if rows:
+        best = max(med([r for r in rows if r["concurrency"] == c], "jobs_per_s") for c in {r["concurrency"] for r in rows})
+        print(f"RESULT (b) target {store} distinct jobs/s {best:.0f} >= 1000: {'met' if best >= 1000 else 'MISSED'}")
+PY
 
 # ---------------------------------------------------------------- (c)
 echo

@@ -20,6 +20,7 @@ use super::representation::Format;
 use crate::kinds::{Job, JobSpec, KINDS};
 use crate::service::AppState;
 use crate::service::finished::{ResultError, finished};
+use crate::service::inline::{self, Inline};
 use crate::service::renderings::Rendering;
 use crate::service::results::{Cached, SharedText};
 use crate::service::submit::{self, Prepared};
@@ -455,48 +456,32 @@ pub async fn create_job(
         Err(e) => return Err(body_problem(&state, &e)),
     };
     let wait = wait_duration(&state, query.wait)?;
-    let Prepared {
-        job,
-        size,
-        key,
-        spec,
-        tasks,
-        records,
-    } = submit::prepare(&state, tenant.name(), body).await?;
-    submit::admit(&state, tenant.name(), &key).await?;
-    let submitted = state
-        .store
-        .submit(NewJob {
-            tenant: tenant.name(),
-            id: new_job_id(),
-            key: &key,
-            kind: job.kind(),
-            spec: &spec,
-            now: &now_rfc3339(),
-            tasks: &tasks,
-            records: &records,
-        })
-        .await?;
-    let id = submitted.job.id;
+    let prepared = submit::prepare(&state, tenant.name(), body).await?;
+    let admission = submit::admit(&state, tenant.name(), &prepared.key).await?;
+    let (record, cached, wait, body) = match wait {
+        Some(limit) => match inline::run(&state, tenant.name(), &prepared, admission, limit).await?
+        {
+            Inline::Done(record, body) => {
+                super::http::audit("submit", &tenant, record.id, &headers);
+                (*record, false, Some(limit), Some(body))
+            }
+            Inline::Declined(left) => {
+                let (record, cached) =
+                    submit_and_wait(&state, &tenant, &headers, &prepared, Some(left)).await?;
+                (record, cached, Some(left), None)
+            }
+        },
+        None => {
+            let (record, cached) =
+                submit_and_wait(&state, &tenant, &headers, &prepared, None).await?;
+            (record, cached, None, None)
+        }
+    };
+    let id = record.id;
     tracing::Span::current().record("job_id", tracing::field::display(id));
-    super::http::audit("submit", &tenant, id, &headers);
-    if submitted.cached {
-        state.metrics.cache_hits.increment(1);
-    } else {
-        state.metrics.submitted.increment(1);
-        state.wake.notify_waiters();
-        state.wake.notify_one();
-        state.store.announce_queued().await;
-    }
-    info!(job_id = %id, cached = submitted.cached, kind = job.kind(), "submitted");
-    let mut record = submitted.job;
-    if let Some(limit) = wait
-        && !record.status.is_final()
-    {
-        record = wait_for(&state, &tenant, id, limit).await?;
-    }
-    let mut v = view(&record, Some(submitted.cached));
-    let seconds = state.throughput.seconds(job.kind(), &size);
+    let (kind, size) = (prepared.job.kind(), &prepared.size);
+    let mut v = view(&record, Some(cached));
+    let seconds = state.throughput.seconds(kind, size);
     v.estimate = Some(Estimate {
         simulations: size.work,
         seconds,
@@ -505,12 +490,18 @@ pub async fn create_job(
     // New work is accepted (202) unless the caller waited for it; existing work
     // that is done, and work waited for that ended (succeeded, failed or
     // canceled), answers 200.
-    let status = if record.status.is_final() && (wait.is_some() || submitted.cached) {
+    let status = if record.status.is_final() && (wait.is_some() || cached) {
         if record.status == Status::Succeeded {
             // The stored document is inlined as it is, never parsed again.
-            let found = crate::service::finished::stored(&state, &record).await?;
-            v.result =
-                serde_json::value::RawValue::from_string(found.body.as_str().to_string()).ok();
+            let text = match body {
+                Some(body) => body,
+                None => crate::service::finished::stored(&state, &record)
+                    .await?
+                    .body
+                    .as_str()
+                    .to_string(),
+            };
+            v.result = serde_json::value::RawValue::from_string(text).ok();
         }
         StatusCode::OK
     } else {
@@ -527,6 +518,52 @@ pub async fn create_job(
         );
     }
     Ok(response)
+}
+
+/// Stores the tenant's prepared job (or finds its own, or joins the
+/// computation of its key) and wakes workers for the work it queued; then,
+/// with `wait`, waits for it to finish. The job, and whether existing work
+/// answered it.
+async fn submit_and_wait(
+    state: &AppState,
+    tenant: &Tenant,
+    headers: &HeaderMap,
+    prepared: &Prepared,
+    wait: Option<Duration>,
+) -> Result<(JobRecord, bool), Problem> {
+    let submitted = state
+        .store
+        .submit(NewJob {
+            tenant: tenant.name(),
+            id: new_job_id(),
+            key: &prepared.key,
+            kind: prepared.job.kind(),
+            spec: &prepared.spec,
+            now: &now_rfc3339(),
+            tasks: &prepared.tasks,
+            records: &prepared.records,
+        })
+        .await?;
+    let id = submitted.job.id;
+    super::http::audit("submit", tenant, id, headers);
+    if submitted.cached {
+        state.metrics.cache_hits.increment(1);
+    } else {
+        state.metrics.submitted.increment(1);
+        // One idle worker woken per task queued, each claims one.
+        for _ in 0..prepared.tasks.len().min(state.config.workers.max(1)) {
+            state.wake.notify_one();
+        }
+        state.store.announce_queued().await;
+    }
+    info!(job_id = %id, cached = submitted.cached, kind = prepared.job.kind(), "submitted");
+    let mut record = submitted.job;
+    if let Some(limit) = wait
+        && !record.status.is_final()
+    {
+        record = wait_for(state, tenant, id, limit).await?;
+    }
+    Ok((record, submitted.cached))
 }
 
 /// Query of a status read.

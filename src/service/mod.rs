@@ -13,6 +13,7 @@ pub mod config;
 pub(crate) mod conn;
 pub mod finished;
 pub mod fragility_links;
+pub mod inline;
 pub mod lru;
 pub mod metrics;
 pub mod records;
@@ -67,6 +68,10 @@ pub struct AppState {
     pub finished: broadcast::Sender<Uuid>,
     /// Controls of the tasks computing in this instance (for cancellation).
     running: Arc<Mutex<Running>>,
+    /// Keys of the jobs computed in their requests now.
+    pub in_flight: Arc<inline::InFlight>,
+    /// Notified when a computation gives its compute slot back.
+    freed: Arc<Notify>,
     /// Metrics.
     pub metrics: Arc<metrics::Metrics>,
     /// Result documents in memory.
@@ -113,6 +118,8 @@ impl AppState {
             wake: Arc::new(Notify::new()),
             finished,
             running: Arc::new(Mutex::new(HashMap::new())),
+            in_flight: Default::default(),
+            freed: Arc::new(Notify::new()),
             metrics: Arc::new(metrics::Metrics::new()),
             results,
             succeeded,
@@ -140,6 +147,19 @@ impl AppState {
         }
     }
 
+    /// Registers a computation in a free compute slot: `false` when as many
+    /// tasks compute here as the pool has threads.
+    fn try_register(&self, id: Uuid, idx: i64, control: Arc<Control>) -> bool {
+        let Ok(mut m) = self.running.lock() else {
+            return false;
+        };
+        if m.len() >= self.pool.current_num_threads() {
+            return false;
+        }
+        m.insert((id, idx), control);
+        true
+    }
+
     /// Tasks computing on this instance now.
     fn busy(&self) -> usize {
         self.running.lock().map_or(1, |m| m.len())
@@ -149,6 +169,7 @@ impl AppState {
         if let Ok(mut m) = self.running.lock() {
             m.remove(&(id, idx));
         }
+        self.freed.notify_one();
     }
 
     /// Stops the job's tasks computing in this instance; returns how many.

@@ -7,7 +7,7 @@ use crate::jobs::SpecError;
 use crate::kinds::Job;
 use crate::kinds::key::cache_key;
 use crate::kinds::limits::{LimitError, Size};
-use crate::store::{Status, StoreError};
+use crate::store::{Admission, Status, StoreError};
 
 use super::AppState;
 use super::fragility_links::LinkError;
@@ -82,11 +82,21 @@ impl From<ResolveError> for SubmitError {
     }
 }
 
+/// Bodies up to this many bytes are read where they arrive: a spec this
+/// short parses, validates and serialises in tens of microseconds, less than
+/// a hop to the blocking pool and back.
+pub const SMALL_BODY: usize = 4096;
+
 /// Runs `f` on the blocking pool (parsing and validating documents: not
-/// work for the runtime, and not compute to queue behind jobs).
+/// work for the runtime, and not compute to queue behind jobs), or here for
+/// a `small` document.
 async fn off_runtime<T: Send + 'static>(
+    small: bool,
     f: impl FnOnce() -> T + Send + 'static,
 ) -> Result<T, SubmitError> {
+    if small {
+        return Ok(f());
+    }
     Ok(tokio::task::spawn_blocking(f).await?)
 }
 
@@ -97,8 +107,9 @@ pub async fn prepare(
     body: impl AsRef<[u8]> + Send + 'static,
 ) -> Result<Prepared, SubmitError> {
     // Reading a spec (it may hold long records) is no work for the runtime:
-    // the blocking pool parses and validates it.
-    let value = off_runtime(move || {
+    // the blocking pool parses and validates it, unless it is short.
+    let small = body.as_ref().len() <= SMALL_BODY;
+    let value = off_runtime(small, move || {
         let text = std::str::from_utf8(body.as_ref()).map_err(|_| SubmitError::NotUtf8)?;
         Ok::<_, SubmitError>(crate::jobs::spec::parse_json(text)?)
     })
@@ -107,13 +118,15 @@ pub async fn prepare(
     let value = super::fragility_links::resolve(state, tenant, value).await?;
     // A spec may name stored records: read their samples into it.
     let (value, records) = super::records::resolve(&*state.store, tenant, value).await?;
-    let (job, value) = off_runtime(move || (Job::from_value(&value), value)).await?;
+    // Records named by the spec make it long.
+    let small = small && records.is_empty();
+    let (job, value) = off_runtime(small, move || (Job::from_value(&value), value)).await?;
     let job = job?;
     let size = job
         .check_limits(&state.config.limits)
         .map_err(|e| SubmitError::Limit(e.as_written(&value)))?;
     // Its key, canonical text and tasks: serialising a long record too.
-    let (job, key, spec, tasks) = off_runtime(move || {
+    let (job, key, spec, tasks) = off_runtime(small, move || {
         let key = cache_key(&job);
         let spec = serde_json::to_string(&job);
         let tasks: Vec<String> = job
@@ -136,14 +149,27 @@ pub async fn prepare(
 
 /// Refuses new work while the queue is full, and a tenant's new live job
 /// beyond its quota (`max_queued_per_tenant`); work already known under
-/// `key` (queued, running or done) is always admitted.
-pub async fn admit(state: &AppState, tenant: &str, key: &str) -> Result<(), SubmitError> {
+/// `key` (queued, running or done) is always admitted. Returns what it read
+/// of the store (nothing without limits).
+pub async fn admit(
+    state: &AppState,
+    tenant: &str,
+    key: &str,
+) -> Result<Option<Admission>, SubmitError> {
     let max = state.config.max_queued;
     let quota = state.config.max_queued_per_tenant;
     if max == u64::MAX && quota.is_none() {
-        return Ok(());
+        return Ok(None);
     }
     let a = state.store.admission(tenant, key).await?;
+    check(state, tenant, &a)?;
+    Ok(Some(a))
+}
+
+/// The decision of [`admit`] on what it read.
+fn check(state: &AppState, tenant: &str, a: &Admission) -> Result<(), SubmitError> {
+    let max = state.config.max_queued;
+    let quota = state.config.max_queued_per_tenant;
     let answered = |s: Option<Status>| {
         matches!(
             s,

@@ -76,9 +76,11 @@ pub async fn run(state: AppState, n: usize, mut shutdown: watch::Receiver<bool>)
 }
 
 /// A result document as text, with its numerics summary.
-struct Serialised {
-    body: String,
-    numerics: String,
+pub(super) struct Serialised {
+    /// The document.
+    pub body: String,
+    /// Its `numerics`, as text.
+    pub numerics: String,
 }
 
 /// How the computation ended, as seen by the worker.
@@ -232,7 +234,7 @@ async fn execute(
 
 /// Computes `job` on the rayon pool under `control`; its result, serialised,
 /// comes through the channel returned (dropped unsent if it panicked).
-fn compute(
+pub(super) fn compute(
     state: &AppState,
     job: Task,
     control: Arc<Control>,

@@ -22,6 +22,9 @@ pub trait Dialect: sqlx::Database {
     /// (SQLite has one writer), and at start-up whatever was running is
     /// requeued rather than left to its lease.
     const SINGLE_INSTANCE: bool;
+    /// A claim in one statement, where the dialect can write it so (data-
+    /// modifying CTEs); else it is made step by step in a transaction.
+    const CLAIM: Option<&'static str>;
     /// The statement that wakes other instances' idle workers, if any.
     const ANNOUNCE: Option<&'static str>;
     /// The statement that tells other instances, when its transaction
@@ -37,6 +40,7 @@ impl Dialect for Sqlite {
     const SKIP_LOCKED: &'static str = "";
     const FOR_UPDATE: &'static str = "";
     const SINGLE_INSTANCE: bool = true;
+    const CLAIM: Option<&'static str> = None;
     const ANNOUNCE: Option<&'static str> = None;
     const ANNOUNCE_DELETED: Option<&'static str> = None;
 }
@@ -47,6 +51,7 @@ impl Dialect for Postgres {
     const SKIP_LOCKED: &'static str = " FOR UPDATE SKIP LOCKED";
     const FOR_UPDATE: &'static str = " FOR UPDATE";
     const SINGLE_INSTANCE: bool = false;
+    const CLAIM: Option<&'static str> = Some(include_str!("claim_postgres.sql"));
     const ANNOUNCE: Option<&'static str> = Some("SELECT pg_notify('topple_tasks', '')");
     const ANNOUNCE_DELETED: Option<&'static str> = Some("SELECT pg_notify('topple_deleted', $1)");
 }

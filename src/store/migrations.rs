@@ -14,7 +14,7 @@ use sqlx::migrate::{Migration, MigrationType, Migrator};
 /// name's words) and SQL.
 type File = (i64, &'static str, &'static str);
 
-const SQLITE: [File; 5] = [
+const SQLITE: [File; 6] = [
     (
         1,
         "jobs",
@@ -40,9 +40,14 @@ const SQLITE: [File; 5] = [
         "records",
         include_str!("../../migrations/sqlite/0005_records.sql"),
     ),
+    (
+        6,
+        "live jobs",
+        include_str!("../../migrations/sqlite/0006_live_jobs.sql"),
+    ),
 ];
 
-const POSTGRES: [File; 4] = [
+const POSTGRES: [File; 5] = [
     (
         1,
         "jobs",
@@ -62,6 +67,11 @@ const POSTGRES: [File; 4] = [
         4,
         "records",
         include_str!("../../migrations/postgres/0004_records.sql"),
+    ),
+    (
+        5,
+        "live jobs",
+        include_str!("../../migrations/postgres/0005_live_jobs.sql"),
     ),
 ];
 

@@ -2,18 +2,18 @@
 //! implementation over both SQL dialects ([`sql::SqlStore`]), whose
 //! differences live in [`dialect`].
 
-/// Runs `$body` (an `async` block over `conn: &mut DB::Connection`) in this
-/// process's write turn on a connection of its own, settling it afterwards.
+/// Runs `$body` (an `async` block over `conn: &mut DB::Connection`) on this
+/// process's connection for writes ([`writer::Writing`]), settling it
+/// afterwards.
 macro_rules! in_write_turn {
     ($store:expr, |$conn:ident| $body:expr) => {{
         let store = $store;
-        let _turn = store.turn().await;
-        let mut pooled = store.pool().acquire().await?;
+        let mut writing = store.writing().await?;
         let result = {
-            let $conn: &mut DB::Connection = &mut *pooled;
+            let $conn: &mut DB::Connection = writing.conn();
             $body.await
         };
-        store.settle(&mut pooled, &result);
+        store.settle(&mut writing, &result);
         result
     }};
 }
@@ -25,6 +25,7 @@ pub mod postgres;
 pub mod records;
 pub mod sql;
 pub mod sqlite;
+pub mod writer;
 
 use std::future::Future;
 use std::pin::Pin;
@@ -250,6 +251,23 @@ pub struct NewJob<'a> {
     pub records: &'a [String],
 }
 
+/// A job of one task computed already, to store finished at once.
+#[derive(Clone, Copy, Debug)]
+pub struct DoneJob<'a> {
+    /// The submission (`now`: when it arrived; its one task, and no records).
+    pub new: NewJob<'a>,
+    /// Who computed it (as a worker's lease owner).
+    pub owner: &'a str,
+    /// When its computation started (RFC 3339).
+    pub started: &'a str,
+    /// When it ended (RFC 3339).
+    pub finished: &'a str,
+    /// Its result document (JSON text).
+    pub body: &'a str,
+    /// Its numerics summary (JSON text).
+    pub numerics: &'a str,
+}
+
 /// What a submission found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Submitted {
@@ -321,6 +339,15 @@ pub trait JobStore: records::RecordStore + Send + Sync {
     /// its tasks if there is none, or queued again if it failed or was
     /// canceled.
     fn submit<'a>(&'a self, job: NewJob<'a>) -> BoxFuture<'a, Result<Submitted, StoreError>>;
+    /// Stores a job computed already as succeeded, in one transaction: a new
+    /// computation of its key with its one task done, its result and the
+    /// tenant's job, returned as stored. `None`, storing nothing, when a
+    /// computation of its key exists (the submission then joins it as any
+    /// other does).
+    fn store_done<'a>(
+        &'a self,
+        done: DoneJob<'a>,
+    ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>>;
     /// The tenant's job.
     fn get<'a>(
         &'a self,

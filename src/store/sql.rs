@@ -5,7 +5,6 @@
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use sqlx::pool::PoolConnection;
 use sqlx::{
     AssertSqlSafe, ColumnIndex, Connection, Decode, Encode, Executor, IntoArguments, Pool, Row,
     Type,
@@ -15,9 +14,10 @@ use uuid::Uuid;
 
 use super::deletions::{Deletion, Deletions};
 use super::dialect::{Dialect, fill};
+use super::writer::{Writer, Writing};
 use super::{
-    Admission, BoxFuture, Canceled, Computation, Deleted, Failure, JobRecord, JobStore, ListQuery,
-    NewJob, Status, StoreError, Submitted, TaskClaim,
+    Admission, BoxFuture, Canceled, Computation, Deleted, DoneJob, Failure, JobRecord, JobStore,
+    ListQuery, NewJob, Status, StoreError, Submitted, TaskClaim,
 };
 
 /// A job's columns: its own life, with its computation's key, kind, spec,
@@ -115,9 +115,10 @@ const FAILURE_WINDOW: Duration = Duration::from_secs(2);
 #[derive(Debug)]
 pub struct SqlStore<DB: Dialect> {
     pool: Pool<DB>,
-    /// One writer at a time, queued here rather than in the database's busy
-    /// handler (SQLite: whose growing sleeps show up as latency spikes).
-    writer: Option<Arc<tokio::sync::Mutex<()>>>,
+    /// One writer at a time, on one connection kept open, queued here rather
+    /// than in the database's busy handler (SQLite: whose growing sleeps show
+    /// up as latency spikes).
+    writer: Option<Arc<Writer<DB>>>,
     health: Arc<Mutex<WriteHealth>>,
     /// Notified when another instance queued work (PostgreSQL).
     elsewhere: Option<Arc<Notify>>,
@@ -158,7 +159,7 @@ impl<DB: Dialect> SqlStore<DB> {
     ) -> Self {
         SqlStore {
             pool,
-            writer: DB::SINGLE_INSTANCE.then(|| Arc::new(tokio::sync::Mutex::new(()))),
+            writer: DB::SINGLE_INSTANCE.then(|| Arc::new(Writer::default())),
             health: Default::default(),
             elsewhere,
             deletions,
@@ -171,27 +172,22 @@ impl<DB: Dialect> SqlStore<DB> {
         &self.pool
     }
 
-    /// The in-process writer lock, where the dialect has one writer.
-    pub(super) fn writer(&self) -> Option<Arc<tokio::sync::Mutex<()>>> {
+    /// The in-process writer, where the dialect has one writer.
+    pub(super) fn writer(&self) -> Option<Arc<Writer<DB>>> {
         self.writer.clone()
     }
 
-    /// Waits for this process's turn to write, where writes are serialised.
-    pub(super) async fn turn(&self) -> Option<tokio::sync::MutexGuard<'_, ()>> {
-        match &self.writer {
-            Some(w) => Some(w.lock().await),
-            None => None,
-        }
+    /// A connection to write on, in this process's turn where writes are
+    /// serialised.
+    pub(super) async fn writing(&self) -> Result<Writing<'_, DB>, StoreError> {
+        Ok(Writing::start(self.writer.as_ref(), &self.pool).await?)
     }
 
     /// Records how a write that changes data ended, for readiness; after a
-    /// failed write the connection is closed instead of going back to the
-    /// pool: whatever state the failure left it in (a transaction rolled back
-    /// by the database, or one still open and holding a lock after a full
-    /// disk or an I/O error), no later request inherits it.
-    pub(super) fn settle<T>(&self, conn: &mut PoolConnection<DB>, result: &Result<T, StoreError>) {
+    /// failed write its connection is closed ([`Writing::discard`]).
+    pub(super) fn settle<T>(&self, writing: &mut Writing<'_, DB>, result: &Result<T, StoreError>) {
         if result.is_err() {
-            conn.close_on_drop();
+            writing.discard();
         }
         let mut health = self.health.lock().unwrap_or_else(|e| e.into_inner());
         match result {
@@ -328,6 +324,94 @@ where
             .ok_or_else(|| StoreError::Corrupt("submitted job vanished".into()))?;
         tx.commit().await?;
         Ok(Submitted { job, cached })
+    }
+
+    /// Stores `done` in one transaction on `conn` (see [`JobStore::store_done`]).
+    async fn store_done_in(
+        &self,
+        conn: &mut DB::Connection,
+        done: DoneJob<'_>,
+    ) -> Result<Option<JobRecord>, StoreError> {
+        let new = &done.new;
+        let [payload] = new.tasks else {
+            return Err(StoreError::Corrupt(
+                "a finished job of more than one task".into(),
+            ));
+        };
+        let id = new.id.to_string();
+        let mut tx = conn.begin().await?;
+        let inserted = sqlx::query(
+            "INSERT INTO computations (id, key, kind, spec, status, numerics, created_at, started_at, finished_at, tenant, served_at) \
+             VALUES ($1, $2, $3, $4, 'succeeded', $5, $6, $7, $8, $9, $7) ON CONFLICT (key) DO NOTHING",
+        )
+        .bind(id.clone())
+        .bind(new.key.to_string())
+        .bind(new.kind.to_string())
+        .bind(new.spec.to_string())
+        .bind(done.numerics.to_string())
+        .bind(new.now.to_string())
+        .bind(done.started.to_string())
+        .bind(done.finished.to_string())
+        .bind(new.tenant.to_string())
+        .execute(&mut *tx)
+        .await?
+        .rows();
+        if inserted == 0 {
+            tx.rollback().await?;
+            return Ok(None);
+        }
+        sqlx::query(
+            "INSERT INTO tasks (computation_id, idx, payload, status, progress, attempts, done_by, created_at) \
+             VALUES ($1, 0, $2, 'done', 1, 1, $3, $4)",
+        )
+        .bind(id.clone())
+        .bind(payload.clone())
+        .bind(done.owner.to_string())
+        .bind(new.now.to_string())
+        .execute(&mut *tx)
+        .await?;
+        sqlx::query("INSERT INTO results (computation_id, body) VALUES ($1, $2)")
+            .bind(id.clone())
+            .bind(done.body.to_string())
+            .execute(&mut *tx)
+            .await?;
+        // Its tenant was served now, as by a claim: its queued work, if any,
+        // comes after the other tenants' in the next turns.
+        sqlx::query(
+            "INSERT INTO tenants (name, served_at) VALUES ($1, $2) \
+             ON CONFLICT (name) DO UPDATE SET served_at = excluded.served_at",
+        )
+        .bind(new.tenant.to_string())
+        .bind(done.started.to_string())
+        .execute(&mut *tx)
+        .await?;
+        sqlx::query(
+            "INSERT INTO jobs (id, tenant, computation_id, status, created_at, started_at, finished_at) \
+             VALUES ($1, $2, $1, 'succeeded', $3, $4, $5)",
+        )
+        .bind(id)
+        .bind(new.tenant.to_string())
+        .bind(new.now.to_string())
+        .bind(done.started.to_string())
+        .bind(done.finished.to_string())
+        .execute(&mut *tx)
+        .await?;
+        tx.commit().await?;
+        Ok(Some(JobRecord {
+            id: new.id,
+            tenant: new.tenant.to_string(),
+            computation: new.id,
+            key: new.key.to_string(),
+            kind: new.kind.to_string(),
+            spec: new.spec.to_string(),
+            status: Status::Succeeded,
+            progress: 1.0,
+            error: None,
+            numerics: Some(done.numerics.to_string()),
+            created_at: new.now.to_string(),
+            started_at: Some(done.started.to_string()),
+            finished_at: Some(done.finished.to_string()),
+        }))
     }
 
     /// The computation `new` asks for, in the transaction on `conn`: a new
@@ -646,6 +730,26 @@ where
         lease: Duration,
         started_only: bool,
     ) -> Result<Option<TaskClaim>, StoreError> {
+        if let Some(sql) = DB::CLAIM {
+            let row = sqlx::query(sql)
+                .bind(owner.to_string())
+                .bind(lease.as_secs_f64())
+                .bind(i64::from(started_only))
+                .bind(now.to_string())
+                .fetch_optional(&mut *conn)
+                .await?;
+            let Some(row) = row else {
+                return Ok(None);
+            };
+            return Ok(Some(TaskClaim {
+                computation: parse_id(&row.try_get::<String, _>("computation_id")?)?,
+                idx: row.try_get("idx")?,
+                kind: row.try_get("kind")?,
+                payload: row.try_get("payload")?,
+                attempts: row.try_get("attempts")?,
+                tasks: row.try_get("tasks")?,
+            }));
+        }
         let mut tx = conn.begin().await?;
         let Some((computation, idx)) = self.next_task(&mut tx, started_only).await? else {
             tx.commit().await?;
@@ -827,14 +931,13 @@ where
         &self,
         query: sqlx::query::Query<'_, DB, DB::Arguments>,
     ) -> Result<u64, StoreError> {
-        let _turn = self.turn().await;
-        let mut conn = self.pool.acquire().await?;
+        let mut writing = self.writing().await?;
         let result = query
-            .execute(&mut *conn)
+            .execute(writing.conn())
             .await
             .map(|r| r.rows())
             .map_err(StoreError::from);
-        self.settle(&mut conn, &result);
+        self.settle(&mut writing, &result);
         result
     }
 }
@@ -873,6 +976,13 @@ where
 {
     fn submit<'a>(&'a self, job: NewJob<'a>) -> BoxFuture<'a, Result<Submitted, StoreError>> {
         Box::pin(async move { in_write_turn!(self, |conn| self.submit_in(conn, job)) })
+    }
+
+    fn store_done<'a>(
+        &'a self,
+        done: DoneJob<'a>,
+    ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>> {
+        Box::pin(async move { in_write_turn!(self, |conn| self.store_done_in(conn, done)) })
     }
 
     fn get<'a>(

@@ -8,6 +8,7 @@ use sqlx::{Row, Sqlite, SqlitePool};
 
 use super::StoreError;
 use super::sql::SqlStore;
+use super::writer::Writer;
 
 /// Jobs in a SQLite database.
 ///
@@ -25,7 +26,7 @@ const WAL_RESTART_FRAMES: i64 = 4096;
 /// TRUNCATE, holding the writer lock, once the log has grown past
 /// [`WAL_RESTART_FRAMES`], which a steady stream of readers would otherwise
 /// let grow without bound.
-async fn checkpoint_loop(pool: SqlitePool, writer: Option<std::sync::Arc<tokio::sync::Mutex<()>>>) {
+async fn checkpoint_loop(pool: SqlitePool, writer: Option<std::sync::Arc<Writer<Sqlite>>>) {
     let mut tick = tokio::time::interval(Duration::from_millis(500));
     loop {
         tick.tick().await;
@@ -41,7 +42,7 @@ async fn checkpoint_loop(pool: SqlitePool, writer: Option<std::sync::Arc<tokio::
             .unwrap_or(0);
         if frames > WAL_RESTART_FRAMES {
             let _write = match &writer {
-                Some(w) => Some(w.lock().await),
+                Some(w) => Some(w.turn().await),
                 None => None,
             };
             let _ = sqlx::query("PRAGMA wal_checkpoint(TRUNCATE)")
@@ -70,6 +71,9 @@ impl SqlStore<Sqlite> {
             .pragma("journal_size_limit", "67108864");
         let pool = SqlitePoolOptions::new()
             .max_connections(connections.max(2))
+            // A connection to a local file does not go away: it is not pinged
+            // before each use (a round trip to its thread per request).
+            .test_before_acquire(false)
             .connect_with(options)
             .await?;
         super::migrations::sqlite().run(&pool).await?;

@@ -317,6 +317,69 @@ async fn the_same_work_in_other_words_is_a_cache_hit() {
     app.stop().await;
 }
 
+/// A small job waited for is computed in its request and stored finished at
+/// once (its one task done by the request, not claimed by a worker); it then
+/// reads, answers and is deduplicated as any other job.
+#[tokio::test]
+async fn a_small_job_waited_for_is_computed_in_its_request_and_stored_as_any_other() {
+    let app = spawn_app("inline").await;
+    let spec = time_history(3.7);
+    let (status, job, headers) = app.post("/v1/jobs?wait=10", &spec).await;
+    assert_eq!(status, 200, "{job}");
+    assert_eq!(job["status"], "succeeded", "{job}");
+    assert_eq!(
+        (job["cached"].clone(), job["progress"].clone()),
+        (json!(false), json!(1.0))
+    );
+    let id = job["id"].as_str().expect("id").to_string();
+    assert_eq!(headers["location"], format!("/v1/jobs/{id}").as_str());
+    assert_eq!(
+        without_times(job["result"].clone()),
+        without_times(topple_run(&spec))
+    );
+    let (status, read) = app.get(&format!("/v1/jobs/{id}")).await;
+    assert_eq!(status, 200);
+    assert_eq!(read["status"], "succeeded");
+    assert_eq!(read["numerics"], job["numerics"]);
+    let (status, result) = app.get(&format!("/v1/jobs/{id}/result")).await;
+    assert_eq!(status, 200);
+    assert_eq!(result, job["result"]);
+    let url = format!("sqlite://{}", app.dir.join("topple.db").display());
+    let mut db = <sqlx::SqliteConnection as sqlx::Connection>::connect(&url)
+        .await
+        .expect("opens the database");
+    let (task, by): (String, String) =
+        sqlx::query_as("SELECT status, done_by FROM tasks WHERE computation_id = $1")
+            .bind(&id)
+            .fetch_one(&mut db)
+            .await
+            .expect("its one task");
+    assert_eq!(task, "done");
+    assert!(by.ends_with("#request"), "done by {by}");
+    // The same spec again is answered from the store.
+    let (status, again, _) = app.post("/v1/jobs?wait=10", &spec).await;
+    assert_eq!(status, 200, "{again}");
+    assert_eq!(
+        (again["cached"].clone(), again["id"].clone()),
+        (json!(true), job["id"].clone())
+    );
+    assert_eq!(again["result"], job["result"]);
+    // Without a wait, a job is queued for the workers as before.
+    let (status, queued, _) = app.post("/v1/jobs", &time_history(3.8)).await;
+    assert_eq!(status, 202, "{queued}");
+    let done = app
+        .finish(queued["id"].as_str().expect("id"), Duration::from_secs(10))
+        .await;
+    assert_eq!(done["status"], "succeeded");
+    let (by,): (String,) = sqlx::query_as("SELECT done_by FROM tasks WHERE computation_id = $1")
+        .bind(queued["id"].as_str().expect("id"))
+        .fetch_one(&mut db)
+        .await
+        .expect("its one task");
+    assert!(!by.ends_with("#request"), "done by {by}");
+    app.stop().await;
+}
+
 #[tokio::test]
 async fn cancel_stops_a_running_spectrum_within_100_ms() {
     let app = spawn_app("cancel").await;

@@ -6,7 +6,7 @@ use std::time::Duration;
 use topple::store::postgres::PgStore;
 use topple::store::sqlite::SqliteStore;
 use topple::store::{
-    Deleted, JobRecord, JobStore, ListQuery, NewJob, Status, TaskClaim, now_rfc3339,
+    Deleted, DoneJob, JobRecord, JobStore, ListQuery, NewJob, Status, TaskClaim, now_rfc3339,
 };
 use uuid::Uuid;
 
@@ -711,7 +711,122 @@ async fn records_are_stored_once_per_content_and_kept_while_in_use(store: &dyn J
     );
 }
 
+/// A job computed already is stored finished in one write: read back as
+/// succeeded with its result, listed, nothing left to claim; a second
+/// one of its key stores nothing (it is joined instead), and neither does
+/// one of a key submitted meanwhile.
+async fn a_job_computed_already_is_stored_finished(store: &dyn JobStore) {
+    let id = Uuid::now_v7();
+    let payload = tasks(1);
+    let done = |id: Uuid, tenant: &'static str, key: &'static str| DoneJob {
+        new: NewJob {
+            tenant,
+            id,
+            key,
+            kind: "time_history",
+            spec: "{\"a\":1}",
+            now: "2026-01-01T00:00:00.000000Z",
+            tasks: &payload,
+            records: &[],
+        },
+        owner: "here#request",
+        started: "2026-01-01T00:00:00.000100Z",
+        finished: "2026-01-01T00:00:00.000900Z",
+        body: "{\"result\":42}",
+        numerics: "{\"wall_time_s\":0.0008}",
+    };
+    let stored = store
+        .store_done(done(id, "carol", "done-1"))
+        .await
+        .expect("stores")
+        .expect("a new key is stored");
+    let read = store
+        .get("carol", id)
+        .await
+        .expect("reads")
+        .expect("exists");
+    assert_eq!(stored, read, "the job returned is the job stored");
+    assert_eq!((read.status, read.progress), (Status::Succeeded, 1.0));
+    assert_eq!(read.computation, id);
+    assert_eq!(read.numerics.as_deref(), Some("{\"wall_time_s\":0.0008}"));
+    assert_eq!(
+        read.started_at.as_deref(),
+        Some("2026-01-01T00:00:00.000100Z")
+    );
+    assert_eq!(
+        store.result(id).await.expect("reads").as_deref(),
+        Some("{\"result\":42}")
+    );
+    assert_eq!(
+        store.parts(id).await.expect("reads"),
+        None,
+        "parts are not kept"
+    );
+    assert!(claim(store, Duration::from_secs(30)).await.is_none());
+    let listed = store
+        .list(
+            "carol",
+            &ListQuery {
+                limit: 10,
+                ..Default::default()
+            },
+        )
+        .await
+        .expect("lists");
+    assert_eq!(listed.iter().map(|j| j.id).collect::<Vec<_>>(), vec![id]);
+    // The same key again (another tenant computed it too): nothing stored.
+    assert!(
+        store
+            .store_done(done(Uuid::now_v7(), "dave", "done-1"))
+            .await
+            .expect("stores")
+            .is_none()
+    );
+    assert!(
+        store
+            .list(
+                "dave",
+                &ListQuery {
+                    limit: 10,
+                    ..Default::default()
+                }
+            )
+            .await
+            .expect("lists")
+            .is_empty()
+    );
+    // A submission of its key joins it, done.
+    let joined = submit_as(store, "dave", "done-1", 1).await;
+    assert!(joined.cached);
+    assert_eq!(joined.job.status, Status::Succeeded);
+    assert_eq!(joined.job.computation, id);
+    // A key queued meanwhile is left to its queue.
+    let queued = submit_as(store, "dave", "done-2", 1).await;
+    assert!(
+        store
+            .store_done(done(Uuid::now_v7(), "carol", "done-2"))
+            .await
+            .expect("stores")
+            .is_none()
+    );
+    let t = claim(store, Duration::from_secs(30))
+        .await
+        .expect("its task");
+    assert_eq!(t.computation, queued.job.computation);
+    store
+        .cancel("dave", queued.job.id, &now_rfc3339())
+        .await
+        .expect("cancels");
+    // A finished job is deleted as any other.
+    assert_eq!(
+        store.delete("carol", id).await.expect("deletes"),
+        Deleted::Gone
+    );
+    assert!(store.get("carol", id).await.expect("reads").is_none());
+}
+
 async fn suite(store: Arc<dyn JobStore>) {
+    a_job_computed_already_is_stored_finished(store.as_ref()).await;
     a_single_task_job_completes_in_one_write(store.as_ref()).await;
     the_same_key_is_one_job(store.as_ref()).await;
     tasks_are_claimed_once_completed_and_assembled(store.as_ref()).await;
