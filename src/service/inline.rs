@@ -177,7 +177,11 @@ pub async fn run(
     let slot = Slot { state, id, control };
     let created = now_rfc3339();
     let started = Instant::now();
-    let rx = compute(state, prepared.job.clone(), slot.control.clone());
+    let rx = compute(
+        state,
+        crate::kinds::Task::whole(prepared.job.clone()),
+        slot.control.clone(),
+    );
     let limit = wait.min(state.config.job_timeout);
     let Ok(Ok(Ok(Serialised { body, numerics }))) = tokio::time::timeout(limit, rx).await else {
         // Too slow, failed or lost: the workers take it from here.
