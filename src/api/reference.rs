@@ -120,7 +120,16 @@ fn type_of(schema: &Value) -> String {
     for key in ["oneOf", "anyOf", "allOf"] {
         if let Some(list) = schema[key].as_array() {
             let sep = if key == "allOf" { " and " } else { " | " };
-            let parts: Vec<String> = list.iter().map(type_of).collect();
+            let parts: Vec<String> = list
+                .iter()
+                .map(|part| {
+                    if is_rule(part) {
+                        rule(part)
+                    } else {
+                        type_of(part)
+                    }
+                })
+                .collect();
             out = parts.join(sep);
         }
     }
@@ -148,6 +157,101 @@ fn type_of(schema: &Value) -> String {
         let _ = write!(out, " <span class=\"bounds\">{}</span>", escape(&bounds));
     }
     out
+}
+
+/// Whether a schema only states which fields are given (a cross-field
+/// rule: `required`, a field that must or must not be null, and their
+/// combinations), with no type of its own.
+fn is_rule(schema: &Value) -> bool {
+    let null = serde_json::json!({"type": "null"});
+    let not_null = serde_json::json!({"not": {"type": "null"}});
+    let Some(object) = schema.as_object() else {
+        return false;
+    };
+    !object.is_empty()
+        && object.iter().all(|(key, value)| match key.as_str() {
+            "required" => value.is_array(),
+            "properties" => value.as_object().is_some_and(|p| {
+                p.values().all(|v| {
+                    *v == null
+                        || *v == not_null
+                        || v["enum"].is_array()
+                        || v["not"]["enum"].is_array()
+                })
+            }),
+            "not" | "if" | "then" | "else" => is_rule(value),
+            "allOf" | "anyOf" | "oneOf" => value
+                .as_array()
+                .is_some_and(|list| list.iter().all(is_rule)),
+            _ => false,
+        })
+}
+
+/// A cross-field rule ([`is_rule`]) in words: `alpha` given, no `pulse`,
+/// neither … nor …, exactly one of (…).
+fn rule(schema: &Value) -> String {
+    let mut parts = Vec::new();
+    for field in schema["required"].as_array().into_iter().flatten() {
+        let name = field.as_str().unwrap_or("");
+        parts.push(format!("<code>{}</code> given", escape(name)));
+    }
+    if let Some(properties) = schema["properties"].as_object() {
+        for (name, v) in properties {
+            let (values, word) = match (v["enum"].as_array(), v["not"]["enum"].as_array()) {
+                (Some(values), _) => (values, "one of"),
+                (None, Some(values)) => (values, "not one of"),
+                (None, None) => continue,
+            };
+            let values: Vec<String> = values
+                .iter()
+                .map(|x| format!("<code>{}</code>", escape(&x.to_string())))
+                .collect();
+            parts.push(format!(
+                "<code>{}</code> {word} {}",
+                escape(name),
+                values.join(", ")
+            ));
+        }
+        let absent: Vec<String> = properties
+            .iter()
+            .filter(|(_, v)| v["type"] == "null")
+            .map(|(name, _)| format!("<code>{}</code>", escape(name)))
+            .collect();
+        if !absent.is_empty() {
+            parts.push(format!("no {}", absent.join(", ")));
+        }
+    }
+    if let (Some(condition), Some(then)) = (schema.get("if"), schema.get("then")) {
+        let otherwise = schema
+            .get("else")
+            .map(|e| format!("; otherwise {}", rule(e)))
+            .unwrap_or_default();
+        parts.push(format!(
+            "when {}: {}{otherwise}",
+            rule(condition),
+            rule(then)
+        ));
+    }
+    if let Some(inner) = schema.get("not") {
+        parts.push(match inner["anyOf"].as_array() {
+            Some(list) => format!(
+                "neither {}",
+                list.iter().map(rule).collect::<Vec<_>>().join(" nor ")
+            ),
+            None => format!("not ({})", rule(inner)),
+        });
+    }
+    for (key, open, sep, close) in [
+        ("allOf", "", " and ", ""),
+        ("anyOf", "(", " or ", ")"),
+        ("oneOf", "exactly one of (", "; ", ")"),
+    ] {
+        if let Some(list) = schema[key].as_array() {
+            let inner: Vec<String> = list.iter().map(rule).collect();
+            parts.push(format!("{open}{}{close}", inner.join(sep)));
+        }
+    }
+    parts.join(" and ")
 }
 
 /// One JSON type, `array of …` with its items.
@@ -427,8 +531,20 @@ fn schema_section(name: &str, schema: &Value) -> String {
     );
     html.push_str(&prose(schema["description"].as_str().unwrap_or("")));
     let is_object = schema["type"] == "object" || schema.get("properties").is_some();
-    if !is_object || schema.get("allOf").is_some() {
+    let parts: Vec<&Value> = schema["allOf"].as_array().into_iter().flatten().collect();
+    let (rules, types): (Vec<&Value>, Vec<&Value>) = parts.into_iter().partition(|p| is_rule(p));
+    if !is_object {
         let _ = writeln!(html, "<p class=\"type\">{}</p>", type_of(schema));
+    } else if !types.is_empty() {
+        let types: Vec<String> = types.iter().map(|t| type_of(t)).collect();
+        let _ = writeln!(html, "<p class=\"type\">{}</p>", types.join(" and "));
+    }
+    if !rules.is_empty() {
+        html.push_str("<p>Rules:</p>\n<ul class=\"rules\">\n");
+        for r in &rules {
+            let _ = writeln!(html, "<li>{}</li>", rule(r));
+        }
+        html.push_str("</ul>\n");
     }
     if let Some(mapping) = schema["discriminator"]["mapping"].as_object() {
         let field = schema["discriminator"]["propertyName"]
@@ -448,7 +564,7 @@ fn schema_section(name: &str, schema: &Value) -> String {
         html.push_str("</ul>\n");
     }
     html.push_str(&fields(schema));
-    for part in schema["allOf"].as_array().into_iter().flatten() {
+    for part in types {
         html.push_str(&fields(part));
     }
     html.push_str("</section>\n");
@@ -520,6 +636,11 @@ mod tests {
         for name in schemas.keys() {
             assert!(ids.contains(&schema_anchor(name)), "schema {name}");
         }
+        assert!(!html.contains(">any and any"), "a rule shown as a type");
+        assert!(
+            !html.contains("<p class=\"type\">any</p>"),
+            "a rule shown as a type"
+        );
         for field in ["alpha", "omega_ratio", "observations", "ground_motion"] {
             assert!(html.contains(&format!("<code>{field}</code>")), "{field}");
         }
@@ -556,6 +677,26 @@ mod tests {
         assert_eq!(
             type_of(&schema),
             "number (double) | null <span class=\"bounds\">&gt; 0</span>"
+        );
+        let both_or_neither = serde_json::json!({"anyOf": [
+            {"allOf": [{"required": ["b"]}, {"required": ["h"], "properties": {"h": {"not": {"type": "null"}}}}]},
+            {"not": {"anyOf": [{"required": ["b"]}, {"required": ["h"]}]}}]});
+        assert!(is_rule(&both_or_neither));
+        assert_eq!(
+            rule(&both_or_neither),
+            "(<code>b</code> given and <code>h</code> given or neither <code>b</code> given nor <code>h</code> given)"
+        );
+        let one = serde_json::json!({"oneOf": [{"required": ["pulse"]}, {"properties": {"pulse": {"type": "null"}}}]});
+        assert_eq!(
+            rule(&one),
+            "exactly one of (<code>pulse</code> given; no <code>pulse</code>)"
+        );
+        assert!(!is_rule(&serde_json::json!({"type": "object"})));
+        let only_cn = serde_json::json!({"if": {"required": ["type"], "properties": {"type": {"not": {"enum": ["cn"]}}}},
+                                         "then": {"properties": {"n": {"type": "null"}}}});
+        assert_eq!(
+            rule(&only_cn),
+            "when <code>type</code> given and <code>type</code> not one of <code>&quot;cn&quot;</code>: no <code>n</code>"
         );
         let list = serde_json::json!({"type": "array", "items": {"$ref": "#/components/schemas/Observation"}});
         assert_eq!(
