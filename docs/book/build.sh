@@ -32,14 +32,14 @@ if ! installed mdbook-katex "$MDBOOK_KATEX_VERSION"; then
   cargo install mdbook-katex --locked --version "$MDBOOK_KATEX_VERSION" --root "$tools" --quiet
 fi
 
-if ! command -v npm >/dev/null 2>&1; then
-  [ "$(id -u)" -eq 0 ] || { log "npm is needed (KaTeX's fonts come from the npm registry)"; exit 2; }
-  log "installing npm from the distribution's packages"
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq && apt-get install -y -qq npm >/dev/null
-fi
 katex=$tools/katex-$KATEX_VERSION
 if [ ! -f "$katex/package/dist/katex.min.css" ]; then
+  if ! command -v npm >/dev/null 2>&1; then
+    [ "$(id -u)" -eq 0 ] || { log "npm is needed (KaTeX's fonts come from the npm registry)"; exit 2; }
+    log "installing npm from the distribution's packages"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq && apt-get install -y -qq npm >/dev/null
+  fi
   log "fetching KaTeX $KATEX_VERSION's style sheet and fonts (npm registry)"
   mkdir -p "$katex"
   (cd "$katex" && npm pack "katex@$KATEX_VERSION" --silent >/dev/null && tar xzf "katex-$KATEX_VERSION.tgz")
