@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the figures in docs/ (all but precision.svg, which
+# Regenerates the figures in docs/book/src/figures/ (all but precision.svg, which
 # `topple precision` writes) from the specs in specs/ with `topple run --plot`,
 # and renders each to PNG in headless Chromium for looking at: at its own size
 # (NAME.png) and as the web page shows it, scaled to an 800 px wide pane
@@ -20,7 +20,7 @@ cd "$root"
 
 log() { echo "figures.sh: $*" >&2; }
 
-# docs/NAME.svg  specs/SPEC.json
+# docs/book/src/figures/NAME.svg  specs/SPEC.json
 figures=(
   "time_history_locomotive locomotive_nonlinear"
   "spectrum_locomotive_nonlinear locomotive_spectrum_nonlinear"
@@ -47,8 +47,8 @@ fi
 
 for pair in "${figures[@]}"; do
   read -r name spec <<<"$pair"
-  "$TOPPLE_BIN" run --plot "docs/$name.svg" "specs/$spec.json" >/dev/null
-  log "docs/$name.svg from specs/$spec.json"
+  "$TOPPLE_BIN" run --plot "docs/book/src/figures/$name.svg" "specs/$spec.json" >/dev/null
+  log "docs/book/src/figures/$name.svg from specs/$spec.json"
 done
 
 chromium=${CHROMIUM:-/usr/bin/chromium}
@@ -71,7 +71,7 @@ shoot() { # PNG, WIDTH, HEIGHT, URL
 
 for pair in "${figures[@]}"; do
   read -r name _ <<<"$pair"
-  svg=$root/docs/$name.svg
+  svg=$root/docs/book/src/figures/$name.svg
   read -r w h <<<"$(size "$svg")"
   shoot "$out/$name.png" "$w" "$h" "file://$svg"
   # As the page shows it: scaled to the pane's width.

@@ -3,7 +3,7 @@
 # Chromium at 1400×1000: a time history that overturns, an overturning
 # spectrum, a forensic query on pulses and one on a record, a fragility, a
 # survival job, each submitted from the form, and the list of jobs (see
-# tests/e2e/screenshots.py). Writes docs/page-*.png.
+# tests/e2e/screenshots.py). Writes docs/book/src/figures/page-*.png.
 #
 # Starts its own server (a temporary SQLite database, a free port) and
 # browser, and stops both. Installs what is missing as tests/e2e/run.sh does
@@ -17,7 +17,7 @@
 #                    debug binary (in $CARGO_TARGET_DIR, default target/)
 #   CHROMIUM         browser (default /usr/bin/chromium)
 #   PYTHON           interpreter for the venv (default python3)
-#   SCREENSHOTS_OUT  directory of the PNGs (default docs/)
+#   SCREENSHOTS_OUT  directory of the PNGs (default docs/book/src/figures/)
 #   E2E_TIMEOUT      seconds a job may take to show its plot (default 60)
 set -euo pipefail
 
@@ -29,5 +29,5 @@ die() { echo "docs/screenshots.sh: $*" >&2; exit 2; }
 # shellcheck source=tests/e2e/setup.sh
 source "$root/tests/e2e/setup.sh"
 
-export SCREENSHOTS_OUT=${SCREENSHOTS_OUT:-$root/docs}
+export SCREENSHOTS_OUT=${SCREENSHOTS_OUT:-$root/docs/book/src/figures}
 exec "$e2e_python" "$root/tests/e2e/screenshots.py"

@@ -198,7 +198,7 @@ enum Command {
         /// Where to write the SVG diagram.
         #[arg(long, default_value = "precision.svg")]
         svg: String,
-        /// Also rewrite the table in this README (between its `topple
+        /// Also rewrite the table in this Markdown file (between its `topple
         /// precision --readme` markers).
         #[arg(long)]
         readme: Option<String>,

@@ -300,23 +300,25 @@ mod tests {
         std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
     }
 
-    /// README.md's table and docs/precision.svg are what the study computes
-    /// now (regenerate both with `topple precision --svg docs/precision.svg
-    /// --readme README.md`).
+    /// The book's table (Solvers and precision) and its diagram are what the
+    /// study computes now (regenerate both with `topple precision --svg
+    /// docs/book/src/figures/precision.svg --readme docs/book/src/solvers.md`).
     #[test]
     fn readme_table_and_diagram_are_the_studys() {
         let rows = study().expect("study runs");
-        let readme = std::fs::read_to_string(root().join("README.md")).expect("README.md");
+        let chapter = "docs/book/src/solvers.md";
+        let diagram = "docs/book/src/figures/precision.svg";
+        let text = std::fs::read_to_string(root().join(chapter)).expect(chapter);
         let regenerate =
-            "regenerate with `topple precision --svg docs/precision.svg --readme README.md`";
-        let expected = with_table(&readme, &markdown(&rows)).expect("README has the markers");
+            format!("regenerate with `topple precision --svg {diagram} --readme {chapter}`");
+        let expected = with_table(&text, &markdown(&rows)).expect("the chapter has the markers");
         assert!(
-            expected == readme,
-            "README.md's precision table drifted: {regenerate}"
+            expected == text,
+            "{chapter}'s precision table drifted: {regenerate}"
         );
-        let svg = std::fs::read_to_string(root().join("docs/precision.svg")).expect("svg");
+        let svg = std::fs::read_to_string(root().join(diagram)).expect("svg");
         let drawn = crate::plot::precision_diagram(&rows).expect("draws");
-        assert!(drawn == svg, "docs/precision.svg drifted: {regenerate}");
+        assert!(drawn == svg, "{diagram} drifted: {regenerate}");
     }
 
     /// The table's numbers: tighter tolerances give smaller errors for more

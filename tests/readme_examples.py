@@ -1,5 +1,9 @@
 #!/usr/bin/env python3
-"""Runs every ```sh example of README.md against a live `topple serve`.
+"""Runs every ```sh example of README.md and of the book against a live
+`topple serve`.
+
+The book's chapters are the Markdown files SUMMARY.md lists
+(docs/book/src/SUMMARY.md), run in its order after README.md.
 
 Each block runs as one `bash -euo pipefail` script, in a scratch directory
 holding a copy of specs/, with `topple` (TOPPLE_BIN) first on the PATH and
@@ -14,7 +18,9 @@ on a shared machine, substituted before running:
 A block that starts `topple serve` itself runs with no other server up; after
 it, every address it serves on must answer /readyz within 30 s, then its
 processes are stopped. Any other block gets a server of this script's own on
-the first address (SQLite in the scratch directory), started once.
+the first address (SQLite in the scratch directory), started once. Every
+block runs in the same scratch directory, in order: a walkthrough's later
+steps read the files its earlier ones wrote.
 
 A block preceded by `<!-- example: skip: REASON -->` is listed, not run.
 
@@ -52,6 +58,20 @@ def blocks(readme):
             out.append((start, m.group(1) if m else None, "\n".join(lines[start:j])))
             i = j
         i += 1
+    return out
+
+
+BOOK = os.path.join(ROOT, "docs", "book", "src")
+
+
+def sources():
+    """README.md, then the book's chapters in the order of its SUMMARY.md."""
+    out = [os.path.join(ROOT, "README.md")]
+    summary = open(os.path.join(BOOK, "SUMMARY.md"), encoding="utf-8").read()
+    for chapter in re.findall(r"\]\(([^)]+\.md)\)", summary):
+        path = os.path.normpath(os.path.join(BOOK, chapter))
+        if path not in out:
+            out.append(path)
     return out
 
 
@@ -138,9 +158,12 @@ def main():
     server, created_db, failures, ran = None, False, [], 0
     log = open(os.path.join(work, "server.log"), "w")
     try:
-        for line, skip, text in blocks(os.path.join(ROOT, "README.md")):
+        every = [(os.path.relpath(path, ROOT), line, skip, text)
+                 for path in sources() for line, skip, text in blocks(path)]
+        for index, (source, number, skip, text) in enumerate(every):
+            line = f"{source}:{number}"
             if skip is not None:
-                print(f"--- README.md:{line}: skipped ({skip})")
+                print(f"--- {line}: skipped ({skip})")
                 continue
             script = text
             for a, b in substitutions:
@@ -161,9 +184,9 @@ def main():
                     failures.append((line, "the examples' server did not become ready"))
                     break
             created_db |= "createdb" in script
-            print(f"--- README.md:{line}")
+            print(f"--- {line}")
             started = time.time()
-            out_path = os.path.join(work, f".block-{line}.out")
+            out_path = os.path.join(work, f".block-{index}.out")
             with open(out_path, "w") as out:
                 # A file, not a pipe: what the block leaves running in the
                 # background keeps its output open.
@@ -198,7 +221,7 @@ def main():
                            check=False)
     if failures:
         for line, why in failures:
-            print(f"FAILED: README.md:{line}: {why}", file=sys.stderr)
+            print(f"FAILED: {line}: {why}", file=sys.stderr)
         print(f"server log: {os.path.join(work, 'server.log')}", file=sys.stderr)
         return 1
     shutil.rmtree(work, ignore_errors=True)

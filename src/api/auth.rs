@@ -26,7 +26,7 @@ use crate::service::tenants::TokensFile;
 pub use crate::service::tenants::DEFAULT_TENANT;
 
 /// Paths anyone may read, whatever the settings.
-const OPEN: [&str; 4] = ["/healthz", "/readyz", "/openapi.yaml", "/"];
+const OPEN: [&str; 5] = ["/healthz", "/readyz", "/openapi.yaml", "/docs", "/"];
 
 /// The tenant a request belongs to, in its extensions (`Extension<Tenant>`).
 ///
@@ -312,7 +312,7 @@ mod gate_tests {
             let t = tenant_of(&gate, Method::POST, "/v1/jobs", Some(auth));
             assert_eq!(t.expect("valid").as_deref(), Some(tenant), "{auth}");
         }
-        for path in ["/healthz", "/readyz", "/openapi.yaml", "/"] {
+        for path in ["/healthz", "/readyz", "/openapi.yaml", "/docs", "/"] {
             assert_eq!(tenant_of(&gate, Method::GET, path, None).ok(), Some(None));
         }
         assert_eq!(

@@ -14,6 +14,7 @@ pub mod page;
 pub mod plot;
 pub mod problem;
 pub mod records;
+pub mod reference;
 pub mod representation;
 
 use std::time::Duration;
@@ -71,7 +72,7 @@ impl utoipa::Modify for BearerScheme {
                 HttpBuilder::new()
                     .scheme(HttpAuthScheme::Bearer)
                     .description(Some(
-                        "A tenant's token. With a tokens file (`--tokens-file`: one line per token, `NAME blake3:<64 hex digits of the token's blake3 hash>`; `topple token NAME` makes a token and its line), every request needs a token except reads of /healthz, /readyz, /openapi.yaml and the page at / (and of /metrics with `--metrics-open`) and CORS preflights; its tenant is the name its token maps to (a tenant may have several tokens), and a tenant sees only its own jobs (another tenant's id is a 404). Without a tokens file there is one tenant, `default`: with TOPPLE_API_TOKEN, POST and DELETE need that token, and reads too with TOPPLE_AUTH_READS; without it, everything is open. With both, TOPPLE_API_TOKEN is one more token of tenant `default`.",
+                        "A tenant's token. With a tokens file (`--tokens-file`: one line per token, `NAME blake3:<64 hex digits of the token's blake3 hash>`; `topple token NAME` makes a token and its line), every request needs a token except reads of /healthz, /readyz, /openapi.yaml, the API reference at /docs and the page at / (and of /metrics with `--metrics-open`) and CORS preflights; its tenant is the name its token maps to (a tenant may have several tokens), and a tenant sees only its own jobs (another tenant's id is a 404). Without a tokens file there is one tenant, `default`: with TOPPLE_API_TOKEN, POST and DELETE need that token, and reads too with TOPPLE_AUTH_READS; without it, everything is open. With both, TOPPLE_API_TOKEN is one more token of tenant `default`.",
                     ))
                     .build(),
             ),
@@ -127,6 +128,17 @@ pub fn routes() -> (Router<AppState>, utoipa::openapi::OpenApi) {
 
 /// The OpenAPI document as YAML (what `openapi.yaml` holds).
 pub fn openapi_yaml() -> String {
+    portable_floats(&openapi_document().to_yaml().unwrap_or_default())
+}
+
+/// The OpenAPI document as JSON (what the reference at `/docs` is made
+/// from).
+pub fn openapi_value() -> serde_json::Value {
+    serde_json::to_value(openapi_document()).unwrap_or_default()
+}
+
+/// The OpenAPI document: the routes' description and `/openapi.yaml`.
+fn openapi_document() -> utoipa::openapi::OpenApi {
     let (_, mut api) = routes();
     api.paths.paths.insert(
         "/openapi.yaml".into(),
@@ -150,7 +162,7 @@ pub fn openapi_yaml() -> String {
                 .build(),
         ),
     );
-    portable_floats(&api.to_yaml().unwrap_or_default())
+    api
 }
 
 /// The YAML with every number in exponent form written with a decimal point
@@ -209,6 +221,7 @@ pub fn router(state: AppState) -> Router {
     let api = api
         .route("/", get(page::index))
         .route("/static/{*path}", get(page::asset))
+        .route(reference::PATH, get(reference::index))
         .route(
             "/openapi.yaml",
             get(move || {

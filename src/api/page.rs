@@ -38,6 +38,7 @@ pub const STATIC: &str = "/static/";
 /// content type, its text. `constants.js` is rendered ([`CONSTANTS`]).
 const FILES: &[(&str, &str, &str)] = &[
     ("style.css", CSS, include_str!("page/style.css")),
+    ("reference.css", CSS, include_str!("page/reference.css")),
     ("main.js", JS, include_str!("page/main.js")),
     ("api.js", JS, include_str!("page/api.js")),
     ("dom.js", JS, include_str!("page/dom.js")),

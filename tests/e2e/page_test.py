@@ -302,6 +302,7 @@ class Page:
         self.next_id = 0
         self.problems = []  # script errors and blocked resources
         self.submissions = []  # [requestId, body or None]: the POSTs to /v1/jobs, as sent
+        self.requests = []  # the URL of every request the browser sent
 
     def close(self):
         try:
@@ -321,6 +322,7 @@ class Page:
             self.problems.append(f"console.{params['type']}: {args}")
         elif method == "Network.requestWillBeSent":
             request = params.get("request", {})
+            self.requests.append(request.get("url", ""))
             if request.get("method") == "POST" and re.search(r"/v1/jobs(\?|$)", request.get("url", "")):
                 self.submissions.append([params.get("requestId"), request.get("postData")])
         elif method == "Log.entryAdded":
@@ -509,6 +511,76 @@ def check_policy_enforced(page):
     del page.problems[before:]
     log(f"the policy blocked and reported an inline script and style ({len(reported)} reports)")
     page.js("document.querySelectorAll('head > script:not([src]), head > style').forEach((el) => el.remove())")
+
+
+def operations_of(yaml_text):
+    """`METHOD /path` of every operation under `paths:` of an OpenAPI YAML
+    document (paths indented by two spaces, methods by four)."""
+    out, path, inside = [], None, False
+    for line in yaml_text.splitlines():
+        if not line.startswith(" "):
+            inside = line.rstrip() == "paths:"
+            continue
+        if not inside:
+            continue
+        m = re.match(r"^  (/\S*):$", line)
+        if m:
+            path = m.group(1).strip("'\"")
+            continue
+        m = re.match(r"^    (get|put|post|delete|patch):$", line)
+        if m and path:
+            out.append(f"{m.group(1).upper()} {path}")
+    return out
+
+
+def check_reference(page, base, guarded_base=None):
+    """The API reference at /docs: linked from the page, rendered from the
+    OpenAPI document (every operation of /openapi.yaml has its title, the
+    submission's among them), styled by its own sheet under the page's
+    policy, every link within it landing, and no request leaving this
+    server."""
+    status, headers, body = http_get(base + "/docs")
+    if status != 200 or not headers.get("content-type", "").startswith("text/html"):
+        raise Failure(f"GET /docs: {status} {headers.get('content-type')!r}")
+    if headers.get("content-security-policy", "") != http_get(base + "/")[1].get("content-security-policy"):
+        raise Failure("/docs is not served under the page's policy")
+    page.navigate(base + "/")
+    page.wait_js("the link to the reference", "!!document.querySelector('a[href=\"/docs\"]')", 10)
+    page.pump()
+    page.requests.clear()
+    page.navigate(base + "/docs")
+    page.wait_js("the reference", "!!document.getElementById('op-create_job')", 10)
+    title = page.js("document.querySelector('#op-create_job h3').textContent")
+    summary = page.js("document.querySelector('#op-create_job .summary').textContent")
+    if title != "POST /v1/jobs" or summary != "Submit a job.":
+        raise Failure(f"the submission's operation reads {title!r}, {summary!r}")
+    shown = set(page.js("[...document.querySelectorAll('section.operation h3')].map((h) => h.textContent)"))
+    operations = operations_of(http_get(base + "/openapi.yaml")[2].decode())
+    if len(operations) < 10:
+        raise Failure(f"read only {len(operations)} operations from /openapi.yaml")
+    for operation in operations:
+        if operation not in shown:
+            raise Failure(f"/docs lacks {operation}")
+    missing = page.js("[...document.querySelectorAll('a[href^=\"#\"]')]"
+                      ".filter((a) => !document.getElementById(decodeURIComponent(a.hash.slice(1))))"
+                      ".map((a) => a.getAttribute('href'))")
+    if missing:
+        raise Failure(f"/docs links to anchors it lacks: {missing[:5]}")
+    background = page.js("getComputedStyle(document.querySelector('#op-create_job .method')).backgroundColor")
+    if background in ("", "rgba(0, 0, 0, 0)", "transparent"):
+        raise Failure("/docs is unstyled: its style sheet did not apply")
+    page.js("document.querySelector('a[href=\"#schema-JobSpec\"]').click()")
+    page.wait_js("the link to JobSpec to be followed", "location.hash === '#schema-JobSpec'", 5)
+    page.pump()
+    away = [u for u in page.requests if not u.startswith(base + "/")]
+    if away:
+        raise Failure(f"/docs made requests away from {base}: {away[:5]}")
+    if not page.requests:
+        raise Failure("no request of /docs was seen")
+    page.screenshot(os.path.join(OUT, "page-docs.png"))
+    if guarded_base is not None and http_get(guarded_base + "/docs")[0] != 200:
+        raise Failure("/docs is not open on a server whose reads need a token")
+    log(f"the reference at /docs: {len(shown)} operations, {len(page.requests)} requests, all to {base}")
 
 
 def submit_in_sight(page):
@@ -1769,7 +1841,7 @@ def main():
                  "page-record-spectrum.png", "page-record-spectrum-figure.png", "page-forensic-record.png",
                  "page-time-history-record.png", "page-fragility-suite.png", "page-survival.png",
                  "page-forensic-intervals.png", "page-fragility-geometry.png", "page-jobs.png",
-                 "page-forensic-coulomb.png"):
+                 "page-forensic-coulomb.png", "page-docs.png"):
         try:
             os.remove(os.path.join(OUT, name))
         except FileNotFoundError:
@@ -1819,6 +1891,7 @@ def main():
         check_jobs_list(page, server.base, forensic_id)
         guarded.start()
         log(f"server with a token at {guarded.base}")
+        check_reference(page, server.base, guarded.base)
         check_token(page, guarded.base)
         page.pump()
         if page.problems:

@@ -25,7 +25,7 @@ Chromium in a 1400×1000 window, fills the form as a user would and submits:
 The others are what the window shows, scrolled to the top.
 
 Environment: TOPPLE_BIN (default target/debug/topple), CHROMIUM (default
-/usr/bin/chromium), SCREENSHOTS_OUT (default docs/), E2E_TIMEOUT (seconds a
+/usr/bin/chromium), SCREENSHOTS_OUT (default docs/book/src/figures/), E2E_TIMEOUT (seconds a
 job may take, default 60).
 
 Exit status 0 when every screenshot was taken, 1 otherwise.
@@ -44,7 +44,7 @@ import page_test as e2e
 from page_test import Chromium, Failure, Page, Server, log
 
 WIDTH, HEIGHT = 1400, 1000
-OUT = os.path.abspath(os.environ.get("SCREENSHOTS_OUT", os.path.join(e2e.ROOT, "docs")))
+OUT = os.path.abspath(os.environ.get("SCREENSHOTS_OUT", os.path.join(e2e.ROOT, "docs", "book", "src", "figures")))
 
 
 def submit(page, what):
