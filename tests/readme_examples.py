@@ -40,7 +40,7 @@ import time
 import urllib.request
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TIMEOUT = 240  # seconds one block may take
+TIMEOUT = 480  # seconds one block may take (record spectra in a debug build on a busy machine)
 
 
 def blocks(readme):
