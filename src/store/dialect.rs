@@ -25,6 +25,10 @@ pub trait Dialect: sqlx::Database {
     /// A claim in one statement, where the dialect can write it so (data-
     /// modifying CTEs); else it is made step by step in a transaction.
     const CLAIM: Option<&'static str>;
+    /// A job computed already stored in one statement (see
+    /// [`crate::store::JobStore::store_done`]), where the dialect can write
+    /// it so; else it is stored in a transaction of several.
+    const STORE_DONE: Option<&'static str>;
     /// The statement that wakes other instances' idle workers, if any.
     const ANNOUNCE: Option<&'static str>;
     /// The statement that tells other instances, when its transaction
@@ -41,6 +45,7 @@ impl Dialect for Sqlite {
     const FOR_UPDATE: &'static str = "";
     const SINGLE_INSTANCE: bool = true;
     const CLAIM: Option<&'static str> = None;
+    const STORE_DONE: Option<&'static str> = None;
     const ANNOUNCE: Option<&'static str> = None;
     const ANNOUNCE_DELETED: Option<&'static str> = None;
 }
@@ -52,6 +57,7 @@ impl Dialect for Postgres {
     const FOR_UPDATE: &'static str = " FOR UPDATE";
     const SINGLE_INSTANCE: bool = false;
     const CLAIM: Option<&'static str> = Some(include_str!("claim_postgres.sql"));
+    const STORE_DONE: Option<&'static str> = Some(include_str!("store_done_postgres.sql"));
     const ANNOUNCE: Option<&'static str> = Some("SELECT pg_notify('topple_tasks', '')");
     const ANNOUNCE_DELETED: Option<&'static str> = Some("SELECT pg_notify('topple_deleted', $1)");
 }

@@ -339,6 +339,39 @@ where
             ));
         };
         let id = new.id.to_string();
+        let record = JobRecord {
+            id: new.id,
+            tenant: new.tenant.to_string(),
+            computation: new.id,
+            key: new.key.to_string(),
+            kind: new.kind.to_string(),
+            spec: new.spec.to_string(),
+            status: Status::Succeeded,
+            progress: 1.0,
+            error: None,
+            numerics: Some(done.numerics.to_string()),
+            created_at: new.now.to_string(),
+            started_at: Some(done.started.to_string()),
+            finished_at: Some(done.finished.to_string()),
+        };
+        if let Some(sql) = DB::STORE_DONE {
+            let stored: i64 = sqlx::query_scalar(sql)
+                .bind(id)
+                .bind(new.key.to_string())
+                .bind(new.kind.to_string())
+                .bind(new.spec.to_string())
+                .bind(done.numerics.to_string())
+                .bind(new.now.to_string())
+                .bind(done.started.to_string())
+                .bind(done.finished.to_string())
+                .bind(new.tenant.to_string())
+                .bind(payload.clone())
+                .bind(done.owner.to_string())
+                .bind(done.body.to_string())
+                .fetch_one(&mut *conn)
+                .await?;
+            return Ok((stored == 1).then_some(record));
+        }
         let mut tx = conn.begin().await?;
         let inserted = sqlx::query(
             "INSERT INTO computations (id, key, kind, spec, status, numerics, created_at, started_at, finished_at, tenant, served_at) \
@@ -397,21 +430,7 @@ where
         .execute(&mut *tx)
         .await?;
         tx.commit().await?;
-        Ok(Some(JobRecord {
-            id: new.id,
-            tenant: new.tenant.to_string(),
-            computation: new.id,
-            key: new.key.to_string(),
-            kind: new.kind.to_string(),
-            spec: new.spec.to_string(),
-            status: Status::Succeeded,
-            progress: 1.0,
-            error: None,
-            numerics: Some(done.numerics.to_string()),
-            created_at: new.now.to_string(),
-            started_at: Some(done.started.to_string()),
-            finished_at: Some(done.finished.to_string()),
-        }))
+        Ok(Some(record))
     }
 
     /// The computation `new` asks for, in the transaction on `conn`: a new
