@@ -51,7 +51,7 @@ use problem::Problem;
     components(schemas(crate::kinds::JobResult, crate::jobs::schema::Engine)),
     modifiers(&BearerScheme),
     tags(
-        (name = "jobs", description = "Time histories, overturning spectra, friction-demand spectra"),
+        (name = "jobs", description = "Jobs of every kind: time histories, overturning and friction spectra, forensic queries, record spectra, fragility and survival"),
         (name = "records", description = "Accelerograms uploaded as files (PEER AT2, CSV, JSON), named by jobs"),
         (name = "operations", description = "Health, readiness, metrics")
     )
