@@ -50,6 +50,17 @@ def ridge_record() -> dict:
     return {"dt": 0.01, "unit": "g", "acc": acc}
 
 
+def at2_record(name: str) -> dict:
+    """A record of specs/records in the PEER AT2 format (NPTS, DT on line 4), in g."""
+    with open(os.path.join(ROOT, "specs", "records", name)) as f:
+        lines = f.read().splitlines()
+    head = lines[3].replace(",", " ").split()
+    npts = int(head[head.index("NPTS=") + 1])
+    dt = float(head[head.index("DT=") + 1])
+    acc = [float(v) for line in lines[4:] for v in line.split()][:npts]
+    return {"dt": dt, "unit": "g", "acc": acc}
+
+
 def enveloped_record(seed: int, n: int, dt: float, peak_g: float) -> dict:
     """A record of `n` samples: 24 sines of log-uniform frequency in 0.3–8 Hz
     under a rise–plateau–decay envelope (as a real record has), peak `peak_g`."""
@@ -81,6 +92,7 @@ def enveloped_record(seed: int, n: int, dt: float, peak_g: float) -> dict:
 
 def table() -> list[tuple[str, dict]]:
     ridge = ridge_record()
+    valley = at2_record("valley_station_000.at2")
     long40 = enveloped_record(7, 4000, 0.01, 0.45)
     short10 = enveloped_record(3, 1000, 0.01, 0.35)
     loco = {"alpha": 0.25, "p": 2.14, "eta": 0.9}
@@ -115,6 +127,10 @@ def table() -> list[tuple[str, dict]]:
         ("spectrum ricker nonlinear 20 freq", {
             "kind": "spectrum", "block": loco, "pulse": {"type": "ricker"},
             "omega_ratio": {"from": 1, "to": 8, "steps": 20}, "a_max_alpha_g": 10}),
+        ("spectrum one_sine coulomb mu 0.3 20 freq", {
+            "kind": "spectrum", "block": loco, "pulse": {"type": "one_sine"},
+            "omega_ratio": {"from": 1, "to": 10.5, "steps": 20}, "a_max_alpha_g": 20,
+            "contact": {"model": "coulomb", "mu": 0.3}, "no_sliding_beside": True}),
         ("friction_spectrum one_sine 90 amplitudes", {
             "kind": "friction_spectrum", "block": loco, "pulse": {"type": "one_sine"},
             "omega_ratio": 7.336, "a_alpha_g": {"from": 1.1, "to": 10, "steps": 90}}),
@@ -134,6 +150,10 @@ def table() -> list[tuple[str, dict]]:
         ("record_spectrum ridge 3 sizes to 4x", {
             "kind": "record_spectrum", "block": {"alpha": 0.15, "eta": 0.9},
             "R_m": [0.5, 1.0, 2.0], "scale": {"from": 0.2, "to": 4.0}, "ground_motion": ridge}),
+        ("record_spectrum valley 4,000 samples 4 sizes to 2x", {
+            "kind": "record_spectrum", "block": {"alpha": 0.245},
+            "R_m": [0.3, 1.0, 2.0, 3.0], "scale": {"from": 0.0, "to": 2.0},
+            "ground_motion": valley}),
         ("record_spectrum 10 s record 5 sizes to 3x", {
             "kind": "record_spectrum", "block": {"alpha": 0.2},
             "R_m": {"from": 0.3, "to": 3, "steps": 5}, "scale": {"to": 3.0},

@@ -41,7 +41,7 @@ use super::integrator::{DenseStep, Method, Rhs, State, Stepper, StepperStats, si
 use super::reactions::reactions_per_mass_vertical;
 use super::response::{Limit, MAX_IMPACTS, MAX_STEPS, OverturnMode};
 use super::separatrix::{FreeOutcome, decide};
-use super::simulate::{REST_VELOCITY, SimError};
+use super::simulate::{REST_VELOCITY, ROCKING_IMPACT_VELOCITY, SimError};
 use super::slide_rock::{self, SlideRockLeg, SlideRockRhs};
 use super::sliding::{self, Friction, Kinematics};
 
@@ -131,6 +131,11 @@ pub struct ContactResponse {
     pub impacts: Vec<ContactImpact>,
     /// All impacts, summed chattering included.
     pub impact_count: u64,
+    /// Impacts (landings included) with |θ̇| before of at least
+    /// [`ROCKING_IMPACT_VELOCITY`](super::simulate::ROCKING_IMPACT_VELOCITY)
+    /// p α: the rocking cycles, without the chattering that ends them (all
+    /// counted, listed or not).
+    pub rocking_impacts: u64,
     /// Of them, those of chattering summed in closed form.
     pub summed_impacts: u64,
     /// When the block first left the floor.
@@ -416,6 +421,7 @@ pub fn simulate_contact_with<G: Kinematics>(
             overturn_mode: None,
             impacts: Vec::new(),
             impact_count: 0,
+            rocking_impacts: 0,
             summed_impacts: 0,
             first_flight: None,
             flights: 0,
@@ -1007,13 +1013,11 @@ impl<G: Kinematics> Driver<'_, G> {
             );
             self.out.impact_count += 1;
             self.out.events += 1;
-            if self.out.impacts.len() < super::simulate::MAX_LISTED_IMPACTS {
-                self.out.impacts.push(ContactImpact {
-                    t,
-                    theta_dot: (theta_dot, hit.theta_dot),
-                    sticking: hit.sticking,
-                });
-            }
+            self.list_impact(ContactImpact {
+                t,
+                theta_dot: (theta_dot, hit.theta_dot),
+                sticking: hit.sticking,
+            });
             // A sliding impact may turn the rotation back towards the corner
             // that just left: that corner, still on the floor, is struck in
             // turn (same instant, the roles swapped), until the rotation
@@ -1083,6 +1087,21 @@ impl<G: Kinematics> Driver<'_, G> {
                 slip_velocity: hit.slip_velocity,
             }
         })
+    }
+
+    /// Lists an impact (a landing) followed one by one, up to
+    /// [`MAX_LISTED_IMPACTS`](super::simulate::MAX_LISTED_IMPACTS), and
+    /// counts it among the rocking impacts where its θ̇ before reaches
+    /// [`ROCKING_IMPACT_VELOCITY`](super::simulate::ROCKING_IMPACT_VELOCITY)
+    /// p α (the rule of pure rocking's count).
+    fn list_impact(&mut self, impact: ContactImpact) {
+        let v_rest = REST_VELOCITY * self.block.frequency_parameter() * self.block.slenderness();
+        if impact.theta_dot.0.abs() >= ROCKING_IMPACT_VELOCITY * v_rest / REST_VELOCITY {
+            self.out.rocking_impacts += 1;
+        }
+        if self.out.impacts.len() < super::simulate::MAX_LISTED_IMPACTS {
+            self.out.impacts.push(impact);
+        }
     }
 
     /// Whether impacts (landings) have repeated at the instant `t` so
@@ -1252,16 +1271,14 @@ impl<G: Kinematics> Driver<'_, G> {
             Landed::Corner { theta_dot, .. } => theta_dot,
             Landed::Flat { .. } => 0.0,
         };
-        if self.out.impacts.len() < super::simulate::MAX_LISTED_IMPACTS {
-            self.out.impacts.push(ContactImpact {
-                t: t1,
-                theta_dot: (pose1.omega, omega_after),
-                sticking: match landing.landed {
-                    Landed::Corner { sticking, .. } => sticking,
-                    Landed::Flat { velocity } => velocity == 0.0,
-                },
-            });
-        }
+        self.list_impact(ContactImpact {
+            t: t1,
+            theta_dot: (pose1.omega, omega_after),
+            sticking: match landing.landed {
+                Landed::Corner { sticking, .. } => sticking,
+                Landed::Flat { velocity } => velocity == 0.0,
+            },
+        });
         match landing.landed {
             Landed::Flat { velocity } => {
                 let x = pose1.x;

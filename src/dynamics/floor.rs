@@ -154,6 +154,7 @@ fn from_pure_rocking(r: &Response) -> ContactResponse {
         overturn_mode: r.mode,
         impacts: Vec::new(),
         impact_count: r.impact_count,
+        rocking_impacts: r.rocking_impacts,
         summed_impacts: r.summed_impacts,
         first_flight: None,
         flights: 0,
@@ -236,7 +237,7 @@ fn to_response<G: Kinematics>(
         } else {
             Vec::new()
         },
-        rocking_impacts: c.impacts.len() as u64,
+        rocking_impacts: c.rocking_impacts,
         summed_impacts: c.summed_impacts,
         overturn_time: c.overturn_time,
         overturn_side: c.overturn_side,
@@ -276,7 +277,115 @@ fn to_response<G: Kinematics>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::simulate::{REST_VELOCITY, ROCKING_IMPACT_VELOCITY};
     use crate::dynamics::{Formulation, Method, Pulse, PulseShape};
+
+    /// Followed for the friction it needs, pure rocking stops at the step
+    /// where that first exceeds μ (it is then not the Coulomb answer): it
+    /// finds the same first excess as when followed on, and integrates no
+    /// further than that step.
+    #[test]
+    fn pure_rocking_followed_for_its_demand_stops_at_the_first_excess_of_mu() {
+        let solver = Solver::RungeKutta {
+            method: Method::Dop853,
+            rtol: 1e-10,
+            atol: 1e-12,
+        };
+        let block = Block::new(0.25, 2.14, None, Some(0.3), None).expect("valid");
+        let on = Options {
+            reactions: true,
+            stop_at_sliding: true,
+            ..Options::outcome(solver)
+        };
+        let followed_on = Options {
+            stop_at_sliding: false,
+            ..on.clone()
+        };
+        let mut stopped_early = 0;
+        for ratio in [2.0, 4.0, 7.0] {
+            for k in 1..=12 {
+                let level = 0.5 + 0.5 * f64::from(k);
+                let a = level * block.slenderness() * block.gravity();
+                let pulse = Pulse::new(PulseShape::OneSine, a, ratio * block.frequency_parameter())
+                    .expect("valid");
+                let problem = Problem {
+                    block,
+                    pulse,
+                    formulation: Formulation::Nonlinear,
+                };
+                let stop = simulate(&problem, &on).expect("runs");
+                let whole = simulate(&problem, &followed_on).expect("runs");
+                let at = format!("ω_p/p {ratio} at {level} αg");
+                let first = |r: &Response| r.friction.and_then(|f| f.first_sliding);
+                assert_eq!(first(&stop), first(&whole), "{at}");
+                let Some(ts) = first(&stop) else {
+                    continue;
+                };
+                // It ends on the step where the excess was found.
+                assert!(stop.end_time >= ts, "{at}");
+                assert!(
+                    stop.end_time - ts <= 0.1 * pulse.duration,
+                    "{at}: {} after {ts}",
+                    stop.end_time
+                );
+                assert!(
+                    stop.numerics.steps_accepted <= whole.numerics.steps_accepted,
+                    "{at}"
+                );
+                stopped_early += usize::from(whole.end_time > stop.end_time);
+            }
+        }
+        assert!(stopped_early >= 10, "{stopped_early}");
+    }
+
+    /// On the floor, as under pure rocking, the rocking impacts are those
+    /// reached at |θ̇| ≥ 1e-2 p α: the chattering that ends a rocking
+    /// episode, counted among all the impacts, is not among them.
+    #[test]
+    fn a_coulomb_historys_rocking_impacts_leave_out_its_chattering() {
+        let block = Block::new(0.25, 2.14, None, None, None).expect("valid");
+        let solver = Solver::RungeKutta {
+            method: Method::Dop853,
+            rtol: 1e-10,
+            atol: 1e-12,
+        };
+        let friction = Friction::new(0.3, None).expect("valid");
+        let v_rest = REST_VELOCITY * block.frequency_parameter() * block.slenderness();
+        let slow = ROCKING_IMPACT_VELOCITY * v_rest / REST_VELOCITY;
+        let (mut with_chatter, mut by_modes) = (0, 0);
+        for ratio in [2.0, 4.0] {
+            for k in 1..=16 {
+                let level = 0.5 * f64::from(k);
+                let a = level * block.slenderness() * block.gravity();
+                let pulse = Pulse::new(PulseShape::OneSine, a, ratio * block.frequency_parameter())
+                    .expect("valid");
+                let problem = Problem {
+                    block,
+                    pulse,
+                    formulation: Formulation::Nonlinear,
+                };
+                let h = run_coulomb(&problem, &Options::history(solver), friction).expect("runs");
+                if h.answered_by != AnsweredBy::Modes {
+                    continue;
+                }
+                by_modes += 1;
+                let c = &h.contact;
+                let fast = c
+                    .impacts
+                    .iter()
+                    .filter(|i| i.theta_dot.0.abs() >= slow)
+                    .count() as u64;
+                let at = format!("ω_p/p {ratio} at {level} αg");
+                assert_eq!(h.response.rocking_impacts, fast, "{at}");
+                assert!(fast <= h.response.impact_count, "{at}");
+                with_chatter += usize::from((c.impacts.len() as u64) > fast);
+            }
+        }
+        assert!(
+            by_modes >= 16 && with_chatter > 0,
+            "{by_modes} {with_chatter}"
+        );
+    }
 
     /// What a scan asks of a history (its outcome, stopped at its decision)
     /// is what the whole history answers: overturning, its side and its

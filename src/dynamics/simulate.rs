@@ -199,16 +199,7 @@ pub fn simulate<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<R
     let started = Instant::now();
     check(problem, options)?;
     let mut response = match (&options.series_at, options.series_points) {
-        (Some(times), _) => run(
-            problem,
-            options,
-            TrackRequest {
-                peak: options.peak,
-                reactions: options.reactions,
-                series_times: times.clone(),
-                fall_under_forcing: options.fall_under_forcing,
-            },
-        )?,
+        (Some(times), _) => run(problem, options, track_request(options, times.clone()))?,
         (None, Some(n)) if n > 0 => {
             // The series spans the simulated interval, known after a first pass.
             let first = run(problem, options, TrackRequest::default())?;
@@ -222,27 +213,26 @@ pub fn simulate<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<R
                     }
                 })
                 .collect();
-            let req = TrackRequest {
-                peak: options.peak,
-                reactions: options.reactions,
-                series_times: times,
-                fall_under_forcing: options.fall_under_forcing,
-            };
-            run(problem, options, req)?
+            run(problem, options, track_request(options, times))?
         }
-        _ => run(
-            problem,
-            options,
-            TrackRequest {
-                peak: options.peak,
-                reactions: options.reactions,
-                series_times: Vec::new(),
-                fall_under_forcing: options.fall_under_forcing,
-            },
-        )?,
+        _ => run(problem, options, track_request(options, Vec::new()))?,
     };
     response.numerics.wall_time = started.elapsed().as_secs_f64();
     Ok(response)
+}
+
+/// What a history asked by `options` follows, its series sampled at `times`.
+fn track_request(options: &Options, times: Vec<f64>) -> TrackRequest {
+    TrackRequest {
+        peak: options.peak,
+        reactions: options.reactions,
+        series_times: times,
+        fall_under_forcing: options.fall_under_forcing,
+        // Pure rocking followed on a Coulomb floor for its outcome only
+        // (what a scan asks of `floor::run_coulomb`) needs of the demand
+        // only where it first exceeds μ or lifts off, and no peak at all.
+        refine_peaks: options.peak || !(options.stop_at_sliding && options.stop_at_decision),
+    }
 }
 
 fn check<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<(), SimError> {
@@ -271,9 +261,23 @@ fn check<G: Forcing>(problem: &Problem<G>, options: &Options) -> Result<(), SimE
 /// How a leg ended.
 #[derive(Clone, Copy, Debug)]
 enum LegEnd {
-    Impact { t: f64, velocity: f64 },
-    Overturn { t: f64 },
-    Reached { t: f64, y: State },
+    Impact {
+        t: f64,
+        velocity: f64,
+    },
+    Overturn {
+        t: f64,
+    },
+    Reached {
+        t: f64,
+        y: State,
+    },
+    /// Followed for the friction it needs (`stop_at_sliding`): pure rocking
+    /// stopped being the Coulomb answer on the step ending at `t` (the
+    /// demand exceeded μ, or the block lifted off).
+    PastPureRocking {
+        t: f64,
+    },
 }
 
 /// Solver state carried across legs.
@@ -282,6 +286,9 @@ struct Engine {
     stats: StepperStats,
     h_hint: f64,
     exact_error: f64,
+    /// End a leg at the step where pure rocking stops being the Coulomb
+    /// answer ([`Options::stop_at_sliding`]).
+    stop_at_sliding: bool,
 }
 
 impl Engine {
@@ -446,6 +453,9 @@ impl Engine {
             tracker.rocking((step.t0, step.y0), (step.t1(), step.y1), s, forced, |t| {
                 step.at(t)
             });
+            if self.stop_at_sliding && tracker.past_pure_rocking() {
+                break LegEnd::PastPureRocking { t: step.t1() };
+            }
         };
         self.h_hint = stepper.next_step_size();
         self.stats.absorb(&stepper.stats);
@@ -528,6 +538,7 @@ impl<'a, G: Forcing> Driver<'a, G> {
             stats: StepperStats::default(),
             h_hint: 0.0,
             exact_error: 0.0,
+            stop_at_sliding: options.stop_at_sliding,
         };
         let mut r = Response {
             rocked: false,
@@ -596,9 +607,7 @@ impl<'a, G: Forcing> Driver<'a, G> {
     /// started rocking a second time.
     fn past_pure_rocking(&self) -> bool {
         self.options.stop_at_sliding
-            && (self.tracker.first_sliding.is_some()
-                || self.tracker.first_lift_off.is_some()
-                || self.r.rocking_starts > 1)
+            && (self.tracker.past_pure_rocking() || self.r.rocking_starts > 1)
     }
 
     /// At rest: waits for the ground to exceed the threshold and starts
@@ -723,6 +732,12 @@ impl<'a, G: Forcing> Driver<'a, G> {
                     self.tracker.bound_to_overturn(None);
                 }
                 Next::Stop
+            }
+            LegEnd::PastPureRocking { t: tp } => {
+                // The history ends here ([`Driver::past_pure_rocking`]).
+                self.t = tp;
+                self.rocking = None;
+                Next::Go
             }
             LegEnd::Reached { t: tr, y } => {
                 self.t = tr;

@@ -41,6 +41,11 @@ pub struct TrackRequest {
     /// Leave out of the friction demand the fall of a block that overturns
     /// while still forced (see [`Tracker::bound_to_overturn`]).
     pub fall_under_forcing: bool,
+    /// Locate the peaks of |θ| and of the demand between the samples of a
+    /// piece under a pulse (golden section); else the samples' largest
+    /// stand. The first sliding and lift-off are found on the samples
+    /// either way: an outcome that asks only those needs no peak.
+    pub refine_peaks: bool,
 }
 
 /// The counts as they stood where the block, still forced, became bound to
@@ -221,6 +226,12 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         }
     }
 
+    /// Whether pure rocking has stopped being possible on the block's floor:
+    /// the demand exceeded μ, or the block lifted off.
+    pub fn past_pure_rocking(&self) -> bool {
+        self.first_sliding.is_some() || self.first_lift_off.is_some()
+    }
+
     /// Whether anything is followed at all.
     pub fn active(&self) -> bool {
         self.req.peak || self.req.reactions || !self.req.series_times.is_empty()
@@ -353,6 +364,13 @@ impl<'a, G: Forcing> Tracker<'a, G> {
         let follow = self.req.reactions && self.reactions_on && self.first_lift_off.is_none();
         let scan = self.scan(piece, tb, follow, eval);
         let (best_theta, best_demand) = (scan.theta, scan.demand);
+        if !self.req.refine_peaks {
+            self.peak_theta = self.peak_theta.max(best_theta.0);
+            if follow && best_demand.0.is_finite() {
+                self.demand_sample(piece.at(best_demand.1), best_demand.0);
+            }
+            return;
+        }
         let at = |k: usize| piece.at(k);
         let bracket = |k: usize| (at(k.saturating_sub(1)), at((k + 1).min(piece.n)));
         let (lo, hi) = bracket(best_theta.1);
