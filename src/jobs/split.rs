@@ -44,7 +44,7 @@ mod tests {
                 false,
             ),
             (
-                r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"omega_ratio":{"from":2,"to":6,"steps":6},"a_max_alpha_g":5,"tolerance":1e-3,"scan_step_alpha_g":0.05,"contact":{"model":"coulomb","mu":0.3},"no_sliding_beside":true}"#,
+                r#"{"kind":"spectrum","block":{"alpha":0.25,"p":2.14},"pulse":{"type":"one_sine"},"omega_ratio":{"from":2,"to":6,"steps":6},"a_max_alpha_g":5,"tolerance":1e-3,"scan_step_alpha_g":0.02,"contact":{"model":"coulomb","mu":0.3},"no_sliding_beside":true}"#,
                 6,
                 true,
             ),
