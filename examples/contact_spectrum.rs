@@ -44,11 +44,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let control = Control::new();
     let a = overturning_spectrum(&pure, &control)?;
     let b = overturning_spectrum(&coulomb, &control)?;
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    println!("40 frequencies, {cores} cores");
+    // The threads the scans ran on (RAYON_NUM_THREADS sets them).
+    let cores = rayon::current_num_threads();
+    println!("40 frequencies, {cores} threads");
     let row = |name: &str, s: &Spectrum| {
         println!(
-            "{name:>14}: {:6.2} s wall, {:7} simulations, {:6.1} µs each (wall × cores / simulations), {:6.1} steps and {:5.1} events each",
+            "{name:>14}: {:6.2} s wall, {:7} simulations, {:6.1} µs each (wall × threads / simulations), {:6.1} steps and {:5.1} events each",
             s.wall_time,
             s.stats.simulations,
             1e6 * s.wall_time * cores as f64 / s.stats.simulations as f64,
