@@ -339,21 +339,7 @@ where
             ));
         };
         let id = new.id.to_string();
-        let record = JobRecord {
-            id: new.id,
-            tenant: new.tenant.to_string(),
-            computation: new.id,
-            key: new.key.to_string(),
-            kind: new.kind.to_string(),
-            spec: new.spec.to_string(),
-            status: Status::Succeeded,
-            progress: 1.0,
-            error: None,
-            numerics: Some(done.numerics.to_string()),
-            created_at: new.now.to_string(),
-            started_at: Some(done.started.to_string()),
-            finished_at: Some(done.finished.to_string()),
-        };
+        let record = done_record(&done);
         if let Some(sql) = DB::STORE_DONE {
             let stored: i64 = sqlx::query_scalar(sql)
                 .bind(id)
@@ -1394,5 +1380,26 @@ where
                 let _ = sqlx::query(sql).execute(&self.pool).await;
             }
         })
+    }
+}
+
+/// The job `done` stores, as read back once stored: its own computation,
+/// succeeded.
+fn done_record(done: &DoneJob<'_>) -> JobRecord {
+    let new = &done.new;
+    JobRecord {
+        id: new.id,
+        tenant: new.tenant.to_string(),
+        computation: new.id,
+        key: new.key.to_string(),
+        kind: new.kind.to_string(),
+        spec: new.spec.to_string(),
+        status: Status::Succeeded,
+        progress: 1.0,
+        error: None,
+        numerics: Some(done.numerics.to_string()),
+        created_at: new.now.to_string(),
+        started_at: Some(done.started.to_string()),
+        finished_at: Some(done.finished.to_string()),
     }
 }
