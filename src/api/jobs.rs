@@ -345,15 +345,21 @@ async fn wait_for(
         if job.status.is_final() || Instant::now() >= deadline || *stopping.borrow() {
             return Ok(job);
         }
-        // Woken by this job finishing (or the channel lagging behind), by
-        // shutdown, by the deadline, or every 250 ms: look again.
+        // Answered by the announcement of its computation's success (the
+        // job as the store now holds it), or woken by its other end (or the
+        // channel lagging behind), by shutdown, by the deadline, or every
+        // 250 ms: look again.
         let tick = Instant::now() + Duration::from_millis(250);
         loop {
             let until = deadline.min(tick);
             tokio::select! {
                 r = tokio::time::timeout_at(until.into(), events.recv()) => {
                     match r {
-                        Ok(Ok(done)) if done != job.computation => continue,
+                        Ok(Ok(done)) if done.computation != job.computation => continue,
+                        Ok(Ok(done)) => match done.apply(&job) {
+                            Some(finished) => return Ok(finished),
+                            None => break,
+                        },
                         _ => break,
                     }
                 }
@@ -868,7 +874,9 @@ async fn cancel(
         state.cancel_local(job.computation);
     }
     // Whoever waits on this job looks again.
-    let _ = state.finished.send(job.computation);
+    state
+        .finished
+        .announce(crate::store::Finished::ended(job.computation));
     super::http::audit("cancel", tenant, id, headers);
     info!(job_id = %id, computation_stopped = canceled.stopped, "canceled");
     Ok(Ok(job))

@@ -19,7 +19,8 @@
 //!   meanwhile is joined as any submission joins it, the result computed
 //!   here being let go;
 //! - the tenant's quota and the queue's limit are checked before, as for
-//!   any submission; the tenant counts as served at that moment (fair turns);
+//!   any submission; the tenant counts as served at that moment (fair turns),
+//!   written at most every [`SERVED_EVERY`] per tenant;
 //! - past the wait (or the compute-time limit), during a shutdown, or when
 //!   the computation fails, the job takes the ordinary path: queued, then
 //!   computed, failed or canceled by the workers as any other.
@@ -44,6 +45,13 @@ pub const SMALL_SECONDS: f64 = 0.05;
 /// computed in other requests end) before its job is queued instead.
 pub const SLOT_WAIT: Duration = Duration::from_millis(100);
 
+/// How often, at most, a tenant's small jobs computed here write it as
+/// served (fair turns): the order of the tenants' queued work is kept to
+/// this resolution, and a tenant's small jobs in quick succession do not
+/// each lock its row of `tenants` until their commit (which would make them
+/// commit one after another).
+pub const SERVED_EVERY: Duration = Duration::from_millis(50);
+
 /// The owner a job computed in its request is stored as done by.
 const OWNER_SUFFIX: &str = "#request";
 
@@ -51,6 +59,31 @@ const OWNER_SUFFIX: &str = "#request";
 /// tells identical submissions that it is done.
 #[derive(Debug, Default)]
 pub struct InFlight(Mutex<HashMap<String, watch::Receiver<()>>>);
+
+/// When this process last wrote each tenant as served by a job computed in
+/// its request.
+#[derive(Debug, Default)]
+pub struct Served(Mutex<HashMap<String, Instant>>);
+
+impl Served {
+    /// Whether `tenant` is to be written as served now (it was not in the
+    /// last [`SERVED_EVERY`]); if so, it is taken as written.
+    fn due(&self, tenant: &str) -> bool {
+        let mut last = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        let now = Instant::now();
+        if last
+            .get(tenant)
+            .is_some_and(|t| now.duration_since(*t) < SERVED_EVERY)
+        {
+            return false;
+        }
+        if last.len() >= 4096 {
+            last.retain(|_, t| now.duration_since(*t) < SERVED_EVERY);
+        }
+        last.insert(tenant.to_string(), now);
+        true
+    }
+}
 
 /// A key computed in a request, until dropped.
 struct Computing<'a> {
@@ -212,6 +245,7 @@ pub async fn run(
             finished: &finished,
             body: &body,
             numerics: &numerics,
+            serve: state.served.due(tenant),
         })
         .await?;
     drop(computing);

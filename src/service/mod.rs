@@ -30,7 +30,7 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use tokio::sync::{Notify, broadcast, watch};
+use tokio::sync::{Notify, watch};
 use uuid::Uuid;
 
 pub use config::ServeConfig;
@@ -64,12 +64,16 @@ pub struct AppState {
     pub config: Arc<ServeConfig>,
     /// Wakes an idle worker when a job is queued.
     pub wake: Arc<Notify>,
-    /// Announces every job that reached a final status.
-    pub finished: broadcast::Sender<Uuid>,
+    /// Announces every computation that reached a final status (the
+    /// store's announcements: a success with the end its jobs took).
+    pub finished: crate::store::Announcer,
     /// Controls of the tasks computing in this instance (for cancellation).
     running: Arc<Mutex<Running>>,
     /// Keys of the jobs computed in their requests now.
     pub in_flight: Arc<inline::InFlight>,
+    /// When each tenant was last written as served by a job computed in
+    /// its request.
+    pub served: Arc<inline::Served>,
     /// Notified when a computation gives its compute slot back.
     freed: Arc<Notify>,
     /// Metrics.
@@ -108,7 +112,7 @@ impl AppState {
             .thread_name(|i| format!("topple-compute-{i}"))
             .build()
             .map_err(|e| ServeError::Pool(e.to_string()))?;
-        let (finished, _) = broadcast::channel(1024);
+        let finished = store.finished();
         let (stop, stopping) = watch::channel(false);
         let results = Arc::new(results::ResultCache::new(config.result_memory));
         let succeeded = Arc::new(succeeded::SucceededJobs::new(store.deletions()));
@@ -119,6 +123,7 @@ impl AppState {
             finished,
             running: Arc::new(Mutex::new(HashMap::new())),
             in_flight: Default::default(),
+            served: Default::default(),
             freed: Arc::new(Notify::new()),
             metrics: Arc::new(metrics::Metrics::new()),
             results,
@@ -198,8 +203,10 @@ impl AppState {
             .unwrap_or(false)
     }
 
+    /// Announces that computation `id` ended (its waiters read their jobs
+    /// again; a success the store announces itself, with its end).
     fn announce(&self, id: Uuid) {
-        let _ = self.finished.send(id);
+        self.finished.announce(crate::store::Finished::ended(id));
     }
 }
 

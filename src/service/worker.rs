@@ -319,21 +319,26 @@ impl Running<'_> {
             Outcome::Done(Ok(Serialised { body, numerics })) if task.tasks == 1 => {
                 // The task is the whole job: its result is the job's, in one write.
                 state.metrics.compute_seconds(&task.kind, seconds);
+                // Kept before it is stored: the store announces the success,
+                // and its waiters then read the result here. (The cache is
+                // read only for a job stored as succeeded.)
+                state.results.put(id, &self.key, &body);
                 match state
                     .store
                     .complete_only(id, idx, owner, &body, &numerics, &now_rfc3339())
                     .await
                 {
-                    Ok(true) => {
-                        state.results.put(id, &self.key, &body);
-                        info!(seconds, "succeeded");
-                    }
+                    // The store announced the success, with its end.
+                    Ok(true) => info!(seconds, "succeeded"),
                     Ok(false) => {
-                        info!("finished after its job was canceled or its lease taken over")
+                        info!("finished after its job was canceled or its lease taken over");
+                        state.announce(id);
                     }
-                    Err(e) => warn!(error = %e, "storing the result failed"),
+                    Err(e) => {
+                        warn!(error = %e, "storing the result failed");
+                        state.announce(id);
+                    }
                 }
-                state.announce(id);
             }
             Outcome::Done(Ok(Serialised { body, .. })) => {
                 state.metrics.compute_seconds(&task.kind, seconds);
@@ -495,19 +500,21 @@ async fn finish_job(state: &AppState, id: Uuid) {
         }
         Err(_) => return,
     };
+    // Kept before it is stored, as a task's whole result is.
+    state.results.put(id, &record.key, &body);
     match state
         .store
         .succeed(id, &body, &numerics, &now_rfc3339())
         .await
     {
-        Ok(true) => {
-            state.results.put(id, &record.key, &body);
-            info!("succeeded");
+        // The store announced the success, with its end.
+        Ok(true) => info!("succeeded"),
+        Ok(false) => state.announce(id),
+        Err(e) => {
+            warn!(error = %e, "storing the result failed");
+            state.announce(id);
         }
-        Ok(false) => {}
-        Err(e) => warn!(error = %e, "storing the result failed"),
     }
-    state.announce(id);
 }
 
 #[cfg(test)]

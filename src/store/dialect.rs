@@ -35,6 +35,10 @@ pub trait Dialect: sqlx::Database {
     /// commits, that finished jobs were deleted (`$1`: a job id, or `*`), if
     /// there are others.
     const ANNOUNCE_DELETED: Option<&'static str>;
+    /// The statement that tells other instances, when its transaction
+    /// commits, that a computation ended (`$1`: a
+    /// [`crate::store::Finished`]'s payload), if there are others.
+    const ANNOUNCE_FINISHED: Option<&'static str>;
 }
 
 impl Dialect for Sqlite {
@@ -48,6 +52,7 @@ impl Dialect for Sqlite {
     const STORE_DONE: Option<&'static str> = None;
     const ANNOUNCE: Option<&'static str> = None;
     const ANNOUNCE_DELETED: Option<&'static str> = None;
+    const ANNOUNCE_FINISHED: Option<&'static str> = None;
 }
 
 impl Dialect for Postgres {
@@ -60,6 +65,7 @@ impl Dialect for Postgres {
     const STORE_DONE: Option<&'static str> = Some(include_str!("store_done_postgres.sql"));
     const ANNOUNCE: Option<&'static str> = Some("SELECT pg_notify('topple_tasks', '')");
     const ANNOUNCE_DELETED: Option<&'static str> = Some("SELECT pg_notify('topple_deleted', $1)");
+    const ANNOUNCE_FINISHED: Option<&'static str> = Some("SELECT pg_notify('topple_finished', $1)");
 }
 
 /// `sql` with `{now}`, `{now+$N}` (the clock plus parameter `$N` seconds),

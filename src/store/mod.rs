@@ -20,6 +20,7 @@ macro_rules! in_write_turn {
 
 pub mod deletions;
 pub mod dialect;
+pub mod finished;
 pub mod migrations;
 pub mod postgres;
 pub mod records;
@@ -36,6 +37,7 @@ use serde::Serialize;
 use uuid::Uuid;
 
 pub use deletions::{Deletion, Deletions};
+pub use finished::{Announcer, Finished};
 
 /// A boxed future, so that the trait can be used as `dyn JobStore`.
 pub type BoxFuture<'a, T> = Pin<Box<dyn Future<Output = T> + Send + 'a>>;
@@ -266,6 +268,10 @@ pub struct DoneJob<'a> {
     pub body: &'a str,
     /// Its numerics summary (JSON text).
     pub numerics: &'a str,
+    /// Whether its tenant is written as served at `started` (fair turns):
+    /// a tenant's small jobs computed in quick succession need not each
+    /// write, and lock, its one row of `tenants`.
+    pub serve: bool,
 }
 
 /// What a submission found.
@@ -490,6 +496,10 @@ pub trait JobStore: records::RecordStore + Send + Sync {
     /// [`JobStore::purge`], announced as they commit: this instance's, and
     /// (PostgreSQL) every other instance's sharing the database.
     fn deletions(&self) -> Arc<Deletions>;
+    /// The computations that ended, announced as they commit: a success by
+    /// the store itself (with the end its jobs took), this instance's and
+    /// (PostgreSQL) every other instance's sharing the database.
+    fn finished(&self) -> Announcer;
 }
 
 /// A new job id: a UUIDv7 (creation time in its first 48 bits, so ids sort by

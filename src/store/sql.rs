@@ -14,6 +14,7 @@ use uuid::Uuid;
 
 use super::deletions::{Deletion, Deletions};
 use super::dialect::{Dialect, fill};
+use super::finished::{Announcer, Finished};
 use super::writer::{Writer, Writing};
 use super::{
     Admission, BoxFuture, Canceled, Computation, Deleted, DoneJob, Failure, JobRecord, JobStore,
@@ -124,6 +125,8 @@ pub struct SqlStore<DB: Dialect> {
     elsewhere: Option<Arc<Notify>>,
     /// Announces the deletions of finished jobs.
     deletions: Arc<Deletions>,
+    /// Announces the computations that ended.
+    finished: Announcer,
     sql: Arc<Statements>,
 }
 
@@ -135,6 +138,7 @@ impl<DB: Dialect> Clone for SqlStore<DB> {
             health: self.health.clone(),
             elsewhere: self.elsewhere.clone(),
             deletions: self.deletions.clone(),
+            finished: self.finished.clone(),
             sql: self.sql.clone(),
         }
     }
@@ -150,12 +154,14 @@ fn parse_status(s: &str) -> Result<Status, StoreError> {
 
 impl<DB: Dialect> SqlStore<DB> {
     /// A store over `pool` (migrated already); `elsewhere` is notified when
-    /// another instance queues work; deletions are announced on `deletions`
-    /// (where the listener of other instances' announcements writes too).
+    /// another instance queues work; deletions are announced on `deletions`,
+    /// and computations that ended on `finished` (where the listener of
+    /// other instances' announcements writes too).
     pub(super) fn new(
         pool: Pool<DB>,
         elsewhere: Option<Arc<Notify>>,
         deletions: Arc<Deletions>,
+        finished: Announcer,
     ) -> Self {
         SqlStore {
             pool,
@@ -163,6 +169,7 @@ impl<DB: Dialect> SqlStore<DB> {
             health: Default::default(),
             elsewhere,
             deletions,
+            finished,
             sql: Arc::new(Statements::new::<DB>()),
         }
     }
@@ -354,6 +361,7 @@ where
                 .bind(payload.clone())
                 .bind(done.owner.to_string())
                 .bind(done.body.to_string())
+                .bind(i64::from(done.serve))
                 .fetch_one(&mut *conn)
                 .await?;
             return Ok((stored == 1).then_some(record));
@@ -396,14 +404,16 @@ where
             .await?;
         // Its tenant was served now, as by a claim: its queued work, if any,
         // comes after the other tenants' in the next turns.
-        sqlx::query(
-            "INSERT INTO tenants (name, served_at) VALUES ($1, $2) \
-             ON CONFLICT (name) DO UPDATE SET served_at = excluded.served_at",
-        )
-        .bind(new.tenant.to_string())
-        .bind(done.started.to_string())
-        .execute(&mut *tx)
-        .await?;
+        if done.serve {
+            sqlx::query(
+                "INSERT INTO tenants (name, served_at) VALUES ($1, $2) \
+                 ON CONFLICT (name) DO UPDATE SET served_at = excluded.served_at",
+            )
+            .bind(new.tenant.to_string())
+            .bind(done.started.to_string())
+            .execute(&mut *tx)
+            .await?;
+        }
         sqlx::query(
             "INSERT INTO jobs (id, tenant, computation_id, status, created_at, started_at, finished_at) \
              VALUES ($1, $2, $1, 'succeeded', $3, $4, $5)",
@@ -848,8 +858,24 @@ where
             .bind(now.to_string())
             .execute(&mut *tx)
             .await?;
+            Self::announce_finished(tx, &Finished::succeeded(computation, numerics, now)).await?;
         }
         Ok(updated == 1)
+    }
+
+    /// Tells the other instances that a computation ended when `tx`
+    /// commits (and only then), where there are others.
+    async fn announce_finished(
+        tx: &mut DB::Connection,
+        finished: &Finished,
+    ) -> Result<(), StoreError> {
+        if let Some(sql) = DB::ANNOUNCE_FINISHED {
+            sqlx::query(sql)
+                .bind(finished.payload())
+                .execute(&mut *tx)
+                .await?;
+        }
+        Ok(())
     }
 
     /// `done` is the result document, its numerics and the time.
@@ -875,6 +901,10 @@ where
         let stored =
             held == 1 && Self::store_result(&mut tx, computation, body, numerics, now).await?;
         tx.commit().await?;
+        if stored {
+            self.finished
+                .announce(Finished::succeeded(computation, numerics, now));
+        }
         Ok(stored)
     }
 
@@ -889,6 +919,10 @@ where
         let mut tx = conn.begin().await?;
         let stored = Self::store_result(&mut tx, computation, body, numerics, now).await?;
         tx.commit().await?;
+        if stored {
+            self.finished
+                .announce(Finished::succeeded(computation, numerics, now));
+        }
         Ok(stored)
     }
 
@@ -926,6 +960,9 @@ where
         .bind(now.to_string())
         .execute(&mut *tx)
         .await?;
+        if n == 1 {
+            Self::announce_finished(&mut tx, &Finished::ended(computation)).await?;
+        }
         tx.commit().await?;
         Ok(n == 1)
     }
@@ -1372,6 +1409,10 @@ where
 
     fn deletions(&self) -> Arc<Deletions> {
         self.deletions.clone()
+    }
+
+    fn finished(&self) -> Announcer {
+        self.finished.clone()
     }
 
     fn announce_queued(&self) -> BoxFuture<'_, ()> {

@@ -78,7 +78,7 @@ impl SqlStore<Sqlite> {
             .await?;
         super::migrations::sqlite().run(&pool).await?;
         // One instance: every deletion is its own, announced as it commits.
-        let store = SqlStore::new(pool.clone(), None, Default::default());
+        let store = SqlStore::new(pool.clone(), None, Default::default(), Default::default());
         tokio::spawn(checkpoint_loop(pool, store.writer()));
         Ok(store)
     }

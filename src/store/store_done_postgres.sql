@@ -2,7 +2,9 @@
 -- what `SqlStore::store_done_in` writes in a transaction elsewhere. $1: the
 -- job's (and computation's) id, $2 key, $3 kind, $4 spec, $5 numerics,
 -- $6 created, $7 started, $8 finished, $9 tenant, $10 the task's payload,
--- $11 who computed it, $12 the result document. One row, `stored` 0 (and
+-- $11 who computed it, $12 the result document, $13 1 when the
+-- tenant is written as served (its row of `tenants` is then locked until
+-- the commit). One row, `stored` 0 (and
 -- nothing written) when a computation of the key exists.
 WITH computation AS (
     INSERT INTO computations (id, key, kind, spec, status, numerics, created_at, started_at, finished_at, tenant, served_at)
@@ -14,7 +16,7 @@ WITH computation AS (
 ), result AS (
     INSERT INTO results (computation_id, body) SELECT id, $12 FROM computation
 ), served AS (
-    INSERT INTO tenants (name, served_at) SELECT $9, $7 FROM computation
+    INSERT INTO tenants (name, served_at) SELECT $9, $7 FROM computation WHERE $13 = 1
     ON CONFLICT (name) DO UPDATE SET served_at = excluded.served_at
 ), job AS (
     INSERT INTO jobs (id, tenant, computation_id, status, created_at, started_at, finished_at)

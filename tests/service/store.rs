@@ -6,7 +6,8 @@ use std::time::Duration;
 use topple::store::postgres::PgStore;
 use topple::store::sqlite::SqliteStore;
 use topple::store::{
-    Deleted, DoneJob, JobRecord, JobStore, ListQuery, NewJob, Status, TaskClaim, now_rfc3339,
+    Deleted, DoneJob, Finished, JobRecord, JobStore, ListQuery, NewJob, Status, TaskClaim,
+    now_rfc3339,
 };
 use uuid::Uuid;
 
@@ -328,6 +329,38 @@ async fn a_single_task_job_completes_in_one_write(store: &dyn JobStore) {
         store.result(id).await.expect("reads").as_deref(),
         Some("{\"r\":3}")
     );
+}
+
+/// A success is announced with its end, once it committed, to this store's
+/// subscribers and to `other`'s (another instance on the same database):
+/// the job read while running, with that end applied, is the job as stored.
+async fn a_success_is_announced_with_its_end(store: &dyn JobStore, other: Option<&dyn JobStore>) {
+    let mut here = store.finished().subscribe();
+    let mut there = other.map(|o| o.finished().subscribe());
+    let (job, _) = submit(store, "announced", 1).await;
+    let id = computation(store, T, job).await;
+    let t = claim(store, Duration::from_secs(30)).await.expect("task");
+    assert_eq!(t.computation, id);
+    let running = job_of(store, T, job).await;
+    assert_eq!(running.status, Status::Running);
+    let now = now_rfc3339();
+    assert!(
+        store
+            .complete_only(id, 0, "w", "{\"r\":5}", "{\"n\":2}", &now)
+            .await
+            .expect("writes")
+    );
+    let stored = job_of(store, T, job).await;
+    let heard = here.try_recv().expect("announced here at once");
+    assert_eq!(heard, Finished::succeeded(id, "{\"n\":2}", &now));
+    assert_eq!(heard.apply(&running).as_ref(), Some(&stored));
+    if let Some(there) = there.as_mut() {
+        let heard = tokio::time::timeout(Duration::from_secs(5), there.recv())
+            .await
+            .expect("announced to the other instance")
+            .expect("received");
+        assert_eq!(heard.apply(&running).as_ref(), Some(&stored));
+    }
 }
 
 /// A claim by worker "w" (none when nothing is queued).
@@ -734,6 +767,7 @@ async fn a_job_computed_already_is_stored_finished(store: &dyn JobStore) {
         finished: "2026-01-01T00:00:00.000900Z",
         body: "{\"result\":42}",
         numerics: "{\"wall_time_s\":0.0008}",
+        serve: true,
     };
     let stored = store
         .store_done(done(id, "carol", "done-1"))
@@ -838,6 +872,7 @@ async fn suite(store: Arc<dyn JobStore>) {
 #[tokio::test]
 async fn sqlite_store_keeps_its_contract() {
     suite(sqlite().await).await;
+    a_success_is_announced_with_its_end(sqlite().await.as_ref(), None).await;
     listing_pages_newest_first(sqlite().await.as_ref()).await;
     tenants_share_computations_not_jobs(sqlite().await.as_ref()).await;
     retention_purges_old_finished_jobs_and_their_results(sqlite().await.as_ref()).await;
@@ -853,6 +888,7 @@ async fn postgres_store_keeps_its_contract() {
         "store_tenants",
         "store_retention",
         "store_turns",
+        "store_announce",
     ]
     .into_iter()
     .enumerate()
@@ -866,7 +902,11 @@ async fn postgres_store_keeps_its_contract() {
             1 => listing_pages_newest_first(store.as_ref()).await,
             2 => tenants_share_computations_not_jobs(store.as_ref()).await,
             3 => retention_purges_old_finished_jobs_and_their_results(store.as_ref()).await,
-            _ => claims_take_turns_across_tenants_and_computations(store.as_ref()).await,
+            4 => claims_take_turns_across_tenants_and_computations(store.as_ref()).await,
+            _ => {
+                let other = PgStore::open(&db.url, 2).await.expect("opens");
+                a_success_is_announced_with_its_end(store.as_ref(), Some(&other)).await;
+            }
         }
         drop(store);
         dbs.push(db);
