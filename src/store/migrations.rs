@@ -47,7 +47,7 @@ const SQLITE: [File; 6] = [
     ),
 ];
 
-const POSTGRES: [File; 5] = [
+const POSTGRES: [File; 6] = [
     (
         1,
         "jobs",
@@ -72,6 +72,11 @@ const POSTGRES: [File; 5] = [
         5,
         "live jobs",
         include_str!("../../migrations/postgres/0005_live_jobs.sql"),
+    ),
+    (
+        6,
+        "lz4",
+        include_str!("../../migrations/postgres/0006_lz4.sql"),
     ),
 ];
 

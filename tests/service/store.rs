@@ -905,6 +905,15 @@ async fn postgres_store_keeps_its_contract() {
             4 => claims_take_turns_across_tenants_and_computations(store.as_ref()).await,
             _ => {
                 let other = PgStore::open(&db.url, 2).await.expect("opens");
+                // This server has lz4: result documents are compressed with it.
+                let method: String = sqlx::query_scalar(
+                    "SELECT attcompression::text FROM pg_attribute \
+                     WHERE attrelid = 'results'::regclass AND attname = 'body'",
+                )
+                .fetch_one(other.pool())
+                .await
+                .expect("reads the catalog");
+                assert_eq!(method, "l", "results.body compressed with lz4");
                 a_success_is_announced_with_its_end(store.as_ref(), Some(&other)).await;
             }
         }
