@@ -1374,13 +1374,13 @@ impl<G: Kinematics> Driver<'_, G> {
         let leg = SlideRockLeg::new(forcing, &block, side, kappa, t, y, x, slip_velocity);
         let events = |t: f64, y: State, forced: bool| {
             let g_z = g + ground(forcing, t, forced).1;
-            let acc = slide_rock::angular_acceleration(alpha, r, side, kappa, g_z, y[0], y[1])
-                .unwrap_or(0.0);
-            let n = slide_rock::normal_per_mass(alpha, r, side, g_z, y[0], y, acc);
+            let phi = slide_rock::phase(alpha, side, y[0]);
+            let acc = slide_rock::angular_acceleration_at(phi, r, kappa, g_z, y[1]).unwrap_or(0.0);
+            let n = slide_rock::normal_per_mass_at(phi, r, g_z, y, acc);
             // The normal force reaching 0 (take-off), or the reduced
             // inertia nearing 0 (a jam): one event, told apart at its end.
-            let jam = slide_rock::JAM_INERTIA - slide_rock::inertia(alpha, side, kappa, y[0]);
-            [-sigma * leg.slip(t, y).1, (-n).max(jam)]
+            let jam = slide_rock::JAM_INERTIA - slide_rock::inertia_at(phi, kappa);
+            [-sigma * leg.slip_at(t, y, phi).1, (-n).max(jam)]
         };
         let end = self.leg(
             |forced| SlideRockRhs {

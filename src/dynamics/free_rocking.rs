@@ -15,8 +15,7 @@
 //! [`super::separatrix::decide`].
 
 use super::Block;
-use super::equations::Formulation;
-use super::reactions::reactions_per_mass_vertical;
+use super::reactions::nonlinear_reactions_at;
 use super::slide_rock;
 
 /// Points over 0 ≤ |θ| ≤ π/2 at which the reactions are evaluated.
@@ -58,13 +57,15 @@ pub fn within_limits(block: &Block, mu_s: f64, theta: f64, theta_dot: f64) -> bo
     let margin = MARGIN_G * g;
     (0..=POINTS).all(|k| {
         let gamma = FRAC_PI_2 * k as f64 / POINTS as f64;
-        let bound = w2(gamma);
+        // ϕ = α − γ on the side θ > 0: one sine and cosine serve the well's
+        // bound and both reactions.
+        let phi = (alpha - gamma).sin_cos();
+        let bound = level - 2.0 * p2 * phi.1;
         if bound < 0.0 || !(over_top || (gamma <= alpha) == inside) {
             return true;
         }
         [0.0, bound.sqrt()].iter().all(|&w| {
-            let (fx, fz) =
-                reactions_per_mass_vertical(Formulation::Nonlinear, block, 1.0, gamma, w, 0.0, 0.0);
+            let (fx, fz) = nonlinear_reactions_at(block, phi, w, 0.0, 0.0);
             fz >= margin && fx.abs() <= mu_s * fz - margin
         })
     })
