@@ -24,17 +24,21 @@
 //! events until it rests or overturns. Sticking impacts of a chattering
 //! rock are summed in closed form ([`settle`]).
 //!
-//! Sampled events (the friction limit, the slip's return to 0, a vanishing
-//! normal force) are detected on the step's dense output at
-//! [`SAMPLES`] points, bisected on it, and placed by secant corrections on
-//! full Runge–Kutta steps from the step's start.
+//! An impact's and overturning's root of θ is found on the step's dense
+//! output ([`first_nonpositive`]) and placed by Newton corrections on full
+//! Runge–Kutta steps, as under pure rocking. The sampled events (the
+//! friction limit, the slip's return to 0, a vanishing normal force) are
+//! detected at [`SAMPLES`] points of the step's dense output and located
+//! on it, between the two samples around their sign change
+//! ([`turns_positive`]; DOP853's interpolant of degree 7 is accurate to the
+//! order of the integration tolerance): no step is taken again for them.
 
 use super::Block;
 use super::chatter::CHATTER_VELOCITY;
 use super::chatter::settle;
 use super::contact::{Mode, onset};
 use super::equations::{Formulation, Threshold};
-use super::events::{first_nonpositive, return_and_overturn};
+use super::events::{brent, first_nonpositive, return_and_overturn};
 use super::flight::{self, Flight, FlightEnd, Landed, Pose};
 use super::free_rocking;
 use super::integrator::{DenseStep, Method, Rhs, State, Stepper, StepperStats, single_step};
@@ -1374,13 +1378,13 @@ impl<G: Kinematics> Driver<'_, G> {
         let leg = SlideRockLeg::new(forcing, &block, side, kappa, t, y, x, slip_velocity);
         let events = |t: f64, y: State, forced: bool| {
             let g_z = g + ground(forcing, t, forced).1;
-            let acc = slide_rock::angular_acceleration(alpha, r, side, kappa, g_z, y[0], y[1])
-                .unwrap_or(0.0);
-            let n = slide_rock::normal_per_mass(alpha, r, side, g_z, y[0], y, acc);
+            let phi = slide_rock::phase(alpha, side, y[0]);
+            let acc = slide_rock::angular_acceleration_at(phi, r, kappa, g_z, y[1]).unwrap_or(0.0);
+            let n = slide_rock::normal_per_mass_at(phi, r, g_z, y, acc);
             // The normal force reaching 0 (take-off), or the reduced
             // inertia nearing 0 (a jam): one event, told apart at its end.
-            let jam = slide_rock::JAM_INERTIA - slide_rock::inertia(alpha, side, kappa, y[0]);
-            [-sigma * leg.slip(t, y).1, (-n).max(jam)]
+            let jam = slide_rock::JAM_INERTIA - slide_rock::inertia_at(phi, kappa);
+            [-sigma * leg.slip_at(t, y, phi).1, (-n).max(jam)]
         };
         let end = self.leg(
             |forced| SlideRockRhs {
@@ -1640,7 +1644,12 @@ impl<G: Kinematics> Driver<'_, G> {
                     left_zero = true;
                 }
                 if let Some((sigma, kind)) = first {
-                    let (te, ye) = self.refine(&rhs, &step, sigma, kind, s, &events);
+                    let (te, ye) = if kind < 2 {
+                        self.place_on_steps(&rhs, &step, sigma, kind, s)
+                    } else {
+                        // A sampled event where the dense output puts it.
+                        (step.t0 + sigma * step.h, step.at_sigma(sigma))
+                    };
                     self.out.stats.absorb(&stepper.stats);
                     self.h_hint = stepper.next_step_size();
                     return Ok(match kind {
@@ -1689,8 +1698,55 @@ impl<G: Kinematics> Driver<'_, G> {
             .max(peak.min(std::f64::consts::FRAC_PI_2) / self.block.slenderness());
     }
 
+    /// Places an impact (`kind` 0: θ = 0) or overturning (1: |θ| = π/2)
+    /// found at `sigma` of `step` on the dense output by Newton corrections
+    /// on full Runge–Kutta steps from the step's start, as pure rocking
+    /// does: the interpolant is less accurate than the step itself, and an
+    /// impact of a small rotation (|θ̇| small) is ill-conditioned in time,
+    /// δt ≈ δθ/|θ̇|.
+    fn place_on_steps<R: Rhs>(
+        &mut self,
+        rhs: &R,
+        step: &DenseStep,
+        sigma: f64,
+        kind: u8,
+        s: f64,
+    ) -> (f64, State) {
+        let full = |this: &mut Self, t: f64| {
+            let (y, n) = single_step(this.method, rhs, step.t0, step.y0, t - step.t0);
+            this.out.stats.rhs_evals += u64::from(n);
+            y
+        };
+        let level = if kind == 0 {
+            0.0
+        } else {
+            std::f64::consts::FRAC_PI_2
+        };
+        let mut t = step.t0 + sigma * step.h;
+        let mut y = full(self, t);
+        for _ in 0..3 {
+            if y[1] == 0.0 {
+                break;
+            }
+            let dt = -(s * y[0] - level) / (s * y[1]);
+            let t_new = (t + dt).clamp(step.t0, step.t1());
+            if t_new == t {
+                break;
+            }
+            t = t_new;
+            y = full(self, t);
+        }
+        (t, y)
+    }
+
     /// The first armed sampled event turning positive on the step before
-    /// `limit` (σ): (which, σ), bisected on the dense output.
+    /// `limit` (σ): (which, σ). The event functions are sampled at
+    /// [`SAMPLES`] points of the dense output; where one has turned
+    /// positive since the last sample, where it did so between the two is
+    /// solved on the dense output ([`turns_positive`]) — to rounding in σ, on the
+    /// interpolant of the step's solution (DOP853's is of degree 7, its
+    /// error of the order of the integration tolerance, as the impacts'
+    /// and overturning's roots found by [`first_nonpositive`]).
     fn sampled<E: Fn(f64, State) -> [f64; 2]>(
         &self,
         step: &DenseStep,
@@ -1700,27 +1756,18 @@ impl<G: Kinematics> Driver<'_, G> {
     ) -> Option<(usize, f64)> {
         let at = |sigma: f64| events(step.t0 + sigma * step.h, step.at_sigma(sigma));
         let mut prev = 0.0;
+        // The events at `prev`, once evaluated (σ = 0 only where needed).
+        let mut e_prev: Option<[f64; 2]> = None;
         for i in 1..=SAMPLES {
             let sigma = (i as f64 / SAMPLES as f64).min(limit);
             let e = at(sigma);
             let mut hit: Option<(usize, f64)> = None;
             for k in 0..2 {
                 if armed[k] && e[k] > 0.0 {
-                    // Bisect [prev, sigma] for this event.
-                    let (mut a, mut b) = (prev, sigma);
-                    for _ in 0..64 {
-                        let m = 0.5 * (a + b);
-                        if m <= a || m >= b {
-                            break;
-                        }
-                        if at(m)[k] > 0.0 {
-                            b = m;
-                        } else {
-                            a = m;
-                        }
-                    }
-                    if hit.is_none_or(|h| b < h.1) {
-                        hit = Some((k, b));
+                    let ea = e_prev.get_or_insert_with(|| at(prev))[k];
+                    let root = turns_positive(|x| at(x)[k], (prev, ea), (sigma, e[k]));
+                    if hit.is_none_or(|h| root < h.1) {
+                        hit = Some((k, root));
                     }
                 }
             }
@@ -1736,73 +1783,33 @@ impl<G: Kinematics> Driver<'_, G> {
                 break;
             }
             prev = sigma;
+            e_prev = Some(e);
         }
         None
     }
+}
 
-    /// Places the event `kind` found at `sigma` of `step` by corrections on
-    /// full Runge–Kutta steps from the step's start: Newton on θ for an
-    /// impact or overturning, the secant on the sampled event's value.
-    #[allow(clippy::too_many_arguments)]
-    fn refine<R: Rhs, E: Fn(f64, State) -> [f64; 2]>(
-        &mut self,
-        rhs: &R,
-        step: &DenseStep,
-        sigma: f64,
-        kind: u8,
-        s: f64,
-        events: &E,
-    ) -> (f64, State) {
-        let full = |this: &mut Self, t: f64| {
-            let (y, n) = single_step(this.method, rhs, step.t0, step.y0, t - step.t0);
-            this.out.stats.rhs_evals += u64::from(n);
-            y
-        };
-        let mut t = step.t0 + sigma * step.h;
-        let mut y = full(self, t);
-        if kind < 2 {
-            let level = if kind == 0 {
-                0.0
-            } else {
-                std::f64::consts::FRAC_PI_2
-            };
-            for _ in 0..3 {
-                if y[1] == 0.0 {
-                    break;
-                }
-                let dt = -(s * y[0] - level) / (s * y[1]);
-                let t_new = (t + dt).clamp(step.t0, step.t1());
-                if t_new == t {
-                    break;
-                }
-                t = t_new;
-                y = full(self, t);
-            }
-            return (t, y);
-        }
-        let k = usize::from(kind - 2);
-        // Secant on e_k with the dense output's bracket as a fallback.
-        let (mut ta, mut ea) = {
-            let ta = (t - 1e-3 * step.h).max(step.t0);
-            let ya = full(self, ta);
-            (ta, events(ta, ya)[k])
-        };
-        let mut eb = events(t, y)[k];
-        for _ in 0..4 {
-            if eb == ea {
-                break;
-            }
-            let t_new = (t - eb * (t - ta) / (eb - ea)).clamp(step.t0, step.t1());
-            if t_new == t {
-                break;
-            }
-            (ta, ea) = (t, eb);
-            t = t_new;
-            y = full(self, t);
-            eb = events(t, y)[k];
-        }
-        (t, y)
+/// Where `f`, positive at `b` (`fb` > 0), turns positive after `a`: the
+/// root of a sign change (`fa` < 0) by [`brent`]; from a start at 0 or
+/// above (a leg's start, where an event function is 0 by construction) by
+/// bisection for the first point where it is positive, to rounding.
+fn turns_positive<F: Fn(f64) -> f64>(f: F, (a, fa): (f64, f64), (b, fb): (f64, f64)) -> f64 {
+    if fa < 0.0 {
+        return brent(&f, a, b, fa, fb, 0.0);
     }
+    let (mut a, mut b) = (a, b);
+    for _ in 0..64 {
+        let m = 0.5 * (a + b);
+        if m <= a || m >= b {
+            break;
+        }
+        if f(m) > 0.0 {
+            b = m;
+        } else {
+            a = m;
+        }
+    }
+    b
 }
 
 #[cfg(test)]

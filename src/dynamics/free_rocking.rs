@@ -15,8 +15,7 @@
 //! [`super::separatrix::decide`].
 
 use super::Block;
-use super::equations::Formulation;
-use super::reactions::reactions_per_mass_vertical;
+use super::reactions::nonlinear_reactions_at;
 use super::slide_rock;
 
 /// Points over 0 ≤ |θ| ≤ π/2 at which the reactions are evaluated.
@@ -56,18 +55,53 @@ pub fn within_limits(block: &Block, mu_s: f64, theta: f64, theta_dot: f64) -> bo
     let over_top = w2(alpha) >= 0.0;
     let inside = gamma0 <= alpha;
     let margin = MARGIN_G * g;
-    (0..=POINTS).all(|k| {
-        let gamma = FRAC_PI_2 * k as f64 / POINTS as f64;
-        let bound = w2(gamma);
-        if bound < 0.0 || !(over_top || (gamma <= alpha) == inside) {
-            return true;
-        }
-        [0.0, bound.sqrt()].iter().all(|&w| {
-            let (fx, fz) =
-                reactions_per_mass_vertical(Formulation::Nonlinear, block, 1.0, gamma, w, 0.0, 0.0);
-            fz >= margin && fx.abs() <= mu_s * fz - margin
+    with_phases(alpha, |phases| {
+        phases.iter().enumerate().all(|(k, &phi)| {
+            let gamma = FRAC_PI_2 * k as f64 / POINTS as f64;
+            // ϕ = α − γ on the side θ > 0: one sine and cosine serve the
+            // well's bound and both reactions.
+            let bound = level - 2.0 * p2 * phi.1;
+            if bound < 0.0 || !(over_top || (gamma <= alpha) == inside) {
+                return true;
+            }
+            [0.0, bound.sqrt()].iter().all(|&w| {
+                let (fx, fz) = nonlinear_reactions_at(block, phi, w, 0.0, 0.0);
+                fz >= margin && fx.abs() <= mu_s * fz - margin
+            })
         })
     })
+}
+
+/// (sin ϕ, cos ϕ) of ϕ = α − γ at the points γ_k = (π/2) k / [`POINTS`].
+type Phases = [(f64, f64); POINTS + 1];
+
+thread_local! {
+    /// The phases of the last slenderness asked for on this thread, as
+    /// (α's bits, phases): a scan asks [`within_limits`] of one block over
+    /// and over, and the phases depend on α alone.
+    static PHASES: std::cell::RefCell<Option<(u64, Box<Phases>)>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Runs `f` on the phases of `alpha` (computed once per slenderness and
+/// thread, the same values to the bit).
+fn with_phases<R>(alpha: f64, f: impl FnOnce(&Phases) -> R) -> R {
+    use std::f64::consts::FRAC_PI_2;
+    let bits = alpha.to_bits();
+    let phases = match PHASES.with(|cell| cell.take()) {
+        Some((b, phases)) if b == bits => phases,
+        _ => {
+            let mut phases = Box::new([(0.0, 0.0); POINTS + 1]);
+            for (k, phi) in phases.iter_mut().enumerate() {
+                let gamma = FRAC_PI_2 * k as f64 / POINTS as f64;
+                *phi = (alpha - gamma).sin_cos();
+            }
+            phases
+        }
+    };
+    let r = f(&phases);
+    PHASES.with(|cell| cell.replace(Some((bits, phases))));
+    r
 }
 
 /// The energy above rest (θ̇²/2 + p²(cos(α − |θ|) − cos α), per I_O) of a

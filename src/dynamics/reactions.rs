@@ -33,23 +33,60 @@ pub fn reactions_per_mass_vertical(
     ground: f64,
     vertical: f64,
 ) -> (f64, f64) {
+    let phi = (block.slenderness() * side - theta).sin_cos();
+    match formulation {
+        Formulation::Nonlinear => nonlinear_reactions_at(block, phi, theta_dot, ground, vertical),
+        Formulation::Linear => {
+            let g = block.gravity();
+            let acc = formulation.angular_acceleration_weighted(
+                block.frequency_parameter().powi(2),
+                block.slenderness(),
+                side,
+                theta,
+                ground / g,
+                1.0 + vertical / g,
+            );
+            reactions_with(block, phi, theta_dot, ground, vertical, acc)
+        }
+    }
+}
+
+/// [`reactions_per_mass_vertical`] of the nonlinear formulation (eq. 12
+/// with g + ü_v, then eqs. 16–19) from `(sin ϕ, cos ϕ)`, ϕ = α s − θ,
+/// already known: one sine and cosine serve θ̈ and the centre's
+/// kinematics, the arithmetic that of [`reactions_per_mass_vertical`] to
+/// the bit.
+#[inline]
+pub fn nonlinear_reactions_at(
+    block: &Block,
+    (sp, cp): (f64, f64),
+    theta_dot: f64,
+    ground: f64,
+    vertical: f64,
+) -> (f64, f64) {
     let g = block.gravity();
     let p2 = block.frequency_parameter().powi(2);
-    let r = block.half_diagonal();
     let weight = 1.0 + vertical / g;
-    let acc = formulation.angular_acceleration_weighted(
-        p2,
-        block.slenderness(),
-        side,
-        theta,
-        ground / g,
-        weight,
-    );
-    let (sp, cp) = (block.slenderness() * side - theta).sin_cos();
+    // Formulation::angular_acceleration_weighted, nonlinear.
+    let acc = -p2 * (weight * sp + ground / g * cp);
+    reactions_with(block, (sp, cp), theta_dot, ground, vertical, acc)
+}
+
+/// Eqs. 16–19 at θ̈ = `acc`.
+#[inline]
+fn reactions_with(
+    block: &Block,
+    (sp, cp): (f64, f64),
+    theta_dot: f64,
+    ground: f64,
+    vertical: f64,
+    acc: f64,
+) -> (f64, f64) {
+    let r = block.half_diagonal();
     let w2 = theta_dot * theta_dot;
     (
         ground + r * (acc * cp + w2 * sp),
-        g + vertical + r * (acc * sp - w2 * cp),
+        block.gravity() + vertical + r * (acc * sp - w2 * cp),
     )
 }
 

@@ -45,7 +45,25 @@ pub fn angular_acceleration(
     theta: f64,
     theta_dot: f64,
 ) -> Option<f64> {
-    let (s, c) = (side * alpha - theta).sin_cos();
+    angular_acceleration_at(phase(alpha, side, theta), r, kappa, g_z, theta_dot)
+}
+
+/// (S, C) = (sin ϕ, cos ϕ), ϕ = s α − θ: the one sine and cosine every
+/// quantity of a slide-rocking state at θ is written with (module docs).
+#[inline]
+pub fn phase(alpha: f64, side: f64, theta: f64) -> (f64, f64) {
+    (side * alpha - theta).sin_cos()
+}
+
+/// [`angular_acceleration`] from (S, C) = [`phase`].
+#[inline]
+pub fn angular_acceleration_at(
+    (s, c): (f64, f64),
+    r: f64,
+    kappa: f64,
+    g_z: f64,
+    theta_dot: f64,
+) -> Option<f64> {
     let lever = s - kappa * c;
     let inertia = 1.0 / 3.0 + s * lever;
     (inertia > 0.0).then(|| -lever * (g_z - r * c * theta_dot * theta_dot) / (r * inertia))
@@ -56,7 +74,12 @@ pub fn angular_acceleration(
 /// consistent (Painlevé).
 #[inline]
 pub fn inertia(alpha: f64, side: f64, kappa: f64, theta: f64) -> f64 {
-    let (s, c) = (side * alpha - theta).sin_cos();
+    inertia_at(phase(alpha, side, theta), kappa)
+}
+
+/// [`inertia`] from (S, C) = [`phase`].
+#[inline]
+pub fn inertia_at((s, c): (f64, f64), kappa: f64) -> f64 {
     1.0 / 3.0 + s * (s - kappa * c)
 }
 
@@ -75,7 +98,12 @@ pub fn normal_per_mass(
     y: State,
     acc: f64,
 ) -> f64 {
-    let (s, c) = (side * alpha - theta).sin_cos();
+    normal_per_mass_at(phase(alpha, side, theta), r, g_z, y, acc)
+}
+
+/// [`normal_per_mass`] from (S, C) = [`phase`] at θ = `y[0]`.
+#[inline]
+pub fn normal_per_mass_at((s, c): (f64, f64), r: f64, g_z: f64, y: State, acc: f64) -> f64 {
     g_z + r * (s * acc - c * y[1] * y[1])
 }
 
@@ -196,10 +224,15 @@ impl<G: Kinematics> SlideRockLeg<'_, G> {
 
     /// (slip, slip velocity) of the pivot at `t` in state `y`.
     pub fn slip(&self, t: f64, y: State) -> (f64, f64) {
+        self.slip_at(t, y, phase(self.alpha, self.side, y[0]))
+    }
+
+    /// [`SlideRockLeg::slip`] with (S, C) = [`phase`] at θ = `y[0]`.
+    #[inline]
+    pub fn slip_at(&self, t: f64, y: State, (s, c): (f64, f64)) -> (f64, f64) {
         let tau = t - self.t0;
         let ((vg, ug), (vv, uv)) = self.forcing.kinematics(t);
         let ((vg0, ug0), (vv0, uv0)) = self.ground0;
-        let (s, c) = (self.side * self.alpha - y[0]).sin_cos();
         let (xd0, yd0) = self.centre_velocity0;
         let (x0, y0c) = self.centre0;
         let yd = self.r * s * y[1];

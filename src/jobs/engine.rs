@@ -5,7 +5,7 @@
 #[macro_export]
 macro_rules! engine_version {
     () => {
-        concat!("topple-engine/", env!("CARGO_PKG_VERSION"), "/15")
+        concat!("topple-engine/", env!("CARGO_PKG_VERSION"), "/16")
     };
 }
 
