@@ -502,11 +502,33 @@ pub trait JobStore: records::RecordStore + Send + Sync {
     fn finished(&self) -> Announcer;
 }
 
-/// A new job id: a UUIDv7 (creation time in its first 48 bits, so ids sort by
-/// age) whose other 74 bits all come from the operating system's random
-/// source: knowing one job's id tells nothing about another's.
+/// A new job id: a UUIDv7 (RFC 9562) whose first 48 bits are the creation
+/// time in milliseconds and the next 12 (`rand_a`) its fraction of a
+/// millisecond (§6.2, method 3), so that ids sort by age even for jobs made
+/// within one millisecond — in this process strictly, each id after the
+/// last; its other 62 bits come from the operating system's random source:
+/// knowing one job's id tells nothing about another's.
 pub fn new_job_id() -> Uuid {
-    Uuid::new_v7(uuid::Timestamp::now(uuid::NoContext))
+    static LAST: std::sync::Mutex<u64> = std::sync::Mutex::new(0);
+    let since = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default();
+    // Milliseconds, then 4,096ths of a millisecond (about 244 ns).
+    let ms = since.as_millis() as u64 & ((1 << 48) - 1);
+    let sub = u64::from(since.subsec_nanos() % 1_000_000) * 4096 / 1_000_000;
+    let tick = {
+        let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+        *last = (ms << 12 | sub).max(*last + 1);
+        *last
+    };
+    let random = *Uuid::new_v4().as_bytes();
+    let mut bytes = [0u8; 16];
+    bytes[..6].copy_from_slice(&(tick >> 12).to_be_bytes()[2..]);
+    bytes[6] = 0x70 | ((tick >> 8) & 0x0F) as u8;
+    bytes[7] = (tick & 0xFF) as u8;
+    bytes[8] = 0x80 | (random[8] & 0x3F);
+    bytes[9..].copy_from_slice(&random[9..]);
+    Uuid::from_bytes(bytes)
 }
 
 /// Now, as RFC 3339 UTC with microseconds (sorts as text).
@@ -547,19 +569,32 @@ mod tests {
     #[test]
     fn job_ids_made_in_one_millisecond_share_nothing_but_their_time() {
         let ids: Vec<u128> = (0..64).map(|_| new_job_id().as_u128()).collect();
-        // The 42 bits where a monotonic counter would sit: rand_a (bits 64–75)
-        // and the top 30 bits of rand_b (32–61).
-        let high = |id: u128| ((id >> 64) & 0xFFF) << 30 | ((id >> 32) & ((1 << 30) - 1));
+        // rand_b, the 62 bits after the variant: random, not a counter.
+        let random = |id: u128| id & ((1 << 62) - 1);
         for pair in ids.windows(2) {
-            let differing = (high(pair[0]) ^ high(pair[1])).count_ones();
-            // Random bits differ in 21 of 42 on average; a counter that steps
+            let differing = (random(pair[0]) ^ random(pair[1])).count_ones();
+            // Random bits differ in 31 of 62 on average; a counter that steps
             // by one in one or two.
-            assert!(differing >= 6, "{:x} {:x}", pair[0], pair[1]);
+            assert!(differing >= 12, "{:x} {:x}", pair[0], pair[1]);
         }
-        assert!(
-            ids.iter()
-                .all(|&id| Uuid::from_u128(id).get_version_num() == 7)
-        );
+        assert!(ids.iter().all(|&id| {
+            let id = Uuid::from_u128(id);
+            id.get_version_num() == 7 && id.get_variant() == uuid::Variant::RFC4122
+        }));
+        // Made one after another, they sort in that order, as text too.
+        assert!(ids.windows(2).all(|p| p[0] < p[1]));
+        let text: Vec<String> = ids
+            .iter()
+            .map(|&id| Uuid::from_u128(id).to_string())
+            .collect();
+        assert!(text.windows(2).all(|p| p[0] < p[1]));
+        // Their time is now's, to the millisecond.
+        let ms = (ids[0] >> 80) as u64;
+        let now = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .expect("after 1970")
+            .as_millis() as u64;
+        assert!(now >= ms && now - ms < 5_000, "{ms} {now}");
     }
     use std::time::{Duration, UNIX_EPOCH};
 
