@@ -258,3 +258,18 @@ pub async fn run(
     info!(job_id = %id, seconds, "computed in its request");
     Ok(Inline::Done(Box::new(record), body))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_tenant_is_written_as_served_at_most_once_a_period() {
+        let served = Served::default();
+        assert!(served.due("a"));
+        assert!(!served.due("a"), "again within the period");
+        assert!(served.due("b"), "another tenant");
+        std::thread::sleep(SERVED_EVERY + Duration::from_millis(5));
+        assert!(served.due("a"), "after the period");
+    }
+}

@@ -605,6 +605,13 @@ where
                 Some(_) => {}
             }
         }
+        if canceled == 1 {
+            // Waiters on other instances read the job again: they must not
+            // take a later success of its computation (for other tenants'
+            // jobs) for this job's. Both lock the computation's row, so they
+            // commit, and are announced, in order.
+            Self::announce_finished(&mut tx, &Finished::ended(parse_id(&computation)?)).await?;
+        }
         let job = self
             .job(&mut tx, tenant, id)
             .await?

@@ -360,6 +360,21 @@ async fn a_success_is_announced_with_its_end(store: &dyn JobStore, other: Option
             .expect("announced to the other instance")
             .expect("received");
         assert_eq!(heard.apply(&running).as_ref(), Some(&stored));
+        // A job canceled is announced without an end: its waiters there read
+        // it again rather than take a later success for it.
+        let (job, _) = submit(store, "announced-then-canceled", 1).await;
+        let id = computation(store, T, job).await;
+        let canceled = store
+            .cancel(T, job, &now_rfc3339())
+            .await
+            .expect("cancels")
+            .expect("the job");
+        assert!(canceled.changed);
+        let heard = tokio::time::timeout(Duration::from_secs(5), there.recv())
+            .await
+            .expect("announced to the other instance")
+            .expect("received");
+        assert_eq!(heard, Finished::ended(id));
     }
 }
 
