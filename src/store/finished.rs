@@ -84,8 +84,9 @@ impl Finished {
         })
     }
 
-    /// The payload of its PostgreSQL notification (JSON; within the 8,000
-    /// bytes a payload may hold, or `None`: then it is sent without its end).
+    /// The payload of its PostgreSQL notification: JSON, within the 8,000
+    /// bytes a payload may hold (one that would not fit is sent without its
+    /// end, and its waiters read their jobs again).
     pub fn payload(&self) -> String {
         let text = serde_json::to_string(self).unwrap_or_default();
         if text.len() < 7900 {

@@ -656,19 +656,26 @@ where
         Ok(Deleted::Gone)
     }
 
-    /// Tells the other instances of `deletion` when `tx` commits (and only
-    /// then), where there are others.
+    /// Tells the other instances `payload` by the dialect's `statement`
+    /// (one of its announcements, `$1` the payload) when `tx` commits (and
+    /// only then), where there are others.
+    async fn tell_others(
+        tx: &mut DB::Connection,
+        statement: Option<&'static str>,
+        payload: String,
+    ) -> Result<(), StoreError> {
+        if let Some(sql) = statement {
+            sqlx::query(sql).bind(payload).execute(&mut *tx).await?;
+        }
+        Ok(())
+    }
+
+    /// Tells the other instances of `deletion` when `tx` commits.
     async fn announce_deleted(
         tx: &mut DB::Connection,
         deletion: Deletion,
     ) -> Result<(), StoreError> {
-        if let Some(sql) = DB::ANNOUNCE_DELETED {
-            sqlx::query(sql)
-                .bind(deletion.payload())
-                .execute(&mut *tx)
-                .await?;
-        }
-        Ok(())
+        Self::tell_others(tx, DB::ANNOUNCE_DELETED, deletion.payload()).await
     }
 
     async fn purge_in(&self, conn: &mut DB::Connection, before: &str) -> Result<u64, StoreError> {
@@ -870,19 +877,12 @@ where
         Ok(updated == 1)
     }
 
-    /// Tells the other instances that a computation ended when `tx`
-    /// commits (and only then), where there are others.
+    /// Tells the other instances that a computation ended when `tx` commits.
     async fn announce_finished(
         tx: &mut DB::Connection,
         finished: &Finished,
     ) -> Result<(), StoreError> {
-        if let Some(sql) = DB::ANNOUNCE_FINISHED {
-            sqlx::query(sql)
-                .bind(finished.payload())
-                .execute(&mut *tx)
-                .await?;
-        }
-        Ok(())
+        Self::tell_others(tx, DB::ANNOUNCE_FINISHED, finished.payload()).await
     }
 
     /// `done` is the result document, its numerics and the time.
