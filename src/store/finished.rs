@@ -1,15 +1,16 @@
 //! Computations that ended, announced to whoever waits for their jobs.
 //!
 //! A computation that succeeds ends every live job over it the same way:
-//! status `succeeded`, progress 1, its numerics, its end time (and that time
-//! as the start of a job that had not started). The store announces this
+//! status `succeeded`, progress 1, its numerics, its end time. The store
+//! announces this
 //! once the transaction that wrote it has committed — its own at once, and,
 //! on PostgreSQL, to every instance sharing the database by LISTEN/NOTIFY
 //! (the notification sent in that transaction, so delivered only if it
 //! commits) — so that a request waiting for a job has the finished job
 //! without reading it again. A computation that failed or was canceled is
 //! announced without its end ([`Finished::end`] `None`): its waiters read
-//! their jobs again.
+//! their jobs again, as does a waiter that read its job while it was still
+//! queued (its start, written when a worker claimed it, is not announced).
 
 use serde::{Deserialize, Serialize};
 use tokio::sync::broadcast;
@@ -60,10 +61,11 @@ impl Finished {
         }
     }
 
-    /// `job` (read while it was queued or running) as the store now holds
-    /// it, if this announcement says: its computation succeeded. `None` for
-    /// another computation's job, a job that had finished already, or an
-    /// end that is not known.
+    /// `job` (read while it was running) as the store now holds it, if
+    /// this announcement says: its computation succeeded. `None` for
+    /// another computation's job, a job that had finished already, a job
+    /// read before it started (the store has written its start since, when
+    /// a worker claimed it), or an end that is not known.
     pub fn apply(&self, job: &JobRecord) -> Option<JobRecord> {
         let end = self.end.as_ref()?;
         if job.computation != self.computation || job.status.is_final() {
@@ -74,11 +76,7 @@ impl Finished {
             progress: 1.0,
             error: None,
             numerics: Some(end.numerics.clone()),
-            started_at: Some(
-                job.started_at
-                    .clone()
-                    .unwrap_or_else(|| end.finished_at.clone()),
-            ),
+            started_at: Some(job.started_at.clone()?),
             finished_at: Some(end.finished_at.clone()),
             ..job.clone()
         })
@@ -156,9 +154,9 @@ mod tests {
         assert_eq!(running.numerics.as_deref(), Some("{\"steps\":3}"));
         assert_eq!(running.started_at.as_deref(), Some("2026-01-01T00:00:01Z"));
         assert_eq!(running.finished_at.as_deref(), Some("2026-01-01T00:00:02Z"));
-        // A job queued until the end starts when it ends.
-        let queued = f.apply(&job(Status::Queued, None)).expect("queued");
-        assert_eq!(queued.started_at.as_deref(), Some("2026-01-01T00:00:02Z"));
+        // A job read while queued started since, when a worker claimed it:
+        // read again.
+        assert!(f.apply(&job(Status::Queued, None)).is_none());
         // Not another computation's job, not a finished one, not without an end.
         let mut other = job(Status::Running, None);
         other.computation = Uuid::now_v7();

@@ -179,6 +179,30 @@ async fn mavroeidis_papageorgiou_pulses_run_in_time_histories_and_spectra() {
     app.stop().await;
 }
 
+/// A job computed in several tasks and waited for answers with when it
+/// started (when a worker claimed it), as a later read does, not with its
+/// end.
+#[tokio::test]
+async fn a_job_waited_for_through_its_tasks_says_when_it_started() {
+    let app = spawn_app("waited-start").await;
+    let mut spec = spectrum(40);
+    spec["formulation"] = json!("linear");
+    spec["solver"] = json!({"method": "exact"});
+    let (status, job, _) = app.post("/v1/jobs?wait=60", &spec).await;
+    assert_eq!(status, 200, "{job}");
+    assert!(job["numerics"]["tasks"].as_u64().unwrap_or(0) >= 2, "{job}");
+    let (started, finished) = (&job["started_at"], &job["finished_at"]);
+    assert!(started.as_str() < finished.as_str(), "{job}");
+    let id = job["id"].as_str().expect("id");
+    let (status, read) = app.get(&format!("/v1/jobs/{id}")).await;
+    assert_eq!(status, 200);
+    assert_eq!(
+        (&read["started_at"], &read["finished_at"]),
+        (started, finished)
+    );
+    app.stop().await;
+}
+
 /// A forensic query on a record through the service: its result, figure
 /// (scale against observation) and CSV; the record's limit names `/pga_g`
 /// as written.
