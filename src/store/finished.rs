@@ -2,12 +2,11 @@
 //!
 //! A computation that succeeds ends every live job over it the same way:
 //! status `succeeded`, progress 1, its numerics, its end time. The store
-//! announces this
-//! once the transaction that wrote it has committed — its own at once, and,
-//! on PostgreSQL, to every instance sharing the database by LISTEN/NOTIFY
-//! (the notification sent in that transaction, so delivered only if it
-//! commits) — so that a request waiting for a job has the finished job
-//! without reading it again. A computation that failed or was canceled is
+//! announces this once the transaction that wrote it has committed — its
+//! own at once, and, on PostgreSQL, to every instance sharing the database
+//! by LISTEN/NOTIFY (the notification sent in that transaction, so
+//! delivered only if it commits) — so that a request waiting for a job has
+//! the finished job without reading it again. A computation that failed or was canceled is
 //! announced without its end ([`Finished::end`] `None`): its waiters read
 //! their jobs again, as does a waiter that read its job while it was still
 //! queued (its start, written when a worker claimed it, is not announced).
