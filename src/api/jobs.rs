@@ -75,6 +75,21 @@ pub struct Estimate {
     pub seconds: f64,
     /// `seconds` over `simulations`.
     pub seconds_per_simulation: f64,
+    /// What the estimate is made of: the kind's model, or a sample of the
+    /// job's own work run at submission (a record spectrum of at least
+    /// 10 model CPU seconds: brackets of its scan, bisected as the scan
+    /// will, about 2 % of the job and at most one second).
+    pub basis: EstimateBasis,
+}
+
+/// What an estimate is made of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum EstimateBasis {
+    /// The kind's model of its cost ([`crate::jobs::cost`]).
+    Model,
+    /// A sample of the job's work, run at submission.
+    Sample,
 }
 
 /// A job as the API shows it.
@@ -464,6 +479,7 @@ pub async fn create_job(
     let wait = wait_duration(&state, query.wait)?;
     let prepared = submit::prepare(&state, tenant.name(), body).await?;
     let admission = submit::admit(&state, tenant.name(), &prepared.key).await?;
+    let prepared = submit::sample(&state, prepared, admission.as_ref()).await?;
     let (record, cached, wait, body) = match wait {
         Some(limit) => match inline::run(&state, tenant.name(), &prepared, admission, limit).await?
         {
@@ -487,11 +503,20 @@ pub async fn create_job(
     tracing::Span::current().record("job_id", tracing::field::display(id));
     let (kind, size) = (prepared.job.kind(), &prepared.size);
     let mut v = view(&record, Some(cached));
-    let seconds = state.throughput.seconds(kind, size);
+    let seconds = if prepared.sampled {
+        state.throughput.seconds_measured(size)
+    } else {
+        state.throughput.seconds(kind, size)
+    };
     v.estimate = Some(Estimate {
         simulations: size.work,
         seconds,
         seconds_per_simulation: seconds / size.work.max(1.0),
+        basis: if prepared.sampled {
+            EstimateBasis::Sample
+        } else {
+            EstimateBasis::Model
+        },
     });
     // New work is accepted (202) unless the caller waited for it; existing work
     // that is done, and work waited for that ended (succeeded, failed or

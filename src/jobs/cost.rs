@@ -53,17 +53,48 @@ pub fn pulse_simulation_s(
 }
 
 /// CPU seconds of one simulation of a record `acc` (any unit): a block
-/// rocks, and costs, while the record shakes; before and after, its samples
-/// are only read. The shaking part is from the first to the last sample
-/// above a tenth of the peak.
+/// rocks, and costs, while the record shakes, about a step a sample;
+/// before and after, its samples are only read. The shaking part is from
+/// the first to the last sample above a tenth of the peak.
 pub fn record_simulation_s(acc: &[f64]) -> f64 {
-    const PER_SHAKING_SAMPLE_S: f64 = 1.8e-6;
-    const PER_SAMPLE_S: f64 = 5e-8;
-    const SIMULATION_S: f64 = 2e-5;
-    SIMULATION_S
-        + PER_SAMPLE_S * acc.len() as f64
-        + PER_SHAKING_SAMPLE_S * shaking_samples(acc) as f64
+    record_steps_simulation_s(acc.len(), shaking_samples(acc) as f64)
 }
+
+/// CPU seconds a simulation of a record costs whatever its length.
+const SIMULATION_S: f64 = 2e-5;
+
+/// CPU seconds a simulation spends on each sample of its record (read,
+/// integrated or not).
+const PER_SAMPLE_S: f64 = 5e-8;
+
+/// CPU seconds of one simulation of a record of `samples` samples, `steps`
+/// of which are integrated.
+fn record_steps_simulation_s(samples: usize, steps: f64) -> f64 {
+    SIMULATION_S + PER_SAMPLE_S * samples as f64 + PER_SHAKING_SAMPLE_S * steps
+}
+
+/// CPU seconds of one shaking sample of a record: the block rocks through
+/// it, an integration step or more.
+const PER_SHAKING_SAMPLE_S: f64 = 1.8e-6;
+
+/// Jobs whose model CPU time is at least this, s, are sized on a sample of
+/// their work where their kind measures one ([`crate::kinds::Kind::sampled_size`]):
+/// below it a misjudged estimate costs seconds, and a sample would cost a
+/// large share of the job.
+pub const SAMPLE_FROM_S: f64 = 10.0;
+
+/// CPU seconds a sample of a job of `cpu_s` model seconds may spend: 2 %
+/// of the job, at most two seconds over two threads (the submission waits
+/// for it about a second).
+pub fn sample_budget_s(cpu_s: f64) -> f64 {
+    (0.02 * cpu_s).min(2.0)
+}
+
+/// Brackets a sample of a record's scan runs per thread: at least the
+/// first (however much they cost); in all at most the second (within its
+/// budget: under an ordered record a bracket costs a few milliseconds,
+/// under a chaotic one a hundred simulations).
+pub const SAMPLE_BRACKETS: [u64; 2] = [4, 512];
 
 /// Samples from the first to the last one above a tenth of the peak.
 pub fn shaking_samples(acc: &[f64]) -> usize {

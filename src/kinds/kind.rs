@@ -149,7 +149,19 @@ pub trait Kind: 'static {
         Vec::new()
     }
 
-    /// The tasks of the job (`size` is [`Kind::size`]): parts of it, or
+    /// The job's size measured on a sample of it (`size`: the model's,
+    /// [`Kind::size`]), for a kind whose work the model cannot foresee (a
+    /// scan under a record bisects as the record's chaos dictates,
+    /// [`crate::spectrum::pilot`]); `None` (the default): the model's size
+    /// stands. Asked off the runtime, of a new job whose model CPU time is at
+    /// least [`crate::jobs::cost::SAMPLE_FROM_S`], for a sample of at most
+    /// [`crate::jobs::cost::sample_budget_s`] of it.
+    fn sampled_size(_job: &Self::Job, _size: &Size) -> Option<Size> {
+        None
+    }
+
+    /// The tasks of the job (`size`: [`Kind::size`], or the
+    /// size measured on a sample, [`Kind::sampled_size`]): parts of it, or
     /// jobs of their own; one, the whole job, by default.
     fn split(job: &Self::Job, _size: &Size) -> Vec<Task<Self>> {
         vec![Task::whole(job.clone())]

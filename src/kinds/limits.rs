@@ -65,22 +65,30 @@ impl LimitError {
     /// amplitude axis is normalised to ω_p/p or αg, but the user may have given
     /// it as `omega_p`, `frequency_hz`, `a_p` or `a_p_g`.
     pub fn as_written(mut self, spec: &serde_json::Value) -> Self {
-        const AXES: [&[&str]; 4] = [
-            &["omega_ratio", "omega_p", "frequency_hz"],
-            &["a_alpha_g", "a_p", "a_p_g"],
-            &["p", "R_m"],
-            &["scale", "pga_g"],
-        ];
-        let field = self.pointer.trim_start_matches('/');
-        if let Some(axis) = AXES.iter().find(|axis| axis.contains(&field))
-            && let Some(given) = axis
-                .iter()
-                .find(|name| spec.get(**name).is_some_and(|v| !v.is_null()))
-        {
-            self.pointer = format!("/{given}");
-        }
+        self.pointer = written_pointer(&self.pointer, spec);
         self
     }
+}
+
+/// `pointer`, a field of a normalised spec, as `spec` wrote it (an axis
+/// normalised to ω_p/p or αg may have been given as `omega_p`,
+/// `frequency_hz`, `a_p`, `a_p_g`, `R_m` or `pga_g`).
+pub fn written_pointer(pointer: &str, spec: &serde_json::Value) -> String {
+    const AXES: [&[&str]; 4] = [
+        &["omega_ratio", "omega_p", "frequency_hz"],
+        &["a_alpha_g", "a_p", "a_p_g"],
+        &["p", "R_m"],
+        &["scale", "pga_g"],
+    ];
+    let field = pointer.trim_start_matches('/');
+    if let Some(axis) = AXES.iter().find(|axis| axis.contains(&field))
+        && let Some(given) = axis
+            .iter()
+            .find(|name| spec.get(**name).is_some_and(|v| !v.is_null()))
+    {
+        return format!("/{given}");
+    }
+    pointer.to_string()
 }
 
 pub use crate::jobs::kind::Size;
@@ -89,6 +97,13 @@ impl Job {
     /// `Ok` when the job is within `limits`, else the first limit it exceeds.
     pub fn check_limits(&self, limits: &Limits) -> Result<Size, LimitError> {
         let size = self.size();
+        self.check_size(&size, limits)?;
+        Ok(size)
+    }
+
+    /// `Ok` when the job of `size` (its model's, or measured on a sample of
+    /// it) is within `limits`, else the first limit it exceeds.
+    pub fn check_size(&self, size: &Size, limits: &Limits) -> Result<(), LimitError> {
         if size.series_points > limits.series_points {
             return Err(LimitError {
                 pointer: "/outputs/series".into(),
@@ -138,7 +153,7 @@ impl Job {
                 ),
             });
         }
-        Ok(size)
+        Ok(())
     }
 }
 

@@ -244,7 +244,22 @@ macro_rules! kinds {
 
             /// The tasks of this job: parts of it, or jobs of their own.
             pub fn split(&self) -> Vec<Task> {
-                let size = self.size();
+                self.split_sized(&self.size())
+            }
+
+            /// The job's size measured on a sample of it, for a kind that
+            /// measures it ([`Kind::sampled_size`]); `None`: the model's
+            /// `size` stands.
+            pub fn sampled_size(&self, size: &Size) -> Option<Size> {
+                match self {
+                    $( Job::$variant(j) => <$kind as Kind>::sampled_size(j, size), )*
+                }
+            }
+
+            /// The tasks of this job of `size` (its model's, or measured on
+            /// a sample): parts of it, or jobs of their own.
+            pub fn split_sized(&self, size: &Size) -> Vec<Task> {
+                let size = *size;
                 match self {
                     $( Job::$variant(j) => <$kind as Kind>::split(j, &size)
                         .into_iter()

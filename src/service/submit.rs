@@ -28,6 +28,12 @@ pub struct Prepared {
     pub tasks: Vec<String>,
     /// The stored records it names (in order, without repeats).
     pub records: Vec<String>,
+    /// The field that sets its grid and work, as the spec wrote it (named
+    /// when a limit is exceeded).
+    pub grid_pointer: String,
+    /// Whether `size` was measured on a sample of the job
+    /// ([`sample`]) rather than taken from its kind's model.
+    pub sampled: bool,
 }
 
 /// Why a submission is refused.
@@ -125,6 +131,7 @@ pub async fn prepare(
     let size = job
         .check_limits(&state.config.limits)
         .map_err(|e| SubmitError::Limit(e.as_written(&value)))?;
+    let grid_pointer = crate::kinds::limits::written_pointer(job.grid_field(), &value);
     // Its key, canonical text and tasks: serialising a long record too.
     let (job, key, spec, tasks) = off_runtime(small, move || {
         let key = cache_key(&job);
@@ -144,6 +151,69 @@ pub async fn prepare(
         spec: spec.map_err(SubmitError::Serialise)?,
         tasks,
         records,
+        grid_pointer,
+        sampled: false,
+    })
+}
+
+/// A new job's size measured on a sample of it where its kind's model
+/// cannot foresee it ([`crate::kinds::Job::sampled_size`]), checked against
+/// the limits again, and its tasks cut to that size. Only a job of at least
+/// [`crate::jobs::cost::SAMPLE_FROM_S`] model seconds whose work is not
+/// already known under its key (`admission`: queued, running or done) is
+/// sampled, on the blocking pool.
+pub async fn sample(
+    state: &AppState,
+    prepared: Prepared,
+    admission: Option<&Admission>,
+) -> Result<Prepared, SubmitError> {
+    let known = admission.is_some_and(|a| {
+        [a.own, a.computation].into_iter().any(|s| {
+            matches!(
+                s,
+                Some(Status::Queued | Status::Running | Status::Succeeded)
+            )
+        })
+    });
+    if known || prepared.size.cpu_s < crate::jobs::cost::SAMPLE_FROM_S {
+        return Ok(prepared);
+    }
+    let (prepared, sampled) = off_runtime(false, move || {
+        let sampled = prepared.job.sampled_size(&prepared.size).map(|size| {
+            let tasks: Vec<String> = prepared
+                .job
+                .split_sized(&size)
+                .iter()
+                .map(crate::kinds::Task::payload)
+                .collect();
+            (size, tasks)
+        });
+        (prepared, sampled)
+    })
+    .await?;
+    let Some((size, tasks)) = sampled else {
+        return Ok(prepared);
+    };
+    tracing::info!(
+        model_work = prepared.size.work,
+        model_cpu_s = prepared.size.cpu_s,
+        work = size.work,
+        cpu_s = size.cpu_s,
+        tasks = tasks.len(),
+        "sized on a sample of its work"
+    );
+    prepared
+        .job
+        .check_size(&size, &state.config.limits)
+        .map_err(|mut e| {
+            e.pointer = prepared.grid_pointer.clone();
+            SubmitError::Limit(e)
+        })?;
+    Ok(Prepared {
+        size,
+        tasks,
+        sampled: true,
+        ..prepared
     })
 }
 

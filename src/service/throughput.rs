@@ -92,6 +92,12 @@ impl Throughput {
         (s.measured / s.predicted).clamp(RATE_RANGE.0, RATE_RANGE.1)
     }
 
+    /// Expected wall seconds of a job whose `size` was measured on a sample
+    /// of it on this instance: the rate corrects a model, not a measurement.
+    pub fn seconds_measured(&self, size: &Size) -> f64 {
+        size.wall_s(self.threads, 1.0)
+    }
+
     /// Expected wall seconds of a job of `kind` and `size`.
     pub fn seconds(&self, kind: &str, size: &Size) -> f64 {
         size.wall_s(self.threads, self.rate(kind))

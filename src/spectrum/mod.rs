@@ -5,6 +5,7 @@ pub mod closed_form;
 pub mod control;
 pub mod friction;
 pub mod overturning;
+pub mod pilot;
 pub mod record;
 pub mod scan;
 pub mod slide;

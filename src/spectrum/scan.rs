@@ -372,6 +372,32 @@ impl<G: Scalable> Line<'_, G> {
         Ok(trace.found)
     }
 
+    /// What the scan spends on the bracket `[lo, hi]` of two neighbouring
+    /// levels: both classified and, where they differ, bisected down to
+    /// `tol` as [`Line::scan`] bisects it (without verification). Its cost
+    /// is added to `stats`; a sample of a scan's brackets foresees what the
+    /// whole scan costs ([`super::pilot`]).
+    pub fn bracket(
+        &self,
+        lo: f64,
+        hi: f64,
+        tol: f64,
+        stats: &mut ScanStats,
+    ) -> Result<(), ScanError> {
+        let mut trace = Trace {
+            stats,
+            found: Found::default(),
+            seen: Vec::new(),
+            tol,
+        };
+        let a = (lo, self.classify(lo, trace.stats)?);
+        let b = (hi, self.classify(hi, trace.stats)?);
+        if a.1 != b.1 {
+            self.refine(a, b, &mut trace, |a, b| a == b)?;
+        }
+        Ok(())
+    }
+
     /// Bisects `[a, b]` (whose ends differ) until each change is bracketed within
     /// `tol`, examining the left half first so that results come out in order;
     /// `same` says which signatures need no further bisection.

@@ -395,6 +395,48 @@ async fn a_record_in_use_by_a_live_job_is_not_deleted() {
 }
 
 #[tokio::test]
+async fn a_long_record_spectrum_is_estimated_on_a_sample_of_its_scan() {
+    let app = spawn_app_with("records-sampled-estimate", |c| c.workers = 1).await;
+    let dt = 0.01;
+    let (_, rec, _) = upload(&app, "", at2(&motion_g(3000, dt), dt)).await;
+    let id = rec["id"].as_str().expect("id").to_string();
+    let spec = |sizes: usize| {
+        json!({"kind": "record_spectrum", "block": {"alpha": 0.15, "eta": 0.9},
+            "R_m": {"from": 0.3, "to": 3.0, "steps": sizes}, "scale": {"from": 0.2, "to": 6.0},
+            "ground_motion": {"record": id}})
+    };
+    // One size to 1.5 times the record: a few model CPU seconds, estimated
+    // by the model.
+    let one = json!({"kind": "record_spectrum", "block": {"alpha": 0.15, "eta": 0.9},
+        "R_m": [1.0], "scale": {"from": 0.2, "to": 1.5}, "ground_motion": {"record": id}});
+    let (status, small, _) = app.post("/v1/jobs", &one).await;
+    assert!(status == 202 || status == 200, "{}", small["estimate"]);
+    assert_eq!(small["estimate"]["basis"], "model", "{}", small["estimate"]);
+    // 120 sizes: minutes of work, measured on a sample of its brackets
+    // before it is queued; its simulations are more than its scan points
+    // (each bracket is bisected where its ends differ) and cost what the
+    // sample's steps cost.
+    let (status, big, _) = app.post("/v1/jobs", &spec(120)).await;
+    assert_eq!(status, 202, "{}", big["estimate"]);
+    let e = &big["estimate"];
+    assert_eq!(e["basis"], "sample", "{e}");
+    let simulations = e["simulations"].as_f64().expect("simulations");
+    let points = 120.0 * ((6.0 - 0.2) / 0.01f64).floor();
+    assert!(simulations > points && simulations < 256.0 * points, "{e}");
+    assert!(e["seconds"].as_f64().expect("seconds") > 0.0, "{e}");
+    // Submitted again while it is queued or running: nothing is sampled.
+    let (status, again, _) = app.post("/v1/jobs", &spec(120)).await;
+    assert_eq!(status, 202, "{}", again["estimate"]);
+    assert_eq!(again["cached"], true);
+    assert_eq!(again["estimate"]["basis"], "model", "{}", again["estimate"]);
+    for job in [&small, &big] {
+        let job_id = job["id"].as_str().expect("job id");
+        app.delete(&format!("/v1/jobs/{job_id}")).await;
+    }
+    app.stop().await;
+}
+
+#[tokio::test]
 async fn records_belong_to_their_tenant_and_their_samples_are_stored_once() {
     let alice = "tpl_a11ce00000000000000000000000000000000000000000000000000000000001";
     let bob = "tpl_b0b0000000000000000000000000000000000000000000000000000000000002";

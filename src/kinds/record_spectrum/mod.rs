@@ -92,6 +92,36 @@ impl crate::kinds::kind::Kind for RecordSpectrum {
         }
     }
 
+    /// The scan's simulations and CPU time measured on a sample of its
+    /// brackets ([`part::sample`], on two threads): the model's
+    /// [`crate::jobs::cost::RECORD_BISECTIONS_PER_POINT`] holds under an
+    /// ordered record, but a chaotic one bisects five times as much, and a
+    /// block that overturns early costs a fraction of the record. A few
+    /// costly brackets hold much of a scan's bisection, which a small sample
+    /// tends to miss: the simulations are the sample's or the model's,
+    /// whichever is more.
+    fn sampled_size(
+        job: &RecordSpectrumJob,
+        size: &crate::jobs::kind::Size,
+    ) -> Option<crate::jobs::kind::Size> {
+        use crate::jobs::cost;
+        const THREADS: usize = 2;
+        let budget = cost::sample_budget_s(size.cpu_s) / THREADS as f64;
+        let sample = part::sample(job, THREADS, |s| {
+            s.brackets >= cost::SAMPLE_BRACKETS[0] && s.cpu_s >= budget
+        })
+        .ok()?;
+        let work = sample
+            .simulations(job.p.len(), job.grid().points())?
+            .max(size.work);
+        Some(crate::jobs::kind::Size {
+            work,
+            record_work: work * job.ground_motion.acc.len() as f64,
+            cpu_s: work * sample.simulation_cpu_s(),
+            ..*size
+        })
+    }
+
     fn grid_field(_job: &RecordSpectrumJob) -> &'static str {
         "/p"
     }
@@ -110,9 +140,9 @@ impl crate::kinds::kind::Kind for RecordSpectrum {
     /// of the job, whose record is stored once.
     fn split(
         job: &RecordSpectrumJob,
-        _size: &crate::jobs::kind::Size,
+        size: &crate::jobs::kind::Size,
     ) -> Vec<crate::kinds::kind::Task<Self>> {
-        crate::kinds::kind::Task::parts(job, part::cut(job))
+        crate::kinds::kind::Task::parts(job, part::cut(job, size))
     }
 
     fn fits(

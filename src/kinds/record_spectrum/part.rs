@@ -3,10 +3,12 @@
 //! levels.
 
 use super::RecordSpectrumJob;
+use super::run::Lines;
 use crate::jobs::JobError;
 use crate::jobs::scan_parts::{self, Group, Part, PartDoc};
 use crate::spectrum::Control;
 use crate::spectrum::overturning::Found;
+use crate::spectrum::pilot::{self, Sample};
 use crate::spectrum::scan::{ScanError, ScanStats};
 
 /// The kind of a record spectrum's part document.
@@ -32,30 +34,30 @@ pub fn parts(job: &RecordSpectrumJob, per_size: f64, budget: f64, max_tasks: usi
     scan_parts::parts(&groups(job, per_size), budget, max_tasks)
 }
 
+/// Runs brackets of the scan of `job` spread over its sizes and levels, on
+/// `threads` threads, until `spent` says each thread's have cost enough
+/// ([`crate::spectrum::pilot::sample`], at most
+/// [`crate::jobs::cost::SAMPLE_BRACKETS`]).
+pub fn sample(
+    job: &RecordSpectrumJob,
+    threads: usize,
+    spent: impl Fn(&Sample) -> bool + Sync,
+) -> Result<Sample, ScanError> {
+    let (grid, model, control) = (job.grid(), job.model(), Control::new());
+    let count = [crate::jobs::cost::SAMPLE_BRACKETS[1] as usize, threads];
+    match job.lines(&job.p)? {
+        Lines::Plain(q) => pilot::sample(&q, model, &grid, count, &control, spent),
+        Lines::Paired(q) => pilot::sample(&q, model, &grid, count, &control, spent),
+    }
+}
+
 /// Scans the sizes and levels of `part`.
 pub fn run(job: &RecordSpectrumJob, part: Part, control: &Control) -> Result<PartDoc, ScanError> {
-    let problems = job.problems(&job.p[part.range()])?;
     let grid = job.grid();
-    let solver = crate::spectrum::scan::Model {
-        solver: job.solver.solver(),
-        friction: job.friction(),
-        slide_band: None,
-    };
-    match job.scaled_vertical() {
-        None => scan_parts::run(PART_KIND, part, &problems, solver, &grid, control),
-        Some(v) => {
-            let pairs = problems
-                .into_iter()
-                .map(|q| {
-                    Ok(crate::dynamics::Problem {
-                        block: q.block,
-                        pulse: v.record_pair(q.pulse)?,
-                        formulation: q.formulation,
-                    })
-                })
-                .collect::<Result<Vec<_>, ScanError>>()?;
-            scan_parts::run(PART_KIND, part, &pairs, solver, &grid, control)
-        }
+    let model = job.model();
+    match job.lines(&job.p[part.range()])? {
+        Lines::Plain(q) => scan_parts::run(PART_KIND, part, &q, model, &grid, control),
+        Lines::Paired(q) => scan_parts::run(PART_KIND, part, &q, model, &grid, control),
     }
 }
 
@@ -68,11 +70,10 @@ pub fn assemble(
     scan_parts::assemble(PART_KIND, &groups(job, 0.0), parts)
 }
 
-/// The parts of `job`, of about [`crate::jobs::cost::TASK_CPU_S`] each, each
-/// size costing its share of the job's estimate.
-pub fn cut(job: &RecordSpectrumJob) -> Vec<Part> {
-    use crate::kinds::kind::Kind;
-    let size = super::RecordSpectrum::size(job, None);
+/// The parts of `job` of `size` (its model's, or measured on a sample), of
+/// about [`crate::jobs::cost::TASK_CPU_S`] each, each size costing its share
+/// of the job's estimate.
+pub fn cut(job: &RecordSpectrumJob, size: &crate::jobs::kind::Size) -> Vec<Part> {
     parts(
         job,
         size.cpu_s / job.p.len().max(1) as f64,

@@ -189,6 +189,35 @@ impl RecordSpectrumJob {
             .collect()
     }
 
+    /// The lines of the sizes `ps`: their problems under the record alone,
+    /// or under it and its vertical motion.
+    pub fn lines(&self, ps: &[f64]) -> Result<Lines, ScanError> {
+        let problems = self.problems(ps)?;
+        let Some(v) = self.scaled_vertical() else {
+            return Ok(Lines::Plain(problems));
+        };
+        let pairs = problems
+            .into_iter()
+            .map(|q| {
+                Ok(crate::dynamics::Problem {
+                    block: q.block,
+                    pulse: v.record_pair(q.pulse)?,
+                    formulation: q.formulation,
+                })
+            })
+            .collect::<Result<Vec<_>, ScanError>>()?;
+        Ok(Lines::Paired(pairs))
+    }
+
+    /// Solver and floor of every simulation of the scan.
+    pub fn model(&self) -> crate::spectrum::scan::Model {
+        crate::spectrum::scan::Model {
+            solver: self.solver.solver(),
+            friction: self.friction(),
+            slide_band: None,
+        }
+    }
+
     /// Runs the whole job under `control` (whatever its `part`).
     pub fn run(&self, control: &Control) -> Result<RecordSpectrumResult, ScanError> {
         let req = RecordSpectrumRequest {
@@ -315,4 +344,12 @@ impl RecordSpectrumJob {
             min_certain_overturn_pga_g: l.derived.min_certain_overturn.map(|a| to.pga_g(a)),
         }
     }
+}
+
+/// The lines of a record spectrum's sizes ([`RecordSpectrumJob::lines`]).
+pub enum Lines {
+    /// Under the horizontal record.
+    Plain(Vec<crate::dynamics::Problem<crate::dynamics::Record>>),
+    /// Under the horizontal record and its vertical motion.
+    Paired(Vec<crate::dynamics::Problem<crate::dynamics::RecordPair>>),
 }
