@@ -147,6 +147,11 @@ def table() -> list[tuple[str, dict]]:
                 {"name": "tombstone", "b": 0.2, "h": 1.0, "overturned": True},
                 {"name": "rock", "b": 0.6, "h": 1.2, "overturned": False}],
             "scale": {"from": 0.1, "to": 4}}),
+        ("forensic valley record 2 observations", {
+            "kind": "forensic", "ground_motion": valley,
+            "observations": [{"name": "slender cabinet", "b": 0.25, "h": 1.0, "overturned": True},
+                             {"name": "squat pedestal", "b": 0.4, "h": 0.8, "overturned": False}],
+            "pga_g": {"from": 0.05, "to": 2.0}}),
         ("record_spectrum ridge 3 sizes to 4x", {
             "kind": "record_spectrum", "block": {"alpha": 0.15, "eta": 0.9},
             "R_m": [0.5, 1.0, 2.0], "scale": {"from": 0.2, "to": 4.0}, "ground_motion": ridge}),

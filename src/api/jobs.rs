@@ -76,9 +76,10 @@ pub struct Estimate {
     /// `seconds` over `simulations`.
     pub seconds_per_simulation: f64,
     /// What the estimate is made of: the kind's model, or a sample of the
-    /// job's own work run at submission (a record spectrum of at least
-    /// 10 model CPU seconds: brackets of its scan, bisected as the scan
-    /// will, about 2 % of the job and at most one second).
+    /// job's own work run at submission (a record spectrum, or a forensic
+    /// query under a record, of at least 10 model CPU seconds: brackets of
+    /// its scans, bisected as the scan will, 2 % of the job's CPU time and
+    /// at most two CPU seconds over two threads).
     pub basis: EstimateBasis,
 }
 

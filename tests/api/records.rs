@@ -395,7 +395,7 @@ async fn a_record_in_use_by_a_live_job_is_not_deleted() {
 }
 
 #[tokio::test]
-async fn a_long_record_spectrum_is_estimated_on_a_sample_of_its_scan() {
+async fn long_scans_under_a_record_are_estimated_on_a_sample_of_their_brackets() {
     let app = spawn_app_with("records-sampled-estimate", |c| c.workers = 1).await;
     let dt = 0.01;
     let (_, rec, _) = upload(&app, "", at2(&motion_g(3000, dt), dt)).await;
@@ -429,7 +429,19 @@ async fn a_long_record_spectrum_is_estimated_on_a_sample_of_its_scan() {
     assert_eq!(status, 202, "{}", again["estimate"]);
     assert_eq!(again["cached"], true);
     assert_eq!(again["estimate"]["basis"], "model", "{}", again["estimate"]);
-    for job in [&small, &big] {
+    // A forensic query under the record, its observations' lines sampled.
+    let query = json!({"kind": "forensic", "ground_motion": {"record": id},
+        "observations": [{"name": "cabinet", "b": 0.1, "h": 1.0, "overturned": true},
+                         {"name": "pedestal", "b": 0.3, "h": 0.9, "overturned": false}],
+        "pga_g": {"from": 0.05, "to": 6.0}, "tolerance_g": 1e-5});
+    let (status, forensic, _) = app.post("/v1/jobs", &query).await;
+    assert_eq!(status, 202, "{}", forensic["estimate"]);
+    assert_eq!(
+        forensic["estimate"]["basis"], "sample",
+        "{}",
+        forensic["estimate"]
+    );
+    for job in [&small, &big, &forensic] {
         let job_id = job["id"].as_str().expect("job id");
         app.delete(&format!("/v1/jobs/{job_id}")).await;
     }

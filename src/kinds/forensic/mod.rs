@@ -16,6 +16,7 @@ pub mod table_record;
 
 pub mod mixed;
 pub mod record;
+pub mod sample;
 pub mod scan;
 
 mod result;
@@ -108,6 +109,15 @@ impl crate::kinds::kind::Kind for Forensic {
             .unwrap_or_else(|_| crate::jobs::kind::Size::one(0.0))
     }
 
+    /// Under a record, each observation's line measured on a sample of
+    /// its scan ([`ForensicJob::sampled_size`]).
+    fn sampled_size(
+        job: &ForensicJob,
+        size: &crate::jobs::kind::Size,
+    ) -> Option<crate::jobs::kind::Size> {
+        job.sampled_size(size)
+    }
+
     fn grid_field(job: &ForensicJob) -> &'static str {
         if job.ground_motion.is_some() {
             "/scale"
@@ -144,9 +154,9 @@ impl crate::kinds::kind::Kind for Forensic {
     /// names its part of the query, whose record is stored once.
     fn split(
         job: &ForensicJob,
-        _size: &crate::jobs::kind::Size,
+        size: &crate::jobs::kind::Size,
     ) -> Vec<crate::kinds::kind::Task<Self>> {
-        crate::kinds::kind::Task::parts(job, job.cut())
+        crate::kinds::kind::Task::parts(job, job.cut(size))
     }
 
     fn fits(

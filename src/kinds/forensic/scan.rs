@@ -120,7 +120,7 @@ impl ForensicJob {
 
     /// Estimated simulations of a line of `points` levels on `grid`: scan
     /// plus bisection ([`cost`]).
-    fn line_simulations(&self, points: f64, grid: &ScanGrid) -> f64 {
+    pub(super) fn line_simulations(&self, points: f64, grid: &ScanGrid) -> f64 {
         if self.ground_motion.is_some() {
             cost::record_line_simulations(points, grid.step, grid.tolerance)
         } else {
@@ -378,11 +378,20 @@ impl ForensicJob {
 }
 
 impl ForensicJob {
-    /// The query's parts, of about [`cost::TASK_CPU_S`] each.
-    pub fn cut(&self) -> Vec<Part> {
+    /// The parts of the query of `size` (its model's, or measured on a
+    /// sample: its lines' costs scaled alike), of about
+    /// [`cost::TASK_CPU_S`] each.
+    pub fn cut(&self, size: &Size) -> Vec<Part> {
         self.observation_scans().map_or(Vec::new(), |scans| {
+            let mut groups = self.groups(&scans);
+            let model: f64 = groups.iter().map(|g| g.lines as f64 * g.line_s).sum();
+            if model > 0.0 && size.cpu_s > 0.0 {
+                for g in &mut groups {
+                    g.line_s *= size.cpu_s / model;
+                }
+            }
             scan_parts::parts(
-                &self.groups(&scans),
+                &groups,
                 cost::TASK_CPU_S,
                 crate::jobs::split::MAX_PART_TASKS,
             )
