@@ -86,6 +86,9 @@ pub struct AppState {
     pub renderings: Arc<renderings::Renderings>,
     /// Turns to parse and render a large result document whole ([`RENDERS`]).
     pub renders: Arc<tokio::sync::Semaphore>,
+    /// The turn to size a new job on a sample of its work: one at a time
+    /// ([`submit::sample`]).
+    pub sampling: Arc<tokio::sync::Semaphore>,
     /// The measured computation rate (estimates, poll intervals).
     pub throughput: Arc<throughput::Throughput>,
     /// The compute pool.
@@ -130,6 +133,7 @@ impl AppState {
             succeeded,
             renderings: Arc::new(renderings::Renderings::default()),
             renders: Arc::new(tokio::sync::Semaphore::new(RENDERS)),
+            sampling: Arc::new(tokio::sync::Semaphore::new(1)),
             throughput: Arc::new(throughput::Throughput::new(pool.current_num_threads())),
             pool: Arc::new(pool),
             engine,

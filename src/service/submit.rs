@@ -156,12 +156,19 @@ pub async fn prepare(
     })
 }
 
+/// Longest a submission waits for the sample of another to end before it is
+/// estimated by its kind's model instead.
+pub const SAMPLE_WAIT: std::time::Duration = std::time::Duration::from_secs(2);
+
 /// A new job's size measured on a sample of it where its kind's model
 /// cannot foresee it ([`crate::kinds::Job::sampled_size`]), checked against
 /// the limits again, and its tasks cut to that size. Only a job of at least
 /// [`crate::jobs::cost::SAMPLE_FROM_S`] model seconds whose work is not
 /// already known under its key (`admission`: queued, running or done) is
-/// sampled, on the blocking pool.
+/// sampled, on the blocking pool, one sample at a time in this instance
+/// (a burst of large submissions samples in turn, and those that wait longer
+/// than [`SAMPLE_WAIT`] keep the model's estimate): a sample's two threads
+/// never multiply beside the compute pool.
 pub async fn sample(
     state: &AppState,
     prepared: Prepared,
@@ -178,7 +185,13 @@ pub async fn sample(
     if known || prepared.size.cpu_s < crate::jobs::cost::SAMPLE_FROM_S {
         return Ok(prepared);
     }
+    let turn = tokio::time::timeout(SAMPLE_WAIT, state.sampling.clone().acquire_owned()).await;
+    let Ok(Ok(turn)) = turn else {
+        return Ok(prepared);
+    };
     let (prepared, sampled) = off_runtime(false, move || {
+        // Held until the sample ends, even if the request is dropped.
+        let _turn = turn;
         let sampled = prepared.job.sampled_size(&prepared.size).map(|size| {
             let tasks: Vec<String> = prepared
                 .job
