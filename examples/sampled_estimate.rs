@@ -29,7 +29,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (lines, points) = (job.p.len(), job.grid().points());
     let mut n = 4;
     while n <= max {
-        let s = part::sample(&job, 2, |s| s.brackets >= n / 2)?;
+        let long = std::time::Duration::from_secs(3600);
+        let s = part::sample(&job, 2, long, |s| s.brackets >= n / 2)?;
         let work = s.simulations(lines, points).unwrap_or(0.0);
         println!(
             "{n:>4} brackets: {work:>9.0} simulations foreseen, {:.1} CPU s; sample {} simulations, {:.2} CPU s",

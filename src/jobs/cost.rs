@@ -90,6 +90,13 @@ pub fn sample_budget_s(cpu_s: f64) -> f64 {
     (0.02 * cpu_s).min(2.0)
 }
 
+/// When a sample of `per_thread` CPU seconds a thread is stopped, wall
+/// time (its job then keeps the model's estimate): its minimum of brackets
+/// may cost more than its budget, but never minutes, whatever the record.
+pub fn sample_deadline(per_thread: f64) -> std::time::Duration {
+    std::time::Duration::from_secs_f64(1.0 + 2.0 * per_thread.max(0.0))
+}
+
 /// Brackets a sample of a record's scan runs per thread: at least the
 /// first (however much they cost); in all at most the second (within its
 /// budget: under an ordered record a bracket costs a few milliseconds,

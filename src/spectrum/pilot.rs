@@ -79,13 +79,15 @@ pub fn thread_cpu_s() -> f64 {
 /// `threads` threads (bracket `j`: of line `j mod lines`, at `frac(½ + j·φ)`
 /// along it; thread `t` runs the brackets `j ≡ t` mod `threads`), each
 /// thread stopping early once `spent` says its brackets have cost enough
-/// (it is asked after each, with that thread's sample so far).
+/// (it is asked after each, with that thread's sample so far). A sample
+/// still running after `deadline` (a bracket of a long record can cost
+/// hundreds of simulations) is stopped: [`ScanError::Canceled`].
 pub fn sample<G: Scalable + Sync>(
     problems: &[Problem<G>],
     model: Model,
     grid: &ScanGrid,
     [count, threads]: [usize; 2],
-    control: &Control,
+    deadline: std::time::Duration,
     spent: impl Fn(&Sample) -> bool + Sync,
 ) -> Result<Sample, ScanError> {
     let points = grid.points();
@@ -93,6 +95,7 @@ pub fn sample<G: Scalable + Sync>(
         return Ok(Sample::default());
     }
     let threads = threads.clamp(1, count.max(1));
+    let control = &Control::new();
     let run = |t: usize| -> Result<Sample, ScanError> {
         let mut sample = Sample::default();
         for j in (t..count).step_by(threads) {
@@ -119,6 +122,13 @@ pub fn sample<G: Scalable + Sync>(
         Ok(sample)
     };
     let parts: Vec<Result<Sample, ScanError>> = std::thread::scope(|scope| {
+        // The watch: cancels the sample at its deadline, or ends with it.
+        let (done, ended) = std::sync::mpsc::channel::<()>();
+        scope.spawn(move || {
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = ended.recv_timeout(deadline) {
+                control.cancel();
+            }
+        });
         let handles: Vec<_> = (1..threads).map(|t| scope.spawn(move || run(t))).collect();
         let mut parts = vec![run(0)];
         parts.extend(
@@ -126,6 +136,7 @@ pub fn sample<G: Scalable + Sync>(
                 .into_iter()
                 .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p))),
         );
+        drop(done);
         parts
     });
     let mut sample = Sample::default();
@@ -139,6 +150,10 @@ pub fn sample<G: Scalable + Sync>(
 mod tests {
     use super::*;
     use crate::dynamics::{Block, Formulation, Method, Record, Solver};
+    use std::time::Duration;
+
+    /// A deadline no test sample reaches.
+    const LONG: Duration = Duration::from_secs(600);
 
     /// The block of size `r` m (α = 0.2) under a record of two cycles of a
     /// 2 Hz sine decaying over 1.5 s, 0.4 g.
@@ -198,7 +213,7 @@ mod tests {
         // As many brackets as the grid has: each of them, once (the golden
         // ratio's sequence visits every bracket of a short line).
         let brackets = 2 * (g.points() - 1);
-        let s = sample(&problems, model(), &g, [40 * brackets, 2], &control, |s| {
+        let s = sample(&problems, model(), &g, [40 * brackets, 2], LONG, |s| {
             s.brackets as usize >= 10 * brackets
         })
         .expect("a sample");
@@ -215,14 +230,30 @@ mod tests {
     #[test]
     fn a_sample_stops_when_it_has_cost_enough_and_an_empty_one_foresees_nothing() {
         let problems = vec![problem(1.0)];
-        let control = Control::new();
-        let s = sample(&problems, model(), &grid(), [100, 1], &control, |s| {
+        let s = sample(&problems, model(), &grid(), [100, 1], LONG, |s| {
             s.stats.simulations >= 10
         })
         .expect("a sample");
         assert!(s.brackets < 10 && s.stats.simulations >= 10, "{s:?}");
-        let none = sample::<Record>(&[], model(), &grid(), [100, 2], &control, |_| false)
+        let none = sample::<Record>(&[], model(), &grid(), [100, 2], LONG, |_| false)
             .expect("nothing to run");
         assert_eq!(none.simulations(1, 10), None);
+    }
+
+    #[test]
+    fn a_sample_past_its_deadline_is_stopped() {
+        // Every bracket of the line, without a budget: far beyond 1 ms.
+        let problems = vec![problem(0.5), problem(1.5)];
+        let started = std::time::Instant::now();
+        let r = sample(
+            &problems,
+            model(),
+            &grid(),
+            [10_000, 2],
+            Duration::from_millis(1),
+            |_| false,
+        );
+        assert!(matches!(r, Err(ScanError::Canceled(_))), "{r:?}");
+        assert!(started.elapsed() < Duration::from_secs(5));
     }
 }

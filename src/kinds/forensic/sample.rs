@@ -7,7 +7,6 @@ use super::ForensicJob;
 use crate::dynamics::Problem;
 use crate::jobs::cost;
 use crate::jobs::kind::Size;
-use crate::spectrum::Control;
 use crate::spectrum::overturning::ScanGrid;
 use crate::spectrum::pilot::{self, Sample};
 use crate::spectrum::scan::{Model, Scalable};
@@ -15,16 +14,18 @@ use crate::spectrum::scan::{Model, Scalable};
 /// Threads a sample runs on.
 const THREADS: usize = 2;
 
-/// The sample of one line: at most `budget` CPU seconds over its threads.
+/// The sample of one line: at most `budget` CPU seconds over its threads,
+/// stopped at `deadline`.
 fn sample_line<G: Scalable + Sync>(
     problem: Problem<G>,
     model: Model,
     grid: &ScanGrid,
     budget: f64,
+    deadline: std::time::Duration,
 ) -> Option<Sample> {
     let count = [cost::SAMPLE_BRACKETS[1] as usize, THREADS];
     let per_thread = budget / THREADS as f64;
-    pilot::sample(&[problem], model, grid, count, &Control::new(), |s| {
+    pilot::sample(&[problem], model, grid, count, deadline, |s| {
         s.brackets >= cost::SAMPLE_BRACKETS[0] && s.cpu_s >= per_thread
     })
     .ok()
@@ -45,6 +46,9 @@ impl ForensicJob {
             None => None,
         };
         let budget = cost::sample_budget_s(size.cpu_s);
+        // One deadline for the whole query, as for a record spectrum.
+        let started = std::time::Instant::now();
+        let deadline = cost::sample_deadline(budget / THREADS as f64);
         let (mut work, mut cpu_s) = (0.0, 0.0);
         for (o, scan) in self.observation_scans().ok()?.iter().enumerate() {
             let Some(grid) = scan.grid else { continue };
@@ -57,6 +61,7 @@ impl ForensicJob {
                 slide_band: self.observations.get(o).and_then(|o| o.slid_m),
             };
             let (block, formulation) = (scan.block, self.formulation);
+            let left = deadline.checked_sub(started.elapsed())?;
             let sample = match &pair {
                 None => sample_line(
                     Problem {
@@ -67,6 +72,7 @@ impl ForensicJob {
                     model,
                     &grid,
                     share,
+                    left,
                 ),
                 Some(p) => sample_line(
                     Problem {
@@ -77,6 +83,7 @@ impl ForensicJob {
                     model,
                     &grid,
                     share,
+                    left,
                 ),
             }?;
             let line = sample.simulations(1, points)?.max(model_work);

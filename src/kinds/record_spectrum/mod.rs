@@ -107,7 +107,7 @@ impl crate::kinds::kind::Kind for RecordSpectrum {
         use crate::jobs::cost;
         const THREADS: usize = 2;
         let budget = cost::sample_budget_s(size.cpu_s) / THREADS as f64;
-        let sample = part::sample(job, THREADS, |s| {
+        let sample = part::sample(job, THREADS, cost::sample_deadline(budget), |s| {
             s.brackets >= cost::SAMPLE_BRACKETS[0] && s.cpu_s >= budget
         })
         .ok()?;

@@ -35,19 +35,21 @@ pub fn parts(job: &RecordSpectrumJob, per_size: f64, budget: f64, max_tasks: usi
 }
 
 /// Runs brackets of the scan of `job` spread over its sizes and levels, on
-/// `threads` threads, until `spent` says each thread's have cost enough
+/// `threads` threads, until `spent` says each thread's have cost enough (or
+/// stops them at `deadline`)
 /// ([`crate::spectrum::pilot::sample`], at most
 /// [`crate::jobs::cost::SAMPLE_BRACKETS`]).
 pub fn sample(
     job: &RecordSpectrumJob,
     threads: usize,
+    deadline: std::time::Duration,
     spent: impl Fn(&Sample) -> bool + Sync,
 ) -> Result<Sample, ScanError> {
-    let (grid, model, control) = (job.grid(), job.model(), Control::new());
+    let (grid, model) = (job.grid(), job.model());
     let count = [crate::jobs::cost::SAMPLE_BRACKETS[1] as usize, threads];
     match job.lines(&job.p)? {
-        Lines::Plain(q) => pilot::sample(&q, model, &grid, count, &control, spent),
-        Lines::Paired(q) => pilot::sample(&q, model, &grid, count, &control, spent),
+        Lines::Plain(q) => pilot::sample(&q, model, &grid, count, deadline, spent),
+        Lines::Paired(q) => pilot::sample(&q, model, &grid, count, deadline, spent),
     }
 }
 
