@@ -192,7 +192,11 @@ pub async fn sample(
     let (prepared, sampled) = off_runtime(false, move || {
         // Held until the sample ends, even if the request is dropped.
         let _turn = turn;
-        let sampled = prepared.job.sampled_size(&prepared.size).map(|size| {
+        // A sample that fails in any way, a panic included, leaves the
+        // model's estimate: estimating never refuses a valid job.
+        let measure = || prepared.job.sampled_size(&prepared.size);
+        let measured = std::panic::catch_unwind(std::panic::AssertUnwindSafe(measure));
+        let sampled = measured.ok().flatten().map(|size| {
             let tasks: Vec<String> = prepared
                 .job
                 .split_sized(&size)
