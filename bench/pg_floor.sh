@@ -2,26 +2,30 @@
 # What a small job's statements cost PostgreSQL alone: the floor under the
 # service's sequential overhead on PostgreSQL.
 #
-# A small job computed in its request (src/service/inline.rs) makes two
-# statements on PostgreSQL: the admission (the tenant's own job and the
-# computation for the key, the tenant's live jobs, the queue's length;
-# `ADMISSION` in src/store/sql.rs) and the one-statement store of the finished job
-# (src/store/store_done_postgres.sql), committed with a flush of the WAL.
-# This script runs exactly those two statements with pgbench (prepared, one
-# client over TCP as the service connects, then four) on a scratch database
-# that `topple serve` has migrated, with a result body of about 10 kB (300
-# MD5 digests: about what lz4 makes of a time history's result) and of
-# 33 bytes, and prints pgbench's latency of each statement.
+# A small job computed in its request (src/service/inline.rs) makes one
+# statement on PostgreSQL: the store of the finished job, which reads its
+# admission first (the tenant's own job and the computation for the key, the
+# tenant's live jobs and the queue's length, under the service's default
+# limits: no quota, a queue of 10,000; src/store/store_done_postgres.sql),
+# committed with a flush of the WAL. This script runs exactly that statement
+# with pgbench (prepared, one client over TCP as the service connects, then
+# four) on a scratch database that `topple serve` has migrated, with a
+# result body of about 10 kB (300 MD5 digests: about what lz4 makes of a
+# time history's result) and of 33 bytes, and prints pgbench's latency.
+# With SEPARATE=1 the admission also runs as a statement of its own before
+# the store (`ADMISSION` in src/store/sql.rs), as the service sent it until
+# the store read it: the cost of that extra round trip to the database.
 #
 # Run: bash bench/pg_floor.sh   (PGHOST/PGUSER as for psql; default
 # 127.0.0.1, postgres; TOPPLE_BIN defaults to target/release/topple;
-# SECONDS_EACH=8)
+# SECONDS_EACH=8 SEPARATE=0)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BIN=${TOPPLE_BIN:-target/release/topple}
 export PGHOST=${PGHOST:-127.0.0.1} PGUSER=${PGUSER:-postgres}
 DB=topple_pg_floor
 EACH=${SECONDS_EACH:-8}
+SEPARATE=${SEPARATE:-0}
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"; psql -q -c "DROP DATABASE IF EXISTS $DB" >/dev/null 2>&1 || true' EXIT
 
@@ -37,11 +41,11 @@ for _ in $(seq 100); do
 done
 kill "$SERVE"; wait "$SERVE" 2>/dev/null || true
 
-# The two statements as the service sends them, with pgbench's variable :n
+# The statement(s) as the service sends them, with pgbench's variable :n
 # for the key (md5 of it) and id.
-python3 - "$WORK" <<'EOF'
+python3 - "$WORK" "$SEPARATE" <<'EOF'
 import re, sys
-work = sys.argv[1]
+work, separate = sys.argv[1], sys.argv[2] == "1"
 store = open("src/store/store_done_postgres.sql").read()
 store = " ".join(l for l in store.split("\n") if not l.strip().startswith("--"))
 sql = open("src/store/sql.rs").read()
@@ -52,16 +56,18 @@ key, tenant = "md5(:n::text)", "'default'"
 admission = admission.replace("$2", key).replace("$1", tenant)
 def body(digests):
     return f"(SELECT string_agg(md5(:n::text || g::text), ',') FROM generate_series(1, {digests}) g)"
-values = {"$13": "0", "$12": None, "$11": "'w#request'", "$10": "'{}'", "$9": tenant,
-          "$8": "now()", "$7": "now()", "$6": "now()", "$5": "'{}'", "$4": "'{}'",
-          "$3": "'time_history'", "$2": key, "$1": key + "::uuid"}
+# Longest parameter names first: $1 is a prefix of $10..$15.
+values = {"$15": "10000", "$14": "NULL", "$13": "0", "$12": None, "$11": "'w#request'",
+          "$10": "'{}'", "$9": tenant, "$8": "now()", "$7": "now()", "$6": "now()",
+          "$5": "'{}'", "$4": "'{}'", "$3": "'time_history'", "$2": key, "$1": key}
 for name, digests in (("large", 300), ("small", 1)):
     s = store
     for k, v in values.items():
         s = s.replace(k, v if v is not None else body(digests))
     with open(f"{work}/{name}.pgb", "w") as f:
         f.write("\\set n random(1, 2000000000)\n")
-        f.write(admission + ";\n")
+        if separate:
+            f.write(admission + ";\n")
         f.write(" ".join(s.split()) + ";\n")
 EOF
 
@@ -70,9 +76,9 @@ for body in large small; do
     out=$(pgbench -n -r -M prepared -c "$clients" -j "$clients" -T "$EACH" -f "$WORK/$body.pgb" "$DB" 2>&1)
     tps=$(echo "$out" | sed -nE 's/^tps = ([0-9.]+).*/\1/p')
     lat=$(echo "$out" | sed -nE 's/^latency average = ([0-9.]+) ms/\1/p')
-    adm=$(echo "$out" | grep -E '^ +[0-9.]+ +[0-9]+ +SELECT \(SELECT' | awk '{print $1}')
-    sto=$(echo "$out" | grep -E '^ +[0-9.]+ +[0-9]+ +WITH computation' | awk '{print $1}')
-    printf 'body %-5s clients %d: %7.0f jobs/s, %s ms a job (admission %s ms, store %s ms)\n' \
-      "$body" "$clients" "$tps" "$lat" "$adm" "$sto"
+    adm=$(echo "$out" | grep -E '^ +[0-9.]+ +[0-9]+ +SELECT \(SELECT' | awk '{print $1}' || true)
+    sto=$(echo "$out" | grep -E '^ +[0-9.]+ +[0-9]+ +WITH admission' | awk '{print $1}' || true)
+    printf 'body %-5s clients %d: %7.0f jobs/s, %s ms a job (store %s ms, admission apart %s ms)\n' \
+      "$body" "$clients" "$tps" "$lat" "$sto" "${adm:--}"
   done
 done

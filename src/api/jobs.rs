@@ -479,26 +479,26 @@ pub async fn create_job(
     };
     let wait = wait_duration(&state, query.wait)?;
     let prepared = submit::prepare(&state, tenant.name(), body).await?;
-    let admission = submit::admit(&state, tenant.name(), &prepared.key).await?;
-    let prepared = submit::sample(&state, prepared, admission.as_ref()).await?;
-    let (record, cached, wait, body) = match wait {
-        Some(limit) => match inline::run(&state, tenant.name(), &prepared, admission, limit).await?
-        {
+    // A small job waited for may be computed in this request (which then
+    // admits it too); any other is admitted, sized, stored and waited for.
+    let small = wait.filter(|w| !w.is_zero() && inline::offered(&state, &prepared));
+    let (prepared, record, cached, wait, body) = if let Some(limit) = small {
+        match inline::run(&state, tenant.name(), &prepared, limit).await? {
             Inline::Done(record, body) => {
                 super::http::audit("submit", &tenant, record.id, &headers);
-                (*record, false, Some(limit), Some(body))
+                (prepared, *record, false, Some(limit), Some(body))
             }
             Inline::Declined(left) => {
                 let (record, cached) =
                     submit_and_wait(&state, &tenant, &headers, &prepared, Some(left)).await?;
-                (record, cached, Some(left), None)
+                (prepared, record, cached, Some(left), None)
             }
-        },
-        None => {
-            let (record, cached) =
-                submit_and_wait(&state, &tenant, &headers, &prepared, None).await?;
-            (record, cached, None, None)
         }
+    } else {
+        let admission = submit::admit(&state, tenant.name(), &prepared.key).await?;
+        let prepared = submit::sample(&state, prepared, admission.as_ref()).await?;
+        let (record, cached) = submit_and_wait(&state, &tenant, &headers, &prepared, wait).await?;
+        (prepared, record, cached, wait, None)
     };
     let id = record.id;
     tracing::Span::current().record("job_id", tracing::field::display(id));

@@ -18,9 +18,15 @@
 //!   done); a key that another instance (or a queued submission) stored
 //!   meanwhile is joined as any submission joins it, the result computed
 //!   here being let go;
-//! - the tenant's quota and the queue's limit are checked before, as for
-//!   any submission; the tenant counts as served at that moment (fair turns),
-//!   written at most every [`SERVED_EVERY`] per tenant;
+//! - the tenant's quota and the queue's limit admit it as any submission
+//!   ([`super::submit::admit`]): for a job expected to take at most
+//!   [`UNREAD_SECONDS`], in the statement that stores it (its admission is
+//!   read there, so the job costs the database one statement); for a longer
+//!   one, before it is computed (a key found known then costs no compute).
+//!   A job its limits refuse is stored nowhere and refused as any other
+//!   (429 or 503); one whose key turns out known takes the ordinary path;
+//! - the tenant counts as served when it is stored (fair turns), written at
+//!   most every [`SERVED_EVERY`] per tenant;
 //! - past the wait (or the compute-time limit), during a shutdown, or when
 //!   the computation fails, the job takes the ordinary path: queued, then
 //!   computed, failed or canceled by the workers as any other.
@@ -33,13 +39,21 @@ use tokio::sync::watch;
 use tracing::info;
 
 use super::AppState;
-use super::submit::{Prepared, SubmitError};
+use super::submit::{Prepared, SubmitError, admit, check};
 use super::worker::{Serialised, compute};
 use crate::spectrum::Control;
-use crate::store::{Admission, DoneJob, JobRecord, NewJob, new_job_id, now_rfc3339};
+use crate::store::{
+    Admission, AdmitLimits, DoneJob, JobRecord, NewJob, StoredDone, new_job_id, now_rfc3339,
+};
 
 /// Longest expected compute time, s, of a job computed in its request.
 pub const SMALL_SECONDS: f64 = 0.05;
+
+/// Longest expected compute time, s, of a job computed before its
+/// admission is read: the read then rides on the statement that stores it.
+/// A submission of a key known already (computed or queued) throws away at
+/// most about this much compute before it joins that work.
+pub const UNREAD_SECONDS: f64 = 0.002;
 
 /// Longest a request waits for a compute slot to free (as small jobs
 /// computed in other requests end) before its job is queued instead.
@@ -159,53 +173,88 @@ async fn take_slot(
 pub enum Inline {
     /// Computed and stored: the job, and its result document.
     Done(Box<JobRecord>, String),
-    /// Not computed here: it takes the ordinary path, waiting at most this long.
+    /// Admitted, but not computed here: it takes the ordinary path,
+    /// waiting at most this long.
     Declined(Duration),
 }
 
-/// Computes the tenant's prepared job in this request and stores it
-/// finished, when it is small, new, and a compute slot is free; `wait` is
-/// how long the client waits, `admission` what its admission read (if it
-/// read the store).
+/// Whether the prepared job is offered to be computed in its request: one
+/// task, no stored records, expected to take at most [`SMALL_SECONDS`], and
+/// the service not stopping.
+pub fn offered(state: &AppState, prepared: &Prepared) -> bool {
+    prepared.tasks.len() == 1
+        && prepared.records.is_empty()
+        && !*state.stopping.borrow()
+        && state
+            .throughput
+            .seconds(prepared.job.kind(), &prepared.size)
+            <= SMALL_SECONDS
+}
+
+/// The limits of the service's configuration, as the store checks them.
+fn limits(state: &AppState) -> AdmitLimits {
+    let config = &state.config;
+    AdmitLimits {
+        quota: config
+            .max_queued_per_tenant
+            .and_then(|q| i64::try_from(q).ok()),
+        max_queued: (config.max_queued != u64::MAX)
+            .then(|| i64::try_from(config.max_queued).ok())
+            .flatten(),
+    }
+}
+
+/// Admits the tenant's prepared job (deciding on `read`, what its admission
+/// read, if it did; else reading it), computes it in this request and
+/// stores it finished when it is new and a compute slot is free (see
+/// [`offered`] for which jobs are offered); `wait` is how long the client
+/// waits. A job the limits refuse is an error, as from
+/// [`super::submit::admit`].
 pub async fn run(
     state: &AppState,
     tenant: &str,
     prepared: &Prepared,
-    admission: Option<Admission>,
     wait: Duration,
 ) -> Result<Inline, SubmitError> {
     let arrived = Instant::now();
-    let declined = |at: Instant| Ok(Inline::Declined(wait.saturating_sub(at.elapsed())));
-    let kind = prepared.job.kind();
-    if wait.is_zero()
-        || prepared.tasks.len() != 1
-        || !prepared.records.is_empty()
-        || *state.stopping.borrow()
-        || state.throughput.seconds(kind, &prepared.size) > SMALL_SECONDS
-    {
-        return declined(arrived);
+    // Declined (after its admission): the ordinary path takes it.
+    let declined = async |read: Option<Admission>| -> Result<Inline, SubmitError> {
+        match read {
+            Some(a) => check(state, tenant, &a)?,
+            None => {
+                admit(state, tenant, &prepared.key).await?;
+            }
+        }
+        Ok(Inline::Declined(wait.saturating_sub(arrived.elapsed())))
+    };
+    if wait.is_zero() || !offered(state, prepared) {
+        return declined(None).await;
     }
     let computing = match state.in_flight.start(&prepared.key) {
         Ok(c) => c,
         Err(mut done) => {
             // The same spec computes here: its stored job answers this one.
             let _ = tokio::time::timeout(wait, done.changed()).await;
-            return declined(arrived);
+            return declined(None).await;
         }
     };
-    let known = match admission {
-        Some(a) => a.computation.is_some(),
-        None => state
-            .store
-            .admission(tenant, &prepared.key)
-            .await?
-            .computation
-            .is_some(),
+    let kind = prepared.job.kind();
+    // A longer job's admission is read before it is computed: a key known
+    // already costs no compute.
+    let read = if state.throughput.seconds(kind, &prepared.size) > UNREAD_SECONDS {
+        let a = state.store.admission(tenant, &prepared.key).await?;
+        check(state, tenant, &a)?;
+        if a.computation.is_some() {
+            return Ok(Inline::Declined(wait.saturating_sub(arrived.elapsed())));
+        }
+        Some(a)
+    } else {
+        None
     };
     let id = new_job_id();
     let control = Arc::new(Control::new());
-    if known || !take_slot(state, id, &control, SLOT_WAIT.min(wait / 2)).await {
-        return declined(arrived);
+    if !take_slot(state, id, &control, SLOT_WAIT.min(wait / 2)).await {
+        return declined(read).await;
     }
     let slot = Slot { state, id, control };
     let created = now_rfc3339();
@@ -218,7 +267,7 @@ pub async fn run(
     let limit = wait.min(state.config.job_timeout);
     let Ok(Ok(Ok(Serialised { body, numerics }))) = tokio::time::timeout(limit, rx).await else {
         // Too slow, failed or lost: the workers take it from here.
-        return declined(arrived);
+        return declined(read).await;
     };
     let seconds = started.elapsed().as_secs_f64();
     let busy = state.busy() as f64;
@@ -246,17 +295,20 @@ pub async fn run(
             body: &body,
             numerics: &numerics,
             serve: state.served.due(tenant),
+            limits: limits(state),
         })
         .await?;
     drop(computing);
-    let Some(record) = stored else {
-        return declined(arrived);
+    let record = match stored {
+        StoredDone::Stored(record) => record,
+        // Its key is known (it joins that work), or the limits refuse it.
+        StoredDone::NotStored(a) => return declined(Some(a)).await,
     };
     state.results.put(id, &prepared.key, &body);
     state.metrics.submitted.increment(1);
     state.announce(id);
     info!(job_id = %id, seconds, "computed in its request");
-    Ok(Inline::Done(Box::new(record), body))
+    Ok(Inline::Done(record, body))
 }
 
 #[cfg(test)]

@@ -254,7 +254,7 @@ pub async fn admit(
 }
 
 /// The decision of [`admit`] on what it read.
-fn check(state: &AppState, tenant: &str, a: &Admission) -> Result<(), SubmitError> {
+pub fn check(state: &AppState, tenant: &str, a: &Admission) -> Result<(), SubmitError> {
     let max = state.config.max_queued;
     let quota = state.config.max_queued_per_tenant;
     let answered = |s: Option<Status>| {

@@ -272,6 +272,41 @@ pub struct DoneJob<'a> {
     /// a tenant's small jobs computed in quick succession need not each
     /// write, and lock, its one row of `tenants`.
     pub serve: bool,
+    /// The limits it is admitted under, checked as it is stored.
+    pub limits: AdmitLimits,
+}
+
+/// The limits a new job is admitted under: its tenant's live jobs below
+/// `quota`, and the queue's computations below `max_queued` (`None`: no
+/// limit).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AdmitLimits {
+    /// The tenant's quota of live (queued or running) jobs.
+    pub quota: Option<i64>,
+    /// The longest queue, in computations.
+    pub max_queued: Option<i64>,
+}
+
+impl AdmitLimits {
+    /// Whether `a` admits new work of a key that has no computation: the
+    /// tenant is under its quota and the queue under its limit. (The
+    /// PostgreSQL statement that stores a finished job says the same in
+    /// SQL: `store_done_postgres.sql`.)
+    pub fn admit_new(&self, a: &Admission) -> bool {
+        a.computation.is_none()
+            && self.quota.is_none_or(|q| a.live < q)
+            && self.max_queued.is_none_or(|m| a.queued < m)
+    }
+}
+
+/// What storing a finished job did.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StoredDone {
+    /// It is stored: the job as stored.
+    Stored(Box<JobRecord>),
+    /// Nothing is stored: its key has a computation already, or its
+    /// limits did not admit it. What its admission read, to decide which.
+    NotStored(Admission),
 }
 
 /// What a submission found.
@@ -345,15 +380,15 @@ pub trait JobStore: records::RecordStore + Send + Sync {
     /// its tasks if there is none, or queued again if it failed or was
     /// canceled.
     fn submit<'a>(&'a self, job: NewJob<'a>) -> BoxFuture<'a, Result<Submitted, StoreError>>;
-    /// Stores a job computed already as succeeded, in one transaction: a new
+    /// Stores a job computed already as succeeded, in one transaction that
+    /// first reads its admission ([`JobStore::admission`]): a new
     /// computation of its key with its one task done, its result and the
-    /// tenant's job, returned as stored. `None`, storing nothing, when a
+    /// tenant's job, returned as stored. Nothing is stored when a
     /// computation of its key exists (the submission then joins it as any
-    /// other does).
-    fn store_done<'a>(
-        &'a self,
-        done: DoneJob<'a>,
-    ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>>;
+    /// other does) or its limits do not admit new work
+    /// ([`AdmitLimits::admit_new`]); what the admission read is returned.
+    fn store_done<'a>(&'a self, done: DoneJob<'a>)
+    -> BoxFuture<'a, Result<StoredDone, StoreError>>;
     /// The tenant's job.
     fn get<'a>(
         &'a self,

@@ -18,7 +18,7 @@ use super::finished::{Announcer, Finished};
 use super::writer::{Writer, Writing};
 use super::{
     Admission, BoxFuture, Canceled, Computation, Deleted, DoneJob, Failure, JobRecord, JobStore,
-    ListQuery, NewJob, Status, StoreError, Submitted, TaskClaim,
+    ListQuery, NewJob, Status, StoreError, StoredDone, Submitted, TaskClaim,
 };
 
 /// A job's columns: its own life, with its computation's key, kind, spec,
@@ -230,11 +230,28 @@ where
     DB::Arguments: IntoArguments<DB>,
     String: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
     Option<String>: for<'q> Encode<'q, DB>,
+    Option<i64>: for<'q> Encode<'q, DB>,
     i64: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
     f64: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
     for<'n> &'n str: ColumnIndex<DB::Row>,
     usize: ColumnIndex<DB::Row>,
 {
+    /// What an admission read, from a row with its columns `own`,
+    /// `computation`, `live` and `queued` ([`ADMISSION`]).
+    fn admission_of(row: &DB::Row) -> Result<Admission, StoreError> {
+        let status = |name: &str| -> Result<Option<Status>, StoreError> {
+            row.try_get::<Option<String>, _>(name)?
+                .map(|s| parse_status(&s))
+                .transpose()
+        };
+        Ok(Admission {
+            own: status("own")?,
+            computation: status("computation")?,
+            live: row.try_get("live")?,
+            queued: row.try_get("queued")?,
+        })
+    }
+
     fn record(row: &DB::Row) -> Result<JobRecord, StoreError> {
         let status = parse_status(&row.try_get::<String, _>("status")?)?;
         let progress: f64 = row.try_get("progress")?;
@@ -352,7 +369,7 @@ where
         &self,
         conn: &mut DB::Connection,
         done: DoneJob<'_>,
-    ) -> Result<Option<JobRecord>, StoreError> {
+    ) -> Result<StoredDone, StoreError> {
         let new = &done.new;
         let [payload] = new.tasks else {
             return Err(StoreError::Corrupt(
@@ -362,7 +379,7 @@ where
         let id = new.id.to_string();
         let record = done_record(&done);
         if let Some(sql) = DB::STORE_DONE {
-            let stored: i64 = sqlx::query_scalar(sql)
+            let row = sqlx::query(sql)
                 .bind(id)
                 .bind(new.key.to_string())
                 .bind(new.kind.to_string())
@@ -376,11 +393,28 @@ where
                 .bind(done.owner.to_string())
                 .bind(done.body.to_string())
                 .bind(i64::from(done.serve))
+                .bind(done.limits.quota)
+                .bind(done.limits.max_queued)
                 .fetch_one(&mut *conn)
                 .await?;
-            return Ok((stored == 1).then_some(record));
+            let stored: i64 = row.try_get("stored")?;
+            return Ok(if stored == 1 {
+                StoredDone::Stored(Box::new(record))
+            } else {
+                StoredDone::NotStored(Self::admission_of(&row)?)
+            });
         }
         let mut tx = conn.begin().await?;
+        let row = sqlx::query(ADMISSION)
+            .bind(new.tenant.to_string())
+            .bind(new.key.to_string())
+            .fetch_one(&mut *tx)
+            .await?;
+        let admission = Self::admission_of(&row)?;
+        if !done.limits.admit_new(&admission) {
+            tx.rollback().await?;
+            return Ok(StoredDone::NotStored(admission));
+        }
         let inserted = sqlx::query(
             "INSERT INTO computations (id, key, kind, spec, status, numerics, created_at, started_at, finished_at, tenant, served_at) \
              VALUES ($1, $2, $3, $4, 'succeeded', $5, $6, $7, $8, $9, $7) ON CONFLICT (key) DO NOTHING",
@@ -399,7 +433,7 @@ where
         .rows();
         if inserted == 0 {
             tx.rollback().await?;
-            return Ok(None);
+            return Ok(StoredDone::NotStored(admission));
         }
         sqlx::query(
             "INSERT INTO tasks (computation_id, idx, payload, status, progress, attempts, done_by, created_at) \
@@ -440,7 +474,7 @@ where
         .execute(&mut *tx)
         .await?;
         tx.commit().await?;
-        Ok(Some(record))
+        Ok(StoredDone::Stored(Box::new(record)))
     }
 
     /// The computation `new` asks for, in the transaction on `conn`: a new
@@ -1031,6 +1065,7 @@ where
     DB::Arguments: IntoArguments<DB>,
     String: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
     Option<String>: for<'q> Encode<'q, DB>,
+    Option<i64>: for<'q> Encode<'q, DB>,
     Vec<u8>: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
     i64: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
     f64: Type<DB> + for<'q> Encode<'q, DB> + for<'r> Decode<'r, DB>,
@@ -1044,7 +1079,7 @@ where
     fn store_done<'a>(
         &'a self,
         done: DoneJob<'a>,
-    ) -> BoxFuture<'a, Result<Option<JobRecord>, StoreError>> {
+    ) -> BoxFuture<'a, Result<StoredDone, StoreError>> {
         Box::pin(async move { in_write_turn!(self, |conn| self.store_done_in(conn, done)) })
     }
 
@@ -1121,17 +1156,7 @@ where
                 .bind(key.to_string())
                 .fetch_one(&self.pool)
                 .await?;
-            let status = |name: &str| -> Result<Option<Status>, StoreError> {
-                row.try_get::<Option<String>, _>(name)?
-                    .map(|s| parse_status(&s))
-                    .transpose()
-            };
-            Ok(Admission {
-                own: status("own")?,
-                computation: status("computation")?,
-                live: row.try_get("live")?,
-                queued: row.try_get("queued")?,
-            })
+            Self::admission_of(&row)
         })
     }
 

@@ -334,6 +334,35 @@ async fn tenants_on_sqlite() {
     assert!(resp.headers().contains_key("retry-after"));
     let problem: Value = resp.json().await.expect("problem");
     assert_eq!(problem["limit"], "max_queued_per_tenant", "{problem}");
+    // A small job waited for, computed in its request, is refused the same
+    // (its admission is read as it is stored), and nothing of it is kept.
+    let ids = |page: Value| -> Vec<Value> {
+        page["jobs"]
+            .as_array()
+            .map(|jobs| jobs.iter().map(|j| j["id"].clone()).collect())
+            .unwrap_or_default()
+    };
+    let before = ids(alice.get("/v1/jobs?limit=100").await.1);
+    let (status, problem) = alice.post("/v1/jobs?wait=10", &time_history(3.5)).await;
+    assert_eq!(status, 429, "{problem}");
+    assert_eq!(problem["limit"], "max_queued_per_tenant", "{problem}");
+    assert_eq!(ids(alice.get("/v1/jobs?limit=100").await.1), before);
+    // Bob has computed this one: Alice's job joins it, done, quota or not.
+    let (status, known) = bob.post("/v1/jobs?wait=10", &time_history(3.5)).await;
+    assert_eq!((status, known["status"].as_str()), (200, Some("succeeded")));
+    let (status, joined) = alice.post("/v1/jobs?wait=10", &time_history(3.5)).await;
+    assert_eq!(
+        (
+            status,
+            joined["status"].as_str(),
+            joined["cached"].as_bool()
+        ),
+        (200, Some("succeeded"), Some(true)),
+        "{joined}"
+    );
+    alice
+        .delete(&format!("/v1/jobs/{}", joined["id"].as_str().expect("id")))
+        .await;
     // Resubmitting a job one has is no new job: answered, not refused.
     assert_eq!(alice.post("/v1/jobs", &spectrum(400, 3.1)).await.0, 202);
     // Bob is not limited by Alice's jobs: his small one comes through fast.
