@@ -404,6 +404,21 @@ where
                 StoredDone::NotStored(Self::admission_of(&row)?)
             });
         }
+        self.store_done_in_steps(conn, &done, id, payload, record)
+            .await
+    }
+
+    /// [`Self::store_done_in`] where the dialect has no one statement for
+    /// it: the admission read, then each row written, in one transaction.
+    async fn store_done_in_steps(
+        &self,
+        conn: &mut DB::Connection,
+        done: &DoneJob<'_>,
+        id: String,
+        payload: &str,
+        record: JobRecord,
+    ) -> Result<StoredDone, StoreError> {
+        let new = &done.new;
         let mut tx = conn.begin().await?;
         let row = sqlx::query(ADMISSION)
             .bind(new.tenant.to_string())
@@ -440,7 +455,7 @@ where
              VALUES ($1, 0, $2, 'done', 1, 1, $3, $4)",
         )
         .bind(id.clone())
-        .bind(payload.clone())
+        .bind(payload.to_string())
         .bind(done.owner.to_string())
         .bind(new.now.to_string())
         .execute(&mut *tx)

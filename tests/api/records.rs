@@ -441,7 +441,30 @@ async fn long_scans_under_a_record_are_estimated_on_a_sample_of_their_brackets()
         "{}",
         forensic["estimate"]
     );
-    for job in [&small, &big, &forensic] {
+    // While another sample holds the instance's one turn, a new job waits
+    // for it at most `SAMPLE_WAIT`, then keeps its model's estimate.
+    let turn = app
+        .state
+        .sampling
+        .clone()
+        .acquire_owned()
+        .await
+        .expect("the turn");
+    let asked = std::time::Instant::now();
+    let (status, waited, _) = app.post("/v1/jobs", &spec(110)).await;
+    let took = asked.elapsed();
+    drop(turn);
+    assert_eq!(status, 202, "{}", waited["estimate"]);
+    assert_eq!(
+        waited["estimate"]["basis"], "model",
+        "{}",
+        waited["estimate"]
+    );
+    assert!(
+        took >= topple::service::submit::SAMPLE_WAIT,
+        "answered in {took:?}, before the wait for the turn ended"
+    );
+    for job in [&small, &big, &forensic, &waited] {
         let job_id = job["id"].as_str().expect("job id");
         app.delete(&format!("/v1/jobs/{job_id}")).await;
     }

@@ -870,50 +870,6 @@ async fn a_job_computed_already_is_stored_finished(store: &dyn JobStore) {
             ..
         })
     ));
-    // A new key is admitted under the limits as it is stored: Dave has one
-    // live job and the queue one computation.
-    let limited = |quota, max_queued| DoneJob {
-        limits: AdmitLimits { quota, max_queued },
-        ..done(Uuid::now_v7(), "dave", "done-3")
-    };
-    for (quota, max_queued) in [(Some(1), None), (None, Some(1)), (Some(1), Some(5))] {
-        let StoredDone::NotStored(read) = store
-            .store_done(limited(quota, max_queued))
-            .await
-            .expect("stores")
-        else {
-            panic!("over a limit ({quota:?}, {max_queued:?}), nothing is stored");
-        };
-        // What the refusing limit counts is read (a count without a limit
-        // may be skipped).
-        assert_eq!(read.computation, None, "{read:?}");
-        assert!(quota.is_none() || read.live == 1, "{read:?}");
-        assert!(max_queued.is_none() || read.queued == 1, "{read:?}");
-    }
-    assert!(
-        store
-            .list(
-                "dave",
-                &ListQuery {
-                    limit: 10,
-                    ..Default::default()
-                }
-            )
-            .await
-            .expect("lists")
-            .iter()
-            .all(|j| j.key != "done-3"),
-        "a refused job is not stored"
-    );
-    let StoredDone::Stored(under) = store
-        .store_done(limited(Some(2), Some(2)))
-        .await
-        .expect("stores")
-    else {
-        panic!("under its limits, a new key is stored");
-    };
-    assert_eq!(under.status, Status::Succeeded);
-    store.delete("dave", under.id).await.expect("deletes");
     let t = claim(store, Duration::from_secs(30))
         .await
         .expect("its task");
@@ -930,8 +886,80 @@ async fn a_job_computed_already_is_stored_finished(store: &dyn JobStore) {
     assert!(store.get("carol", id).await.expect("reads").is_none());
 }
 
+/// A job computed already is admitted as it is stored: over its tenant's
+/// quota or the queue's limit nothing is stored, and what the admission
+/// read says why; under them it is stored.
+async fn a_job_computed_already_is_admitted_as_it_is_stored(store: &dyn JobStore) {
+    let queued = submit_as(store, "erin", "admitted-queued", 1).await;
+    let read = store
+        .admission("erin", "admitted-new")
+        .await
+        .expect("reads");
+    assert!(read.live >= 1 && read.queued >= 1, "{read:?}");
+    let payload = tasks(1);
+    let done = |quota, max_queued| DoneJob {
+        new: NewJob {
+            tenant: "erin",
+            id: Uuid::now_v7(),
+            key: "admitted-new",
+            kind: "time_history",
+            spec: "{}",
+            now: "2026-01-01T00:00:00.000000Z",
+            tasks: &payload,
+            records: &[],
+        },
+        owner: "here#request",
+        started: "2026-01-01T00:00:00.000100Z",
+        finished: "2026-01-01T00:00:00.000900Z",
+        body: "{}",
+        numerics: "{}",
+        serve: false,
+        limits: AdmitLimits { quota, max_queued },
+    };
+    let (live, length) = (Some(read.live), Some(read.queued));
+    for (quota, max_queued) in [(live, None), (None, length), (live, Some(read.queued + 1))] {
+        let StoredDone::NotStored(refused) = store
+            .store_done(done(quota, max_queued))
+            .await
+            .expect("stores")
+        else {
+            panic!("over a limit ({quota:?}, {max_queued:?}), nothing is stored");
+        };
+        // What the refusing limit counts is read (a count without a limit
+        // may be skipped).
+        assert_eq!(refused.computation, None, "{refused:?}");
+        assert!(quota.is_none() || refused.live == read.live, "{refused:?}");
+        assert!(
+            max_queued.is_none() || refused.queued == read.queued,
+            "{refused:?}"
+        );
+    }
+    assert_eq!(
+        store
+            .admission("erin", "admitted-new")
+            .await
+            .expect("reads"),
+        read,
+        "a refused job is not stored"
+    );
+    let StoredDone::Stored(under) = store
+        .store_done(done(Some(read.live + 1), Some(read.queued + 1)))
+        .await
+        .expect("stores")
+    else {
+        panic!("under its limits, a new key is stored");
+    };
+    assert_eq!(under.status, Status::Succeeded);
+    store.delete("erin", under.id).await.expect("deletes");
+    store
+        .cancel("erin", queued.job.id, &now_rfc3339())
+        .await
+        .expect("cancels");
+}
+
 async fn suite(store: Arc<dyn JobStore>) {
     a_job_computed_already_is_stored_finished(store.as_ref()).await;
+    a_job_computed_already_is_admitted_as_it_is_stored(store.as_ref()).await;
     a_single_task_job_completes_in_one_write(store.as_ref()).await;
     the_same_key_is_one_job(store.as_ref()).await;
     tasks_are_claimed_once_completed_and_assembled(store.as_ref()).await;
