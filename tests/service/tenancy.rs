@@ -334,8 +334,29 @@ async fn tenants_on_sqlite() {
     assert!(resp.headers().contains_key("retry-after"));
     let problem: Value = resp.json().await.expect("problem");
     assert_eq!(problem["limit"], "max_queued_per_tenant", "{problem}");
-    // A small job waited for, computed in its request, is refused the same
-    // (its admission is read as it is stored), and nothing of it is kept.
+    small_job_at_quota_is_refused_unless_done(&alice, &bob).await;
+    // Resubmitting a job one has is no new job: answered, not refused.
+    assert_eq!(alice.post("/v1/jobs", &spectrum(400, 3.1)).await.0, 202);
+    // Bob is not limited by Alice's jobs: his small one comes through fast.
+    let (status, quick) = bob.post("/v1/jobs?wait=30", &time_history(3.0)).await;
+    assert_eq!(
+        (status, quick["status"].as_str()),
+        (200, Some("succeeded")),
+        "{quick}"
+    );
+    for id in &live {
+        alice.delete(&format!("/v1/jobs/{id}")).await;
+    }
+    let took = small_job_is_not_stuck_behind_big_ones(&alice, &bob, 2.1).await;
+    eprintln!("SQLite, two tenants: the small job took {took:?}");
+    drop(server);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Alice is at her quota: a small job she waits for, computed in its
+/// request, is refused as any other (its admission is read as it is stored)
+/// and nothing of it is kept; once Bob has computed it, hers joins his.
+async fn small_job_at_quota_is_refused_unless_done(alice: &Client, bob: &Client) {
     let ids = |page: Value| -> Vec<Value> {
         page["jobs"]
             .as_array()
@@ -363,22 +384,6 @@ async fn tenants_on_sqlite() {
     alice
         .delete(&format!("/v1/jobs/{}", joined["id"].as_str().expect("id")))
         .await;
-    // Resubmitting a job one has is no new job: answered, not refused.
-    assert_eq!(alice.post("/v1/jobs", &spectrum(400, 3.1)).await.0, 202);
-    // Bob is not limited by Alice's jobs: his small one comes through fast.
-    let (status, quick) = bob.post("/v1/jobs?wait=30", &time_history(3.0)).await;
-    assert_eq!(
-        (status, quick["status"].as_str()),
-        (200, Some("succeeded")),
-        "{quick}"
-    );
-    for id in &live {
-        alice.delete(&format!("/v1/jobs/{id}")).await;
-    }
-    let took = small_job_is_not_stuck_behind_big_ones(&alice, &bob, 2.1).await;
-    eprintln!("SQLite, two tenants: the small job took {took:?}");
-    drop(server);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[tokio::test]
