@@ -430,12 +430,28 @@ async fn long_scans_under_a_record_are_estimated_on_a_sample_of_their_brackets()
     assert_eq!(again["cached"], true);
     assert_eq!(again["estimate"]["basis"], "model", "{}", again["estimate"]);
     // A forensic query under the record, its observations' lines sampled.
-    let query = json!({"kind": "forensic", "ground_motion": {"record": id},
+    // A sample still running at its deadline (1 s plus twice its budget,
+    // wall time) is stopped and the model's estimate kept: on a machine as
+    // busy as a parallel test run, a few distinct queries are tried.
+    let query = |tolerance: f64| {
+        json!({"kind": "forensic", "ground_motion": {"record": id},
         "observations": [{"name": "cabinet", "b": 0.1, "h": 1.0, "overturned": true},
                          {"name": "pedestal", "b": 0.3, "h": 0.9, "overturned": false}],
-        "pga_g": {"from": 0.05, "to": 6.0}, "tolerance_g": 1e-5});
-    let (status, forensic, _) = app.post("/v1/jobs", &query).await;
-    assert_eq!(status, 202, "{}", forensic["estimate"]);
+        "pga_g": {"from": 0.05, "to": 6.0}, "tolerance_g": tolerance})
+    };
+    let mut queries = Vec::new();
+    for tolerance in [1e-5, 2e-5, 3e-5] {
+        let (status, forensic, _) = app.post("/v1/jobs", &query(tolerance)).await;
+        assert_eq!(status, 202, "{}", forensic["estimate"]);
+        queries.push(forensic);
+        if queries
+            .last()
+            .is_some_and(|f| f["estimate"]["basis"] == "sample")
+        {
+            break;
+        }
+    }
+    let forensic = queries.last().expect("a query").clone();
     assert_eq!(
         forensic["estimate"]["basis"], "sample",
         "{}",
@@ -464,7 +480,7 @@ async fn long_scans_under_a_record_are_estimated_on_a_sample_of_their_brackets()
         took >= topple::service::submit::SAMPLE_WAIT,
         "answered in {took:?}, before the wait for the turn ended"
     );
-    for job in [&small, &big, &forensic, &waited] {
+    for job in [&small, &big, &waited].into_iter().chain(&queries) {
         let job_id = job["id"].as_str().expect("job id");
         app.delete(&format!("/v1/jobs/{job_id}")).await;
     }
