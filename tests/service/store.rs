@@ -759,22 +759,18 @@ async fn records_are_stored_once_per_content_and_kept_while_in_use(store: &dyn J
     );
 }
 
-/// A job computed already is stored finished in one write: read back as
-/// succeeded with its result, listed, nothing left to claim; a second
-/// one of its key stores nothing (it is joined instead), and neither does
-/// one of a key submitted meanwhile.
-async fn a_job_computed_already_is_stored_finished(store: &dyn JobStore) {
-    let id = Uuid::now_v7();
-    let payload = tasks(1);
-    let done = |id: Uuid, tenant: &'static str, key: &'static str| DoneJob {
+/// A job of one task computed already, of `tenant` and `key`, to store
+/// under no limits (a fresh id each call).
+fn done_job<'a>(tenant: &'a str, key: &'a str, payload: &'a [String]) -> DoneJob<'a> {
+    DoneJob {
         new: NewJob {
             tenant,
-            id,
+            id: Uuid::now_v7(),
             key,
             kind: "time_history",
             spec: "{\"a\":1}",
             now: "2026-01-01T00:00:00.000000Z",
-            tasks: &payload,
+            tasks: payload,
             records: &[],
         },
         owner: "here#request",
@@ -784,6 +780,20 @@ async fn a_job_computed_already_is_stored_finished(store: &dyn JobStore) {
         numerics: "{\"wall_time_s\":0.0008}",
         serve: true,
         limits: AdmitLimits::default(),
+    }
+}
+
+/// A job computed already is stored finished in one write: read back as
+/// succeeded with its result, listed, nothing left to claim; a second
+/// one of its key stores nothing (it is joined instead), and neither does
+/// one of a key submitted meanwhile.
+async fn a_job_computed_already_is_stored_finished(store: &dyn JobStore) {
+    let id = Uuid::now_v7();
+    let payload = tasks(1);
+    let done = |id: Uuid, tenant: &'static str, key: &'static str| {
+        let mut job = done_job(tenant, key, &payload);
+        job.new.id = id;
+        job
     };
     let StoredDone::Stored(stored) = store
         .store_done(done(id, "carol", "done-1"))
@@ -898,23 +908,9 @@ async fn a_job_computed_already_is_admitted_as_it_is_stored(store: &dyn JobStore
     assert!(read.live >= 1 && read.queued >= 1, "{read:?}");
     let payload = tasks(1);
     let done = |quota, max_queued| DoneJob {
-        new: NewJob {
-            tenant: "erin",
-            id: Uuid::now_v7(),
-            key: "admitted-new",
-            kind: "time_history",
-            spec: "{}",
-            now: "2026-01-01T00:00:00.000000Z",
-            tasks: &payload,
-            records: &[],
-        },
-        owner: "here#request",
-        started: "2026-01-01T00:00:00.000100Z",
-        finished: "2026-01-01T00:00:00.000900Z",
-        body: "{}",
-        numerics: "{}",
         serve: false,
         limits: AdmitLimits { quota, max_queued },
+        ..done_job("erin", "admitted-new", &payload)
     };
     let (live, length) = (Some(read.live), Some(read.queued));
     for (quota, max_queued) in [(live, None), (None, length), (live, Some(read.queued + 1))] {
