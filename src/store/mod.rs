@@ -2,9 +2,9 @@
 //! implementation over both SQL dialects ([`sql::SqlStore`]), whose
 //! differences live in [`dialect`].
 
-/// Runs `$body` (an `async` block over `conn: &mut DB::Connection`) on this
-/// process's connection for writes ([`writer::Writing`]), settling it
-/// afterwards.
+/// Runs `$body` (an `async` block over `conn: &mut DB::Connection`) on one
+/// of the store's connections for writes, in its turn ([`writer::Writing`]),
+/// settling it afterwards.
 macro_rules! in_write_turn {
     ($store:expr, |$conn:ident| $body:expr) => {{
         let store = $store;

@@ -14,6 +14,7 @@ use super::StoreError;
 use super::deletions::{Deletion, Deletions};
 use super::finished::{Announcer, Finished};
 use super::sql::SqlStore;
+use super::writer::Writer;
 
 /// The channel that announces queued work (as in [`super::dialect`]'s
 /// announcement).
@@ -30,7 +31,7 @@ const FINISHED_CHANNEL: &str = "topple_finished";
 /// Longest wait for a connection: past it a request fails with 503.
 const ACQUIRE_TIMEOUT: Duration = Duration::from_millis(1500);
 
-/// A pooled connection idle for longer is pinged before it is used.
+/// A connection (pooled or a writer's) idle for longer is pinged before it is used.
 const PING_IDLE: Duration = Duration::from_secs(1);
 
 /// Longest pause between attempts to listen again after the connection was
@@ -147,6 +148,20 @@ impl SqlStore<Postgres> {
             finished: finished.clone(),
         };
         tokio::spawn(listen(pool.clone(), l, queued.clone(), news));
-        Ok(SqlStore::new(pool, Some(queued), deletions, finished))
+        // Writes on connections of their own, half as many as the pool's
+        // (which serves reads and the listener): see `super::writer`.
+        let writer = Writer::new(
+            pool.clone(),
+            (connections / 2).max(2),
+            Some(PING_IDLE),
+            Some(ACQUIRE_TIMEOUT),
+        );
+        Ok(SqlStore::new(
+            pool,
+            writer,
+            Some(queued),
+            deletions,
+            finished,
+        ))
     }
 }

@@ -130,10 +130,10 @@ const FAILURE_WINDOW: Duration = Duration::from_secs(2);
 #[derive(Debug)]
 pub struct SqlStore<DB: Dialect> {
     pool: Pool<DB>,
-    /// One writer at a time, on one connection kept open, queued here rather
-    /// than in the database's busy handler (SQLite: whose growing sleeps show
-    /// up as latency spikes).
-    writer: Option<Arc<Writer<DB>>>,
+    /// The connections writes run on, kept open and taken in turns (SQLite:
+    /// one, so writes queue here rather than in the database's busy handler,
+    /// whose growing sleeps show up as latency spikes).
+    writer: Arc<Writer<DB>>,
     health: Arc<Mutex<WriteHealth>>,
     /// Notified when another instance queued work (PostgreSQL).
     elsewhere: Option<Arc<Notify>>,
@@ -167,19 +167,21 @@ fn parse_status(s: &str) -> Result<Status, StoreError> {
 }
 
 impl<DB: Dialect> SqlStore<DB> {
-    /// A store over `pool` (migrated already); `elsewhere` is notified when
+    /// A store over `pool` (migrated already), writing on `writer`'s
+    /// connections; `elsewhere` is notified when
     /// another instance queues work; deletions are announced on `deletions`,
     /// and computations that ended on `finished` (where the listener of
     /// other instances' announcements writes too).
     pub(super) fn new(
         pool: Pool<DB>,
+        writer: Writer<DB>,
         elsewhere: Option<Arc<Notify>>,
         deletions: Arc<Deletions>,
         finished: Announcer,
     ) -> Self {
         SqlStore {
             pool,
-            writer: DB::SINGLE_INSTANCE.then(|| Arc::new(Writer::default())),
+            writer: Arc::new(writer),
             health: Default::default(),
             elsewhere,
             deletions,
@@ -193,22 +195,22 @@ impl<DB: Dialect> SqlStore<DB> {
         &self.pool
     }
 
-    /// The in-process writer, where the dialect has one writer.
-    pub(super) fn writer(&self) -> Option<Arc<Writer<DB>>> {
+    /// The connections writes run on.
+    pub(super) fn writer(&self) -> Arc<Writer<DB>> {
         self.writer.clone()
     }
 
-    /// A connection to write on, in this process's turn where writes are
-    /// serialised.
+    /// A connection to write on, in its turn.
     pub(super) async fn writing(&self) -> Result<Writing<'_, DB>, StoreError> {
-        Ok(Writing::start(self.writer.as_ref(), &self.pool).await?)
+        Ok(Writing::start(&self.writer).await?)
     }
 
-    /// Records how a write that changes data ended, for readiness; after a
-    /// failed write its connection is closed ([`Writing::discard`]).
+    /// Records how a write that changes data ended, for readiness; only
+    /// after a write that succeeded is its connection used again
+    /// ([`Writing::keep`]).
     pub(super) fn settle<T>(&self, writing: &mut Writing<'_, DB>, result: &Result<T, StoreError>) {
-        if result.is_err() {
-            writing.discard();
+        if result.is_ok() {
+            writing.keep();
         }
         let mut health = self.health.lock().unwrap_or_else(|e| e.into_inner());
         match result {

@@ -26,7 +26,7 @@ const WAL_RESTART_FRAMES: i64 = 4096;
 /// TRUNCATE, holding the writer lock, once the log has grown past
 /// [`WAL_RESTART_FRAMES`], which a steady stream of readers would otherwise
 /// let grow without bound.
-async fn checkpoint_loop(pool: SqlitePool, writer: Option<std::sync::Arc<Writer<Sqlite>>>) {
+async fn checkpoint_loop(pool: SqlitePool, writer: std::sync::Arc<Writer<Sqlite>>) {
     let mut tick = tokio::time::interval(Duration::from_millis(500));
     loop {
         tick.tick().await;
@@ -41,10 +41,7 @@ async fn checkpoint_loop(pool: SqlitePool, writer: Option<std::sync::Arc<Writer<
             .and_then(|row| row.try_get::<i64, _>(1).ok())
             .unwrap_or(0);
         if frames > WAL_RESTART_FRAMES {
-            let _write = match &writer {
-                Some(w) => Some(w.turn().await),
-                None => None,
-            };
+            let _write = writer.all_turns().await;
             let _ = sqlx::query("PRAGMA wal_checkpoint(TRUNCATE)")
                 .execute(&pool)
                 .await;
@@ -78,7 +75,16 @@ impl SqlStore<Sqlite> {
             .await?;
         super::migrations::sqlite().run(&pool).await?;
         // One instance: every deletion is its own, announced as it commits.
-        let store = SqlStore::new(pool.clone(), None, Default::default(), Default::default());
+        // One writer: a connection of its own, taken in turns; local, so
+        // never pinged, and a write waits for its turn however long.
+        let writer = Writer::new(pool.clone(), 1, None, None);
+        let store = SqlStore::new(
+            pool.clone(),
+            writer,
+            None,
+            Default::default(),
+            Default::default(),
+        );
         tokio::spawn(checkpoint_loop(pool, store.writer()));
         Ok(store)
     }

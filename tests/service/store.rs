@@ -1207,3 +1207,65 @@ async fn postgres_admission_reads_a_few_rows_whatever_the_tenants_history() {
     drop(conn);
     db.drop_now().await;
 }
+
+/// The backend process of the writer connection `w`.
+async fn backend(
+    w: &mut topple::store::writer::Writing<'_, sqlx::Postgres>,
+) -> Result<i32, sqlx::Error> {
+    sqlx::query_scalar("SELECT pg_backend_pid()")
+        .fetch_one(w.conn())
+        .await
+}
+
+#[tokio::test]
+async fn postgres_writes_replace_a_connection_the_database_dropped() {
+    use topple::store::writer::{Writer, Writing};
+    let Some(db) = crate::common::pg_database("writer").await else {
+        return;
+    };
+    let pool = sqlx::PgPool::connect(&db.url).await.expect("connects");
+    let ping = Duration::from_millis(300);
+    let writer = Writer::new(pool.clone(), 2, Some(ping), Some(Duration::from_secs(5)));
+    let terminate = async |pid: i32| {
+        sqlx::query("SELECT pg_terminate_backend($1)")
+            .bind(pid)
+            .execute(&pool)
+            .await
+            .expect("terminates");
+    };
+    // One connection, used again while its writes end well.
+    let mut w = Writing::start(&writer).await.expect("starts");
+    let first = backend(&mut w).await.expect("writes");
+    w.keep();
+    drop(w);
+    let mut w = Writing::start(&writer).await.expect("starts");
+    assert_eq!(backend(&mut w).await.expect("writes"), first, "used again");
+    w.keep();
+    drop(w);
+    // Its backend gone (as in a database restart) and the connection used
+    // again within the ping period: that write fails, and its connection is
+    // not used again.
+    terminate(first).await;
+    let mut w = Writing::start(&writer).await.expect("starts");
+    assert!(
+        backend(&mut w).await.is_err(),
+        "the dropped connection fails"
+    );
+    drop(w);
+    let mut w = Writing::start(&writer).await.expect("starts");
+    let second = backend(&mut w).await.expect("a new connection writes");
+    assert_ne!(second, first);
+    w.keep();
+    drop(w);
+    // Gone again, and idle past the ping period: pinged first, replaced,
+    // and the write goes through.
+    terminate(second).await;
+    tokio::time::sleep(ping + Duration::from_millis(200)).await;
+    let mut w = Writing::start(&writer).await.expect("starts");
+    let third = backend(&mut w).await.expect("written after a long idle");
+    assert_ne!(third, second);
+    drop(w);
+    drop(writer);
+    pool.close().await;
+    db.drop_now().await;
+}
