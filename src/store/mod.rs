@@ -13,7 +13,7 @@ macro_rules! in_write_turn {
             let $conn: &mut DB::Connection = writing.conn();
             $body.await
         };
-        store.settle(&mut writing, &result);
+        store.settle(&mut writing, &result).await;
         result
     }};
 }

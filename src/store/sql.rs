@@ -208,9 +208,13 @@ impl<DB: Dialect> SqlStore<DB> {
     /// Records how a write that changes data ended, for readiness; only
     /// after a write that succeeded is its connection used again
     /// ([`Writing::keep`]).
-    pub(super) fn settle<T>(&self, writing: &mut Writing<'_, DB>, result: &Result<T, StoreError>) {
+    pub(super) async fn settle<T>(
+        &self,
+        writing: &mut Writing<'_, DB>,
+        result: &Result<T, StoreError>,
+    ) {
         if result.is_ok() {
-            writing.keep();
+            writing.keep().await;
         }
         let mut health = self.health.lock().unwrap_or_else(|e| e.into_inner());
         match result {
@@ -1051,7 +1055,7 @@ where
             .await
             .map(|r| r.rows())
             .map_err(StoreError::from);
-        self.settle(&mut writing, &result);
+        self.settle(&mut writing, &result).await;
         result
     }
 }

@@ -11,7 +11,9 @@
 //! database work and wake-ups compete on a small machine with the next
 //! request). What that check guards against is kept otherwise: a connection
 //! whose write failed, or was abandoned midway (its request gone), is closed
-//! rather than used again ([`Writing::keep`] is never reached), and one idle
+//! rather than used again ([`Writing::keep`] is never reached), a transaction
+//! dropped uncommitted is rolled back before the connection is given back,
+//! and one idle
 //! for longer than the ping period (the database may have restarted
 //! meanwhile) is pinged first and replaced if it does not answer.
 
@@ -143,14 +145,25 @@ impl<'a, DB: Database> Writing<'a, DB> {
             .expect("a write's connection is open until the write is dropped")
     }
 
-    /// The write ended well: the connection is given back for the next.
+    /// The write ended well: the connection is given back for the next,
+    /// once what the write left queued on it is sent and answered — the
+    /// rollback of a transaction dropped uncommitted, which PostgreSQL's
+    /// driver only queues (until the next use of the connection, which the
+    /// pool's check used to be): so a connection goes back with no
+    /// transaction open and no lock held. If that fails, it is closed.
+    ///
     /// Without this (a failed write, or one abandoned midway) it is closed
     /// rather than used again: whatever state the failure left it in (a
     /// transaction rolled back by the database, one still open and holding
     /// a lock after a full disk or an I/O error, a statement sent and not
     /// answered), no later write inherits it.
-    pub fn keep(&mut self) {
-        self.kept = true;
+    pub async fn keep(&mut self) {
+        // `flush` sends what is queued and reads the answers pending; with
+        // nothing queued it does no I/O (and on SQLite, whose rollbacks run
+        // at once, nothing at all).
+        if let Some(conn) = self.conn.as_mut() {
+            self.kept = conn.flush().await.is_ok();
+        }
     }
 }
 
@@ -205,7 +218,7 @@ mod tests {
         let writer = Writer::new(pool, 1, None, None);
         let mut w = Writing::start(&writer).await.expect("starts");
         mark(&mut w).await;
-        w.keep();
+        w.keep().await;
         drop(w);
         let mut w = Writing::start(&writer).await.expect("starts");
         assert!(marked(&mut w).await, "a kept connection is used again");

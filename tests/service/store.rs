@@ -1236,12 +1236,37 @@ async fn postgres_writes_replace_a_connection_the_database_dropped() {
     // One connection, used again while its writes end well.
     let mut w = Writing::start(&writer).await.expect("starts");
     let first = backend(&mut w).await.expect("writes");
-    w.keep();
+    w.keep().await;
     drop(w);
     let mut w = Writing::start(&writer).await.expect("starts");
     assert_eq!(backend(&mut w).await.expect("writes"), first, "used again");
-    w.keep();
+    w.keep().await;
     drop(w);
+    // A transaction dropped uncommitted (as a write that found nothing to
+    // do drops it): its rollback is sent before the connection is given
+    // back, so no lock outlives the write.
+    sqlx::query("CREATE TABLE held (x INT)")
+        .execute(&pool)
+        .await
+        .expect("creates");
+    let mut w = Writing::start(&writer).await.expect("starts");
+    {
+        let mut tx = sqlx::Connection::begin(w.conn()).await.expect("begins");
+        sqlx::query("LOCK TABLE held")
+            .execute(&mut *tx)
+            .await
+            .expect("locks");
+    }
+    w.keep().await;
+    drop(w);
+    let locks: i64 = sqlx::query_scalar(
+        "SELECT COUNT(*) FROM pg_locks WHERE pid = $1 AND relation = 'held'::regclass",
+    )
+    .bind(first)
+    .fetch_one(&pool)
+    .await
+    .expect("reads locks");
+    assert_eq!(locks, 0, "the dropped transaction's lock is released");
     // Its backend gone (as in a database restart) and the connection used
     // again within the ping period: that write fails, and its connection is
     // not used again.
@@ -1255,7 +1280,7 @@ async fn postgres_writes_replace_a_connection_the_database_dropped() {
     let mut w = Writing::start(&writer).await.expect("starts");
     let second = backend(&mut w).await.expect("a new connection writes");
     assert_ne!(second, first);
-    w.keep();
+    w.keep().await;
     drop(w);
     // Gone again, and idle past the ping period: pinged first, replaced,
     // and the write goes through.
